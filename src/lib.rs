@@ -1,0 +1,8 @@
+//! demsweep: batch parameter sweeps of 2D DEM granular deposition (the BMEDEM2D model).
+//!
+//! Layers, each depending only on the ones above it in this list:
+//! - [`physics`]: the simulation library (no I/O): particles, contacts, integrators, walls, diagnostics.
+//! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
+#![forbid(unsafe_code)]
+
+pub mod physics;

@@ -1,0 +1,574 @@
+//! What a scene is: every input of one simulation, with defaults, as plain serde data.
+//!
+//! A study file's base scene and each swept run deserialize into [`SceneConfig`]; unknown keys are
+//! rejected by serde, impossible values by [`SceneConfig::validate`], which names the key path.
+
+use serde::{Deserialize, Serialize};
+
+/// One simulation's complete input. Every field has a default (see [`Default`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SceneConfig {
+    /// The box the disks live in.
+    pub domain: DomainConfig,
+    /// Number, size and thickness of the disks.
+    pub particles: ParticlesConfig,
+    /// Where the disks start.
+    pub placement: PlacementConfig,
+    /// Particle material, damping and friction.
+    pub material: MaterialConfig,
+    /// Wall material; every missing field inherits the particle material's value.
+    pub wall_material: WallMaterialConfig,
+    /// Which contact law and its options.
+    pub contact: ContactConfig,
+    /// Gravitational acceleration vector (m/s²); the paper's default points down.
+    pub gravity: [f64; 2],
+    /// Time stepping scheme and step.
+    pub integrator: IntegratorConfig,
+    /// Duration, sampling and frames.
+    pub run: RunConfig,
+    /// When the pile counts as settled.
+    pub settle: SettleConfig,
+    /// Validity and divergence limits.
+    pub limits: LimitsConfig,
+    /// How contacts are found.
+    pub neighbors: NeighborConfig,
+}
+
+/// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width`, optional lid `y = height`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DomainConfig {
+    /// Box width (m).
+    pub width: f64,
+    /// Box height (m): the lid's position, and the top of the region random placement fills.
+    pub height: f64,
+    /// Whether a lid wall closes the box at `y = height`.
+    pub lid: bool,
+}
+
+/// Disk count and radii. Radii: all `radius`; or uniform in `[radius, radius_max]`; or the list `radii`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ParticlesConfig {
+    /// Number of disks (ignored when placement reads a file: the file's rows count).
+    pub count: usize,
+    /// Radius (m), or the smallest radius of a uniform distribution.
+    pub radius: f64,
+    /// Largest radius (m) of a uniform radius distribution, drawn with the placement seed.
+    pub radius_max: Option<f64>,
+    /// Explicit radius per disk (m); its length must equal `count`.
+    pub radii: Option<Vec<f64>>,
+    /// Disk thickness `h` (m): mass = density·π·R²·h (paper eq 4 with unit height).
+    pub thickness: f64,
+}
+
+/// How initial positions are made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlacementKind {
+    /// Seeded random sequential placement without overlaps (the paper's generator).
+    Random,
+    /// Rows of touching-free disks filled from the floor up.
+    Lattice,
+    /// Explicit initial states read by the caller (e.g. a CSV file) and passed to the simulation.
+    File,
+}
+
+/// Initial placement of the disks.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlacementConfig {
+    /// Which generator.
+    pub kind: PlacementKind,
+    /// Seed for random placement and random radii; same seed, same positions on every platform.
+    pub seed: u64,
+    /// Lattice: gap between neighbouring disk surfaces, as a fraction of the largest diameter.
+    pub lattice_gap: f64,
+    /// Lattice: hexagonal (true) or square (false) rows.
+    pub lattice_hexagonal: bool,
+    /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega` columns (read by the caller).
+    pub file: Option<String>,
+    /// Random placement tries per disk before giving up.
+    pub max_attempts: u32,
+}
+
+/// Particle material. Give `poisson_ratio` or `shear_modulus` (not both), `beta` or `restitution` (not both).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MaterialConfig {
+    /// Density (kg/m³).
+    pub density: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν in (-1, 0.5]; 0.3 when neither it nor `shear_modulus` is given.
+    pub poisson_ratio: Option<f64>,
+    /// Shear modulus G (Pa); then ν = E/(2G) − 1 (paper eq 2).
+    pub shear_modulus: Option<f64>,
+    /// The paper's damping factor β (≥ 0).
+    pub beta: Option<f64>,
+    /// Coefficient of restitution e in (0, 1], mapped to β by EDEM's relation; 0.5 when neither is given.
+    pub restitution: Option<f64>,
+    /// Sliding friction coefficient μ (≥ 0).
+    pub friction: f64,
+    /// Rolling friction coefficient μ0 (≥ 0): constant directional torque μ0·Fn·R.
+    pub rolling_friction: f64,
+}
+
+/// Wall material; `None` fields take the particle material's value.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WallMaterialConfig {
+    /// Young's modulus of the walls (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio of the walls.
+    pub poisson_ratio: Option<f64>,
+    /// Shear modulus of the walls (Pa).
+    pub shear_modulus: Option<f64>,
+    /// Damping factor β of disk-wall contacts.
+    pub beta: Option<f64>,
+    /// Restitution of disk-wall contacts.
+    pub restitution: Option<f64>,
+    /// Sliding friction of disk-wall contacts.
+    pub friction: Option<f64>,
+    /// Rolling friction of disk-wall contacts.
+    pub rolling_friction: Option<f64>,
+}
+
+/// Which contact force law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactLawKind {
+    /// The paper's Hertz-Mindlin law with the spec's fixes.
+    HertzMindlin,
+    /// Linear spring-dashpot (Cundall-Strack) with Coulomb friction.
+    Linear,
+}
+
+/// Contact law options.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactConfig {
+    /// The force law.
+    pub law: ContactLawKind,
+    /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
+    pub allow_tension: bool,
+    /// Linear law: normal stiffness (N/m); default: the Hertz secant stiffness at 1 % overlap.
+    pub normal_stiffness: Option<f64>,
+    /// Linear law: tangential stiffness as a fraction of the normal stiffness.
+    pub tangential_stiffness_ratio: f64,
+}
+
+/// Time integration scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// The paper's scheme: Adams-Bashforth 2 velocities (AB1 first step), Adams-Moulton 2 positions.
+    AdamsBashforthMoulton,
+    /// Velocity Verlet, as in LAMMPS and LIGGGHTS.
+    VelocityVerlet,
+}
+
+/// Integrator choice and time step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IntegratorConfig {
+    /// The scheme.
+    pub scheme: IntegratorKind,
+    /// Time step Δt (s).
+    pub time_step: f64,
+}
+
+/// Run length, sampling and recorded frames.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunConfig {
+    /// Simulated time (s): the run ends here unless it settles or diverges first.
+    pub duration: f64,
+    /// Interval between diagnostic samples (s), rounded to whole steps (at least one).
+    pub sample_interval: f64,
+    /// Stop as soon as the settle criterion holds.
+    pub stop_at_settle: bool,
+    /// Times (s) at which full states are recorded as frames.
+    pub frame_times: Vec<f64>,
+    /// Record a frame every this many seconds (in addition to `frame_times`).
+    pub frame_interval: Option<f64>,
+}
+
+/// Settle criterion: UBF below `ubf_threshold` (and kinetic energy below its threshold, if given),
+/// held continuously for `hold_time`. The settle time is when that stretch began.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SettleConfig {
+    /// Unbalanced force ratio threshold.
+    pub ubf_threshold: f64,
+    /// How long (s) the criterion must hold.
+    pub hold_time: f64,
+    /// Optional total kinetic energy threshold (J).
+    pub kinetic_energy_threshold: Option<f64>,
+}
+
+/// Validity warnings and divergence limits.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LimitsConfig {
+    /// A run diverges when any overlap exceeds this fraction of the smaller radius.
+    pub max_overlap_ratio: f64,
+    /// Overlaps beyond this fraction of the radius are reported as outside Hertz validity.
+    pub overlap_warning_ratio: f64,
+    /// A run diverges when mechanical energy grows by more than this fraction of the energy available.
+    pub energy_growth_ratio: f64,
+    /// Warn when Δt exceeds this fraction of the predicted Hertz contact time.
+    pub contact_time_fraction: f64,
+    /// Warn when Δt times the largest contact damping rate exceeds this (per integrator stability).
+    pub damping_rate_fraction: f64,
+}
+
+/// Broad phase selection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BroadPhaseKind {
+    /// Cell grid: O(N) per neighbour-list build.
+    Grid,
+    /// All pairs: O(N²), kept as a reference for tests.
+    AllPairs,
+}
+
+/// Neighbour list options.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NeighborConfig {
+    /// Broad phase used to build the neighbour list.
+    pub broad_phase: BroadPhaseKind,
+    /// Verlet skin as a fraction of the largest radius: the list is rebuilt when any disk moved
+    /// more than half the skin.
+    pub skin_ratio: f64,
+}
+
+impl Default for SceneConfig {
+    fn default() -> Self {
+        Self {
+            domain: DomainConfig::default(),
+            particles: ParticlesConfig::default(),
+            placement: PlacementConfig::default(),
+            material: MaterialConfig::default(),
+            wall_material: WallMaterialConfig::default(),
+            contact: ContactConfig::default(),
+            gravity: [0.0, -9.81],
+            integrator: IntegratorConfig::default(),
+            run: RunConfig::default(),
+            settle: SettleConfig::default(),
+            limits: LimitsConfig::default(),
+            neighbors: NeighborConfig::default(),
+        }
+    }
+}
+
+impl Default for DomainConfig {
+    fn default() -> Self {
+        Self { width: 0.4, height: 0.6, lid: false }
+    }
+}
+
+impl Default for ParticlesConfig {
+    fn default() -> Self {
+        Self { count: 300, radius: 0.01, radius_max: None, radii: None, thickness: 1.0 }
+    }
+}
+
+impl Default for PlacementConfig {
+    fn default() -> Self {
+        Self {
+            kind: PlacementKind::Random,
+            seed: 12345,
+            lattice_gap: 0.05,
+            lattice_hexagonal: false,
+            file: None,
+            max_attempts: 10_000,
+        }
+    }
+}
+
+impl Default for MaterialConfig {
+    fn default() -> Self {
+        Self {
+            density: 1000.0,
+            youngs_modulus: 1e9,
+            poisson_ratio: None,
+            shear_modulus: None,
+            beta: None,
+            restitution: None,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        }
+    }
+}
+
+impl Default for ContactConfig {
+    fn default() -> Self {
+        Self {
+            law: ContactLawKind::HertzMindlin,
+            allow_tension: false,
+            normal_stiffness: None,
+            tangential_stiffness_ratio: 2.0 / 7.0,
+        }
+    }
+}
+
+impl Default for IntegratorConfig {
+    fn default() -> Self {
+        Self { scheme: IntegratorKind::AdamsBashforthMoulton, time_step: 1e-5 }
+    }
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self {
+            duration: 1.5,
+            sample_interval: 1e-3,
+            stop_at_settle: true,
+            frame_times: Vec::new(),
+            frame_interval: None,
+        }
+    }
+}
+
+impl Default for SettleConfig {
+    fn default() -> Self {
+        Self { ubf_threshold: 1e-2, hold_time: 0.05, kinetic_energy_threshold: None }
+    }
+}
+
+impl Default for LimitsConfig {
+    fn default() -> Self {
+        Self {
+            max_overlap_ratio: 0.5,
+            overlap_warning_ratio: 0.05,
+            energy_growth_ratio: 0.5,
+            contact_time_fraction: 0.1,
+            damping_rate_fraction: 0.5,
+        }
+    }
+}
+
+impl Default for NeighborConfig {
+    fn default() -> Self {
+        Self { broad_phase: BroadPhaseKind::Grid, skin_ratio: 0.3 }
+    }
+}
+
+/// One invalid value: the dotted key path (as in a study file) and why it is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ConfigIssue {
+    /// Dotted key path, e.g. `material.poisson_ratio`.
+    pub key: String,
+    /// What is wrong, in words.
+    pub reason: String,
+}
+
+impl std::fmt::Display for ConfigIssue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.key, self.reason)
+    }
+}
+
+/// Collects issues while validating.
+struct Checker(Vec<ConfigIssue>);
+
+impl Checker {
+    fn fail(&mut self, key: &str, reason: impl Into<String>) {
+        self.0.push(ConfigIssue { key: key.to_string(), reason: reason.into() });
+    }
+    fn positive(&mut self, key: &str, value: f64) {
+        if !(value.is_finite() && value > 0.0) {
+            self.fail(key, format!("must be a finite number > 0, got {value}"));
+        }
+    }
+    fn non_negative(&mut self, key: &str, value: f64) {
+        if !(value.is_finite() && value >= 0.0) {
+            self.fail(key, format!("must be a finite number >= 0, got {value}"));
+        }
+    }
+    fn finite(&mut self, key: &str, value: f64) {
+        if !value.is_finite() {
+            self.fail(key, format!("must be finite, got {value}"));
+        }
+    }
+    fn poisson(&mut self, key: &str, nu: f64) {
+        if !(nu > -1.0 && nu <= 0.5) {
+            self.fail(key, format!("Poisson's ratio must lie in (-1, 0.5], got {nu}"));
+        }
+    }
+    fn restitution(&mut self, key: &str, e: f64) {
+        if !(e > 0.0 && e <= 1.0) {
+            self.fail(key, format!("restitution must lie in (0, 1], got {e}"));
+        }
+    }
+    fn exclusive(&mut self, a: &str, a_set: bool, b: &str, b_set: bool) {
+        if a_set && b_set {
+            self.fail(b, format!("give either {a} or {b}, not both"));
+        }
+    }
+}
+
+impl SceneConfig {
+    /// Checks every value; returns all problems at once, each naming its key path.
+    pub fn validate(&self) -> Result<(), Vec<ConfigIssue>> {
+        let mut c = Checker(Vec::new());
+        self.check_geometry(&mut c);
+        self.check_material(&mut c);
+        self.check_time(&mut c);
+        if c.0.is_empty() { Ok(()) } else { Err(c.0) }
+    }
+
+    fn check_geometry(&self, c: &mut Checker) {
+        let d = &self.domain;
+        c.positive("domain.width", d.width);
+        c.positive("domain.height", d.height);
+        let p = &self.particles;
+        if p.count == 0 && self.placement.kind != PlacementKind::File {
+            c.fail("particles.count", "a scene needs at least one disk, got 0");
+        }
+        c.positive("particles.radius", p.radius);
+        c.positive("particles.thickness", p.thickness);
+        if let Some(rmax) = p.radius_max
+            && !(rmax.is_finite() && rmax >= p.radius)
+        {
+            c.fail("particles.radius_max", format!("must be >= particles.radius ({}), got {rmax}", p.radius));
+        }
+        c.exclusive("particles.radius_max", p.radius_max.is_some(), "particles.radii", p.radii.is_some());
+        if let Some(radii) = &p.radii {
+            if radii.len() != p.count {
+                c.fail("particles.radii", format!("has {} entries but particles.count is {}", radii.len(), p.count));
+            }
+            if let Some(bad) = radii.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+                c.fail("particles.radii", format!("every radius must be > 0, found {bad}"));
+            }
+        }
+        let largest = self.largest_radius();
+        if largest.is_finite() && 2.0 * largest > d.width {
+            c.fail(
+                "domain.width",
+                format!("{} m is narrower than the largest disk diameter {} m", d.width, 2.0 * largest),
+            );
+        }
+        if self.placement.kind == PlacementKind::File && self.placement.file.is_none() {
+            c.fail("placement.file", "placement.kind = \"file\" needs placement.file (a CSV path)");
+        }
+        c.non_negative("placement.lattice_gap", self.placement.lattice_gap);
+        if self.placement.max_attempts == 0 {
+            c.fail("placement.max_attempts", "must be at least 1");
+        }
+        c.finite("gravity[0]", self.gravity[0]);
+        c.finite("gravity[1]", self.gravity[1]);
+        let n = &self.neighbors;
+        c.positive("neighbors.skin_ratio", n.skin_ratio);
+    }
+
+    fn check_material(&self, c: &mut Checker) {
+        let m = &self.material;
+        c.positive("material.density", m.density);
+        c.positive("material.youngs_modulus", m.youngs_modulus);
+        c.exclusive(
+            "material.poisson_ratio",
+            m.poisson_ratio.is_some(),
+            "material.shear_modulus",
+            m.shear_modulus.is_some(),
+        );
+        if let Some(nu) = m.poisson_ratio {
+            c.poisson("material.poisson_ratio", nu);
+        }
+        if let Some(g) = m.shear_modulus {
+            c.positive("material.shear_modulus", g);
+            c.poisson("material.shear_modulus", m.youngs_modulus / (2.0 * g) - 1.0);
+        }
+        c.exclusive("material.beta", m.beta.is_some(), "material.restitution", m.restitution.is_some());
+        if let Some(b) = m.beta {
+            c.non_negative("material.beta", b);
+        }
+        if let Some(e) = m.restitution {
+            c.restitution("material.restitution", e);
+        }
+        c.non_negative("material.friction", m.friction);
+        c.non_negative("material.rolling_friction", m.rolling_friction);
+        let w = &self.wall_material;
+        c.exclusive(
+            "wall_material.poisson_ratio",
+            w.poisson_ratio.is_some(),
+            "wall_material.shear_modulus",
+            w.shear_modulus.is_some(),
+        );
+        c.exclusive("wall_material.beta", w.beta.is_some(), "wall_material.restitution", w.restitution.is_some());
+        if let Some(e) = w.youngs_modulus {
+            c.positive("wall_material.youngs_modulus", e);
+        }
+        if let Some(nu) = w.poisson_ratio {
+            c.poisson("wall_material.poisson_ratio", nu);
+        }
+        if let Some(g) = w.shear_modulus {
+            c.positive("wall_material.shear_modulus", g);
+            let e = w.youngs_modulus.unwrap_or(m.youngs_modulus);
+            c.poisson("wall_material.shear_modulus", e / (2.0 * g) - 1.0);
+        }
+        if let Some(b) = w.beta {
+            c.non_negative("wall_material.beta", b);
+        }
+        if let Some(e) = w.restitution {
+            c.restitution("wall_material.restitution", e);
+        }
+        if let Some(f) = w.friction {
+            c.non_negative("wall_material.friction", f);
+        }
+        if let Some(f) = w.rolling_friction {
+            c.non_negative("wall_material.rolling_friction", f);
+        }
+        if let Some(k) = self.contact.normal_stiffness {
+            c.positive("contact.normal_stiffness", k);
+        }
+        c.non_negative("contact.tangential_stiffness_ratio", self.contact.tangential_stiffness_ratio);
+    }
+
+    fn check_time(&self, c: &mut Checker) {
+        c.positive("integrator.time_step", self.integrator.time_step);
+        let r = &self.run;
+        c.positive("run.duration", r.duration);
+        c.positive("run.sample_interval", r.sample_interval);
+        if let Some(i) = r.frame_interval {
+            c.positive("run.frame_interval", i);
+        }
+        if let Some(t) = r.frame_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+            c.fail("run.frame_times", format!("frame times must be >= 0, found {t}"));
+        }
+        let steps = r.duration / self.integrator.time_step;
+        if steps.is_finite() && steps > 1e12 {
+            c.fail("run.duration", format!("needs {steps:.3e} steps of integrator.time_step; at most 1e12"));
+        }
+        let s = &self.settle;
+        c.positive("settle.ubf_threshold", s.ubf_threshold);
+        c.non_negative("settle.hold_time", s.hold_time);
+        if let Some(k) = s.kinetic_energy_threshold {
+            c.positive("settle.kinetic_energy_threshold", k);
+        }
+        let l = &self.limits;
+        c.positive("limits.max_overlap_ratio", l.max_overlap_ratio);
+        c.positive("limits.overlap_warning_ratio", l.overlap_warning_ratio);
+        c.positive("limits.energy_growth_ratio", l.energy_growth_ratio);
+        c.positive("limits.contact_time_fraction", l.contact_time_fraction);
+        c.positive("limits.damping_rate_fraction", l.damping_rate_fraction);
+    }
+
+    /// The largest disk radius the configuration can produce (m).
+    pub fn largest_radius(&self) -> f64 {
+        let p = &self.particles;
+        match (&p.radii, p.radius_max) {
+            (Some(radii), _) => radii.iter().cloned().fold(0.0, f64::max),
+            (None, Some(rmax)) => rmax,
+            (None, None) => p.radius,
+        }
+    }
+
+    /// Number of time steps of the full duration.
+    pub fn total_steps(&self) -> u64 {
+        (self.run.duration / self.integrator.time_step).round().max(1.0) as u64
+    }
+}

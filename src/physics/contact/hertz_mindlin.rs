@@ -1,0 +1,37 @@
+//! The paper's Hertz-Mindlin law (eqs 6-12) with the spec's fixes.
+
+use super::{Coefficients, ContactLaw, PairProperties};
+
+/// `2·√(5/6)`: the paper's damping prefactor (eqs 7 and 12).
+const DAMPING_PREFACTOR: f64 = 1.825_741_858_350_553_8;
+
+/// Hertz normal force `F_ne = 4/3 E* √R* δ^{3/2}` (eq 6), normal stiffness `S_n = 2 E* √(R* δ)` (eq 8),
+/// Mindlin tangential stiffness `S_t = 8 G* √(R* δ)` (eq 11, **fix**: the normal overlap under the
+/// root, not the tangential one), damping `2√(5/6) β √(S m*)` (eqs 7, 12).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HertzMindlin;
+
+impl ContactLaw for HertzMindlin {
+    #[inline]
+    fn coefficients(&self, p: &PairProperties, overlap: f64) -> Coefficients {
+        let root = (p.r_star * overlap).sqrt();
+        let normal_stiffness = 2.0 * p.e_star * root;
+        let tangential_stiffness = 8.0 * p.g_star * root;
+        let damping = DAMPING_PREFACTOR * p.beta;
+        Coefficients {
+            normal_force: (2.0 / 3.0) * normal_stiffness * overlap,
+            normal_damping: damping * (normal_stiffness * p.m_star).sqrt(),
+            tangential_stiffness,
+            tangential_damping: damping * (tangential_stiffness * p.m_star).sqrt(),
+        }
+    }
+
+    #[inline]
+    fn normal_elastic_energy(&self, p: &PairProperties, overlap: f64) -> f64 {
+        (8.0 / 15.0) * p.e_star * p.r_star.sqrt() * overlap * overlap * overlap.sqrt()
+    }
+
+    fn name(&self) -> &'static str {
+        "hertz_mindlin"
+    }
+}

@@ -1,0 +1,213 @@
+//! Contact force laws.
+//!
+//! A law only says how stiff and how damped a contact is at a given overlap
+//! ([`ContactLaw::coefficients`]) and how much elastic energy it stores; the shared machinery here
+//! turns that into forces: damping, the `Fn ≥ 0` clamp, the tangential spring with its history and
+//! the Coulomb limit. A new law is one new file implementing [`ContactLaw`].
+//!
+//! Sign conventions (spec): `n` is the unit normal from body i to body j, `t = (-n_y, n_x)`;
+//! the approach speed `v_n = (v_i - v_j)·n` is positive when the bodies close in; the force on i is
+//! `-F_n n + F_t t` (on j the opposite) and the torque from the tangential force is `F_t R` on each.
+
+mod hertz_mindlin;
+mod linear;
+
+pub use hertz_mindlin::HertzMindlin;
+pub use linear::LinearSpringDashpot;
+
+/// Effective properties of one contact (walls: infinite radius and mass, so `R* = R_i`, `m* = m_i`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairProperties {
+    /// Effective Young's modulus E* (Pa).
+    pub e_star: f64,
+    /// Effective shear modulus G* (Pa).
+    pub g_star: f64,
+    /// Effective radius R* (m).
+    pub r_star: f64,
+    /// Effective mass m* (kg).
+    pub m_star: f64,
+    /// Damping factor β.
+    pub beta: f64,
+}
+
+/// Stiffness and damping of a contact at one overlap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients {
+    /// Elastic normal force (N), ≥ 0.
+    pub normal_force: f64,
+    /// Normal damping coefficient (N·s/m): damping force = coefficient × approach speed.
+    pub normal_damping: f64,
+    /// Tangential spring stiffness (N/m).
+    pub tangential_stiffness: f64,
+    /// Tangential damping coefficient (N·s/m).
+    pub tangential_damping: f64,
+}
+
+/// A normal-tangential contact force law.
+pub trait ContactLaw: Send + Sync {
+    /// Stiffness and damping at overlap `overlap > 0` (m).
+    fn coefficients(&self, pair: &PairProperties, overlap: f64) -> Coefficients;
+    /// Elastic energy stored by the normal spring at overlap `overlap` (J).
+    fn normal_elastic_energy(&self, pair: &PairProperties, overlap: f64) -> f64;
+    /// Short name for reports.
+    fn name(&self) -> &'static str;
+}
+
+/// Contact options shared by all laws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOptions {
+    /// Keep a negative (tensile) total normal force instead of clamping it to zero.
+    pub allow_tension: bool,
+    /// Compute tangential forces (false when there is no friction: skips that work).
+    pub tangential: bool,
+    /// Sliding friction coefficient μ.
+    pub friction: f64,
+}
+
+/// Relative motion of a contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kinematics {
+    /// Overlap δ > 0 (m).
+    pub overlap: f64,
+    /// Approach speed `v_n` (m/s), positive when closing.
+    pub approach_speed: f64,
+    /// Relative tangential speed of the contact points `v_t` (m/s).
+    pub tangential_speed: f64,
+}
+
+/// The resolved force of one contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactForce {
+    /// Total normal force `F_n` (N); repulsive when positive.
+    pub normal: f64,
+    /// Elastic part of the normal force (N).
+    pub normal_elastic: f64,
+    /// Tangential force `F_t` along `t` on body i (N).
+    pub tangential: f64,
+    /// Tangential spring stiffness used (N/m), for the spring's stored energy.
+    pub tangential_stiffness: f64,
+}
+
+impl ContactForce {
+    /// Rate of work done by this contact on the two bodies (W): `-F_n v_n + F_t v_t`.
+    #[inline]
+    pub fn power(&self, k: &Kinematics) -> f64 {
+        -self.normal * k.approach_speed + self.tangential * k.tangential_speed
+    }
+
+    /// Magnitude of the contact force vector (N).
+    #[inline]
+    pub fn magnitude(&self) -> f64 {
+        self.normal.hypot(self.tangential)
+    }
+}
+
+/// Resolves one contact: normal force with damping and clamp, tangential spring update (`spring`
+/// is the accumulated tangential displacement ξ, m) with the Coulomb limit `|F_t| ≤ μ F_n`.
+#[inline]
+pub fn resolve<L: ContactLaw>(
+    law: &L,
+    pair: &PairProperties,
+    options: &ContactOptions,
+    k: &Kinematics,
+    spring: &mut f64,
+    dt: f64,
+) -> ContactForce {
+    let c = law.coefficients(pair, k.overlap);
+    let mut normal = c.normal_force + c.normal_damping * k.approach_speed;
+    if !options.allow_tension {
+        normal = normal.max(0.0);
+    }
+    let mut tangential = 0.0;
+    if options.tangential {
+        *spring += k.tangential_speed * dt;
+        let damping = -c.tangential_damping * k.tangential_speed;
+        let trial = -c.tangential_stiffness * *spring + damping;
+        let limit = options.friction * normal.max(0.0);
+        tangential = if trial.abs() > limit {
+            // Sliding (spec fix of eq 13): the force sits on the Coulomb limit, the spring carries it.
+            let sliding = limit.copysign(trial);
+            *spring = if c.tangential_stiffness > 0.0 { -sliding / c.tangential_stiffness } else { 0.0 };
+            sliding
+        } else {
+            trial
+        };
+    }
+    ContactForce { normal, normal_elastic: c.normal_force, tangential, tangential_stiffness: c.tangential_stiffness }
+}
+
+/// Elastic energy of a contact: the law's normal spring plus the tangential spring ½ S_t ξ² (J).
+#[inline]
+pub fn elastic_energy<L: ContactLaw>(
+    law: &L,
+    pair: &PairProperties,
+    overlap: f64,
+    force: &ContactForce,
+    spring: f64,
+) -> f64 {
+    law.normal_elastic_energy(pair, overlap) + 0.5 * force.tangential_stiffness * spring * spring
+}
+
+/// Outcome of a simulated head-on impact, used for time-step estimates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImpactEstimate {
+    /// Contact duration (s).
+    pub duration: f64,
+    /// Largest overlap (m).
+    pub max_overlap: f64,
+    /// Largest normal damping rate `c_n / m*` during the impact (1/s).
+    pub max_damping_rate: f64,
+    /// Largest natural frequency `√(dF/dδ / m*)` during the impact (rad/s).
+    pub max_frequency: f64,
+}
+
+/// Integrates an undamped head-on impact at `speed` with any law (fine RK4 steps), so stability
+/// estimates work for every law without law-specific formulas.
+pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> ImpactEstimate {
+    let undamped = PairProperties { beta: 0.0, ..*pair };
+    let accel = |d: f64| if d > 0.0 { -law.coefficients(&undamped, d).normal_force / pair.m_star } else { 0.0 };
+    // First guess of the duration from a linear spring at the overlap where all energy is stored.
+    let mut dt = 1e-3 * guess_duration(law, &undamped, speed);
+    let (mut d, mut v, mut t, mut dmax) = (0.0_f64, speed, 0.0_f64, 0.0_f64);
+    let mut steps = 0;
+    while (d > 0.0 || t == 0.0) && steps < 100_000 {
+        let (k1d, k1v) = (v, accel(d));
+        let (k2d, k2v) = (v + 0.5 * dt * k1v, accel(d + 0.5 * dt * k1d));
+        let (k3d, k3v) = (v + 0.5 * dt * k2v, accel(d + 0.5 * dt * k2d));
+        let (k4d, k4v) = (v + dt * k3v, accel(d + dt * k3d));
+        d += dt / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
+        v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        t += dt;
+        dmax = dmax.max(d);
+        steps += 1;
+        if steps == 10 && dmax <= 0.0 {
+            dt *= 10.0;
+        }
+    }
+    let at_max = law.coefficients(pair, dmax);
+    let eps = dmax * 1e-6;
+    let slope = (law.coefficients(&undamped, dmax + eps).normal_force
+        - law.coefficients(&undamped, dmax - eps).normal_force)
+        / (2.0 * eps);
+    ImpactEstimate {
+        duration: t,
+        max_overlap: dmax,
+        max_damping_rate: at_max.normal_damping / pair.m_star,
+        max_frequency: (slope.max(0.0) / pair.m_star).sqrt(),
+    }
+}
+
+/// Rough contact duration: bisect the overlap that stores the impact energy, then π/ω of the secant.
+fn guess_duration<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> f64 {
+    let energy = 0.5 * pair.m_star * speed * speed;
+    let (mut lo, mut hi) = (0.0_f64, pair.r_star.max(1e-12));
+    while law.normal_elastic_energy(pair, hi) < energy && hi < 1e6 {
+        hi *= 2.0;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if law.normal_elastic_energy(pair, mid) < energy { lo = mid } else { hi = mid }
+    }
+    let stiffness = law.coefficients(pair, hi).normal_force / hi;
+    std::f64::consts::PI * (pair.m_star / stiffness).sqrt()
+}

@@ -1,0 +1,98 @@
+//! Disk state as structure-of-arrays.
+
+use std::f64::consts::PI;
+
+/// Initial state of one disk (velocities default to rest).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InitialDisk {
+    /// Centre x (m).
+    pub x: f64,
+    /// Centre y (m).
+    pub y: f64,
+    /// Radius (m).
+    pub r: f64,
+    /// Velocity x (m/s).
+    pub vx: f64,
+    /// Velocity y (m/s).
+    pub vy: f64,
+    /// Angular velocity (rad/s).
+    pub omega: f64,
+}
+
+/// All disks, one array per quantity.
+#[derive(Clone, Debug, Default)]
+pub struct Particles {
+    /// Centre x (m).
+    pub x: Vec<f64>,
+    /// Centre y (m).
+    pub y: Vec<f64>,
+    /// Velocity x (m/s).
+    pub vx: Vec<f64>,
+    /// Velocity y (m/s).
+    pub vy: Vec<f64>,
+    /// Angular velocity (rad/s).
+    pub omega: Vec<f64>,
+    /// Radius (m).
+    pub r: Vec<f64>,
+    /// Mass m = ρ π R² h (kg).
+    pub mass: Vec<f64>,
+    /// 1/m (1/kg).
+    pub inv_mass: Vec<f64>,
+    /// 1/I with I = m R²/2 (1/(kg·m²)).
+    pub inv_inertia: Vec<f64>,
+    /// Net force x incl. gravity (N).
+    pub fx: Vec<f64>,
+    /// Net force y incl. gravity (N).
+    pub fy: Vec<f64>,
+    /// Net torque (N·m).
+    pub torque: Vec<f64>,
+    /// Summed rolling-resistance torque magnitude before clamping (N·m).
+    pub rolling: Vec<f64>,
+    /// Sum of contact force magnitudes, filled on sampled steps only (N).
+    pub contact_force: Vec<f64>,
+}
+
+impl Particles {
+    /// Disks of density `density` and thickness `thickness` at the given initial states.
+    pub fn new(disks: &[InitialDisk], density: f64, thickness: f64) -> Self {
+        let n = disks.len();
+        let mut p = Particles {
+            x: disks.iter().map(|d| d.x).collect(),
+            y: disks.iter().map(|d| d.y).collect(),
+            vx: disks.iter().map(|d| d.vx).collect(),
+            vy: disks.iter().map(|d| d.vy).collect(),
+            omega: disks.iter().map(|d| d.omega).collect(),
+            r: disks.iter().map(|d| d.r).collect(),
+            mass: Vec::with_capacity(n),
+            inv_mass: Vec::with_capacity(n),
+            inv_inertia: Vec::with_capacity(n),
+            fx: vec![0.0; n],
+            fy: vec![0.0; n],
+            torque: vec![0.0; n],
+            rolling: vec![0.0; n],
+            contact_force: vec![0.0; n],
+        };
+        for &r in &p.r {
+            let m = density * PI * r * r * thickness;
+            p.mass.push(m);
+            p.inv_mass.push(1.0 / m);
+            p.inv_inertia.push(2.0 / (m * r * r));
+        }
+        p
+    }
+
+    /// Number of disks.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are no disks.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Largest radius (m), 0 without disks.
+    pub fn max_radius(&self) -> f64 {
+        self.r.iter().cloned().fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,214 @@
+//! Initial positions: seeded random non-overlapping placement, lattices, and radii.
+
+use super::config::{PlacementKind, SceneConfig};
+use super::particles::InitialDisk;
+use super::rng::Rng;
+
+/// Why disks could not be placed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PlacementError {
+    /// Key path the problem belongs to.
+    pub key: String,
+    /// What went wrong, with how many disks fit.
+    pub reason: String,
+}
+
+impl std::fmt::Display for PlacementError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.key, self.reason)
+    }
+}
+
+impl std::error::Error for PlacementError {}
+
+/// Radii of all disks: equal, uniform in `[radius, radius_max]` (drawn first from `rng`), or listed.
+pub fn radii(scene: &SceneConfig, rng: &mut Rng) -> Vec<f64> {
+    let p = &scene.particles;
+    match (&p.radii, p.radius_max) {
+        (Some(list), _) => list.clone(),
+        (None, Some(rmax)) => (0..p.count).map(|_| rng.range(p.radius, rmax)).collect(),
+        (None, None) => vec![p.radius; p.count],
+    }
+}
+
+/// Generated initial disks of a scene whose placement is `random` or `lattice`.
+/// `file` placement is the caller's: it reads the states and passes them to the simulation.
+pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError> {
+    let mut rng = Rng::new(scene.placement.seed);
+    let radii = radii(scene, &mut rng);
+    match scene.placement.kind {
+        PlacementKind::Random => random(scene, &radii, &mut rng),
+        PlacementKind::Lattice => lattice(scene, &radii),
+        PlacementKind::File => Err(PlacementError {
+            key: "placement.file".into(),
+            reason: "file placement needs the initial states read from the file".into(),
+        }),
+    }
+}
+
+/// Uniform grid of buckets over the box, for overlap checks during placement.
+struct Buckets {
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    items: Vec<Vec<usize>>,
+}
+
+impl Buckets {
+    fn new(width: f64, height: f64, cell: f64) -> Self {
+        let cols = ((width / cell).ceil() as usize).clamp(1, 4096);
+        let rows = ((height / cell).ceil() as usize).clamp(1, 4096);
+        let cell = (width / cols as f64).max(height / rows as f64).max(cell);
+        Self { cell, cols, rows, items: vec![Vec::new(); cols * rows] }
+    }
+    fn index(&self, x: f64, y: f64) -> (usize, usize) {
+        let c = ((x / self.cell) as usize).min(self.cols - 1);
+        let r = ((y / self.cell) as usize).min(self.rows - 1);
+        (c, r)
+    }
+    fn free(&self, disks: &[InitialDisk], x: f64, y: f64, r: f64) -> bool {
+        let (c, row) = self.index(x, y);
+        for rr in row.saturating_sub(1)..=(row + 1).min(self.rows - 1) {
+            for cc in c.saturating_sub(1)..=(c + 1).min(self.cols - 1) {
+                for &k in &self.items[rr * self.cols + cc] {
+                    let d = &disks[k];
+                    let (dx, dy, rs) = (d.x - x, d.y - y, d.r + r);
+                    if dx * dx + dy * dy < rs * rs {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+    fn insert(&mut self, x: f64, y: f64, k: usize) {
+        let (c, r) = self.index(x, y);
+        self.items[r * self.cols + c].push(k);
+    }
+}
+
+/// Random sequential placement: each disk tries up to `max_attempts` uniform positions inside the
+/// box (below `domain.height`) until it overlaps no earlier disk. The placed disks are then ordered
+/// bottom row first (for memory locality); the result depends only on the seed.
+pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<InitialDisk>, PlacementError> {
+    let (w, h) = (scene.domain.width, scene.domain.height);
+    let rmax = radii.iter().cloned().fold(0.0, f64::max);
+    let mut buckets = Buckets::new(w, h, 2.0 * rmax);
+    let mut disks: Vec<InitialDisk> = Vec::with_capacity(radii.len());
+    for (k, &r) in radii.iter().enumerate() {
+        if 2.0 * r > w || 2.0 * r > h {
+            return Err(too_full(scene, k, radii.len(), "a disk is larger than the box"));
+        }
+        let placed = (0..scene.placement.max_attempts).find_map(|_| {
+            let x = rng.range(r, w - r);
+            let y = rng.range(r, h - r);
+            buckets.free(&disks, x, y, r).then_some((x, y))
+        });
+        let Some((x, y)) = placed else {
+            return Err(too_full(scene, k, radii.len(), "no free spot found"));
+        };
+        buckets.insert(x, y, k);
+        disks.push(InitialDisk { x, y, r, ..Default::default() });
+    }
+    let cell = buckets.cell;
+    disks.sort_by(|a, b| ((a.y / cell) as u64).cmp(&((b.y / cell) as u64)).then(a.x.total_cmp(&b.x)));
+    Ok(disks)
+}
+
+fn too_full(scene: &SceneConfig, placed: usize, count: usize, why: &str) -> PlacementError {
+    let area: f64 = std::f64::consts::PI * scene.particles.radius.powi(2) * count as f64;
+    let box_area = scene.domain.width * scene.domain.height;
+    PlacementError {
+        key: "particles.count".into(),
+        reason: format!(
+            "random placement fit only {placed} of {count} disks in the {} m x {} m box ({why} after {} tries; \
+             requested area fraction {:.2}, random placement jams near 0.5): lower the count, enlarge domain.height \
+             or use placement.kind = \"lattice\"",
+            scene.domain.width,
+            scene.domain.height,
+            scene.placement.max_attempts,
+            area / box_area
+        ),
+    }
+}
+
+/// Rows of disks from the floor up, spaced by the largest diameter plus `lattice_gap` of it;
+/// hexagonal rows are offset by half a spacing and packed closer vertically.
+pub fn lattice(scene: &SceneConfig, radii: &[f64]) -> Result<Vec<InitialDisk>, PlacementError> {
+    let (w, h) = (scene.domain.width, scene.domain.height);
+    let rmax = radii.iter().cloned().fold(0.0, f64::max);
+    let spacing = 2.0 * rmax * (1.0 + scene.placement.lattice_gap);
+    let hex = scene.placement.lattice_hexagonal;
+    let row_height = if hex { spacing * 3f64.sqrt() / 2.0 } else { spacing };
+    let margin = rmax * (1.0 + scene.placement.lattice_gap);
+    let mut disks = Vec::with_capacity(radii.len());
+    let mut row = 0usize;
+    while disks.len() < radii.len() {
+        let y = margin + row as f64 * row_height;
+        let shift = if hex && row % 2 == 1 { 0.5 * spacing } else { 0.0 };
+        let per_row = ((w - 2.0 * margin - shift) / spacing).floor() as i64 + 1;
+        if y + rmax > h || per_row < 1 {
+            return Err(PlacementError {
+                key: "particles.count".into(),
+                reason: format!(
+                    "the lattice fits only {} of {} disks in the {w} m x {h} m box: lower the count, \
+                     enlarge the box or reduce placement.lattice_gap",
+                    disks.len(),
+                    radii.len()
+                ),
+            });
+        }
+        for col in 0..per_row as usize {
+            if disks.len() == radii.len() {
+                break;
+            }
+            let x = margin + shift + col as f64 * spacing;
+            disks.push(InitialDisk { x, y, r: radii[disks.len()], ..Default::default() });
+        }
+        row += 1;
+    }
+    Ok(disks)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn overlapping(d: &[InitialDisk]) -> bool {
+        d.iter().enumerate().any(|(i, a)| d[i + 1..].iter().any(|b| (a.x - b.x).hypot(a.y - b.y) < a.r + b.r))
+    }
+
+    #[test]
+    fn random_placement_is_seeded_and_overlap_free() {
+        let scene = SceneConfig::default();
+        let a = generate(&scene).unwrap();
+        let b = generate(&scene).unwrap();
+        assert_eq!(a, b);
+        assert_eq!(a.len(), 300);
+        assert!(!overlapping(&a));
+        let mut other = scene.clone();
+        other.placement.seed += 1;
+        assert_ne!(generate(&other).unwrap(), a);
+    }
+
+    #[test]
+    fn overfull_box_says_how_many_fit() {
+        let mut scene = SceneConfig::default();
+        scene.particles.count = 2000;
+        scene.placement.max_attempts = 200;
+        let err = generate(&scene).unwrap_err();
+        assert_eq!(err.key, "particles.count");
+        assert!(err.reason.contains("of 2000 disks"), "{}", err.reason);
+    }
+
+    #[test]
+    fn lattice_fills_rows_without_overlap() {
+        let mut scene = SceneConfig::default();
+        scene.placement.kind = PlacementKind::Lattice;
+        scene.placement.lattice_hexagonal = true;
+        let d = generate(&scene).unwrap();
+        assert_eq!(d.len(), 300);
+        assert!(!overlapping(&d));
+        assert!(d.iter().all(|p| p.x >= p.r && p.x <= 0.4 - p.r && p.y >= p.r));
+    }
+}

@@ -1,0 +1,124 @@
+//! What one run produces: status, histories, final state and frames.
+
+use serde::{Deserialize, Serialize};
+
+use super::stability::StabilityReport;
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    /// The settle criterion held (the run stopped there unless asked to run to the end).
+    Settled,
+    /// The duration elapsed without the settle criterion holding.
+    NotSettled,
+    /// The run was ended because its state became invalid (see the message).
+    Diverged,
+    /// The caller asked the run to stop early (e.g. Ctrl-C).
+    Interrupted,
+}
+
+impl RunStatus {
+    /// The snake_case name used in files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunStatus::Settled => "settled",
+            RunStatus::NotSettled => "not_settled",
+            RunStatus::Diverged => "diverged",
+            RunStatus::Interrupted => "interrupted",
+        }
+    }
+}
+
+/// Sampled diagnostics over time, one entry per sample (see [`super::diagnostics::Sample`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct History {
+    /// Simulated time (s).
+    pub time: Vec<f64>,
+    /// Translational kinetic energy Σ ½ m v² (J).
+    pub kinetic_translational: Vec<f64>,
+    /// Rotational kinetic energy Σ ½ I ω² (J).
+    pub kinetic_rotational: Vec<f64>,
+    /// Gravitational potential energy −Σ m g·x (J); zero at the origin.
+    pub potential: Vec<f64>,
+    /// Elastic energy stored in contacts, normal and tangential springs (J).
+    pub elastic: Vec<f64>,
+    /// Energy removed by damping and friction since the start (J).
+    pub dissipated: Vec<f64>,
+    /// The paper's total: kinetic + potential (J).
+    pub total: Vec<f64>,
+    /// Mechanical total: kinetic + potential + elastic (J).
+    pub mechanical: Vec<f64>,
+    /// Unbalanced force ratio (gravity included); NaN while there are no contacts.
+    pub unbalanced_force_ratio: Vec<f64>,
+    /// Number of contacts, disk-disk and disk-wall.
+    pub contacts: Vec<u32>,
+    /// Largest overlap divided by the smaller radius of its pair.
+    pub max_overlap_ratio: Vec<f64>,
+}
+
+/// Full state of all disks at one time.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Centre x (m).
+    pub x: Vec<f64>,
+    /// Centre y (m).
+    pub y: Vec<f64>,
+    /// Velocity x (m/s).
+    pub vx: Vec<f64>,
+    /// Velocity y (m/s).
+    pub vy: Vec<f64>,
+    /// Angular velocity (rad/s), counter-clockwise positive.
+    pub omega: Vec<f64>,
+    /// Radius (m).
+    pub r: Vec<f64>,
+    /// Sum of contact force magnitudes on each disk (N).
+    pub contact_force: Vec<f64>,
+}
+
+/// Everything one run produces.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// How it ended.
+    pub status: RunStatus,
+    /// Why it diverged or was interrupted; `None` otherwise.
+    pub message: Option<String>,
+    /// Validity warnings from the pre-run estimate and from the run itself.
+    pub warnings: Vec<String>,
+    /// Start of the stretch over which the settle criterion held (s).
+    pub settle_time: Option<f64>,
+    /// Time steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub simulated_time: f64,
+    /// Pre-run stability estimate.
+    pub stability: StabilityReport,
+    /// Sampled diagnostics.
+    pub history: History,
+    /// State at the end of the run.
+    pub final_state: Snapshot,
+    /// States recorded at the requested frame times.
+    pub frames: Vec<Snapshot>,
+}
+
+impl RunRecord {
+    /// Height of the pile at the end: the highest disk top (m).
+    pub fn pile_height(&self) -> f64 {
+        let s = &self.final_state;
+        s.y.iter().zip(&s.r).map(|(y, r)| y + r).fold(0.0, f64::max)
+    }
+
+    /// Area fraction of disks below the pile height in a box of the given width.
+    pub fn packing_fraction(&self, width: f64) -> f64 {
+        let h = self.pile_height();
+        let area: f64 = self.final_state.r.iter().map(|r| std::f64::consts::PI * r * r).sum();
+        if h > 0.0 { area / (width * h) } else { f64::NAN }
+    }
+
+    /// Last sampled value of a history series, NaN when there is none.
+    pub fn last(series: &[f64]) -> f64 {
+        series.last().copied().unwrap_or(f64::NAN)
+    }
+}

@@ -1,0 +1,500 @@
+//! The step loop: forces, integration, sampling, monitoring and stopping.
+//!
+//! One step: the integrator advances the state with the forces of the current state, the neighbour
+//! list is refreshed if some disk moved far enough, forces are evaluated at the new state (with
+//! contact sums only on sampled steps), and the integrator finishes the step. Diagnostics,
+//! divergence checks and the settle criterion run on sampled steps only.
+
+use super::config::{ContactLawKind, SceneConfig};
+use super::contact::{
+    self, ContactForce, ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot, PairProperties,
+};
+use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
+use super::integrator::Integrator;
+use super::material::{ContactMaterial, Materials};
+use super::neighbors::NeighborList;
+use super::particles::{InitialDisk, Particles};
+use super::record::{History, RunRecord, RunStatus, Snapshot};
+use super::stability::{self, StabilityReport};
+use super::walls::BoxWalls;
+
+/// What a running simulation tells its caller at every sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// Steps taken.
+    pub step: u64,
+    /// Simulated time (s).
+    pub time: f64,
+    /// The run's full duration (s).
+    pub duration: f64,
+    /// Current unbalanced force ratio (NaN without contacts).
+    pub unbalanced_force_ratio: f64,
+    /// Current kinetic energy (J).
+    pub kinetic_energy: f64,
+}
+
+/// The caller's answer to a [`Progress`] report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// Keep going.
+    Continue,
+    /// Stop now; the run ends as [`RunStatus::Interrupted`].
+    Stop,
+}
+
+/// Builds and runs one scene with the contact law it names. `disks`: explicit initial states
+/// (file placement), or `None` to generate them from the scene's placement.
+pub fn run_scene(
+    scene: &SceneConfig,
+    disks: Option<Vec<InitialDisk>>,
+    observer: &mut dyn FnMut(&Progress) -> Control,
+) -> Result<RunRecord, String> {
+    if let Err(issues) = scene.validate() {
+        return Err(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "));
+    }
+    let disks = match disks {
+        Some(d) => d,
+        None => super::placement::generate(scene).map_err(|e| e.to_string())?,
+    };
+    if disks.is_empty() {
+        return Err("particles.count: a scene needs at least one disk, got 0".into());
+    }
+    Ok(match scene.contact.law {
+        ContactLawKind::HertzMindlin => Simulation::new(scene, &disks, HertzMindlin).run(observer),
+        ContactLawKind::Linear => {
+            let law = LinearSpringDashpot {
+                normal_stiffness: scene.contact.normal_stiffness,
+                tangential_ratio: scene.contact.tangential_stiffness_ratio,
+            };
+            Simulation::new(scene, &disks, law).run(observer)
+        }
+    })
+}
+
+/// One simulation of a scene with contact law `L`.
+pub struct Simulation<L: ContactLaw> {
+    law: L,
+    scene: SceneConfig,
+    /// The disks.
+    pub particles: Particles,
+    walls: BoxWalls,
+    wall_springs: Vec<f64>,
+    neighbors: NeighborList,
+    materials: Materials,
+    disk_options: ContactOptions,
+    wall_options: ContactOptions,
+    integrator: Integrator,
+    rotation: bool,
+    dt: f64,
+    /// Steps taken.
+    pub step: u64,
+    work: f64,
+    last_power: f64,
+    totals: ContactTotals,
+    initial_elastic: f64,
+}
+
+impl<L: ContactLaw> Simulation<L> {
+    /// A simulation at time zero with forces evaluated at the initial state.
+    pub fn new(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
+        let materials = Materials::from_scene(scene);
+        let particles = Particles::new(disks, materials.density, scene.particles.thickness);
+        let walls = BoxWalls::new(&scene.domain);
+        let tangential = materials.particle.friction > 0.0 || materials.wall.friction > 0.0;
+        let spinning = particles.omega.iter().any(|w| *w != 0.0);
+        let options = |m: &ContactMaterial| ContactOptions {
+            allow_tension: scene.contact.allow_tension,
+            tangential,
+            friction: m.friction,
+        };
+        let skin = scene.neighbors.skin_ratio * particles.max_radius();
+        let mut sim = Self {
+            law,
+            scene: scene.clone(),
+            wall_springs: vec![0.0; particles.len() * walls.walls.len()],
+            neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
+            disk_options: options(&materials.particle),
+            wall_options: options(&materials.wall),
+            rotation: materials.has_friction() || spinning,
+            integrator: Integrator::new(scene.integrator.scheme),
+            dt: scene.integrator.time_step,
+            particles,
+            walls,
+            materials,
+            step: 0,
+            work: 0.0,
+            last_power: 0.0,
+            totals: ContactTotals::default(),
+            initial_elastic: 0.0,
+        };
+        sim.neighbors.rebuild(&sim.particles);
+        sim.last_power = sim.compute_forces::<true>();
+        sim.initial_elastic = sim.totals.elastic;
+        sim
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    /// The pre-run stability estimate for this scene.
+    pub fn stability(&self) -> StabilityReport {
+        stability::assess(&self.law, &self.scene, &self.particles, &self.materials, &self.walls)
+    }
+
+    /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
+    pub fn advance(&mut self, sample: bool) {
+        self.integrator.advance(&mut self.particles, self.dt, self.rotation);
+        if self.neighbors.needs_rebuild(&self.particles) {
+            self.neighbors.rebuild(&self.particles);
+        }
+        let power = if sample { self.compute_forces::<true>() } else { self.compute_forces::<false>() };
+        self.integrator.finish(&mut self.particles, self.dt, self.rotation);
+        self.work += 0.5 * (self.last_power + power) * self.dt;
+        self.last_power = power;
+        self.step += 1;
+    }
+
+    /// Diagnostics at the current state; valid after a sampled step (or at time zero).
+    pub fn sample(&self) -> Sample {
+        let (kt, kr) = diagnostics::kinetic_energies(&self.particles);
+        Sample {
+            time: self.time(),
+            kinetic_translational: kt,
+            kinetic_rotational: kr,
+            potential: diagnostics::potential_energy(&self.particles, self.scene.gravity),
+            elastic: self.totals.elastic,
+            dissipated: self.initial_elastic - self.totals.elastic - self.work,
+            unbalanced_force_ratio: diagnostics::unbalanced_force_ratio(&self.particles, &self.totals),
+            contacts: self.totals.contacts,
+            max_overlap_ratio: self.totals.max_overlap_ratio,
+        }
+    }
+
+    /// Full state now (contact forces as of the last sampled step).
+    pub fn snapshot(&self) -> Snapshot {
+        let p = &self.particles;
+        Snapshot {
+            time: self.time(),
+            x: p.x.clone(),
+            y: p.y.clone(),
+            vx: p.vx.clone(),
+            vy: p.vy.clone(),
+            omega: p.omega.clone(),
+            r: p.r.clone(),
+            contact_force: p.contact_force.clone(),
+        }
+    }
+
+    /// Evaluates all forces and torques at the current state; returns the power of the contact
+    /// forces (W). With `SAMPLE`, also fills the contact sums and per-disk contact force magnitudes.
+    fn compute_forces<const SAMPLE: bool>(&mut self) -> f64 {
+        let g = self.scene.gravity;
+        let p = &mut self.particles;
+        for i in 0..p.len() {
+            p.fx[i] = p.mass[i] * g[0];
+            p.fy[i] = p.mass[i] * g[1];
+        }
+        if self.rotation {
+            p.torque.fill(0.0);
+            p.rolling.fill(0.0);
+        }
+        if SAMPLE {
+            p.contact_force.fill(0.0);
+            self.totals = ContactTotals::default();
+        }
+        let mut power = self.disk_contacts::<SAMPLE>();
+        power += self.wall_contacts::<SAMPLE>();
+        if self.rotation && self.materials.has_friction() {
+            power += self.apply_rolling_resistance();
+        }
+        power
+    }
+
+    fn disk_contacts<const SAMPLE: bool>(&mut self) -> f64 {
+        let p = &mut self.particles;
+        let m = &self.materials.particle;
+        let mut power = 0.0;
+        for pair in self.neighbors.pairs.iter_mut() {
+            let (i, j) = (pair.i as usize, pair.j as usize);
+            let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
+            let (ri, rj) = (p.r[i], p.r[j]);
+            let reach = ri + rj;
+            let d2 = dx * dx + dy * dy;
+            if d2 >= reach * reach {
+                pair.spring = 0.0;
+                continue;
+            }
+            let d = d2.sqrt();
+            let (nx, ny) = if d > 0.0 { (dx / d, dy / d) } else { (1.0, 0.0) };
+            let (dvx, dvy) = (p.vx[i] - p.vx[j], p.vy[i] - p.vy[j]);
+            let k = Kinematics {
+                overlap: reach - d,
+                approach_speed: dvx * nx + dvy * ny,
+                tangential_speed: -dvx * ny + dvy * nx + p.omega[i] * ri + p.omega[j] * rj,
+            };
+            let props = PairProperties {
+                e_star: m.e_star,
+                g_star: m.g_star,
+                r_star: ri * rj / reach,
+                m_star: p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]),
+                beta: m.beta,
+            };
+            let f = contact::resolve(&self.law, &props, &self.disk_options, &k, &mut pair.spring, self.dt);
+            let (fx, fy) = (-f.normal * nx - f.tangential * ny, -f.normal * ny + f.tangential * nx);
+            p.fx[i] += fx;
+            p.fy[i] += fy;
+            p.fx[j] -= fx;
+            p.fy[j] -= fy;
+            if self.rotation {
+                p.torque[i] += f.tangential * ri;
+                p.torque[j] += f.tangential * rj;
+                p.rolling[i] += m.rolling_friction * f.normal * ri;
+                p.rolling[j] += m.rolling_friction * f.normal * rj;
+            }
+            power += f.power(&k);
+            if SAMPLE {
+                let magnitude = f.magnitude();
+                p.contact_force[i] += magnitude;
+                p.contact_force[j] += magnitude;
+                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &f, pair.spring);
+                self.totals.add(energy, magnitude, k.overlap / ri.min(rj));
+            }
+        }
+        power
+    }
+
+    fn wall_contacts<const SAMPLE: bool>(&mut self) -> f64 {
+        let p = &mut self.particles;
+        let m = &self.materials.wall;
+        let walls = &self.walls.walls;
+        let mut power = 0.0;
+        for i in 0..p.len() {
+            for (w, wall) in walls.iter().enumerate() {
+                let spring = &mut self.wall_springs[i * walls.len() + w];
+                let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+                if overlap <= 0.0 {
+                    *spring = 0.0;
+                    continue;
+                }
+                let [nx, ny] = wall.normal;
+                let k = Kinematics {
+                    overlap,
+                    approach_speed: p.vx[i] * nx + p.vy[i] * ny,
+                    tangential_speed: -p.vx[i] * ny + p.vy[i] * nx + p.omega[i] * p.r[i],
+                };
+                let props = PairProperties {
+                    e_star: m.e_star,
+                    g_star: m.g_star,
+                    r_star: p.r[i],
+                    m_star: p.mass[i],
+                    beta: m.beta,
+                };
+                let f: ContactForce = contact::resolve(&self.law, &props, &self.wall_options, &k, spring, self.dt);
+                p.fx[i] += -f.normal * nx - f.tangential * ny;
+                p.fy[i] += -f.normal * ny + f.tangential * nx;
+                if self.rotation {
+                    p.torque[i] += f.tangential * p.r[i];
+                    p.rolling[i] += m.rolling_friction * f.normal * p.r[i];
+                }
+                power += f.power(&k);
+                if SAMPLE {
+                    let magnitude = f.magnitude();
+                    p.contact_force[i] += magnitude;
+                    let energy = contact::elastic_energy(&self.law, &props, overlap, &f, *spring);
+                    self.totals.add(energy, magnitude, overlap / p.r[i]);
+                }
+            }
+        }
+        power
+    }
+
+    /// Rolling resistance (EDEM's constant directional torque, spec): `−μ0 F_n R ω/|ω|` summed per
+    /// disk, capped so that it can at most stop the spin within one step, never reverse it.
+    /// Returns its power (W, ≤ 0).
+    fn apply_rolling_resistance(&mut self) -> f64 {
+        let p = &mut self.particles;
+        let mut power = 0.0;
+        for i in 0..p.len() {
+            let w = p.omega[i];
+            if p.rolling[i] > 0.0 && w != 0.0 {
+                let stopping = w.abs() / (p.inv_inertia[i] * self.dt);
+                let torque = p.rolling[i].min(stopping);
+                p.torque[i] -= torque.copysign(w);
+                power -= torque * w.abs();
+            }
+        }
+        power
+    }
+
+    /// Runs to the end, to settling, to divergence, or until the observer says stop.
+    pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
+        let stability = self.stability();
+        let mut warnings = stability.warnings.clone();
+        let total_steps = self.scene.total_steps();
+        let sample_every = ((self.scene.run.sample_interval / self.dt).round() as u64).max(1);
+        let mut frames = FrameSchedule::new(&self.scene, total_steps);
+        let mut monitor = Monitor::new(&self);
+        let mut settle = SettleDetector::new(&self.scene.settle);
+        let mut history = History::default();
+        let mut recorded_frames = Vec::new();
+        let (status, message) = loop {
+            let s = self.sample();
+            if frames.due(self.step) {
+                recorded_frames.push(self.snapshot());
+            }
+            history.push(&s);
+            monitor.observe(&s);
+            if let Some(reason) = monitor.divergence(&self, &s) {
+                break (RunStatus::Diverged, Some(reason));
+            }
+            let settled = settle.update(&s);
+            let progress = Progress {
+                step: self.step,
+                time: s.time,
+                duration: self.scene.run.duration,
+                unbalanced_force_ratio: s.unbalanced_force_ratio,
+                kinetic_energy: s.kinetic(),
+            };
+            if observer(&progress) == Control::Stop {
+                break (RunStatus::Interrupted, Some(format!("stopped by request at t = {:.6} s", s.time)));
+            }
+            if settled && self.scene.run.stop_at_settle {
+                break (RunStatus::Settled, None);
+            }
+            if self.step >= total_steps {
+                break (if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None);
+            }
+            // Step to the next sample, recording frames on the way; a non-finite power ends early.
+            let next = (self.step + sample_every).min(total_steps);
+            while self.step < next {
+                let frame_due = self.step + 1 < next && frames.due(self.step + 1);
+                self.advance(frame_due || self.step + 1 == next);
+                if frame_due {
+                    recorded_frames.push(self.snapshot());
+                }
+                if !self.last_power.is_finite() {
+                    break;
+                }
+            }
+        };
+        warnings.extend(monitor.warnings(&self.scene));
+        RunRecord {
+            status,
+            message,
+            warnings,
+            settle_time: settle.settle_time,
+            steps: self.step,
+            simulated_time: self.time(),
+            stability,
+            history,
+            final_state: self.snapshot(),
+            frames: recorded_frames,
+        }
+    }
+}
+
+/// Steps at which full frames are recorded, in order.
+struct FrameSchedule {
+    steps: Vec<u64>,
+    next: usize,
+}
+
+impl FrameSchedule {
+    fn new(scene: &SceneConfig, total_steps: u64) -> Self {
+        let dt = scene.integrator.time_step;
+        let mut times = scene.run.frame_times.clone();
+        if let Some(interval) = scene.run.frame_interval {
+            let count = (scene.run.duration / interval).floor() as u64;
+            times.extend((0..=count).map(|k| k as f64 * interval));
+        }
+        let mut steps: Vec<u64> = times.iter().map(|t| ((t / dt).round() as u64).min(total_steps)).collect();
+        steps.sort_unstable();
+        steps.dedup();
+        Self { steps, next: 0 }
+    }
+
+    /// Whether a frame is due at `step` (steps must be asked in increasing order).
+    fn due(&mut self, step: u64) -> bool {
+        while self.next < self.steps.len() && self.steps[self.next] < step {
+            self.next += 1;
+        }
+        self.next < self.steps.len() && self.steps[self.next] == step
+    }
+}
+
+/// Watches samples for divergence and validity problems.
+struct Monitor {
+    initial_mechanical: Option<f64>,
+    energy_scale: f64,
+    worst_overlap: (f64, f64),
+}
+
+impl Monitor {
+    fn new<L: ContactLaw>(sim: &Simulation<L>) -> Self {
+        let p = &sim.particles;
+        let g = sim.scene.gravity;
+        let gmag = g[0].hypot(g[1]);
+        let (kt, kr) = diagnostics::kinetic_energies(p);
+        let potential_drop: f64 = (0..p.len())
+            .map(|i| {
+                let low = sim.walls.lowest_point(g, p.r[i]);
+                (p.mass[i] * (g[0] * (low[0] - p.x[i]) + g[1] * (low[1] - p.y[i]))).max(0.0)
+            })
+            .sum();
+        let floor_scale: f64 = (0..p.len()).map(|i| p.mass[i] * gmag * p.r[i]).sum();
+        Self {
+            initial_mechanical: None,
+            energy_scale: (kt + kr + sim.totals.elastic + potential_drop).max(floor_scale).max(f64::MIN_POSITIVE),
+            worst_overlap: (0.0, 0.0),
+        }
+    }
+
+    fn observe(&mut self, s: &Sample) {
+        self.initial_mechanical.get_or_insert(s.mechanical());
+        if s.max_overlap_ratio > self.worst_overlap.0 {
+            self.worst_overlap = (s.max_overlap_ratio, s.time);
+        }
+    }
+
+    fn divergence<L: ContactLaw>(&self, sim: &Simulation<L>, s: &Sample) -> Option<String> {
+        let p = &sim.particles;
+        let finite =
+            s.kinetic().is_finite() && p.x.iter().chain(&p.y).all(|v| v.is_finite()) && sim.last_power.is_finite();
+        if !finite {
+            return Some(format!(
+                "non-finite state (NaN or infinity) at t = {:.6} s: the time step is far too large",
+                s.time
+            ));
+        }
+        let limit = sim.scene.limits.max_overlap_ratio;
+        if s.max_overlap_ratio > limit {
+            return Some(format!(
+                "overlap of {:.3} radii at t = {:.6} s exceeds limits.max_overlap_ratio = {limit}: contacts are not resolved (time step too large or material too soft)",
+                s.max_overlap_ratio, s.time
+            ));
+        }
+        let growth = s.mechanical() - self.initial_mechanical.unwrap_or(s.mechanical());
+        let allowed = sim.scene.limits.energy_growth_ratio * self.energy_scale;
+        if growth > allowed {
+            return Some(format!(
+                "mechanical energy grew by {growth:.4e} J by t = {:.6} s (more than {} of the {:.4e} J available, limits.energy_growth_ratio): the integration is unstable",
+                s.time, sim.scene.limits.energy_growth_ratio, self.energy_scale
+            ));
+        }
+        None
+    }
+
+    fn warnings(&self, scene: &SceneConfig) -> Vec<String> {
+        let (ratio, time) = self.worst_overlap;
+        if ratio > scene.limits.overlap_warning_ratio {
+            vec![format!(
+                "largest overlap {ratio:.3} radii at t = {time:.4} s is beyond the Hertz validity limit {} (limits.overlap_warning_ratio)",
+                scene.limits.overlap_warning_ratio
+            )]
+        } else {
+            Vec::new()
+        }
+    }
+}
