@@ -5,5 +5,6 @@
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
 #![forbid(unsafe_code)]
 
+pub mod output;
 pub mod physics;
 pub mod study;

@@ -1,0 +1,210 @@
+//! Where things live in a results file, and how a run's summary row maps to run-group attributes.
+//!
+//! ```text
+//! /                        root attributes: see `header`
+//! /runs/b0000/r0007        one group per run (bucket `b<index / 100>`); attributes: summary row + scene
+//!     history              compound table, one field per series, one row per sample
+//!     final                compound table, one field per disk property, one row per disk (attr `time`)
+//!     frames/<k>           the same table for recorded frame k = 0, 1, … (attribute `time`)
+//! /summary/<column>        one dataset per summary column (attribute `columns` on /summary)
+//! ```
+
+use std::collections::HashMap;
+
+use hdf5_pure::AttrValue;
+
+use super::compound::Field;
+use super::row::{FINAL_VALUE_NAMES, SummaryRow};
+use crate::physics::SceneConfig;
+use crate::physics::material::{Elastic, Materials, restitution_from_beta};
+use crate::physics::record::{History, Snapshot};
+use crate::study::ParamValue;
+
+/// Runs per bucket group under `/runs`.
+pub const BUCKET_SIZE: usize = 100;
+/// The group holding the run buckets.
+pub const RUNS: &str = "runs";
+/// The group holding the summary columns.
+pub const SUMMARY: &str = "summary";
+/// Attribute of `/summary` listing the column names in order.
+pub const SUMMARY_COLUMNS: &str = "columns";
+/// History series names: the fields of the `history` table.
+pub const HISTORY_SERIES: [&str; 11] = [
+    "t",
+    "kinetic_translational",
+    "kinetic_rotational",
+    "potential",
+    "elastic",
+    "dissipated",
+    "total",
+    "mechanical",
+    "unbalanced_force_ratio",
+    "contacts",
+    "max_overlap_ratio",
+];
+/// The history table: one field per series, in the order of [`HISTORY_SERIES`].
+pub fn history_table(h: &History) -> [(&'static str, Field<'_>); 11] {
+    [
+        ("t", Field::F64(&h.time)),
+        ("kinetic_translational", Field::F64(&h.kinetic_translational)),
+        ("kinetic_rotational", Field::F64(&h.kinetic_rotational)),
+        ("potential", Field::F64(&h.potential)),
+        ("elastic", Field::F64(&h.elastic)),
+        ("dissipated", Field::F64(&h.dissipated)),
+        ("total", Field::F64(&h.total)),
+        ("mechanical", Field::F64(&h.mechanical)),
+        ("unbalanced_force_ratio", Field::F64(&h.unbalanced_force_ratio)),
+        ("contacts", Field::U32(&h.contacts)),
+        ("max_overlap_ratio", Field::F64(&h.max_overlap_ratio)),
+    ]
+}
+
+/// The state table of a snapshot: one field per disk property, in the order of [`STATE_FIELDS`].
+pub fn state_table(s: &Snapshot) -> [(&'static str, Field<'_>); 7] {
+    [
+        ("x", Field::F64(&s.x)),
+        ("y", Field::F64(&s.y)),
+        ("vx", Field::F64(&s.vx)),
+        ("vy", Field::F64(&s.vy)),
+        ("omega", Field::F64(&s.omega)),
+        ("r", Field::F64(&s.r)),
+        ("contact_force", Field::F64(&s.contact_force)),
+    ]
+}
+
+/// State fields: the fields of the `final` and `frames/<k>` tables.
+pub const STATE_FIELDS: [&str; 7] = ["x", "y", "vx", "vy", "omega", "r", "contact_force"];
+
+const INDEX: &str = "index";
+const ID: &str = "id";
+const PARAMETERS: &str = "parameters";
+const STATUS: &str = "status";
+const MESSAGE: &str = "message";
+const WARNINGS: &str = "warnings";
+const WARNING_COUNT: &str = "warning_count";
+const SETTLE_TIME: &str = "settle_time";
+const STEPS: &str = "steps";
+const SIMULATED_TIME: &str = "simulated_time";
+const WALL_TIME: &str = "wall_time";
+
+/// Name of the bucket group of a run.
+pub fn bucket_name(index: usize) -> String {
+    format!("b{:04}", index / BUCKET_SIZE)
+}
+
+/// Path of a run's group (without a leading `/`).
+pub fn run_path(index: usize, id: &str) -> String {
+    format!("{RUNS}/{}/{id}", bucket_name(index))
+}
+
+/// The attributes of a run group: its summary row (swept parameters under their key paths, listed in
+/// `parameters`) and key scene values (`scene.*`).
+pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValue)> {
+    let mut attrs: Vec<(String, AttrValue)> = vec![
+        (INDEX.into(), AttrValue::I64(row.index as i64)),
+        (ID.into(), AttrValue::String(row.id.clone())),
+        (STATUS.into(), AttrValue::String(row.status.clone())),
+        (MESSAGE.into(), AttrValue::String(row.message.clone())),
+        (WARNING_COUNT.into(), AttrValue::I64(row.warnings.len() as i64)),
+        (SETTLE_TIME.into(), AttrValue::F64(row.settle_time.unwrap_or(f64::NAN))),
+        (STEPS.into(), AttrValue::I64(row.steps as i64)),
+        (SIMULATED_TIME.into(), AttrValue::F64(row.simulated_time)),
+        (WALL_TIME.into(), AttrValue::F64(row.wall_time)),
+    ];
+    if !row.warnings.is_empty() {
+        attrs.push((WARNINGS.into(), AttrValue::StringArray(row.warnings.clone())));
+    }
+    if !row.parameters.is_empty() {
+        let keys = row.parameters.iter().map(|(k, _)| k.clone()).collect();
+        attrs.push((PARAMETERS.into(), AttrValue::StringArray(keys)));
+    }
+    attrs.extend(row.parameters.iter().map(|(k, v)| (k.clone(), param_attr(v))));
+    attrs.extend(FINAL_VALUE_NAMES.iter().zip(row.final_values).map(|(n, v)| (n.to_string(), AttrValue::F64(v))));
+    attrs.extend(scene_values(scene).into_iter().map(|(k, v)| (format!("scene.{k}"), v)));
+    attrs
+}
+
+/// Key scene values of a run, resolved as the simulation uses them (e.g. ν = 0.3 when not given).
+pub fn scene_values(scene: &SceneConfig) -> Vec<(&'static str, AttrValue)> {
+    let m = Materials::from_scene(scene);
+    let nu = Elastic::new(scene.material.youngs_modulus, scene.material.poisson_ratio, scene.material.shear_modulus)
+        .poisson_ratio;
+    vec![
+        ("youngs_modulus", AttrValue::F64(scene.material.youngs_modulus)),
+        ("poisson_ratio", AttrValue::F64(nu)),
+        ("beta", AttrValue::F64(m.particle.beta)),
+        ("restitution", AttrValue::F64(restitution_from_beta(m.particle.beta))),
+        ("friction", AttrValue::F64(m.particle.friction)),
+        ("rolling_friction", AttrValue::F64(m.particle.rolling_friction)),
+        ("density", AttrValue::F64(scene.material.density)),
+        ("time_step", AttrValue::F64(scene.integrator.time_step)),
+        ("integrator", serde_name(&scene.integrator.scheme)),
+        ("contact_law", serde_name(&scene.contact.law)),
+        ("count", AttrValue::I64(scene.particles.count as i64)),
+        ("radius", AttrValue::F64(scene.particles.radius)),
+        ("seed", AttrValue::I64(scene.placement.seed as i64)),
+        ("duration", AttrValue::F64(scene.run.duration)),
+        ("width", AttrValue::F64(scene.domain.width)),
+        ("json", AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
+    ]
+}
+
+/// A serde unit enum's name as written in scene files (e.g. `adams_bashforth_moulton`).
+fn serde_name<T: serde::Serialize>(value: &T) -> AttrValue {
+    let name = serde_json::to_value(value).ok().and_then(|v| v.as_str().map(str::to_string));
+    AttrValue::String(name.unwrap_or_default())
+}
+
+/// A parameter value as an attribute: floats `f64`, integers `i64`, booleans `u8`, text strings.
+pub fn param_attr(v: &ParamValue) -> AttrValue {
+    match v {
+        ParamValue::Float(x) => AttrValue::F64(*x),
+        ParamValue::Int(i) => AttrValue::I64(*i),
+        ParamValue::Bool(b) => AttrValue::U8(u8::from(*b)),
+        ParamValue::Text(s) => AttrValue::String(s.clone()),
+    }
+}
+
+fn attr_param(v: &AttrValue) -> Option<ParamValue> {
+    match v {
+        AttrValue::U8(b) => Some(ParamValue::Bool(*b != 0)),
+        AttrValue::F64(x) => Some(ParamValue::Float(*x)),
+        other => {
+            other.as_i64().map(ParamValue::Int).or_else(|| other.as_str().map(|s| ParamValue::Text(s.to_string())))
+        }
+    }
+}
+
+/// Reads a summary row back from a run group's attributes; the error names what is missing.
+pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
+    let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
+    let float = |name: &str| get(name).and_then(|v| v.as_f64().ok_or(format!("`{name}` is not a float")));
+    let int = |name: &str| get(name).and_then(|v| v.as_i64().ok_or(format!("`{name}` is not an integer")));
+    let text =
+        |name: &str| get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(format!("`{name}` is not text")));
+    let keys = attrs.get(PARAMETERS).and_then(AttrValue::as_strings).unwrap_or(&[]);
+    let parameters = keys
+        .iter()
+        .map(|k| {
+            get(k).and_then(|v| attr_param(v).ok_or(format!("`{k}` has an unsupported type"))).map(|v| (k.clone(), v))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut final_values = [f64::NAN; FINAL_VALUE_NAMES.len()];
+    for (slot, name) in final_values.iter_mut().zip(FINAL_VALUE_NAMES) {
+        *slot = float(name)?;
+    }
+    let settle = float(SETTLE_TIME)?;
+    Ok(SummaryRow {
+        index: int(INDEX)? as usize,
+        id: text(ID)?,
+        parameters,
+        status: text(STATUS)?,
+        message: text(MESSAGE)?,
+        warnings: attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default(),
+        settle_time: (!settle.is_nan()).then_some(settle),
+        steps: int(STEPS)? as u64,
+        simulated_time: float(SIMULATED_TIME)?,
+        wall_time: float(WALL_TIME)?,
+        final_values,
+    })
+}

@@ -1,0 +1,64 @@
+//! Result files: one HDF5 file per study (or shard) and a CSV summary next to it.
+//!
+//! Data flows one way: runner → [`writer::ResultsWriter`] (run groups committed in batches) →
+//! [`writer::ResultsWriter::finish`] (`/summary`) → [`summary::write_csv`]. The layout is in
+//! [`layout`] and README.md, "Result files".
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+pub mod compound;
+pub mod csv;
+pub mod header;
+pub mod history;
+pub mod layout;
+pub mod reader;
+pub mod row;
+pub mod summary;
+pub mod table;
+pub mod writer;
+
+pub use header::{FileHeader, ShardInfo, ShardSpec};
+pub use row::SummaryRow;
+pub use table::SummaryTable;
+pub use writer::{ResultsWriter, RunResult};
+
+/// A results-file problem, naming the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputError {
+    /// The file or directory concerned.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl OutputError {
+    /// An error about `path`.
+    pub fn new(path: &Path, message: impl Into<String>) -> Self {
+        Self { path: path.to_path_buf(), message: message.into() }
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
+        Self::new(path, error.to_string())
+    }
+}
+
+impl fmt::Display for OutputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.message)
+    }
+}
+
+impl std::error::Error for OutputError {}
+
+/// An HDF5 error on `path`.
+pub(crate) fn hdf5_error(path: &Path, error: hdf5_pure::Error) -> OutputError {
+    OutputError::new(path, error.to_string())
+}
+
+/// The summary CSV path next to a results file: `<stem>_summary.csv`.
+pub fn csv_path(results: &Path) -> PathBuf {
+    let stem = results.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    results.with_file_name(format!("{stem}_summary.csv"))
+}

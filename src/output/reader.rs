@@ -1,0 +1,83 @@
+//! Reads results files back: header, run rows, the summary table, one run's history.
+
+use std::path::Path;
+
+use hdf5_pure::{DType, Dataset, File};
+
+use super::header::FileHeader;
+use super::layout::{self, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::row::SummaryRow;
+use super::table::{Column, ColumnData, SummaryTable};
+use super::{OutputError, hdf5_error};
+
+/// Opens a results file for reading (streaming: only what is read is loaded).
+pub fn open(path: &Path) -> Result<File, OutputError> {
+    if !path.is_file() {
+        return Err(OutputError::new(path, "no such results file"));
+    }
+    File::open_streaming(path).map_err(|e| hdf5_error(path, e))
+}
+
+/// The file's root attributes.
+pub fn header(file: &File, path: &Path) -> Result<FileHeader, OutputError> {
+    let attrs = file.root().attrs().map_err(|e| hdf5_error(path, e))?;
+    FileHeader::from_attrs(&attrs)
+        .map_err(|reason| OutputError::new(path, format!("not a demsweep results file: {reason}")))
+}
+
+/// The rows of every committed run, sorted by run index.
+pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
+    let err = |e| hdf5_error(path, e);
+    let mut rows = Vec::new();
+    for (bucket, group) in file.group(RUNS).and_then(|g| g.iter_groups()).map_err(err)? {
+        for (name, run) in group.iter_groups().map_err(err)? {
+            let attrs = run.attrs().map_err(err)?;
+            let row = layout::row_from_attrs(&attrs)
+                .map_err(|reason| OutputError::new(path, format!("/{RUNS}/{bucket}/{name}: {reason}")))?;
+            rows.push(row);
+        }
+    }
+    rows.sort_by_key(|r| r.index);
+    Ok(rows)
+}
+
+/// The summary: `/summary` when the file has it, else assembled from the run groups (a file whose
+/// writer was killed before finishing).
+pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
+    let err = |e| hdf5_error(path, e);
+    if !file.root().groups().map_err(err)?.iter().any(|g| g == SUMMARY) {
+        return Ok(SummaryTable::from_rows(&rows(file, path)?));
+    }
+    let group = file.group(SUMMARY).map_err(err)?;
+    let attrs = group.attrs().map_err(err)?;
+    let names = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()).unwrap_or(&[]);
+    let columns = names
+        .iter()
+        .map(|name| {
+            let dataset = group.dataset(name).map_err(err)?;
+            let data = column_data(&dataset).map_err(err)?;
+            Ok(Column { name: name.clone(), data })
+        })
+        .collect::<Result<_, OutputError>>()?;
+    Ok(SummaryTable { columns })
+}
+
+fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
+    Ok(match dataset.dtype()? {
+        DType::I64 => ColumnData::Int(dataset.read_i64()?),
+        DType::U8 => ColumnData::Bool(dataset.read_u8()?.into_iter().map(|b| b != 0).collect()),
+        DType::String => ColumnData::Text(dataset.read_string()?),
+        _ => ColumnData::Float(dataset.read_f64()?),
+    })
+}
+
+/// Path of the group of the run with this id (searched in every bucket).
+pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, OutputError> {
+    let err = |e| hdf5_error(path, e);
+    for (bucket, group) in file.group(RUNS).and_then(|g| g.iter_groups()).map_err(err)? {
+        if group.groups().map_err(err)?.iter().any(|g| g == run_id) {
+            return Ok(format!("{RUNS}/{bucket}/{run_id}"));
+        }
+    }
+    Err(OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)")))
+}

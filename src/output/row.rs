@@ -1,0 +1,110 @@
+//! One summary row per run: what the writer stores on each run group and what `/summary` and the
+//! CSV summary are built from.
+
+use crate::physics::record::RunRecord;
+use crate::study::ParamValue;
+
+/// Status of a run that never produced a record (the scene could not be built, or the run panicked).
+pub const STATUS_ERROR: &str = "error";
+
+/// One run's summary: identity, swept parameters, outcome and final values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SummaryRow {
+    /// Position in the plan (0-based).
+    pub index: usize,
+    /// Stable run id (e.g. `r0007`).
+    pub id: String,
+    /// Swept key paths and values, in axis order.
+    pub parameters: Vec<(String, ParamValue)>,
+    /// `settled`, `not_settled`, `diverged` or `error`.
+    pub status: String,
+    /// Why the run diverged or failed; empty otherwise.
+    pub message: String,
+    /// Validity warnings.
+    pub warnings: Vec<String>,
+    /// Settle time (s), `None` when the run did not settle.
+    pub settle_time: Option<f64>,
+    /// Time steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub simulated_time: f64,
+    /// Wall-clock time of the simulation (s).
+    pub wall_time: f64,
+    /// Final values (NaN for failed runs), in the order of [`FINAL_VALUE_NAMES`].
+    pub final_values: [f64; FINAL_VALUE_NAMES.len()],
+}
+
+/// Names of the final values of a row (columns of the summary, attributes of a run group).
+pub const FINAL_VALUE_NAMES: [&str; 8] = [
+    "final_kinetic",
+    "final_potential",
+    "final_elastic",
+    "final_dissipated",
+    "final_mechanical",
+    "final_ubf",
+    "pile_height",
+    "packing_fraction",
+];
+
+/// Final values of a record, in the order of [`FINAL_VALUE_NAMES`]; `width` is the box width (m).
+pub fn final_values(record: &RunRecord, width: f64) -> [f64; FINAL_VALUE_NAMES.len()] {
+    let h = &record.history;
+    let last = RunRecord::last;
+    [
+        last(&h.kinetic_translational) + last(&h.kinetic_rotational),
+        last(&h.potential),
+        last(&h.elastic),
+        last(&h.dissipated),
+        last(&h.mechanical),
+        last(&h.unbalanced_force_ratio),
+        record.pile_height(),
+        record.packing_fraction(width),
+    ]
+}
+
+impl SummaryRow {
+    /// The row of a finished run.
+    pub fn finished(
+        index: usize,
+        id: &str,
+        parameters: &[(String, ParamValue)],
+        record: &RunRecord,
+        width: f64,
+    ) -> Self {
+        Self {
+            index,
+            id: id.to_string(),
+            parameters: parameters.to_vec(),
+            status: record.status.as_str().to_string(),
+            message: record.message.clone().unwrap_or_default(),
+            warnings: record.warnings.clone(),
+            settle_time: record.settle_time,
+            steps: record.steps,
+            simulated_time: record.simulated_time,
+            wall_time: 0.0,
+            final_values: final_values(record, width),
+        }
+    }
+
+    /// The row of a run that failed without a record.
+    pub fn failed(index: usize, id: &str, parameters: &[(String, ParamValue)], message: &str) -> Self {
+        Self {
+            index,
+            id: id.to_string(),
+            parameters: parameters.to_vec(),
+            status: STATUS_ERROR.to_string(),
+            message: message.to_string(),
+            warnings: Vec::new(),
+            settle_time: None,
+            steps: 0,
+            simulated_time: 0.0,
+            wall_time: 0.0,
+            final_values: [f64::NAN; FINAL_VALUE_NAMES.len()],
+        }
+    }
+
+    /// Whether the run finished (settled, not settled or diverged), as opposed to failing.
+    pub fn is_finished(&self) -> bool {
+        self.status != STATUS_ERROR
+    }
+}

@@ -1,0 +1,36 @@
+//! The summary of a results file: read it, print it aligned, export it as CSV.
+
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use super::table::SummaryTable;
+use super::{OutputError, csv, reader};
+
+/// Reads the summary of a results file (see [`reader::summary`]).
+pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
+    let file = reader::open(path)?;
+    reader::summary(&file, path)
+}
+
+/// Writes the summary as a CSV file (header line, RFC 4180 quoting, missing values empty).
+pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
+    let file = fs::File::create(path).map_err(|e| OutputError::io(path, e))?;
+    let mut out = BufWriter::new(file);
+    csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
+}
+
+/// Writes the summary as an aligned text table (columns separated by two spaces).
+pub fn print_aligned<W: Write>(out: &mut W, table: &SummaryTable) -> std::io::Result<()> {
+    let cells: Vec<Vec<String>> = table
+        .columns
+        .iter()
+        .map(|c| std::iter::once(c.name.clone()).chain((0..table.len()).map(|i| c.data.text(i))).collect())
+        .collect();
+    let widths: Vec<usize> = cells.iter().map(|col| col.iter().map(|s| s.chars().count()).max().unwrap_or(0)).collect();
+    for line in 0..=table.len() {
+        let fields: Vec<String> = cells.iter().zip(&widths).map(|(col, w)| format!("{:<w$}", col[line])).collect();
+        writeln!(out, "{}", fields.join("  ").trim_end())?;
+    }
+    Ok(())
+}

@@ -1,0 +1,167 @@
+//! The summary as a table of typed columns, shared by `/summary`, the CSV file and the printed table.
+
+use super::row::{FINAL_VALUE_NAMES, SummaryRow};
+use crate::study::ParamValue;
+
+/// The values of one column.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColumnData {
+    /// Floats; NaN marks a missing value.
+    Float(Vec<f64>),
+    /// Integers.
+    Int(Vec<i64>),
+    /// Booleans (stored as 0/1 `u8` in HDF5).
+    Bool(Vec<bool>),
+    /// Text; empty marks a missing value.
+    Text(Vec<String>),
+}
+
+/// A named column.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    /// Column name: a fixed name or a swept key path.
+    pub name: String,
+    /// Its values, one per row.
+    pub data: ColumnData,
+}
+
+/// The summary: one row per run, sorted by run index.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct SummaryTable {
+    /// Columns in display order.
+    pub columns: Vec<Column>,
+}
+
+/// Names of the columns that depend on the machine and the moment, not on the study.
+pub const TIMING_COLUMNS: [&str; 1] = ["wall_time"];
+
+impl ColumnData {
+    /// Number of values.
+    pub fn len(&self) -> usize {
+        match self {
+            ColumnData::Float(v) => v.len(),
+            ColumnData::Int(v) => v.len(),
+            ColumnData::Bool(v) => v.len(),
+            ColumnData::Text(v) => v.len(),
+        }
+    }
+
+    /// Whether the column has no values.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The value of row `i` as text: floats in shortest round-trip form, missing values empty.
+    pub fn text(&self, i: usize) -> String {
+        match self {
+            ColumnData::Float(v) if v[i].is_nan() => String::new(),
+            ColumnData::Float(v) => format!("{:?}", v[i]),
+            ColumnData::Int(v) => v[i].to_string(),
+            ColumnData::Bool(v) => v[i].to_string(),
+            ColumnData::Text(v) => v[i].clone(),
+        }
+    }
+}
+
+impl SummaryTable {
+    /// Builds the table from rows (sorted here by run index).
+    pub fn from_rows(rows: &[SummaryRow]) -> Self {
+        let mut rows: Vec<&SummaryRow> = rows.iter().collect();
+        rows.sort_by_key(|r| r.index);
+        let floats = |f: &dyn Fn(&SummaryRow) -> f64| ColumnData::Float(rows.iter().map(|r| f(r)).collect());
+        let texts = |f: &dyn Fn(&SummaryRow) -> String| ColumnData::Text(rows.iter().map(|r| f(r)).collect());
+        let ints = |f: &dyn Fn(&SummaryRow) -> i64| ColumnData::Int(rows.iter().map(|r| f(r)).collect());
+        let mut columns = vec![column("run_id", texts(&|r| r.id.clone())), column("index", ints(&|r| r.index as i64))];
+        columns.extend(parameter_columns(&rows));
+        columns.extend([
+            column("status", texts(&|r| r.status.clone())),
+            column("settle_time", floats(&|r| r.settle_time.unwrap_or(f64::NAN))),
+            column("steps", ints(&|r| r.steps as i64)),
+            column("simulated_time", floats(&|r| r.simulated_time)),
+            column("wall_time", floats(&|r| r.wall_time)),
+        ]);
+        for (k, name) in FINAL_VALUE_NAMES.iter().enumerate() {
+            columns.push(column(name, floats(&|r| r.final_values[k])));
+        }
+        columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
+        columns.push(column("message", texts(&|r| r.message.clone())));
+        Self { columns }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.columns.first().map_or(0, |c| c.data.len())
+    }
+
+    /// Whether the table has no rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The column with this name.
+    pub fn column(&self, name: &str) -> Option<&Column> {
+        self.columns.iter().find(|c| c.name == name)
+    }
+
+    /// The same table without the timing columns (for comparing runs made at different times).
+    pub fn without_timing(&self) -> Self {
+        let columns = self.columns.iter().filter(|c| !TIMING_COLUMNS.contains(&c.name.as_str())).cloned().collect();
+        Self { columns }
+    }
+}
+
+fn column(name: &str, data: ColumnData) -> Column {
+    Column { name: name.to_string(), data }
+}
+
+/// One column per swept key path (first-appearance order), typed by its values.
+fn parameter_columns(rows: &[&SummaryRow]) -> Vec<Column> {
+    let mut keys: Vec<&str> = Vec::new();
+    for row in rows {
+        for (key, _) in &row.parameters {
+            if !keys.contains(&key.as_str()) {
+                keys.push(key);
+            }
+        }
+    }
+    keys.iter()
+        .map(|key| {
+            let values: Vec<Option<&ParamValue>> =
+                rows.iter().map(|r| r.parameters.iter().find(|(k, _)| k == key).map(|(_, v)| v)).collect();
+            column(key, parameter_data(&values))
+        })
+        .collect()
+}
+
+/// Typed values of one parameter: its own type when every row has the same one, floats when all are
+/// numbers (NaN where missing), text otherwise.
+fn parameter_data(values: &[Option<&ParamValue>]) -> ColumnData {
+    let all = |f: fn(&ParamValue) -> bool| values.iter().all(|v| v.is_some_and(f));
+    if all(|v| matches!(v, ParamValue::Int(_))) {
+        ColumnData::Int(values.iter().map(|v| if let Some(ParamValue::Int(i)) = v { *i } else { 0 }).collect())
+    } else if all(|v| matches!(v, ParamValue::Bool(_))) {
+        ColumnData::Bool(values.iter().map(|v| matches!(v, Some(ParamValue::Bool(true)))).collect())
+    } else if values.iter().all(|v| matches!(v, None | Some(ParamValue::Int(_) | ParamValue::Float(_)))) {
+        ColumnData::Float(values.iter().map(|v| v.map_or(f64::NAN, numeric)).collect())
+    } else {
+        ColumnData::Text(values.iter().map(|v| v.map(param_text).unwrap_or_default()).collect())
+    }
+}
+
+fn numeric(v: &ParamValue) -> f64 {
+    match v {
+        ParamValue::Float(x) => *x,
+        ParamValue::Int(i) => *i as f64,
+        _ => f64::NAN,
+    }
+}
+
+/// A parameter value as text (floats in shortest round-trip form).
+pub fn param_text(v: &ParamValue) -> String {
+    match v {
+        ParamValue::Float(x) => format!("{x:?}"),
+        ParamValue::Int(i) => i.to_string(),
+        ParamValue::Bool(b) => b.to_string(),
+        ParamValue::Text(s) => s.clone(),
+    }
+}

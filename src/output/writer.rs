@@ -1,0 +1,203 @@
+//! Writes runs into a results file in place: each commit appends the staged run groups and repoints
+//! the superblock last (hdf5-pure's crash-safe commit), so the file is valid after every commit.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use hdf5_pure::{DatasetBuilder, File, FileBuilder, StagedGroup};
+
+use super::compound::{self, Field};
+use super::header::FileHeader;
+use super::layout::{self, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::reader;
+use super::row::SummaryRow;
+use super::table::{ColumnData, SummaryTable};
+use super::{OutputError, hdf5_error};
+use crate::physics::SceneConfig;
+use crate::physics::record::{RunRecord, Snapshot};
+use crate::study::OutputOptions;
+
+/// Tables with at least this many rows are chunked and compressed (shuffle + deflate).
+const COMPRESS_MIN_ROWS: usize = 64;
+/// Largest chunk (rows) of a compressed table.
+const MAX_CHUNK_ROWS: u64 = 1 << 14;
+/// Deflate level: fast, and most of the gain for smooth float series comes from the shuffle.
+const DEFLATE_LEVEL: u32 = 1;
+
+/// One run as the writer stores it.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    /// Its summary row.
+    pub row: SummaryRow,
+    /// The run's complete scene (key values are stored as `scene.*` attributes).
+    pub scene: SceneConfig,
+    /// The simulation record; `None` when the run failed before producing one.
+    pub record: Option<RunRecord>,
+}
+
+/// A results file open for writing.
+pub struct ResultsWriter {
+    file: File,
+    path: PathBuf,
+    output: OutputOptions,
+    buckets: HashSet<String>,
+    committed: Vec<SummaryRow>,
+    pending: Vec<SummaryRow>,
+}
+
+impl ResultsWriter {
+    /// Creates a new file with the header and an empty `/runs` group (written under a temporary
+    /// name and renamed, so a crash never leaves a half-written file at `path`).
+    pub fn create(path: &Path, header: &FileHeader, output: OutputOptions) -> Result<Self, OutputError> {
+        let mut builder = FileBuilder::new();
+        for (name, value) in header.to_attrs() {
+            builder.set_attr(name, value);
+        }
+        let runs = builder.create_group(RUNS);
+        builder.add_group(runs.finish());
+        let partial = path.with_extension("h5.partial");
+        builder.write(&partial).map_err(|e| hdf5_error(&partial, e))?;
+        std::fs::rename(&partial, path).map_err(|e| OutputError::io(path, e))?;
+        Self::open(path, output).map(|(writer, _)| writer)
+    }
+
+    /// Opens an existing results file to add runs; returns its header too.
+    pub fn open(path: &Path, output: OutputOptions) -> Result<(Self, FileHeader), OutputError> {
+        let file = File::open_rw(path).map_err(|e| hdf5_error(path, e))?;
+        let header = reader::header(&file, path)?;
+        let committed = reader::rows(&file, path)?;
+        let buckets = file.group(RUNS).and_then(|g| g.groups()).map_err(|e| hdf5_error(path, e))?;
+        let writer = Self {
+            file,
+            path: path.to_path_buf(),
+            output,
+            buckets: buckets.into_iter().collect(),
+            committed,
+            pending: Vec::new(),
+        };
+        Ok((writer, header))
+    }
+
+    /// Rows of the runs already committed.
+    pub fn committed(&self) -> &[SummaryRow] {
+        &self.committed
+    }
+
+    /// Number of runs staged and not yet committed.
+    pub fn pending(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// Stages one run (its group, attributes and the outputs the study asks for).
+    pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
+        let bucket = layout::bucket_name(run.row.index);
+        let root = self.file.root();
+        if !self.buckets.contains(&bucket) {
+            root.create_group(&format!("{RUNS}/{bucket}")).map_err(|e| hdf5_error(&self.path, e))?;
+            self.buckets.insert(bucket);
+        }
+        let attrs = layout::run_attrs(&run.row, &run.scene);
+        let output = &self.output;
+        root.create_group_with(&layout::run_path(run.row.index, &run.row.id), |g| {
+            for (name, value) in attrs {
+                g.set_attr(&name, value);
+            }
+            if let Some(record) = &run.record {
+                stage_record(g, record, output);
+            }
+        })
+        .map_err(|e| hdf5_error(&self.path, e))?;
+        self.pending.push(run.row.clone());
+        Ok(())
+    }
+
+    /// Commits the staged runs.
+    pub fn commit(&mut self) -> Result<(), OutputError> {
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        self.committed.append(&mut self.pending);
+        Ok(())
+    }
+
+    /// Commits what is staged, rewrites `/summary` from every committed run, closes the file and
+    /// returns the summary.
+    pub fn finish(mut self) -> Result<SummaryTable, OutputError> {
+        self.commit()?;
+        let table = SummaryTable::from_rows(&self.committed);
+        write_summary(&self.file, &table).map_err(|e| hdf5_error(&self.path, e))?;
+        self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        self.file.close().map_err(|e| hdf5_error(&self.path, e))?;
+        Ok(table)
+    }
+}
+
+/// Replaces `/summary` with one dataset per column (in one commit, so it is never absent).
+pub fn write_summary(file: &File, table: &SummaryTable) -> Result<(), hdf5_pure::Error> {
+    let root = file.root();
+    if root.groups()?.iter().any(|g| g == SUMMARY) {
+        root.delete(SUMMARY)?;
+    }
+    let names: Vec<String> = table.columns.iter().map(|c| c.name.clone()).collect();
+    let mut failure = None;
+    root.create_group_with(SUMMARY, |g| {
+        g.set_attr(SUMMARY_COLUMNS, hdf5_pure::AttrValue::StringArray(names));
+        for column in &table.columns {
+            g.create_dataset(&column.name, |b| {
+                if let Err(e) = column_data(b, &column.data) {
+                    failure = Some(e);
+                }
+            });
+        }
+    })?;
+    failure.map_or(Ok(()), |e| Err(e.into()))
+}
+
+fn column_data(b: &mut DatasetBuilder, data: &ColumnData) -> Result<(), hdf5_pure::FormatError> {
+    match data {
+        ColumnData::Float(v) => drop(b.with_f64_data(v)),
+        ColumnData::Int(v) => drop(b.with_i64_data(v)),
+        ColumnData::Bool(v) => drop(b.with_u8_data(&v.iter().map(|&x| u8::from(x)).collect::<Vec<_>>())),
+        ColumnData::Text(v) => drop(b.with_strings(&v.iter().map(String::as_str).collect::<Vec<_>>())?),
+    }
+    if data.is_empty() {
+        b.with_shape(&[0]);
+    }
+    Ok(())
+}
+
+fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOptions) {
+    if output.histories {
+        g.create_dataset("history", |b| stage_table(b, &layout::history_table(&record.history)));
+    }
+    if output.final_states {
+        stage_snapshot(g, "final", &record.final_state);
+    }
+    if output.frames && !record.frames.is_empty() {
+        g.create_group_with("frames", |frames| {
+            for (k, frame) in record.frames.iter().enumerate() {
+                stage_snapshot(frames, &k.to_string(), frame);
+            }
+        });
+    }
+}
+
+/// A snapshot as a state table with attribute `time`.
+fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
+    g.create_dataset(name, |b| {
+        stage_table(b, &layout::state_table(s));
+        b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
+    });
+}
+
+/// A compound table; long ones are chunked and compressed (shuffle + deflate).
+fn stage_table(b: &mut DatasetBuilder, fields: &[(&str, Field<'_>)]) {
+    let (datatype, bytes, rows) = compound::encode(fields);
+    b.with_compound_data(datatype, bytes, rows);
+    if rows == 0 {
+        b.with_shape(&[0]);
+    } else if rows as usize >= COMPRESS_MIN_ROWS {
+        b.with_chunks(&[rows.min(MAX_CHUNK_ROWS)]).with_shuffle().with_deflate(DEFLATE_LEVEL);
+    }
+}
