@@ -7,4 +7,5 @@
 
 pub mod output;
 pub mod physics;
+pub mod runner;
 pub mod study;

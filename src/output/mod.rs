@@ -12,6 +12,7 @@ pub mod csv;
 pub mod header;
 pub mod history;
 pub mod layout;
+pub mod merge;
 pub mod reader;
 pub mod row;
 pub mod summary;
@@ -19,6 +20,7 @@ pub mod table;
 pub mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
+pub use merge::merge;
 pub use row::SummaryRow;
 pub use table::SummaryTable;
 pub use writer::{ResultsWriter, RunResult};

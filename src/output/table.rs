@@ -3,8 +3,8 @@
 use super::row::{FINAL_VALUE_NAMES, SummaryRow};
 use crate::study::ParamValue;
 
-/// The values of one column.
-#[derive(Clone, Debug, PartialEq)]
+/// The values of one column. Equality treats NaN as equal to NaN (a missing value equals a missing value).
+#[derive(Clone, Debug)]
 pub enum ColumnData {
     /// Floats; NaN marks a missing value.
     Float(Vec<f64>),
@@ -34,6 +34,20 @@ pub struct SummaryTable {
 
 /// Names of the columns that depend on the machine and the moment, not on the study.
 pub const TIMING_COLUMNS: [&str; 1] = ["wall_time"];
+
+impl PartialEq for ColumnData {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (ColumnData::Float(a), ColumnData::Float(b)) => {
+                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x == y || (x.is_nan() && y.is_nan()))
+            }
+            (ColumnData::Int(a), ColumnData::Int(b)) => a == b,
+            (ColumnData::Bool(a), ColumnData::Bool(b)) => a == b,
+            (ColumnData::Text(a), ColumnData::Text(b)) => a == b,
+            _ => false,
+        }
+    }
+}
 
 impl ColumnData {
     /// Number of values.

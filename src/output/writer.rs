@@ -90,12 +90,8 @@ impl ResultsWriter {
 
     /// Stages one run (its group, attributes and the outputs the study asks for).
     pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
-        let bucket = layout::bucket_name(run.row.index);
+        self.stage_bucket(run.row.index)?;
         let root = self.file.root();
-        if !self.buckets.contains(&bucket) {
-            root.create_group(&format!("{RUNS}/{bucket}")).map_err(|e| hdf5_error(&self.path, e))?;
-            self.buckets.insert(bucket);
-        }
         let attrs = layout::run_attrs(&run.row, &run.scene);
         let output = &self.output;
         root.create_group_with(&layout::run_path(run.row.index, &run.row.id), |g| {
@@ -108,6 +104,25 @@ impl ResultsWriter {
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
         self.pending.push(run.row.clone());
+        Ok(())
+    }
+
+    /// Stages a copy of a committed run group of another results file (for merging shards).
+    pub fn stage_copy(&mut self, source: &File, row: &SummaryRow) -> Result<(), OutputError> {
+        self.stage_bucket(row.index)?;
+        let path = layout::run_path(row.index, &row.id);
+        self.file.copy_from(source, &path, &path).map_err(|e| hdf5_error(&self.path, e))?;
+        self.pending.push(row.clone());
+        Ok(())
+    }
+
+    /// Stages the bucket group of a run unless the file has it.
+    fn stage_bucket(&mut self, index: usize) -> Result<(), OutputError> {
+        let bucket = layout::bucket_name(index);
+        if !self.buckets.contains(&bucket) {
+            self.file.root().create_group(&format!("{RUNS}/{bucket}")).map_err(|e| hdf5_error(&self.path, e))?;
+            self.buckets.insert(bucket);
+        }
         Ok(())
     }
 

@@ -1,0 +1,192 @@
+//! Merging shard files into the results file a one-machine run gives.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::header::{FileHeader, utc_now};
+use super::row::SummaryRow;
+use super::writer::ResultsWriter;
+use super::{OutputError, csv_path, hdf5_error, reader};
+use crate::study::OutputOptions;
+
+/// Runs copied per commit while merging.
+const COPIES_PER_COMMIT: usize = 500;
+
+/// What a merge produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MergeReport {
+    /// The merged HDF5 file.
+    pub results: PathBuf,
+    /// Its CSV summary.
+    pub summary_csv: PathBuf,
+    /// Number of runs merged.
+    pub runs: usize,
+    /// Number of shard files merged.
+    pub shards: usize,
+}
+
+/// One shard file, checked.
+struct ShardFile {
+    path: PathBuf,
+    header: FileHeader,
+    rows: Vec<SummaryRow>,
+}
+
+/// Merges the shard files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`) into
+/// `out_dir/<study name>.h5` and its CSV summary. Refuses, naming the files, shards of different
+/// studies, runs present in two shards, and missing shards or runs (saying which shards to re-run).
+/// An existing merged file is only replaced with `force`.
+pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
+    let shards = read_shards(&shard_paths(inputs)?)?;
+    check_complete(&shards)?;
+    let first = &shards[0].header;
+    std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
+    let results = out_dir.join(format!("{}.h5", first.study_name));
+    if results.exists() && !force {
+        return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
+    }
+    if results.exists() {
+        std::fs::remove_file(&results).map_err(|e| OutputError::io(&results, e))?;
+    }
+    let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
+    // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
+    let everything = OutputOptions { histories: true, final_states: true, frames: true };
+    let mut writer = ResultsWriter::create(&results, &header, everything)?;
+    let mut runs = 0;
+    for shard in &shards {
+        let source = hdf5_pure::File::open(&shard.path).map_err(|e| hdf5_error(&shard.path, e))?;
+        for row in &shard.rows {
+            writer.stage_copy(&source, row)?;
+            if writer.pending() >= COPIES_PER_COMMIT {
+                writer.commit()?;
+            }
+        }
+        writer.commit()?;
+        runs += shard.rows.len();
+    }
+    let table = writer.finish()?;
+    let summary_csv = csv_path(&results);
+    super::summary::write_csv(&summary_csv, &table)?;
+    Ok(MergeReport { results, summary_csv, runs, shards: shards.len() })
+}
+
+/// The shard files named by `inputs`, directories expanded, sorted.
+fn shard_paths(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, OutputError> {
+    let mut paths = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            let entries = std::fs::read_dir(input).map_err(|e| OutputError::io(input, e))?;
+            let mut found: Vec<PathBuf> = entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(is_shard_file_name))
+                .collect();
+            if found.is_empty() {
+                return Err(OutputError::new(input, "no shard files (*.shard-K-of-N.h5) in this directory"));
+            }
+            paths.append(&mut found);
+        } else {
+            paths.push(input.clone());
+        }
+    }
+    if paths.is_empty() {
+        return Err(OutputError::new(Path::new("."), "no shard files given"));
+    }
+    paths.sort();
+    paths.dedup();
+    Ok(paths)
+}
+
+fn is_shard_file_name(name: &str) -> bool {
+    name.ends_with(".h5") && name.contains(".shard-") && name.contains("-of-")
+}
+
+fn read_shards(paths: &[PathBuf]) -> Result<Vec<ShardFile>, OutputError> {
+    let shards = paths
+        .iter()
+        .map(|path| {
+            let file = reader::open(path)?;
+            let header = reader::header(&file, path)?;
+            if header.shard.is_none() {
+                return Err(OutputError::new(path, "is not a shard file (it has no `shard` attribute)"));
+            }
+            let rows = reader::rows(&file, path)?;
+            Ok(ShardFile { path: path.clone(), header, rows })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    check_same_study(&shards)?;
+    Ok(shards)
+}
+
+fn describe(shard: &ShardFile) -> String {
+    let spec = shard.header.shard.as_ref().map_or(String::new(), |s| format!("shard {}", s.spec));
+    format!(
+        "{} ({spec}, study `{}`, fingerprint {})",
+        shard.path.display(),
+        shard.header.study_name,
+        shard.header.fingerprint
+    )
+}
+
+fn check_same_study(shards: &[ShardFile]) -> Result<(), OutputError> {
+    let first = &shards[0];
+    let count = |s: &ShardFile| s.header.shard.as_ref().map_or(0, |i| i.spec.count);
+    if let Some(other) =
+        shards.iter().find(|s| s.header.fingerprint != first.header.fingerprint || count(s) != count(first))
+    {
+        return Err(OutputError::new(
+            &other.path,
+            format!(
+                "cannot merge shards of different studies or splits:\n  {}\n  {}",
+                describe(first),
+                describe(other)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every run exactly once: no run in two files, every shard given, every shard complete.
+fn check_complete(shards: &[ShardFile]) -> Result<(), OutputError> {
+    let mut owner: BTreeMap<usize, &Path> = BTreeMap::new();
+    for shard in shards {
+        for row in &shard.rows {
+            if let Some(other) = owner.insert(row.index, &shard.path) {
+                return Err(OutputError::new(
+                    &shard.path,
+                    format!("overlaps {}: both hold run {} (plan index {})", other.display(), row.id, row.index),
+                ));
+            }
+        }
+    }
+    let count = shards[0].header.shard.as_ref().map_or(0, |s| s.spec.count);
+    let mut problems = Vec::new();
+    for k in 1..=count {
+        match shards.iter().find(|s| s.header.shard.as_ref().is_some_and(|i| i.spec.index == k)) {
+            None => problems.push(format!("shard {k}/{count}: no file given")),
+            Some(shard) => {
+                let assigned = shard.header.shard.as_ref().map_or(&[][..], |s| &s.runs[..]);
+                let missing: Vec<String> =
+                    assigned.iter().filter(|i| !owner.contains_key(i)).map(|i| format!("#{i}")).collect();
+                if !missing.is_empty() {
+                    problems.push(format!(
+                        "shard {k}/{count} ({}): {} of {} runs missing (plan indices {})",
+                        shard.path.display(),
+                        missing.len(),
+                        assigned.len(),
+                        missing.join(", ")
+                    ));
+                }
+            }
+        }
+    }
+    if problems.is_empty() {
+        return Ok(());
+    }
+    Err(OutputError::new(
+        &shards[0].path,
+        format!(
+            "incomplete shards, nothing merged:\n  {}\nre-run those shards with `demsweep run STUDY --shard K/N --resume`, then merge again",
+            problems.join("\n  ")
+        ),
+    ))
+}

@@ -1,0 +1,44 @@
+//! Running one planned run: the simulation on this thread, panics caught, wall time measured.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use crate::output::{RunResult, SummaryRow};
+use crate::physics::RunStatus;
+use crate::physics::simulation::{Control, Progress, run_scene};
+use crate::study::PlannedRun;
+
+/// Runs one simulation; `observe` sees every progress sample. Returns `None` when `stop` interrupted
+/// it (an interrupted run is not a result: it runs again on `--resume`). Errors and panics become
+/// results with status `error` and the message.
+pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Progress)) -> Option<RunResult> {
+    let started = Instant::now();
+    let initial = run.initial.as_ref().map(|disks| disks.as_ref().clone());
+    let mut observer = |p: &Progress| {
+        observe(p);
+        if stop.load(Ordering::Relaxed) { Control::Stop } else { Control::Continue }
+    };
+    let outcome = catch_unwind(AssertUnwindSafe(|| run_scene(&run.scene, initial, &mut observer)));
+    let (mut row, record) = match outcome {
+        Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
+        Ok(Ok(record)) => {
+            (SummaryRow::finished(run.index, &run.id, &run.parameters, &record, run.scene.domain.width), Some(record))
+        }
+        Ok(Err(message)) => (SummaryRow::failed(run.index, &run.id, &run.parameters, &message), None),
+        Err(panic) => {
+            let message = format!("the simulation panicked: {}", panic_text(panic.as_ref()));
+            (SummaryRow::failed(run.index, &run.id, &run.parameters, &message), None)
+        }
+    };
+    row.wall_time = started.elapsed().as_secs_f64();
+    Some(RunResult { row, scene: run.scene.clone(), record })
+}
+
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(no message)".to_string())
+}

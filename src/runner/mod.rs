@@ -1,0 +1,276 @@
+//! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
+//! runs through a channel to one writer thread, progress, resume, shards and Ctrl-C.
+//!
+//! Results do not depend on `jobs`: every simulation is single-threaded and deterministic, and the
+//! summary is sorted by run index whatever order runs finish in.
+
+use std::collections::HashSet;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
+
+pub mod execute;
+pub mod interrupt;
+pub mod progress;
+pub mod shard;
+pub mod sink;
+
+pub use progress::ProgressMode;
+pub use sink::CommitPolicy;
+
+use crate::output::header::utc_now;
+use crate::output::row::STATUS_ERROR;
+use crate::output::table::ColumnData;
+use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
+use crate::study::{Plan, PlannedRun};
+use progress::ProgressView;
+
+/// How to run a plan.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Worker threads; 0 = the available cores.
+    pub jobs: usize,
+    /// Output directory; default `results/<study name>/`.
+    pub out_dir: Option<PathBuf>,
+    /// Continue an existing results file: run only the runs it lacks.
+    pub resume: bool,
+    /// Overwrite an existing results file.
+    pub force: bool,
+    /// Run only this shard of the plan.
+    pub shard: Option<ShardSpec>,
+    /// How progress is shown.
+    pub progress: ProgressMode,
+    /// When finished runs are committed to the file.
+    pub commit: CommitPolicy,
+    /// Set (e.g. by Ctrl-C) to stop: running simulations are interrupted and not recorded.
+    pub stop: Arc<AtomicBool>,
+}
+
+/// What a sweep did.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    /// The HDF5 results file.
+    pub results: PathBuf,
+    /// The CSV summary next to it.
+    pub summary_csv: PathBuf,
+    /// Runs this invocation is responsible for (the whole plan, or the shard).
+    pub selected: usize,
+    /// Of those, runs already in the file before this invocation (`--resume`).
+    pub already_done: usize,
+    /// Runs finished and recorded by this invocation.
+    pub ran: usize,
+    /// Whether the sweep was stopped before every run finished.
+    pub interrupted: bool,
+    /// The summary of every run in the file.
+    pub summary: SummaryTable,
+}
+
+impl RunReport {
+    /// Recorded runs whose status is `error`.
+    pub fn failed(&self) -> usize {
+        match self.summary.column("status").map(|c| &c.data) {
+            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == STATUS_ERROR).count(),
+            _ => 0,
+        }
+    }
+
+    /// Selected runs not in the file (interrupted, or lost to an error).
+    pub fn missing(&self) -> usize {
+        self.selected.saturating_sub(self.summary.len())
+    }
+
+    /// Process exit code: 0 when every run finished (settled, not settled or diverged), 130 when
+    /// interrupted, 1 when some run failed with an error or is missing.
+    pub fn exit_code(&self) -> i32 {
+        if self.interrupted {
+            interrupt::EXIT_INTERRUPTED
+        } else if self.failed() > 0 || self.missing() > 0 {
+            1
+        } else {
+            0
+        }
+    }
+}
+
+/// Why a sweep could not run or complete.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RunnerError {
+    /// A results-file problem (refused overwrite, other study, unwritable path, full disk …).
+    Output(OutputError),
+    /// The worker pool or writer thread failed.
+    Internal(String),
+}
+
+impl fmt::Display for RunnerError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RunnerError::Output(e) => write!(f, "{e}"),
+            RunnerError::Internal(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RunnerError {}
+
+impl From<OutputError> for RunnerError {
+    fn from(e: OutputError) -> Self {
+        RunnerError::Output(e)
+    }
+}
+
+/// Runs a plan (or one shard of it) into `OUT/<name>.h5` (or `OUT/<name>.shard-K-of-N.h5`) and its CSV
+/// summary; see [`RunOptions`].
+pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerError> {
+    let selected = match options.shard {
+        Some(spec) => shard::select(plan, spec),
+        None => (0..plan.runs.len()).collect(),
+    };
+    let path = results_path(plan, options);
+    let writer = open_results(plan, options, &path, &selected)?;
+    let done: HashSet<usize> = writer.committed().iter().map(|r| r.index).collect();
+    let mut todo: Vec<&PlannedRun> =
+        selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
+    todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
+    let jobs =
+        if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
+    let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
+    let (sender, receiver) = mpsc::channel();
+    let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
+    let ran = run_all(&todo, jobs, &options.stop, &view, sender);
+    view.finish();
+    let summary = writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
+    let summary_csv = output::csv_path(&path);
+    output::summary::write_csv(&summary_csv, &summary)?;
+    let ran = ran?;
+    Ok(RunReport {
+        results: path,
+        summary_csv,
+        selected: selected.len(),
+        already_done: done.len(),
+        ran,
+        interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
+        summary,
+    })
+}
+
+/// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard.
+pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
+    let dir = options.out_dir.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
+    let file = match options.shard {
+        Some(s) => format!("{}.shard-{}-of-{}.h5", plan.name, s.index, s.count),
+        None => format!("{}.h5", plan.name),
+    };
+    dir.join(file)
+}
+
+/// Creates the results file, or opens it to resume after checking it holds this study (and shard).
+fn open_results(
+    plan: &Plan,
+    options: &RunOptions,
+    path: &Path,
+    selected: &[usize],
+) -> Result<ResultsWriter, RunnerError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)
+        .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
+    check_writable(dir)?;
+    let exists = path.exists();
+    if exists && options.resume {
+        let (writer, header) = ResultsWriter::open(path, plan.output.clone())?;
+        check_same_study(path, &header, plan, options.shard)?;
+        return Ok(writer);
+    }
+    if exists && !options.force {
+        return Err(OutputError::new(
+            path,
+            "results already exist: use --resume to continue them (only missing runs are run) or --force to overwrite them",
+        )
+        .into());
+    }
+    if exists {
+        std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
+    }
+    let header = FileHeader {
+        study_name: plan.name.clone(),
+        study_text: plan.study_text.clone(),
+        fingerprint: plan.fingerprint.clone(),
+        demsweep_version: env!("CARGO_PKG_VERSION").to_string(),
+        created: utc_now(),
+        planned_runs: plan.runs.len(),
+        shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
+    };
+    Ok(ResultsWriter::create(path, &header, plan.output.clone())?)
+}
+
+/// Fails early, naming the directory, when files cannot be created in it.
+fn check_writable(dir: &Path) -> Result<(), OutputError> {
+    let probe = dir.join(format!(".demsweep-write-test-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .map_err(|e| OutputError::new(dir, format!("the output directory is not writable: {e}")))?;
+    std::fs::remove_file(&probe).map_err(|e| OutputError::io(&probe, e))
+}
+
+fn check_same_study(
+    path: &Path,
+    header: &FileHeader,
+    plan: &Plan,
+    shard: Option<ShardSpec>,
+) -> Result<(), OutputError> {
+    if header.fingerprint != plan.fingerprint {
+        return Err(OutputError::new(
+            path,
+            format!(
+                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}): \
+                 use another --out directory, or --force to overwrite",
+                header.study_name, header.fingerprint, plan.fingerprint
+            ),
+        ));
+    }
+    let file_shard = header.shard.as_ref().map(|s| s.spec);
+    if file_shard != shard {
+        let show = |s: Option<ShardSpec>| s.map_or("the whole study".to_string(), |s| format!("shard {s}"));
+        return Err(OutputError::new(
+            path,
+            format!("was written for {} but this run is for {}", show(file_shard), show(shard)),
+        ));
+    }
+    Ok(())
+}
+
+/// Runs `todo` in this order on `jobs` workers; returns how many finished (and were sent).
+fn run_all(
+    todo: &[&PlannedRun],
+    jobs: usize,
+    stop: &AtomicBool,
+    view: &ProgressView,
+    sender: mpsc::Sender<RunResult>,
+) -> Result<usize, RunnerError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .thread_name(|i| format!("demsweep-worker-{i}"))
+        .build()
+        .map_err(|e| RunnerError::Internal(format!("cannot start {jobs} worker threads: {e}")))?;
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    pool.scope(|scope| {
+        for worker in 0..jobs {
+            let sender = sender.clone();
+            let (next, finished) = (&next, &finished);
+            scope.spawn(move |_| {
+                while !stop.load(Ordering::SeqCst) {
+                    let Some(run) = todo.get(next.fetch_add(1, Ordering::SeqCst)) else { break };
+                    let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
+                    if let Some(result) = result {
+                        view.finished(worker, &result.row);
+                        if sender.send(result).is_ok() {
+                            finished.fetch_add(1, Ordering::SeqCst);
+                        }
+                    }
+                }
+            });
+        }
+    });
+    Ok(finished.into_inner())
+}

@@ -1,0 +1,94 @@
+//! The one writer thread: receives finished runs, stages them and commits in batches.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::thread::{self, JoinHandle};
+use std::time::{Duration, Instant};
+
+use crate::output::{OutputError, ResultsWriter, RunResult, SummaryTable};
+
+/// When staged runs are committed: after `max_runs` runs or `interval`, whichever comes first, but
+/// never so often that committing takes more than `max_overhead` of the time (a commit's cost grows
+/// with the file, so late in a large sweep commits space out).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommitPolicy {
+    /// Commit once this many runs are staged.
+    pub max_runs: usize,
+    /// Commit staged runs at least this often (unless that would exceed `max_overhead`).
+    pub interval: Duration,
+    /// Largest fraction of the time spent committing.
+    pub max_overhead: f64,
+}
+
+impl Default for CommitPolicy {
+    fn default() -> Self {
+        Self { max_runs: 100, interval: Duration::from_secs(2), max_overhead: 0.03 }
+    }
+}
+
+impl CommitPolicy {
+    /// Whether to commit now, given the staged count, time since the last commit and its cost.
+    fn due(&self, pending: usize, since_commit: Duration, last_cost: Duration) -> bool {
+        pending > 0
+            && (pending >= self.max_runs || since_commit >= self.interval)
+            && since_commit.as_secs_f64() * self.max_overhead >= last_cost.as_secs_f64()
+    }
+}
+
+/// Starts the writer thread; it ends when every sender is dropped, returning the summary. On an
+/// error it sets `stop` (so the sweep ends) and returns the error.
+pub fn spawn(
+    writer: ResultsWriter,
+    runs: Receiver<RunResult>,
+    policy: CommitPolicy,
+    stop: Arc<AtomicBool>,
+) -> JoinHandle<Result<SummaryTable, OutputError>> {
+    thread::spawn(move || {
+        let outcome = write_all(writer, &runs, policy);
+        if outcome.is_err() {
+            stop.store(true, Ordering::SeqCst);
+        }
+        outcome
+    })
+}
+
+fn write_all(
+    mut writer: ResultsWriter,
+    runs: &Receiver<RunResult>,
+    policy: CommitPolicy,
+) -> Result<SummaryTable, OutputError> {
+    let mut last_commit = Instant::now();
+    let mut last_cost = Duration::ZERO;
+    loop {
+        match runs.recv_timeout(Duration::from_millis(200)) {
+            Ok(run) => writer.stage(&run)?,
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => break,
+        }
+        if policy.due(writer.pending(), last_commit.elapsed(), last_cost) {
+            let started = Instant::now();
+            writer.commit()?;
+            last_cost = started.elapsed();
+            last_commit = Instant::now();
+        }
+    }
+    writer.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commits_on_count_or_interval_within_the_overhead_budget() {
+        let p = CommitPolicy { max_runs: 10, interval: Duration::from_secs(2), max_overhead: 0.05 };
+        let ms = Duration::from_millis;
+        assert!(!p.due(0, ms(5000), ms(1)), "nothing staged");
+        assert!(!p.due(3, ms(100), ms(1)), "few runs, interval not reached");
+        assert!(p.due(10, ms(100), ms(1)), "batch full");
+        assert!(p.due(3, ms(2000), ms(1)), "interval reached");
+        assert!(!p.due(10, ms(2000), ms(500)), "a 0.5 s commit waits 10 s");
+        assert!(p.due(10, ms(10_000), ms(500)));
+    }
+}

@@ -1,0 +1,75 @@
+//! Shared helpers of the runner tests: tiny plans built in code and scratch directories.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use demsweep::physics::SceneConfig;
+use demsweep::runner::{ProgressMode, RunOptions};
+use demsweep::study::{OutputOptions, ParamValue, Plan, PlannedRun};
+
+/// A tiny deposition: `count` disks falling for `duration` seconds in a narrow box.
+pub fn tiny_scene(count: usize, duration: f64) -> SceneConfig {
+    let mut scene = SceneConfig::default();
+    scene.particles.count = count;
+    scene.domain.width = 0.12;
+    scene.domain.height = 0.2;
+    scene.run.duration = duration;
+    scene.run.sample_interval = 2e-3;
+    scene
+}
+
+/// A plan of the given runs (parameters, scene); ids `r000`, `r001`, …
+pub fn plan(name: &str, runs: Vec<(Vec<(String, ParamValue)>, SceneConfig)>) -> Plan {
+    let runs = runs
+        .into_iter()
+        .enumerate()
+        .map(|(index, (parameters, scene))| PlannedRun {
+            id: format!("r{index:03}"),
+            index,
+            estimated_cost: scene.particles.count as f64 * scene.total_steps() as f64,
+            parameters,
+            scene,
+            initial: None,
+        })
+        .collect();
+    Plan {
+        study_path: PathBuf::from(format!("{name}.toml")),
+        study_text: format!("# test study {name}\n"),
+        name: name.to_string(),
+        fingerprint: format!("test-fingerprint-{name}"),
+        output: OutputOptions { histories: true, final_states: true, frames: true },
+        runs,
+    }
+}
+
+/// `n` tiny runs sweeping restitution and seed (and frames at two times).
+pub fn sweep(name: &str, n: usize) -> Plan {
+    let runs = (0..n)
+        .map(|i| {
+            let mut scene = tiny_scene(12 + i % 3 * 4, 0.04);
+            let restitution = 0.3 + 0.1 * (i % 4) as f64;
+            scene.material.restitution = Some(restitution);
+            scene.placement.seed = 100 + i as u64;
+            scene.run.frame_times = vec![0.0, 0.02];
+            let params = vec![
+                ("material.restitution".to_string(), ParamValue::Float(restitution)),
+                ("placement.seed".to_string(), ParamValue::Int(100 + i as i64)),
+            ];
+            (params, scene)
+        })
+        .collect();
+    plan(name, runs)
+}
+
+/// An empty scratch directory for one test.
+pub fn scratch(test: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("runner_tests").join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create scratch directory");
+    dir
+}
+
+/// Quiet options writing into `dir` with `jobs` workers.
+pub fn options(dir: &std::path::Path, jobs: usize) -> RunOptions {
+    RunOptions { jobs, out_dir: Some(dir.to_path_buf()), progress: ProgressMode::Quiet, ..RunOptions::default() }
+}

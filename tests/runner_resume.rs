@@ -1,0 +1,68 @@
+//! Stopping a sweep keeps finished runs; `--resume` runs only the missing ones and ends with the
+//! summary an uninterrupted sweep gives.
+
+mod common;
+
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use demsweep::output::summary;
+use demsweep::runner::{CommitPolicy, run_plan};
+
+fn longer_sweep(name: &str) -> demsweep::study::Plan {
+    let mut plan = common::sweep(name, 10);
+    for run in &mut plan.runs {
+        run.scene.run.duration = 0.15;
+    }
+    plan
+}
+
+#[test]
+fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
+    let plan = longer_sweep("resume");
+    let dir = common::scratch("resume");
+    let mut first = common::options(&dir, 1);
+    first.commit = CommitPolicy { max_runs: 1, interval: Duration::ZERO, max_overhead: 1.0 };
+    let results = dir.join("resume.h5");
+    // Stop the sweep (as Ctrl-C does) as soon as the file holds two committed runs.
+    let stop = first.stop.clone();
+    let watcher = std::thread::spawn(move || {
+        while !stop.load(Ordering::SeqCst) {
+            if summary::read(&results).is_ok_and(|t| t.len() >= 2) {
+                stop.store(true, Ordering::SeqCst);
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    });
+    let stopped = run_plan(&plan, &first).expect("interrupted sweep");
+    first.stop.store(true, Ordering::SeqCst);
+    watcher.join().unwrap();
+    assert!(stopped.interrupted);
+    assert_eq!(stopped.exit_code(), 130);
+    let kept = stopped.summary.len();
+    assert!((2..10).contains(&kept), "kept {kept} runs");
+    assert_eq!(summary::read(&stopped.results).unwrap(), stopped.summary, "the stopped file is complete and valid");
+
+    let mut again = common::options(&dir, 2);
+    again.resume = true;
+    let resumed = run_plan(&plan, &again).expect("resumed sweep");
+    assert_eq!(resumed.already_done, kept);
+    assert_eq!(resumed.ran, 10 - kept);
+    assert_eq!(resumed.exit_code(), 0);
+
+    let reference = run_plan(&plan, &common::options(&common::scratch("resume_reference"), 2)).unwrap();
+    assert_eq!(resumed.summary.without_timing(), reference.summary.without_timing());
+}
+
+#[test]
+fn a_sweep_stopped_before_it_starts_records_nothing_and_stays_valid() {
+    let plan = common::sweep("stopped_early", 3);
+    let dir = common::scratch("stopped_early");
+    let options = common::options(&dir, 2);
+    options.stop.store(true, Ordering::SeqCst);
+    let report = run_plan(&plan, &options).unwrap();
+    assert_eq!((report.ran, report.summary.len(), report.exit_code()), (0, 0, 130));
+    assert_eq!(summary::read(&report.results).unwrap().len(), 0);
+    let csv = std::fs::read_to_string(&report.summary_csv).unwrap();
+    assert_eq!(csv.lines().count(), 1, "header only: {csv}");
+}
