@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Checks a demsweep results file with h5py (libhdf5) against a JSON description of what was written.
+
+Usage: check_h5.py RESULTS.h5 EXPECTED.json
+
+EXPECTED.json: {"groups": {path: {attr: value}}, "datasets": {path: {"attrs": {...}, "fields": [[name, [..]], ..]}
+or {"attrs": {...}, "values": [..]}}}. Every group, dataset and attribute in the file must be listed and
+equal (floats exactly; null means NaN; {"$regex": ...} matches a string). Exits 1 listing every difference,
+2 when h5py cannot be imported.
+"""
+import json
+import math
+import re
+import sys
+
+try:
+    import h5py
+    import numpy as np
+except ImportError as error:  # CI installs h5py; a missing reader must fail the test, not skip it
+    print(f"h5py is required: {error}", file=sys.stderr)
+    sys.exit(2)
+
+
+def plain(value):
+    """numpy / bytes values as plain Python values."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray):
+        return [plain(v) for v in value.tolist()]
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return plain(value.item())
+    return value
+
+
+def equal(found, expected):
+    if isinstance(expected, dict) and "$regex" in expected:
+        return isinstance(found, str) and re.fullmatch(expected["$regex"], found) is not None
+    if expected is None:
+        return isinstance(found, float) and math.isnan(found)
+    if isinstance(expected, list):
+        return isinstance(found, list) and len(found) == len(expected) and all(map(equal, found, expected))
+    if isinstance(expected, bool):
+        return found == int(expected)
+    if isinstance(expected, float) or isinstance(found, float):
+        return isinstance(found, (int, float)) and float(found) == float(expected)
+    return found == expected
+
+
+def check_attrs(path, attrs, expected, problems):
+    found = {name: plain(attrs[name]) for name in attrs.keys()}
+    for name in sorted(set(found) ^ set(expected)):
+        where = "unexpected in the file" if name in found else "missing from the file"
+        problems.append(f"{path}: attribute {name} {where}")
+    for name in sorted(set(found) & set(expected)):
+        if not equal(found[name], expected[name]):
+            problems.append(f"{path}: attribute {name} = {found[name]!r}, expected {expected[name]!r}")
+
+
+def main(h5_path, json_path):
+    with open(json_path) as f:
+        expected = json.load(f)
+    problems = []
+    with h5py.File(h5_path, "r") as f:
+        groups, datasets = {"/": f}, {}
+        f.visititems(lambda name, obj: (groups if isinstance(obj, h5py.Group) else datasets).__setitem__("/" + name, obj))
+        for kind, found, wanted in (("group", groups, expected["groups"]), ("dataset", datasets, expected["datasets"])):
+            for path in sorted(set(found) ^ set(wanted)):
+                problems.append(f"{kind} {path} {'unexpected in the file' if path in found else 'missing from the file'}")
+        for path in sorted(set(groups) & set(expected["groups"])):
+            check_attrs(path, groups[path].attrs, expected["groups"][path], problems)
+        for path in sorted(set(datasets) & set(expected["datasets"])):
+            spec, ds = expected["datasets"][path], datasets[path]
+            check_attrs(path, ds.attrs, spec["attrs"], problems)
+            data = ds[()]
+            if "fields" in spec:
+                names, wanted = list(ds.dtype.names or []), [name for name, _ in spec["fields"]]
+                if names != wanted:
+                    problems.append(f"{path}: fields {names}, expected {wanted}")
+                    continue
+                for name, values in spec["fields"]:
+                    if not equal(plain(data[name]), values):
+                        problems.append(f"{path}: field {name} differs")
+            elif not equal(plain(data), spec["values"]):
+                problems.append(f"{path}: values {plain(data)!r}, expected {spec['values']!r}")
+    for problem in problems:
+        print(problem, file=sys.stderr)
+    checked = len(expected["groups"]) + len(expected["datasets"])
+    print(f"{h5_path}: {checked} objects checked, {len(problems)} problems")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))

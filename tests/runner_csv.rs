@@ -1,0 +1,89 @@
+//! The CSV summary: the expected columns, RFC 4180 quoting, empty cells for missing values; failed
+//! and diverged runs are recorded and the sweep goes on.
+
+mod common;
+
+use demsweep::runner::run_plan;
+use demsweep::study::ParamValue;
+
+/// Splits RFC 4180 text into records of fields.
+fn parse_csv(text: &str) -> Vec<Vec<String>> {
+    let (mut records, mut record, mut field) = (Vec::new(), Vec::new(), String::new());
+    let mut chars = text.chars().peekable();
+    let mut quoted = false;
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => field.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => record.push(std::mem::take(&mut field)),
+            (false, '\r') => {}
+            (false, '\n') => {
+                record.push(std::mem::take(&mut field));
+                records.push(std::mem::take(&mut record));
+            }
+            (false, c) => field.push(c),
+        }
+    }
+    records
+}
+
+#[test]
+fn csv_summary_has_the_columns_and_quotes_messages() {
+    let fine = common::tiny_scene(12, 0.04);
+    let mut diverging = fine.clone();
+    diverging.integrator.time_step = 2e-3;
+    let mut crowded = fine.clone();
+    crowded.particles.count = 400;
+    let param = |dt: f64| vec![("integrator.time_step".to_string(), ParamValue::Float(dt))];
+    let plan = common::plan("csv", vec![(param(1e-5), fine), (param(2e-3), diverging), (param(1e-5), crowded.clone())]);
+    let report = run_plan(&plan, &common::options(&common::scratch("csv"), 2)).unwrap();
+    assert_eq!(report.exit_code(), 1, "a failed run makes the exit code non-zero");
+    assert_eq!(report.failed(), 1);
+
+    let text = std::fs::read_to_string(&report.summary_csv).unwrap();
+    assert!(report.summary_csv.ends_with("csv_summary.csv"));
+    assert!(text.ends_with("\r\n"));
+    let records = parse_csv(&text);
+    let expected = [
+        "run_id",
+        "index",
+        "integrator.time_step",
+        "status",
+        "settle_time",
+        "steps",
+        "simulated_time",
+        "wall_time",
+        "final_kinetic",
+        "final_potential",
+        "final_elastic",
+        "final_dissipated",
+        "final_mechanical",
+        "final_ubf",
+        "pile_height",
+        "packing_fraction",
+        "warnings",
+        "message",
+    ];
+    assert_eq!(records[0], expected);
+    assert_eq!(records.len(), 4);
+    let col = |name: &str| expected.iter().position(|c| *c == name).unwrap();
+    let statuses: Vec<&str> = records[1..].iter().map(|r| r[col("status")].as_str()).collect();
+    assert_eq!(statuses, ["not_settled", "diverged", "error"]);
+    assert_eq!(records[2][col("integrator.time_step")], "0.002");
+    assert!(records[2][col("message")].contains("limits."), "divergence explained: {:?}", records[2]);
+
+    let placement_error = demsweep::physics::placement::generate(&crowded).unwrap_err().to_string();
+    assert!(placement_error.contains(',') && placement_error.contains('"'), "needs quoting: {placement_error}");
+    assert_eq!(records[3][col("message")], placement_error, "the message survives RFC 4180 quoting");
+    for missing in ["settle_time", "final_kinetic", "pile_height"] {
+        assert_eq!(records[3][col(missing)], "", "{missing} of a failed run is an empty cell");
+    }
+    assert_eq!(records[1][col("settle_time")], "", "a run that did not settle has an empty settle time");
+    let steps: u64 = records[1][col("steps")].parse().unwrap();
+    assert_eq!(steps, 4000);
+}

@@ -1,0 +1,195 @@
+//! An independent libhdf5-based reader (h5py) finds exactly what the simulations produced: every
+//! group, dataset and attribute of the results file is compared with a JSON description built here
+//! from the plan and from re-running each (deterministic) simulation.
+
+mod common;
+
+use std::process::Command;
+
+use demsweep::output::SummaryTable;
+use demsweep::output::table::ColumnData;
+use demsweep::physics::RunRecord;
+use demsweep::physics::material::{Elastic, Materials, restitution_from_beta};
+use demsweep::physics::simulation::{Control, run_scene};
+use demsweep::study::{ParamValue, Plan, PlannedRun};
+use serde_json::{Map, Value, json};
+
+fn param_json(v: &ParamValue) -> Value {
+    match v {
+        ParamValue::Float(x) => json!(x),
+        ParamValue::Int(i) => json!(i),
+        ParamValue::Bool(b) => json!(b),
+        ParamValue::Text(s) => json!(s),
+    }
+}
+
+/// The expected attributes of a run group.
+fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_time: f64) -> Map<String, Value> {
+    let mut a = Map::new();
+    let nan = f64::NAN;
+    a.insert("index".into(), json!(run.index));
+    a.insert("id".into(), json!(run.id));
+    a.insert("status".into(), json!(record.map_or("error", |r| r.status.as_str())));
+    a.insert("message".into(), json!(record.map_or(error.to_string(), |r| r.message.clone().unwrap_or_default())));
+    let warnings = record.map_or(vec![], |r| r.warnings.clone());
+    a.insert("warning_count".into(), json!(warnings.len()));
+    if !warnings.is_empty() {
+        a.insert("warnings".into(), json!(warnings));
+    }
+    a.insert("settle_time".into(), json!(record.and_then(|r| r.settle_time)));
+    a.insert("steps".into(), json!(record.map_or(0, |r| r.steps)));
+    a.insert("simulated_time".into(), json!(record.map_or(0.0, |r| r.simulated_time)));
+    a.insert("wall_time".into(), json!(wall_time));
+    a.insert("parameters".into(), json!(run.parameters.iter().map(|(k, _)| k).collect::<Vec<_>>()));
+    for (k, v) in &run.parameters {
+        a.insert(k.clone(), param_json(v));
+    }
+    let last = |f: fn(&RunRecord) -> &Vec<f64>| record.map_or(nan, |r| *f(r).last().unwrap());
+    let finals = [
+        ("final_kinetic", last(|r| &r.history.kinetic_translational) + last(|r| &r.history.kinetic_rotational)),
+        ("final_potential", last(|r| &r.history.potential)),
+        ("final_elastic", last(|r| &r.history.elastic)),
+        ("final_dissipated", last(|r| &r.history.dissipated)),
+        ("final_mechanical", last(|r| &r.history.mechanical)),
+        ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
+        ("pile_height", record.map_or(nan, |r| r.pile_height())),
+        ("packing_fraction", record.map_or(nan, |r| r.packing_fraction(run.scene.domain.width))),
+    ];
+    for (name, value) in finals {
+        a.insert(name.into(), json!(value));
+    }
+    let s = &run.scene;
+    let beta = Materials::from_scene(s).particle.beta;
+    let scene = [
+        ("youngs_modulus", json!(s.material.youngs_modulus)),
+        ("poisson_ratio", json!(Elastic::new(s.material.youngs_modulus, None, None).poisson_ratio)),
+        ("beta", json!(beta)),
+        ("restitution", json!(restitution_from_beta(beta))),
+        ("friction", json!(s.material.friction)),
+        ("rolling_friction", json!(s.material.rolling_friction)),
+        ("density", json!(s.material.density)),
+        ("time_step", json!(s.integrator.time_step)),
+        ("integrator", json!("adams_bashforth_moulton")),
+        ("contact_law", json!("hertz_mindlin")),
+        ("count", json!(s.particles.count)),
+        ("radius", json!(s.particles.radius)),
+        ("seed", json!(s.placement.seed)),
+        ("duration", json!(s.run.duration)),
+        ("width", json!(s.domain.width)),
+        ("json", json!(serde_json::to_string(s).unwrap())),
+    ];
+    for (name, value) in scene {
+        a.insert(format!("scene.{name}"), value);
+    }
+    a
+}
+
+/// A compound table: fields as `[name, values]` pairs, in order.
+fn table(fields: Vec<(&str, Value)>, attrs: Value) -> Value {
+    let fields: Vec<Value> = fields.into_iter().map(|(k, v)| json!([k, v])).collect();
+    json!({"attrs": attrs, "fields": fields})
+}
+
+fn snapshot(s: &demsweep::physics::record::Snapshot) -> Value {
+    let f = vec![
+        ("x", json!(s.x)),
+        ("y", json!(s.y)),
+        ("vx", json!(s.vx)),
+        ("vy", json!(s.vy)),
+        ("omega", json!(s.omega)),
+        ("r", json!(s.r)),
+        ("contact_force", json!(s.contact_force)),
+    ];
+    table(f, json!({"time": s.time}))
+}
+
+fn history(r: &RunRecord) -> Value {
+    let h = &r.history;
+    let f = vec![
+        ("t", json!(h.time)),
+        ("kinetic_translational", json!(h.kinetic_translational)),
+        ("kinetic_rotational", json!(h.kinetic_rotational)),
+        ("potential", json!(h.potential)),
+        ("elastic", json!(h.elastic)),
+        ("dissipated", json!(h.dissipated)),
+        ("total", json!(h.total)),
+        ("mechanical", json!(h.mechanical)),
+        ("unbalanced_force_ratio", json!(h.unbalanced_force_ratio)),
+        ("contacts", json!(h.contacts)),
+        ("max_overlap_ratio", json!(h.max_overlap_ratio)),
+    ];
+    table(f, json!({}))
+}
+
+/// The expected `/summary` datasets, typed by the values the runs produced.
+fn summary_datasets(summary: &SummaryTable, datasets: &mut Map<String, Value>) -> Value {
+    for c in &summary.columns {
+        let values = match &c.data {
+            ColumnData::Float(v) => json!(v),
+            ColumnData::Int(v) => json!(v),
+            ColumnData::Bool(v) => json!(v),
+            ColumnData::Text(v) => json!(v),
+        };
+        datasets.insert(format!("/summary/{}", c.name), json!({"attrs": {}, "values": values}));
+    }
+    json!({"columns": summary.columns.iter().map(|c| &c.name).collect::<Vec<_>>()})
+}
+
+fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
+    let wall = match &summary.column("wall_time").unwrap().data {
+        ColumnData::Float(v) => v.clone(),
+        other => panic!("wall_time column {other:?}"),
+    };
+    let mut groups = Map::new();
+    let mut datasets = Map::new();
+    groups.insert(
+        "/".into(),
+        json!({
+            "study_name": plan.name, "study_text": plan.study_text, "fingerprint": plan.fingerprint,
+            "demsweep_version": env!("CARGO_PKG_VERSION"), "planned_runs": plan.runs.len(),
+            "created": {"$regex": r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ"},
+        }),
+    );
+    groups.insert("/runs".into(), json!({}));
+    groups.insert("/runs/b0000".into(), json!({}));
+    for run in &plan.runs {
+        let base = format!("/runs/b0000/{}", run.id);
+        let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
+        let record = outcome.as_ref().ok();
+        let error = outcome.as_ref().err().cloned().unwrap_or_default();
+        groups.insert(base.clone(), Value::Object(run_attrs(run, record, &error, wall[run.index])));
+        let Some(record) = record else { continue };
+        datasets.insert(format!("{base}/history"), history(record));
+        datasets.insert(format!("{base}/final"), snapshot(&record.final_state));
+        groups.insert(format!("{base}/frames"), json!({}));
+        for (k, frame) in record.frames.iter().enumerate() {
+            datasets.insert(format!("{base}/frames/{k}"), snapshot(frame));
+        }
+    }
+    groups.insert("/summary".into(), summary_datasets(summary, &mut datasets));
+    json!({"groups": groups, "datasets": datasets})
+}
+
+#[test]
+fn h5py_reads_exactly_what_was_written() {
+    let mut plan = common::sweep("interop", 3);
+    for run in &mut plan.runs {
+        run.parameters.push(("contact.allow_tension".into(), ParamValue::Bool(false)));
+        run.parameters.push(("label".into(), ParamValue::Text(format!("case \"{}\", μ", run.index))));
+    }
+    let mut crowded = plan.runs[0].clone();
+    crowded.scene.particles.count = 400;
+    crowded.index = 3;
+    crowded.id = "r003".into();
+    plan.runs.push(crowded);
+    let dir = common::scratch("interop");
+    let report = demsweep::runner::run_plan(&plan, &common::options(&dir, 2)).unwrap();
+    assert_eq!(report.failed(), 1);
+    let json_path = dir.join("expected.json");
+    std::fs::write(&json_path, serde_json::to_string(&expected(&plan, &report.summary)).unwrap()).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/interop/check_h5.py");
+    let out = Command::new("python3").arg(script).arg(&report.results).arg(&json_path).output().expect("run python3");
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "h5py check failed (CI installs h5py: python3 -m pip install h5py numpy):\n{text}");
+    assert!(text.contains("0 problems"), "{text}");
+}
