@@ -9,13 +9,17 @@ use std::time::Duration;
 use demsweep::output::summary;
 use demsweep::runner::{CommitPolicy, run_plan};
 
+/// Runs long enough (tens of milliseconds each) for the sweep to be stopped midway.
 fn longer_sweep(name: &str) -> demsweep::study::Plan {
-    let mut plan = common::sweep(name, 10);
+    let mut plan = common::sweep(name, RUNS);
     for run in &mut plan.runs {
-        run.scene.run.duration = 0.15;
+        run.scene.run.duration = 0.2;
+        run.scene.particles.count = 30;
     }
     plan
 }
+
+const RUNS: usize = 12;
 
 #[test]
 fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
@@ -40,14 +44,14 @@ fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
     assert!(stopped.interrupted);
     assert_eq!(stopped.exit_code(), 130);
     let kept = stopped.summary.len();
-    assert!((2..10).contains(&kept), "kept {kept} runs");
+    assert!((2..RUNS).contains(&kept), "kept {kept} runs");
     assert_eq!(summary::read(&stopped.results).unwrap(), stopped.summary, "the stopped file is complete and valid");
 
     let mut again = common::options(&dir, 2);
     again.resume = true;
     let resumed = run_plan(&plan, &again).expect("resumed sweep");
     assert_eq!(resumed.already_done, kept);
-    assert_eq!(resumed.ran, 10 - kept);
+    assert_eq!(resumed.ran, RUNS - kept);
     assert_eq!(resumed.exit_code(), 0);
 
     let reference = run_plan(&plan, &common::options(&common::scratch("resume_reference"), 2)).unwrap();
