@@ -1,7 +1,7 @@
 //! The CSV summary: the expected columns, RFC 4180 quoting, empty cells for missing values; failed
 //! and diverged runs are recorded and the sweep goes on.
 
-mod common;
+mod runner_common;
 
 use demsweep::runner::run_plan;
 use demsweep::study::ParamValue;
@@ -34,14 +34,15 @@ fn parse_csv(text: &str) -> Vec<Vec<String>> {
 
 #[test]
 fn csv_summary_has_the_columns_and_quotes_messages() {
-    let fine = common::tiny_scene(12, 0.04);
+    let fine = runner_common::tiny_scene(12, 0.04);
     let mut diverging = fine.clone();
     diverging.integrator.time_step = 2e-3;
     let mut crowded = fine.clone();
     crowded.particles.count = 400;
     let param = |dt: f64| vec![("integrator.time_step".to_string(), ParamValue::Float(dt))];
-    let plan = common::plan("csv", vec![(param(1e-5), fine), (param(2e-3), diverging), (param(1e-5), crowded.clone())]);
-    let report = run_plan(&plan, &common::options(&common::scratch("csv"), 2)).unwrap();
+    let plan =
+        runner_common::plan("csv", vec![(param(1e-5), fine), (param(2e-3), diverging), (param(1e-5), crowded.clone())]);
+    let report = run_plan(&plan, &runner_common::options(&runner_common::scratch("csv"), 2)).unwrap();
     assert_eq!(report.exit_code(), 1, "a failed run makes the exit code non-zero");
     assert_eq!(report.failed(), 1);
 

@@ -2,7 +2,7 @@
 //! group, dataset and attribute of the results file is compared with a JSON description built here
 //! from the plan and from re-running each (deterministic) simulation.
 
-mod common;
+mod runner_common;
 
 use std::process::Command;
 
@@ -172,7 +172,7 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
 
 #[test]
 fn h5py_reads_exactly_what_was_written() {
-    let mut plan = common::sweep("interop", 3);
+    let mut plan = runner_common::sweep("interop", 3);
     for run in &mut plan.runs {
         run.parameters.push(("contact.allow_tension".into(), ParamValue::Bool(false)));
         run.parameters.push(("label".into(), ParamValue::Text(format!("case \"{}\", μ", run.index))));
@@ -182,8 +182,8 @@ fn h5py_reads_exactly_what_was_written() {
     crowded.index = 3;
     crowded.id = "r003".into();
     plan.runs.push(crowded);
-    let dir = common::scratch("interop");
-    let report = demsweep::runner::run_plan(&plan, &common::options(&dir, 2)).unwrap();
+    let dir = runner_common::scratch("interop");
+    let report = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
     assert_eq!(report.failed(), 1);
     let json_path = dir.join("expected.json");
     std::fs::write(&json_path, serde_json::to_string(&expected(&plan, &report.summary)).unwrap()).unwrap();

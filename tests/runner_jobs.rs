@@ -1,15 +1,15 @@
 //! Results do not depend on the number of worker threads.
 
-mod common;
+mod runner_common;
 
 use demsweep::output::{history, summary};
 use demsweep::runner::run_plan;
 
 #[test]
 fn one_and_two_jobs_give_identical_summaries_and_histories() {
-    let plan = common::sweep("jobs", 6);
-    let one = run_plan(&plan, &common::options(&common::scratch("jobs_1"), 1)).expect("jobs 1");
-    let two = run_plan(&plan, &common::options(&common::scratch("jobs_2"), 2)).expect("jobs 2");
+    let plan = runner_common::sweep("jobs", 6);
+    let one = run_plan(&plan, &runner_common::options(&runner_common::scratch("jobs_1"), 1)).expect("jobs 1");
+    let two = run_plan(&plan, &runner_common::options(&runner_common::scratch("jobs_2"), 2)).expect("jobs 2");
     assert_eq!(one.exit_code(), 0);
     assert_eq!(one.ran, 6);
     assert_eq!(one.summary.len(), 6);

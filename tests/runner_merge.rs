@@ -1,6 +1,6 @@
 //! Shards run separately and merged give what one machine gives; bad shard sets are refused.
 
-mod common;
+mod runner_common;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -10,7 +10,7 @@ use demsweep::runner::run_plan;
 use demsweep::study::Plan;
 
 fn run_shard(plan: &Plan, dir: &Path, k: usize, n: usize) -> PathBuf {
-    let mut options = common::options(dir, 1);
+    let mut options = runner_common::options(dir, 1);
     options.shard = Some(ShardSpec { index: k, count: n });
     let report = run_plan(plan, &options).expect("shard run");
     assert_eq!(report.exit_code(), 0);
@@ -33,16 +33,16 @@ fn csv_without_timing(path: &Path) -> Vec<String> {
 
 #[test]
 fn merged_shards_equal_a_single_machine_run() {
-    let plan = common::sweep("merge", 7);
-    let shards_dir = common::scratch("merge_shards");
+    let plan = runner_common::sweep("merge", 7);
+    let shards_dir = runner_common::scratch("merge_shards");
     let shard_files: Vec<PathBuf> = (1..=3).map(|k| run_shard(&plan, &shards_dir, k, 3)).collect();
     assert!(shard_files[1].ends_with("merge.shard-2-of-3.h5"));
     let sizes: Vec<usize> = shard_files.iter().map(|f| summary::read(f).unwrap().len()).collect();
     assert_eq!(sizes.iter().sum::<usize>(), 7);
 
-    let merged = merge(&common::scratch("merge_out"), std::slice::from_ref(&shards_dir), false).expect("merge");
+    let merged = merge(&runner_common::scratch("merge_out"), std::slice::from_ref(&shards_dir), false).expect("merge");
     assert_eq!((merged.runs, merged.shards), (7, 3));
-    let single = run_plan(&plan, &common::options(&common::scratch("merge_single"), 2)).unwrap();
+    let single = run_plan(&plan, &runner_common::options(&runner_common::scratch("merge_single"), 2)).unwrap();
 
     assert_eq!(summary::read(&merged.results).unwrap().without_timing(), single.summary.without_timing());
     assert_eq!(csv_without_timing(&merged.summary_csv), csv_without_timing(&single.summary_csv));
@@ -57,7 +57,7 @@ fn merged_shards_equal_a_single_machine_run() {
 }
 
 fn merge_error(inputs: &[PathBuf]) -> String {
-    match merge(&common::scratch("merge_refused_out"), inputs, false) {
+    match merge(&runner_common::scratch("merge_refused_out"), inputs, false) {
         Err(e) => e.to_string(),
         Ok(report) => panic!("merge should have been refused, made {report:?}"),
     }
@@ -65,14 +65,14 @@ fn merge_error(inputs: &[PathBuf]) -> String {
 
 #[test]
 fn merge_refuses_other_studies_overlaps_and_missing_runs() {
-    let plan = common::sweep("merge_checks", 5);
-    let dir = common::scratch("merge_checks");
+    let plan = runner_common::sweep("merge_checks", 5);
+    let dir = runner_common::scratch("merge_checks");
     let one = run_shard(&plan, &dir, 1, 2);
     let two = run_shard(&plan, &dir, 2, 2);
 
     let mut other = plan.clone();
     other.fingerprint = "fingerprint-of-another-study".into();
-    let other_dir = common::scratch("merge_checks_other");
+    let other_dir = runner_common::scratch("merge_checks_other");
     let foreign = run_shard(&other, &other_dir, 2, 2);
     let e = merge_error(&[one.clone(), foreign.clone()]);
     assert!(e.contains("different studies") && e.contains("fingerprint-of-another-study"), "{e}");
@@ -87,8 +87,8 @@ fn merge_refuses_other_studies_overlaps_and_missing_runs() {
     assert!(e.contains("shard 2/2: no file given") && e.contains("--shard K/N --resume"), "{e}");
 
     // A shard whose sweep was stopped before any run finished.
-    let stopped_dir = common::scratch("merge_checks_stopped");
-    let mut options = common::options(&stopped_dir, 1);
+    let stopped_dir = runner_common::scratch("merge_checks_stopped");
+    let mut options = runner_common::options(&stopped_dir, 1);
     options.shard = Some(ShardSpec { index: 2, count: 2 });
     options.stop.store(true, Ordering::SeqCst);
     let empty = run_plan(&plan, &options).unwrap().results;

@@ -1,6 +1,6 @@
 //! Existing results are never overwritten by accident; bad output paths fail before any run.
 
-mod common;
+mod runner_common;
 
 use demsweep::runner::{RunnerError, run_plan};
 
@@ -13,22 +13,22 @@ fn refusal(result: Result<demsweep::runner::RunReport, RunnerError>) -> demsweep
 
 #[test]
 fn existing_results_need_resume_or_force() {
-    let plan = common::sweep("existing", 2);
-    let dir = common::scratch("existing");
-    let first = run_plan(&plan, &common::options(&dir, 2)).unwrap();
+    let plan = runner_common::sweep("existing", 2);
+    let dir = runner_common::scratch("existing");
+    let first = run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
     let before = std::fs::read(&first.results).unwrap();
 
-    let e = refusal(run_plan(&plan, &common::options(&dir, 2)));
+    let e = refusal(run_plan(&plan, &runner_common::options(&dir, 2)));
     assert_eq!(e.path, first.results);
     assert!(e.message.contains("--resume") && e.message.contains("--force"), "{e}");
     assert_eq!(std::fs::read(&first.results).unwrap(), before, "the refused run left the file alone");
 
-    let mut resume = common::options(&dir, 2);
+    let mut resume = runner_common::options(&dir, 2);
     resume.resume = true;
     let resumed = run_plan(&plan, &resume).unwrap();
     assert_eq!((resumed.already_done, resumed.ran, resumed.exit_code()), (2, 0, 0));
 
-    let mut force = common::options(&dir, 2);
+    let mut force = runner_common::options(&dir, 2);
     force.force = true;
     let forced = run_plan(&plan, &force).unwrap();
     assert_eq!((forced.already_done, forced.ran), (0, 2));
@@ -37,11 +37,11 @@ fn existing_results_need_resume_or_force() {
 
 #[test]
 fn resuming_refuses_results_of_another_study() {
-    let dir = common::scratch("other_study");
-    run_plan(&common::sweep("same_name", 2), &common::options(&dir, 1)).unwrap();
-    let mut other = common::sweep("same_name", 3);
+    let dir = runner_common::scratch("other_study");
+    run_plan(&runner_common::sweep("same_name", 2), &runner_common::options(&dir, 1)).unwrap();
+    let mut other = runner_common::sweep("same_name", 3);
     other.fingerprint = "another-fingerprint".into();
-    let mut resume = common::options(&dir, 1);
+    let mut resume = runner_common::options(&dir, 1);
     resume.resume = true;
     let e = refusal(run_plan(&other, &resume));
     assert!(e.message.contains("different study") && e.message.contains("another-fingerprint"), "{e}");
@@ -50,11 +50,11 @@ fn resuming_refuses_results_of_another_study() {
 
 #[test]
 fn an_unwritable_output_path_fails_before_running() {
-    let dir = common::scratch("unwritable");
+    let dir = runner_common::scratch("unwritable");
     let blocker = dir.join("a_file");
     std::fs::write(&blocker, "not a directory").unwrap();
     let out = blocker.join("results");
-    let e = refusal(run_plan(&common::sweep("unwritable", 1), &common::options(&out, 1)));
+    let e = refusal(run_plan(&runner_common::sweep("unwritable", 1), &runner_common::options(&out, 1)));
     assert_eq!(e.path, out);
     assert!(e.message.contains("cannot create the output directory"), "{e}");
 }

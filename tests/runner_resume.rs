@@ -1,7 +1,7 @@
 //! Stopping a sweep keeps finished runs; `--resume` runs only the missing ones and ends with the
 //! summary an uninterrupted sweep gives.
 
-mod common;
+mod runner_common;
 
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -11,7 +11,7 @@ use demsweep::runner::{CommitPolicy, run_plan};
 
 /// Runs long enough (tens of milliseconds each) for the sweep to be stopped midway.
 fn longer_sweep(name: &str) -> demsweep::study::Plan {
-    let mut plan = common::sweep(name, RUNS);
+    let mut plan = runner_common::sweep(name, RUNS);
     for run in &mut plan.runs {
         run.scene.run.duration = 0.2;
         run.scene.particles.count = 30;
@@ -24,8 +24,8 @@ const RUNS: usize = 12;
 #[test]
 fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
     let plan = longer_sweep("resume");
-    let dir = common::scratch("resume");
-    let mut first = common::options(&dir, 1);
+    let dir = runner_common::scratch("resume");
+    let mut first = runner_common::options(&dir, 1);
     first.commit = CommitPolicy { max_runs: 1, interval: Duration::ZERO, max_overhead: 1.0 };
     let results = dir.join("resume.h5");
     // Stop the sweep (as Ctrl-C does) as soon as the file holds two committed runs.
@@ -47,22 +47,22 @@ fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
     assert!((2..RUNS).contains(&kept), "kept {kept} runs");
     assert_eq!(summary::read(&stopped.results).unwrap(), stopped.summary, "the stopped file is complete and valid");
 
-    let mut again = common::options(&dir, 2);
+    let mut again = runner_common::options(&dir, 2);
     again.resume = true;
     let resumed = run_plan(&plan, &again).expect("resumed sweep");
     assert_eq!(resumed.already_done, kept);
     assert_eq!(resumed.ran, RUNS - kept);
     assert_eq!(resumed.exit_code(), 0);
 
-    let reference = run_plan(&plan, &common::options(&common::scratch("resume_reference"), 2)).unwrap();
+    let reference = run_plan(&plan, &runner_common::options(&runner_common::scratch("resume_reference"), 2)).unwrap();
     assert_eq!(resumed.summary.without_timing(), reference.summary.without_timing());
 }
 
 #[test]
 fn a_sweep_stopped_before_it_starts_records_nothing_and_stays_valid() {
-    let plan = common::sweep("stopped_early", 3);
-    let dir = common::scratch("stopped_early");
-    let options = common::options(&dir, 2);
+    let plan = runner_common::sweep("stopped_early", 3);
+    let dir = runner_common::scratch("stopped_early");
+    let options = runner_common::options(&dir, 2);
     options.stop.store(true, Ordering::SeqCst);
     let report = run_plan(&plan, &options).unwrap();
     assert_eq!((report.ran, report.summary.len(), report.exit_code()), (0, 0, 130));
