@@ -84,7 +84,7 @@ fn load_or_report(path: &Path) -> Result<Plan, ExitCode> {
 fn check(args: &CheckArgs) -> ExitCode {
     match load_or_report(&args.study) {
         Ok(plan) => {
-            println!("ok: {} runs", plan.runs.len());
+            println!("ok: {}", runs(plan.runs.len()));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -139,6 +139,11 @@ fn run_table(plan: &Plan) -> String {
             format!("{}\n", cells.join("  ").trim_end())
         })
         .collect()
+}
+
+/// `1 run`, `18 runs`.
+fn runs(n: usize) -> String {
+    if n == 1 { "1 run".into() } else { format!("{n} runs") }
 }
 
 /// Seconds in words: `42 s`, `12.5 min`, `3.2 h`.
