@@ -194,3 +194,9 @@ fn a_base_scene_problem_is_reported_once_for_all_runs() {
     let e = single_error("shared", text, 3, "scene.settle.hold_time");
     assert_eq!((e.run.as_deref(), e.runs_affected), (Some("r0000"), 3));
 }
+
+#[test]
+fn an_empty_table_with_a_misspelt_name_is_not_ignored() {
+    let e = single_error("emptytable", "[scene]\nparticles.count = 20\n[scene.materail]\n", 3, "scene.materail");
+    assert!(e.reason.starts_with("unknown field `materail`"), "{e}");
+}

@@ -32,8 +32,13 @@ impl Axis {
 
     /// The axis as named in the study file: `sweep."material.friction"`.
     pub fn label(&self) -> String {
-        format!("sweep.{}", quoted_key(&self.key()))
+        label(&self.path)
     }
+}
+
+/// An axis of scene key `path` as named in the study file.
+fn label(path: &[String]) -> String {
+    format!("sweep.{}", quoted_key(&dotted(path)))
 }
 
 /// All axes of a study and how they combine.
@@ -138,10 +143,7 @@ fn collect_axes(
     let span = doc.span(doc_path).unwrap_or(0..0);
     match axis_values(value) {
         Ok(values) => axes.push(Axis { path, span, values }),
-        Err(reason) => {
-            let label = format!("sweep.{}", quoted_key(&dotted(&path)));
-            errors.push(file.error(Some(span), label, reason));
-        }
+        Err(reason) => errors.push(file.error(Some(span), label(&path), reason)),
     }
 }
 

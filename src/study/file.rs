@@ -103,7 +103,7 @@ fn collect_spans(table: &DeTable<'_>, prefix: &mut KeyPath, spans: &mut HashMap<
     }
 }
 
-/// Every non-table value under `table` with its key path (relative to `table`), depth first.
+/// Every non-table value and empty table under `table` with its key path (relative to `table`).
 pub(super) fn leaves(table: &toml::Table) -> Vec<(KeyPath, &toml::Value)> {
     let mut out = Vec::new();
     collect_leaves(table, &mut Vec::new(), &mut out);
@@ -114,8 +114,8 @@ fn collect_leaves<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Ve
     for (key, value) in table {
         prefix.push(key.clone());
         match value.as_table() {
-            Some(inner) => collect_leaves(inner, prefix, out),
-            None => out.push((prefix.clone(), value)),
+            Some(inner) if !inner.is_empty() => collect_leaves(inner, prefix, out),
+            _ => out.push((prefix.clone(), value)),
         }
         prefix.pop();
     }

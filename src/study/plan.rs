@@ -25,7 +25,8 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
     sink.extend(check_top_level(file, doc));
     let (base, scene_errors) = split_leaves::<SceneConfig>(file, doc, "scene");
     sink.extend(scene_errors);
-    sink.extend(split_leaves::<OutputOptions>(file, doc, "output").1);
+    let (output, output_errors) = split_leaves::<OutputOptions>(file, doc, "output");
+    sink.extend(output_errors);
     let (sweep, sweep_errors) = axes::parse(doc, file);
     sink.extend(sweep_errors);
     sink.extend(sweep.axes.iter().flat_map(|axis| check_axis(file, &base, axis, sweep.replicates)));
@@ -40,7 +41,7 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
         study_text: file.text.clone(),
         name: study_name(doc, &file.path),
         fingerprint: fingerprint(&file.text),
-        output: read_section(doc, "output").unwrap_or_default(),
+        output: toml::Value::Table(output).try_into().unwrap_or_default(),
         runs,
     };
     sink.into_result(plan)
@@ -95,11 +96,6 @@ fn check_base_scene(file: &StudyFile, doc: &Document, base: &toml::Table) -> Vec
     let mut planner = Planner::new(file, doc, base, &no_sweep);
     let errors = planner.plan_run(0, String::new()).err().unwrap_or_default();
     errors.into_iter().map(|e| StudyError { run: None, runs_affected: 0, ..e }).collect()
-}
-
-/// `[section]` as `T` (defaults when absent); call after [`check_leaves`] passed.
-fn read_section<T: DeserializeOwned>(doc: &Document, section: &str) -> Option<T> {
-    doc.section(section).cloned().and_then(|v| v.try_into().ok())
 }
 
 /// An axis whose key cannot be set in the scene, whose values the scene rejects by type, or that
