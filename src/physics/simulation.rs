@@ -85,6 +85,7 @@ pub struct Simulation<L: ContactLaw> {
     wall_options: ContactOptions,
     integrator: Integrator,
     rotation: bool,
+    rolling_resistance: bool,
     dt: f64,
     /// Steps taken.
     pub step: u64,
@@ -116,6 +117,7 @@ impl<L: ContactLaw> Simulation<L> {
             disk_options: options(&materials.particle),
             wall_options: options(&materials.wall),
             rotation: materials.has_friction() || spinning,
+            rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
             dt: scene.integrator.time_step,
             particles,
@@ -151,6 +153,9 @@ impl<L: ContactLaw> Simulation<L> {
         }
         let power = if sample { self.compute_forces::<true>() } else { self.compute_forces::<false>() };
         self.integrator.finish(&mut self.particles, self.dt, self.rotation);
+        if self.rolling_resistance {
+            self.work -= self.apply_rolling_resistance();
+        }
         self.work += 0.5 * (self.last_power + power) * self.dt;
         self.last_power = power;
         self.step += 1;
@@ -204,12 +209,7 @@ impl<L: ContactLaw> Simulation<L> {
             p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
         }
-        let mut power = self.disk_contacts::<SAMPLE>();
-        power += self.wall_contacts::<SAMPLE>();
-        if self.rotation && self.materials.has_friction() {
-            power += self.apply_rolling_resistance();
-        }
-        power
+        self.disk_contacts::<SAMPLE>() + self.wall_contacts::<SAMPLE>()
     }
 
     fn disk_contacts<const SAMPLE: bool>(&mut self) -> f64 {
@@ -250,8 +250,8 @@ impl<L: ContactLaw> Simulation<L> {
             if self.rotation {
                 p.torque[i] += f.tangential * ri;
                 p.torque[j] += f.tangential * rj;
-                p.rolling[i] += m.rolling_friction * f.normal * ri;
-                p.rolling[j] += m.rolling_friction * f.normal * rj;
+                p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * ri;
+                p.rolling[j] += m.rolling_friction * f.normal.max(0.0) * rj;
             }
             power += f.power(&k);
             if SAMPLE {
@@ -296,7 +296,7 @@ impl<L: ContactLaw> Simulation<L> {
                 p.fy[i] += -f.normal * ny + f.tangential * nx;
                 if self.rotation {
                     p.torque[i] += f.tangential * p.r[i];
-                    p.rolling[i] += m.rolling_friction * f.normal * p.r[i];
+                    p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * p.r[i];
                 }
                 power += f.power(&k);
                 if SAMPLE {
@@ -310,22 +310,23 @@ impl<L: ContactLaw> Simulation<L> {
         power
     }
 
-    /// Rolling resistance (EDEM's constant directional torque, spec): `−μ0 F_n R ω/|ω|` summed per
-    /// disk, capped so that it can at most stop the spin within one step, never reverse it.
-    /// Returns its power (W, ≤ 0).
+    /// Rolling resistance (EDEM's constant directional torque, spec): `μ0 F_n R` summed per disk,
+    /// acting against the spin. It is applied to the angular velocity after the integrator's update,
+    /// as the change `Δω = −sign(ω) min(|ω|, M_r Δt / I)`: it can stop a spin within one step but
+    /// never reverse it (as a torque inside a multistep scheme it would overshoot and chatter).
+    /// Returns the kinetic energy it removed (J).
     fn apply_rolling_resistance(&mut self) -> f64 {
         let p = &mut self.particles;
-        let mut power = 0.0;
+        let mut removed = 0.0;
         for i in 0..p.len() {
             let w = p.omega[i];
             if p.rolling[i] > 0.0 && w != 0.0 {
-                let stopping = w.abs() / (p.inv_inertia[i] * self.dt);
-                let torque = p.rolling[i].min(stopping);
-                p.torque[i] -= torque.copysign(w);
-                power -= torque * w.abs();
+                let slowed = (w.abs() - p.rolling[i] * p.inv_inertia[i] * self.dt).max(0.0).copysign(w);
+                removed += 0.5 * (w * w - slowed * slowed) / p.inv_inertia[i];
+                p.omega[i] = slowed;
             }
         }
-        power
+        removed
     }
 
     /// Runs to the end, to settling, to divergence, or until the observer says stop.
@@ -429,7 +430,11 @@ struct Monitor {
     initial_mechanical: Option<f64>,
     energy_scale: f64,
     worst_overlap: (f64, f64),
+    worst_imbalance: (f64, f64),
 }
+
+/// Energy balance error, as a fraction of the energy available, above which a run is warned about.
+const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
 
 impl Monitor {
     fn new<L: ContactLaw>(sim: &Simulation<L>) -> Self {
@@ -448,13 +453,18 @@ impl Monitor {
             initial_mechanical: None,
             energy_scale: (kt + kr + sim.totals.elastic + potential_drop).max(floor_scale).max(f64::MIN_POSITIVE),
             worst_overlap: (0.0, 0.0),
+            worst_imbalance: (0.0, 0.0),
         }
     }
 
     fn observe(&mut self, s: &Sample) {
-        self.initial_mechanical.get_or_insert(s.mechanical());
+        let initial = *self.initial_mechanical.get_or_insert(s.mechanical());
         if s.max_overlap_ratio > self.worst_overlap.0 {
             self.worst_overlap = (s.max_overlap_ratio, s.time);
+        }
+        let imbalance = (s.mechanical() + s.dissipated - initial).abs();
+        if imbalance > self.worst_imbalance.0 {
+            self.worst_imbalance = (imbalance, s.time);
         }
     }
 
@@ -487,14 +497,22 @@ impl Monitor {
     }
 
     fn warnings(&self, scene: &SceneConfig) -> Vec<String> {
+        let mut w = Vec::new();
         let (ratio, time) = self.worst_overlap;
         if ratio > scene.limits.overlap_warning_ratio {
-            vec![format!(
+            w.push(format!(
                 "largest overlap {ratio:.3} radii at t = {time:.4} s is beyond the Hertz validity limit {} (limits.overlap_warning_ratio)",
                 scene.limits.overlap_warning_ratio
-            )]
-        } else {
-            Vec::new()
+            ));
         }
+        let (imbalance, time) = self.worst_imbalance;
+        if imbalance > ENERGY_BALANCE_TOLERANCE * self.energy_scale {
+            w.push(format!(
+                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping)",
+                100.0 * imbalance / self.energy_scale,
+                self.energy_scale
+            ));
+        }
+        w
     }
 }
