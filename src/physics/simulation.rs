@@ -130,7 +130,8 @@ impl<L: ContactLaw> Simulation<L> {
             initial_elastic: 0.0,
         };
         sim.neighbors.rebuild(&sim.particles);
-        sim.last_power = sim.compute_forces::<true>();
+        sim.compute_forces::<true>();
+        sim.last_power = sim.contact_power();
         sim.initial_elastic = sim.totals.elastic;
         sim
     }
@@ -151,11 +152,16 @@ impl<L: ContactLaw> Simulation<L> {
         if self.neighbors.needs_rebuild(&self.particles) {
             self.neighbors.rebuild(&self.particles);
         }
-        let power = if sample { self.compute_forces::<true>() } else { self.compute_forces::<false>() };
+        if sample {
+            self.compute_forces::<true>();
+        } else {
+            self.compute_forces::<false>();
+        }
         self.integrator.finish(&mut self.particles, self.dt, self.rotation);
         if self.rolling_resistance {
             self.work -= self.apply_rolling_resistance();
         }
+        let power = self.contact_power();
         self.work += 0.5 * (self.last_power + power) * self.dt;
         self.last_power = power;
         self.step += 1;
@@ -192,9 +198,25 @@ impl<L: ContactLaw> Simulation<L> {
         }
     }
 
-    /// Evaluates all forces and torques at the current state; returns the power of the contact
-    /// forces (W). With `SAMPLE`, also fills the contact sums and per-disk contact force magnitudes.
-    fn compute_forces<const SAMPLE: bool>(&mut self) -> f64 {
+    /// Power of the contact forces and torques at the current velocities (W): net force minus weight,
+    /// dotted with the velocity, plus torque times spin. Integrated by the trapezoid rule over steps,
+    /// it gives the work of the contacts, and with it the energy dissipated.
+    fn contact_power(&self) -> f64 {
+        let p = &self.particles;
+        let g = self.scene.gravity;
+        let mut power = 0.0;
+        for i in 0..p.len() {
+            power += (p.fx[i] - p.mass[i] * g[0]) * p.vx[i] + (p.fy[i] - p.mass[i] * g[1]) * p.vy[i];
+        }
+        if self.rotation {
+            power += p.torque.iter().zip(&p.omega).map(|(t, w)| t * w).sum::<f64>();
+        }
+        power
+    }
+
+    /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
+    /// contact sums and per-disk contact force magnitudes.
+    fn compute_forces<const SAMPLE: bool>(&mut self) {
         let g = self.scene.gravity;
         let p = &mut self.particles;
         for i in 0..p.len() {
@@ -209,13 +231,13 @@ impl<L: ContactLaw> Simulation<L> {
             p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
         }
-        self.disk_contacts::<SAMPLE>() + self.wall_contacts::<SAMPLE>()
+        self.disk_contacts::<SAMPLE>();
+        self.wall_contacts::<SAMPLE>();
     }
 
-    fn disk_contacts<const SAMPLE: bool>(&mut self) -> f64 {
+    fn disk_contacts<const SAMPLE: bool>(&mut self) {
         let p = &mut self.particles;
         let m = &self.materials.particle;
-        let mut power = 0.0;
         for pair in self.neighbors.pairs.iter_mut() {
             let (i, j) = (pair.i as usize, pair.j as usize);
             let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
@@ -253,7 +275,6 @@ impl<L: ContactLaw> Simulation<L> {
                 p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * ri;
                 p.rolling[j] += m.rolling_friction * f.normal.max(0.0) * rj;
             }
-            power += f.power(&k);
             if SAMPLE {
                 let magnitude = f.magnitude();
                 p.contact_force[i] += magnitude;
@@ -262,14 +283,12 @@ impl<L: ContactLaw> Simulation<L> {
                 self.totals.add(energy, magnitude, k.overlap / ri.min(rj));
             }
         }
-        power
     }
 
-    fn wall_contacts<const SAMPLE: bool>(&mut self) -> f64 {
+    fn wall_contacts<const SAMPLE: bool>(&mut self) {
         let p = &mut self.particles;
         let m = &self.materials.wall;
         let walls = &self.walls.walls;
-        let mut power = 0.0;
         for i in 0..p.len() {
             for (w, wall) in walls.iter().enumerate() {
                 let spring = &mut self.wall_springs[i * walls.len() + w];
@@ -298,7 +317,6 @@ impl<L: ContactLaw> Simulation<L> {
                     p.torque[i] += f.tangential * p.r[i];
                     p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * p.r[i];
                 }
-                power += f.power(&k);
                 if SAMPLE {
                     let magnitude = f.magnitude();
                     p.contact_force[i] += magnitude;
@@ -307,7 +325,6 @@ impl<L: ContactLaw> Simulation<L> {
                 }
             }
         }
-        power
     }
 
     /// Rolling resistance (EDEM's constant directional torque, spec): `μ0 F_n R` summed per disk,

@@ -89,12 +89,6 @@ pub struct ContactForce {
 }
 
 impl ContactForce {
-    /// Rate of work done by this contact on the two bodies (W): `-F_n v_n + F_t v_t`.
-    #[inline]
-    pub fn power(&self, k: &Kinematics) -> f64 {
-        -self.normal * k.approach_speed + self.tangential * k.tangential_speed
-    }
-
     /// Magnitude of the contact force vector (N).
     #[inline]
     pub fn magnitude(&self) -> f64 {
