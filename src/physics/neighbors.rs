@@ -189,7 +189,8 @@ mod tests {
     #[test]
     fn grid_finds_exactly_the_all_pairs_set() {
         let mut scene = SceneConfig::default();
-        scene.particles.radius_max = Some(0.02);
+        scene.particles.count = 200;
+        scene.particles.radius_max = Some(0.015);
         let disks = placement::generate(&scene).unwrap();
         let p = Particles::new(&disks, 1000.0, 1.0);
         let mut grid = NeighborList::new(BroadPhaseKind::Grid, 0.006);
