@@ -13,7 +13,7 @@ use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::integrator::Integrator;
 use super::material::{ContactMaterial, Materials};
 use super::neighbors::NeighborList;
-use super::particles::{InitialDisk, Particles};
+use super::particles::{Forces, InitialDisk, Particles};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::stability::{self, StabilityReport};
 use super::walls::BoxWalls;
@@ -222,26 +222,36 @@ impl<L: ContactLaw> Simulation<L> {
         for i in 0..p.len() {
             p.fx[i] = p.mass[i] * g[0];
             p.fy[i] = p.mass[i] * g[1];
-        }
-        if self.rotation {
-            p.torque.fill(0.0);
-            p.rolling.fill(0.0);
+            if self.rotation {
+                p.torque[i] = 0.0;
+            }
+            if self.rolling_resistance {
+                p.rolling[i] = 0.0;
+            }
+            if SAMPLE {
+                p.contact_force[i] = 0.0;
+            }
         }
         if SAMPLE {
-            p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
         }
         self.disk_contacts::<SAMPLE>();
         self.wall_contacts::<SAMPLE>();
     }
 
+    // Kept out of line: the hot loops optimize better (fewer instructions) on their own.
+    #[inline(never)]
     fn disk_contacts<const SAMPLE: bool>(&mut self) {
-        let p = &mut self.particles;
-        let m = &self.materials.particle;
+        let (s, mut f) = self.particles.split();
+        let n = s.x.len();
+        // Local copies: loop invariants the compiler can keep in registers and hoist.
+        let (m, options, dt) = (self.materials.particle, self.disk_options, self.dt);
+        let apply = Apply { rotation: self.rotation, rolling_friction: m.rolling_friction };
         for pair in self.neighbors.pairs.iter_mut() {
             let (i, j) = (pair.i as usize, pair.j as usize);
-            let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
-            let (ri, rj) = (p.r[i], p.r[j]);
+            assert!(i < n && j < n, "neighbour pair out of range");
+            let (dx, dy) = (s.x[j] - s.x[i], s.y[j] - s.y[i]);
+            let (ri, rj) = (s.r[i], s.r[j]);
             let reach = ri + rj;
             let d2 = dx * dx + dy * dy;
             if d2 >= reach * reach {
@@ -249,50 +259,48 @@ impl<L: ContactLaw> Simulation<L> {
                 continue;
             }
             let d = d2.sqrt();
-            let (nx, ny) = if d > 0.0 { (dx / d, dy / d) } else { (1.0, 0.0) };
-            let (dvx, dvy) = (p.vx[i] - p.vx[j], p.vy[i] - p.vy[j]);
+            let inv_d = 1.0 / d;
+            let (nx, ny) = if d > 0.0 { (dx * inv_d, dy * inv_d) } else { (1.0, 0.0) };
+            let (dvx, dvy) = (s.vx[i] - s.vx[j], s.vy[i] - s.vy[j]);
             let k = Kinematics {
                 overlap: reach - d,
                 approach_speed: dvx * nx + dvy * ny,
-                tangential_speed: -dvx * ny + dvy * nx + p.omega[i] * ri + p.omega[j] * rj,
+                tangential_speed: -dvx * ny + dvy * nx + s.omega[i] * ri + s.omega[j] * rj,
             };
             let props = PairProperties {
                 e_star: m.e_star,
                 g_star: m.g_star,
-                r_star: ri * rj / reach,
-                m_star: p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]),
+                r_star: pair.r_star,
+                m_star: pair.m_star,
                 beta: m.beta,
             };
-            let f = contact::resolve(&self.law, &props, &self.disk_options, &k, &mut pair.spring, self.dt);
-            let (fx, fy) = (-f.normal * nx - f.tangential * ny, -f.normal * ny + f.tangential * nx);
-            p.fx[i] += fx;
-            p.fy[i] += fy;
-            p.fx[j] -= fx;
-            p.fy[j] -= fy;
-            if self.rotation {
-                p.torque[i] += f.tangential * ri;
-                p.torque[j] += f.tangential * rj;
-                p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * ri;
-                p.rolling[j] += m.rolling_friction * f.normal.max(0.0) * rj;
-            }
+            let c = contact::resolve(&self.law, &props, &options, &k, &mut pair.spring, dt);
+            apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, ri);
+            apply.to_body::<SAMPLE>(&mut f, j, &c, -nx, -ny, rj);
             if SAMPLE {
-                let magnitude = f.magnitude();
-                p.contact_force[i] += magnitude;
-                p.contact_force[j] += magnitude;
-                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &f, pair.spring);
-                self.totals.add(energy, magnitude, k.overlap / ri.min(rj));
+                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &c, pair.spring);
+                self.totals.add(energy, c.magnitude(), k.overlap / ri.min(rj));
             }
         }
     }
 
+    #[inline(never)]
     fn wall_contacts<const SAMPLE: bool>(&mut self) {
-        let p = &mut self.particles;
-        let m = &self.materials.wall;
-        let walls = &self.walls.walls;
-        for i in 0..p.len() {
-            for (w, wall) in walls.iter().enumerate() {
-                let spring = &mut self.wall_springs[i * walls.len() + w];
-                let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+        let (s, mut f) = self.particles.split();
+        let (m, options, dt) = (self.materials.wall, self.wall_options, self.dt);
+        let apply = Apply { rotation: self.rotation, rolling_friction: m.rolling_friction };
+        let walls = &self.walls;
+        let count = walls.walls.len();
+        for (i, springs) in self.wall_springs.chunks_exact_mut(count).enumerate().take(s.x.len()) {
+            let (x, y, r) = (s.x[i], s.y[i], s.r[i]);
+            if walls.clear_of_walls(x, y, r) {
+                for spring in springs.iter_mut().filter(|s| **s != 0.0) {
+                    *spring = 0.0;
+                }
+                continue;
+            }
+            for (wall, spring) in walls.walls.iter().zip(springs.iter_mut()) {
+                let overlap = wall.overlap(x, y, r);
                 if overlap <= 0.0 {
                     *spring = 0.0;
                     continue;
@@ -300,28 +308,16 @@ impl<L: ContactLaw> Simulation<L> {
                 let [nx, ny] = wall.normal;
                 let k = Kinematics {
                     overlap,
-                    approach_speed: p.vx[i] * nx + p.vy[i] * ny,
-                    tangential_speed: -p.vx[i] * ny + p.vy[i] * nx + p.omega[i] * p.r[i],
+                    approach_speed: s.vx[i] * nx + s.vy[i] * ny,
+                    tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * r,
                 };
-                let props = PairProperties {
-                    e_star: m.e_star,
-                    g_star: m.g_star,
-                    r_star: p.r[i],
-                    m_star: p.mass[i],
-                    beta: m.beta,
-                };
-                let f: ContactForce = contact::resolve(&self.law, &props, &self.wall_options, &k, spring, self.dt);
-                p.fx[i] += -f.normal * nx - f.tangential * ny;
-                p.fy[i] += -f.normal * ny + f.tangential * nx;
-                if self.rotation {
-                    p.torque[i] += f.tangential * p.r[i];
-                    p.rolling[i] += m.rolling_friction * f.normal.max(0.0) * p.r[i];
-                }
+                let props =
+                    PairProperties { e_star: m.e_star, g_star: m.g_star, r_star: r, m_star: s.mass[i], beta: m.beta };
+                let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
+                apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, r);
                 if SAMPLE {
-                    let magnitude = f.magnitude();
-                    p.contact_force[i] += magnitude;
-                    let energy = contact::elastic_energy(&self.law, &props, overlap, &f, *spring);
-                    self.totals.add(energy, magnitude, overlap / p.r[i]);
+                    let energy = contact::elastic_energy(&self.law, &props, overlap, &c, *spring);
+                    self.totals.add(energy, c.magnitude(), overlap / r);
                 }
             }
         }
@@ -409,6 +405,32 @@ impl<L: ContactLaw> Simulation<L> {
             history,
             final_state: self.snapshot(),
             frames: recorded_frames,
+        }
+    }
+}
+
+/// How a resolved contact acts on one of its bodies.
+struct Apply {
+    rotation: bool,
+    rolling_friction: f64,
+}
+
+impl Apply {
+    /// Adds contact `c` to body `b` of radius `r` whose unit normal towards the other body is
+    /// `(nx, ny)`: force `−F_n n + F_t t` with `t = (−n_y, n_x)`, torque `F_t r`, rolling resistance
+    /// `μ0 F_n r`. The other body gets the same call with `−n` (which also flips `t`).
+    #[inline(always)]
+    fn to_body<const SAMPLE: bool>(&self, f: &mut Forces<'_>, b: usize, c: &ContactForce, nx: f64, ny: f64, r: f64) {
+        f.fx[b] += -c.normal * nx - c.tangential * ny;
+        f.fy[b] += -c.normal * ny + c.tangential * nx;
+        if self.rotation {
+            f.torque[b] += c.tangential * r;
+        }
+        if self.rolling_friction > 0.0 {
+            f.rolling[b] += self.rolling_friction * c.normal.max(0.0) * r;
+        }
+        if SAMPLE {
+            f.contact_force[b] += c.magnitude();
         }
     }
 }
