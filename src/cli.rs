@@ -6,6 +6,8 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use demsweep::study::{self, Plan};
 
+mod results;
+
 /// Exit status when the study file is invalid.
 const INVALID_STUDY: u8 = 2;
 
@@ -47,6 +49,49 @@ enum Command {
         after_help = "Example:\n  demsweep check studies/damping_sweep.toml && echo valid"
     )]
     Check(CheckArgs),
+    /// Run a study: all runs in parallel, results in one HDF5 file and a CSV summary.
+    #[command(
+        long_about = "Run every run of a study in parallel (one simulation per worker thread) and write \
+                      OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
+                      frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
+                      row per run). Finished runs are committed as they finish, so nothing finished is lost \
+                      to a crash or kill: continue with --resume. Ctrl-C stops cleanly (exit 130); a second \
+                      Ctrl-C quits at once. Exit status 0 when every run finished (settled, not settled or \
+                      diverged), 1 when a run failed or is missing, 2 for an invalid study.",
+        after_help = "Examples:\n  demsweep run studies/damping_sweep.toml\n  \
+                      demsweep run studies/damping_sweep.toml --jobs 8 --out /scratch/damping\n  \
+                      demsweep run studies/damping_sweep.toml --resume\n  \
+                      demsweep run studies/damping_sweep.toml --shard 2/8 --out results/shards"
+    )]
+    Run(results::RunArgs),
+    /// Print the summary of a results file (one row per run), or export it as CSV.
+    #[command(
+        long_about = "Print the summary of a results file as an aligned table: run id, swept parameters, \
+                      status, settle time, steps, times, final energies, UBF, pile height, packing fraction, \
+                      warnings and message. With --csv, write it as a CSV file instead. Works on a file \
+                      whose run was killed, too (the summary is then rebuilt from the committed runs).",
+        after_help = "Examples:\n  demsweep summary results/damping_sweep/damping_sweep.h5\n  \
+                      demsweep summary results/damping_sweep/damping_sweep.h5 --csv damping.csv"
+    )]
+    Summary(results::SummaryArgs),
+    /// Print one run's histories (energies, UBF, contacts over time) as CSV.
+    #[command(
+        long_about = "Print the sampled histories of one run as CSV on stdout: time t and the kinetic, \
+                      potential, elastic, dissipated, total and mechanical energies (J), the unbalanced \
+                      force ratio, the contact count and the largest overlap ratio, one line per sample.",
+        after_help = "Example:\n  demsweep history results/damping_sweep/damping_sweep.h5 r0007 > r0007.csv"
+    )]
+    History(results::HistoryArgs),
+    /// Merge shard files (from `run --shard K/N`) into one results file.
+    #[command(
+        long_about = "Merge the shard files of one study (written by `demsweep run --shard K/N`) into \
+                      OUT/<study name>.h5 and its CSV summary, the same files a one-machine run writes \
+                      (but for the creation time and wall times). Refuses shards of different studies, \
+                      runs present in two files, and missing shards or runs, saying which shards to re-run.",
+        after_help = "Examples:\n  demsweep merge results/damping_sweep results/shards\n  \
+                      demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
+    )]
+    Merge(results::MergeArgs),
 }
 
 #[derive(Args)]
@@ -69,6 +114,13 @@ pub fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
+        Command::Run(args) => match load_or_report(args.study()) {
+            Ok(plan) => results::run(&args, &plan),
+            Err(code) => code,
+        },
+        Command::Summary(args) => results::summary(&args),
+        Command::History(args) => results::history(&args),
+        Command::Merge(args) => results::merge(&args),
     }
 }
 

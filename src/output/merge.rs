@@ -50,8 +50,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     }
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
-    let everything = OutputOptions { histories: true, final_states: true, frames: true };
-    let mut writer = ResultsWriter::create(&results, &header, everything)?;
+    let mut writer = ResultsWriter::create(&results, &header, OutputOptions::default())?;
     let mut runs = 0;
     for shard in &shards {
         let source = hdf5_pure::File::open(&shard.path).map_err(|e| hdf5_error(&shard.path, e))?;

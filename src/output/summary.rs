@@ -20,12 +20,13 @@ pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
     csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
 }
 
-/// Writes the summary as an aligned text table (columns separated by two spaces).
+/// Writes the summary as an aligned text table (columns separated by two spaces, floats to 6
+/// significant digits; the CSV has them exactly).
 pub fn print_aligned<W: Write>(out: &mut W, table: &SummaryTable) -> std::io::Result<()> {
     let cells: Vec<Vec<String>> = table
         .columns
         .iter()
-        .map(|c| std::iter::once(c.name.clone()).chain((0..table.len()).map(|i| c.data.text(i))).collect())
+        .map(|c| std::iter::once(c.name.clone()).chain((0..table.len()).map(|i| c.data.display(i))).collect())
         .collect();
     let widths: Vec<usize> = cells.iter().map(|col| col.iter().map(|s| s.chars().count()).max().unwrap_or(0)).collect();
     for line in 0..=table.len() {

@@ -77,6 +77,28 @@ impl ColumnData {
     }
 }
 
+impl ColumnData {
+    /// The value of row `i` for reading on screen: floats to 6 significant digits, missing values `-`.
+    pub fn display(&self, i: usize) -> String {
+        match self {
+            ColumnData::Float(v) if v[i].is_nan() => "-".to_string(),
+            ColumnData::Float(v) => short_float(v[i]),
+            _ => self.text(i),
+        }
+    }
+}
+
+/// A float to 6 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
+fn short_float(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
+        let digits = if x == 0.0 || !x.is_finite() { 1 } else { (5 - x.abs().log10().floor() as i32).max(0) as usize };
+        let text = format!("{x:.digits$}");
+        if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
 impl SummaryTable {
     /// Builds the table from rows (sorted here by run index).
     pub fn from_rows(rows: &[SummaryRow]) -> Self {
@@ -177,5 +199,19 @@ pub fn param_text(v: &ParamValue) -> String {
         ParamValue::Int(i) => i.to_string(),
         ParamValue::Bool(b) => b.to_string(),
         ParamValue::Text(s) => s.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_show_six_significant_digits() {
+        let column = ColumnData::Float(vec![0.39639599999999997, 1234.56789, 2.5e-7, 0.0, f64::NAN, 3.0, 1.5e9]);
+        let shown: Vec<String> = (0..7).map(|i| column.display(i)).collect();
+        assert_eq!(shown, ["0.396396", "1234.57", "2.50000e-7", "0", "-", "3", "1.50000e9"]);
+        assert_eq!(column.text(0), "0.39639599999999997", "the CSV keeps every digit");
+        assert_eq!(column.text(4), "", "a missing value is an empty CSV cell");
     }
 }

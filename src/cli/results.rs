@@ -1,0 +1,211 @@
+//! The result commands: `run`, `summary`, `history` and `merge`.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use clap::{Args, ValueEnum};
+use demsweep::output::table::ColumnData;
+use demsweep::output::{self, ShardSpec};
+use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, interrupt};
+
+/// Exit status of a command that failed (bad results file, refused output, I/O error).
+const FAILED: u8 = 1;
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// The study file (TOML).
+    study: PathBuf,
+    /// Worker threads, one simulation each (default: all cores).
+    #[arg(long, short = 'j')]
+    jobs: Option<usize>,
+    /// Output directory (default: results/<study name>/).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Continue existing results: run only the runs the file lacks.
+    #[arg(long, conflicts_with = "force")]
+    resume: bool,
+    /// Replace existing results.
+    #[arg(long)]
+    force: bool,
+    /// Run only shard K of N (1-based, e.g. 2/8); writes <name>.shard-K-of-N.h5.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<ShardSpec>,
+    /// Progress display.
+    #[arg(long, value_enum, default_value_t = Progress::Auto)]
+    progress: Progress,
+    /// Commit finished runs to the file at least this often (seconds; also after every 100 runs, and
+    /// never so often that committing takes over 3 % of the time).
+    #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
+    commit_interval: Duration,
+}
+
+/// A positive number of seconds.
+fn seconds(text: &str) -> Result<Duration, String> {
+    let value: f64 = text.parse().map_err(|_| format!("`{text}` is not a number of seconds"))?;
+    Duration::try_from_secs_f64(value).ok().filter(|d| !d.is_zero()).ok_or(format!("must be > 0 seconds, got {text}"))
+}
+
+/// How progress is shown (see [`ProgressMode`]).
+#[derive(Clone, Copy, ValueEnum)]
+enum Progress {
+    /// Bars on a terminal, else one line per finished run.
+    Auto,
+    /// Overall bar and one line per worker.
+    Bars,
+    /// One line per finished run.
+    Lines,
+    /// Nothing but the final report.
+    Quiet,
+}
+
+#[derive(Args)]
+pub struct SummaryArgs {
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    results: PathBuf,
+    /// Write the summary to this CSV file instead of printing it.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct HistoryArgs {
+    /// A results file (.h5).
+    results: PathBuf,
+    /// The run id (first column of `demsweep summary`), e.g. r0007.
+    run_id: String,
+}
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Output directory: receives <study name>.h5 and <study name>_summary.csv.
+    out: PathBuf,
+    /// Shard files (<name>.shard-K-of-N.h5) or directories holding them.
+    #[arg(required = true)]
+    inputs: Vec<PathBuf>,
+    /// Replace an existing merged file.
+    #[arg(long)]
+    force: bool,
+}
+
+impl RunArgs {
+    /// The study file.
+    pub fn study(&self) -> &std::path::Path {
+        &self.study
+    }
+}
+
+/// `demsweep run`: exit 0 when every run finished, 1 on failed or missing runs, 130 after Ctrl-C.
+pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
+    let stop = Arc::new(AtomicBool::new(false));
+    if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
+        eprintln!("warning: {e}");
+    }
+    let options = RunOptions {
+        jobs: args.jobs.unwrap_or(0),
+        out_dir: args.out.clone(),
+        resume: args.resume,
+        force: args.force,
+        shard: args.shard,
+        progress: match args.progress {
+            Progress::Auto => ProgressMode::Auto,
+            Progress::Bars => ProgressMode::Bars,
+            Progress::Lines => ProgressMode::Lines,
+            Progress::Quiet => ProgressMode::Quiet,
+        },
+        commit: CommitPolicy { interval: args.commit_interval, ..CommitPolicy::default() },
+        stop,
+    };
+    match runner::run_plan(plan, &options) {
+        Ok(report) => {
+            print_report(&report, args);
+            ExitCode::from(report.exit_code() as u8)
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(FAILED)
+        }
+    }
+}
+
+fn print_report(report: &RunReport, args: &RunArgs) {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    if let Some(ColumnData::Text(statuses)) = report.summary.column("status").map(|c| &c.data) {
+        for status in statuses {
+            match counts.iter_mut().find(|(s, _)| s == status) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((status.clone(), 1)),
+            }
+        }
+    }
+    let counts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
+    println!(
+        "{} of {} runs recorded ({}); {} run now, {} already done",
+        report.summary.len(),
+        report.selected,
+        counts.join(", "),
+        report.ran,
+        report.already_done
+    );
+    println!("results: {}\nsummary: {}", report.results.display(), report.summary_csv.display());
+    if report.missing() > 0 {
+        let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
+        let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
+        eprintln!(
+            "{} runs not recorded{}: continue with `demsweep run {}{out}{shard} --resume`",
+            report.missing(),
+            if report.interrupted { " (interrupted)" } else { "" },
+            args.study.display()
+        );
+    }
+    if report.failed() > 0 {
+        eprintln!("{} runs failed with an error: see the status and message columns", report.failed());
+    }
+}
+
+/// `demsweep summary`: the summary table, aligned on stdout or as a CSV file.
+pub fn summary(args: &SummaryArgs) -> ExitCode {
+    let outcome = output::summary::read(&args.results).and_then(|table| match &args.csv {
+        Some(path) => output::summary::write_csv(path, &table),
+        None => output::summary::print_aligned(&mut std::io::stdout().lock(), &table)
+            .map_err(|e| output::OutputError::io(std::path::Path::new("<stdout>"), e)),
+    });
+    report_error(outcome)
+}
+
+/// `demsweep history`: one run's histories as CSV on stdout (a closed pipe, as with `| head`, is no error).
+pub fn history(args: &HistoryArgs) -> ExitCode {
+    let mut csv = Vec::new();
+    let outcome = output::history::to_csv(&args.results, &args.run_id, &mut csv);
+    if outcome.is_ok() {
+        let _ = std::io::stdout().lock().write_all(&csv);
+    }
+    report_error(outcome)
+}
+
+/// `demsweep merge`: shard files into one results file.
+pub fn merge(args: &MergeArgs) -> ExitCode {
+    let outcome = output::merge(&args.out, &args.inputs, args.force).map(|report| {
+        println!(
+            "merged {} runs from {} shards\nresults: {}\nsummary: {}",
+            report.runs,
+            report.shards,
+            report.results.display(),
+            report.summary_csv.display()
+        );
+    });
+    report_error(outcome)
+}
+
+fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(FAILED)
+        }
+    }
+}

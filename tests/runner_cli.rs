@@ -1,0 +1,162 @@
+//! `demsweep run` as a user runs it: killed with SIGKILL or stopped with Ctrl-C mid-sweep, then
+//! continued with `--resume`, it ends with the summary of an uninterrupted run; `summary`, `history`
+//! and `merge` on its files.
+
+mod runner_common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use demsweep::output::summary;
+
+/// 80 runs of 30 disks (about 20 ms each): long enough to be stopped midway.
+const STUDY: &str = r#"name = "cli_sweep"
+[scene]
+particles.count = 30
+domain.width = 0.16
+domain.height = 0.25
+run.duration = 0.2
+run.sample_interval = 2e-3
+[sweep]
+"material.restitution" = { linear = [0.2, 0.8], steps = 4 }
+replicates = 20
+[output]
+frames = false
+"#;
+const RUNS: usize = 80;
+
+fn study(dir: &Path) -> PathBuf {
+    let path = dir.join("cli_sweep.toml");
+    std::fs::write(&path, STUDY).unwrap();
+    path
+}
+
+fn demsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Starts a sweep that commits often, on one worker.
+fn spawn_run(study: &Path, out: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "1"])
+        .args(["--commit-interval", "0.05", "--progress", "quiet"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap()
+}
+
+/// Waits until the results file holds at least one committed run.
+fn wait_for_first_commit(results: &Path, child: &mut Child) {
+    let started = Instant::now();
+    while !summary::read(results).is_ok_and(|t| !t.is_empty()) {
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
+        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+/// The summary of an uninterrupted run of the study.
+fn reference(study: &Path, test: &str) -> demsweep::output::SummaryTable {
+    let out = runner_common::scratch(test);
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--progress", "quiet"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    summary::read(&out.join("cli_sweep.h5")).unwrap().without_timing()
+}
+
+/// Resumes the sweep and checks it completes to the reference summary.
+fn resume_and_compare(study: &Path, out: &Path, kept: usize, reference: &demsweep::output::SummaryTable) {
+    let resumed = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--resume"]);
+    assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
+    let report = String::from_utf8_lossy(&resumed.stdout);
+    let expected = format!("{} run now, {kept} already done", RUNS - kept);
+    assert!(report.contains(&expected), "{report}");
+    let table = summary::read(&out.join("cli_sweep.h5")).unwrap();
+    assert_eq!(&table.without_timing(), reference);
+}
+
+/// A sweep started in its own folder and stopped by `stop` once it has committed a run; returns the
+/// study file, the output folder, the exit code and how many runs the file kept.
+fn stopped_midway(test: &str, stop: impl FnOnce(&mut Child)) -> (PathBuf, PathBuf, Option<i32>, usize) {
+    let dir = runner_common::scratch(test);
+    let study = study(&dir);
+    let out = dir.join("out");
+    let mut child = spawn_run(&study, &out);
+    wait_for_first_commit(&out.join("cli_sweep.h5"), &mut child);
+    stop(&mut child);
+    let code = child.wait().unwrap().code();
+    let kept = summary::read(&out.join("cli_sweep.h5")).expect("the stopped sweep's file is valid").len();
+    assert!((1..RUNS).contains(&kept), "kept {kept} of {RUNS}");
+    (study, out, code, kept)
+}
+
+#[test]
+fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_run() {
+    let (study, out, code, kept) = stopped_midway("cli_kill", |child| child.kill().unwrap());
+    assert_eq!(code, None, "killed by a signal");
+
+    let again = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(again.status.code(), Some(1));
+    assert!(stderr(&again).contains("--resume"), "{}", stderr(&again));
+
+    resume_and_compare(&study, &out, kept, &reference(&study, "cli_kill_reference"));
+}
+
+#[test]
+fn ctrl_c_stops_cleanly_with_exit_130_and_resumes() {
+    let (study, out, code, kept) = stopped_midway("cli_ctrl_c", |child| {
+        let sent = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+        assert!(sent.success());
+    });
+    assert_eq!(code, Some(130));
+    let file = hdf5_pure::File::open(out.join("cli_sweep.h5")).unwrap();
+    assert!(file.group("summary").is_ok(), "a clean stop writes /summary");
+    let csv = std::fs::read_to_string(out.join("cli_sweep_summary.csv")).unwrap();
+    assert_eq!(csv.lines().count(), kept + 1);
+
+    resume_and_compare(&study, &out, kept, &reference(&study, "cli_ctrl_c_reference"));
+}
+
+#[test]
+fn summary_history_and_merge_commands() {
+    let dir = runner_common::scratch("cli_commands");
+    let study = study(&dir);
+    let s = study.to_str().unwrap();
+    let shards = dir.join("shards");
+    for k in ["1/2", "2/2"] {
+        let run = demsweep(&["run", s, "--out", shards.to_str().unwrap(), "--shard", k, "--progress", "lines"]);
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+        let lines = String::from_utf8_lossy(&run.stdout).lines().filter(|l| l.contains(" not_settled ")).count();
+        assert_eq!(lines, RUNS / 2, "one line per finished run");
+    }
+    let merged = dir.join("merged");
+    let merge = demsweep(&["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]);
+    assert_eq!(merge.status.code(), Some(0), "{}", stderr(&merge));
+    let results = merged.join("cli_sweep.h5");
+
+    let printed = demsweep(&["summary", results.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&printed.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), RUNS + 1);
+    assert!(lines[0].starts_with("run_id  index  material.restitution  placement.seed  status"), "{}", lines[0]);
+    assert!(lines[1].starts_with("r0000 "), "{}", lines[1]);
+
+    let csv = dir.join("exported.csv");
+    let export = demsweep(&["summary", results.to_str().unwrap(), "--csv", csv.to_str().unwrap()]);
+    assert_eq!(export.status.code(), Some(0));
+    assert_eq!(std::fs::read(&csv).unwrap(), std::fs::read(merged.join("cli_sweep_summary.csv")).unwrap());
+
+    let history = demsweep(&["history", results.to_str().unwrap(), "r0005"]);
+    let text = String::from_utf8_lossy(&history.stdout);
+    assert!(text.starts_with("t,kinetic_translational,"), "{text}");
+    assert_eq!(text.lines().count(), 1 + 101, "0.2 s sampled every 2 ms, both ends included");
+
+    let missing = demsweep(&["history", results.to_str().unwrap(), "r9999"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(stderr(&missing).contains("no run `r9999`"), "{}", stderr(&missing));
+}
