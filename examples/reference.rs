@@ -17,6 +17,9 @@ fn main() {
     scene.placement.file = Some("x".into());
     scene.material.restitution = Some(0.5);
     scene.run.stop_at_settle = std::env::args().nth(1).is_none();
+    if let Ok(skin) = std::env::var("SKIN") {
+        scene.neighbors.skin_ratio = skin.parse().unwrap();
+    }
     let t0 = std::time::Instant::now();
     let rec = run_scene(&scene, Some(disks), &mut |_| Control::Continue).unwrap();
     let el = t0.elapsed().as_secs_f64();

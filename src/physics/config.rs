@@ -343,7 +343,7 @@ impl Default for LimitsConfig {
     fn default() -> Self {
         Self {
             max_overlap_ratio: 0.5,
-            overlap_warning_ratio: 0.05,
+            overlap_warning_ratio: 0.1,
             energy_growth_ratio: 0.5,
             contact_time_fraction: 0.1,
             damping_rate_fraction: 0.5,

@@ -7,9 +7,11 @@
 //! tangential springs over by a linear merge: no hashing, no allocation once buffers have grown.
 
 use super::config::BroadPhaseKind;
+use super::material::{effective_mass, effective_radius};
 use super::particles::Particles;
 
-/// A pair `i < j` that may be in contact, with its tangential spring ξ (m).
+/// A pair `i < j` that may be in contact, with its tangential spring ξ (m) and its effective
+/// radius and mass (computed once per build, not once per step).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NeighborPair {
     /// First disk (smaller index).
@@ -18,6 +20,22 @@ pub struct NeighborPair {
     pub j: u32,
     /// Accumulated tangential displacement ξ; zero while not in contact.
     pub spring: f64,
+    /// Effective radius R* (m).
+    pub r_star: f64,
+    /// Effective mass m* (kg).
+    pub m_star: f64,
+}
+
+impl NeighborPair {
+    fn new(p: &Particles, i: usize, j: usize) -> Self {
+        Self {
+            i: i as u32,
+            j: j as u32,
+            spring: 0.0,
+            r_star: effective_radius(p.r[i], p.r[j]),
+            m_star: effective_mass(p.mass[i], p.mass[j]),
+        }
+    }
 }
 
 /// Verlet list with its build state.
@@ -86,7 +104,7 @@ fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
     for i in 0..p.len() {
         for j in i + 1..p.len() {
             if within(p, i, j, skin) {
-                out.push(NeighborPair { i: i as u32, j: j as u32, spring: 0.0 });
+                out.push(NeighborPair::new(p, i, j));
             }
         }
     }
@@ -169,7 +187,7 @@ impl CellGrid {
                 }
             }
             self.row.sort_unstable();
-            out.extend(self.row.iter().map(|&j| NeighborPair { i: i as u32, j, spring: 0.0 }));
+            out.extend(self.row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
         }
     }
 }
@@ -189,7 +207,8 @@ mod tests {
     #[test]
     fn grid_finds_exactly_the_all_pairs_set() {
         let mut scene = SceneConfig::default();
-        scene.particles.radius_max = Some(0.02);
+        scene.particles.count = 200;
+        scene.particles.radius_max = Some(0.015);
         let disks = placement::generate(&scene).unwrap();
         let p = Particles::new(&disks, 1000.0, 1.0);
         let mut grid = NeighborList::new(BroadPhaseKind::Grid, 0.006);
@@ -202,16 +221,9 @@ mod tests {
 
     #[test]
     fn rebuild_keeps_springs_of_surviving_pairs() {
-        let old = [
-            NeighborPair { i: 0, j: 1, spring: 1.0 },
-            NeighborPair { i: 0, j: 3, spring: 2.0 },
-            NeighborPair { i: 2, j: 3, spring: 3.0 },
-        ];
-        let mut new = [
-            NeighborPair { i: 0, j: 3, spring: 0.0 },
-            NeighborPair { i: 1, j: 2, spring: 0.0 },
-            NeighborPair { i: 2, j: 3, spring: 0.0 },
-        ];
+        let pair = |i, j, spring| NeighborPair { i, j, spring, r_star: 0.0, m_star: 0.0 };
+        let old = [pair(0, 1, 1.0), pair(0, 3, 2.0), pair(2, 3, 3.0)];
+        let mut new = [pair(0, 3, 0.0), pair(1, 2, 0.0), pair(2, 3, 0.0)];
         carry_springs(&old, &mut new);
         let springs: Vec<f64> = new.iter().map(|p| p.spring).collect();
         assert_eq!(springs, [2.0, 0.0, 3.0]);

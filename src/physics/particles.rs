@@ -95,4 +95,60 @@ impl Particles {
     pub fn max_radius(&self) -> f64 {
         self.r.iter().cloned().fold(0.0, f64::max)
     }
+
+    /// Splits into read-only state and writable force accumulators, all slices of length `len()`
+    /// (equal lengths let the compiler drop per-access bounds checks in the contact loops).
+    pub fn split(&mut self) -> (State<'_>, Forces<'_>) {
+        let n = self.len();
+        (
+            State {
+                x: &self.x[..n],
+                y: &self.y[..n],
+                vx: &self.vx[..n],
+                vy: &self.vy[..n],
+                omega: &self.omega[..n],
+                r: &self.r[..n],
+                mass: &self.mass[..n],
+            },
+            Forces {
+                fx: &mut self.fx[..n],
+                fy: &mut self.fy[..n],
+                torque: &mut self.torque[..n],
+                rolling: &mut self.rolling[..n],
+                contact_force: &mut self.contact_force[..n],
+            },
+        )
+    }
+}
+
+/// Read-only view of positions, velocities and sizes (see [`Particles::split`]).
+pub struct State<'a> {
+    /// Centre x (m).
+    pub x: &'a [f64],
+    /// Centre y (m).
+    pub y: &'a [f64],
+    /// Velocity x (m/s).
+    pub vx: &'a [f64],
+    /// Velocity y (m/s).
+    pub vy: &'a [f64],
+    /// Angular velocity (rad/s).
+    pub omega: &'a [f64],
+    /// Radius (m).
+    pub r: &'a [f64],
+    /// Mass (kg).
+    pub mass: &'a [f64],
+}
+
+/// Writable force accumulators (see [`Particles::split`]).
+pub struct Forces<'a> {
+    /// Net force x (N).
+    pub fx: &'a mut [f64],
+    /// Net force y (N).
+    pub fy: &'a mut [f64],
+    /// Net torque (N·m).
+    pub torque: &'a mut [f64],
+    /// Summed rolling-resistance torque magnitude (N·m).
+    pub rolling: &'a mut [f64],
+    /// Sum of contact force magnitudes (N).
+    pub contact_force: &'a mut [f64],
 }

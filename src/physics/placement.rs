@@ -97,7 +97,7 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
     let mut disks: Vec<InitialDisk> = Vec::with_capacity(radii.len());
     for (k, &r) in radii.iter().enumerate() {
         if 2.0 * r > w || 2.0 * r > h {
-            return Err(too_full(scene, k, radii.len(), "a disk is larger than the box"));
+            return Err(too_full(scene, radii, k, "a disk is larger than the box"));
         }
         let placed = (0..scene.placement.max_attempts).find_map(|_| {
             let x = rng.range(r, w - r);
@@ -105,7 +105,7 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
             buckets.free(&disks, x, y, r).then_some((x, y))
         });
         let Some((x, y)) = placed else {
-            return Err(too_full(scene, k, radii.len(), "no free spot found"));
+            return Err(too_full(scene, radii, k, "no free spot found"));
         };
         buckets.insert(x, y, k);
         disks.push(InitialDisk { x, y, r, ..Default::default() });
@@ -115,8 +115,9 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
     Ok(disks)
 }
 
-fn too_full(scene: &SceneConfig, placed: usize, count: usize, why: &str) -> PlacementError {
-    let area: f64 = std::f64::consts::PI * scene.particles.radius.powi(2) * count as f64;
+fn too_full(scene: &SceneConfig, radii: &[f64], placed: usize, why: &str) -> PlacementError {
+    let count = radii.len();
+    let area: f64 = radii.iter().map(|r| std::f64::consts::PI * r * r).sum();
     let box_area = scene.domain.width * scene.domain.height;
     PlacementError {
         key: "particles.count".into(),

@@ -1,13 +1,33 @@
 //! Study files: a base scene plus sweep axes, expanded into a plan (the list of runs).
 //!
 //! Data flows one way: study file → [`Plan`] → runner → simulation → records → writers.
-//! (Contract types; `load` is implemented by the study planner.)
+//! [`load`] reads a study file (format: README.md, "Study files") and checks everything a run
+//! could fail on at its start: every problem of the whole study is reported at once.
 
-use std::path::PathBuf;
+mod axes;
+mod errors;
+mod file;
+pub mod initial_csv;
+mod plan;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+pub use axes::MAX_RUNS;
+pub use errors::{Location, StudyError, StudyErrors};
 
 use crate::physics::SceneConfig;
 use crate::physics::particles::InitialDisk;
+
+/// Reads, checks and expands a study file into its plan.
+pub fn load(path: &Path) -> Result<Plan, StudyErrors> {
+    let study = file::StudyFile::read(path)?;
+    let doc = file::Document::parse(&study).map_err(StudyErrors::sorted)?;
+    plan::build(&study, &doc)
+}
 
 /// One swept parameter's value, typed as in the study file.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,8 +42,35 @@ pub enum ParamValue {
     Text(String),
 }
 
+impl ParamValue {
+    /// The value as TOML.
+    pub fn to_toml(&self) -> toml::Value {
+        match self {
+            Self::Float(v) => toml::Value::Float(*v),
+            Self::Int(v) => toml::Value::Integer(*v),
+            Self::Bool(v) => toml::Value::Boolean(*v),
+            Self::Text(v) => toml::Value::String(v.clone()),
+        }
+    }
+}
+
+/// Floats print shortest-exact (`0.7`, `1e9`, `2.5e-5`), text quoted as in TOML.
+impl fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Float(v) if *v != 0.0 && !(1e-3..1e6).contains(&v.abs()) => write!(f, "{v:e}"),
+            Self::Float(v) => write!(f, "{v:?}"),
+            Self::Int(v) => write!(f, "{v}"),
+            Self::Bool(v) => write!(f, "{v}"),
+            Self::Text(v) => write!(f, "{}", toml::Value::String(v.clone())),
+        }
+    }
+}
+
 /// Which optional outputs a study asks for (what nobody asked for is not computed or written).
-#[derive(Clone, Debug, PartialEq)]
+/// Written as the study's `[output]` table; everything defaults to `true`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct OutputOptions {
     /// Write energy/UBF histories per run.
     pub histories: bool,
@@ -31,6 +78,12 @@ pub struct OutputOptions {
     pub final_states: bool,
     /// Write recorded frames (the scene's `run.frame_times` / `run.frame_interval`).
     pub frames: bool,
+}
+
+impl Default for OutputOptions {
+    fn default() -> Self {
+        Self { histories: true, final_states: true, frames: true }
+    }
 }
 
 /// One run of a study.
@@ -65,4 +118,33 @@ pub struct Plan {
     pub output: OutputOptions,
     /// The runs, in a stable order.
     pub runs: Vec<PlannedRun>,
+}
+
+impl Plan {
+    /// Sum of the runs' cost estimates (particle-steps).
+    pub fn total_cost(&self) -> f64 {
+        self.runs.iter().map(|r| r.estimated_cost).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn param_values_display_as_written() {
+        let shown: Vec<String> = [
+            ParamValue::Float(0.7),
+            ParamValue::Float(1e9),
+            ParamValue::Float(2.5e-5),
+            ParamValue::Float(0.0),
+            ParamValue::Float(150.0),
+            ParamValue::Int(12),
+            ParamValue::Text("linear".into()),
+        ]
+        .iter()
+        .map(|v| v.to_string())
+        .collect();
+        assert_eq!(shown, ["0.7", "1e9", "2.5e-5", "0.0", "150.0", "12", "\"linear\""]);
+    }
 }

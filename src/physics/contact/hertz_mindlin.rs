@@ -16,13 +16,14 @@ impl ContactLaw for HertzMindlin {
     fn coefficients(&self, p: &PairProperties, overlap: f64) -> Coefficients {
         let root = (p.r_star * overlap).sqrt();
         let normal_stiffness = 2.0 * p.e_star * root;
-        let tangential_stiffness = 8.0 * p.g_star * root;
-        let damping = DAMPING_PREFACTOR * p.beta;
+        // √(S m*) = √(2E* or 8G*) · √(√(R*δ) m*): one square root per contact, the material
+        // constants' roots are loop invariants.
+        let damping = DAMPING_PREFACTOR * p.beta * (root * p.m_star).sqrt();
         Coefficients {
             normal_force: (2.0 / 3.0) * normal_stiffness * overlap,
-            normal_damping: damping * (normal_stiffness * p.m_star).sqrt(),
-            tangential_stiffness,
-            tangential_damping: damping * (tangential_stiffness * p.m_star).sqrt(),
+            normal_damping: damping * (2.0 * p.e_star).sqrt(),
+            tangential_stiffness: 8.0 * p.g_star * root,
+            tangential_damping: damping * (8.0 * p.g_star).sqrt(),
         }
     }
 

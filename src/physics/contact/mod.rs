@@ -89,12 +89,6 @@ pub struct ContactForce {
 }
 
 impl ContactForce {
-    /// Rate of work done by this contact on the two bodies (W): `-F_n v_n + F_t v_t`.
-    #[inline]
-    pub fn power(&self, k: &Kinematics) -> f64 {
-        -self.normal * k.approach_speed + self.tangential * k.tangential_speed
-    }
-
     /// Magnitude of the contact force vector (N).
     #[inline]
     pub fn magnitude(&self) -> f64 {
@@ -153,7 +147,7 @@ pub fn elastic_energy<L: ContactLaw>(
 pub struct ImpactEstimate {
     /// Contact duration (s).
     pub duration: f64,
-    /// Largest overlap (m).
+    /// Largest overlap of the damped impact (m).
     pub max_overlap: f64,
     /// Largest normal damping rate `c_n / m*` during the impact (1/s).
     pub max_damping_rate: f64,
@@ -161,8 +155,9 @@ pub struct ImpactEstimate {
     pub max_frequency: f64,
 }
 
-/// Integrates an undamped head-on impact at `speed` with any law (fine RK4 steps), so stability
-/// estimates work for every law without law-specific formulas.
+/// Integrates a head-on impact at `speed` with any law (fine steps), so stability estimates work
+/// for every law without law-specific formulas: duration and stiffness from the undamped impact,
+/// the largest overlap from the damped one.
 pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> ImpactEstimate {
     let undamped = PairProperties { beta: 0.0, ..*pair };
     let accel = |d: f64| if d > 0.0 { -law.coefficients(&undamped, d).normal_force / pair.m_star } else { 0.0 };
@@ -184,6 +179,7 @@ pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64
             dt *= 10.0;
         }
     }
+    let damped_overlap = if pair.beta > 0.0 { damped_max_overlap(law, pair, speed, dt) } else { dmax };
     let at_max = law.coefficients(pair, dmax);
     let eps = dmax * 1e-6;
     let slope = (law.coefficients(&undamped, dmax + eps).normal_force
@@ -191,10 +187,24 @@ pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64
         / (2.0 * eps);
     ImpactEstimate {
         duration: t,
-        max_overlap: dmax,
+        max_overlap: damped_overlap,
         max_damping_rate: at_max.normal_damping / pair.m_star,
         max_frequency: (slope.max(0.0) / pair.m_star).sqrt(),
     }
+}
+
+/// Largest overlap of the damped impact (semi-implicit Euler with step `dt`, until it recedes).
+fn damped_max_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64, dt: f64) -> f64 {
+    let (mut d, mut v) = (0.0_f64, speed);
+    for _ in 0..1_000_000 {
+        let c = law.coefficients(pair, d.max(1e-300));
+        v -= (c.normal_force + c.normal_damping * v).max(0.0) / pair.m_star * dt;
+        if v <= 0.0 {
+            break;
+        }
+        d += v * dt;
+    }
+    d
 }
 
 /// Rough contact duration: bisect the overlap that stores the impact energy, then π/ω of the secant.

@@ -1,0 +1,72 @@
+//! Engine speed: nanoseconds per particle-step, single thread.
+//!
+//! `cargo bench --bench engine` runs
+//! 1. the reference scene of `shared/reference/README.md` (300 disks, E 1e9 Pa, e 0.5, μ 0.5,
+//!    dt 1e-5 s, 1.5 s = 150 000 steps, to the end), median of 3 — LAMMPS: 120 ns/particle-step here;
+//! 2. the same deposition at N = 300, 3 000, 30 000 and 100 000 disks, the box widened with N so the
+//!    pile depth stays the same, over the first `DEMSWEEP_BENCH_DURATION` seconds (default 0.4 s:
+//!    the fall, the impacts and most of the settling), once each.
+//!
+//! Results are printed and written to `results/bench/engine.csv`.
+
+use std::time::Instant;
+
+use demsweep::physics::config::{PlacementKind, SceneConfig};
+use demsweep::physics::particles::InitialDisk;
+use demsweep::physics::simulation::{Control, run_scene};
+
+fn reference_disks() -> Vec<InitialDisk> {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/deposition_300.csv"))
+        .expect("tests/data/deposition_300.csv");
+    text.lines()
+        .skip(1)
+        .map(|line| {
+            let v: Vec<f64> = line.split(',').map(|x| x.parse().expect("number")).collect();
+            InitialDisk { x: v[0], y: v[1], r: v[2], ..Default::default() }
+        })
+        .collect()
+}
+
+fn reference_scene() -> SceneConfig {
+    let mut s = SceneConfig::default();
+    s.material.restitution = Some(0.5);
+    s.material.friction = 0.5;
+    s.integrator.time_step = 1e-5;
+    s.run.duration = 1.5;
+    s.run.stop_at_settle = false;
+    s
+}
+
+/// Runs a scene once; returns (ns per particle-step, steps, contacts at the end).
+fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>) -> (f64, u64, u32) {
+    let start = Instant::now();
+    let rec = run_scene(scene, disks, &mut |_| Control::Continue).expect("scene runs");
+    let seconds = start.elapsed().as_secs_f64();
+    let n = rec.final_state.x.len() as f64;
+    (seconds * 1e9 / (n * rec.steps as f64), rec.steps, *rec.history.contacts.last().unwrap_or(&0))
+}
+
+fn main() {
+    let mut csv = String::from("case,particles,steps,ns_per_particle_step,final_contacts\n");
+    let mut scene = reference_scene();
+    scene.placement.kind = PlacementKind::File;
+    scene.placement.file = Some("tests/data/deposition_300.csv".into());
+    let mut times: Vec<f64> = (0..3).map(|_| time_run(&scene, Some(reference_disks())).0).collect();
+    times.sort_by(f64::total_cmp);
+    println!("reference scene (300 disks, 150 000 steps): {:.1} ns/particle-step (median of 3: {times:.1?})", times[1]);
+    csv += &format!("reference,300,150000,{:.2},\n", times[1]);
+
+    let duration: f64 = std::env::var("DEMSWEEP_BENCH_DURATION").ok().and_then(|v| v.parse().ok()).unwrap_or(0.4);
+    for n in [300usize, 3_000, 30_000, 100_000] {
+        let mut s = reference_scene();
+        s.run.duration = duration;
+        s.particles.count = n;
+        s.domain.width = 0.4 * n as f64 / 300.0;
+        let (ns, steps, contacts) = time_run(&s, None);
+        println!("N = {n:>6}: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)");
+        csv += &format!("scaling_{duration}s,{n},{steps},{ns:.2},{contacts}\n");
+    }
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/results/bench");
+    std::fs::create_dir_all(dir).expect("results/bench");
+    std::fs::write(format!("{dir}/engine.csv"), csv).expect("write engine.csv");
+}

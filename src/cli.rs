@@ -1,0 +1,157 @@
+//! Command line: one enum variant and one function per subcommand.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use demsweep::study::{self, Plan};
+
+/// Exit status when the study file is invalid.
+const INVALID_STUDY: u8 = 2;
+
+/// Single-threaded cost of one particle-step assumed by the wall-time estimate (s).
+const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;
+
+#[derive(Parser)]
+#[command(
+    name = "demsweep",
+    version,
+    about = "Batch parameter sweeps of 2D DEM simulations of granular deposition",
+    long_about = "Batch parameter sweeps of 2D DEM simulations of granular deposition (the BMEDEM2D model).\n\n\
+                  A study file (TOML) holds a base [scene] and [sweep] axes; demsweep expands it into runs. \
+                  The study file format is described in README.md, section \"Study files\".",
+    after_help = "Examples:\n  demsweep check studies/damping_sweep.toml\n  demsweep plan studies/damping_sweep.toml"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the runs a study expands to (id and swept parameters) and estimate their cost.
+    #[command(
+        long_about = "List the runs a study expands to, in run order: each run's id, its swept parameters, \
+                      disk count and time steps, then the total cost in particle-steps and a rough wall-time \
+                      estimate (50 ns per particle-step on one core, divided by the cores; runs that settle \
+                      early finish sooner). The study is checked first, as by `demsweep check`.",
+        after_help = "Example:\n  demsweep plan studies/damping_sweep.toml --cores 8"
+    )]
+    Plan(PlanArgs),
+    /// Check a study file without running anything: prints "ok: N runs" or every problem.
+    #[command(
+        long_about = "Check a study file without running anything. Every problem of the whole study is \
+                      reported at once, each with file, line, key and reason (unknown keys, wrong types, \
+                      impossible values, malformed sweep axes, disks that do not fit, unreadable placement \
+                      files). Prints \"ok: N runs\" and exits 0 when the study is valid, else exits 2.",
+        after_help = "Example:\n  demsweep check studies/damping_sweep.toml && echo valid"
+    )]
+    Check(CheckArgs),
+}
+
+#[derive(Args)]
+struct PlanArgs {
+    /// The study file (TOML).
+    study: PathBuf,
+    /// Cores to assume for the wall-time estimate (default: this machine's).
+    #[arg(long)]
+    cores: Option<usize>,
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    /// The study file (TOML).
+    study: PathBuf,
+}
+
+/// Parses the command line and runs the subcommand.
+pub fn main() -> ExitCode {
+    match Cli::parse().command {
+        Command::Plan(args) => plan(&args),
+        Command::Check(args) => check(&args),
+    }
+}
+
+/// The study's plan, or its problems printed to stderr and the exit status for an invalid study.
+fn load_or_report(path: &Path) -> Result<Plan, ExitCode> {
+    study::load(path).map_err(|errors| {
+        eprintln!("{errors}");
+        eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+        ExitCode::from(INVALID_STUDY)
+    })
+}
+
+fn check(args: &CheckArgs) -> ExitCode {
+    match load_or_report(&args.study) {
+        Ok(plan) => {
+            println!("ok: {}", runs(plan.runs.len()));
+            ExitCode::SUCCESS
+        }
+        Err(code) => code,
+    }
+}
+
+fn plan(args: &PlanArgs) -> ExitCode {
+    let plan = match load_or_report(&args.study) {
+        Ok(plan) => plan,
+        Err(code) => return code,
+    };
+    let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    println!(
+        "study {} ({}), fingerprint {}, {} runs",
+        plan.name,
+        plan.study_path.display(),
+        plan.fingerprint,
+        plan.runs.len()
+    );
+    print!("{}", run_table(&plan));
+    let total = plan.total_cost();
+    let seconds = total * SECONDS_PER_PARTICLE_STEP;
+    println!(
+        "total {total:.3e} particle-steps (upper bound: runs stop when settled); about {} on 1 core, {} on {cores} cores",
+        duration(seconds),
+        duration(seconds / cores as f64),
+    );
+    ExitCode::SUCCESS
+}
+
+/// One aligned line per run: id, swept parameters, disks, steps, particle-steps.
+fn run_table(plan: &Plan) -> String {
+    let names = plan.runs.first().map(|r| r.parameters.iter().map(|(k, _)| k.clone()).collect()).unwrap_or_default();
+    let header: Vec<String> =
+        [vec!["id".to_string()], names, vec!["disks".into(), "steps".into(), "particle-steps".into()]].concat();
+    let rows = plan.runs.iter().map(|run| {
+        let values = run.parameters.iter().map(|(_, v)| v.to_string());
+        let cost = [
+            run.scene.particles.count.to_string(),
+            run.scene.total_steps().to_string(),
+            format!("{:.3e}", run.estimated_cost),
+        ];
+        std::iter::once(run.id.clone()).chain(values).chain(cost).collect::<Vec<_>>()
+    });
+    let table: Vec<Vec<String>> = std::iter::once(header).chain(rows).collect();
+    let widths: Vec<usize> =
+        (0..table[0].len()).map(|c| table.iter().map(|row| row[c].len()).max().unwrap_or(0)).collect();
+    table
+        .iter()
+        .map(|row| {
+            let cells: Vec<String> = row.iter().zip(&widths).map(|(cell, w)| format!("{cell:<w$}")).collect();
+            format!("{}\n", cells.join("  ").trim_end())
+        })
+        .collect()
+}
+
+/// `1 run`, `18 runs`.
+fn runs(n: usize) -> String {
+    if n == 1 { "1 run".into() } else { format!("{n} runs") }
+}
+
+/// Seconds in words: `42 s`, `12.5 min`, `3.2 h`.
+fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 10.0 => format!("{s:.1} s"),
+        s if s < 90.0 => format!("{s:.0} s"),
+        s if s < 5400.0 => format!("{:.1} min", s / 60.0),
+        s => format!("{:.1} h", s / 3600.0),
+    }
+}

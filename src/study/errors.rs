@@ -1,0 +1,211 @@
+//! What is wrong with a study: every problem names the file, line (and column), key and reason.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::PathBuf;
+
+/// A position in a text file, 1-based.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Location {
+    /// Line number, from 1.
+    pub line: usize,
+    /// Column (character) number, from 1.
+    pub column: usize,
+}
+
+/// A problem's file, location, key, value and reason.
+type Identity = (PathBuf, Option<Location>, String, Option<String>, String);
+
+/// One problem with a study.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct StudyError {
+    /// The file the problem is in (the study file, or a placement CSV).
+    pub file: PathBuf,
+    /// Where in the file, when known.
+    pub location: Option<Location>,
+    /// The key it concerns, as written in the study (e.g. `sweep."material.friction"`); empty for the
+    /// file as a whole.
+    pub key: String,
+    /// The swept value involved, when the problem depends on it.
+    pub value: Option<String>,
+    /// The first run affected, when the problem belongs to runs.
+    pub run: Option<String>,
+    /// How many runs are affected (0 when the problem is not run-specific).
+    pub runs_affected: usize,
+    /// What is wrong, in words.
+    pub reason: String,
+}
+
+impl StudyError {
+    /// A problem at `location` of `file` with `key`, not tied to a run or value.
+    pub fn new(
+        file: impl Into<PathBuf>,
+        location: Option<Location>,
+        key: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            location,
+            key: key.into(),
+            value: None,
+            run: None,
+            runs_affected: 0,
+            reason: reason.into(),
+        }
+    }
+
+    /// The same problem, caused by the swept `value`.
+    pub fn with_value(mut self, value: impl Into<String>) -> Self {
+        self.value = Some(value.into());
+        self
+    }
+
+    /// The same problem, found in run `run`.
+    pub fn in_run(mut self, run: &str) -> Self {
+        self.run = Some(run.to_string());
+        self.runs_affected = 1;
+        self
+    }
+
+    /// Everything that identifies the problem apart from which runs have it.
+    fn identity(&self) -> Identity {
+        (self.file.clone(), self.location, self.key.clone(), self.value.clone(), self.reason.clone())
+    }
+}
+
+impl fmt::Display for StudyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(at) = self.location {
+            write!(f, ":{}:{}", at.line, at.column)?;
+        }
+        if !self.key.is_empty() {
+            write!(f, ": {}", self.key)?;
+        }
+        if let Some(value) = &self.value {
+            write!(f, ": value {value}")?;
+        }
+        if let Some(run) = &self.run {
+            match self.runs_affected {
+                0 | 1 => write!(f, " (run {run})")?,
+                n => write!(f, " (run {run} and {} more runs)", n - 1)?,
+            }
+        }
+        write!(f, ":")?;
+        write!(f, " {}", self.reason)
+    }
+}
+
+/// All problems of a study, reported together before any run starts.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct StudyErrors(pub Vec<StudyError>);
+
+impl StudyErrors {
+    /// Sorted by file and position, for reading top to bottom.
+    pub(super) fn sorted(mut errors: Vec<StudyError>) -> Self {
+        errors.sort_by(|a, b| (&a.file, a.location).cmp(&(&b.file, b.location)));
+        Self(errors)
+    }
+}
+
+impl fmt::Display for StudyErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, error) in self.0.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{error}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for StudyErrors {}
+
+impl From<StudyError> for StudyErrors {
+    fn from(error: StudyError) -> Self {
+        Self(vec![error])
+    }
+}
+
+/// Collects problems; the same problem found in several runs is kept once, with the first run and a count.
+#[derive(Default)]
+pub(super) struct ErrorSink {
+    errors: Vec<StudyError>,
+    seen: HashMap<Identity, usize>,
+}
+
+impl ErrorSink {
+    /// Adds a problem, or counts one more run for a problem already seen.
+    pub fn push(&mut self, error: StudyError) {
+        match self.seen.get(&error.identity()) {
+            Some(&k) => self.errors[k].runs_affected += error.runs_affected,
+            None => {
+                self.seen.insert(error.identity(), self.errors.len());
+                self.errors.push(error);
+            }
+        }
+    }
+
+    /// Adds every problem of `errors`.
+    pub fn extend(&mut self, errors: impl IntoIterator<Item = StudyError>) {
+        errors.into_iter().for_each(|e| self.push(e));
+    }
+
+    /// Whether nothing is wrong so far.
+    pub fn is_empty(&self) -> bool {
+        self.errors.is_empty()
+    }
+
+    /// The problems found, sorted by position.
+    pub fn into_errors(self) -> StudyErrors {
+        StudyErrors::sorted(self.errors)
+    }
+
+    /// The problems found, or `ok` when there are none.
+    pub fn into_result<T>(self, ok: T) -> Result<T, StudyErrors> {
+        if self.errors.is_empty() { Ok(ok) } else { Err(self.into_errors()) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error() -> StudyError {
+        let at = Some(Location { line: 12, column: 1 });
+        StudyError::new(
+            "studies/x.toml",
+            at,
+            "sweep.\"material.poisson_ratio\"",
+            "Poisson's ratio must lie in (-1, 0.5]",
+        )
+    }
+
+    #[test]
+    fn display_names_file_line_key_value_run_and_reason() {
+        let e = error().with_value("0.7").in_run("r0003");
+        assert_eq!(
+            e.to_string(),
+            "studies/x.toml:12:1: sweep.\"material.poisson_ratio\": value 0.7 (run r0003): Poisson's ratio must lie in (-1, 0.5]"
+        );
+        let bare = StudyError::new("x.toml", None, "", "cannot read the study file: gone");
+        assert_eq!(bare.to_string(), "x.toml: cannot read the study file: gone");
+    }
+
+    #[test]
+    fn sink_merges_the_same_problem_across_runs() {
+        let mut sink = ErrorSink::default();
+        for run in ["r0001", "r0004", "r0007"] {
+            sink.push(error().with_value("0.7").in_run(run));
+        }
+        sink.push(error().with_value("0.9").in_run("r0002"));
+        let errors = sink.into_result(()).unwrap_err().0;
+        assert_eq!(errors.len(), 2);
+        assert_eq!(errors[0].run.as_deref(), Some("r0001"));
+        assert_eq!(errors[0].runs_affected, 3);
+        assert!(errors[0].to_string().contains("(run r0001 and 2 more runs)"));
+        assert_eq!(errors[1].runs_affected, 1);
+    }
+}

@@ -1,0 +1,204 @@
+//! The study file as text and as a TOML document that remembers where every key was written.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use serde::de::IntoDeserializer;
+use toml::de::DeTable;
+
+use super::errors::{Location, StudyError, StudyErrors};
+
+/// A key path: table names from the root, e.g. `["scene", "material", "friction"]`.
+pub(super) type KeyPath = Vec<String>;
+
+/// The study file's path and text.
+pub(super) struct StudyFile {
+    /// Path as given.
+    pub path: PathBuf,
+    /// The file's text.
+    pub text: String,
+    /// Byte offset where each line starts.
+    line_starts: Vec<usize>,
+}
+
+impl StudyFile {
+    /// Reads the file; a failure is reported against the path.
+    pub fn read(path: &Path) -> Result<Self, StudyErrors> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| StudyError::new(path, None, "", format!("cannot read the study file: {e}")))?;
+        Ok(Self::new(path, text))
+    }
+
+    /// A study file with the given text.
+    pub fn new(path: &Path, text: String) -> Self {
+        let line_starts = std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+        Self { path: path.to_path_buf(), text, line_starts }
+    }
+
+    /// Line and column of a byte offset.
+    pub fn locate(&self, offset: usize) -> Location {
+        let line = self.line_starts.partition_point(|&start| start <= offset).max(1);
+        let start = self.line_starts[line - 1];
+        let column = self.text.get(start..offset.min(self.text.len())).map_or(1, |s| s.chars().count() + 1);
+        Location { line, column }
+    }
+
+    /// A problem at `span` (when known) with `key`.
+    pub fn error(&self, span: Option<Range<usize>>, key: impl Into<String>, reason: impl Into<String>) -> StudyError {
+        StudyError::new(&self.path, span.map(|s| self.locate(s.start)), key, reason)
+    }
+}
+
+/// A parsed study: its values, and where each key (at any depth of tables) was written.
+pub(super) struct Document {
+    /// The document's values.
+    pub root: toml::Table,
+    /// Span of every key that names a value or table, by key path.
+    key_spans: HashMap<KeyPath, Range<usize>>,
+}
+
+impl Document {
+    /// Parses the study text; every syntax error is reported.
+    pub fn parse(file: &StudyFile) -> Result<Self, Vec<StudyError>> {
+        let (table, errors) = DeTable::parse_recoverable(&file.text);
+        if !errors.is_empty() {
+            return Err(errors
+                .iter()
+                .map(|e| file.error(e.span(), "", format!("TOML syntax: {}", e.message())))
+                .collect());
+        }
+        let mut key_spans = HashMap::new();
+        collect_spans(table.get_ref(), &mut Vec::new(), &mut key_spans);
+        let root = toml::Table::deserialize(table.into_deserializer())
+            .map_err(|e| vec![file.error(e.span(), "", format!("TOML: {}", e.message()))])?;
+        Ok(Self { root, key_spans })
+    }
+
+    /// Where the key `path` was written, if it was.
+    pub fn span(&self, path: &[String]) -> Option<Range<usize>> {
+        self.key_spans.get(path).cloned()
+    }
+
+    /// Where the deepest written key along `path` is (the key itself, else its closest parent table).
+    pub fn nearest_span(&self, path: &[String]) -> Option<Range<usize>> {
+        (1..=path.len()).rev().find_map(|n| self.span(&path[..n]))
+    }
+
+    /// The table at `key` of the root, if there is one.
+    pub fn section(&self, key: &str) -> Option<&toml::Value> {
+        self.root.get(key)
+    }
+}
+
+fn collect_spans(table: &DeTable<'_>, prefix: &mut KeyPath, spans: &mut HashMap<KeyPath, Range<usize>>) {
+    for (key, value) in table.iter() {
+        prefix.push(key.get_ref().to_string());
+        spans.entry(prefix.clone()).or_insert_with(|| key.span());
+        if let Some(inner) = value.get_ref().as_table() {
+            collect_spans(inner, prefix, spans);
+        }
+        prefix.pop();
+    }
+}
+
+/// Every non-table value and empty table under `table` with its key path (relative to `table`).
+pub(super) fn leaves(table: &toml::Table) -> Vec<(KeyPath, &toml::Value)> {
+    let mut out = Vec::new();
+    collect_leaves(table, &mut Vec::new(), &mut out);
+    out
+}
+
+fn collect_leaves<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Vec<(KeyPath, &'a toml::Value)>) {
+    for (key, value) in table {
+        prefix.push(key.clone());
+        match value.as_table() {
+            Some(inner) if !inner.is_empty() => collect_leaves(inner, prefix, out),
+            _ => out.push((prefix.clone(), value)),
+        }
+        prefix.pop();
+    }
+}
+
+/// Sets `path` in `table` to `value`, creating missing tables on the way.
+pub(super) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), String> {
+    let (last, parents) = path.split_last().ok_or("an empty key path")?;
+    let mut here = table;
+    for (depth, key) in parents.iter().enumerate() {
+        match here.entry(key.clone()).or_insert_with(|| toml::Value::Table(toml::Table::new())) {
+            toml::Value::Table(inner) => here = inner,
+            other => return Err(format!("{} is a {}, not a table", dotted(&path[..=depth]), other.type_str())),
+        }
+    }
+    here.insert(last.clone(), value);
+    Ok(())
+}
+
+/// A table holding only `value` at `path`.
+pub(super) fn tree_with(path: &[String], value: toml::Value) -> toml::Table {
+    let mut table = toml::Table::new();
+    set_path(&mut table, path, value).expect("a fresh table has no values in the way");
+    table
+}
+
+/// A key path as written in TOML: segments joined by dots, quoted where they are not bare keys.
+pub(super) fn dotted(path: &[String]) -> String {
+    path.iter().map(|k| quoted_key(k)).collect::<Vec<_>>().join(".")
+}
+
+/// A single key as written in TOML: bare when possible, else quoted.
+pub(super) fn quoted_key(key: &str) -> String {
+    let bare = !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare { key.to_string() } else { toml::Value::String(key.to_string()).to_string() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(text: &str) -> StudyFile {
+        StudyFile::new(Path::new("s.toml"), text.to_string())
+    }
+
+    #[test]
+    fn locate_gives_one_based_line_and_column() {
+        let f = file("a = 1\n\nbc = 2\n");
+        assert_eq!(f.locate(0), Location { line: 1, column: 1 });
+        assert_eq!(f.locate(7), Location { line: 3, column: 1 });
+        assert_eq!(f.locate(10), Location { line: 3, column: 4 });
+    }
+
+    #[test]
+    fn key_spans_cover_headers_dotted_keys_and_nesting() {
+        let f = file("name = \"x\"\n[scene.material]\nfriction = 0.3\n[sweep]\n\"material.beta\" = [1, 2]\n");
+        let doc = Document::parse(&f).unwrap();
+        let at =
+            |p: &[&str]| doc.span(&p.iter().map(|s| s.to_string()).collect::<Vec<_>>()).map(|s| f.locate(s.start).line);
+        assert_eq!(at(&["name"]), Some(1));
+        assert_eq!(at(&["scene", "material"]), Some(2));
+        assert_eq!(at(&["scene", "material", "friction"]), Some(3));
+        assert_eq!(at(&["sweep", "material.beta"]), Some(5));
+        let deeper: Vec<String> = ["scene", "material", "density"].iter().map(|s| s.to_string()).collect();
+        assert_eq!(doc.nearest_span(&deeper).map(|s| f.locate(s.start).line), Some(2));
+    }
+
+    #[test]
+    fn syntax_errors_are_located() {
+        let errors = Document::parse(&file("a = 1\nb = = 2\n")).err().unwrap();
+        assert_eq!(errors[0].location.map(|l| l.line), Some(2));
+        assert!(errors[0].reason.starts_with("TOML syntax"), "{}", errors[0].reason);
+    }
+
+    #[test]
+    fn set_path_creates_tables_and_refuses_to_descend_into_values() {
+        let mut t: toml::Table = toml::from_str("[material]\nfriction = 0.5\n").unwrap();
+        let path = |s: &str| s.split('.').map(String::from).collect::<Vec<_>>();
+        set_path(&mut t, &path("settle.hold_time"), toml::Value::Float(0.1)).unwrap();
+        assert_eq!(t["settle"]["hold_time"].as_float(), Some(0.1));
+        let err = set_path(&mut t, &path("material.friction.x"), toml::Value::Float(0.1)).unwrap_err();
+        assert_eq!(err, "material.friction is a float, not a table");
+        assert_eq!(dotted(&path("material.friction")), "material.friction");
+        assert_eq!(dotted(&["sweep".to_string(), "a.b".to_string()]), "sweep.\"a.b\"");
+    }
+}

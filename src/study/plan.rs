@@ -1,0 +1,332 @@
+//! From a parsed study to a [`Plan`]: the base scene with each run's swept values set, every run
+//! deserialized, validated and its placement tried, so that all problems surface before any run starts.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use serde::de::DeserializeOwned;
+
+use super::axes::{self, Axis, Sweep};
+use super::errors::{ErrorSink, StudyError, StudyErrors};
+use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv};
+use crate::physics::SceneConfig;
+use crate::physics::config::PlacementKind;
+use crate::physics::particles::InitialDisk;
+use crate::physics::placement;
+
+/// Keys allowed at the top of a study file.
+const TOP_LEVEL: [&str; 5] = ["name", "description", "scene", "sweep", "output"];
+
+/// Checks the whole study and expands it into runs; every problem is reported at once.
+pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyErrors> {
+    let mut sink = ErrorSink::default();
+    sink.extend(check_top_level(file, doc));
+    let (base, scene_errors) = split_leaves::<SceneConfig>(file, doc, "scene");
+    sink.extend(scene_errors);
+    let (output, output_errors) = split_leaves::<OutputOptions>(file, doc, "output");
+    sink.extend(output_errors);
+    let (sweep, sweep_errors) = axes::parse(doc, file);
+    sink.extend(sweep_errors);
+    sink.extend(sweep.axes.iter().flat_map(|axis| check_axis(file, &base, axis, sweep.replicates)));
+    if !sink.is_empty() {
+        sink.extend(check_base_scene(file, doc, &base));
+        return Err(sink.into_errors());
+    }
+    let mut planner = Planner::new(file, doc, &base, &sweep);
+    let runs = planner.expand(&mut sink);
+    let plan = Plan {
+        study_path: file.path.clone(),
+        study_text: file.text.clone(),
+        name: study_name(doc, &file.path),
+        fingerprint: fingerprint(&file.text),
+        output: toml::Value::Table(output).try_into().unwrap_or_default(),
+        runs,
+    };
+    sink.into_result(plan)
+}
+
+/// Unknown top-level keys, and sections or strings of the wrong type.
+fn check_top_level(file: &StudyFile, doc: &Document) -> Vec<StudyError> {
+    let mut errors = Vec::new();
+    for (key, value) in &doc.root {
+        let span = doc.span(std::slice::from_ref(key));
+        let wrong = match key.as_str() {
+            "name" | "description" if !value.is_str() => Some("must be a string"),
+            "scene" | "sweep" | "output" if !value.is_table() => Some("must be a table"),
+            k if !TOP_LEVEL.contains(&k) => {
+                Some("unknown key (a study has name, description, [scene], [sweep], [output])")
+            }
+            _ => None,
+        };
+        if let Some(reason) = wrong {
+            errors.push(file.error(span, dotted(std::slice::from_ref(key)), reason));
+        }
+    }
+    errors
+}
+
+/// Deserializes every value of `[section]` on its own into `T`, so that each unknown key and
+/// wrong type is reported (serde stops at the first). Returns the section without the bad values.
+fn split_leaves<T: DeserializeOwned>(
+    file: &StudyFile,
+    doc: &Document,
+    section: &str,
+) -> (toml::Table, Vec<StudyError>) {
+    let (mut valid, mut errors) = (toml::Table::new(), Vec::new());
+    let Some(table) = doc.section(section).and_then(|s| s.as_table()) else {
+        return (valid, errors);
+    };
+    for (path, value) in leaves(table) {
+        match toml::Value::Table(tree_with(&path, value.clone())).try_into::<T>() {
+            Ok(_) => set_path(&mut valid, &path, value.clone()).expect("leaves of a table do not collide"),
+            Err(e) => {
+                let full: KeyPath = std::iter::once(section.to_string()).chain(path).collect();
+                errors.push(file.error(doc.span(&full), dotted(&full), e.message()));
+            }
+        }
+    }
+    (valid, errors)
+}
+
+/// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
+fn check_base_scene(file: &StudyFile, doc: &Document, base: &toml::Table) -> Vec<StudyError> {
+    let no_sweep = Sweep::single();
+    let mut planner = Planner::new(file, doc, base, &no_sweep);
+    let errors = planner.plan_run(0, String::new()).err().unwrap_or_default();
+    errors.into_iter().map(|e| StudyError { run: None, runs_affected: 0, ..e }).collect()
+}
+
+/// An axis whose key cannot be set in the scene, whose values the scene rejects by type, or that
+/// clashes with `replicates`.
+fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usize) -> Vec<StudyError> {
+    let at = || file.error(Some(axis.span.clone()), axis.label(), "");
+    let with = |reason: String| StudyError { reason, ..at() };
+    if let Err(reason) = set_path(&mut base.clone(), &axis.path, axis.values[0].to_toml()) {
+        return vec![with(format!("cannot sweep this key: scene.{reason}"))];
+    }
+    if replicates > 1 && axis.key() == "placement.seed" {
+        return vec![with("replicates derive placement.seed; sweep either the seed or replicates, not both".into())];
+    }
+    let failures: Vec<(&ParamValue, String)> = axis
+        .values
+        .iter()
+        .filter_map(|v| {
+            let tree = toml::Value::Table(tree_with(&axis.path, v.to_toml()));
+            tree.try_into::<SceneConfig>().err().map(|e| (v, e.message().to_string()))
+        })
+        .collect();
+    if failures.len() == axis.values.len() && failures.iter().all(|(_, m)| *m == failures[0].1) {
+        return vec![with(failures[0].1.clone())];
+    }
+    failures.into_iter().map(|(v, reason)| with(reason).with_value(v.to_string())).collect()
+}
+
+fn study_name(doc: &Document, path: &Path) -> String {
+    match doc.section("name").and_then(|n| n.as_str()) {
+        Some(name) => name.to_string(),
+        None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+    }
+}
+
+/// FNV-1a 64 of the study text and the demsweep version, as 16 hex digits.
+fn fingerprint(text: &str) -> String {
+    let bytes = text.bytes().chain(std::iter::once(0)).chain(env!("CARGO_PKG_VERSION").bytes());
+    let hash = bytes.fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    format!("{hash:016x}")
+}
+
+/// Run ids `r0000`, `r0001`, ... zero-padded to the plan's size (at least 4 digits).
+pub(super) fn run_id(index: usize, runs: usize) -> String {
+    let width = runs.saturating_sub(1).to_string().len().max(4);
+    format!("r{index:0width$}")
+}
+
+/// Disks read from a placement file, or why they could not be read.
+type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
+
+/// Expands runs, caching what several runs share (placement files, placement trials).
+struct Planner<'a> {
+    file: &'a StudyFile,
+    doc: &'a Document,
+    base: &'a toml::Table,
+    sweep: &'a Sweep,
+    study_dir: PathBuf,
+    /// Placement files read so far, by path and default radius.
+    initial_files: HashMap<(PathBuf, u64), InitialStates>,
+    /// Placement trials so far, by the scene sections they depend on.
+    placements: HashMap<String, Option<(String, String)>>,
+}
+
+/// One run while it is being planned: its swept values, for locating problems.
+struct RunPoint<'a> {
+    id: String,
+    chosen: Vec<&'a ParamValue>,
+    replicates: bool,
+}
+
+impl<'a> Planner<'a> {
+    fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
+        let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self { file, doc, base, sweep, study_dir, initial_files: HashMap::new(), placements: HashMap::new() }
+    }
+
+    fn expand(&mut self, sink: &mut ErrorSink) -> Vec<PlannedRun> {
+        let count = self.sweep.run_count();
+        let mut runs = Vec::with_capacity(count);
+        for index in 0..count {
+            match self.plan_run(index, run_id(index, count)) {
+                Ok(run) => runs.push(run),
+                Err(errors) => sink.extend(errors),
+            }
+        }
+        runs
+    }
+
+    fn plan_run(&mut self, index: usize, id: String) -> Result<PlannedRun, Vec<StudyError>> {
+        let sweep = self.sweep;
+        let (chosen, replicate) = sweep.point(index);
+        let chosen: Vec<&ParamValue> = sweep.axes.iter().zip(&chosen).map(|(a, &k)| &a.values[k]).collect();
+        let point = RunPoint { id, chosen, replicates: sweep.replicates > 1 };
+        let mut scene = self.scene(&point)?;
+        let mut parameters: Vec<(String, ParamValue)> =
+            sweep.axes.iter().zip(&point.chosen).map(|(a, v)| (a.key(), (*v).clone())).collect();
+        if point.replicates {
+            let seed = scene.placement.seed.checked_add(replicate as u64).and_then(|s| i64::try_from(s).ok());
+            let seed =
+                seed.ok_or_else(|| vec![self.problem(&point, "placement.seed", "seed + replicate overflows".into())])?;
+            scene.placement.seed = seed as u64;
+            parameters.push(("placement.seed".into(), ParamValue::Int(seed)));
+        }
+        let initial = self.initial_states(&point, &mut scene)?;
+        self.check_scene(&point, &scene, initial.as_deref())?;
+        let estimated_cost = scene.particles.count as f64 * scene.total_steps() as f64;
+        Ok(PlannedRun { id: point.id, index, parameters, scene, initial, estimated_cost })
+    }
+
+    /// The base scene with this run's swept values set.
+    fn scene(&self, point: &RunPoint) -> Result<SceneConfig, Vec<StudyError>> {
+        let mut tree = self.base.clone();
+        for (axis, value) in self.sweep.axes.iter().zip(&point.chosen) {
+            set_path(&mut tree, &axis.path, value.to_toml()).expect("axes were checked against the base scene");
+        }
+        toml::Value::Table(tree).try_into::<SceneConfig>().map_err(|e| {
+            let span = self.doc.span(&["scene".to_string()]);
+            vec![self.file.error(span, "scene", e.message()).in_run(&point.id)]
+        })
+    }
+
+    /// A run's problem with scene key `key`: located at the axis that sets it, else in `[scene]`.
+    fn problem(&self, point: &RunPoint, key: &str, reason: String) -> StudyError {
+        let plain = key.split('[').next().unwrap_or(key);
+        let path: KeyPath = plain.split('.').map(String::from).collect();
+        let swept = self.sweep.axes.iter().zip(&point.chosen).find(|(a, _)| a.path == path);
+        let error = match swept {
+            Some((axis, value)) => {
+                self.file.error(Some(axis.span.clone()), axis.label(), reason).with_value(value.to_string())
+            }
+            None if point.replicates && plain == "placement.seed" => {
+                self.file.error(self.sweep.replicates_span.clone(), "sweep.replicates", reason)
+            }
+            None => {
+                let full: KeyPath = std::iter::once("scene".to_string()).chain(path).collect();
+                self.file.error(self.doc.nearest_span(&full), format!("scene.{key}"), reason)
+            }
+        };
+        error.in_run(&point.id)
+    }
+
+    /// File placement: the disks read from `placement.file` (relative to the study's folder);
+    /// sets `particles.count` to their number.
+    fn initial_states(
+        &mut self,
+        point: &RunPoint,
+        scene: &mut SceneConfig,
+    ) -> Result<Option<Arc<Vec<InitialDisk>>>, Vec<StudyError>> {
+        let (PlacementKind::File, Some(name)) = (scene.placement.kind, &scene.placement.file) else {
+            return Ok(None);
+        };
+        let path = self.study_dir.join(name);
+        let radius = scene.particles.radius;
+        let disks = self
+            .initial_files
+            .entry((path.clone(), radius.to_bits()))
+            .or_insert_with(|| initial_csv::read(&path, radius).map(Arc::new))
+            .clone()
+            .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
+        scene.particles.count = disks.len();
+        Ok(Some(disks))
+    }
+
+    /// Validation, then (for valid scenes) whether the disks fit: placement is tried once per
+    /// distinct domain/particles/placement, and file disks must lie inside the box.
+    fn check_scene(
+        &mut self,
+        point: &RunPoint,
+        scene: &SceneConfig,
+        initial: Option<&Vec<InitialDisk>>,
+    ) -> Result<(), Vec<StudyError>> {
+        if let Err(issues) = scene.validate() {
+            return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
+        }
+        let failure = match initial {
+            Some(disks) => outside_box(scene, disks).map(|reason| ("placement.file".to_string(), reason)),
+            None => self.try_placement(scene),
+        };
+        match failure {
+            Some((key, reason)) => Err(vec![self.problem(point, &key, reason)]),
+            None => Ok(()),
+        }
+    }
+
+    /// The placement error (key, reason) of a generated placement, if any; computed once per setup.
+    fn try_placement(&mut self, scene: &SceneConfig) -> Option<(String, String)> {
+        let setup = serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default();
+        let outcome = self.placements.entry(setup).or_insert_with(|| match placement::generate(scene) {
+            Ok(disks) if disks.is_empty() => {
+                Some(("particles.count".into(), "a scene needs at least one disk, got 0".into()))
+            }
+            Ok(_) => None,
+            Err(e) => Some((e.key, e.reason)),
+        });
+        outcome.clone()
+    }
+}
+
+/// The first file disk that crosses a wall, in words.
+fn outside_box(scene: &SceneConfig, disks: &[InitialDisk]) -> Option<String> {
+    let d = &scene.domain;
+    let inside = |k: &InitialDisk| {
+        k.x - k.r >= 0.0 && k.x + k.r <= d.width && k.y - k.r >= 0.0 && (!d.lid || k.y + k.r <= d.height)
+    };
+    let (i, bad) = disks.iter().enumerate().find(|(_, k)| !inside(k))?;
+    Some(format!(
+        "disk {} (x = {}, y = {}, r = {}) is not inside the box (domain.width = {} m{})",
+        i + 1,
+        bad.x,
+        bad.y,
+        bad.r,
+        d.width,
+        if d.lid { format!(", lid at {} m", d.height) } else { String::new() }
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_ids_are_padded_to_the_plan_size() {
+        assert_eq!(run_id(7, 12), "r0007");
+        assert_eq!(run_id(0, 10_000), "r0000");
+        assert_eq!(run_id(12_345, 100_001), "r012345");
+    }
+
+    #[test]
+    fn fingerprint_depends_on_the_text() {
+        assert_eq!(fingerprint("a = 1"), fingerprint("a = 1"));
+        assert_ne!(fingerprint("a = 1"), fingerprint("a = 2"));
+        assert_eq!(fingerprint("").len(), 16);
+    }
+}

@@ -1,0 +1,130 @@
+//! Whole depositions: energy conservation and balance, broad phase equivalence, determinism, and
+//! the paper's Table 1 preset.
+
+mod common;
+
+use common::*;
+use demsweep::physics::config::{BroadPhaseKind, IntegratorKind, SceneConfig};
+use demsweep::physics::record::{RunRecord, RunStatus};
+use demsweep::physics::simulation::{Control, run_scene};
+
+fn run(scene: &SceneConfig, disks: Option<Vec<demsweep::physics::particles::InitialDisk>>) -> RunRecord {
+    run_scene(scene, disks, &mut |_| Control::Continue).unwrap()
+}
+
+/// 40 disks dropped in a 0.2 m box, no damping, no friction.
+fn undamped_deposition(scheme: IntegratorKind, dt: f64) -> RunRecord {
+    let mut s = SceneConfig::default();
+    s.domain.width = 0.2;
+    s.domain.height = 0.2;
+    s.particles.count = 40;
+    s.material.youngs_modulus = 1e8;
+    s.material.beta = Some(0.0);
+    s.material.friction = 0.0;
+    s.integrator.scheme = scheme;
+    s.integrator.time_step = dt;
+    s.run.duration = 0.25;
+    s.run.sample_interval = 1e-3;
+    s.run.stop_at_settle = false;
+    run(&s, None)
+}
+
+#[test]
+fn undamped_frictionless_deposition_conserves_energy_at_second_order() {
+    for scheme in SCHEMES {
+        let drifts: Vec<f64> = [4e-5, 2e-5, 1e-5]
+            .iter()
+            .map(|dt| {
+                let rec = undamped_deposition(scheme, *dt);
+                assert_eq!(rec.status, RunStatus::NotSettled, "{:?}", rec.message);
+                let e = &rec.history.mechanical;
+                let contacts: u32 = rec.history.contacts.iter().sum();
+                assert!(contacts > 100, "the disks must collide");
+                e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / e[0]
+            })
+            .collect();
+        let ratios: Vec<f64> = drifts.windows(2).map(|w| w[0] / w[1]).collect();
+        println!("{scheme:?}: largest relative energy drift {drifts:?}, ratios per halving {ratios:?}");
+        assert!(drifts[0] < 1e-3, "{drifts:?}");
+        assert!(ratios.iter().all(|r| *r > 3.0), "{scheme:?}: drift ratios {ratios:?}");
+    }
+}
+
+#[test]
+fn damped_frictional_deposition_balances_energy() {
+    for scheme in SCHEMES {
+        let mut scene = reference_scene();
+        scene.integrator.scheme = scheme;
+        scene.material.rolling_friction = 0.1;
+        scene.run.duration = 0.4;
+        let rec = run(&scene, Some(reference_disks()));
+        let h = &rec.history;
+        let initial = h.mechanical[0];
+        let worst = (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - initial).abs()).fold(0.0, f64::max);
+        let dissipated = *h.dissipated.last().unwrap();
+        println!(
+            "{scheme:?}: dissipated {dissipated:.3} J, largest balance error {worst:.3e} J of initial {initial:.3} J"
+        );
+        assert!(dissipated > 0.3 * initial, "most energy must be dissipated: {dissipated}");
+        assert!(worst < 0.01 * initial && worst < 0.01 * dissipated);
+        assert!(h.kinetic_rotational.iter().any(|k| *k > 0.0), "friction must spin disks");
+    }
+}
+
+#[test]
+fn grid_and_all_pairs_give_identical_trajectories() {
+    let mut scene = reference_scene();
+    scene.run.duration = 0.3;
+    let grid = run(&scene, Some(reference_disks()));
+    scene.neighbors.broad_phase = BroadPhaseKind::AllPairs;
+    let brute = run(&scene, Some(reference_disks()));
+    assert!(grid.history.contacts.last().unwrap() > &200);
+    for (a, b) in [(&grid.final_state.x, &brute.final_state.x), (&grid.final_state.vy, &brute.final_state.vy)] {
+        assert_eq!(bits(a), bits(b));
+    }
+    assert_eq!(bits(&grid.history.unbalanced_force_ratio), bits(&brute.history.unbalanced_force_ratio));
+}
+
+#[test]
+fn same_scene_and_seed_give_bit_identical_runs() {
+    let mut scene = SceneConfig::default();
+    scene.particles.count = 120;
+    scene.particles.radius_max = Some(0.015);
+    scene.run.duration = 0.2;
+    let (a, b) = (run(&scene, None), run(&scene, None));
+    let s = |r: &RunRecord| {
+        let f = &r.final_state;
+        [&f.x, &f.y, &f.vx, &f.vy, &f.omega, &f.r, &r.history.mechanical, &r.history.unbalanced_force_ratio]
+            .map(|v| bits(v))
+    };
+    assert_eq!(s(&a), s(&b));
+    scene.placement.seed += 1;
+    assert_ne!(bits(&run(&scene, None).final_state.x), bits(&a.final_state.x));
+}
+
+#[test]
+fn paper_table1_runs_to_the_end_and_flags_the_overlap() {
+    let mut s = SceneConfig::default();
+    s.material.youngs_modulus = 20000.0;
+    s.material.shear_modulus = Some(20000.0);
+    s.material.beta = Some(10.0);
+    s.material.friction = 0.5;
+    s.material.rolling_friction = 0.5;
+    s.integrator.time_step = 1e-4;
+    s.run.duration = 3.0;
+    s.run.stop_at_settle = false;
+    s.limits.max_overlap_ratio = 10.0;
+    let rec = run(&s, None);
+    assert_ne!(rec.status, RunStatus::Diverged, "{:?}", rec.message);
+    assert!((rec.simulated_time - 3.0).abs() < 1e-9);
+    let worst = rec.history.max_overlap_ratio.iter().cloned().fold(0.0, f64::max);
+    println!("largest overlap {worst:.3} radii; warnings:\n{}", rec.warnings.join("\n"));
+    assert!(worst > 1.0);
+    assert!(rec.warnings.iter().any(|w| w.contains("largest overlap") && w.contains("radii")));
+    assert!(rec.stability.warnings.iter().any(|w| w.contains("too soft")));
+    // With the default limit the same scene is stopped as diverged, with the reason.
+    s.limits = Default::default();
+    let stopped = run(&s, None);
+    assert_eq!(stopped.status, RunStatus::Diverged);
+    assert!(stopped.message.unwrap().contains("limits.max_overlap_ratio"));
+}

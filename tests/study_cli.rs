@@ -1,0 +1,71 @@
+//! `demsweep check` and `demsweep plan` as a user runs them.
+
+mod study_support;
+
+use std::process::{Command, Output};
+
+use study_support::{SMALL_SCENE, StudyDir};
+
+fn demsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn check_accepts_a_valid_study() {
+    let dir = StudyDir::new("cli-ok");
+    let study = dir.write("ok.toml", &format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.3, 0.5, 0.7]\n"));
+    let out = demsweep(&["check", study.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "ok: 4 runs\n");
+}
+
+#[test]
+fn check_reports_every_problem_and_exits_2() {
+    let dir = StudyDir::new("cli-bad");
+    let bad = "[scene]\nparticles.count = 20\nintegrator.time_step = -1e-5\n[sweep]\n\"material.friction\" = []\n";
+    let study = dir.write("bad.toml", bad);
+    let out = demsweep(&["check", study.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+    let stderr = text(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 3, "{stderr}");
+    assert!(
+        lines[0].ends_with("bad.toml:3:12: scene.integrator.time_step: must be a finite number > 0, got -0.00001"),
+        "{stderr}"
+    );
+    assert!(lines[1].ends_with("bad.toml:5:1: sweep.\"material.friction\": an axis needs at least one value, got []"));
+    assert!(lines[2].ends_with("bad.toml: 2 problem(s); nothing was run"));
+}
+
+#[test]
+fn plan_lists_runs_parameters_and_cost() {
+    let dir = StudyDir::new("cli-plan");
+    let study = dir.write("p.toml", &format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.5]\n"));
+    let out = demsweep(&["plan", study.to_str().unwrap(), "--cores", "2"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].starts_with("study p ("), "{stdout}");
+    assert!(lines[0].ends_with(", 2 runs"));
+    let header: Vec<&str> = lines[1].split_whitespace().collect();
+    assert_eq!(header, ["id", "material.friction", "disks", "steps", "particle-steps"]);
+    assert_eq!(lines[3].split_whitespace().collect::<Vec<_>>(), ["r0001", "0.5", "20", "1000", "2.000e4"]);
+    assert!(lines[4].starts_with("total 4.000e4 particle-steps"), "{stdout}");
+    assert!(lines[4].ends_with("on 2 cores"), "{stdout}");
+}
+
+#[test]
+fn every_command_explains_itself_with_an_example() {
+    for args in [&["--help"][..], &["check", "--help"], &["plan", "--help"]] {
+        let out = demsweep(args);
+        assert_eq!(out.status.code(), Some(0));
+        let help = text(&out.stdout);
+        assert!(help.contains("Example"), "{args:?}: {help}");
+        assert!(help.contains("demsweep"), "{args:?}: {help}");
+    }
+}

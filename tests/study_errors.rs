@@ -1,0 +1,202 @@
+//! Malformed studies: each problem is reported with its file, line, key and reason, all at once.
+
+mod study_support;
+
+use std::path::Path;
+
+use demsweep::study;
+use study_support::{SMALL_SCENE, StudyDir, errors, errors_at, single_error};
+
+/// SMALL_SCENE takes lines 1-4; a `[sweep]` header written after it is line 5.
+const SWEEP_LINE: usize = 6;
+
+fn sweep(name: &str, axes: &str) -> study::StudyError {
+    let text = format!("{SMALL_SCENE}[sweep]\n{axes}\n");
+    let key = format!("sweep.{}", axes.split(" =").next().unwrap());
+    single_error(name, &text, SWEEP_LINE, &key)
+}
+
+#[test]
+fn unreadable_study_file() {
+    let errors = errors_at(Path::new("/nonexistent/nothing.toml"));
+    assert_eq!(errors.len(), 1);
+    assert!(
+        errors[0].to_string().starts_with("/nonexistent/nothing.toml: cannot read the study file"),
+        "{}",
+        errors[0]
+    );
+}
+
+#[test]
+fn toml_syntax_error_names_the_line() {
+    let e = &errors("syntax", "[scene]\nparticles.count = 20\nrun.duration = = 1\n")[0];
+    assert_eq!(e.location.map(|l| l.line), Some(3));
+    assert!(e.reason.starts_with("TOML syntax"), "{e}");
+}
+
+#[test]
+fn unknown_scene_key() {
+    let e = single_error(
+        "unknown",
+        "[scene]\nparticles.count = 20\n\n[scene.material]\npoison_ratio = 0.3\n",
+        5,
+        "scene.material.poison_ratio",
+    );
+    assert!(e.reason.starts_with("unknown field `poison_ratio`, expected one of"), "{e}");
+    assert!(e.to_string().contains("unknown.toml:5:1: scene.material.poison_ratio: unknown field"), "{e}");
+}
+
+#[test]
+fn wrong_type_names_the_expected_one() {
+    let e = single_error("type", "[scene]\nparticles.count = \"many\"\n", 2, "scene.particles.count");
+    assert!(e.reason.contains("invalid type: string \"many\""), "{e}");
+    assert_eq!(e.location.unwrap().column, 11, "points at `count` in `particles.count`");
+}
+
+#[test]
+fn non_positive_time_step() {
+    let e = single_error(
+        "dt",
+        "[scene]\nparticles.count = 20\nintegrator.time_step = 0.0\n",
+        3,
+        "scene.integrator.time_step",
+    );
+    assert_eq!(e.reason, "must be a finite number > 0, got 0");
+}
+
+#[test]
+fn swept_poisson_ratio_outside_its_range_names_value_and_run() {
+    let text =
+        format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.5]\n\"material.poisson_ratio\" = [0.3, 0.7]\n");
+    let e = single_error("nu", &text, 7, "sweep.\"material.poisson_ratio\"");
+    assert_eq!((e.value.as_deref(), e.run.as_deref(), e.runs_affected), (Some("0.7"), Some("r0001"), 2));
+    assert!(e.to_string().ends_with(
+        "nu.toml:7:1: sweep.\"material.poisson_ratio\": value 0.7 (run r0001 and 1 more runs): \
+         Poisson's ratio must lie in (-1, 0.5], got 0.7"
+    ));
+}
+
+#[test]
+fn disks_that_cannot_fit_are_caught_before_running() {
+    let text = "[scene]\nparticles.count = 3000\nplacement.max_attempts = 50\n";
+    let e = single_error("jam", text, 2, "scene.particles.count");
+    assert!(e.reason.starts_with("random placement fit only"), "{e}");
+    let lattice = "[scene]\nparticles.count = 3000\nplacement.kind = \"lattice\"\n";
+    assert!(single_error("lattice", lattice, 2, "scene.particles.count").reason.contains("the lattice fits only"));
+}
+
+#[test]
+fn zero_disks() {
+    let e = single_error("zero", "[scene]\nparticles.count = 0\n", 2, "scene.particles.count");
+    assert_eq!(e.reason, "a scene needs at least one disk, got 0");
+}
+
+#[test]
+fn malformed_axes() {
+    assert!(sweep("empty", "\"material.friction\" = []").reason.contains("at least one value"));
+    assert!(
+        sweep("logzero", "\"material.beta\" = { log = [0.0, 10.0], steps = 3 }").reason.contains("ends must be > 0")
+    );
+    assert!(sweep("steps0", "\"material.beta\" = { linear = [1, 2], steps = 0 }").reason.contains("at least 1, got 0"));
+    assert!(
+        sweep("steps1", "\"material.beta\" = { linear = [1, 2], steps = 1 }").reason.contains("ends 1 and 2 differ")
+    );
+    assert!(sweep("scalar", "\"material.beta\" = 0.5").reason.contains("got a single float"));
+    assert!(sweep("nested", "\"material.beta\" = [[1, 2]]").reason.contains("found an array"));
+}
+
+#[test]
+fn sweeping_an_unknown_key_is_reported_on_the_axis_line() {
+    let e = sweep("unknownaxis", "\"material.stiffness\" = [1.0, 2.0]");
+    assert!(e.reason.starts_with("unknown field `stiffness`"), "{e}");
+    assert_eq!(e.value, None, "one report for the axis, not one per value");
+    let floats = format!("{SMALL_SCENE}[sweep]\n\"particles.count\" = {{ linear = [10, 20], steps = 3 }}\n");
+    let per_value = errors("axistype", &floats);
+    let values: Vec<Option<&str>> = per_value.iter().map(|e| e.value.as_deref()).collect();
+    assert_eq!(values, [Some("10.0"), Some("15.0"), Some("20.0")]);
+    assert!(per_value[1].reason.starts_with("invalid type: floating point `15.0`, expected usize"), "{}", per_value[1]);
+    let into_value = sweep("intovalue", "\"material.friction.x\" = [1.0]");
+    assert_eq!(into_value.reason, "invalid type: map, expected f64");
+    let set = format!("{SMALL_SCENE}material.friction = 0.5\n[sweep]\n\"material.friction.x\" = [1.0]\n");
+    let e = single_error("intoset", &set, 7, "sweep.\"material.friction.x\"");
+    assert_eq!(e.reason, "cannot sweep this key: scene.material.friction is a float, not a table");
+}
+
+#[test]
+fn zip_groups_must_match() {
+    let axes = "\"material.friction\" = [0.1, 0.2]\n\"material.beta\" = [1.0, 2.0, 3.0]\nzip = [\"material.friction\", \"material.beta\"]";
+    let e = single_error("ziplen", &format!("{SMALL_SCENE}[sweep]\n{axes}\n"), 8, "sweep.zip");
+    assert_eq!(e.reason, "zipped axes must have equal lengths: material.friction has 2, material.beta has 3");
+    let unknown = "\"material.friction\" = [0.1]\nzip = [\"material.friction\", \"material.density\"]";
+    let e = single_error("zipname", &format!("{SMALL_SCENE}[sweep]\n{unknown}\n"), 7, "sweep.zip");
+    assert_eq!(e.reason, "\"material.density\" is not a sweep axis");
+}
+
+#[test]
+fn duplicate_axes_and_replicates_clashing_with_a_seed_axis() {
+    let twice = format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1]\nmaterial.friction = [0.2]\n");
+    let e = single_error("dup", &twice, 7, "sweep.\"material.friction\"");
+    assert_eq!(e.reason, "swept twice (also on line 6)");
+    let seeds = format!("{SMALL_SCENE}[sweep]\n\"placement.seed\" = [1, 2]\nreplicates = 2\n");
+    assert!(single_error("seedrep", &seeds, 6, "sweep.\"placement.seed\"").reason.contains("not both"));
+}
+
+#[test]
+fn unknown_top_level_key_and_bad_output() {
+    let e = single_error("top", "[scene]\nparticles.count = 20\n[sweeps]\na = [1]\n", 3, "sweeps");
+    assert!(e.reason.starts_with("unknown key"), "{e}");
+    let e = single_error("output", "[scene]\nparticles.count = 20\n[output]\nframe = false\n", 4, "output.frame");
+    assert!(e.reason.starts_with("unknown field `frame`"), "{e}");
+}
+
+#[test]
+fn placement_file_problems_name_the_csv_line_and_column() {
+    let dir = StudyDir::new("csverr");
+    let text = "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\n";
+    let study = dir.write("s.toml", text);
+    let missing = errors_at(&study);
+    assert_eq!((missing.len(), missing[0].key.as_str()), (1, "scene.placement.file"));
+    assert_eq!(missing[0].location.map(|l| l.line), Some(3));
+    assert!(missing[0].reason.contains("init.csv: cannot read"), "{}", missing[0]);
+    dir.write("init.csv", "x,y,vx\n0.1,0.1,0\n0.2,0.1,abc\n");
+    let bad = &errors_at(&study)[0];
+    assert!(bad.reason.ends_with("init.csv: line 3, column 3 (vx): \"abc\" is not a number"), "{bad}");
+    dir.write("init.csv", "x,y\n");
+    assert!(errors_at(&study)[0].reason.ends_with("line 1: the file has a header but no disks"));
+    dir.write("init.csv", "x,y\n0.1,0.1\n0.5,0.1\n");
+    assert!(errors_at(&study)[0].reason.starts_with("disk 2 (x = 0.5, y = 0.1, r = 0.01) is not inside the box"));
+}
+
+#[test]
+fn all_problems_at_once_sorted_by_line() {
+    let text = "colour = \"red\"\n[scene]\nparticles.count = 20\nmaterial.density = -1.0\nmaterial.wobble = 1\n\
+                [sweep]\n\"material.friction\" = []\n\"run.duration\" = { log = [0, 1], steps = 2 }\n";
+    let errors = errors("many", text);
+    let found: Vec<(usize, &str)> = errors.iter().map(|e| (e.location.unwrap().line, e.key.as_str())).collect();
+    assert_eq!(
+        found,
+        [
+            (1, "colour"),
+            (4, "scene.material.density"),
+            (5, "scene.material.wobble"),
+            (7, "sweep.\"material.friction\""),
+            (8, "sweep.\"run.duration\"")
+        ]
+    );
+    let shown = study::StudyErrors(errors).to_string();
+    assert_eq!(shown.lines().count(), 5);
+}
+
+#[test]
+fn a_base_scene_problem_is_reported_once_for_all_runs() {
+    let text =
+        "[scene]\nparticles.count = 20\nsettle.hold_time = -1.0\n[sweep]\n\"material.friction\" = [0.1, 0.2, 0.3]\n";
+    let e = single_error("shared", text, 3, "scene.settle.hold_time");
+    assert_eq!((e.run.as_deref(), e.runs_affected), (Some("r0000"), 3));
+}
+
+#[test]
+fn an_empty_table_with_a_misspelt_name_is_not_ignored() {
+    let e = single_error("emptytable", "[scene]\nparticles.count = 20\n[scene.materail]\n", 3, "scene.materail");
+    assert!(e.reason.starts_with("unknown field `materail`"), "{e}");
+}
