@@ -132,7 +132,8 @@ impl NeighborList {
         for i in 0..p.len() {
             for (w, wall) in walls.walls.iter().enumerate() {
                 // NaN positions are kept as candidates, so a diverging disk is still seen.
-                if !(wall.overlap(p.x[i], p.y[i], p.r[i]) <= -self.skin) {
+                let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+                if overlap > -self.skin || overlap.is_nan() {
                     self.fresh_walls.push(WallPair { i: i as u32, wall: w as u32, spring: 0.0 });
                 }
             }
