@@ -202,9 +202,11 @@ impl<L: ContactLaw> Simulation<L> {
     fn contact_power(&self) -> f64 {
         let p = &self.particles;
         let g = self.scene.gravity;
+        let n = p.len();
+        let (fx, fy, vx, vy, mass) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n], &p.mass[..n]);
         let mut power = 0.0;
-        for i in 0..p.len() {
-            power += (p.fx[i] - p.mass[i] * g[0]) * p.vx[i] + (p.fy[i] - p.mass[i] * g[1]) * p.vy[i];
+        for i in 0..n {
+            power += (fx[i] - mass[i] * g[0]) * vx[i] + (fy[i] - mass[i] * g[1]) * vy[i];
         }
         if self.rotation {
             power += p.torque.iter().zip(&p.omega).map(|(t, w)| t * w).sum::<f64>();
@@ -216,18 +218,18 @@ impl<L: ContactLaw> Simulation<L> {
     /// contact sums and per-disk contact force magnitudes.
     fn compute_forces<const SAMPLE: bool>(&mut self) {
         let g = self.scene.gravity;
-        let p = &mut self.particles;
-        for i in 0..p.len() {
-            p.fx[i] = p.mass[i] * g[0];
-            p.fy[i] = p.mass[i] * g[1];
+        let (s, f) = self.particles.split();
+        for (i, m) in s.mass.iter().enumerate() {
+            f.fx[i] = m * g[0];
+            f.fy[i] = m * g[1];
             if self.rotation {
-                p.torque[i] = 0.0;
+                f.torque[i] = 0.0;
             }
             if self.rolling_resistance {
-                p.rolling[i] = 0.0;
+                f.rolling[i] = 0.0;
             }
             if SAMPLE {
-                p.contact_force[i] = 0.0;
+                f.contact_force[i] = 0.0;
             }
         }
         if SAMPLE {
