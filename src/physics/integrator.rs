@@ -45,9 +45,11 @@ impl Integrator {
             }
             Integrator::VelocityVerlet => {
                 kick(p, 0.5 * dt, rotation);
-                for i in 0..p.len() {
-                    p.x[i] += p.vx[i] * dt;
-                    p.y[i] += p.vy[i] * dt;
+                for (x, vx) in p.x.iter_mut().zip(&p.vx) {
+                    *x += vx * dt;
+                }
+                for (y, vy) in p.y.iter_mut().zip(&p.vy) {
+                    *y += vy * dt;
                 }
             }
         }
@@ -72,35 +74,45 @@ fn first_step_history(p: &Particles, rotation: bool) -> Accelerations {
 
 fn adams_step(p: &mut Particles, prev: &mut Accelerations, dt: f64, rotation: bool) {
     let h = 0.5 * dt;
-    for i in 0..p.len() {
-        let ax = p.fx[i] * p.inv_mass[i];
-        let ay = p.fy[i] * p.inv_mass[i];
-        let vx = p.vx[i] + (3.0 * ax - prev.ax[i]) * h;
-        let vy = p.vy[i] + (3.0 * ay - prev.ay[i]) * h;
-        p.x[i] += (p.vx[i] + vx) * h;
-        p.y[i] += (p.vy[i] + vy) * h;
-        p.vx[i] = vx;
-        p.vy[i] = vy;
-        prev.ax[i] = ax;
-        prev.ay[i] = ay;
+    let n = p.len();
+    // Equal-length slices: no bounds checks, and the loop vectorises.
+    let (x, y, vx, vy) = (&mut p.x[..n], &mut p.y[..n], &mut p.vx[..n], &mut p.vy[..n]);
+    let (fx, fy, inv_mass) = (&p.fx[..n], &p.fy[..n], &p.inv_mass[..n]);
+    let (prev_ax, prev_ay) = (&mut prev.ax[..n], &mut prev.ay[..n]);
+    for i in 0..n {
+        let ax = fx[i] * inv_mass[i];
+        let ay = fy[i] * inv_mass[i];
+        let new_vx = vx[i] + (3.0 * ax - prev_ax[i]) * h;
+        let new_vy = vy[i] + (3.0 * ay - prev_ay[i]) * h;
+        x[i] += (vx[i] + new_vx) * h;
+        y[i] += (vy[i] + new_vy) * h;
+        vx[i] = new_vx;
+        vy[i] = new_vy;
+        prev_ax[i] = ax;
+        prev_ay[i] = ay;
     }
     if rotation {
-        for i in 0..p.len() {
-            let alpha = p.torque[i] * p.inv_inertia[i];
-            p.omega[i] += (3.0 * alpha - prev.alpha[i]) * h;
-            prev.alpha[i] = alpha;
+        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &p.torque[..n], &p.inv_inertia[..n]);
+        let prev_alpha = &mut prev.alpha[..n];
+        for i in 0..n {
+            let alpha = torque[i] * inv_inertia[i];
+            omega[i] += (3.0 * alpha - prev_alpha[i]) * h;
+            prev_alpha[i] = alpha;
         }
     }
 }
 
 fn kick(p: &mut Particles, h: f64, rotation: bool) {
-    for i in 0..p.len() {
-        p.vx[i] += p.fx[i] * p.inv_mass[i] * h;
-        p.vy[i] += p.fy[i] * p.inv_mass[i] * h;
+    let n = p.len();
+    let (vx, vy, fx, fy, inv_mass) = (&mut p.vx[..n], &mut p.vy[..n], &p.fx[..n], &p.fy[..n], &p.inv_mass[..n]);
+    for i in 0..n {
+        vx[i] += fx[i] * inv_mass[i] * h;
+        vy[i] += fy[i] * inv_mass[i] * h;
     }
     if rotation {
-        for i in 0..p.len() {
-            p.omega[i] += p.torque[i] * p.inv_inertia[i] * h;
+        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &p.torque[..n], &p.inv_inertia[..n]);
+        for i in 0..n {
+            omega[i] += torque[i] * inv_inertia[i] * h;
         }
     }
 }

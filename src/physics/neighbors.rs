@@ -1,5 +1,5 @@
 //! Who may touch whom: a Verlet neighbour list built by a cell grid (or all pairs, for tests),
-//! carrying each pair's tangential spring from one build to the next.
+//! plus the disks near walls, carrying each contact's tangential spring from one build to the next.
 //!
 //! The list holds every pair closer than `r_i + r_j + skin` and is rebuilt once any disk has moved
 //! more than half the skin since the last build, so no contact is missed in between. Pairs are kept
@@ -9,6 +9,7 @@
 use super::config::BroadPhaseKind;
 use super::material::{effective_mass, effective_radius};
 use super::particles::Particles;
+use super::walls::BoxWalls;
 
 /// A pair `i < j` that may be in contact, with its tangential spring ξ (m) and its effective
 /// radius and mass (computed once per build, not once per step).
@@ -38,12 +39,50 @@ impl NeighborPair {
     }
 }
 
+/// A disk that may touch a wall, with its tangential spring ξ (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallPair {
+    /// The disk.
+    pub i: u32,
+    /// Index of the wall in [`BoxWalls::walls`].
+    pub wall: u32,
+    /// Accumulated tangential displacement ξ; zero while not in contact.
+    pub spring: f64,
+}
+
+/// A list entry with a sort key and a tangential spring to carry over rebuilds.
+trait Carried: Copy {
+    fn key(&self) -> (u32, u32);
+    fn spring_mut(&mut self) -> &mut f64;
+}
+
+impl Carried for NeighborPair {
+    fn key(&self) -> (u32, u32) {
+        (self.i, self.j)
+    }
+    fn spring_mut(&mut self) -> &mut f64 {
+        &mut self.spring
+    }
+}
+
+impl Carried for WallPair {
+    fn key(&self) -> (u32, u32) {
+        (self.i, self.wall)
+    }
+    fn spring_mut(&mut self) -> &mut f64 {
+        &mut self.spring
+    }
+}
+
 /// Verlet list with its build state.
 #[derive(Clone, Debug)]
 pub struct NeighborList {
     /// Candidate pairs, sorted by `(i, j)`.
     pub pairs: Vec<NeighborPair>,
+    /// Candidate disk-wall contacts, sorted by `(i, wall)`.
+    pub wall_pairs: Vec<WallPair>,
     fresh: Vec<NeighborPair>,
+    fresh_walls: Vec<WallPair>,
     x_ref: Vec<f64>,
     y_ref: Vec<f64>,
     skin: f64,
@@ -58,7 +97,9 @@ impl NeighborList {
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {
         Self {
             pairs: Vec::new(),
+            wall_pairs: Vec::new(),
             fresh: Vec::new(),
+            fresh_walls: Vec::new(),
             x_ref: Vec::new(),
             y_ref: Vec::new(),
             skin,
@@ -78,8 +119,8 @@ impl NeighborList {
         })
     }
 
-    /// Rebuilds the list from the current positions, keeping springs of surviving pairs.
-    pub fn rebuild(&mut self, p: &Particles) {
+    /// Rebuilds the lists from the current positions, keeping springs of surviving pairs.
+    pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls) {
         self.fresh.clear();
         match self.broad_phase {
             BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.fresh),
@@ -87,6 +128,18 @@ impl NeighborList {
         }
         carry_springs(&self.pairs, &mut self.fresh);
         std::mem::swap(&mut self.pairs, &mut self.fresh);
+        self.fresh_walls.clear();
+        for i in 0..p.len() {
+            for (w, wall) in walls.walls.iter().enumerate() {
+                // NaN positions are kept as candidates, so a diverging disk is still seen.
+                let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+                if overlap > -self.skin || overlap.is_nan() {
+                    self.fresh_walls.push(WallPair { i: i as u32, wall: w as u32, spring: 0.0 });
+                }
+            }
+        }
+        carry_springs(&self.wall_pairs, &mut self.fresh_walls);
+        std::mem::swap(&mut self.wall_pairs, &mut self.fresh_walls);
         self.x_ref.clone_from(&p.x);
         self.y_ref.clone_from(&p.y);
         self.builds += 1;
@@ -110,15 +163,16 @@ fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
     }
 }
 
-/// Copies springs from the old sorted list into the new sorted list where the pair survives.
-fn carry_springs(old: &[NeighborPair], new: &mut [NeighborPair]) {
+/// Copies springs from the old sorted list into the new sorted list where the entry survives.
+fn carry_springs<T: Carried>(old: &[T], new: &mut [T]) {
     let mut k = 0;
-    for pair in new.iter_mut() {
-        while k < old.len() && (old[k].i, old[k].j) < (pair.i, pair.j) {
+    for entry in new.iter_mut() {
+        while k < old.len() && old[k].key() < entry.key() {
             k += 1;
         }
-        if k < old.len() && (old[k].i, old[k].j) == (pair.i, pair.j) {
-            pair.spring = old[k].spring;
+        if k < old.len() && old[k].key() == entry.key() {
+            let mut survivor = old[k];
+            *entry.spring_mut() = *survivor.spring_mut();
         }
     }
 }
@@ -211,10 +265,13 @@ mod tests {
         scene.particles.radius_max = Some(0.015);
         let disks = placement::generate(&scene).unwrap();
         let p = Particles::new(&disks, 1000.0, 1.0);
+        let walls = BoxWalls::new(&scene.domain);
         let mut grid = NeighborList::new(BroadPhaseKind::Grid, 0.006);
         let mut brute = NeighborList::new(BroadPhaseKind::AllPairs, 0.006);
-        grid.rebuild(&p);
-        brute.rebuild(&p);
+        grid.rebuild(&p, &walls);
+        brute.rebuild(&p, &walls);
+        assert!(!grid.wall_pairs.is_empty());
+        assert_eq!(grid.wall_pairs, brute.wall_pairs);
         assert!(!brute.pairs.is_empty());
         assert_eq!(grid.pairs, brute.pairs);
     }

@@ -98,6 +98,7 @@ impl Particles {
 
     /// Splits into read-only state and writable force accumulators, all slices of length `len()`
     /// (equal lengths let the compiler drop per-access bounds checks in the contact loops).
+    #[inline(always)]
     pub fn split(&mut self) -> (State<'_>, Forces<'_>) {
         let n = self.len();
         (

@@ -78,7 +78,6 @@ pub struct Simulation<L: ContactLaw> {
     /// The disks.
     pub particles: Particles,
     walls: BoxWalls,
-    wall_springs: Vec<f64>,
     neighbors: NeighborList,
     materials: Materials,
     disk_options: ContactOptions,
@@ -112,7 +111,6 @@ impl<L: ContactLaw> Simulation<L> {
         let mut sim = Self {
             law,
             scene: scene.clone(),
-            wall_springs: vec![0.0; particles.len() * walls.walls.len()],
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
             disk_options: options(&materials.particle),
             wall_options: options(&materials.wall),
@@ -129,7 +127,7 @@ impl<L: ContactLaw> Simulation<L> {
             totals: ContactTotals::default(),
             initial_elastic: 0.0,
         };
-        sim.neighbors.rebuild(&sim.particles);
+        sim.neighbors.rebuild(&sim.particles, &sim.walls);
         sim.compute_forces::<true>();
         sim.last_power = sim.contact_power();
         sim.initial_elastic = sim.totals.elastic;
@@ -150,7 +148,7 @@ impl<L: ContactLaw> Simulation<L> {
     pub fn advance(&mut self, sample: bool) {
         self.integrator.advance(&mut self.particles, self.dt, self.rotation);
         if self.neighbors.needs_rebuild(&self.particles) {
-            self.neighbors.rebuild(&self.particles);
+            self.neighbors.rebuild(&self.particles, &self.walls);
         }
         if sample {
             self.compute_forces::<true>();
@@ -204,9 +202,11 @@ impl<L: ContactLaw> Simulation<L> {
     fn contact_power(&self) -> f64 {
         let p = &self.particles;
         let g = self.scene.gravity;
+        let n = p.len();
+        let (fx, fy, vx, vy, mass) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n], &p.mass[..n]);
         let mut power = 0.0;
-        for i in 0..p.len() {
-            power += (p.fx[i] - p.mass[i] * g[0]) * p.vx[i] + (p.fy[i] - p.mass[i] * g[1]) * p.vy[i];
+        for i in 0..n {
+            power += (fx[i] - mass[i] * g[0]) * vx[i] + (fy[i] - mass[i] * g[1]) * vy[i];
         }
         if self.rotation {
             power += p.torque.iter().zip(&p.omega).map(|(t, w)| t * w).sum::<f64>();
@@ -218,18 +218,18 @@ impl<L: ContactLaw> Simulation<L> {
     /// contact sums and per-disk contact force magnitudes.
     fn compute_forces<const SAMPLE: bool>(&mut self) {
         let g = self.scene.gravity;
-        let p = &mut self.particles;
-        for i in 0..p.len() {
-            p.fx[i] = p.mass[i] * g[0];
-            p.fy[i] = p.mass[i] * g[1];
+        let (s, f) = self.particles.split();
+        for (i, m) in s.mass.iter().enumerate() {
+            f.fx[i] = m * g[0];
+            f.fy[i] = m * g[1];
             if self.rotation {
-                p.torque[i] = 0.0;
+                f.torque[i] = 0.0;
             }
             if self.rolling_resistance {
-                p.rolling[i] = 0.0;
+                f.rolling[i] = 0.0;
             }
             if SAMPLE {
-                p.contact_force[i] = 0.0;
+                f.contact_force[i] = 0.0;
             }
         }
         if SAMPLE {
@@ -287,38 +287,32 @@ impl<L: ContactLaw> Simulation<L> {
     #[inline(never)]
     fn wall_contacts<const SAMPLE: bool>(&mut self) {
         let (s, mut f) = self.particles.split();
+        let n = s.x.len();
         let (m, options, dt) = (self.materials.wall, self.wall_options, self.dt);
         let apply = Apply { rotation: self.rotation, rolling_friction: m.rolling_friction };
-        let walls = &self.walls;
-        let count = walls.walls.len();
-        for (i, springs) in self.wall_springs.chunks_exact_mut(count).enumerate().take(s.x.len()) {
+        let walls = &self.walls.walls;
+        for candidate in self.neighbors.wall_pairs.iter_mut() {
+            let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
+            assert!(i < n, "wall candidate out of range");
             let (x, y, r) = (s.x[i], s.y[i], s.r[i]);
-            if walls.clear_of_walls(x, y, r) {
-                for spring in springs.iter_mut().filter(|s| **s != 0.0) {
-                    *spring = 0.0;
-                }
+            let overlap = wall.overlap(x, y, r);
+            if overlap <= 0.0 {
+                candidate.spring = 0.0;
                 continue;
             }
-            for (wall, spring) in walls.walls.iter().zip(springs.iter_mut()) {
-                let overlap = wall.overlap(x, y, r);
-                if overlap <= 0.0 {
-                    *spring = 0.0;
-                    continue;
-                }
-                let [nx, ny] = wall.normal;
-                let k = Kinematics {
-                    overlap,
-                    approach_speed: s.vx[i] * nx + s.vy[i] * ny,
-                    tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * r,
-                };
-                let props =
-                    PairProperties { e_star: m.e_star, g_star: m.g_star, r_star: r, m_star: s.mass[i], beta: m.beta };
-                let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
-                apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, r);
-                if SAMPLE {
-                    let energy = contact::elastic_energy(&self.law, &props, overlap, &c, *spring);
-                    self.totals.add(energy, c.magnitude(), overlap / r);
-                }
+            let [nx, ny] = wall.normal;
+            let k = Kinematics {
+                overlap,
+                approach_speed: s.vx[i] * nx + s.vy[i] * ny,
+                tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * r,
+            };
+            let props =
+                PairProperties { e_star: m.e_star, g_star: m.g_star, r_star: r, m_star: s.mass[i], beta: m.beta };
+            let c = contact::resolve(&self.law, &props, &options, &k, &mut candidate.spring, dt);
+            apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, r);
+            if SAMPLE {
+                let energy = contact::elastic_energy(&self.law, &props, overlap, &c, candidate.spring);
+                self.totals.add(energy, c.magnitude(), overlap / r);
             }
         }
     }

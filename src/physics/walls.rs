@@ -48,12 +48,6 @@ impl BoxWalls {
         Self { walls, width: domain.width, height: domain.height }
     }
 
-    /// Whether a disk is clear of every wall (a quick test before the per-wall overlaps).
-    #[inline]
-    pub fn clear_of_walls(&self, x: f64, y: f64, r: f64) -> bool {
-        x - r > 0.0 && x + r < self.width && y - r > 0.0 && (self.walls.len() < 4 || y + r < self.height)
-    }
-
     /// The point of the box (shrunk by `r`) lowest in the potential of gravity `g`.
     pub fn lowest_point(&self, g: [f64; 2], r: f64) -> [f64; 2] {
         let x = if g[0] > 0.0 {

@@ -1,0 +1,165 @@
+//! Pictures of runs and studies: energy and UBF histories, pile snapshots, settle-time charts.
+//!
+//! Every chart is drawn with plotters into a PNG or an SVG file ([`Format`]) of a fixed pixel size
+//! ([`ChartOptions`]). Text uses the bundled DejaVu Sans font (`assets/fonts/`), so drawing needs no
+//! system font libraries. Charts take in-memory data: [`crate::physics::record`] types for one run,
+//! [`StudyPoint`]s for a study.
+
+use std::error::Error;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::physics::RunStatus;
+
+pub mod run;
+pub mod study;
+mod style;
+
+/// Image file format of a chart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Raster image (RGB PNG).
+    Png,
+    /// Vector image.
+    Svg,
+}
+
+impl Format {
+    /// File name extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Png => "png",
+            Format::Svg => "svg",
+        }
+    }
+}
+
+/// Size, format and subject of a chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChartOptions {
+    /// Image width (pixels).
+    pub width: u32,
+    /// Image height (pixels).
+    pub height: u32,
+    /// PNG or SVG.
+    pub format: Format,
+    /// What the chart is about (e.g. a run id and its parameters), appended to its title.
+    pub subject: Option<String>,
+}
+
+impl Default for ChartOptions {
+    fn default() -> Self {
+        Self { width: 1000, height: 700, format: Format::Png, subject: None }
+    }
+}
+
+impl ChartOptions {
+    /// Smallest image size (pixels) the chart layouts fit in.
+    pub const MIN_SIZE: (u32, u32) = (400, 300);
+
+    /// The title of a chart showing `what`: `what`, then the subject if there is one.
+    fn title(&self, what: &str) -> String {
+        match &self.subject {
+            Some(subject) => format!("{what} — {subject}"),
+            None => what.to_string(),
+        }
+    }
+}
+
+/// A chart that could not be drawn or written, with the file it was meant for.
+#[derive(Debug)]
+pub struct PlotError {
+    /// The image file.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub reason: String,
+}
+
+impl fmt::Display for PlotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.reason)
+    }
+}
+
+impl Error for PlotError {}
+
+/// One run of a study as the study charts see it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyPoint {
+    /// Swept parameters (dotted key path, value) of the run.
+    pub parameters: Vec<(String, f64)>,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// When it settled (s), if it did.
+    pub settle_time: Option<f64>,
+}
+
+impl StudyPoint {
+    /// The value of the swept parameter `name`, if this run has it.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters.iter().find(|(key, _)| key == name).map(|(_, value)| *value)
+    }
+
+    /// The settle time of a run that settled; `None` for every other run.
+    fn settled_time(&self) -> Option<f64> {
+        self.settle_time.filter(|t| self.status == RunStatus::Settled && t.is_finite())
+    }
+}
+
+/// What drawing code returns: plotters' errors carry the backend's error type, boxed here.
+type DrawResult<T> = Result<T, Box<dyn Error>>;
+
+/// A picture that can be drawn on any plotters backend.
+trait Figure {
+    /// What drawing reports back (e.g. where things landed, in pixels).
+    type Layout;
+
+    /// Draws the picture on `root`, a white area of the options' size.
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        options: &ChartOptions,
+    ) -> DrawResult<Self::Layout>
+    where
+        DB::ErrorType: 'static;
+}
+
+/// Draws `figure` into the file `path` in the options' format and size, creating its folder.
+fn render<F: Figure>(figure: &F, options: &ChartOptions, path: &Path) -> Result<F::Layout, PlotError> {
+    let fail = |reason: String| PlotError { path: path.to_path_buf(), reason };
+    let (min_width, min_height) = ChartOptions::MIN_SIZE;
+    if options.width < min_width || options.height < min_height {
+        return Err(fail(format!(
+            "image size {}x{} is below the smallest chart size {min_width}x{min_height} pixels",
+            options.width, options.height
+        )));
+    }
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+    }
+    style::register_font();
+    let size = (options.width, options.height);
+    let drawn = match options.format {
+        Format::Png => paint(figure, options, BitMapBackend::new(path, size).into_drawing_area()),
+        Format::Svg => paint(figure, options, SVGBackend::new(path, size).into_drawing_area()),
+    };
+    drawn.map_err(|e| fail(e.to_string()))
+}
+
+/// Clears `root` to white, draws `figure` and writes the result.
+fn paint<F: Figure, DB: DrawingBackend>(
+    figure: &F,
+    options: &ChartOptions,
+    root: DrawingArea<DB, Shift>,
+) -> DrawResult<F::Layout>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let layout = figure.draw(&root, options)?;
+    root.present()?;
+    Ok(layout)
+}

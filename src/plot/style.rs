@@ -1,0 +1,183 @@
+//! Shared look of the charts: font, sizes, colours, axis ranges and the colour bar.
+
+use std::ops::Range;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::register_font as register_plotters_font;
+
+use super::DrawResult;
+
+/// Font family name every chart uses (registered from the bundled file).
+pub(super) const FONT: &str = "sans-serif";
+/// Title text size (pixels).
+pub(super) const TITLE_SIZE: u32 = 26;
+/// Axis description text size (pixels).
+pub(super) const AXIS_DESC_SIZE: u32 = 20;
+/// Tick label, legend and annotation text size (pixels).
+pub(super) const LABEL_SIZE: u32 = 16;
+/// Width of data lines (pixels).
+pub(super) const LINE_WIDTH: u32 = 2;
+
+/// Colour of runs that diverged.
+pub(super) const DIVERGED: RGBColor = RGBColor(200, 20, 20);
+/// Colour of runs that did not settle (or were interrupted).
+pub(super) const NOT_SETTLED: RGBColor = RGBColor(140, 140, 140);
+/// Colours of data series in order (the "tab10" set without its red, which marks divergence).
+pub(super) const SERIES: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// DejaVu Sans (Bitstream Vera licence, see `assets/fonts/DejaVu-LICENSE.txt`).
+static FONT_FILE: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// Registers the bundled font with plotters (once per process).
+pub(super) fn register_font() {
+    static REGISTER: Once = Once::new();
+    REGISTER.call_once(|| {
+        let registered = register_plotters_font(FONT, FontStyle::Normal, FONT_FILE).is_ok();
+        assert!(registered, "the bundled font assets/fonts/DejaVuSans.ttf is not a valid TrueType font");
+    });
+}
+
+/// The `index`-th series colour, cycling.
+pub(super) fn series_colour(index: usize) -> RGBColor {
+    SERIES[index % SERIES.len()]
+}
+
+/// The area below a title drawn at the top of `root`.
+pub(super) fn titled<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> DrawResult<DrawingArea<DB, Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    Ok(root.margin(10, 0, 0, 0).titled(title, text(TITLE_SIZE))?)
+}
+
+/// Text style of the given size in the chart font.
+pub(super) fn text(size: u32) -> TextStyle<'static> {
+    (FONT, size).into_font().into()
+}
+
+/// Smallest and largest finite value, or `None` when there is none.
+pub(super) fn finite_bounds(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
+    values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold(None, |acc, v| Some(acc.map_or((v, v), |(lo, hi): (f64, f64)| (lo.min(v), hi.max(v)))))
+}
+
+/// An axis range covering `bounds` with `margin` (a fraction of the span) on both sides;
+/// a single value gets a unit-sized range around it, no value the range 0..1.
+pub(super) fn padded(bounds: Option<(f64, f64)>, margin: f64) -> Range<f64> {
+    match bounds {
+        None => 0.0..1.0,
+        Some((lo, hi)) if hi > lo => {
+            let pad = (hi - lo) * margin;
+            lo - pad..hi + pad
+        }
+        Some((v, _)) => {
+            let half = if v == 0.0 { 0.5 } else { v.abs() * 0.5 };
+            v - half..v + half
+        }
+    }
+}
+
+/// Splits the points (x[i], y[i]) into runs of consecutive points that `keep` accepts:
+/// a line drawn through each run breaks wherever a point was left out.
+pub(super) fn segments(x: &[f64], y: &[f64], keep: impl Fn(f64, f64) -> bool) -> Vec<Vec<(f64, f64)>> {
+    let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut current = Vec::new();
+    for (&xi, &yi) in x.iter().zip(y) {
+        if keep(xi, yi) {
+            current.push((xi, yi));
+        } else if !current.is_empty() {
+            runs.push(std::mem::take(&mut current));
+        }
+    }
+    if !current.is_empty() {
+        runs.push(current);
+    }
+    runs
+}
+
+/// A number written short: up to four significant digits, exponent form when very large or small.
+pub(super) fn short_number(value: f64) -> String {
+    let magnitude = value.abs();
+    if value == 0.0 || !value.is_finite() {
+        format!("{value}")
+    } else if !(1e-3..1e5).contains(&magnitude) {
+        let text = format!("{value:.2e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        format!("{}e{exponent}", trim_zeros(mantissa))
+    } else {
+        let decimals = (3 - magnitude.log10().floor() as i32).max(0) as usize;
+        trim_zeros(&format!("{value:.decimals$}")).to_string()
+    }
+}
+
+/// A decimal number without trailing zeros after its point (and without a trailing point).
+fn trim_zeros(text: &str) -> &str {
+    if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.') } else { text }
+}
+
+/// Viridis colour of `value` on the scale `range` (values outside are clamped).
+pub(super) fn viridis(value: f64, range: &Range<f64>) -> RGBColor {
+    let clamped = value.clamp(range.start, range.end);
+    ViridisRGB.get_color_normalized(clamped as f32, range.start as f32, range.end as f32)
+}
+
+/// Number of colour steps drawn in a colour bar.
+const COLOUR_BAR_STEPS: usize = 128;
+/// Width of the colour bar itself (pixels).
+const COLOUR_BAR_WIDTH: u32 = 28;
+/// Gap between the chart and the colour bar (pixels).
+const COLOUR_BAR_GAP: u32 = 10;
+/// Width of the colour bar's tick labels and description (pixels).
+const COLOUR_BAR_LABELS: u32 = 95;
+
+/// Draws a vertical viridis colour bar for `range` at the left of `area`, with tick labels and `label`
+/// on its right. `top` and `bottom` are the pixel margins that line it up with the chart beside it.
+pub(super) fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    range: Range<f64>,
+    label: &str,
+    (top, bottom): (u32, u32),
+) -> DrawResult<()>
+where
+    DB::ErrorType: 'static,
+{
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(top)
+        .margin_bottom(bottom)
+        .margin_left(COLOUR_BAR_GAP)
+        .margin_right(area.dim_in_pixel().0.saturating_sub(COLOUR_BAR_GAP + COLOUR_BAR_WIDTH + COLOUR_BAR_LABELS))
+        .right_y_label_area_size(COLOUR_BAR_LABELS)
+        .build_cartesian_2d(0.0..1.0, range.clone())?;
+    bar.configure_mesh()
+        .disable_x_axis()
+        .disable_mesh()
+        .y_desc(label)
+        .y_labels(8)
+        .set_all_tick_mark_size(6)
+        .y_label_formatter(&|v| short_number(*v))
+        .label_style(text(LABEL_SIZE))
+        .axis_desc_style(text(AXIS_DESC_SIZE))
+        .draw()?;
+    let step = (range.end - range.start) / COLOUR_BAR_STEPS as f64;
+    bar.draw_series((0..COLOUR_BAR_STEPS).map(|i| {
+        let lo = range.start + step * i as f64;
+        Rectangle::new([(0.0, lo), (1.0, lo + step)], viridis(lo + step / 2.0, &range).filled())
+    }))?;
+    Ok(())
+}

@@ -1,0 +1,172 @@
+//! Charts of one run: pixel sizes, disks at their recorded positions, NaN-tolerant histories.
+
+#[allow(dead_code)]
+mod plot_helpers;
+
+use demsweep::physics::RunStatus;
+use demsweep::physics::record::History;
+use demsweep::plot::run::{self, ColourBy, ColourScale};
+use demsweep::plot::{ChartOptions, Format};
+use plot_helpers::{number, out_dir, png_size, run as run_tiny, svg_elements, tiny_scene};
+
+/// The lowest and highest colours of plotters' viridis table, as SVG writes them.
+const VIRIDIS_LOW: &str = "#440154";
+const VIRIDIS_HIGH: &str = "#FEE825";
+
+fn options(width: u32, height: u32, format: Format) -> ChartOptions {
+    ChartOptions { width, height, format, subject: Some("test run".into()) }
+}
+
+#[test]
+fn png_charts_have_the_requested_pixel_size() {
+    let scene = tiny_scene(0.5, 1e-5);
+    let record = run_tiny(&scene);
+    let dir = out_dir("png_sizes");
+    let frame = &record.frames[1];
+    let scale = ColourScale::fitted(ColourBy::Speed, [frame]);
+    for (width, height) in [(1000, 700), (640, 480), (1600, 1200)] {
+        let opts = options(width, height, Format::Png);
+        let energy = dir.join(format!("energy_{width}.png"));
+        let ubf = dir.join(format!("ubf_{width}.png"));
+        let pile = dir.join(format!("pile_{width}.png"));
+        run::energy_chart(&record.history, &opts, &energy).unwrap();
+        run::ubf_chart(&record.history, scene.settle.ubf_threshold, record.settle_time, &opts, &ubf).unwrap();
+        run::snapshot(frame, (scene.domain.width, scene.domain.height), &scale, &opts, &pile).unwrap();
+        for path in [energy, ubf, pile] {
+            assert_eq!(png_size(&path), (width, height), "{}", path.display());
+        }
+    }
+    assert_eq!(ChartOptions::default().width, 1000);
+    assert_eq!(ChartOptions::default().height, 700);
+}
+
+#[test]
+fn svg_snapshot_has_one_circle_per_disk_at_its_recorded_position() {
+    let scene = tiny_scene(0.5, 1e-5);
+    let record = run_tiny(&scene);
+    let frame = &record.frames[1];
+    assert_eq!(frame.time, 0.1);
+    let dir = out_dir("svg_snapshot");
+    let path = dir.join("pile.svg");
+    let scale = ColourScale::fitted(ColourBy::Speed, [frame]);
+    let box_size = (scene.domain.width, scene.domain.height);
+    let placed = run::snapshot(frame, box_size, &scale, &options(1000, 700, Format::Svg), &path).unwrap();
+
+    // To scale: a metre spans the same number of pixels along x and y.
+    let (per_x, per_y) = placed.pixels_per_metre;
+    assert!((per_x - per_y).abs() <= 0.01 * per_x, "x {per_x} vs y {per_y} pixels per metre");
+
+    let circles = svg_elements(&path, "circle");
+    assert_eq!(circles.len(), frame.x.len(), "one circle per disk");
+    for (i, circle) in circles.iter().enumerate() {
+        let (px, py) = placed.to_pixel(frame.x[i], frame.y[i]);
+        assert!((number(circle, "cx") - px).abs() <= 1.0, "disk {i}: cx {} vs {px}", circle["cx"]);
+        assert!((number(circle, "cy") - py).abs() <= 1.0, "disk {i}: cy {} vs {py}", circle["cy"]);
+        assert!((number(circle, "r") - frame.r[i] * per_x).abs() <= 1.0, "disk {i}: r {}", circle["r"]);
+    }
+
+    // The box walls (the only 3-pixel-wide path) run through the frame's corners.
+    let walls: Vec<_> = svg_elements(&path, "polyline").into_iter().filter(|p| p["stroke-width"] == "3").collect();
+    assert_eq!(walls.len(), 1);
+    let corners: Vec<(f64, f64)> = walls[0]["points"]
+        .split_whitespace()
+        .map(|p| p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap())
+        .collect();
+    let (w, h) = box_size;
+    let expected = [(0.0, h), (0.0, 0.0), (w, 0.0), (w, h)].map(|(x, y)| placed.to_pixel(x, y));
+    assert_eq!(corners.len(), 4);
+    for (got, want) in corners.iter().zip(expected) {
+        assert!((got.0 - want.0).abs() <= 1.0 && (got.1 - want.1).abs() <= 1.0, "wall corner {got:?} vs {want:?}");
+    }
+}
+
+#[test]
+fn disks_are_coloured_on_the_scale() {
+    let scene = tiny_scene(0.5, 1e-5);
+    let record = run_tiny(&scene);
+    let dir = out_dir("colours");
+    let box_size = (scene.domain.width, scene.domain.height);
+    let svg = options(1000, 700, Format::Svg);
+
+    let frame = &record.frames[1];
+    let speeds = ColourBy::Speed.values(frame);
+    let fastest = (0..speeds.len()).max_by(|a, b| speeds[*a].total_cmp(&speeds[*b])).unwrap();
+    let path = dir.join("speed.svg");
+    run::snapshot(frame, box_size, &ColourScale::fitted(ColourBy::Speed, [frame]), &svg, &path).unwrap();
+    let circles = svg_elements(&path, "circle");
+    assert_eq!(circles[fastest]["fill"], VIRIDIS_HIGH);
+    let distinct: std::collections::HashSet<&str> = circles.iter().map(|c| c["fill"].as_str()).collect();
+    assert!(distinct.len() > 5, "speeds spread over the scale: {distinct:?}");
+
+    // At t = 0 no disk touches another: every contact force is zero, the bottom of the scale.
+    let start = &record.frames[0];
+    let path = dir.join("force.svg");
+    run::snapshot(start, box_size, &ColourScale::fitted(ColourBy::ContactForce, [start]), &svg, &path).unwrap();
+    assert!(svg_elements(&path, "circle").iter().all(|c| c["fill"] == VIRIDIS_LOW));
+}
+
+/// Polylines drawn in the first series colour (the UBF line and its legend sample).
+fn ubf_polylines(path: &std::path::Path) -> Vec<usize> {
+    svg_elements(path, "polyline")
+        .iter()
+        .filter(|p| p["stroke"] == "#1F77B4")
+        .map(|p| p["points"].split_whitespace().count())
+        .collect()
+}
+
+#[test]
+fn ubf_chart_leaves_out_samples_without_contacts_and_zeros() {
+    let time: Vec<f64> = (0..10).map(|i| f64::from(i) * 0.01).collect();
+    let nan = f64::NAN;
+    let ratio = vec![nan, nan, 0.5, 0.2, 0.0, 0.1, 0.05, nan, 0.02, 0.01];
+    let history = History { time, unbalanced_force_ratio: ratio, ..Default::default() };
+    let dir = out_dir("ubf_gaps");
+    let path = dir.join("ubf.svg");
+    run::ubf_chart(&history, 0.03, Some(0.08), &options(1000, 700, Format::Svg), &path).unwrap();
+    // Three stretches of two samples each, then the two-point legend sample.
+    assert_eq!(ubf_polylines(&path), vec![2, 2, 2, 2]);
+
+    let no_contacts = History { unbalanced_force_ratio: vec![nan; 10], ..history };
+    let path = dir.join("ubf_no_contacts.svg");
+    run::ubf_chart(&no_contacts, 0.03, None, &options(1000, 700, Format::Svg), &path).unwrap();
+    assert!(ubf_polylines(&path).is_empty());
+}
+
+#[test]
+fn diverged_run_plots_without_panicking() {
+    let scene = tiny_scene(0.5, 1e-3);
+    let mut record = run_tiny(&scene);
+    assert_eq!(record.status, RunStatus::Diverged);
+    // Worse than the run itself: non-finite samples and a disk thrown to infinity.
+    record.history.potential.push(f64::INFINITY);
+    record.history.kinetic_translational.push(f64::NAN);
+    record.history.time.push(f64::NAN);
+    record.final_state.x[0] = f64::NAN;
+    let dir = out_dir("diverged");
+    let opts = options(800, 600, Format::Png);
+    let box_size = (scene.domain.width, scene.domain.height);
+    let scale = ColourScale::fitted(ColourBy::ContactForce, [&record.final_state]);
+    run::energy_chart(&record.history, &opts, &dir.join("energy.png")).unwrap();
+    run::ubf_chart(&record.history, scene.settle.ubf_threshold, None, &opts, &dir.join("ubf.png")).unwrap();
+    run::snapshot(&record.final_state, box_size, &scale, &opts, &dir.join("pile.png")).unwrap();
+    for name in ["energy.png", "ubf.png", "pile.png"] {
+        assert_eq!(png_size(&dir.join(name)), (800, 600));
+    }
+    let svg = dir.join("pile.svg");
+    run::snapshot(&record.final_state, box_size, &scale, &options(800, 600, Format::Svg), &svg).unwrap();
+    assert_eq!(svg_elements(&svg, "circle").len(), record.final_state.x.len() - 1, "the NaN disk is left out");
+
+    let empty = History::default();
+    run::energy_chart(&empty, &opts, &dir.join("empty_energy.png")).unwrap();
+    run::ubf_chart(&empty, 0.01, None, &opts, &dir.join("empty_ubf.png")).unwrap();
+}
+
+#[test]
+fn too_small_an_image_is_an_error_naming_the_file() {
+    let dir = out_dir("too_small");
+    let path = dir.join("energy.png");
+    let err = run::energy_chart(&History::default(), &options(100, 80, Format::Png), &path).unwrap_err();
+    let message = err.to_string();
+    assert!(message.contains("energy.png") && message.contains("100x80"), "{message}");
+    assert!(!path.exists());
+}

@@ -1,0 +1,169 @@
+//! Charts of a study: heatmap cells, settle-time lines, diverged and not-settled runs marked.
+
+#[allow(dead_code)]
+mod plot_helpers;
+
+use demsweep::physics::RunStatus;
+use demsweep::plot::study::{self, CellState};
+use demsweep::plot::{ChartOptions, Format, StudyPoint};
+use plot_helpers::{number, out_dir, png_size, run, svg_elements, tiny_scene};
+
+const RESTITUTION: &str = "material.restitution";
+const TIME_STEP: &str = "integrator.time_step";
+/// Colours the charts use for diverged runs (crosses, cell fill) and not-settled runs (hollow circles).
+const DIVERGED_STROKE: &str = "#C81414";
+const DIVERGED_FILL: &str = "#FAC8C8";
+const NOT_SETTLED_STROKE: &str = "#8C8C8C";
+
+fn svg() -> ChartOptions {
+    ChartOptions { format: Format::Svg, subject: Some("test study".into()), ..Default::default() }
+}
+
+/// A real 3 x 3 study: restitution x time step, the largest step diverging.
+fn grid_study() -> Vec<StudyPoint> {
+    let mut points = Vec::new();
+    for restitution in [0.3, 0.6, 0.9] {
+        for time_step in [1e-5, 5e-5, 1e-3] {
+            let record = run(&tiny_scene(restitution, time_step));
+            let parameters = vec![(RESTITUTION.to_string(), restitution), (TIME_STEP.to_string(), time_step)];
+            points.push(StudyPoint { parameters, status: record.status, settle_time: record.settle_time });
+        }
+    }
+    points
+}
+
+fn point(restitution: f64, time_step: f64, status: RunStatus, settle_time: Option<f64>) -> StudyPoint {
+    let parameters = vec![(RESTITUTION.to_string(), restitution), (TIME_STEP.to_string(), time_step)];
+    StudyPoint { parameters, status, settle_time }
+}
+
+#[test]
+fn heatmap_has_one_cell_per_grid_point() {
+    let points = grid_study();
+    assert!(points.iter().filter(|p| p.parameter(TIME_STEP) == Some(1e-3)).all(|p| p.status == RunStatus::Diverged));
+    let path = out_dir("heatmap").join("heatmap.svg");
+    let cells = study::settle_time_heatmap(&points, RESTITUTION, TIME_STEP, &svg(), &path).unwrap();
+    assert_eq!(cells.len(), 9);
+
+    let rects = svg_elements(&path, "rect");
+    let geometry =
+        |r: &std::collections::HashMap<String, String>| ["x", "y", "width", "height"].map(|k| number(r, k) as i32);
+    let [(x0, y0), (x1, y1)] = cells[0].pixels;
+    let cell_sized = |r: &[i32; 4]| (r[2] - (x1 - x0)).abs() <= 1 && (r[3] - (y1 - y0)).abs() <= 1;
+    assert_eq!(rects.iter().map(geometry).filter(cell_sized).count(), 9, "one cell-sized rectangle per grid point");
+    for cell in &cells {
+        let [(x0, y0), (x1, y1)] = cell.pixels;
+        let drawn: Vec<_> = rects.iter().filter(|r| geometry(r) == [x0, y0, x1 - x0, y1 - y0]).collect();
+        assert_eq!(drawn.len(), 1, "cell at ({}, {})", cell.x, cell.y);
+        let run =
+            points.iter().find(|p| p.parameter(RESTITUTION) == Some(cell.x) && p.parameter(TIME_STEP) == Some(cell.y));
+        let run = run.unwrap();
+        assert_eq!(cell.runs, 1);
+        match cell.state {
+            CellState::Diverged => {
+                assert_eq!(run.status, RunStatus::Diverged);
+                assert_eq!(drawn[0]["fill"], DIVERGED_FILL);
+            }
+            CellState::Settled(t) => assert_eq!(Some(t), run.settle_time),
+            CellState::NotSettled => assert_ne!(run.status, RunStatus::Settled),
+        }
+    }
+    // Larger x to the right, larger y further up.
+    let at = |x: f64, y: f64| cells.iter().find(|c| c.x == x && c.y == y).unwrap().pixels[0];
+    assert!(at(0.9, 1e-5).0 > at(0.3, 1e-5).0);
+    assert!(at(0.3, 1e-3).1 < at(0.3, 5e-5).1 && at(0.3, 5e-5).1 < at(0.3, 1e-5).1);
+}
+
+#[test]
+fn heatmap_cell_of_replicates_shows_their_mean_or_their_worst_end() {
+    let points = vec![
+        point(0.3, 1e-5, RunStatus::Settled, Some(0.2)),
+        point(0.3, 1e-5, RunStatus::Settled, Some(0.4)),
+        point(0.9, 1e-5, RunStatus::Settled, Some(0.3)),
+        point(0.9, 1e-5, RunStatus::Diverged, None),
+        point(0.3, 1e-4, RunStatus::Settled, Some(0.3)),
+        point(0.3, 1e-4, RunStatus::NotSettled, None),
+        point(0.9, 1e-4, RunStatus::Interrupted, None),
+    ];
+    let path = out_dir("heatmap_replicates").join("heatmap.png");
+    let cells = study::settle_time_heatmap(&points, RESTITUTION, TIME_STEP, &ChartOptions::default(), &path).unwrap();
+    let state = |x: f64, y: f64| cells.iter().find(|c| c.x == x && c.y == y).map(|c| (c.state, c.runs));
+    assert!(matches!(state(0.3, 1e-5), Some((CellState::Settled(t), 2)) if (t - 0.3).abs() < 1e-12));
+    assert_eq!(state(0.9, 1e-5), Some((CellState::Diverged, 2)));
+    assert_eq!(state(0.3, 1e-4), Some((CellState::NotSettled, 2)));
+    assert_eq!(state(0.9, 1e-4), Some((CellState::NotSettled, 1)));
+    assert_eq!(png_size(&path), (1000, 700));
+}
+
+#[test]
+fn settle_time_lines_mark_every_run_without_a_settle_time() {
+    let points = grid_study();
+    let path = out_dir("lines").join("lines.svg");
+    study::settle_time_lines(&points, RESTITUTION, Some(TIME_STEP), &svg(), &path).unwrap();
+
+    // A cross is two strokes; one more cross is the legend's sample.
+    let diverged = points.iter().filter(|p| p.status == RunStatus::Diverged).count();
+    let cross_strokes = svg_elements(&path, "line").iter().filter(|l| l["stroke"] == DIVERGED_STROKE).count();
+    assert_eq!(cross_strokes, 2 * (diverged + 1));
+    let unsettled = points.iter().filter(|p| p.status != RunStatus::Settled && p.status != RunStatus::Diverged).count();
+    let hollow = svg_elements(&path, "circle").iter().filter(|c| c["stroke"] == NOT_SETTLED_STROKE).count();
+    assert_eq!(hollow, if unsettled > 0 { unsettled + 1 } else { 0 });
+
+    // Per time step: a dot per settled run (radius 3) and a line vertex per restitution where some
+    // run settled (a ring of radius 4), in the series' colour.
+    let circles = svg_elements(&path, "circle");
+    for (colour, time_step) in [("#1F77B4", 1e-5), ("#FF7F0E", 5e-5), ("#2CA02C", 1e-3)] {
+        let settled: Vec<f64> = points
+            .iter()
+            .filter(|p| p.parameter(TIME_STEP) == Some(time_step) && p.status == RunStatus::Settled)
+            .map(|p| p.parameter(RESTITUTION).unwrap())
+            .collect();
+        let mut vertices = settled.clone();
+        vertices.dedup();
+        let count = |key: &str, radius: &str| circles.iter().filter(|c| c[key] == colour && c["r"] == radius).count();
+        assert_eq!(count("fill", "3"), settled.len(), "time step {time_step}");
+        assert_eq!(count("stroke", "4"), vertices.len(), "time step {time_step}");
+    }
+}
+
+#[test]
+fn settle_time_lines_join_the_mean_of_replicates() {
+    // 0.2 and 0.4 at x = 0.3 average to 0.3, the settle time at x = 0.9: the line is level.
+    let points = vec![
+        point(0.3, 1e-5, RunStatus::Settled, Some(0.2)),
+        point(0.3, 1e-5, RunStatus::Settled, Some(0.4)),
+        point(0.9, 1e-5, RunStatus::Settled, Some(0.3)),
+    ];
+    let path = out_dir("lines_mean").join("lines.svg");
+    study::settle_time_lines(&points, RESTITUTION, None, &svg(), &path).unwrap();
+    let line = svg_elements(&path, "polyline")
+        .into_iter()
+        .find(|l| l["stroke"] == "#1F77B4" && l["stroke-width"] == "2" && l["points"].split_whitespace().count() == 2)
+        .expect("the mean line");
+    let rows: Vec<&str> = line["points"].split_whitespace().map(|p| p.split_once(',').unwrap().1).collect();
+    assert_eq!(rows[0], rows[1], "level line: {}", line["points"]);
+}
+
+#[test]
+fn study_of_only_diverged_runs_plots() {
+    let points: Vec<StudyPoint> = [0.3, 0.6, 0.9].iter().map(|&e| point(e, 1e-3, RunStatus::Diverged, None)).collect();
+    let dir = out_dir("all_diverged");
+    let png = ChartOptions::default();
+    study::settle_time_lines(&points, RESTITUTION, Some(TIME_STEP), &png, &dir.join("lines.png")).unwrap();
+    let cells = study::settle_time_heatmap(&points, RESTITUTION, TIME_STEP, &png, &dir.join("heatmap.png")).unwrap();
+    assert_eq!(cells.len(), 3);
+    assert!(cells.iter().all(|c| c.state == CellState::Diverged));
+    assert_eq!(png_size(&dir.join("lines.png")), (1000, 700));
+    assert_eq!(png_size(&dir.join("heatmap.png")), (1000, 700));
+}
+
+#[test]
+fn plotting_against_an_unswept_parameter_names_it() {
+    let points = vec![point(0.3, 1e-5, RunStatus::Settled, Some(0.2))];
+    let path = out_dir("unswept").join("lines.png");
+    let err =
+        study::settle_time_lines(&points, "material.friction", None, &ChartOptions::default(), &path).unwrap_err();
+    assert!(err.to_string().contains("'material.friction'"), "{err}");
+    let err = study::settle_time_heatmap(&points, RESTITUTION, "seed", &ChartOptions::default(), &path).unwrap_err();
+    assert!(err.to_string().contains("'seed'"), "{err}");
+}
