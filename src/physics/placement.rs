@@ -89,7 +89,7 @@ impl Buckets {
 
 /// Random sequential placement: each disk tries up to `max_attempts` uniform positions inside the
 /// box (below `domain.height`) until it overlaps no earlier disk. The placed disks are then ordered
-/// bottom row first (for memory locality); the result depends only on the seed.
+/// for memory locality ([`order_for_locality`]); the result depends only on the seed.
 pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<InitialDisk>, PlacementError> {
     let (w, h) = (scene.domain.width, scene.domain.height);
     let rmax = radii.iter().cloned().fold(0.0, f64::max);
@@ -110,9 +110,28 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
         buckets.insert(x, y, k);
         disks.push(InitialDisk { x, y, r, ..Default::default() });
     }
-    let cell = buckets.cell;
-    disks.sort_by(|a, b| ((a.y / cell) as u64).cmp(&((b.y / cell) as u64)).then(a.x.total_cmp(&b.x)));
+    order_for_locality(&mut disks, w, h, buckets.cell);
     Ok(disks)
+}
+
+/// Orders disks in strips of one cell across the box's longer side, along the shorter side within a
+/// strip, so that neighbours are close in memory. In a wide box the strips are columns, which a
+/// vertical deposition keeps: the order stays good while the disks fall and settle.
+fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
+    let strip_then_along = |strip: f64, along: f64| ((strip / cell) as u64, along);
+    if width > height {
+        disks.sort_by(|a, b| {
+            let (sa, ya) = strip_then_along(a.x, a.y);
+            let (sb, yb) = strip_then_along(b.x, b.y);
+            sa.cmp(&sb).then(ya.total_cmp(&yb))
+        });
+    } else {
+        disks.sort_by(|a, b| {
+            let (sa, xa) = strip_then_along(a.y, a.x);
+            let (sb, xb) = strip_then_along(b.y, b.x);
+            sa.cmp(&sb).then(xa.total_cmp(&xb))
+        });
+    }
 }
 
 fn too_full(scene: &SceneConfig, radii: &[f64], placed: usize, why: &str) -> PlacementError {
