@@ -4,6 +4,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+
+mod bench;
 use demsweep::study::{self, Plan};
 
 /// Exit status when the study file is invalid.
@@ -47,6 +49,16 @@ enum Command {
         after_help = "Example:\n  demsweep check studies/damping_sweep.toml && echo valid"
     )]
     Check(CheckArgs),
+    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
+    #[command(
+        long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
+                      (default results/bench) and printing its Markdown summary: `accuracy` (work-precision of \
+                      both integrators), `stability` (where runs blow up against the predicted safe time step), \
+                      `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
+                      settle, sparse diagnostics and frictionless shortcuts).",
+        after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
+    )]
+    Bench(bench::BenchArgs),
 }
 
 #[derive(Args)]
@@ -69,6 +81,7 @@ pub fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
+        Command::Bench(args) => bench::bench(&args),
     }
 }
 
