@@ -87,6 +87,8 @@ impl Figure for LogLogFigure<'_> {
             .configure_mesh()
             .x_desc(self.x_desc)
             .y_desc(self.y_desc)
+            .x_labels(6)
+            .y_labels(8)
             .x_label_formatter(&|v| style::short_number(*v))
             .y_label_formatter(&|v| style::short_number(*v))
             .label_style(style::text(LABEL_SIZE))
