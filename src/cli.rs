@@ -4,6 +4,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+
+mod bench;
 use demsweep::study::{self, Plan};
 
 mod results;
@@ -92,6 +94,16 @@ enum Command {
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
     Merge(results::MergeArgs),
+    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
+    #[command(
+        long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
+                      (default results/bench) and printing its Markdown summary: `accuracy` (work-precision of \
+                      both integrators), `stability` (where runs blow up against the predicted safe time step), \
+                      `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
+                      settle, sparse diagnostics and frictionless shortcuts).",
+        after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
+    )]
+    Bench(bench::BenchArgs),
 }
 
 #[derive(Args)]
@@ -121,6 +133,7 @@ pub fn main() -> ExitCode {
         Command::Summary(args) => results::summary(&args),
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
+        Command::Bench(args) => bench::bench(&args),
     }
 }
 

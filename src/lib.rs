@@ -6,6 +6,7 @@
 //! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records.
 #![forbid(unsafe_code)]
 
+pub mod bench;
 pub mod output;
 pub mod physics;
 pub mod plot;

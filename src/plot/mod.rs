@@ -14,6 +14,7 @@ use plotters::prelude::*;
 
 use crate::physics::RunStatus;
 
+pub mod bench;
 pub mod run;
 pub mod study;
 mod style;

@@ -186,23 +186,6 @@ where
     Ok(())
 }
 
-/// Draws the legend of `chart` at `position`.
-fn draw_legend<'a, DB, CT>(chart: &mut ChartContext<'a, DB, CT>, position: SeriesLabelPosition) -> DrawResult<()>
-where
-    DB: DrawingBackend + 'a,
-    DB::ErrorType: 'static,
-    CT: CoordTranslate,
-{
-    chart
-        .configure_series_labels()
-        .position(position)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(style::text(style::LABEL_SIZE))
-        .draw()?;
-    Ok(())
-}
-
 /// The time axis range of `history`.
 fn time_range(history: &History) -> Range<f64> {
     style::padded(style::finite_bounds(history.time.iter().copied()), 0.0)
@@ -241,7 +224,7 @@ impl Figure for EnergyFigure<'_> {
         let title = options.title("Energies");
         let mut chart = time_chart(&upper, (&title, style::TITLE_SIZE), time.clone(), (energy, "energy (J)"))?;
         draw_lines(&mut chart, &lines)?;
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         let positive = style::finite_bounds(lines[0].values().chain(lines[2].values()).filter(|v| *v > 0.0));
         let (lo, hi) = positive.unwrap_or((1e-3, 1.0));
         let (lo, hi) = (lo.max(hi * 10f64.powf(-LOG_PANEL_DECADES)) / 2.0, hi * 2.0);
@@ -252,7 +235,7 @@ impl Figure for EnergyFigure<'_> {
         let caption = ("kinetic and elastic energy, log scale", style::AXIS_DESC_SIZE);
         let mut chart = time_chart(&lower, caption, time, ((lo..hi).log_scale(), "energy (J)"))?;
         draw_lines(&mut chart, &detail)?;
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+        style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }
 
@@ -286,7 +269,7 @@ impl Figure for UbfFigure<'_> {
         draw_lines(&mut chart, std::slice::from_ref(&ubf))?;
         self.draw_markers(&mut chart, time, lo / 3.0..hi * 3.0)?;
         // Early times (no or few contacts) and low ratios: the lower left is usually empty.
-        draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)
+        style::draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)
     }
 }
 

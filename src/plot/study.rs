@@ -179,14 +179,7 @@ impl Figure for LinesFigure<'_> {
             chart.draw_series(settled.map(|at| Circle::new(at, 3, colour.filled())))?;
         }
         self.draw_unsettled(&mut chart, unsettled_row, &x_range)?;
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(style::text(LABEL_SIZE))
-            .draw()?;
-        Ok(())
+        style::draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
     }
 }
 

@@ -48,6 +48,26 @@ pub(super) fn register_font() {
     });
 }
 
+/// Draws the legend of `chart`'s labelled series at `position`, on a light box with a black border.
+pub(super) fn draw_legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> DrawResult<()>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(text(LABEL_SIZE))
+        .draw()?;
+    Ok(())
+}
+
 /// The `index`-th series colour, cycling.
 pub(super) fn series_colour(index: usize) -> RGBColor {
     SERIES[index % SERIES.len()]

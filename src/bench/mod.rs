@@ -1,0 +1,113 @@
+//! Benchmarks of accuracy against cost, numerical stability and edge cases, as library functions.
+//!
+//! Each submodule exposes one function that takes a small options struct (so tests can run tiny
+//! versions), returns its rows and writes CSV and Markdown into a given directory:
+//! - [`accuracy`]: work-precision of both integrators over time steps `t_c/5 … t_c/400`;
+//! - [`stability_map`]: where runs blow up over time step × stiffness × damping, against the prediction;
+//! - [`stress`]: edge-case scenes, each ending with a clear status and message;
+//! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts.
+
+pub mod accuracy;
+pub mod skipping;
+pub mod stability_map;
+pub mod stress;
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::physics::config::{IntegratorKind, SceneConfig};
+use crate::physics::contact::HertzMindlin;
+use crate::physics::particles::InitialDisk;
+use crate::physics::simulation::{Control, Simulation, run_scene};
+use crate::physics::stability::StabilityReport;
+use crate::physics::{RunRecord, placement};
+
+/// Both integrators, the paper's first.
+pub const SCHEMES: [IntegratorKind; 2] = [IntegratorKind::AdamsBashforthMoulton, IntegratorKind::VelocityVerlet];
+
+/// One row of a CSV table.
+pub trait CsvRow {
+    /// Column names.
+    const HEADER: &'static [&'static str];
+    /// The row's values, in [`Self::HEADER`] order.
+    fn values(&self) -> Vec<String>;
+}
+
+/// Writes rows as CSV with a header line.
+pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
+    let mut text = R::HEADER.join(",") + "\n";
+    for row in rows {
+        text += &row.values().join(",");
+        text.push('\n');
+    }
+    write_file(path, &text)
+}
+
+/// Writes a text file, creating its folder; the error names the path.
+pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+/// A CSV field that may contain commas or quotes, quoted.
+pub fn quoted(text: &str) -> String {
+    format!("\"{}\"", text.replace('"', "\"\""))
+}
+
+/// Snake-case name of a scheme, as in scene files.
+pub fn scheme_name(kind: IntegratorKind) -> &'static str {
+    match kind {
+        IntegratorKind::AdamsBashforthMoulton => "adams_bashforth_moulton",
+        IntegratorKind::VelocityVerlet => "velocity_verlet",
+    }
+}
+
+/// Runs `f` and returns its result with the wall-clock seconds it took.
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let value = f();
+    (value, start.elapsed().as_secs_f64())
+}
+
+/// Runs a scene to its end (no observer), with its initial disks.
+pub fn run(scene: &SceneConfig, disks: &[InitialDisk]) -> Result<RunRecord, String> {
+    run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue)
+}
+
+/// The engine's pre-run stability estimate of a scene with these disks (Hertz-Mindlin law).
+pub fn assess(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
+    Simulation::new(scene, disks, HertzMindlin).stability()
+}
+
+/// The initial disks a scene's random or lattice placement generates.
+pub fn placed_disks(scene: &SceneConfig) -> Result<Vec<InitialDisk>, String> {
+    placement::generate(scene).map_err(|e| e.to_string())
+}
+
+/// Ratios `t_c / dt` spaced geometrically (`per_doubling` values per factor 2) from `coarsest` to
+/// `finest`, both included, coarsest first.
+pub fn ratio_grid(coarsest: f64, finest: f64, per_doubling: u32) -> Vec<f64> {
+    let steps = ((finest / coarsest).log2() * per_doubling as f64 + 1e-9).floor().max(0.0) as i32;
+    let mut grid: Vec<f64> = (0..=steps).map(|k| coarsest * 2f64.powf(k as f64 / per_doubling as f64)).collect();
+    if grid.last().is_some_and(|last| *last < finest * 0.999) {
+        grid.push(finest);
+    }
+    grid
+}
+
+/// A Markdown table from a header and rows of cells.
+pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut text = format!("| {} |\n|{}\n", header.join(" | "), "---|".repeat(header.len()));
+    for row in rows {
+        let _ = writeln!(text, "| {} |", row.join(" | "));
+    }
+    text
+}
+
+/// Relative difference `|a − b| / |b|`.
+pub fn relative_error(a: f64, b: f64) -> f64 {
+    ((a - b) / b).abs()
+}

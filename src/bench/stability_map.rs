@@ -1,0 +1,416 @@
+//! Stability map: where runs blow up over time step × stiffness × damping, per integrator, and how
+//! that compares with the engine's pre-run prediction ([`crate::physics::stability::assess`]).
+//!
+//! The scene is a small pour (a few dozen disks dropped into a narrow box with friction), so every
+//! case has hard impacts, disks with several contacts and a settling pile. The damping axis is β,
+//! from undamped through the usual restitutions (β < 1) to the paper's heavily overdamped β = 10
+//! and beyond; the restitution EDEM's relation gives for each β is reported with it. Time steps run
+//! from `t_c / coarsest_ratio` down to `t_c / finest_ratio` (`t_c`: the predicted Hertz contact time
+//! of the scene's hardest impact) but stop three grid points below both the predicted safe step and
+//! the first observed blow-up: cases far inside the stable region add nothing to the boundary and
+//! cost the most. A run blows up when it ends as `diverged` (NaN, energy growth, or an overlap
+//! beyond `limits.max_overlap_ratio`).
+
+use std::path::PathBuf;
+
+use rayon::prelude::*;
+
+use super::{CsvRow, SCHEMES, markdown_table, placed_disks, quoted, ratio_grid, scheme_name, write_csv, write_file};
+use crate::physics::RunStatus;
+use crate::physics::config::{IntegratorKind, SceneConfig};
+use crate::physics::material::restitution_from_beta;
+use crate::physics::particles::InitialDisk;
+use crate::plot::ChartOptions;
+use crate::plot::bench::{MapPanel, stability_map_chart};
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct StabilityMapOptions {
+    /// Integrators.
+    pub schemes: Vec<IntegratorKind>,
+    /// Young's moduli (Pa).
+    pub youngs_moduli: Vec<f64>,
+    /// Damping factors β.
+    pub betas: Vec<f64>,
+    /// Sliding friction coefficients μ.
+    pub frictions: Vec<f64>,
+    /// Largest time step, as `t_c / dt`.
+    pub coarsest_ratio: f64,
+    /// Smallest time step, as `t_c / dt`.
+    pub finest_ratio: f64,
+    /// Time steps per halving.
+    pub per_halving: u32,
+    /// Disks in the pour.
+    pub count: usize,
+    /// Longest simulated time of one case (s); stable cases stop when settled.
+    pub duration: f64,
+    /// Where `stability_map.csv` and `stability_map.md` go.
+    pub out_dir: PathBuf,
+}
+
+impl Default for StabilityMapOptions {
+    fn default() -> Self {
+        Self {
+            schemes: SCHEMES.to_vec(),
+            youngs_moduli: vec![1e6, 1e8, 1e10],
+            betas: vec![0.0, 0.07, 0.215, 0.59, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0],
+            frictions: vec![0.0, 0.2, 0.5],
+            coarsest_ratio: 0.5,
+            finest_ratio: 4096.0,
+            per_halving: 2,
+            count: 24,
+            duration: 0.4,
+            out_dir: PathBuf::from("results/bench"),
+        }
+    }
+}
+
+/// One column of the map: everything but the time step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Column {
+    /// Integrator.
+    pub scheme: IntegratorKind,
+    /// Young's modulus (Pa).
+    pub youngs_modulus: f64,
+    /// Damping factor β.
+    pub beta: f64,
+    /// Sliding friction μ.
+    pub friction: f64,
+}
+
+/// One case of the map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapRow {
+    /// The scene's column.
+    pub column: Column,
+    /// Restitution EDEM's relation gives for β (0 when overdamped).
+    pub restitution: f64,
+    /// Time step (s).
+    pub time_step: f64,
+    /// Predicted contact time of the hardest impact (s).
+    pub contact_time: f64,
+    /// Δt / t_c.
+    pub dt_over_contact_time: f64,
+    /// Predicted damping rate (1/s).
+    pub damping_rate: f64,
+    /// Δt × damping rate.
+    pub dt_times_damping_rate: f64,
+    /// The engine's predicted safe time step (s).
+    pub safe_time_step: f64,
+    /// Whether the pre-run estimate warned about the time step or the material.
+    pub warned: bool,
+    /// The pre-run warnings, joined.
+    pub warnings: String,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// The run's message (why it diverged), empty otherwise.
+    pub message: String,
+    /// Simulated time reached (s).
+    pub simulated_time: f64,
+}
+
+impl MapRow {
+    /// Whether the run blew up.
+    pub fn blew_up(&self) -> bool {
+        self.status == RunStatus::Diverged
+    }
+
+    /// What ended a blown-up run: `nan`, `overlap` or `energy_growth` (empty when it did not blow up).
+    pub fn failure(&self) -> &'static str {
+        match self.message.split_whitespace().next() {
+            _ if !self.blew_up() => "",
+            Some("non-finite") => "nan",
+            Some("overlap") => "overlap",
+            _ => "energy_growth",
+        }
+    }
+}
+
+impl CsvRow for MapRow {
+    const HEADER: &'static [&'static str] = &[
+        "scheme",
+        "youngs_modulus",
+        "beta",
+        "friction",
+        "restitution",
+        "time_step",
+        "contact_time",
+        "dt_over_contact_time",
+        "damping_rate",
+        "dt_times_damping_rate",
+        "safe_time_step",
+        "warned",
+        "status",
+        "failure",
+        "simulated_time",
+        "message",
+        "warnings",
+    ];
+    fn values(&self) -> Vec<String> {
+        vec![
+            scheme_name(self.column.scheme).into(),
+            format!("{:e}", self.column.youngs_modulus),
+            self.column.beta.to_string(),
+            self.column.friction.to_string(),
+            format!("{:.4}", self.restitution),
+            format!("{:.4e}", self.time_step),
+            format!("{:.4e}", self.contact_time),
+            format!("{:.4e}", self.dt_over_contact_time),
+            format!("{:.4e}", self.damping_rate),
+            format!("{:.4e}", self.dt_times_damping_rate),
+            format!("{:.4e}", self.safe_time_step),
+            self.warned.to_string(),
+            self.status.as_str().into(),
+            self.failure().into(),
+            format!("{:.5}", self.simulated_time),
+            quoted(&self.message),
+            quoted(&self.warnings),
+        ]
+    }
+}
+
+/// The observed and predicted boundary of one column of the map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Boundary {
+    /// The column.
+    pub column: Column,
+    /// Predicted contact time (s).
+    pub contact_time: f64,
+    /// Predicted damping rate (1/s).
+    pub damping_rate: f64,
+    /// Predicted safe time step (s).
+    pub safe_time_step: f64,
+    /// Largest time step below which no case blew up (s); `None` when the smallest blew up.
+    pub largest_stable: Option<f64>,
+    /// Smallest time step that blew up (s); `None` when none did.
+    pub smallest_unstable: Option<f64>,
+    /// What ended the blow-up at the smallest time step that blew up (see [`MapRow::failure`]).
+    pub failure: &'static str,
+    /// Cases that blew up without a pre-run warning.
+    pub unwarned_blow_ups: usize,
+    /// Cases warned about that ran without blowing up.
+    pub warned_stable: usize,
+}
+
+/// The pour of one column (its time step is set per case).
+pub fn map_scene(options: &StabilityMapOptions, column: &Column) -> SceneConfig {
+    let mut s = SceneConfig::default();
+    s.domain.width = 0.12;
+    s.domain.height = 0.25;
+    s.particles.count = options.count;
+    s.material.youngs_modulus = column.youngs_modulus;
+    s.material.beta = Some(column.beta);
+    s.material.friction = column.friction;
+    s.integrator.scheme = column.scheme;
+    s.run.duration = options.duration;
+    s.run.sample_interval = 5e-4;
+    s.settle.hold_time = 0.02;
+    s
+}
+
+/// Runs the map, writes `stability_map.csv` (every case) and `stability_map.md` (boundaries), and
+/// returns the cases and the boundaries.
+pub fn stability_map(options: &StabilityMapOptions) -> Result<(Vec<MapRow>, Vec<Boundary>), String> {
+    let columns = columns(options);
+    let results: Vec<Result<Vec<MapRow>, String>> = columns.par_iter().map(|c| map_column(options, c)).collect();
+    let rows: Vec<MapRow> = results.into_iter().collect::<Result<Vec<_>, _>>()?.into_iter().flatten().collect();
+    let boundaries: Vec<Boundary> = columns.iter().map(|c| boundary(&rows, c)).collect();
+    write_csv(&options.out_dir.join("stability_map.csv"), &rows)?;
+    write_file(&options.out_dir.join("stability_map.md"), &summary(options, &rows, &boundaries))?;
+    chart(options, &rows, &boundaries)?;
+    Ok((rows, boundaries))
+}
+
+/// Every combination of scheme, stiffness, β and μ.
+fn columns(o: &StabilityMapOptions) -> Vec<Column> {
+    let mut columns = Vec::new();
+    for &scheme in &o.schemes {
+        for &youngs_modulus in &o.youngs_moduli {
+            for &beta in &o.betas {
+                for &friction in &o.frictions {
+                    columns.push(Column { scheme, youngs_modulus, beta, friction });
+                }
+            }
+        }
+    }
+    columns
+}
+
+/// One column of the map: the time steps of one scene from coarse to fine, stopping three steps below
+/// both the predicted safe step and the last blow-up.
+fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapRow>, String> {
+    let mut scene = map_scene(options, column);
+    let disks = placed_disks(&scene)?;
+    let contact_time = super::assess(&scene, &disks).contact_time;
+    let mut rows: Vec<MapRow> = Vec::new();
+    let mut stable_below = 0;
+    for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {
+        scene.integrator.time_step = contact_time / ratio;
+        let row = map_case(column, &scene, &disks)?;
+        let predicted_safe = row.time_step <= row.safe_time_step;
+        stable_below = if row.blew_up() || !predicted_safe { 0 } else { stable_below + 1 };
+        rows.push(row);
+        if stable_below > 2 {
+            break;
+        }
+    }
+    Ok(rows)
+}
+
+/// Runs one case.
+fn map_case(column: &Column, scene: &SceneConfig, disks: &[InitialDisk]) -> Result<MapRow, String> {
+    let rec = super::run(scene, disks)?;
+    let st = &rec.stability;
+    Ok(MapRow {
+        column: *column,
+        restitution: restitution_from_beta(column.beta),
+        time_step: scene.integrator.time_step,
+        contact_time: st.contact_time,
+        dt_over_contact_time: st.dt_over_contact_time,
+        damping_rate: st.damping_rate,
+        dt_times_damping_rate: st.dt_times_damping_rate,
+        safe_time_step: st.safe_time_step,
+        warned: !st.warnings.is_empty(),
+        warnings: st.warnings.join(" | "),
+        status: rec.status,
+        message: rec.message.unwrap_or_default(),
+        simulated_time: rec.simulated_time,
+    })
+}
+
+/// The boundary of one column from its rows.
+fn boundary(rows: &[MapRow], key: &Column) -> Boundary {
+    let mut column: Vec<&MapRow> = rows.iter().filter(|r| r.column == *key).collect();
+    column.sort_by(|a, b| a.time_step.total_cmp(&b.time_step));
+    let first = column[0];
+    let smallest_unstable = column.iter().find(|r| r.blew_up());
+    let largest_stable = column.iter().take_while(|r| !r.blew_up()).map(|r| r.time_step).fold(None, |_, dt| Some(dt));
+    Boundary {
+        column: *key,
+        contact_time: first.contact_time,
+        damping_rate: first.damping_rate,
+        safe_time_step: first.safe_time_step,
+        largest_stable,
+        smallest_unstable: smallest_unstable.map(|r| r.time_step),
+        failure: smallest_unstable.map_or("", |r| r.failure()),
+        unwarned_blow_ups: column.iter().filter(|r| r.blew_up() && !r.warned).count(),
+        warned_stable: column.iter().filter(|r| !r.blew_up() && r.warned).count(),
+    }
+}
+
+/// `dt / t_c` and `dt × rate` of a time step, as table cells.
+fn in_units(dt: Option<f64>, b: &Boundary) -> [String; 2] {
+    match dt {
+        Some(dt) => [short(dt / b.contact_time), short(dt * b.damping_rate)],
+        None => ["—".into(), "—".into()],
+    }
+}
+
+/// Draws `stability_map.png`: one panel per scheme and friction, Δt/t_c against β, every case a dot
+/// (stable) or a cross (blew up), all stiffnesses together, and the predicted safe Δt/t_c as a line.
+fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]) -> Result<(), String> {
+    let beta_index = |beta: f64| options.betas.iter().position(|b| *b == beta).unwrap_or(0) as f64;
+    let mut panels = Vec::new();
+    for &scheme in &options.schemes {
+        for &friction in &options.frictions {
+            let of_panel = |c: &Column| c.scheme == scheme && c.friction == friction;
+            let cases = rows
+                .iter()
+                .filter(|r| of_panel(&r.column))
+                .map(|r| (beta_index(r.column.beta), r.dt_over_contact_time, r.blew_up()))
+                .collect();
+            let predicted = options
+                .betas
+                .iter()
+                .map(|beta| {
+                    let safe = boundaries
+                        .iter()
+                        .filter(|b| of_panel(&b.column) && b.column.beta == *beta)
+                        .map(|b| b.safe_time_step / b.contact_time)
+                        .fold(f64::INFINITY, f64::min);
+                    (beta_index(*beta), safe)
+                })
+                .collect();
+            panels.push(MapPanel { title: format!("{}, μ = {friction}", scheme_name(scheme)), cases, predicted });
+        }
+    }
+    let labels: Vec<String> = options.betas.iter().map(|b| b.to_string()).collect();
+    let size = ChartOptions {
+        width: 600 * options.frictions.len().max(1) as u32,
+        height: 450 * options.schemes.len().max(1) as u32 + 40,
+        subject: Some("dots: stable, crosses: blew up, line: predicted safe step".into()),
+        ..Default::default()
+    };
+    let path = options.out_dir.join("stability_map.png");
+    stability_map_chart(&panels, options.frictions.len(), ("β", &labels), "Δt / t_c", &size, &path)
+        .map_err(|e| e.to_string())
+}
+
+/// Three significant digits, in exponent form below 0.01.
+fn short(x: f64) -> String {
+    if x != 0.0 && x.abs() < 0.01 { format!("{x:.2e}") } else { format!("{x:.3}") }
+}
+
+/// The Markdown summary: per column, the predicted and observed boundary.
+fn summary(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]) -> String {
+    let header = [
+        "scheme",
+        "E (Pa)",
+        "β",
+        "e",
+        "μ",
+        "t_c (s)",
+        "rate (1/s)",
+        "safe dt/t_c",
+        "safe dt×rate",
+        "stable dt/t_c",
+        "stable dt×rate",
+        "blow-up dt/t_c",
+        "blow-up dt×rate",
+        "failure",
+        "unwarned blow-ups",
+        "warned but stable",
+    ];
+    let table: Vec<Vec<String>> = boundaries
+        .iter()
+        .map(|b| {
+            let safe = in_units(Some(b.safe_time_step), b);
+            let stable = in_units(b.largest_stable, b);
+            let unstable = in_units(b.smallest_unstable, b);
+            let mut cells = vec![
+                scheme_name(b.column.scheme).to_string(),
+                format!("{:e}", b.column.youngs_modulus),
+                b.column.beta.to_string(),
+                format!("{:.3}", restitution_from_beta(b.column.beta)),
+                b.column.friction.to_string(),
+                format!("{:.3e}", b.contact_time),
+                format!("{:.3e}", b.damping_rate),
+            ];
+            cells.extend(safe.into_iter().chain(stable).chain(unstable));
+            cells.push(b.failure.to_string());
+            cells.push(b.unwarned_blow_ups.to_string());
+            cells.push(b.warned_stable.to_string());
+            cells
+        })
+        .collect();
+    let blow_ups = rows.iter().filter(|r| r.blew_up()).count();
+    let unwarned: usize = boundaries.iter().map(|b| b.unwarned_blow_ups).sum();
+    let margin = boundaries
+        .iter()
+        .filter_map(|b| b.smallest_unstable.map(|dt| dt / b.safe_time_step))
+        .filter(|m| *m >= 1.0)
+        .fold(f64::INFINITY, f64::min);
+    format!(
+        "# Stability map\n\nRegenerate: `cargo run --release -- bench stability` (writes `stability_map.csv`, \
+         `stability_map.md`, `stability_map.png`).\n\n{} cases ({} disks poured into a 0.12 m box, up to {} s each), {blow_ups} blew up, \
+         {unwarned} of them without a pre-run warning. Where a column blows up only above the predicted safe \
+         step, the smallest blow-up is {margin:.2} times that step or more.\n\n\
+         Columns: the engine's predicted safe time step, the largest time step below which no case blew up, and the \
+         smallest that blew up, each as Δt/t_c and Δt × damping rate (t_c and rate: the engine's prediction for the \
+         scene's hardest impact). Every case is in `stability_map.csv`.\n\n{}\n",
+        rows.len(),
+        options.count,
+        options.duration,
+        markdown_table(&header, &table)
+    )
+}

@@ -1,0 +1,80 @@
+//! `demsweep bench accuracy|stability|stress|skipping`: the benchmarks of `demsweep::bench`.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Subcommand};
+use demsweep::bench::accuracy::{AccuracyOptions, accuracy};
+use demsweep::bench::skipping::{SkippingOptions, skipping};
+use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
+use demsweep::bench::stress::{StressOptions, stress};
+use demsweep::study;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    #[command(subcommand)]
+    which: Which,
+    /// Folder for the CSV, Markdown and chart files.
+    #[arg(long, global = true, default_value = "results/bench")]
+    out: PathBuf,
+}
+
+#[derive(Subcommand)]
+enum Which {
+    /// Work-precision: error against run time of both integrators, time steps t_c/5 … t_c/400
+    /// (binary Hertz impact and a 300-disk deposition; about a minute).
+    Accuracy,
+    /// Stability map: blow-ups over time step × stiffness × damping × friction against the predicted safe
+    /// time step (a few thousand small runs on all cores; about half a minute).
+    Stability,
+    /// Stress scenarios: Table 1, too-large steps, 50 m/s impact, dense lattice, 0, 1 and 100 000 disks,
+    /// β = 50, frictionless (about ten seconds).
+    Stress,
+    /// Time saved by stopping at settle, sparse diagnostics and frictionless shortcuts (about two minutes).
+    Skipping {
+        /// Study whose runs the stop-at-settle saving is measured on (the first run also for sampling and
+        /// friction).
+        #[arg(long, default_value = "studies/damping_sweep.toml")]
+        study: PathBuf,
+    },
+}
+
+/// Runs one benchmark; prints its Markdown summary.
+pub fn bench(args: &BenchArgs) -> ExitCode {
+    let out = args.out.clone();
+    let result = match &args.which {
+        Which::Accuracy => {
+            accuracy(&AccuracyOptions { out_dir: out.clone(), ..Default::default() }).map(|_| "accuracy.md")
+        }
+        Which::Stability => stability_map(&StabilityMapOptions { out_dir: out.clone(), ..Default::default() })
+            .map(|_| "stability_map.md"),
+        Which::Stress => stress(&StressOptions { out_dir: out.clone(), ..Default::default() }).map(|_| "stress.md"),
+        Which::Skipping { study } => {
+            skipping_options(study, out.clone()).and_then(|o| skipping(&o)).map(|_| "skipping.md")
+        }
+    };
+    match result.and_then(|summary| print_file(&out.join(summary))) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("bench: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Skipping options measuring every run of `study`.
+fn skipping_options(study: &Path, out_dir: PathBuf) -> Result<SkippingOptions, String> {
+    let plan = study::load(study).map_err(|e| e.to_string())?;
+    Ok(SkippingOptions {
+        source: format!("every run of {}", study.display()),
+        scenes: plan.runs.into_iter().map(|r| r.scene).collect(),
+        out_dir,
+        ..Default::default()
+    })
+}
+
+fn print_file(path: &Path) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    print!("{text}");
+    Ok(())
+}
