@@ -128,3 +128,30 @@ fn paper_table1_runs_to_the_end_and_flags_the_overlap() {
     assert_eq!(stopped.status, RunStatus::Diverged);
     assert!(stopped.message.unwrap().contains("limits.max_overlap_ratio"));
 }
+
+#[test]
+fn strong_damping_with_friction_creates_no_energy() {
+    // β = 10 with μ = 0.5: a sliding contact's trial force passes the Coulomb limit through its
+    // damping part; the tangential spring must not be enlarged to the limit (that stored energy no
+    // work put there, and such runs gained energy and diverged at every time step).
+    let mut s = SceneConfig::default();
+    s.domain.width = 0.12;
+    s.particles.count = 24;
+    s.material.beta = Some(10.0);
+    s.material.friction = 0.5;
+    s.run.duration = 0.4;
+    s.run.stop_at_settle = false;
+    let probe = demsweep::physics::simulation::Simulation::new(
+        &s,
+        &demsweep::physics::placement::generate(&s).unwrap(),
+        demsweep::physics::contact::HertzMindlin,
+    );
+    s.integrator.time_step = probe.stability().safe_time_step;
+    let rec = run(&s, None);
+    assert_ne!(rec.status, RunStatus::Diverged, "{:?}", rec.message);
+    let h = &rec.history;
+    let highest = h.mechanical.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    assert!(highest <= h.mechanical[0] * (1.0 + 1e-3), "energy grew: {highest} > {}", h.mechanical[0]);
+    let balance = (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - h.mechanical[0]).abs()).fold(0.0, f64::max);
+    assert!(balance < 0.01 * h.mechanical[0], "energy balance off by {balance}");
+}

@@ -6,13 +6,6 @@
 //! damping gives the largest damping rate `c_n / m*`. Explicit schemes need `Δt ≪ t_c` to resolve a
 //! contact and `Δt · c_n/m* < 1` (Adams-Bashforth 2's real stability interval) or `< 2` (velocity
 //! Verlet) to keep the damping stable.
-//!
-//! One more check is about the contact model rather than the time step: with friction and strong
-//! damping, a sliding contact's tangential spring is set to carry the Coulomb force `μ F_n`, and `F_n`
-//! includes the normal damping force. The spring then stores up to `(μ c_n v)² / (2 k_t)`, energy the
-//! contact gives back as motion when it sticks again. The stability map (`demsweep bench stability`)
-//! shows such runs gaining energy and diverging at every time step once that exceeds the impact's
-//! kinetic energy `½ m* v²` about [`SLIDING_SPRING_ENERGY_LIMIT`] times over, so it is warned about.
 
 use serde::{Deserialize, Serialize};
 
@@ -24,11 +17,6 @@ use super::walls::BoxWalls;
 
 /// Packing fraction assumed for the settled pile when estimating the weight on the floor.
 const PILE_PACKING: f64 = 0.82;
-
-/// Largest ratio of the energy a sliding contact's spring can take from the damping force to the
-/// impact's kinetic energy ([`StabilityReport::sliding_spring_energy_ratio`]) that runs survived in the
-/// stability map (β = 5 with μ = 0.5 gives about 25; β = 10 gives about 100 and diverged).
-pub const SLIDING_SPRING_ENERGY_LIMIT: f64 = 20.0;
 
 /// The pre-run estimate and its warnings.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -47,9 +35,6 @@ pub struct StabilityReport {
     pub dt_over_contact_time: f64,
     /// Δt · c_n/m*.
     pub dt_times_damping_rate: f64,
-    /// Energy a sliding contact's spring can take up from the damping force, `μ² c_n² / (k_t m*)`, over
-    /// the impact's kinetic energy (0 without friction).
-    pub sliding_spring_energy_ratio: f64,
     /// Largest time step that passes both checks (s).
     pub safe_time_step: f64,
     /// What is wrong, in words (empty when nothing is).
@@ -100,13 +85,8 @@ pub fn assess<L: ContactLaw>(
         m_star: effective_mass(mmin, m2),
         beta: m.beta,
     };
-    let (disk_pair, wall_pair) =
-        (pair(&materials.particle, rmin, mmin), pair(&materials.wall, f64::INFINITY, f64::INFINITY));
-    let disk_disk = estimate_impact(law, &disk_pair, speed);
-    let disk_wall = estimate_impact(law, &wall_pair, speed);
-    let sliding_spring_energy_ratio =
-        sliding_spring_energy_ratio(law, &disk_pair, materials.particle.friction, disk_disk.max_overlap)
-            .max(sliding_spring_energy_ratio(law, &wall_pair, materials.wall.friction, disk_wall.max_overlap));
+    let disk_disk = estimate_impact(law, &pair(&materials.particle, rmin, mmin), speed);
+    let disk_wall = estimate_impact(law, &pair(&materials.wall, f64::INFINITY, f64::INFINITY), speed);
     let contact_time = disk_disk.duration.min(disk_wall.duration);
     let damping_rate = disk_disk.max_damping_rate.max(disk_wall.max_damping_rate);
     let static_overlap = static_floor_overlap(law, scene, p, materials);
@@ -120,7 +100,6 @@ pub fn assess<L: ContactLaw>(
         damping_rate,
         dt_over_contact_time: dt / contact_time,
         dt_times_damping_rate: dt * damping_rate,
-        sliding_spring_energy_ratio,
         safe_time_step: (limits.contact_time_fraction * contact_time).min(if damping_rate > 0.0 {
             damping_limit / damping_rate
         } else {
@@ -147,12 +126,6 @@ fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec
             r.dt_times_damping_rate, damping_limit, limits.damping_rate_fraction, damping_stability_limit(scene.integrator.scheme), r.safe_time_step
         ));
     }
-    if r.sliding_spring_energy_ratio > SLIDING_SPRING_ENERGY_LIMIT {
-        w.push(format!(
-            "friction with strong damping: a sliding contact's tangential spring can take up {:.0} times the impact's kinetic energy from the normal damping force (above {SLIDING_SPRING_ENERGY_LIMIT}) and give it back as motion; the run is likely to gain energy and diverge at any time step: lower beta or the friction",
-            r.sliding_spring_energy_ratio
-        ));
-    }
     if r.impact_overlap_ratio > limits.overlap_warning_ratio {
         w.push(format!(
             "an impact at {:.3} m/s would overlap {:.3} radii (Hertz contact is valid below {} = limits.overlap_warning_ratio): the material (E = {:.3e} Pa) is too soft for this scene",
@@ -166,16 +139,6 @@ fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec
         ));
     }
     w
-}
-
-/// Energy a sliding contact's spring can take up from the normal damping force, over the impact's
-/// kinetic energy: `(μ c_n v)² / (2 k_t)` over `½ m* v²`, with the law's coefficients at `overlap`.
-fn sliding_spring_energy_ratio<L: ContactLaw>(law: &L, pair: &PairProperties, friction: f64, overlap: f64) -> f64 {
-    let c = law.coefficients(pair, overlap.max(f64::MIN_POSITIVE));
-    if friction == 0.0 || c.tangential_stiffness <= 0.0 {
-        return 0.0;
-    }
-    (friction * c.normal_damping).powi(2) / (c.tangential_stiffness * pair.m_star)
 }
 
 /// Overlap at the floor under a column of the settled pile (m): the pile's depth from its area at

@@ -119,10 +119,13 @@ pub fn resolve<L: ContactLaw>(
         let trial = -c.tangential_stiffness * *spring + damping;
         let limit = options.friction * normal.max(0.0);
         tangential = if trial.abs() > limit {
-            // Sliding (spec fix of eq 13): the force sits on the Coulomb limit, the spring carries it.
-            let sliding = limit.copysign(trial);
-            *spring = if c.tangential_stiffness > 0.0 { -sliding / c.tangential_stiffness } else { 0.0 };
-            sliding
+            // Sliding (spec fix of eq 13): the force sits on the Coulomb limit and the spring is cut
+            // back to carry at most the limit. It is never enlarged to it: when the trial force passes
+            // the limit through its damping part (strong β), enlarging the spring would store energy
+            // that no work put there, and the contact would hand it back as motion.
+            let spring_limit = if c.tangential_stiffness > 0.0 { limit / c.tangential_stiffness } else { 0.0 };
+            *spring = spring.clamp(-spring_limit, spring_limit);
+            limit.copysign(trial)
         } else {
             trial
         };
