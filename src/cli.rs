@@ -9,6 +9,7 @@ mod bench;
 use demsweep::study::{self, Plan};
 
 mod results;
+mod slurm;
 
 /// Exit status when the study file is invalid.
 const INVALID_STUDY: u8 = 2;
@@ -104,6 +105,20 @@ enum Command {
         after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
     )]
     Bench(bench::BenchArgs),
+    /// Write (and with --submit, submit) a Slurm array job, one task per shard, and a merge job.
+    #[command(
+        long_about = "Write two Slurm batch scripts into OUT/slurm/: an array job with one task per shard, \
+                      each running `demsweep run STUDY --shard K/N --out OUT/shards --resume` on --jobs CPUs \
+                      (logs in OUT/logs/), and a merge job writing OUT/<study name>.h5 and its CSV summary. \
+                      Without --submit, prints how to submit them; with --submit, submits both with sbatch, \
+                      the merge with --dependency=afterok on the array job, and prints the job ids. A failed \
+                      task leaves the other shards intact: re-run it with `sbatch --array=K OUT/slurm/array.sbatch` \
+                      (it resumes its shard), then submit the merge again.",
+        after_help = "Examples:\n  demsweep slurm studies/damping_sweep.toml --shards 16 --time 02:00:00 --submit\n  \
+                      demsweep slurm studies/damping_sweep.toml --shards 8 --jobs 4 --partition long \
+                      --out /scratch/damping --print"
+    )]
+    Slurm(slurm::SlurmArgs),
 }
 
 #[derive(Args)]
@@ -134,6 +149,10 @@ pub fn main() -> ExitCode {
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
         Command::Bench(args) => bench::bench(&args),
+        Command::Slurm(args) => match load_or_report(args.study()) {
+            Ok(plan) => slurm::slurm(&args, &plan),
+            Err(code) => code,
+        },
     }
 }
 

@@ -3,6 +3,7 @@
 //! Layers, each depending only on the ones above it in this list:
 //! - [`physics`]: the simulation library (no I/O): particles, contacts, integrators, walls, diagnostics.
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
+//! - [`slurm`]: batch scripts running a study as a Slurm array job (one shard per task) plus a merge job.
 //! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records.
 #![forbid(unsafe_code)]
 
@@ -11,4 +12,5 @@ pub mod output;
 pub mod physics;
 pub mod plot;
 pub mod runner;
+pub mod slurm;
 pub mod study;

@@ -254,6 +254,8 @@ cmd_start() {
     : >"$STATE/pids"
     chown munge:munge "$STATE/log"   # munged writes its log here
     chmod 0755 "$STATE/log"
+    runuser -u munge -- test -w "$STATE/log" \
+        || die 1 "the munge user cannot reach $STATE: make its parent directories world-traversable (chmod o+x)"
 
     # If anything below fails, stop whatever we already started.
     trap 'rc=$?; if ((rc != 0)); then echo "$PROG: start failed; stopping what was started" >&2; cmd_stop "$STATE" >&2 || true; fi' EXIT

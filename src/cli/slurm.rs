@@ -1,0 +1,126 @@
+//! The `slurm` command: write (and submit) the array and merge jobs of a study.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Args;
+use demsweep::slurm::{self, ArrayJob, Scripts};
+use demsweep::study::Plan;
+
+/// Exit status when the scripts cannot be written or submitted.
+const FAILED: u8 = 1;
+
+#[derive(Args)]
+pub struct SlurmArgs {
+    /// The study file (TOML).
+    study: PathBuf,
+    /// Number of shards, i.e. array tasks.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    shards: u32,
+    /// Worker threads per task (each task asks Slurm for this many CPUs).
+    #[arg(long, short = 'j', default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    jobs: u32,
+    /// Output directory (default: results/<study name>/): gets shards/, logs/, slurm/ and the merged results.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Slurm partition (default: the site's default partition).
+    #[arg(long)]
+    partition: Option<String>,
+    /// Time limit of each task and of the merge, in a Slurm format such as 02:00:00 (default: the partition's).
+    #[arg(long)]
+    time: Option<String>,
+    /// The demsweep executable the jobs run (default: this one).
+    #[arg(long, value_name = "PATH")]
+    demsweep: Option<PathBuf>,
+    /// Also print both scripts.
+    #[arg(long)]
+    print: bool,
+    /// Submit the jobs with sbatch (otherwise only write the scripts and say how to submit them).
+    #[arg(long)]
+    submit: bool,
+}
+
+impl SlurmArgs {
+    /// The study file.
+    pub fn study(&self) -> &Path {
+        &self.study
+    }
+}
+
+/// `demsweep slurm`: exit 0 when the scripts were written (and submitted), 1 otherwise.
+pub fn slurm(args: &SlurmArgs, plan: &Plan) -> ExitCode {
+    match array_job(args, plan).and_then(|job| write_and_submit(args, &job)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(FAILED)
+        }
+    }
+}
+
+/// The job to write, with absolute paths (jobs may start in another directory).
+fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
+    let shards = args.shards as usize;
+    if shards > plan.runs.len() {
+        return Err(format!("--shards {shards}: the study has only {} runs", plan.runs.len()));
+    }
+    let demsweep = match &args.demsweep {
+        Some(path) => path.clone(),
+        None => std::env::current_exe().map_err(|e| format!("cannot find this executable (use --demsweep): {e}"))?,
+    };
+    let out = args.out.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
+    Ok(ArrayJob {
+        study: absolute(&args.study)?,
+        study_name: plan.name.clone(),
+        out_dir: absolute(&out)?,
+        shards,
+        jobs: args.jobs as usize,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+        demsweep: absolute(&demsweep)?,
+    })
+}
+
+fn absolute(path: &Path) -> Result<PathBuf, String> {
+    std::path::absolute(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
+    let scripts = job.write_scripts()?;
+    if args.print {
+        for path in [&scripts.array, &scripts.merge] {
+            let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("==> {} <==\n{text}", path.display());
+        }
+    }
+    println!(
+        "wrote {} ({} array tasks, one per shard) and {}",
+        scripts.array.display(),
+        job.shards,
+        scripts.merge.display()
+    );
+    if !args.submit {
+        print_how_to_submit(&scripts);
+        return Ok(());
+    }
+    let ids = slurm::submit(&scripts)?;
+    println!(
+        "submitted array job {} ({} tasks) and merge job {} (starts when every task succeeded)",
+        ids.array_id, job.shards, ids.merge_id
+    );
+    println!("watch: squeue -j {},{}; logs in {}", ids.array_id, ids.merge_id, job.log_dir().display());
+    println!(
+        "results: {}; if a task fails, see README.md, \"Running on a cluster (Slurm)\"",
+        job.out_dir.join(format!("{}.h5", job.study_name)).display()
+    );
+    Ok(())
+}
+
+fn print_how_to_submit(scripts: &Scripts) {
+    println!(
+        "submit with:\n  ARRAY=$(sbatch --parsable {})\n  sbatch --dependency=afterok:$ARRAY {}\n\
+         (or run this command again with --submit)",
+        scripts.array.display(),
+        scripts.merge.display()
+    );
+}
