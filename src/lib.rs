@@ -3,7 +3,7 @@
 //! Layers, each depending only on the ones above it in this list:
 //! - [`physics`]: the simulation library (no I/O): particles, contacts, integrators, walls, diagnostics.
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
-//! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records.
+//! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records or a results file.
 #![forbid(unsafe_code)]
 
 pub mod bench;
