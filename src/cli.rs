@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 mod bench;
+mod plot;
 use demsweep::study::{self, Plan};
 
 mod results;
@@ -25,7 +26,8 @@ const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;
     long_about = "Batch parameter sweeps of 2D DEM simulations of granular deposition (the BMEDEM2D model).\n\n\
                   A study file (TOML) holds a base [scene] and [sweep] axes; demsweep expands it into runs. \
                   The study file format is described in README.md, section \"Study files\".",
-    after_help = "Examples:\n  demsweep check studies/damping_sweep.toml\n  demsweep plan studies/damping_sweep.toml"
+    after_help = "Examples:\n  demsweep check studies/damping_sweep.toml\n  demsweep plan studies/damping_sweep.toml\n  \
+                  demsweep run studies/damping_sweep.toml\n  demsweep plot results/damping_sweep/damping_sweep.h5"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -95,6 +97,23 @@ enum Command {
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
     Merge(results::MergeArgs),
+    /// Draw charts of a results file: energies, UBF and pile snapshots per run; settle time per study.
+    #[command(
+        long_about = "Draw PNG (or SVG) charts of a results file into --out (default: plots/ next to the \
+                      file, i.e. results/<study name>/plots/). Per study: settle_time (settle time against \
+                      the first swept numeric parameter, one line per value of the second) and, with two \
+                      such parameters, settle_time_heatmap; diverged runs are red crosses, runs that did \
+                      not settle grey. Per run: <id>_energy (kinetic, potential, elastic, total), <id>_ubf \
+                      (unbalanced force ratio, log scale, settle threshold and settle time marked) and \
+                      <id>_frame_<k> for each frame recorded (the scene's run.frame_times or \
+                      run.frame_interval) plus <id>_final: the disks to scale in the box, coloured by speed \
+                      or contact force. Per-run charts are drawn for every run of a study of up to 20 \
+                      runs, else for 20 runs spread over it unless --run or --all-runs says otherwise.",
+        after_help = "Examples:\n  demsweep plot results/damping_sweep/damping_sweep.h5\n  \
+                      demsweep plot results/paper_table1/paper_table1.h5 --colour-by force --format both\n  \
+                      demsweep plot results/damping_sweep/damping_sweep.h5 --run r0003 --run r0012 --out figs"
+    )]
+    Plot(plot::PlotArgs),
     /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
@@ -148,6 +167,7 @@ pub fn main() -> ExitCode {
         Command::Summary(args) => results::summary(&args),
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
+        Command::Plot(args) => plot::plot(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Slurm(args) => match load_or_report(args.study()) {
             Ok(plan) => slurm::slurm(&args, &plan),

@@ -15,6 +15,7 @@ pub mod layout;
 pub mod merge;
 pub mod reader;
 pub mod row;
+pub mod stored;
 pub mod summary;
 pub mod table;
 pub mod writer;

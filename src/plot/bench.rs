@@ -77,8 +77,9 @@ impl Figure for LogLogFigure<'_> {
     {
         let positive = |(x, y): &(f64, f64)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite();
         let all = || self.series.iter().flat_map(|s| s.points.iter().copied().filter(positive));
+        let title = options.title(self.title);
         let mut chart = ChartBuilder::on(root)
-            .caption(options.title(self.title), style::text(style::TITLE_SIZE))
+            .caption(&title, style::title_text(root, &title, style::TITLE_SIZE))
             .margin(15)
             .x_label_area_size(55)
             .y_label_area_size(85)

@@ -3,7 +3,7 @@
 //! Every chart is drawn with plotters into a PNG or an SVG file ([`Format`]) of a fixed pixel size
 //! ([`ChartOptions`]). Text uses the bundled DejaVu Sans font (`assets/fonts/`), so drawing needs no
 //! system font libraries. Charts take in-memory data: [`crate::physics::record`] types for one run,
-//! [`StudyPoint`]s for a study.
+//! [`StudyPoint`]s for a study; [`results`] draws them all from a results file (`demsweep plot`).
 
 use std::error::Error;
 use std::fmt;
@@ -15,6 +15,7 @@ use plotters::prelude::*;
 use crate::physics::RunStatus;
 
 pub mod bench;
+pub mod results;
 pub mod run;
 pub mod study;
 mod style;

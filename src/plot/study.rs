@@ -150,8 +150,9 @@ impl Figure for LinesFigure<'_> {
         let top = if longest > 0.0 { longest } else { 1.0 };
         // Runs without a settle time sit on a row above the data.
         let unsettled_row = top * 1.12;
+        let title = options.title("Settle time");
         let mut chart = ChartBuilder::on(root)
-            .caption(options.title("Settle time"), style::text(style::TITLE_SIZE))
+            .caption(&title, style::title_text(root, &title, style::TITLE_SIZE))
             .margin(15)
             .x_label_area_size(55)
             .y_label_area_size(85)

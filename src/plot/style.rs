@@ -15,6 +15,10 @@ pub(super) const FONT: &str = "sans-serif";
 pub(super) const TITLE_SIZE: u32 = 26;
 /// Axis description text size (pixels).
 pub(super) const AXIS_DESC_SIZE: u32 = 20;
+/// Smallest size a title shrinks to when it is too wide for its image (pixels).
+const MIN_TITLE_SIZE: u32 = 12;
+/// Room left on either side of a title (pixels).
+const TITLE_PADDING: u32 = 10;
 /// Tick label, legend and annotation text size (pixels).
 pub(super) const LABEL_SIZE: u32 = 16;
 /// Width of data lines (pixels).
@@ -81,7 +85,19 @@ pub(super) fn titled<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    Ok(root.margin(10, 0, 0, 0).titled(title, text(TITLE_SIZE))?)
+    Ok(root.margin(10, 0, 0, 0).titled(title, title_text(root, title, TITLE_SIZE))?)
+}
+
+/// Text of `size` for the title `title` across `area`, smaller where needed so that it fits the width.
+pub(super) fn title_text<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    size: u32,
+) -> TextStyle<'static> {
+    let width = area.dim_in_pixel().0.saturating_sub(2 * TITLE_PADDING);
+    let too_wide = |size: u32| area.estimate_text_size(title, &text(size)).is_ok_and(|(w, _)| w > width);
+    let fitting = (MIN_TITLE_SIZE..=size).rev().find(|&s| !too_wide(s));
+    text(fitting.unwrap_or(MIN_TITLE_SIZE.min(size)))
 }
 
 /// Text style of the given size in the chart font.

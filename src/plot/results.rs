@@ -1,0 +1,423 @@
+//! Plots of a results file (`demsweep plot`): the charts of the whole study, then those of
+//! selected runs, drawn from what `demsweep run` stored.
+//!
+//! Study charts: settle time against the first swept numeric parameter, one line per value of the
+//! second (if any), and a heatmap over the first two. Per run: energies, unbalanced force ratio,
+//! and a pile snapshot per recorded frame plus the final state.
+
+use std::path::{Path, PathBuf};
+
+use hdf5_pure::File;
+
+use super::run::{self, ColourBy, ColourScale};
+use super::study;
+use super::{ChartOptions, Format, PlotError, StudyPoint};
+use crate::output::stored::{self, StoredRun};
+use crate::output::{OutputError, SummaryRow, reader};
+use crate::physics::RunStatus;
+use crate::physics::record::Snapshot;
+use crate::study::ParamValue;
+
+/// Per-run charts are drawn for at most this many runs unless runs are named or all are asked for.
+pub const DEFAULT_RUN_LIMIT: usize = 20;
+
+/// The swept parameter of replicate seeds: never a chart axis (the charts average over replicates).
+const SEED: &str = "placement.seed";
+
+/// What to plot and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlotRequest {
+    /// The results file (.h5).
+    pub results: PathBuf,
+    /// Folder for the images (`None`: `plots/` next to the results file).
+    pub out_dir: Option<PathBuf>,
+    /// Runs (ids) to draw per-run charts for; empty: see [`PlotRequest::all_runs`].
+    pub run_ids: Vec<String>,
+    /// With no `run_ids`: per-run charts for every run, instead of at most [`DEFAULT_RUN_LIMIT`]
+    /// runs spread evenly over the study.
+    pub all_runs: bool,
+    /// Every chart is written in each of these formats.
+    pub formats: Vec<Format>,
+    /// What snapshot disks are coloured by: speed on one scale shared by a run's snapshots, contact
+    /// force on a scale per snapshot.
+    pub colour_by: ColourBy,
+    /// Image size (pixels): width, height.
+    pub size: (u32, u32),
+}
+
+impl PlotRequest {
+    /// The image folder: `out_dir`, or `plots/` next to the results file.
+    pub fn image_dir(&self) -> PathBuf {
+        self.out_dir.clone().unwrap_or_else(|| self.results.parent().unwrap_or(Path::new("")).join("plots"))
+    }
+}
+
+/// What plotting reports as it goes.
+#[derive(Debug)]
+pub enum Event<'a> {
+    /// An image file was written.
+    Wrote(&'a Path),
+    /// What was chosen or left out, in words.
+    Note(&'a str),
+    /// A chart that could not be drawn (or a run that could not be read); the others are still drawn.
+    Failed(&'a PlotError),
+}
+
+/// What a plot produced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PlotReport {
+    /// Image files written.
+    pub written: usize,
+    /// Charts that could not be drawn and runs that could not be read.
+    pub failed: usize,
+    /// Runs that per-run charts were drawn for.
+    pub runs_charted: usize,
+    /// Runs in the file.
+    pub runs_total: usize,
+}
+
+impl From<OutputError> for PlotError {
+    fn from(e: OutputError) -> Self {
+        PlotError { path: e.path, reason: e.message }
+    }
+}
+
+/// Draws the study charts and the per-run charts of the requested runs of a results file, telling
+/// `on_event` about every file written. Fails before drawing anything when the file cannot be read,
+/// a requested run is not in it or the image size is too small.
+pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) -> Result<PlotReport, PlotError> {
+    let dir = request.image_dir();
+    let (min_width, min_height) = ChartOptions::MIN_SIZE;
+    if request.size.0 < min_width || request.size.1 < min_height {
+        let reason =
+            format!("image size {}x{} is below the smallest {min_width}x{min_height}", request.size.0, request.size.1);
+        return Err(PlotError { path: dir, reason });
+    }
+    let path = &request.results;
+    let file = reader::open(path)?;
+    let study_name = reader::header(&file, path)?.study_name;
+    let rows = reader::rows(&file, path)?;
+    let selected = select_runs(&rows, request)?;
+    let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), ..Default::default() };
+    let mut drawer = Drawer { request, dir, report, on_event };
+    drawer.study(&study_name, &rows);
+    for row in selected {
+        drawer.run(&file, row);
+    }
+    Ok(drawer.report)
+}
+
+/// The runs to draw per-run charts for: the named ones (in the order named), else all runs or at
+/// most [`DEFAULT_RUN_LIMIT`] spread evenly over the study (first and last included).
+fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<Vec<&'r SummaryRow>, PlotError> {
+    if !request.run_ids.is_empty() {
+        let mut selected: Vec<&SummaryRow> = Vec::new();
+        for id in &request.run_ids {
+            let row = rows.iter().find(|r| &r.id == id).ok_or_else(|| PlotError {
+                path: request.results.clone(),
+                reason: format!("no run `{id}` in this file (see `demsweep summary` for the run ids)"),
+            })?;
+            if !selected.iter().any(|r| r.id == row.id) {
+                selected.push(row);
+            }
+        }
+        return Ok(selected);
+    }
+    if request.all_runs || rows.len() <= DEFAULT_RUN_LIMIT {
+        return Ok(rows.iter().collect());
+    }
+    let last = rows.len() - 1;
+    Ok((0..DEFAULT_RUN_LIMIT).map(|i| &rows[i * last / (DEFAULT_RUN_LIMIT - 1)]).collect())
+}
+
+/// How a run ended, or `None` for a run that failed with an error (no record).
+fn run_status(row: &SummaryRow) -> Option<RunStatus> {
+    serde_json::from_value(serde_json::Value::String(row.status.clone())).ok()
+}
+
+/// A run's id, swept parameters and status, for chart titles. Parameters go by the last part of
+/// their key path (`restitution = 0.3`) unless two of them share it.
+fn run_subject(row: &SummaryRow) -> String {
+    let short = |key: &str| key.rsplit('.').next().unwrap_or(key).to_string();
+    let mut names: Vec<String> = row.parameters.iter().map(|(k, _)| short(k)).collect();
+    let mut unique = names.clone();
+    unique.sort();
+    unique.dedup();
+    if unique.len() < names.len() {
+        names = row.parameters.iter().map(|(k, _)| k.clone()).collect();
+    }
+    let parameters: Vec<String> =
+        names.iter().zip(&row.parameters).map(|(name, (_, v))| format!("{name} = {v}")).collect();
+    match parameters.is_empty() {
+        true => format!("{} ({})", row.id, row.status),
+        false => format!("{}: {} ({})", row.id, parameters.join(", "), row.status),
+    }
+}
+
+/// Draws charts into the image folder and keeps count.
+struct Drawer<'a> {
+    request: &'a PlotRequest,
+    dir: PathBuf,
+    report: PlotReport,
+    on_event: &'a mut dyn FnMut(Event<'_>),
+}
+
+impl Drawer<'_> {
+    fn note(&mut self, text: &str) {
+        (self.on_event)(Event::Note(text));
+    }
+
+    fn fail(&mut self, error: &PlotError) {
+        self.report.failed += 1;
+        (self.on_event)(Event::Failed(error));
+    }
+
+    /// Draws the chart `name` (file name without extension) about `subject` in every requested
+    /// format with `draw`; returns what the last successful drawing returned.
+    fn chart<T>(
+        &mut self,
+        name: &str,
+        subject: &str,
+        draw: impl Fn(&ChartOptions, &Path) -> Result<T, PlotError>,
+    ) -> Option<T> {
+        let mut drawn = None;
+        for &format in &self.request.formats {
+            let (width, height) = self.request.size;
+            let options = ChartOptions { width, height, format, subject: Some(subject.to_string()) };
+            let path = self.dir.join(format!("{name}.{}", format.extension()));
+            match draw(&options, &path) {
+                Ok(value) => {
+                    self.report.written += 1;
+                    (self.on_event)(Event::Wrote(&path));
+                    drawn = Some(value);
+                }
+                Err(error) => self.fail(&error),
+            }
+        }
+        drawn
+    }
+
+    /// The study charts: settle-time lines, and a heatmap when two parameters span a grid.
+    fn study(&mut self, study_name: &str, rows: &[SummaryRow]) {
+        let axes = StudyAxes::choose(rows);
+        for note in &axes.notes {
+            self.note(note);
+        }
+        let points: Vec<StudyPoint> = rows.iter().filter_map(study_point).collect();
+        if points.len() < rows.len() {
+            let failed = rows.len() - points.len();
+            self.note(&format!("{failed} run(s) failed with an error: left out of the study charts"));
+        }
+        let Some(x) = axes.x.as_deref() else {
+            return self.note("no swept numeric parameter with two or more values: no study charts");
+        };
+        let series = axes.series.as_deref();
+        self.chart("settle_time", study_name, |o, p| study::settle_time_lines(&points, x, series, o, p));
+        let Some(y) = series else { return };
+        let cells =
+            self.chart("settle_time_heatmap", study_name, |o, p| study::settle_time_heatmap(&points, x, y, o, p));
+        if let Some(cells) = cells {
+            self.note(&format!("settle time heatmap: {} cells over {x} x {y}", cells.len()));
+        }
+    }
+
+    /// The charts of one run: energies and UBF (when histories are stored) and its snapshots.
+    fn run(&mut self, file: &File, row: &SummaryRow) {
+        if run_status(row).is_none() {
+            return self.note(&format!("{}: {} ({}): nothing to plot", row.id, row.status, row.message));
+        }
+        let stored = match stored::read_run(file, &self.request.results, row) {
+            Ok(stored) => stored,
+            Err(error) => return self.fail(&error.into()),
+        };
+        let subject = run_subject(row);
+        match &stored.history {
+            Some(history) => {
+                self.chart(&format!("{}_energy", row.id), &subject, |o, p| run::energy_chart(history, o, p));
+                let threshold = stored.scene.settle.ubf_threshold;
+                let settle_time = row.settle_time;
+                self.chart(&format!("{}_ubf", row.id), &subject, |o, p| {
+                    run::ubf_chart(history, threshold, settle_time, o, p)
+                });
+            }
+            None => self.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
+        }
+        self.snapshots(row, &stored, &subject);
+    }
+
+    /// A snapshot per stored frame and of the final state (unless the last frame shows it).
+    fn snapshots(&mut self, row: &SummaryRow, stored: &StoredRun, subject: &str) {
+        let pictures = snapshot_names(stored);
+        if pictures.is_empty() {
+            return self.note(&format!("{}: no frames or final state stored: no snapshots", row.id));
+        }
+        let box_size = (stored.scene.domain.width, stored.scene.domain.height);
+        let by = self.request.colour_by;
+        let shared = ColourScale::fitted(by, pictures.iter().map(|(_, s)| *s));
+        for (name, snapshot) in pictures {
+            let scale = match by {
+                ColourBy::Speed => shared,
+                ColourBy::ContactForce => ColourScale::fitted(by, [snapshot]),
+            };
+            let name = format!("{}_{name}", row.id);
+            self.chart(&name, subject, |o, p| run::snapshot(snapshot, box_size, &scale, o, p));
+        }
+    }
+}
+
+/// The snapshots of a run with their file name parts: `frame_<k>` for each frame, `final` for the
+/// final state unless the last frame was taken at the same step.
+fn snapshot_names(stored: &StoredRun) -> Vec<(String, &Snapshot)> {
+    let mut pictures: Vec<(String, &Snapshot)> =
+        stored.frames.iter().enumerate().map(|(k, frame)| (format!("frame_{k}"), frame)).collect();
+    if let Some(last) = &stored.final_state {
+        let half_step = 0.5 * stored.scene.integrator.time_step;
+        if !stored.frames.last().is_some_and(|frame| (frame.time - last.time).abs() < half_step) {
+            pictures.push(("final".to_string(), last));
+        }
+    }
+    pictures
+}
+
+/// A run as the study charts see it: its numeric swept parameters (booleans as 0 and 1); `None` for
+/// a run that failed with an error.
+fn study_point(row: &SummaryRow) -> Option<StudyPoint> {
+    let parameters = row.parameters.iter().filter_map(|(key, value)| Some((key.clone(), numeric(value)?))).collect();
+    Some(StudyPoint { parameters, status: run_status(row)?, settle_time: row.settle_time })
+}
+
+/// A parameter value as a number, if it is one.
+fn numeric(value: &ParamValue) -> Option<f64> {
+    match value {
+        ParamValue::Float(v) => Some(*v),
+        ParamValue::Int(v) => Some(*v as f64),
+        ParamValue::Bool(v) => Some(f64::from(u8::from(*v))),
+        ParamValue::Text(_) => None,
+    }
+}
+
+/// The swept parameters the study charts are drawn against, and why others are not.
+#[derive(Debug, Default, PartialEq)]
+struct StudyAxes {
+    /// Horizontal axis of the lines and the heatmap.
+    x: Option<String>,
+    /// One line per value of it; the vertical axis of the heatmap.
+    series: Option<String>,
+    /// What was left out, in words.
+    notes: Vec<String>,
+}
+
+impl StudyAxes {
+    /// The first two swept numeric parameters with two or more values that vary independently (a
+    /// parameter zipped with the first is no second axis); text parameters and replicate seeds are
+    /// averaged over, as are further parameters.
+    fn choose(rows: &[SummaryRow]) -> Self {
+        let mut axes = Self::default();
+        let keys = rows.first().map(|r| r.parameters.iter().map(|(k, v)| (k.as_str(), v))).into_iter().flatten();
+        let mut averaged = Vec::new();
+        for (key, value) in keys {
+            let values = distinct_values(rows, key);
+            if numeric(value).is_none() {
+                axes.notes.push(format!("text parameter {key} is not a chart axis: study charts average over it"));
+            } else if key == SEED {
+                averaged.push(key);
+            } else if values.len() < 2 {
+                continue;
+            } else if axes.x.is_none() {
+                axes.x = Some(key.to_string());
+            } else if axes.series.is_none() && !determined_by(rows, axes.x.as_deref().unwrap_or_default(), key) {
+                axes.series = Some(key.to_string());
+            } else {
+                averaged.push(key);
+            }
+        }
+        if !averaged.is_empty() {
+            axes.notes.push(format!("study charts average over {}", averaged.join(", ")));
+        }
+        axes
+    }
+}
+
+/// The distinct numeric values of parameter `key` over `rows`, sorted.
+fn distinct_values(rows: &[SummaryRow], key: &str) -> Vec<f64> {
+    let mut values: Vec<f64> = rows.iter().filter_map(|r| parameter(r, key)).collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    values
+}
+
+/// The numeric value of parameter `key` of a run.
+fn parameter(row: &SummaryRow, key: &str) -> Option<f64> {
+    row.parameters.iter().find(|(k, _)| k == key).and_then(|(_, v)| numeric(v))
+}
+
+/// Whether the value of `key` follows from the value of `by` in every run (as for zipped axes).
+fn determined_by(rows: &[SummaryRow], by: &str, key: &str) -> bool {
+    let bits = |row: &SummaryRow, name: &str| parameter(row, name).map(f64::to_bits);
+    let mut seen = std::collections::HashMap::new();
+    rows.iter().all(|row| *seen.entry(bits(row, by)).or_insert(bits(row, key)) == bits(row, key))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(index: usize, parameters: &[(&str, ParamValue)]) -> SummaryRow {
+        let parameters: Vec<(String, ParamValue)> =
+            parameters.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
+        row.status = "settled".into();
+        row
+    }
+
+    #[test]
+    fn axes_skip_text_seeds_single_values_and_zipped_parameters() {
+        use ParamValue::{Float, Int, Text};
+        let mut rows = Vec::new();
+        for (i, (e, mu)) in [(0.1, 0.2), (0.1, 0.6), (0.5, 0.2), (0.5, 0.6)].into_iter().enumerate() {
+            rows.push(row(
+                i,
+                &[
+                    ("integrator.scheme", Text("verlet".into())),
+                    ("material.restitution", Float(e)),
+                    ("material.rolling_friction", Float(e * 2.0)),
+                    ("material.density", Float(2500.0)),
+                    ("material.friction", Float(mu)),
+                    ("placement.seed", Int(i as i64)),
+                ],
+            ));
+        }
+        let axes = StudyAxes::choose(&rows);
+        assert_eq!(axes.x.as_deref(), Some("material.restitution"));
+        assert_eq!(axes.series.as_deref(), Some("material.friction"));
+        assert_eq!(axes.notes.len(), 2, "{:?}", axes.notes);
+        assert!(axes.notes[0].contains("integrator.scheme"));
+        assert!(axes.notes[1].ends_with("material.rolling_friction, placement.seed"), "{:?}", axes.notes);
+    }
+
+    #[test]
+    fn default_selection_spreads_the_run_limit_over_a_large_study() {
+        let rows: Vec<SummaryRow> = (0..1000).map(|i| row(i, &[])).collect();
+        let request = PlotRequest {
+            results: PathBuf::from("study.h5"),
+            out_dir: None,
+            run_ids: Vec::new(),
+            all_runs: false,
+            formats: vec![Format::Png],
+            colour_by: ColourBy::Speed,
+            size: (1000, 700),
+        };
+        let selected = select_runs(&rows, &request).unwrap();
+        assert_eq!(selected.len(), DEFAULT_RUN_LIMIT);
+        assert_eq!((selected[0].index, selected[DEFAULT_RUN_LIMIT - 1].index), (0, 999));
+        assert!(selected.windows(2).all(|w| w[1].index > w[0].index));
+        let all = select_runs(&rows, &PlotRequest { all_runs: true, ..request.clone() }).unwrap();
+        assert_eq!(all.len(), 1000);
+        let named = PlotRequest { run_ids: vec!["r0007".into(), "r0003".into(), "r0007".into()], ..request.clone() };
+        let ids: Vec<&str> = select_runs(&rows, &named).unwrap().iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(ids, ["r0007", "r0003"]);
+        let unknown = PlotRequest { run_ids: vec!["r5000".into()], ..request };
+        assert!(select_runs(&rows, &unknown).unwrap_err().reason.contains("no run `r5000`"));
+        assert_eq!(PlotRequest { results: "results/s/s.h5".into(), ..named }.image_dir(), Path::new("results/s/plots"));
+    }
+}
