@@ -84,12 +84,12 @@ pub fn potential_energy(p: &Particles, g: [f64; 2]) -> f64 {
 
 /// Unbalanced force ratio (Yade's definition): mean |net force| over disks, gravity included (at
 /// rest the contacts carry the weight), divided by mean |contact force| over contacts.
-/// `p.fx`, `p.fy` must hold net forces including gravity. NaN while there is no contact.
-pub fn unbalanced_force_ratio(p: &Particles, totals: &ContactTotals) -> f64 {
+/// `p.fx`, `p.fy` hold the contact forces; the weight `m g` is added here. NaN without contacts.
+pub fn unbalanced_force_ratio(p: &Particles, g: [f64; 2], totals: &ContactTotals) -> f64 {
     if totals.contacts == 0 || p.is_empty() {
         return f64::NAN;
     }
-    let net: f64 = p.fx.iter().zip(&p.fy).map(|(fx, fy)| fx.hypot(*fy)).sum();
+    let net: f64 = (0..p.len()).map(|i| (p.fx[i] + p.mass[i] * g[0]).hypot(p.fy[i] + p.mass[i] * g[1])).sum();
     (net / p.len() as f64) / (totals.force_sum / totals.contacts as f64)
 }
 

@@ -1,6 +1,10 @@
 //! Time integration schemes. Each splits a step around the force evaluation:
 //! [`Integrator::advance`] moves the state from `t` to `t + Δt` using the forces at `t`,
 //! then the caller evaluates forces at the new state, then [`Integrator::finish`] completes the step.
+//!
+//! The force arrays hold contact forces only; gravity `g` enters as an acceleration. `advance`
+//! is the last reader of the forces at `t`: it clears them for the next evaluation and returns their
+//! power `Σ F·v + M·ω` at `t` (for the energy balance), all in the same pass over the disks.
 
 use super::config::IntegratorKind;
 use super::particles::Particles;
@@ -26,6 +30,17 @@ pub struct Accelerations {
     alpha: Vec<f64>,
 }
 
+/// What a step needs besides the particles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepContext {
+    /// Time step (s).
+    pub dt: f64,
+    /// Gravitational acceleration (m/s²).
+    pub gravity: [f64; 2],
+    /// Whether angular velocities can change (false when no torque can arise).
+    pub rotation: bool,
+}
+
 impl Integrator {
     /// A fresh integrator of the given kind.
     pub fn new(kind: IntegratorKind) -> Self {
@@ -35,53 +50,58 @@ impl Integrator {
         }
     }
 
-    /// Moves positions (and velocities) from `t` to `t + dt` using the current forces.
-    /// `rotation`: whether angular velocities can change (false when no torque can arise).
-    pub fn advance(&mut self, p: &mut Particles, dt: f64, rotation: bool) {
+    /// Moves positions (and velocities) from `t` to `t + dt` using the contact forces at `t`, clears
+    /// the forces, and returns their power at `t` (W).
+    pub fn advance(&mut self, p: &mut Particles, c: &StepContext) -> f64 {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
-                let prev = previous.get_or_insert_with(|| first_step_history(p, rotation));
-                adams_step(p, prev, dt, rotation);
+                let prev = previous.get_or_insert_with(|| first_step_history(p, c));
+                adams_step(p, prev, c)
             }
             Integrator::VelocityVerlet => {
-                kick(p, 0.5 * dt, rotation);
+                let power = kick(p, c, true);
                 for (x, vx) in p.x.iter_mut().zip(&p.vx) {
-                    *x += vx * dt;
+                    *x += vx * c.dt;
                 }
                 for (y, vy) in p.y.iter_mut().zip(&p.vy) {
-                    *y += vy * dt;
+                    *y += vy * c.dt;
                 }
+                power
             }
         }
     }
 
     /// Completes the step after forces at the new positions have been evaluated.
-    pub fn finish(&mut self, p: &mut Particles, dt: f64, rotation: bool) {
+    pub fn finish(&mut self, p: &mut Particles, c: &StepContext) {
         if let Integrator::VelocityVerlet = self {
-            kick(p, 0.5 * dt, rotation);
+            kick(p, c, false);
         }
     }
 }
 
 /// AB1 on the first step equals AB2 with `a_{-1} = a_0`.
-fn first_step_history(p: &Particles, rotation: bool) -> Accelerations {
+fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
+    let n = p.len();
     Accelerations {
-        ax: (0..p.len()).map(|i| p.fx[i] * p.inv_mass[i]).collect(),
-        ay: (0..p.len()).map(|i| p.fy[i] * p.inv_mass[i]).collect(),
-        alpha: if rotation { (0..p.len()).map(|i| p.torque[i] * p.inv_inertia[i]).collect() } else { Vec::new() },
+        ax: (0..n).map(|i| p.fx[i] * p.inv_mass[i] + c.gravity[0]).collect(),
+        ay: (0..n).map(|i| p.fy[i] * p.inv_mass[i] + c.gravity[1]).collect(),
+        alpha: if c.rotation { (0..n).map(|i| p.torque[i] * p.inv_inertia[i]).collect() } else { Vec::new() },
     }
 }
 
-fn adams_step(p: &mut Particles, prev: &mut Accelerations, dt: f64, rotation: bool) {
-    let h = 0.5 * dt;
+fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f64 {
+    let h = 0.5 * c.dt;
+    let [gx, gy] = c.gravity;
     let n = p.len();
     // Equal-length slices: no bounds checks, and the loop vectorises.
     let (x, y, vx, vy) = (&mut p.x[..n], &mut p.y[..n], &mut p.vx[..n], &mut p.vy[..n]);
-    let (fx, fy, inv_mass) = (&p.fx[..n], &p.fy[..n], &p.inv_mass[..n]);
+    let (fx, fy, inv_mass) = (&mut p.fx[..n], &mut p.fy[..n], &p.inv_mass[..n]);
     let (prev_ax, prev_ay) = (&mut prev.ax[..n], &mut prev.ay[..n]);
+    let mut power = 0.0;
     for i in 0..n {
-        let ax = fx[i] * inv_mass[i];
-        let ay = fy[i] * inv_mass[i];
+        power += fx[i] * vx[i] + fy[i] * vy[i];
+        let ax = fx[i] * inv_mass[i] + gx;
+        let ay = fy[i] * inv_mass[i] + gy;
         let new_vx = vx[i] + (3.0 * ax - prev_ax[i]) * h;
         let new_vy = vy[i] + (3.0 * ay - prev_ay[i]) * h;
         x[i] += (vx[i] + new_vx) * h;
@@ -90,29 +110,53 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, dt: f64, rotation: bo
         vy[i] = new_vy;
         prev_ax[i] = ax;
         prev_ay[i] = ay;
+        fx[i] = 0.0;
+        fy[i] = 0.0;
     }
-    if rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &p.torque[..n], &p.inv_inertia[..n]);
+    if c.rotation {
+        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &mut p.torque[..n], &p.inv_inertia[..n]);
         let prev_alpha = &mut prev.alpha[..n];
         for i in 0..n {
+            power += torque[i] * omega[i];
             let alpha = torque[i] * inv_inertia[i];
             omega[i] += (3.0 * alpha - prev_alpha[i]) * h;
             prev_alpha[i] = alpha;
+            torque[i] = 0.0;
         }
     }
+    power
 }
 
-fn kick(p: &mut Particles, h: f64, rotation: bool) {
+/// Half kick `v += (F/m + g) dt/2`; with `clear`, also clears the forces and returns their power.
+fn kick(p: &mut Particles, c: &StepContext, clear: bool) -> f64 {
+    let h = 0.5 * c.dt;
+    let [gx, gy] = c.gravity;
     let n = p.len();
-    let (vx, vy, fx, fy, inv_mass) = (&mut p.vx[..n], &mut p.vy[..n], &p.fx[..n], &p.fy[..n], &p.inv_mass[..n]);
+    let (vx, vy, inv_mass) = (&mut p.vx[..n], &mut p.vy[..n], &p.inv_mass[..n]);
+    let (fx, fy) = (&mut p.fx[..n], &mut p.fy[..n]);
+    let mut power = 0.0;
     for i in 0..n {
-        vx[i] += fx[i] * inv_mass[i] * h;
-        vy[i] += fy[i] * inv_mass[i] * h;
-    }
-    if rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &p.torque[..n], &p.inv_inertia[..n]);
-        for i in 0..n {
-            omega[i] += torque[i] * inv_inertia[i] * h;
+        if clear {
+            power += fx[i] * vx[i] + fy[i] * vy[i];
+        }
+        vx[i] += (fx[i] * inv_mass[i] + gx) * h;
+        vy[i] += (fy[i] * inv_mass[i] + gy) * h;
+        if clear {
+            fx[i] = 0.0;
+            fy[i] = 0.0;
         }
     }
+    if c.rotation {
+        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &mut p.torque[..n], &p.inv_inertia[..n]);
+        for i in 0..n {
+            if clear {
+                power += torque[i] * omega[i];
+            }
+            omega[i] += torque[i] * inv_inertia[i] * h;
+            if clear {
+                torque[i] = 0.0;
+            }
+        }
+    }
+    power
 }

@@ -40,9 +40,9 @@ pub struct Particles {
     pub inv_mass: Vec<f64>,
     /// 1/I with I = m R²/2 (1/(kg·m²)).
     pub inv_inertia: Vec<f64>,
-    /// Net force x incl. gravity (N).
+    /// Sum of contact forces x (N); gravity is applied by the integrator.
     pub fx: Vec<f64>,
-    /// Net force y incl. gravity (N).
+    /// Sum of contact forces y (N).
     pub fy: Vec<f64>,
     /// Net torque (N·m).
     pub torque: Vec<f64>,

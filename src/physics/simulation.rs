@@ -10,7 +10,7 @@ use super::contact::{
     self, ContactForce, ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot, PairProperties,
 };
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
-use super::integrator::Integrator;
+use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::neighbors::NeighborList;
 use super::particles::{Forces, InitialDisk, Particles};
@@ -83,13 +83,12 @@ pub struct Simulation<L: ContactLaw> {
     disk_options: ContactOptions,
     wall_options: ContactOptions,
     integrator: Integrator,
-    rotation: bool,
     rolling_resistance: bool,
-    dt: f64,
     /// Steps taken.
     pub step: u64,
+    context: StepContext,
     work: f64,
-    last_power: f64,
+    last_power: Option<f64>,
     totals: ContactTotals,
     initial_elastic: f64,
 }
@@ -114,29 +113,31 @@ impl<L: ContactLaw> Simulation<L> {
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
             disk_options: options(&materials.particle),
             wall_options: options(&materials.wall),
-            rotation: materials.has_friction() || spinning,
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
-            dt: scene.integrator.time_step,
             particles,
             walls,
             materials,
             step: 0,
+            context: StepContext {
+                dt: scene.integrator.time_step,
+                gravity: scene.gravity,
+                rotation: materials.has_friction() || spinning,
+            },
             work: 0.0,
-            last_power: 0.0,
+            last_power: None,
             totals: ContactTotals::default(),
             initial_elastic: 0.0,
         };
         sim.neighbors.rebuild(&sim.particles, &sim.walls);
         sim.compute_forces::<true>();
-        sim.last_power = sim.contact_power();
         sim.initial_elastic = sim.totals.elastic;
         sim
     }
 
     /// Simulated time (s).
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.dt
+        self.step as f64 * self.context.dt
     }
 
     /// The pre-run stability estimate for this scene.
@@ -146,7 +147,11 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
     pub fn advance(&mut self, sample: bool) {
-        self.integrator.advance(&mut self.particles, self.dt, self.rotation);
+        let power = self.integrator.advance(&mut self.particles, &self.context);
+        if let Some(last) = self.last_power {
+            self.work += 0.5 * (last + power) * self.context.dt;
+        }
+        self.last_power = Some(power);
         if self.neighbors.needs_rebuild(&self.particles) {
             self.neighbors.rebuild(&self.particles, &self.walls);
         }
@@ -155,27 +160,31 @@ impl<L: ContactLaw> Simulation<L> {
         } else {
             self.compute_forces::<false>();
         }
-        self.integrator.finish(&mut self.particles, self.dt, self.rotation);
+        self.integrator.finish(&mut self.particles, &self.context);
         if self.rolling_resistance {
             self.work -= self.apply_rolling_resistance();
         }
-        let power = self.contact_power();
-        self.work += 0.5 * (self.last_power + power) * self.dt;
-        self.last_power = power;
         self.step += 1;
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).
     pub fn sample(&self) -> Sample {
         let (kt, kr) = diagnostics::kinetic_energies(&self.particles);
+        // Work of the contacts up to now: the stored trapezoids end one step back; close the last one.
+        let work =
+            self.work + self.last_power.map_or(0.0, |last| 0.5 * (last + self.contact_power()) * self.context.dt);
         Sample {
             time: self.time(),
             kinetic_translational: kt,
             kinetic_rotational: kr,
             potential: diagnostics::potential_energy(&self.particles, self.scene.gravity),
             elastic: self.totals.elastic,
-            dissipated: self.initial_elastic - self.totals.elastic - self.work,
-            unbalanced_force_ratio: diagnostics::unbalanced_force_ratio(&self.particles, &self.totals),
+            dissipated: self.initial_elastic - self.totals.elastic - work,
+            unbalanced_force_ratio: diagnostics::unbalanced_force_ratio(
+                &self.particles,
+                self.scene.gravity,
+                &self.totals,
+            ),
             contacts: self.totals.contacts,
             max_overlap_ratio: self.totals.max_overlap_ratio,
         }
@@ -196,19 +205,18 @@ impl<L: ContactLaw> Simulation<L> {
         }
     }
 
-    /// Power of the contact forces and torques at the current velocities (W): net force minus weight,
-    /// dotted with the velocity, plus torque times spin. Integrated by the trapezoid rule over steps,
-    /// it gives the work of the contacts, and with it the energy dissipated.
+    /// Power of the contact forces and torques at the current velocities (W). Integrated by the
+    /// trapezoid rule over steps it gives the work of the contacts, and with it the energy dissipated.
+    /// Each step gets it from the integrator's pass; this is for closing the last step at a sample.
     fn contact_power(&self) -> f64 {
         let p = &self.particles;
-        let g = self.scene.gravity;
         let n = p.len();
-        let (fx, fy, vx, vy, mass) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n], &p.mass[..n]);
+        let (fx, fy, vx, vy) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n]);
         let mut power = 0.0;
         for i in 0..n {
-            power += (fx[i] - mass[i] * g[0]) * vx[i] + (fy[i] - mass[i] * g[1]) * vy[i];
+            power += fx[i] * vx[i] + fy[i] * vy[i];
         }
-        if self.rotation {
+        if self.context.rotation {
             power += p.torque.iter().zip(&p.omega).map(|(t, w)| t * w).sum::<f64>();
         }
         power
@@ -217,20 +225,13 @@ impl<L: ContactLaw> Simulation<L> {
     /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
     /// contact sums and per-disk contact force magnitudes.
     fn compute_forces<const SAMPLE: bool>(&mut self) {
-        let g = self.scene.gravity;
-        let (s, f) = self.particles.split();
-        for (i, m) in s.mass.iter().enumerate() {
-            f.fx[i] = m * g[0];
-            f.fy[i] = m * g[1];
-            if self.rotation {
-                f.torque[i] = 0.0;
-            }
-            if self.rolling_resistance {
-                f.rolling[i] = 0.0;
-            }
-            if SAMPLE {
-                f.contact_force[i] = 0.0;
-            }
+        // Forces and torques were cleared by the integrator, which read them last.
+        let p = &mut self.particles;
+        if self.rolling_resistance {
+            p.rolling.fill(0.0);
+        }
+        if SAMPLE {
+            p.contact_force.fill(0.0);
         }
         if SAMPLE {
             self.totals = ContactTotals::default();
@@ -245,8 +246,8 @@ impl<L: ContactLaw> Simulation<L> {
         let (s, mut f) = self.particles.split();
         let n = s.x.len();
         // Local copies: loop invariants the compiler can keep in registers and hoist.
-        let (m, options, dt) = (self.materials.particle, self.disk_options, self.dt);
-        let apply = Apply { rotation: self.rotation, rolling_friction: m.rolling_friction };
+        let (m, options, dt) = (self.materials.particle, self.disk_options, self.context.dt);
+        let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
         for pair in self.neighbors.pairs.iter_mut() {
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
@@ -288,8 +289,8 @@ impl<L: ContactLaw> Simulation<L> {
     fn wall_contacts<const SAMPLE: bool>(&mut self) {
         let (s, mut f) = self.particles.split();
         let n = s.x.len();
-        let (m, options, dt) = (self.materials.wall, self.wall_options, self.dt);
-        let apply = Apply { rotation: self.rotation, rolling_friction: m.rolling_friction };
+        let (m, options, dt) = (self.materials.wall, self.wall_options, self.context.dt);
+        let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
         let walls = &self.walls.walls;
         for candidate in self.neighbors.wall_pairs.iter_mut() {
             let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
@@ -328,7 +329,7 @@ impl<L: ContactLaw> Simulation<L> {
         for i in 0..p.len() {
             let w = p.omega[i];
             if p.rolling[i] > 0.0 && w != 0.0 {
-                let slowed = (w.abs() - p.rolling[i] * p.inv_inertia[i] * self.dt).max(0.0).copysign(w);
+                let slowed = (w.abs() - p.rolling[i] * p.inv_inertia[i] * self.context.dt).max(0.0).copysign(w);
                 removed += 0.5 * (w * w - slowed * slowed) / p.inv_inertia[i];
                 p.omega[i] = slowed;
             }
@@ -341,7 +342,7 @@ impl<L: ContactLaw> Simulation<L> {
         let stability = self.stability();
         let mut warnings = stability.warnings.clone();
         let total_steps = self.scene.total_steps();
-        let sample_every = ((self.scene.run.sample_interval / self.dt).round() as u64).max(1);
+        let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
         let mut frames = FrameSchedule::new(&self.scene, total_steps);
         let mut monitor = Monitor::new(&self);
         let mut settle = SettleDetector::new(&self.scene.settle);
@@ -382,7 +383,7 @@ impl<L: ContactLaw> Simulation<L> {
                 if frame_due {
                     recorded_frames.push(self.snapshot());
                 }
-                if !self.last_power.is_finite() {
+                if self.last_power.is_some_and(|p| !p.is_finite()) {
                     break;
                 }
             }
@@ -503,8 +504,9 @@ impl Monitor {
 
     fn divergence<L: ContactLaw>(&self, sim: &Simulation<L>, s: &Sample) -> Option<String> {
         let p = &sim.particles;
-        let finite =
-            s.kinetic().is_finite() && p.x.iter().chain(&p.y).all(|v| v.is_finite()) && sim.last_power.is_finite();
+        let finite = s.kinetic().is_finite()
+            && p.x.iter().chain(&p.y).all(|v| v.is_finite())
+            && sim.last_power.is_none_or(f64::is_finite);
         if !finite {
             return Some(format!(
                 "non-finite state (NaN or infinity) at t = {:.6} s: the time step is far too large",
