@@ -14,6 +14,10 @@ fn one_and_two_jobs_give_identical_summaries_and_histories() {
     assert_eq!(one.ran, 6);
     assert_eq!(one.summary.len(), 6);
     assert_eq!(one.summary.without_timing(), two.summary.without_timing());
+    for report in [&one, &two] {
+        assert!(report.writer_time > std::time::Duration::ZERO, "the writer's time is measured");
+        assert!(report.writer_time < report.wall_time, "{:?} of {:?}", report.writer_time, report.wall_time);
+    }
     assert_eq!(summary::read(&one.results).unwrap(), one.summary, "the file's /summary is what the run reported");
     for id in ["r000", "r003", "r005"] {
         let (mut a, mut b) = (Vec::new(), Vec::new());

@@ -150,6 +150,11 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         report.ran,
         report.already_done
     );
+    let (wall, writer) = (report.wall_time.as_secs_f64(), report.writer_time.as_secs_f64());
+    println!(
+        "wall time {wall:.2} s; writing results took {writer:.3} s ({:.1} % of it, in its own thread)",
+        100.0 * writer / wall.max(f64::MIN_POSITIVE)
+    );
     println!("results: {}\nsummary: {}", report.results.display(), report.summary_csv.display());
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));

@@ -65,6 +65,10 @@ pub struct RunReport {
     pub interrupted: bool,
     /// The summary of every run in the file.
     pub summary: SummaryTable,
+    /// Wall time of this invocation.
+    pub wall_time: std::time::Duration,
+    /// Time the writer thread spent staging, committing and finishing the results file.
+    pub writer_time: std::time::Duration,
 }
 
 impl RunReport {
@@ -123,6 +127,7 @@ impl From<OutputError> for RunnerError {
 /// Runs a plan (or one shard of it) into `OUT/<name>.h5` (or `OUT/<name>.shard-K-of-N.h5`) and its CSV
 /// summary; see [`RunOptions`].
 pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerError> {
+    let started = std::time::Instant::now();
     let selected = match options.shard {
         Some(spec) => shard::select(plan, spec),
         None => (0..plan.runs.len()).collect(),
@@ -140,7 +145,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     view.finish();
-    let summary = writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
+    let (summary, writer_time) =
+        writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
     let summary_csv = output::csv_path(&path);
     output::summary::write_csv(&summary_csv, &summary)?;
     let ran = ran?;
@@ -152,6 +158,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         ran,
         interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
         summary,
+        wall_time: started.elapsed(),
+        writer_time,
     })
 }
 

@@ -36,14 +36,15 @@ impl CommitPolicy {
     }
 }
 
-/// Starts the writer thread; it ends when every sender is dropped, returning the summary. On an
-/// error it sets `stop` (so the sweep ends) and returns the error.
+/// Starts the writer thread; it ends when every sender is dropped, returning the summary and the
+/// time it spent writing (staging, committing, finishing). On an error it sets `stop` (so the sweep
+/// ends) and returns the error.
 pub fn spawn(
     writer: ResultsWriter,
     runs: Receiver<RunResult>,
     policy: CommitPolicy,
     stop: Arc<AtomicBool>,
-) -> JoinHandle<Result<SummaryTable, OutputError>> {
+) -> JoinHandle<Result<(SummaryTable, Duration), OutputError>> {
     thread::spawn(move || {
         let outcome = write_all(writer, &runs, policy);
         if outcome.is_err() {
@@ -57,12 +58,17 @@ fn write_all(
     mut writer: ResultsWriter,
     runs: &Receiver<RunResult>,
     policy: CommitPolicy,
-) -> Result<SummaryTable, OutputError> {
+) -> Result<(SummaryTable, Duration), OutputError> {
     let mut last_commit = Instant::now();
     let mut last_cost = Duration::ZERO;
+    let mut busy = Duration::ZERO;
     loop {
         match runs.recv_timeout(Duration::from_millis(200)) {
-            Ok(run) => writer.stage(&run)?,
+            Ok(run) => {
+                let started = Instant::now();
+                writer.stage(&run)?;
+                busy += started.elapsed();
+            }
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
         }
@@ -70,10 +76,13 @@ fn write_all(
             let started = Instant::now();
             writer.commit()?;
             last_cost = started.elapsed();
+            busy += last_cost;
             last_commit = Instant::now();
         }
     }
-    writer.finish()
+    let started = Instant::now();
+    let summary = writer.finish()?;
+    Ok((summary, busy + started.elapsed()))
 }
 
 #[cfg(test)]
