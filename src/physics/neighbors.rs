@@ -11,16 +11,15 @@ use super::material::{effective_mass, effective_radius};
 use super::particles::Particles;
 use super::walls::BoxWalls;
 
-/// A pair `i < j` that may be in contact, with its tangential spring ξ (m) and its effective
-/// radius and mass (computed once per build, not once per step).
+/// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per
+/// build, not once per step). Its tangential spring lives in [`NeighborList::springs`], apart, so
+/// that the step loop writes only springs and leaves the pair records clean in cache.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NeighborPair {
     /// First disk (smaller index).
     pub i: u32,
     /// Second disk.
     pub j: u32,
-    /// Accumulated tangential displacement ξ; zero while not in contact.
-    pub spring: f64,
     /// Effective radius R* (m).
     pub r_star: f64,
     /// Effective mass m* (kg).
@@ -32,57 +31,85 @@ impl NeighborPair {
         Self {
             i: i as u32,
             j: j as u32,
-            spring: 0.0,
             r_star: effective_radius(p.r[i], p.r[j]),
             m_star: effective_mass(p.mass[i], p.mass[j]),
         }
     }
 }
 
-/// A disk that may touch a wall, with its tangential spring ξ (m).
+/// A disk that may touch a wall (its spring lives in [`NeighborList::wall_springs`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WallPair {
     /// The disk.
     pub i: u32,
     /// Index of the wall in [`BoxWalls::walls`].
     pub wall: u32,
-    /// Accumulated tangential displacement ξ; zero while not in contact.
-    pub spring: f64,
 }
 
-/// A list entry with a sort key and a tangential spring to carry over rebuilds.
-trait Carried: Copy {
+/// A list entry with a sort key, for carrying springs over rebuilds.
+pub trait Keyed {
+    /// The entry's position in the sorted list.
     fn key(&self) -> (u32, u32);
-    fn spring_mut(&mut self) -> &mut f64;
 }
 
-impl Carried for NeighborPair {
+impl Keyed for NeighborPair {
     fn key(&self) -> (u32, u32) {
         (self.i, self.j)
     }
-    fn spring_mut(&mut self) -> &mut f64 {
-        &mut self.spring
-    }
 }
 
-impl Carried for WallPair {
+impl Keyed for WallPair {
     fn key(&self) -> (u32, u32) {
         (self.i, self.wall)
     }
-    fn spring_mut(&mut self) -> &mut f64 {
-        &mut self.spring
+}
+
+/// One sorted candidate list with its tangential springs ξ (m; zero while not in contact), and the
+/// buffers of the next build.
+#[derive(Clone, Debug)]
+pub struct Candidates<T> {
+    /// Candidates, sorted by key.
+    pub entries: Vec<T>,
+    /// Tangential spring of each entry.
+    pub springs: Vec<f64>,
+    fresh: Vec<T>,
+    fresh_springs: Vec<f64>,
+}
+
+impl<T> Default for Candidates<T> {
+    fn default() -> Self {
+        Self { entries: Vec::new(), springs: Vec::new(), fresh: Vec::new(), fresh_springs: Vec::new() }
+    }
+}
+
+impl<T: Keyed> Candidates<T> {
+    /// Replaces the entries by the freshly collected ones (in `fresh`), carrying the springs of
+    /// entries present in both by a linear merge of the two sorted lists.
+    fn swap_in_fresh(&mut self) {
+        self.fresh_springs.clear();
+        self.fresh_springs.resize(self.fresh.len(), 0.0);
+        let mut k = 0;
+        for (entry, spring) in self.fresh.iter().zip(self.fresh_springs.iter_mut()) {
+            while k < self.entries.len() && self.entries[k].key() < entry.key() {
+                k += 1;
+            }
+            if k < self.entries.len() && self.entries[k].key() == entry.key() {
+                *spring = self.springs[k];
+            }
+        }
+        std::mem::swap(&mut self.entries, &mut self.fresh);
+        std::mem::swap(&mut self.springs, &mut self.fresh_springs);
+        self.fresh.clear();
     }
 }
 
 /// Verlet list with its build state.
 #[derive(Clone, Debug)]
 pub struct NeighborList {
-    /// Candidate pairs, sorted by `(i, j)`.
-    pub pairs: Vec<NeighborPair>,
+    /// Candidate disk pairs, sorted by `(i, j)`.
+    pub pairs: Candidates<NeighborPair>,
     /// Candidate disk-wall contacts, sorted by `(i, wall)`.
-    pub wall_pairs: Vec<WallPair>,
-    fresh: Vec<NeighborPair>,
-    fresh_walls: Vec<WallPair>,
+    pub walls: Candidates<WallPair>,
     x_ref: Vec<f64>,
     y_ref: Vec<f64>,
     skin: f64,
@@ -96,10 +123,8 @@ impl NeighborList {
     /// An empty list; call [`NeighborList::rebuild`] before use.
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {
         Self {
-            pairs: Vec::new(),
-            wall_pairs: Vec::new(),
-            fresh: Vec::new(),
-            fresh_walls: Vec::new(),
+            pairs: Candidates::default(),
+            walls: Candidates::default(),
             x_ref: Vec::new(),
             y_ref: Vec::new(),
             skin,
@@ -121,25 +146,21 @@ impl NeighborList {
 
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs.
     pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls) {
-        self.fresh.clear();
         match self.broad_phase {
-            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.fresh),
-            BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.fresh),
+            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh),
+            BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
         }
-        carry_springs(&self.pairs, &mut self.fresh);
-        std::mem::swap(&mut self.pairs, &mut self.fresh);
-        self.fresh_walls.clear();
+        self.pairs.swap_in_fresh();
         for i in 0..p.len() {
             for (w, wall) in walls.walls.iter().enumerate() {
                 // NaN positions are kept as candidates, so a diverging disk is still seen.
                 let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
                 if overlap > -self.skin || overlap.is_nan() {
-                    self.fresh_walls.push(WallPair { i: i as u32, wall: w as u32, spring: 0.0 });
+                    self.walls.fresh.push(WallPair { i: i as u32, wall: w as u32 });
                 }
             }
         }
-        carry_springs(&self.wall_pairs, &mut self.fresh_walls);
-        std::mem::swap(&mut self.wall_pairs, &mut self.fresh_walls);
+        self.walls.swap_in_fresh();
         self.x_ref.clone_from(&p.x);
         self.y_ref.clone_from(&p.y);
         self.builds += 1;
@@ -159,20 +180,6 @@ fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
             if within(p, i, j, skin) {
                 out.push(NeighborPair::new(p, i, j));
             }
-        }
-    }
-}
-
-/// Copies springs from the old sorted list into the new sorted list where the entry survives.
-fn carry_springs<T: Carried>(old: &[T], new: &mut [T]) {
-    let mut k = 0;
-    for entry in new.iter_mut() {
-        while k < old.len() && old[k].key() < entry.key() {
-            k += 1;
-        }
-        if k < old.len() && old[k].key() == entry.key() {
-            let mut survivor = old[k];
-            *entry.spring_mut() = *survivor.spring_mut();
         }
     }
 }
@@ -270,19 +277,24 @@ mod tests {
         let mut brute = NeighborList::new(BroadPhaseKind::AllPairs, 0.006);
         grid.rebuild(&p, &walls);
         brute.rebuild(&p, &walls);
-        assert!(!grid.wall_pairs.is_empty());
-        assert_eq!(grid.wall_pairs, brute.wall_pairs);
-        assert!(!brute.pairs.is_empty());
-        assert_eq!(grid.pairs, brute.pairs);
+        assert!(!grid.walls.entries.is_empty());
+        assert_eq!(grid.walls.entries, brute.walls.entries);
+        assert!(!brute.pairs.entries.is_empty());
+        assert_eq!(grid.pairs.entries, brute.pairs.entries);
     }
 
     #[test]
     fn rebuild_keeps_springs_of_surviving_pairs() {
-        let pair = |i, j, spring| NeighborPair { i, j, spring, r_star: 0.0, m_star: 0.0 };
-        let old = [pair(0, 1, 1.0), pair(0, 3, 2.0), pair(2, 3, 3.0)];
-        let mut new = [pair(0, 3, 0.0), pair(1, 2, 0.0), pair(2, 3, 0.0)];
-        carry_springs(&old, &mut new);
-        let springs: Vec<f64> = new.iter().map(|p| p.spring).collect();
-        assert_eq!(springs, [2.0, 0.0, 3.0]);
+        let pair = |i, j| NeighborPair { i, j, r_star: 0.0, m_star: 0.0 };
+        let mut list = Candidates {
+            entries: vec![pair(0, 1), pair(0, 3), pair(2, 3)],
+            springs: vec![1.0, 2.0, 3.0],
+            fresh: vec![pair(0, 3), pair(1, 2), pair(2, 3)],
+            fresh_springs: Vec::new(),
+        };
+        list.swap_in_fresh();
+        assert_eq!(list.entries, [pair(0, 3), pair(1, 2), pair(2, 3)]);
+        assert_eq!(list.springs, [2.0, 0.0, 3.0]);
+        assert!(list.fresh.is_empty());
     }
 }

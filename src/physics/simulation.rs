@@ -248,7 +248,8 @@ impl<L: ContactLaw> Simulation<L> {
         // Local copies: loop invariants the compiler can keep in registers and hoist.
         let (m, options, dt) = (self.materials.particle, self.disk_options, self.context.dt);
         let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
-        for pair in self.neighbors.pairs.iter_mut() {
+        let pairs = &mut self.neighbors.pairs;
+        for (pair, spring) in pairs.entries.iter().zip(pairs.springs.iter_mut()) {
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
             let (dx, dy) = (s.x[j] - s.x[i], s.y[j] - s.y[i]);
@@ -256,7 +257,10 @@ impl<L: ContactLaw> Simulation<L> {
             let reach = ri + rj;
             let d2 = dx * dx + dy * dy;
             if d2 >= reach * reach {
-                pair.spring = 0.0;
+                // Written only when set, so pairs out of contact leave their cache line clean.
+                if *spring != 0.0 {
+                    *spring = 0.0;
+                }
                 continue;
             }
             let d = d2.sqrt();
@@ -275,11 +279,11 @@ impl<L: ContactLaw> Simulation<L> {
                 m_star: pair.m_star,
                 beta: m.beta,
             };
-            let c = contact::resolve(&self.law, &props, &options, &k, &mut pair.spring, dt);
+            let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
             apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, ri);
             apply.to_body::<SAMPLE>(&mut f, j, &c, -nx, -ny, rj);
             if SAMPLE {
-                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &c, pair.spring);
+                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &c, *spring);
                 self.totals.add(energy, c.magnitude(), k.overlap / ri.min(rj));
             }
         }
@@ -292,13 +296,14 @@ impl<L: ContactLaw> Simulation<L> {
         let (m, options, dt) = (self.materials.wall, self.wall_options, self.context.dt);
         let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
         let walls = &self.walls.walls;
-        for candidate in self.neighbors.wall_pairs.iter_mut() {
+        let candidates = &mut self.neighbors.walls;
+        for (candidate, spring) in candidates.entries.iter().zip(candidates.springs.iter_mut()) {
             let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
             assert!(i < n, "wall candidate out of range");
             let (x, y, r) = (s.x[i], s.y[i], s.r[i]);
             let overlap = wall.overlap(x, y, r);
             if overlap <= 0.0 {
-                candidate.spring = 0.0;
+                *spring = 0.0;
                 continue;
             }
             let [nx, ny] = wall.normal;
@@ -309,10 +314,10 @@ impl<L: ContactLaw> Simulation<L> {
             };
             let props =
                 PairProperties { e_star: m.e_star, g_star: m.g_star, r_star: r, m_star: s.mass[i], beta: m.beta };
-            let c = contact::resolve(&self.law, &props, &options, &k, &mut candidate.spring, dt);
+            let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
             apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, r);
             if SAMPLE {
-                let energy = contact::elastic_energy(&self.law, &props, overlap, &c, candidate.spring);
+                let energy = contact::elastic_energy(&self.law, &props, overlap, &c, *spring);
                 self.totals.add(energy, c.magnitude(), overlap / r);
             }
         }
