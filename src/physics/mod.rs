@@ -13,6 +13,7 @@ pub mod contact;
 pub mod diagnostics;
 pub mod integrator;
 pub mod material;
+mod monitor;
 pub mod neighbors;
 pub mod particles;
 pub mod placement;

@@ -12,6 +12,7 @@ use super::contact::{
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
+use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
 use super::particles::{Forces, InitialDisk, Particles};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
@@ -349,7 +350,7 @@ impl<L: ContactLaw> Simulation<L> {
         let total_steps = self.scene.total_steps();
         let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
         let mut frames = FrameSchedule::new(&self.scene, total_steps);
-        let mut monitor = Monitor::new(&self);
+        let mut monitor = Monitor::new(&self.particles, &self.walls, self.scene.gravity, self.initial_elastic);
         let mut settle = SettleDetector::new(&self.scene.settle);
         let mut history = History::default();
         let mut recorded_frames = Vec::new();
@@ -360,7 +361,8 @@ impl<L: ContactLaw> Simulation<L> {
             }
             history.push(&s);
             monitor.observe(&s);
-            if let Some(reason) = monitor.divergence(&self, &s) {
+            let power_finite = self.last_power.is_none_or(f64::is_finite);
+            if let Some(reason) = monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
                 break (RunStatus::Diverged, Some(reason));
             }
             let settled = settle.update(&s);
@@ -393,7 +395,7 @@ impl<L: ContactLaw> Simulation<L> {
                 }
             }
         };
-        warnings.extend(monitor.warnings(&self.scene));
+        warnings.extend(monitor.warnings(&self.scene.limits));
         RunRecord {
             status,
             message,
@@ -432,127 +434,5 @@ impl Apply {
         if SAMPLE {
             f.contact_force[b] += c.magnitude();
         }
-    }
-}
-
-/// Steps at which full frames are recorded, in order.
-struct FrameSchedule {
-    steps: Vec<u64>,
-    next: usize,
-}
-
-impl FrameSchedule {
-    fn new(scene: &SceneConfig, total_steps: u64) -> Self {
-        let dt = scene.integrator.time_step;
-        let mut times = scene.run.frame_times.clone();
-        if let Some(interval) = scene.run.frame_interval {
-            let count = (scene.run.duration / interval).floor() as u64;
-            times.extend((0..=count).map(|k| k as f64 * interval));
-        }
-        let mut steps: Vec<u64> = times.iter().map(|t| ((t / dt).round() as u64).min(total_steps)).collect();
-        steps.sort_unstable();
-        steps.dedup();
-        Self { steps, next: 0 }
-    }
-
-    /// Whether a frame is due at `step` (steps must be asked in increasing order).
-    fn due(&mut self, step: u64) -> bool {
-        while self.next < self.steps.len() && self.steps[self.next] < step {
-            self.next += 1;
-        }
-        self.next < self.steps.len() && self.steps[self.next] == step
-    }
-}
-
-/// Watches samples for divergence and validity problems.
-struct Monitor {
-    initial_mechanical: Option<f64>,
-    energy_scale: f64,
-    worst_overlap: (f64, f64),
-    worst_imbalance: (f64, f64),
-}
-
-/// Energy balance error, as a fraction of the energy available, above which a run is warned about.
-const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
-
-impl Monitor {
-    fn new<L: ContactLaw>(sim: &Simulation<L>) -> Self {
-        let p = &sim.particles;
-        let g = sim.scene.gravity;
-        let gmag = g[0].hypot(g[1]);
-        let (kt, kr) = diagnostics::kinetic_energies(p);
-        let potential_drop: f64 = (0..p.len())
-            .map(|i| {
-                let low = sim.walls.lowest_point(g, p.r[i]);
-                (p.mass[i] * (g[0] * (low[0] - p.x[i]) + g[1] * (low[1] - p.y[i]))).max(0.0)
-            })
-            .sum();
-        let floor_scale: f64 = (0..p.len()).map(|i| p.mass[i] * gmag * p.r[i]).sum();
-        Self {
-            initial_mechanical: None,
-            energy_scale: (kt + kr + sim.totals.elastic + potential_drop).max(floor_scale).max(f64::MIN_POSITIVE),
-            worst_overlap: (0.0, 0.0),
-            worst_imbalance: (0.0, 0.0),
-        }
-    }
-
-    fn observe(&mut self, s: &Sample) {
-        let initial = *self.initial_mechanical.get_or_insert(s.mechanical());
-        if s.max_overlap_ratio > self.worst_overlap.0 {
-            self.worst_overlap = (s.max_overlap_ratio, s.time);
-        }
-        let imbalance = (s.mechanical() + s.dissipated - initial).abs();
-        if imbalance > self.worst_imbalance.0 {
-            self.worst_imbalance = (imbalance, s.time);
-        }
-    }
-
-    fn divergence<L: ContactLaw>(&self, sim: &Simulation<L>, s: &Sample) -> Option<String> {
-        let p = &sim.particles;
-        let finite = s.kinetic().is_finite()
-            && p.x.iter().chain(&p.y).all(|v| v.is_finite())
-            && sim.last_power.is_none_or(f64::is_finite);
-        if !finite {
-            return Some(format!(
-                "non-finite state (NaN or infinity) at t = {:.6} s: the time step is far too large",
-                s.time
-            ));
-        }
-        let limit = sim.scene.limits.max_overlap_ratio;
-        if s.max_overlap_ratio > limit {
-            return Some(format!(
-                "overlap of {:.3} radii at t = {:.6} s exceeds limits.max_overlap_ratio = {limit}: contacts are not resolved (time step too large or material too soft)",
-                s.max_overlap_ratio, s.time
-            ));
-        }
-        let growth = s.mechanical() - self.initial_mechanical.unwrap_or(s.mechanical());
-        let allowed = sim.scene.limits.energy_growth_ratio * self.energy_scale;
-        if growth > allowed {
-            return Some(format!(
-                "mechanical energy grew by {growth:.4e} J by t = {:.6} s (more than {} of the {:.4e} J available, limits.energy_growth_ratio): the integration is unstable",
-                s.time, sim.scene.limits.energy_growth_ratio, self.energy_scale
-            ));
-        }
-        None
-    }
-
-    fn warnings(&self, scene: &SceneConfig) -> Vec<String> {
-        let mut w = Vec::new();
-        let (ratio, time) = self.worst_overlap;
-        if ratio > scene.limits.overlap_warning_ratio {
-            w.push(format!(
-                "largest overlap {ratio:.3} radii at t = {time:.4} s is beyond the Hertz validity limit {} (limits.overlap_warning_ratio)",
-                scene.limits.overlap_warning_ratio
-            ));
-        }
-        let (imbalance, time) = self.worst_imbalance;
-        if imbalance > ENERGY_BALANCE_TOLERANCE * self.energy_scale {
-            w.push(format!(
-                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping)",
-                100.0 * imbalance / self.energy_scale,
-                self.energy_scale
-            ));
-        }
-        w
     }
 }

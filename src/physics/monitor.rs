@@ -1,0 +1,134 @@
+//! Watching a run: when frames are due, when it has diverged, and what to warn about.
+
+use super::config::{LimitsConfig, SceneConfig};
+use super::diagnostics::{self, Sample};
+use super::particles::Particles;
+use super::walls::BoxWalls;
+
+/// Steps at which full frames are recorded, in order.
+pub(super) struct FrameSchedule {
+    steps: Vec<u64>,
+    next: usize,
+}
+
+impl FrameSchedule {
+    /// The frame steps of a scene.
+    pub(super) fn new(scene: &SceneConfig, total_steps: u64) -> Self {
+        let dt = scene.integrator.time_step;
+        let mut times = scene.run.frame_times.clone();
+        if let Some(interval) = scene.run.frame_interval {
+            let count = (scene.run.duration / interval).floor() as u64;
+            times.extend((0..=count).map(|k| k as f64 * interval));
+        }
+        let mut steps: Vec<u64> = times.iter().map(|t| ((t / dt).round() as u64).min(total_steps)).collect();
+        steps.sort_unstable();
+        steps.dedup();
+        Self { steps, next: 0 }
+    }
+
+    /// Whether a frame is due at `step` (steps must be asked in increasing order).
+    pub(super) fn due(&mut self, step: u64) -> bool {
+        while self.next < self.steps.len() && self.steps[self.next] < step {
+            self.next += 1;
+        }
+        self.next < self.steps.len() && self.steps[self.next] == step
+    }
+}
+
+/// Watches samples for divergence and validity problems.
+pub(super) struct Monitor {
+    initial_mechanical: Option<f64>,
+    energy_scale: f64,
+    worst_overlap: (f64, f64),
+    worst_imbalance: (f64, f64),
+}
+
+/// Energy balance error, as a fraction of the energy available, above which a run is warned about.
+const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
+
+impl Monitor {
+    /// A monitor for a run starting from `p` with `initial_elastic` J stored in its contacts.
+    pub(super) fn new(p: &Particles, walls: &BoxWalls, g: [f64; 2], initial_elastic: f64) -> Self {
+        let gmag = g[0].hypot(g[1]);
+        let (kt, kr) = diagnostics::kinetic_energies(p);
+        let potential_drop: f64 = (0..p.len())
+            .map(|i| {
+                let low = walls.lowest_point(g, p.r[i]);
+                (p.mass[i] * (g[0] * (low[0] - p.x[i]) + g[1] * (low[1] - p.y[i]))).max(0.0)
+            })
+            .sum();
+        let floor_scale: f64 = (0..p.len()).map(|i| p.mass[i] * gmag * p.r[i]).sum();
+        Self {
+            initial_mechanical: None,
+            energy_scale: (kt + kr + initial_elastic + potential_drop).max(floor_scale).max(f64::MIN_POSITIVE),
+            worst_overlap: (0.0, 0.0),
+            worst_imbalance: (0.0, 0.0),
+        }
+    }
+
+    /// Records one sample.
+    pub(super) fn observe(&mut self, s: &Sample) {
+        let initial = *self.initial_mechanical.get_or_insert(s.mechanical());
+        if s.max_overlap_ratio > self.worst_overlap.0 {
+            self.worst_overlap = (s.max_overlap_ratio, s.time);
+        }
+        let imbalance = (s.mechanical() + s.dissipated - initial).abs();
+        if imbalance > self.worst_imbalance.0 {
+            self.worst_imbalance = (imbalance, s.time);
+        }
+    }
+
+    /// Why the run must end now, if it must: non-finite state, overlap or energy growth beyond limits.
+    pub(super) fn divergence(
+        &self,
+        s: &Sample,
+        p: &Particles,
+        power_finite: bool,
+        limits: &LimitsConfig,
+    ) -> Option<String> {
+        let finite = s.kinetic().is_finite() && p.x.iter().chain(&p.y).all(|v| v.is_finite()) && power_finite;
+        if !finite {
+            return Some(format!(
+                "non-finite state (NaN or infinity) at t = {:.6} s: the time step is far too large",
+                s.time
+            ));
+        }
+        let limit = limits.max_overlap_ratio;
+        if s.max_overlap_ratio > limit {
+            return Some(format!(
+                "overlap of {:.3} radii at t = {:.6} s exceeds limits.max_overlap_ratio = {limit}: contacts are not resolved (time step too large or material too soft)",
+                s.max_overlap_ratio, s.time
+            ));
+        }
+        let growth = s.mechanical() - self.initial_mechanical.unwrap_or(s.mechanical());
+        let allowed = limits.energy_growth_ratio * self.energy_scale;
+        if growth > allowed {
+            return Some(format!(
+                "mechanical energy grew by {growth:.4e} J by t = {:.6} s (more than {} of the {:.4e} J available, limits.energy_growth_ratio): the integration is unstable",
+                s.time, limits.energy_growth_ratio, self.energy_scale
+            ));
+        }
+        None
+    }
+
+    /// Validity warnings gathered over the run.
+    pub(super) fn warnings(&self, limits: &LimitsConfig) -> Vec<String> {
+        let mut w = Vec::new();
+        let (ratio, time) = self.worst_overlap;
+        if ratio > limits.overlap_warning_ratio {
+            w.push(format!(
+                "largest overlap {ratio:.3} radii at t = {time:.4} s is beyond the Hertz validity limit {} (limits.overlap_warning_ratio)",
+                limits.overlap_warning_ratio
+            ));
+        }
+        let (imbalance, time) = self.worst_imbalance;
+        if imbalance > ENERGY_BALANCE_TOLERANCE * self.energy_scale {
+            w.push(format!(
+                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping)",
+                100.0 * imbalance / self.energy_scale,
+                self.energy_scale
+            ));
+        }
+        w
+    }
+}
