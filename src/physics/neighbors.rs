@@ -115,8 +115,6 @@ pub struct NeighborList {
     skin: f64,
     broad_phase: BroadPhaseKind,
     grid: CellGrid,
-    /// Number of builds so far.
-    pub builds: u64,
 }
 
 impl NeighborList {
@@ -130,7 +128,6 @@ impl NeighborList {
             skin,
             broad_phase,
             grid: CellGrid::default(),
-            builds: 0,
         }
     }
 
@@ -163,7 +160,6 @@ impl NeighborList {
         self.walls.swap_in_fresh();
         self.x_ref.clone_from(&p.x);
         self.y_ref.clone_from(&p.y);
-        self.builds += 1;
     }
 }
 

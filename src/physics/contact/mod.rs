@@ -154,12 +154,10 @@ pub struct ImpactEstimate {
     pub max_overlap: f64,
     /// Largest normal damping rate `c_n / m*` during the impact (1/s).
     pub max_damping_rate: f64,
-    /// Largest natural frequency `√(dF/dδ / m*)` during the impact (rad/s).
-    pub max_frequency: f64,
 }
 
 /// Integrates a head-on impact at `speed` with any law (fine steps), so stability estimates work
-/// for every law without law-specific formulas: duration and stiffness from the undamped impact,
+/// for every law without law-specific formulas: duration from the undamped impact, damping rate at its deepest overlap,
 /// the largest overlap from the damped one.
 pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> ImpactEstimate {
     let undamped = PairProperties { beta: 0.0, ..*pair };
@@ -184,16 +182,7 @@ pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64
     }
     let damped_overlap = if pair.beta > 0.0 { damped_max_overlap(law, pair, speed, dt) } else { dmax };
     let at_max = law.coefficients(pair, dmax);
-    let eps = dmax * 1e-6;
-    let slope = (law.coefficients(&undamped, dmax + eps).normal_force
-        - law.coefficients(&undamped, dmax - eps).normal_force)
-        / (2.0 * eps);
-    ImpactEstimate {
-        duration: t,
-        max_overlap: damped_overlap,
-        max_damping_rate: at_max.normal_damping / pair.m_star,
-        max_frequency: (slope.max(0.0) / pair.m_star).sqrt(),
-    }
+    ImpactEstimate { duration: t, max_overlap: damped_overlap, max_damping_rate: at_max.normal_damping / pair.m_star }
 }
 
 /// Largest overlap of the damped impact (semi-implicit Euler with step `dt`, until it recedes).
