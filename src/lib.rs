@@ -5,7 +5,7 @@
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
 //! - [`slurm`]: batch scripts running a study as a Slurm array job (one shard per task) plus a merge job.
 //! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records or a results file.
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 pub mod bench;
 pub mod output;

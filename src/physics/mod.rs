@@ -5,12 +5,13 @@
 //!
 //! Reading order for a newcomer:
 //! [`config`] (what a scene is) → [`material`] (pair properties) → [`contact`] (force laws) →
-//! [`neighbors`] (who touches whom) → [`integrator`] (time stepping) → [`simulation`] (the step loop) →
+//! [`neighbors`] (who touches whom) → [`forces`] (contact forces of a step) → [`integrator`] (time stepping) → [`simulation`] (the step loop) →
 //! [`diagnostics`], [`stability`] and [`record`] (what comes out).
 
 pub mod config;
 pub mod contact;
 pub mod diagnostics;
+pub mod forces;
 pub mod integrator;
 pub mod material;
 mod monitor;

@@ -6,15 +6,14 @@
 //! divergence checks and the settle criterion run on sampled steps only.
 
 use super::config::{ContactLawKind, SceneConfig};
-use super::contact::{
-    self, ContactForce, ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot, PairProperties,
-};
+use super::contact::{ContactLaw, ContactOptions, HertzMindlin, LinearSpringDashpot};
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
+use super::forces::{self, ContactKind, TouchingPairs};
 use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
-use super::particles::{Forces, InitialDisk, Particles};
+use super::particles::{InitialDisk, Particles};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::stability::{self, StabilityReport};
 use super::walls::BoxWalls;
@@ -81,8 +80,9 @@ pub struct Simulation<L: ContactLaw> {
     walls: BoxWalls,
     neighbors: NeighborList,
     materials: Materials,
-    disk_options: ContactOptions,
-    wall_options: ContactOptions,
+    disk_kind: ContactKind,
+    wall_kind: ContactKind,
+    touching: Box<TouchingPairs>,
     integrator: Integrator,
     rolling_resistance: bool,
     /// Steps taken.
@@ -102,29 +102,28 @@ impl<L: ContactLaw> Simulation<L> {
         let walls = BoxWalls::new(&scene.domain);
         let tangential = materials.particle.friction > 0.0 || materials.wall.friction > 0.0;
         let spinning = particles.omega.iter().any(|w| *w != 0.0);
-        let options = |m: &ContactMaterial| ContactOptions {
-            allow_tension: scene.contact.allow_tension,
-            tangential,
-            friction: m.friction,
+        let rotation = materials.has_friction() || spinning;
+        let kind = |m: &ContactMaterial| ContactKind {
+            material: *m,
+            options: ContactOptions { allow_tension: scene.contact.allow_tension, tangential, friction: m.friction },
+            rotation,
+            dt: scene.integrator.time_step,
         };
         let skin = scene.neighbors.skin_ratio * particles.max_radius();
         let mut sim = Self {
             law,
             scene: scene.clone(),
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
-            disk_options: options(&materials.particle),
-            wall_options: options(&materials.wall),
+            disk_kind: kind(&materials.particle),
+            wall_kind: kind(&materials.wall),
+            touching: Box::default(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
             particles,
             walls,
             materials,
             step: 0,
-            context: StepContext {
-                dt: scene.integrator.time_step,
-                gravity: scene.gravity,
-                rotation: materials.has_friction() || spinning,
-            },
+            context: StepContext { dt: scene.integrator.time_step, gravity: scene.gravity, rotation },
             work: 0.0,
             last_power: None,
             totals: ContactTotals::default(),
@@ -245,83 +244,32 @@ impl<L: ContactLaw> Simulation<L> {
     #[inline(never)]
     fn disk_contacts<const SAMPLE: bool>(&mut self) {
         let (s, mut f) = self.particles.split();
-        let n = s.x.len();
-        // Local copies: loop invariants the compiler can keep in registers and hoist.
-        let (m, options, dt) = (self.materials.particle, self.disk_options, self.context.dt);
-        let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
         let pairs = &mut self.neighbors.pairs;
-        for (pair, spring) in pairs.entries.iter().zip(pairs.springs.iter_mut()) {
-            let (i, j) = (pair.i as usize, pair.j as usize);
-            assert!(i < n && j < n, "neighbour pair out of range");
-            let (dx, dy) = (s.x[j] - s.x[i], s.y[j] - s.y[i]);
-            let (ri, rj) = (s.r[i], s.r[j]);
-            let reach = ri + rj;
-            let d2 = dx * dx + dy * dy;
-            if d2 >= reach * reach {
-                // Written only when set, so pairs out of contact leave their cache line clean.
-                if *spring != 0.0 {
-                    *spring = 0.0;
-                }
-                continue;
-            }
-            let d = d2.sqrt();
-            let inv_d = 1.0 / d;
-            let (nx, ny) = if d > 0.0 { (dx * inv_d, dy * inv_d) } else { (1.0, 0.0) };
-            let (dvx, dvy) = (s.vx[i] - s.vx[j], s.vy[i] - s.vy[j]);
-            let k = Kinematics {
-                overlap: reach - d,
-                approach_speed: dvx * nx + dvy * ny,
-                tangential_speed: -dvx * ny + dvy * nx + s.omega[i] * ri + s.omega[j] * rj,
-            };
-            let props = PairProperties {
-                e_star: m.e_star,
-                g_star: m.g_star,
-                r_star: pair.r_star,
-                m_star: pair.m_star,
-                beta: m.beta,
-            };
-            let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
-            apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, ri);
-            apply.to_body::<SAMPLE>(&mut f, j, &c, -nx, -ny, rj);
-            if SAMPLE {
-                let energy = contact::elastic_energy(&self.law, &props, k.overlap, &c, *spring);
-                self.totals.add(energy, c.magnitude(), k.overlap / ri.min(rj));
-            }
-        }
+        self.touching.disk_contacts::<L, SAMPLE>(
+            &self.law,
+            &self.disk_kind,
+            &pairs.entries,
+            &mut pairs.springs,
+            &s,
+            &mut f,
+            &mut self.totals,
+        );
     }
 
     #[inline(never)]
     fn wall_contacts<const SAMPLE: bool>(&mut self) {
         let (s, mut f) = self.particles.split();
-        let n = s.x.len();
-        let (m, options, dt) = (self.materials.wall, self.wall_options, self.context.dt);
-        let apply = Apply { rotation: self.context.rotation, rolling_friction: m.rolling_friction };
-        let walls = &self.walls.walls;
         let candidates = &mut self.neighbors.walls;
-        for (candidate, spring) in candidates.entries.iter().zip(candidates.springs.iter_mut()) {
-            let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
-            assert!(i < n, "wall candidate out of range");
-            let (x, y, r) = (s.x[i], s.y[i], s.r[i]);
-            let overlap = wall.overlap(x, y, r);
-            if overlap <= 0.0 {
-                *spring = 0.0;
-                continue;
-            }
-            let [nx, ny] = wall.normal;
-            let k = Kinematics {
-                overlap,
-                approach_speed: s.vx[i] * nx + s.vy[i] * ny,
-                tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * r,
-            };
-            let props =
-                PairProperties { e_star: m.e_star, g_star: m.g_star, r_star: r, m_star: s.mass[i], beta: m.beta };
-            let c = contact::resolve(&self.law, &props, &options, &k, spring, dt);
-            apply.to_body::<SAMPLE>(&mut f, i, &c, nx, ny, r);
-            if SAMPLE {
-                let energy = contact::elastic_energy(&self.law, &props, overlap, &c, *spring);
-                self.totals.add(energy, c.magnitude(), overlap / r);
-            }
-        }
+        forces::wall_contacts::<L, SAMPLE>(
+            &self.law,
+            &self.wall_kind,
+            &self.walls.walls,
+            &candidates.entries,
+            &mut candidates.springs,
+            &s,
+            &mut f,
+            &mut self.totals,
+        );
     }
 
     /// Rolling resistance (EDEM's constant directional torque, spec): `μ0 F_n R` summed per disk,
@@ -407,32 +355,6 @@ impl<L: ContactLaw> Simulation<L> {
             history,
             final_state: self.snapshot(),
             frames: recorded_frames,
-        }
-    }
-}
-
-/// How a resolved contact acts on one of its bodies.
-struct Apply {
-    rotation: bool,
-    rolling_friction: f64,
-}
-
-impl Apply {
-    /// Adds contact `c` to body `b` of radius `r` whose unit normal towards the other body is
-    /// `(nx, ny)`: force `−F_n n + F_t t` with `t = (−n_y, n_x)`, torque `F_t r`, rolling resistance
-    /// `μ0 F_n r`. The other body gets the same call with `−n` (which also flips `t`).
-    #[inline(always)]
-    fn to_body<const SAMPLE: bool>(&self, f: &mut Forces<'_>, b: usize, c: &ContactForce, nx: f64, ny: f64, r: f64) {
-        f.fx[b] += -c.normal * nx - c.tangential * ny;
-        f.fy[b] += -c.normal * ny + c.tangential * nx;
-        if self.rotation {
-            f.torque[b] += c.tangential * r;
-        }
-        if self.rolling_friction > 0.0 {
-            f.rolling[b] += self.rolling_friction * c.normal.max(0.0) * r;
-        }
-        if SAMPLE {
-            f.contact_force[b] += c.magnitude();
         }
     }
 }

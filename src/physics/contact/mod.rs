@@ -96,18 +96,11 @@ impl ContactForce {
     }
 }
 
-/// Resolves one contact: normal force with damping and clamp, tangential spring update (`spring`
-/// is the accumulated tangential displacement ξ, m) with the Coulomb limit `|F_t| ≤ μ F_n`.
+/// Resolves one contact with coefficients `c` (from [`ContactLaw::coefficients`] at `k.overlap`):
+/// normal force with damping and clamp, tangential spring update (`spring` is the accumulated
+/// tangential displacement ξ, m) with the Coulomb limit `|F_t| ≤ μ F_n`.
 #[inline]
-pub fn resolve<L: ContactLaw>(
-    law: &L,
-    pair: &PairProperties,
-    options: &ContactOptions,
-    k: &Kinematics,
-    spring: &mut f64,
-    dt: f64,
-) -> ContactForce {
-    let c = law.coefficients(pair, k.overlap);
+pub fn resolve(c: &Coefficients, options: &ContactOptions, k: &Kinematics, spring: &mut f64, dt: f64) -> ContactForce {
     let mut normal = c.normal_force + c.normal_damping * k.approach_speed;
     if !options.allow_tension {
         normal = normal.max(0.0);
