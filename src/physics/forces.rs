@@ -22,7 +22,7 @@ use super::particles::{Forces, State};
 use super::walls::Wall;
 
 /// Candidates per block: the block's table of touching pairs stays in the L1 cache.
-const BLOCK: usize = 256;
+const BLOCK: usize = 128;
 
 /// What all contacts of one kind (disk-disk or disk-wall) share.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,47 +68,72 @@ impl ContactKind {
     }
 }
 
-/// The touching pairs of one block, one array per quantity: the narrow phase fills the geometry,
-/// the coefficient stage the rest.
-/// Fixed-size arrays: indexing them with one row number costs one bounds check for all of them.
+/// The touching pairs of one block, one array per quantity. Fixed-size arrays: indexing them all
+/// with one row number costs one bounds check.
 #[derive(Clone, Debug)]
 pub struct TouchingPairs {
     len: usize,
-    /// Index of the pair in its block.
+    /// Index of the pair in its block, and its two disks.
     candidate: [usize; BLOCK],
+    i: [usize; BLOCK],
+    j: [usize; BLOCK],
+    // Gathered by the narrow phase.
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
     distance_squared: [f64; BLOCK],
-    reach: [f64; BLOCK],
+    ri: [f64; BLOCK],
+    rj: [f64; BLOCK],
     r_star: [f64; BLOCK],
     m_star: [f64; BLOCK],
-    nx: [f64; BLOCK],
-    ny: [f64; BLOCK],
+    /// `v_i − v_j`.
+    dvx: [f64; BLOCK],
+    dvy: [f64; BLOCK],
+    /// `ω_i r_i` and `ω_j r_j`.
+    spin_i: [f64; BLOCK],
+    spin_j: [f64; BLOCK],
+    /// Tangential spring, before and after the step.
+    spring: [f64; BLOCK],
+    // Computed by the vector stage.
+    /// Contact force on disk i (on j: the opposite).
+    force_x: [f64; BLOCK],
+    force_y: [f64; BLOCK],
+    /// Torques on disks i and j.
+    torque_i: [f64; BLOCK],
+    torque_j: [f64; BLOCK],
     overlap: [f64; BLOCK],
-    normal_force: [f64; BLOCK],
-    normal_damping: [f64; BLOCK],
+    normal: [f64; BLOCK],
+    tangential: [f64; BLOCK],
     tangential_stiffness: [f64; BLOCK],
-    tangential_damping: [f64; BLOCK],
 }
 
 impl Default for TouchingPairs {
     fn default() -> Self {
+        let (index, column) = ([0; BLOCK], [0.0; BLOCK]);
         Self {
             len: 0,
-            candidate: [0; BLOCK],
-            dx: [0.0; BLOCK],
-            dy: [0.0; BLOCK],
-            distance_squared: [0.0; BLOCK],
-            reach: [0.0; BLOCK],
-            r_star: [0.0; BLOCK],
-            m_star: [0.0; BLOCK],
-            nx: [0.0; BLOCK],
-            ny: [0.0; BLOCK],
-            overlap: [0.0; BLOCK],
-            normal_force: [0.0; BLOCK],
-            normal_damping: [0.0; BLOCK],
-            tangential_stiffness: [0.0; BLOCK],
-            tangential_damping: [0.0; BLOCK],
+            candidate: index,
+            i: index,
+            j: index,
+            dx: column,
+            dy: column,
+            distance_squared: column,
+            ri: column,
+            rj: column,
+            r_star: column,
+            m_star: column,
+            dvx: column,
+            dvy: column,
+            spin_i: column,
+            spin_j: column,
+            spring: column,
+            force_x: column,
+            force_y: column,
+            torque_i: column,
+            torque_j: column,
+            overlap: column,
+            normal: column,
+            tangential: column,
+            tangential_stiffness: column,
         }
     }
 }
@@ -128,23 +153,24 @@ impl TouchingPairs {
     ) {
         for (block, block_springs) in pairs.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)) {
             self.collect(s, block, block_springs);
-            self.compute_coefficients(law, &kind.material);
-            self.apply::<L, SAMPLE>(law, kind, block, block_springs, s, f, totals);
+            self.compute_forces(law, kind);
+            self.apply::<L, SAMPLE>(law, kind, block_springs, f, totals);
         }
     }
 
-    /// Stage 1: appends the touching pairs of `block` to the table; pairs out of contact lose their spring.
+    /// Stage 1: appends the touching pairs of `block` with what stage 2 needs to know about them;
+    /// pairs out of contact lose their spring.
     fn collect(&mut self, s: &State<'_>, block: &[NeighborPair], springs: &mut [f64]) {
         let n = s.x.len();
+        // Slices of one known length: the assert below covers all their bounds checks.
+        let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
         let mut len = 0;
-        let (candidate, dx_out, dy_out) = (&mut self.candidate, &mut self.dx, &mut self.dy);
-        let (d2_out, reach_out) = (&mut self.distance_squared, &mut self.reach);
-        let (r_star, m_star) = (&mut self.r_star, &mut self.m_star);
         for (k, (pair, spring)) in block.iter().zip(springs.iter_mut()).enumerate() {
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            let (dx, dy) = (s.x[j] - s.x[i], s.y[j] - s.y[i]);
-            let reach = s.r[i] + s.r[j];
+            let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+            let (ri, rj) = (r[i], r[j]);
+            let reach = ri + rj;
             let d2 = dx * dx + dy * dy;
             // NaN distances count as touching, so a diverging state reaches the forces.
             if d2 >= reach * reach {
@@ -154,109 +180,124 @@ impl TouchingPairs {
                 }
                 continue;
             }
-            candidate[len] = k;
-            dx_out[len] = dx;
-            dy_out[len] = dy;
-            d2_out[len] = d2;
-            reach_out[len] = reach;
-            r_star[len] = pair.r_star;
-            m_star[len] = pair.m_star;
+            self.candidate[len] = k;
+            self.i[len] = i;
+            self.j[len] = j;
+            self.dx[len] = dx;
+            self.dy[len] = dy;
+            self.distance_squared[len] = d2;
+            self.ri[len] = ri;
+            self.rj[len] = rj;
+            self.r_star[len] = pair.r_star;
+            self.m_star[len] = pair.m_star;
+            self.dvx[len] = vx[i] - vx[j];
+            self.dvy[len] = vy[i] - vy[j];
+            self.spin_i[len] = omega[i] * ri;
+            self.spin_j[len] = omega[j] * rj;
+            self.spring[len] = *spring;
             len += 1;
         }
         self.len = len;
     }
 
-    /// Stage 2: normals, overlaps and coefficients of all touching pairs, in the widest vector
-    /// instructions the CPU has.
-    fn compute_coefficients<L: ContactLaw>(&mut self, law: &L, m: &ContactMaterial) {
+    /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
+    /// vector instructions the CPU has.
+    fn compute_forces<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            unsafe { self.coefficients_avx2(law, m) };
+            unsafe { self.forces_avx2(law, kind) };
             return;
         }
-        self.coefficients_portable(law, m);
+        self.forces_portable(law, kind);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn coefficients_avx2<L: ContactLaw>(&mut self, law: &L, m: &ContactMaterial) {
-        self.coefficients_portable(law, m);
+    fn forces_avx2<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
+        self.forces_portable(law, kind);
     }
 
     #[inline(always)]
-    fn coefficients_portable<L: ContactLaw>(&mut self, law: &L, m: &ContactMaterial) {
+    fn forces_portable<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
         let n = self.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
-        let (dx, dy, d2, reach) = (&self.dx[..n], &self.dy[..n], &self.distance_squared[..n], &self.reach[..n]);
-        let (r_star, m_star) = (&self.r_star[..n], &self.m_star[..n]);
-        let (nx, ny, overlap) = (&mut self.nx[..n], &mut self.ny[..n], &mut self.overlap[..n]);
-        let (fne, cn) = (&mut self.normal_force[..n], &mut self.normal_damping[..n]);
-        let (kt, ct) = (&mut self.tangential_stiffness[..n], &mut self.tangential_damping[..n]);
+        let (dx, dy, d2) = (&self.dx[..n], &self.dy[..n], &self.distance_squared[..n]);
+        let (ri, rj, r_star, m_star) = (&self.ri[..n], &self.rj[..n], &self.r_star[..n], &self.m_star[..n]);
+        let (dvx, dvy, spin_i, spin_j) = (&self.dvx[..n], &self.dvy[..n], &self.spin_i[..n], &self.spin_j[..n]);
+        let (force_x, force_y) = (&mut self.force_x[..n], &mut self.force_y[..n]);
+        let (torque_i, torque_j) = (&mut self.torque_i[..n], &mut self.torque_j[..n]);
+        let (overlap, spring) = (&mut self.overlap[..n], &mut self.spring[..n]);
+        let (normal, tangential) = (&mut self.normal[..n], &mut self.tangential[..n]);
+        let tangential_stiffness = &mut self.tangential_stiffness[..n];
         for c in 0..n {
             let d = d2[c].sqrt();
             let inv_d = 1.0 / d;
             // Coincident centres: any unit normal will do.
             let apart = d > 0.0;
-            nx[c] = if apart { dx[c] * inv_d } else { 1.0 };
-            ny[c] = if apart { dy[c] * inv_d } else { 0.0 };
-            overlap[c] = reach[c] - d;
-            let pair = PairProperties {
-                e_star: m.e_star,
-                g_star: m.g_star,
-                r_star: r_star[c],
-                m_star: m_star[c],
-                beta: m.beta,
+            let (nx, ny) = if apart { (dx[c] * inv_d, dy[c] * inv_d) } else { (1.0, 0.0) };
+            let motion = Kinematics {
+                overlap: (ri[c] + rj[c]) - d,
+                approach_speed: dvx[c] * nx + dvy[c] * ny,
+                tangential_speed: -dvx[c] * ny + dvy[c] * nx + spin_i[c] + spin_j[c],
             };
-            let k = law.coefficients(&pair, overlap[c]);
-            fne[c] = k.normal_force;
-            cn[c] = k.normal_damping;
-            kt[c] = k.tangential_stiffness;
-            ct[c] = k.tangential_damping;
+            let coefficients = law.coefficients(&kind.pair_properties(r_star[c], m_star[c]), motion.overlap);
+            let force = kind.resolve(&coefficients, &motion, &mut spring[c]);
+            // On i: `−F_n n + F_t t` with `t = (−n_y, n_x)`; on j the opposite; torque `F_t r` on both.
+            force_x[c] = -force.normal * nx - force.tangential * ny;
+            force_y[c] = -force.normal * ny + force.tangential * nx;
+            torque_i[c] = force.tangential * ri[c];
+            torque_j[c] = force.tangential * rj[c];
+            overlap[c] = motion.overlap;
+            (normal[c], tangential[c], tangential_stiffness[c]) =
+                (force.normal, force.tangential, force.tangential_stiffness);
         }
     }
 
-    /// Stage 3: forces of the touching pairs on both disks, in list order.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
+    /// Stage 3: adds the forces of the touching pairs to both disks, in list order, and stores the springs.
     fn apply<L: ContactLaw, const SAMPLE: bool>(
         &self,
         law: &L,
         kind: &ContactKind,
-        block: &[NeighborPair],
         springs: &mut [f64],
-        s: &State<'_>,
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        let n = s.x.len();
+        let f = f.equal_lengths();
+        let n = f.fx.len();
+        let rolling_friction = kind.material.rolling_friction;
         for c in 0..self.len {
-            let k = self.candidate[c];
-            let (i, j) = (block[k].i as usize, block[k].j as usize);
+            let (i, j) = (self.i[c], self.j[c]);
             assert!(i < n && j < n, "neighbour pair out of range");
-            let (nx, ny) = (self.nx[c], self.ny[c]);
-            let (ri, rj) = (s.r[i], s.r[j]);
-            let (dvx, dvy) = (s.vx[i] - s.vx[j], s.vy[i] - s.vy[j]);
-            let motion = Kinematics {
-                overlap: self.overlap[c],
-                approach_speed: dvx * nx + dvy * ny,
-                tangential_speed: -dvx * ny + dvy * nx + s.omega[i] * ri + s.omega[j] * rj,
-            };
-            let coefficients = Coefficients {
-                normal_force: self.normal_force[c],
-                normal_damping: self.normal_damping[c],
-                tangential_stiffness: self.tangential_stiffness[c],
-                tangential_damping: self.tangential_damping[c],
-            };
-            let spring = &mut springs[k];
-            let force = kind.resolve(&coefficients, &motion, spring);
-            kind.apply::<SAMPLE>(f, i, &force, nx, ny, ri);
-            kind.apply::<SAMPLE>(f, j, &force, -nx, -ny, rj);
+            let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
+            f.fx[i] += force_x;
+            f.fy[i] += force_y;
+            f.fx[j] -= force_x;
+            f.fy[j] -= force_y;
+            if kind.rotation {
+                f.torque[i] += self.torque_i[c];
+                f.torque[j] += self.torque_j[c];
+            }
+            if rolling_friction > 0.0 {
+                let resistance = rolling_friction * self.normal[c].max(0.0);
+                f.rolling[i] += resistance * self.ri[c];
+                f.rolling[j] += resistance * self.rj[c];
+            }
+            springs[self.candidate[c]] = self.spring[c];
             if SAMPLE {
+                let force = ContactForce {
+                    normal: self.normal[c],
+                    tangential: self.tangential[c],
+                    tangential_stiffness: self.tangential_stiffness[c],
+                };
+                let magnitude = force.magnitude();
+                f.contact_force[i] += magnitude;
+                f.contact_force[j] += magnitude;
                 let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
-                let energy = contact::elastic_energy(law, &pair, motion.overlap, &force, *spring);
-                totals.add(energy, force.magnitude(), motion.overlap / ri.min(rj));
+                let overlap = self.overlap[c];
+                let energy = contact::elastic_energy(law, &pair, overlap, &force, self.spring[c]);
+                totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
             }
         }
     }
@@ -305,56 +346,60 @@ mod tests {
     use super::*;
     use crate::physics::contact::HertzMindlin;
 
-    fn material() -> ContactMaterial {
-        ContactMaterial { e_star: 5e8, g_star: 2e8, beta: 0.2, friction: 0.5, rolling_friction: 0.0 }
+    fn kind(allow_tension: bool) -> ContactKind {
+        let material = ContactMaterial { e_star: 5e8, g_star: 2e8, beta: 0.4, friction: 0.5, rolling_friction: 0.0 };
+        let options = ContactOptions { allow_tension, tangential: true, friction: material.friction };
+        ContactKind { material, options, rotation: true, dt: 1e-5 }
     }
 
-    /// A table of touching pairs with assorted geometry, including coincident centres.
+    /// Touching pairs with assorted geometry and motion: sticking, sliding both ways, separating
+    /// fast (normal force clamped or tensile), coincident centres.
     fn table() -> TouchingPairs {
-        let mut t = TouchingPairs { len: 200, ..Default::default() };
+        let mut t = TouchingPairs { len: 101, ..Default::default() };
         for c in 0..t.len {
-            let a = c as f64 * 0.37;
+            let (a, w) = (c as f64 * 0.37, (c as f64 * 0.91).sin());
             let d = if c == 7 { 0.0 } else { 0.0199 - 1e-6 * (c % 13) as f64 };
-            t.dx[c] = d * a.cos();
-            t.dy[c] = d * a.sin();
+            (t.dx[c], t.dy[c]) = (d * a.cos(), d * a.sin());
             t.distance_squared[c] = t.dx[c] * t.dx[c] + t.dy[c] * t.dy[c];
-            t.reach[c] = 0.02;
-            t.r_star[c] = 0.005 + 1e-5 * c as f64;
-            t.m_star[c] = 0.1 + 1e-3 * c as f64;
+            (t.ri[c], t.rj[c]) = (0.01, 0.01 - 1e-5 * (c % 3) as f64);
+            (t.r_star[c], t.m_star[c]) = (0.005, 0.15);
+            (t.dvx[c], t.dvy[c]) = (3.0 * w * a.cos(), -2.0 * w);
+            (t.spin_i[c], t.spin_j[c]) = (0.5 * w, -0.2);
+            t.spring[c] = 1e-6 * (c as f64 - 50.0);
         }
         t
     }
 
     #[test]
     fn vector_stage_equals_one_contact_at_a_time_bit_for_bit() {
-        let (law, m) = (HertzMindlin, material());
-        let mut t = table();
-        t.compute_coefficients(&law, &m);
-        for c in 0..t.len {
-            let d = t.distance_squared[c].sqrt();
-            let (nx, ny) = if d > 0.0 { (t.dx[c] * (1.0 / d), t.dy[c] * (1.0 / d)) } else { (1.0, 0.0) };
-            assert_eq!((t.nx[c].to_bits(), t.ny[c].to_bits()), (nx.to_bits(), ny.to_bits()), "normal of {c}");
-            assert_eq!(t.overlap[c].to_bits(), (t.reach[c] - d).to_bits());
-            let pair = PairProperties {
-                e_star: m.e_star,
-                g_star: m.g_star,
-                r_star: t.r_star[c],
-                m_star: t.m_star[c],
-                beta: m.beta,
-            };
-            let k = law.coefficients(&pair, t.reach[c] - d);
-            assert_eq!(t.normal_force[c].to_bits(), k.normal_force.to_bits(), "normal force of {c}");
-            assert_eq!(t.normal_damping[c].to_bits(), k.normal_damping.to_bits());
-            assert_eq!(t.tangential_stiffness[c].to_bits(), k.tangential_stiffness.to_bits());
-            assert_eq!(t.tangential_damping[c].to_bits(), k.tangential_damping.to_bits());
+        for allow_tension in [false, true] {
+            let (law, kind) = (HertzMindlin, kind(allow_tension));
+            let mut t = table();
+            let before = t.spring;
+            t.compute_forces(&law, &kind);
+            let (mut sliding, mut clamped) = (0, 0);
+            for c in 0..t.len {
+                // One contact at a time, opaque to the compiler, so it cannot be vectorised.
+                let d = std::hint::black_box(t.distance_squared[c]).sqrt();
+                let (nx, ny) = if d > 0.0 { (t.dx[c] * (1.0 / d), t.dy[c] * (1.0 / d)) } else { (1.0, 0.0) };
+                let motion = Kinematics {
+                    overlap: (t.ri[c] + t.rj[c]) - d,
+                    approach_speed: t.dvx[c] * nx + t.dvy[c] * ny,
+                    tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
+                };
+                let coefficients = law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap);
+                let mut spring = before[c];
+                let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
+                let expect = [-force.normal * nx - force.tangential * ny, -force.normal * ny + force.tangential * nx];
+                assert_eq!([t.force_x[c].to_bits(), t.force_y[c].to_bits()], expect.map(f64::to_bits), "force {c}");
+                assert_eq!(t.torque_j[c].to_bits(), (force.tangential * t.rj[c]).to_bits(), "torque {c}");
+                assert_eq!(t.spring[c].to_bits(), spring.to_bits(), "spring {c}");
+                assert_eq!(t.normal[c].to_bits(), force.normal.to_bits(), "normal {c}");
+                sliding += usize::from(force.tangential.abs() == kind.options.friction * force.normal.max(0.0));
+                clamped += usize::from(force.normal <= 0.0);
+            }
+            assert!(sliding > 5 && sliding < 95 && clamped > 5, "cases covered: {sliding} sliding, {clamped} clamped");
+            assert_eq!(t.force_x[7].to_bits(), (-t.normal[7] - 0.0 * t.tangential[7]).to_bits());
         }
-        let mut portable = table();
-        portable.coefficients_portable(&law, &m);
-        for (a, b) in
-            [(&t.nx, &portable.nx), (&t.ny, &portable.ny), (&t.tangential_damping, &portable.tangential_damping)]
-        {
-            assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
-        }
-        assert_eq!(t.nx[7], 1.0);
     }
 }

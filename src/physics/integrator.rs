@@ -97,9 +97,9 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f
     let (x, y, vx, vy) = (&mut p.x[..n], &mut p.y[..n], &mut p.vx[..n], &mut p.vy[..n]);
     let (fx, fy, inv_mass) = (&mut p.fx[..n], &mut p.fy[..n], &p.inv_mass[..n]);
     let (prev_ax, prev_ay) = (&mut prev.ax[..n], &mut prev.ay[..n]);
-    let mut power = 0.0;
+    // The power first, in a loop of its own: a running sum would keep the update from vectorising.
+    let mut power = (0..n).map(|i| fx[i] * vx[i] + fy[i] * vy[i]).sum::<f64>();
     for i in 0..n {
-        power += fx[i] * vx[i] + fy[i] * vy[i];
         let ax = fx[i] * inv_mass[i] + gx;
         let ay = fy[i] * inv_mass[i] + gy;
         let new_vx = vx[i] + (3.0 * ax - prev_ax[i]) * h;
@@ -116,8 +116,8 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f
     if c.rotation {
         let (omega, torque, inv_inertia) = (&mut p.omega[..n], &mut p.torque[..n], &p.inv_inertia[..n]);
         let prev_alpha = &mut prev.alpha[..n];
+        power += (0..n).map(|i| torque[i] * omega[i]).sum::<f64>();
         for i in 0..n {
-            power += torque[i] * omega[i];
             let alpha = torque[i] * inv_inertia[i];
             omega[i] += (3.0 * alpha - prev_alpha[i]) * h;
             prev_alpha[i] = alpha;

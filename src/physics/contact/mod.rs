@@ -80,8 +80,6 @@ pub struct Kinematics {
 pub struct ContactForce {
     /// Total normal force `F_n` (N); repulsive when positive.
     pub normal: f64,
-    /// Elastic part of the normal force (N).
-    pub normal_elastic: f64,
     /// Tangential force `F_t` along `t` on body i (N).
     pub tangential: f64,
     /// Tangential spring stiffness used (N/m), for the spring's stored energy.
@@ -99,31 +97,29 @@ impl ContactForce {
 /// Resolves one contact with coefficients `c` (from [`ContactLaw::coefficients`] at `k.overlap`):
 /// normal force with damping and clamp, tangential spring update (`spring` is the accumulated
 /// tangential displacement ξ, m) with the Coulomb limit `|F_t| ≤ μ F_n`.
-#[inline]
+///
+/// Written without data-dependent branches (both outcomes computed, one selected), so that a loop
+/// over many contacts vectorises.
+#[inline(always)]
 pub fn resolve(c: &Coefficients, options: &ContactOptions, k: &Kinematics, spring: &mut f64, dt: f64) -> ContactForce {
-    let mut normal = c.normal_force + c.normal_damping * k.approach_speed;
-    if !options.allow_tension {
-        normal = normal.max(0.0);
-    }
+    let damped = c.normal_force + c.normal_damping * k.approach_speed;
+    let normal = if options.allow_tension { damped } else { damped.max(0.0) };
     let mut tangential = 0.0;
     if options.tangential {
-        *spring += k.tangential_speed * dt;
+        let stretched = *spring + k.tangential_speed * dt;
         let damping = -c.tangential_damping * k.tangential_speed;
-        let trial = -c.tangential_stiffness * *spring + damping;
+        let trial = -c.tangential_stiffness * stretched + damping;
         let limit = options.friction * normal.max(0.0);
-        tangential = if trial.abs() > limit {
-            // Sliding (spec fix of eq 13): the force sits on the Coulomb limit and the spring is cut
-            // back to carry at most the limit. It is never enlarged to it: when the trial force passes
-            // the limit through its damping part (strong β), enlarging the spring would store energy
-            // that no work put there, and the contact would hand it back as motion.
-            let spring_limit = if c.tangential_stiffness > 0.0 { limit / c.tangential_stiffness } else { 0.0 };
-            *spring = spring.clamp(-spring_limit, spring_limit);
-            limit.copysign(trial)
-        } else {
-            trial
-        };
+        // Sliding (spec fix of eq 13): the force sits on the Coulomb limit and the spring is cut
+        // back to carry at most the limit. It is never enlarged to it: when the trial force passes
+        // the limit through its damping part (strong β), enlarging the spring would store energy
+        // that no work put there, and the contact would hand it back as motion.
+        let sliding = trial.abs() > limit;
+        let spring_limit = if c.tangential_stiffness > 0.0 { limit / c.tangential_stiffness } else { 0.0 };
+        *spring = if sliding { stretched.max(-spring_limit).min(spring_limit) } else { stretched };
+        tangential = if sliding { limit.copysign(trial) } else { trial };
     }
-    ContactForce { normal, normal_elastic: c.normal_force, tangential, tangential_stiffness: c.tangential_stiffness }
+    ContactForce { normal, tangential, tangential_stiffness: c.tangential_stiffness }
 }
 
 /// Elastic energy of a contact: the law's normal spring plus the tangential spring ½ S_t ξ² (J).
