@@ -378,7 +378,7 @@ mod tests {
             let before = t.spring;
             t.compute_forces(&law, &kind);
             let (mut sliding, mut clamped) = (0, 0);
-            for c in 0..t.len {
+            for (c, &spring_before) in before.iter().enumerate().take(t.len) {
                 // One contact at a time, opaque to the compiler, so it cannot be vectorised.
                 let d = std::hint::black_box(t.distance_squared[c]).sqrt();
                 let (nx, ny) = if d > 0.0 { (t.dx[c] * (1.0 / d), t.dy[c] * (1.0 / d)) } else { (1.0, 0.0) };
@@ -388,7 +388,7 @@ mod tests {
                     tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
                 };
                 let coefficients = law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap);
-                let mut spring = before[c];
+                let mut spring = spring_before;
                 let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
                 let expect = [-force.normal * nx - force.tangential * ny, -force.normal * ny + force.tangential * nx];
                 assert_eq!([t.force_x[c].to_bits(), t.force_y[c].to_bits()], expect.map(f64::to_bits), "force {c}");
