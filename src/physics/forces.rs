@@ -201,7 +201,8 @@ impl TouchingPairs {
     }
 
     /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
-    /// vector instructions the CPU has.
+    /// vector instructions the CPU has. (Dispatched here rather than through
+    /// [`vector::widest`](super::vector::widest): behind its closure this loop no longer vectorises.)
     fn compute_forces<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]

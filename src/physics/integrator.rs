@@ -8,6 +8,7 @@
 
 use super::config::IntegratorKind;
 use super::particles::Particles;
+use super::vector;
 
 /// A time stepping scheme with whatever history it keeps.
 #[derive(Clone, Debug)]
@@ -56,7 +57,10 @@ impl Integrator {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
-                adams_step(p, prev, c)
+                vector::widest(
+                    #[inline(always)]
+                    || adams_step(p, prev, c),
+                )
             }
             Integrator::VelocityVerlet => {
                 let power = kick(p, c, true);
@@ -89,6 +93,7 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
     }
 }
 
+#[inline(always)]
 fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f64 {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;

@@ -22,6 +22,7 @@ pub mod record;
 pub mod rng;
 pub mod simulation;
 pub mod stability;
+mod vector;
 pub mod walls;
 
 pub use config::SceneConfig;

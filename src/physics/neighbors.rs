@@ -134,11 +134,16 @@ impl NeighborList {
     /// Whether some disk moved more than half the skin since the last build.
     pub fn needs_rebuild(&self, p: &Particles) -> bool {
         let limit = 0.25 * self.skin * self.skin;
-        p.x.iter().zip(&p.y).zip(self.x_ref.iter().zip(&self.y_ref)).any(|((x, y), (xr, yr))| {
-            let (dx, dy) = (x - xr, y - yr);
-            // NaN positions count as moved, so a diverging state never keeps a stale list.
-            (dx * dx + dy * dy).partial_cmp(&limit) != Some(std::cmp::Ordering::Less)
-        })
+        let n = p.len();
+        let (x, y, x_ref, y_ref) = (&p.x[..n], &p.y[..n], &self.x_ref[..n], &self.y_ref[..n]);
+        // Counted without stopping early, so the loop vectorises. NaN positions count as moved, so a
+        // diverging state never keeps a stale list.
+        let moved = (0..n).filter(|&i| {
+            let (dx, dy) = (x[i] - x_ref[i], y[i] - y_ref[i]);
+            let moved = dx * dx + dy * dy;
+            moved >= limit || moved.is_nan()
+        });
+        moved.count() > 0
     }
 
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs.
