@@ -5,7 +5,8 @@
 //!    dt 1e-5 s, 1.5 s = 150 000 steps, to the end), median of 3 — LAMMPS: 120 ns/particle-step here;
 //! 2. the same deposition at N = 300, 3 000, 30 000 and 100 000 disks, the box widened with N so the
 //!    pile depth stays the same, over the first `DEMSWEEP_BENCH_DURATION` seconds (default 0.4 s:
-//!    the fall, the impacts and most of the settling), once each.
+//!    the fall, the impacts and most of the settling); median of 5, 3, 1 and 1 runs (the short runs
+//!    repeated, as a shared machine's speed drifts by tens of percent over seconds).
 //!
 //! Results are printed and written to `results/bench/engine.csv`.
 
@@ -57,12 +58,14 @@ fn main() {
     csv += &format!("reference,300,150000,{:.2},\n", times[1]);
 
     let duration: f64 = std::env::var("DEMSWEEP_BENCH_DURATION").ok().and_then(|v| v.parse().ok()).unwrap_or(0.4);
-    for n in [300usize, 3_000, 30_000, 100_000] {
+    for (n, repeats) in [(300usize, 5), (3_000, 3), (30_000, 1), (100_000, 1)] {
         let mut s = reference_scene();
         s.run.duration = duration;
         s.particles.count = n;
         s.domain.width = 0.4 * n as f64 / 300.0;
-        let (ns, steps, contacts) = time_run(&s, None);
+        let mut runs: Vec<_> = (0..repeats).map(|_| time_run(&s, None)).collect();
+        runs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (ns, steps, contacts) = runs[repeats / 2];
         println!("N = {n:>6}: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)");
         csv += &format!("scaling_{duration}s,{n},{steps},{ns:.2},{contacts}\n");
     }

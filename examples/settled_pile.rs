@@ -1,0 +1,79 @@
+//! Engine cost in the settled state, where every disk has contacts: the reference deposition at N
+//! disks (box widened with N) is run to `settle` seconds once and its state cached under `target/`;
+//! then `steps` steps are timed from that state, best of 7.
+//!
+//! `cargo run --release --example settled_pile -- N SETTLE STEPS`, e.g. `300 0.5 1000`. Under
+//! `valgrind --tool=callgrind` (after one plain run has cached the state) it gives an instruction
+//! count that, unlike a time, does not drift with what else the machine is doing.
+
+use std::time::Instant;
+
+use demsweep::physics::config::SceneConfig;
+use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::particles::InitialDisk;
+use demsweep::physics::simulation::Simulation;
+
+fn scene(n: usize) -> SceneConfig {
+    let mut s = SceneConfig::default();
+    s.material.restitution = Some(0.5);
+    s.material.friction = 0.5;
+    s.integrator.time_step = 1e-5;
+    s.particles.count = n;
+    s.domain.width = 0.4 * n as f64 / 300.0;
+    s
+}
+
+/// The state after `settle` seconds, from the cache or computed (and cached, bit-exact).
+fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
+    let path = format!("{}/target/settled_pile_{}_{settle}.txt", env!("CARGO_MANIFEST_DIR"), s.particles.count);
+    if let Ok(text) = std::fs::read_to_string(&path) {
+        return text
+            .lines()
+            .map(|line| {
+                let v: Vec<f64> = line.split(' ').map(|b| f64::from_bits(b.parse().expect("cached bits"))).collect();
+                InitialDisk { x: v[0], y: v[1], r: v[2], vx: v[3], vy: v[4], omega: v[5] }
+            })
+            .collect();
+    }
+    let disks = demsweep::physics::placement::generate(s).expect("placement");
+    let mut sim = Simulation::new(s, &disks, HertzMindlin);
+    for _ in 0..(settle / s.integrator.time_step).round() as u64 {
+        sim.advance(false);
+    }
+    let p = &sim.particles;
+    let state: Vec<InitialDisk> = (0..p.len())
+        .map(|i| InitialDisk { x: p.x[i], y: p.y[i], r: p.r[i], vx: p.vx[i], vy: p.vy[i], omega: p.omega[i] })
+        .collect();
+    let text: String = state
+        .iter()
+        .map(|d| {
+            format!(
+                "{} {} {} {} {} {}\n",
+                d.x.to_bits(),
+                d.y.to_bits(),
+                d.r.to_bits(),
+                d.vx.to_bits(),
+                d.vy.to_bits(),
+                d.omega.to_bits()
+            )
+        })
+        .collect();
+    std::fs::write(&path, text).expect("cache the settled state");
+    state
+}
+
+fn main() {
+    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("N SETTLE STEPS")).collect();
+    let [n, settle, steps] = args[..] else { panic!("usage: settled_pile N SETTLE STEPS") };
+    let s = scene(n as usize);
+    let mut sim = Simulation::new(&s, &settled(&s, settle), HertzMindlin);
+    let mut best = f64::INFINITY;
+    for _ in 0..7 {
+        let start = Instant::now();
+        for _ in 0..steps as u64 {
+            sim.advance(false);
+        }
+        best = best.min(start.elapsed().as_secs_f64() * 1e9 / (n * steps));
+    }
+    println!("N = {n}, settled at {settle} s: {best:.1} ns/particle-step (best of 7 x {steps} steps)");
+}
