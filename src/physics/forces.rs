@@ -265,25 +265,27 @@ impl TouchingPairs {
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        let f = f.equal_lengths();
         let n = f.fx.len();
+        // Slices of one known length: the assert below covers all their bounds checks.
+        let (fx, fy, torque) = (&mut f.fx[..n], &mut f.fy[..n], &mut f.torque[..n]);
+        let (rolling, contact_force) = (&mut f.rolling[..n], &mut f.contact_force[..n]);
         let rolling_friction = kind.material.rolling_friction;
         for c in 0..self.len {
             let (i, j) = (self.i[c], self.j[c]);
             assert!(i < n && j < n, "neighbour pair out of range");
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
-            f.fx[i] += force_x;
-            f.fy[i] += force_y;
-            f.fx[j] -= force_x;
-            f.fy[j] -= force_y;
+            fx[i] += force_x;
+            fy[i] += force_y;
+            fx[j] -= force_x;
+            fy[j] -= force_y;
             if kind.rotation {
-                f.torque[i] += self.torque_i[c];
-                f.torque[j] += self.torque_j[c];
+                torque[i] += self.torque_i[c];
+                torque[j] += self.torque_j[c];
             }
             if rolling_friction > 0.0 {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
-                f.rolling[i] += resistance * self.ri[c];
-                f.rolling[j] += resistance * self.rj[c];
+                rolling[i] += resistance * self.ri[c];
+                rolling[j] += resistance * self.rj[c];
             }
             springs[self.candidate[c]] = self.spring[c];
             if SAMPLE {
@@ -293,8 +295,8 @@ impl TouchingPairs {
                     tangential_stiffness: self.tangential_stiffness[c],
                 };
                 let magnitude = force.magnitude();
-                f.contact_force[i] += magnitude;
-                f.contact_force[j] += magnitude;
+                contact_force[i] += magnitude;
+                contact_force[j] += magnitude;
                 let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
                 let overlap = self.overlap[c];
                 let energy = contact::elastic_energy(law, &pair, overlap, &force, self.spring[c]);

@@ -140,22 +140,6 @@ pub struct State<'a> {
     pub mass: &'a [f64],
 }
 
-impl Forces<'_> {
-    /// The same accumulators, all sliced to the length of `fx` in view of the caller's code, so that
-    /// one check of an index against that length covers all of them.
-    #[inline(always)]
-    pub fn equal_lengths(&mut self) -> Forces<'_> {
-        let n = self.fx.len();
-        Forces {
-            fx: &mut self.fx[..n],
-            fy: &mut self.fy[..n],
-            torque: &mut self.torque[..n],
-            rolling: &mut self.rolling[..n],
-            contact_force: &mut self.contact_force[..n],
-        }
-    }
-}
-
 /// Writable force accumulators (see [`Particles::split`]).
 pub struct Forces<'a> {
     /// Net force x (N).
