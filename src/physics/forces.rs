@@ -80,7 +80,6 @@ pub struct TouchingPairs {
     // Gathered by the narrow phase.
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
-    distance_squared: [f64; BLOCK],
     ri: [f64; BLOCK],
     rj: [f64; BLOCK],
     r_star: [f64; BLOCK],
@@ -116,7 +115,6 @@ impl Default for TouchingPairs {
             j: index,
             dx: column,
             dy: column,
-            distance_squared: column,
             ri: column,
             rj: column,
             r_star: column,
@@ -164,8 +162,10 @@ impl TouchingPairs {
         let n = s.x.len();
         // Slices of one known length: the assert below covers all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
+        let springs = &mut springs[..block.len()];
         let mut len = 0;
-        for (k, (pair, spring)) in block.iter().zip(springs.iter_mut()).enumerate() {
+        for k in 0..block.len() {
+            let (pair, spring) = (&block[k], &mut springs[k]);
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
             let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
@@ -185,7 +185,6 @@ impl TouchingPairs {
             self.j[len] = j;
             self.dx[len] = dx;
             self.dy[len] = dy;
-            self.distance_squared[len] = d2;
             self.ri[len] = ri;
             self.rj[len] = rj;
             self.r_star[len] = pair.r_star;
@@ -224,7 +223,7 @@ impl TouchingPairs {
     fn forces_portable<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
         let n = self.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
-        let (dx, dy, d2) = (&self.dx[..n], &self.dy[..n], &self.distance_squared[..n]);
+        let (dx, dy) = (&self.dx[..n], &self.dy[..n]);
         let (ri, rj, r_star, m_star) = (&self.ri[..n], &self.rj[..n], &self.r_star[..n], &self.m_star[..n]);
         let (dvx, dvy, spin_i, spin_j) = (&self.dvx[..n], &self.dvy[..n], &self.spin_i[..n], &self.spin_j[..n]);
         let (force_x, force_y) = (&mut self.force_x[..n], &mut self.force_y[..n]);
@@ -233,7 +232,7 @@ impl TouchingPairs {
         let (normal, tangential) = (&mut self.normal[..n], &mut self.tangential[..n]);
         let tangential_stiffness = &mut self.tangential_stiffness[..n];
         for c in 0..n {
-            let d = d2[c].sqrt();
+            let d = (dx[c] * dx[c] + dy[c] * dy[c]).sqrt();
             let inv_d = 1.0 / d;
             // Coincident centres: any unit normal will do.
             let apart = d > 0.0;
@@ -363,7 +362,6 @@ mod tests {
             let (a, w) = (c as f64 * 0.37, (c as f64 * 0.91).sin());
             let d = if c == 7 { 0.0 } else { 0.0199 - 1e-6 * (c % 13) as f64 };
             (t.dx[c], t.dy[c]) = (d * a.cos(), d * a.sin());
-            t.distance_squared[c] = t.dx[c] * t.dx[c] + t.dy[c] * t.dy[c];
             (t.ri[c], t.rj[c]) = (0.01, 0.01 - 1e-5 * (c % 3) as f64);
             (t.r_star[c], t.m_star[c]) = (0.005, 0.15);
             (t.dvx[c], t.dvy[c]) = (3.0 * w * a.cos(), -2.0 * w);
@@ -383,7 +381,7 @@ mod tests {
             let (mut sliding, mut clamped) = (0, 0);
             for (c, &spring_before) in before.iter().enumerate().take(t.len) {
                 // One contact at a time, opaque to the compiler, so it cannot be vectorised.
-                let d = std::hint::black_box(t.distance_squared[c]).sqrt();
+                let d = std::hint::black_box(t.dx[c] * t.dx[c] + t.dy[c] * t.dy[c]).sqrt();
                 let (nx, ny) = if d > 0.0 { (t.dx[c] * (1.0 / d), t.dy[c] * (1.0 / d)) } else { (1.0, 0.0) };
                 let motion = Kinematics {
                     overlap: (t.ri[c] + t.rj[c]) - d,
