@@ -1,18 +1,19 @@
 //! Contact forces of one step: disk pairs in blocks, then disk-wall contacts.
 //!
-//! Disk pairs are taken in blocks of [`BLOCK`] neighbour-list candidates, each in three stages:
-//! 1. **narrow phase**: which candidates touch. Their geometry is appended to a small table without
-//!    a branch (whether two disks touch is unpredictable, and a mispredicted branch costs more than
-//!    the test);
-//! 2. **coefficients**: distance, unit normal, overlap and the law's stiffness and damping for every
-//!    touching pair of the block, as one loop over contiguous arrays that the compiler vectorises.
-//!    Its three square roots and one division per contact are the most expensive operations of a
-//!    step, and the divide/square-root unit does two (SSE2) or four (AVX2) of them for the price of
-//!    one. On x86-64 CPUs with AVX2 this loop runs in a copy compiled for AVX2; both copies do the
-//!    same IEEE operations in the same order, so results are bit-identical;
-//! 3. **forces**: relative velocities, the tangential spring with its Coulomb limit, and the forces
-//!    and torques on both disks, pair after pair in list order, so that every sum is always added up
-//!    in the same order (determinism).
+//! Disk pairs are taken in blocks of `BLOCK` (128) neighbour-list candidates, each in three stages:
+//! 1. **narrow phase**: which candidates touch. Their geometry, radii and relative velocities are
+//!    copied into a small table, one array per quantity;
+//! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
+//!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
+//!    the block, as one branch-free loop over the table that the compiler vectorises. Its three
+//!    square roots and one division per contact were the most expensive operations of a step done one
+//!    contact at a time: the divide/square-root unit does two (SSE2) or four (AVX2) of them for the
+//!    price of one. On x86-64 CPUs with AVX2 this loop runs in a copy compiled for AVX2; both copies
+//!    do the same IEEE operations in the same order, so results are bit-identical;
+//! 3. **scatter**: the forces and torques are added to both disks, pair after pair in list order, so
+//!    that every sum is always added up in the same order (determinism).
+//!
+//! Disk-wall contacts are few and evaluated one at a time.
 
 use super::contact::{self, Coefficients, ContactForce, ContactLaw, ContactOptions, Kinematics, PairProperties};
 use super::diagnostics::ContactTotals;
@@ -152,12 +153,12 @@ impl TouchingPairs {
         for (block, block_springs) in pairs.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)) {
             self.collect(s, block, block_springs);
             self.compute_forces(law, kind);
-            self.apply::<L, SAMPLE>(law, kind, block_springs, f, totals);
+            self.scatter::<L, SAMPLE>(law, kind, block_springs, f, totals);
         }
     }
 
-    /// Stage 1: appends the touching pairs of `block` with what stage 2 needs to know about them;
-    /// pairs out of contact lose their spring.
+    /// Stage 1: appends the touching pairs of `block` to the table with what stage 2 needs; pairs
+    /// out of contact lose their spring.
     fn collect(&mut self, s: &State<'_>, block: &[NeighborPair], springs: &mut [f64]) {
         let n = s.x.len();
         // Slices of one known length: the assert below covers all their bounds checks.
@@ -256,7 +257,7 @@ impl TouchingPairs {
     }
 
     /// Stage 3: adds the forces of the touching pairs to both disks, in list order, and stores the springs.
-    fn apply<L: ContactLaw, const SAMPLE: bool>(
+    fn scatter<L: ContactLaw, const SAMPLE: bool>(
         &self,
         law: &L,
         kind: &ContactKind,

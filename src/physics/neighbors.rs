@@ -12,7 +12,7 @@ use super::particles::Particles;
 use super::walls::BoxWalls;
 
 /// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per
-/// build, not once per step). Its tangential spring lives in [`NeighborList::springs`], apart, so
+/// build, not once per step). Its tangential spring lives in [`Candidates::springs`], apart, so
 /// that the step loop writes only springs and leaves the pair records clean in cache.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NeighborPair {
@@ -37,7 +37,7 @@ impl NeighborPair {
     }
 }
 
-/// A disk that may touch a wall (its spring lives in [`NeighborList::wall_springs`]).
+/// A disk that may touch a wall (its spring lives in [`Candidates::springs`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WallPair {
     /// The disk.

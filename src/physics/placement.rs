@@ -89,7 +89,7 @@ impl Buckets {
 
 /// Random sequential placement: each disk tries up to `max_attempts` uniform positions inside the
 /// box (below `domain.height`) until it overlaps no earlier disk. The placed disks are then ordered
-/// for memory locality ([`order_for_locality`]); the result depends only on the seed.
+/// for memory locality (`order_for_locality`); the result depends only on the seed.
 pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<InitialDisk>, PlacementError> {
     let (w, h) = (scene.domain.width, scene.domain.height);
     let rmax = radii.iter().cloned().fold(0.0, f64::max);
