@@ -50,13 +50,13 @@ impl ContactKind {
         contact::resolve(c, &self.options, k, spring, self.dt)
     }
 
-    /// Adds contact `c` to body `b` of radius `r` whose unit normal towards the other body is
-    /// `(nx, ny)`: force `−F_n n + F_t t` with `t = (−n_y, n_x)`, torque `F_t r`, rolling resistance
-    /// `μ0 F_n r`. The other body gets the same call with `−n` (which also flips `t`).
+    /// Adds contact `c` to body `b` of radius `r` whose unit normal towards the wall is `(nx, ny)`:
+    /// the force of [`ContactForce::on_first_body`], torque `F_t r`, rolling resistance `μ0 F_n r`.
     #[inline(always)]
     fn apply<const SAMPLE: bool>(&self, f: &mut Forces<'_>, b: usize, c: &ContactForce, nx: f64, ny: f64, r: f64) {
-        f.fx[b] += -c.normal * nx - c.tangential * ny;
-        f.fy[b] += -c.normal * ny + c.tangential * nx;
+        let [force_x, force_y] = c.on_first_body(nx, ny);
+        f.fx[b] += force_x;
+        f.fy[b] += force_y;
         if self.rotation {
             f.torque[b] += c.tangential * r;
         }
@@ -245,9 +245,8 @@ impl TouchingPairs {
             };
             let coefficients = law.coefficients(&kind.pair_properties(r_star[c], m_star[c]), motion.overlap);
             let force = kind.resolve(&coefficients, &motion, &mut spring[c]);
-            // On i: `−F_n n + F_t t` with `t = (−n_y, n_x)`; on j the opposite; torque `F_t r` on both.
-            force_x[c] = -force.normal * nx - force.tangential * ny;
-            force_y[c] = -force.normal * ny + force.tangential * nx;
+            // Torque `F_t r` on both disks.
+            [force_x[c], force_y[c]] = force.on_first_body(nx, ny);
             torque_i[c] = force.tangential * ri[c];
             torque_j[c] = force.tangential * rj[c];
             overlap[c] = motion.overlap;
@@ -392,7 +391,7 @@ mod tests {
                 let coefficients = law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap);
                 let mut spring = spring_before;
                 let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
-                let expect = [-force.normal * nx - force.tangential * ny, -force.normal * ny + force.tangential * nx];
+                let expect = force.on_first_body(nx, ny);
                 assert_eq!([t.force_x[c].to_bits(), t.force_y[c].to_bits()], expect.map(f64::to_bits), "force {c}");
                 assert_eq!(t.torque_j[c].to_bits(), (force.tangential * t.rj[c]).to_bits(), "torque {c}");
                 assert_eq!(t.spring[c].to_bits(), spring.to_bits(), "spring {c}");

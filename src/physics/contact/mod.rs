@@ -92,6 +92,13 @@ impl ContactForce {
     pub fn magnitude(&self) -> f64 {
         self.normal.hypot(self.tangential)
     }
+
+    /// The force vector on body i, `−F_n n + F_t t` with `t = (−n_y, n_x)`, for the unit normal
+    /// `(nx, ny)` from i to j (on j: the same with `−n`, which is the opposite vector).
+    #[inline(always)]
+    pub fn on_first_body(&self, nx: f64, ny: f64) -> [f64; 2] {
+        [-self.normal * nx - self.tangential * ny, -self.normal * ny + self.tangential * nx]
+    }
 }
 
 /// Resolves one contact with coefficients `c` (from [`ContactLaw::coefficients`] at `k.overlap`):
