@@ -140,8 +140,8 @@ impl NeighborList {
         // diverging state never keeps a stale list.
         let moved = (0..n).filter(|&i| {
             let (dx, dy) = (x[i] - x_ref[i], y[i] - y_ref[i]);
-            let moved = dx * dx + dy * dy;
-            moved >= limit || moved.is_nan()
+            let distance_squared = dx * dx + dy * dy;
+            distance_squared >= limit || distance_squared.is_nan()
         });
         moved.count() > 0
     }
