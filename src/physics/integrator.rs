@@ -5,6 +5,10 @@
 //! The force arrays hold contact forces only; gravity `g` enters as an acceleration. `advance`
 //! is the last reader of the forces at `t`: it clears them for the next evaluation and returns their
 //! power `Σ F·v + M·ω` at `t` (for the energy balance), all in the same pass over the disks.
+//! It takes the disks a range at a time, so that the caller can follow each range with its own
+//! pass (the neighbour list's staleness check) while that range's arrays are still in cache.
+
+use std::ops::Range;
 
 use super::config::IntegratorKind;
 use super::particles::Particles;
@@ -51,23 +55,25 @@ impl Integrator {
         }
     }
 
-    /// Moves positions (and velocities) from `t` to `t + dt` using the contact forces at `t`, clears
-    /// the forces, and returns their power at `t` (W).
-    pub fn advance(&mut self, p: &mut Particles, c: &StepContext) -> f64 {
+    /// Moves the positions (and velocities) of `disks` from `t` to `t + dt` using the contact forces
+    /// at `t`, clears their forces, and returns the forces' power at `t` (W).
+    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, disks: Range<usize>) -> f64 {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
                 vector::widest(
                     #[inline(always)]
-                    || adams_step(p, prev, c),
+                    || adams_step(p, prev, c, disks),
                 )
             }
             Integrator::VelocityVerlet => {
-                let power = kick(p, c, true);
-                for (x, vx) in p.x.iter_mut().zip(&p.vx) {
+                let power = kick(p, c, true, disks.clone());
+                let (x, y, vx, vy) =
+                    (&mut p.x[disks.clone()], &mut p.y[disks.clone()], &p.vx[disks.clone()], &p.vy[disks]);
+                for (x, vx) in x.iter_mut().zip(vx) {
                     *x += vx * c.dt;
                 }
-                for (y, vy) in p.y.iter_mut().zip(&p.vy) {
+                for (y, vy) in y.iter_mut().zip(vy) {
                     *y += vy * c.dt;
                 }
                 power
@@ -78,7 +84,7 @@ impl Integrator {
     /// Completes the step after forces at the new positions have been evaluated.
     pub fn finish(&mut self, p: &mut Particles, c: &StepContext) {
         if let Integrator::VelocityVerlet = self {
-            kick(p, c, false);
+            kick(p, c, false, 0..p.len());
         }
     }
 }
@@ -94,14 +100,15 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
 }
 
 #[inline(always)]
-fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f64 {
+fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disks: Range<usize>) -> f64 {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
-    let n = p.len();
+    let n = disks.len();
+    let d = || disks.clone();
     // Equal-length slices: no bounds checks, and the loop vectorises.
-    let (x, y, vx, vy) = (&mut p.x[..n], &mut p.y[..n], &mut p.vx[..n], &mut p.vy[..n]);
-    let (fx, fy, inv_mass) = (&mut p.fx[..n], &mut p.fy[..n], &p.inv_mass[..n]);
-    let (prev_ax, prev_ay) = (&mut prev.ax[..n], &mut prev.ay[..n]);
+    let (x, y, vx, vy) = (&mut p.x[d()][..n], &mut p.y[d()][..n], &mut p.vx[d()][..n], &mut p.vy[d()][..n]);
+    let (fx, fy, inv_mass) = (&mut p.fx[d()][..n], &mut p.fy[d()][..n], &p.inv_mass[d()][..n]);
+    let (prev_ax, prev_ay) = (&mut prev.ax[d()][..n], &mut prev.ay[d()][..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
     let mut power = (0..n).map(|i| fx[i] * vx[i] + fy[i] * vy[i]).sum::<f64>();
     for i in 0..n {
@@ -119,8 +126,8 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f
         fy[i] = 0.0;
     }
     if c.rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &mut p.torque[..n], &p.inv_inertia[..n]);
-        let prev_alpha = &mut prev.alpha[..n];
+        let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
+        let prev_alpha = &mut prev.alpha[d()][..n];
         power += (0..n).map(|i| torque[i] * omega[i]).sum::<f64>();
         for i in 0..n {
             let alpha = torque[i] * inv_inertia[i];
@@ -132,13 +139,15 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext) -> f
     power
 }
 
-/// Half kick `v += (F/m + g) dt/2`; with `clear`, also clears the forces and returns their power.
-fn kick(p: &mut Particles, c: &StepContext, clear: bool) -> f64 {
+/// Half kick `v += (F/m + g) dt/2` of `disks`; with `clear`, also clears their forces and returns
+/// the forces' power.
+fn kick(p: &mut Particles, c: &StepContext, clear: bool, disks: Range<usize>) -> f64 {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
-    let n = p.len();
-    let (vx, vy, inv_mass) = (&mut p.vx[..n], &mut p.vy[..n], &p.inv_mass[..n]);
-    let (fx, fy) = (&mut p.fx[..n], &mut p.fy[..n]);
+    let n = disks.len();
+    let d = || disks.clone();
+    let (vx, vy, inv_mass) = (&mut p.vx[d()][..n], &mut p.vy[d()][..n], &p.inv_mass[d()][..n]);
+    let (fx, fy) = (&mut p.fx[d()][..n], &mut p.fy[d()][..n]);
     let mut power = 0.0;
     for i in 0..n {
         if clear {
@@ -152,7 +161,7 @@ fn kick(p: &mut Particles, c: &StepContext, clear: bool) -> f64 {
         }
     }
     if c.rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[..n], &mut p.torque[..n], &p.inv_inertia[..n]);
+        let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
         for i in 0..n {
             if clear {
                 power += torque[i] * omega[i];

@@ -6,6 +6,8 @@
 //! sorted by `(i, j)`, which makes the result independent of the broad phase and lets a rebuild carry
 //! tangential springs over by a linear merge: no hashing, no allocation once buffers have grown.
 
+use std::ops::Range;
+
 use super::config::BroadPhaseKind;
 use super::material::{effective_mass, effective_radius};
 use super::particles::Particles;
@@ -131,11 +133,12 @@ impl NeighborList {
         }
     }
 
-    /// Whether some disk moved more than half the skin since the last build.
-    pub fn needs_rebuild(&self, p: &Particles) -> bool {
+    /// Whether some disk of `disks` moved more than half the skin since the last build.
+    pub fn needs_rebuild(&self, p: &Particles, disks: Range<usize>) -> bool {
         let limit = 0.25 * self.skin * self.skin;
-        let n = p.len();
-        let (x, y, x_ref, y_ref) = (&p.x[..n], &p.y[..n], &self.x_ref[..n], &self.y_ref[..n]);
+        let n = disks.len();
+        let d = || disks.clone();
+        let (x, y, x_ref, y_ref) = (&p.x[d()][..n], &p.y[d()][..n], &self.x_ref[d()][..n], &self.y_ref[d()][..n]);
         // Counted without stopping early, so the loop vectorises. NaN positions count as moved, so a
         // diverging state never keeps a stale list.
         let moved = (0..n).filter(|&i| {
