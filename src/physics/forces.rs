@@ -174,7 +174,7 @@ impl TouchingPairs {
             let reach = ri + rj;
             let d2 = dx * dx + dy * dy;
             // NaN distances count as touching, so a diverging state reaches the forces.
-            let touching = !(d2 >= reach * reach);
+            let touching = d2 < reach * reach || d2.is_nan();
             // Every candidate is written to row `len`, which only a touching one keeps: no branch to
             // mispredict, as some 30 % of candidates do not touch and which ones is random.
             self.candidate[len] = k;
