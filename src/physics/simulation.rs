@@ -8,7 +8,7 @@
 use super::config::{ContactLawKind, SceneConfig};
 use super::contact::{ContactLaw, ContactOptions, HertzMindlin, LinearSpringDashpot};
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
-use super::forces::{self, ContactKind, TouchingPairs};
+use super::forces::{ContactKind, TouchingPairs};
 use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
@@ -252,36 +252,18 @@ impl<L: ContactLaw> Simulation<L> {
             p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
         }
-        self.disk_contacts::<SAMPLE>();
-        self.wall_contacts::<SAMPLE>();
-    }
-
-    // Kept out of line, so profiles show disk and wall contacts apart.
-    #[inline(never)]
-    fn disk_contacts<const SAMPLE: bool>(&mut self) {
-        let (s, mut f) = self.particles.split();
-        let pairs = &mut self.neighbors.pairs;
-        self.touching.disk_contacts::<L, SAMPLE>(
-            &self.law,
-            &self.disk_kind,
-            &pairs.entries,
-            &mut pairs.springs,
-            &s,
-            &mut f,
-            &mut self.totals,
-        );
+        self.contacts::<SAMPLE>();
     }
 
     #[inline(never)]
-    fn wall_contacts<const SAMPLE: bool>(&mut self) {
+    fn contacts<const SAMPLE: bool>(&mut self) {
         let (s, mut f) = self.particles.split();
-        let candidates = &mut self.neighbors.walls;
-        forces::wall_contacts::<L, SAMPLE>(
+        let neighbors = &mut self.neighbors;
+        self.touching.contacts::<L, SAMPLE>(
             &self.law,
-            &self.wall_kind,
-            &self.walls.walls,
-            &candidates.entries,
-            &mut candidates.springs,
+            [&self.disk_kind, &self.wall_kind],
+            &mut neighbors.pairs,
+            (&self.walls.walls, &mut neighbors.walls),
             &s,
             &mut f,
             &mut self.totals,
