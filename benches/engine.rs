@@ -4,9 +4,10 @@
 //! 1. the reference scene of `shared/reference/README.md` (300 disks, E 1e9 Pa, e 0.5, μ 0.5,
 //!    dt 1e-5 s, 1.5 s = 150 000 steps, to the end), median of 3 — LAMMPS: 120 ns/particle-step here;
 //! 2. the same deposition at N = 300, 3 000, 30 000 and 100 000 disks, the box widened with N so the
-//!    pile depth stays the same, over the first `DEMSWEEP_BENCH_DURATION` seconds (default 0.4 s:
-//!    the fall, the impacts and most of the settling); median of 5, 3, 1 and 1 runs (the short runs
-//!    repeated, as a shared machine's speed drifts by tens of percent over seconds).
+//!    pile depth stays the same, over the reference scene's 1.5 s (some 15 minutes in all), or over
+//!    each of the comma-separated durations in `DEMSWEEP_BENCH_DURATION` (s; e.g. `0.4,1.5`; 0.4 s
+//!    is the fall, the impacts and most of the settling); median of 5, 3, 1 and 1 runs (the short
+//!    runs repeated, as a shared machine's speed drifts by tens of percent over seconds).
 //!
 //! Results are printed and written to `results/bench/engine.csv`.
 
@@ -57,8 +58,10 @@ fn main() {
     println!("reference scene (300 disks, 150 000 steps): {:.1} ns/particle-step (median of 3: {times:.1?})", times[1]);
     csv += &format!("reference,300,150000,{:.2},\n", times[1]);
 
-    let duration: f64 = std::env::var("DEMSWEEP_BENCH_DURATION").ok().and_then(|v| v.parse().ok()).unwrap_or(0.4);
-    for (n, repeats) in [(300usize, 5), (3_000, 3), (30_000, 1), (100_000, 1)] {
+    let durations = std::env::var("DEMSWEEP_BENCH_DURATION").unwrap_or_else(|_| "1.5".into());
+    let durations = durations.split(',').map(|d| d.trim().parse::<f64>().expect("DEMSWEEP_BENCH_DURATION: seconds"));
+    let cases = [(300usize, 5), (3_000, 3), (30_000, 1), (100_000, 1)];
+    for (duration, (n, repeats)) in durations.flat_map(|d| cases.map(|case| (d, case))) {
         let mut s = reference_scene();
         s.run.duration = duration;
         s.particles.count = n;
@@ -66,7 +69,7 @@ fn main() {
         let mut runs: Vec<_> = (0..repeats).map(|_| time_run(&s, None)).collect();
         runs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (ns, steps, contacts) = runs[repeats / 2];
-        println!("N = {n:>6}: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)");
+        println!("N = {n:>6}, {duration} s: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)");
         csv += &format!("scaling_{duration}s,{n},{steps},{ns:.2},{contacts}\n");
     }
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/results/bench");
