@@ -1,8 +1,9 @@
-//! Contact forces of one step: disk pairs in blocks, then disk-wall contacts.
+//! Contact forces of one step: disk pairs in blocks, with the disk-wall contacts in between.
 //!
 //! Disk pairs are taken in blocks of `BLOCK` (128) neighbour-list candidates, each in three stages:
 //! 1. **narrow phase**: which candidates touch. Their geometry, radii and relative velocities are
-//!    copied into a small table, one array per quantity;
+//!    copied into a small table, one array per quantity (branching on contact in short lists only,
+//!    see `TouchingPairs::collect`);
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
 //!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
 //!    the block, as one branch-free loop over the table that the compiler vectorises. Its three
@@ -26,7 +27,7 @@ use super::walls::Wall;
 /// Candidates per block: the block's table of touching pairs stays in the L1 cache.
 const BLOCK: usize = 128;
 
-/// Longest candidate list whose narrow phase branches on contact (see [`TouchingPairs::collect`]):
+/// Longest candidate list whose narrow phase branches on contact (see `TouchingPairs::collect`):
 /// measured on settled piles, the branch was as fast or faster at 300 and 3 000 disks (700 and
 /// 7 000 candidates), slower at 10 000 and 30 000 (24 000 and 72 000).
 const PREDICTED_CANDIDATES: usize = 20_000;
