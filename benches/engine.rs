@@ -69,7 +69,9 @@ fn main() {
         let mut runs: Vec<_> = (0..repeats).map(|_| time_run(&s, None)).collect();
         runs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (ns, steps, contacts) = runs[repeats / 2];
-        println!("N = {n:>6}, {duration} s: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)");
+        println!(
+            "N = {n:>6}, {duration} s: {ns:.1} ns/particle-step over {steps} steps ({contacts} contacts at the end)"
+        );
         csv += &format!("scaling_{duration}s,{n},{steps},{ns:.2},{contacts}\n");
     }
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/results/bench");
