@@ -465,14 +465,14 @@ mod tests {
         };
         assert_eq!(rows(&branchy), rows(&branch_free));
         // Out of contact: spring cleared; touching: the scatter stores the new one.
-        let kept = |springs: &[f64]| {
+        let cleared_out_of_contact = |springs: &[f64]| {
             springs
                 .iter()
                 .enumerate()
                 .filter(|(k, _)| !branchy.candidate[..touching].contains(k))
                 .all(|(_, &s)| s == 0.0)
         };
-        assert!(kept(&springs_branchy) && kept(&springs_branch_free));
+        assert!(cleared_out_of_contact(&springs_branchy) && cleared_out_of_contact(&springs_branch_free));
     }
 
     #[test]
