@@ -18,7 +18,7 @@ use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::stability::{self, StabilityReport};
 use super::walls::BoxWalls;
 
-/// Disks per range of [`Simulation::move_disks`]: their dozen arrays (some 50 KiB) stay in the L2
+/// Disks per range of [`Simulation::move_disks`]: their fifteen arrays (some 60 KiB) stay in the L2
 /// cache from the integrator's update to the staleness check.
 const SWEEP: usize = 512;
 
@@ -252,18 +252,12 @@ impl<L: ContactLaw> Simulation<L> {
             p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
         }
-        self.contacts::<SAMPLE>();
-    }
-
-    #[inline(never)]
-    fn contacts<const SAMPLE: bool>(&mut self) {
-        let (s, mut f) = self.particles.split();
-        let neighbors = &mut self.neighbors;
+        let (s, mut f) = p.split();
         self.touching.contacts::<L, SAMPLE>(
             &self.law,
             [&self.disk_kind, &self.wall_kind],
-            &mut neighbors.pairs,
-            (&self.walls.walls, &mut neighbors.walls),
+            &mut self.neighbors.pairs,
+            (&self.walls.walls, &mut self.neighbors.walls),
             &s,
             &mut f,
             &mut self.totals,
