@@ -110,7 +110,7 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disk
     let (fx, fy, inv_mass) = (&mut p.fx[d()][..n], &mut p.fy[d()][..n], &p.inv_mass[d()][..n]);
     let (prev_ax, prev_ay) = (&mut prev.ax[d()][..n], &mut prev.ay[d()][..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
-    let mut power = (0..n).map(|i| fx[i] * vx[i] + fy[i] * vy[i]).sum::<f64>();
+    let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
     for i in 0..n {
         let ax = fx[i] * inv_mass[i] + gx;
         let ay = fy[i] * inv_mass[i] + gy;
@@ -128,7 +128,7 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disk
     if c.rotation {
         let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
         let prev_alpha = &mut prev.alpha[d()][..n];
-        power += (0..n).map(|i| torque[i] * omega[i]).sum::<f64>();
+        power += vector::lane_sum(n, |i| torque[i] * omega[i]);
         for i in 0..n {
             let alpha = torque[i] * inv_inertia[i];
             omega[i] += (3.0 * alpha - prev_alpha[i]) * h;

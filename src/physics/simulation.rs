@@ -16,6 +16,7 @@ use super::neighbors::NeighborList;
 use super::particles::{InitialDisk, Particles};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::stability::{self, StabilityReport};
+use super::vector;
 use super::walls::BoxWalls;
 
 /// Disks per range of [`Simulation::move_disks`]: their fifteen arrays (some 60 KiB) stay in the L2
@@ -230,12 +231,10 @@ impl<L: ContactLaw> Simulation<L> {
         let p = &self.particles;
         let n = p.len();
         let (fx, fy, vx, vy) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n]);
-        let mut power = 0.0;
-        for i in 0..n {
-            power += fx[i] * vx[i] + fy[i] * vy[i];
-        }
+        let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
         if self.context.rotation {
-            power += p.torque.iter().zip(&p.omega).map(|(t, w)| t * w).sum::<f64>();
+            let (torque, omega) = (&p.torque[..n], &p.omega[..n]);
+            power += vector::lane_sum(n, |i| torque[i] * omega[i]);
         }
         power
     }
