@@ -18,8 +18,9 @@
 //! 3. **scatter**: the forces and torques are added to both disks, pair after pair in list order, so
 //!    that every sum is always added up in the same order (determinism).
 //!
-//! Disk-wall contacts are few and evaluated one at a time, each disk's between the blocks, once no
-//! later block can touch the disk (see [`TouchingPairs::contacts`]).
+//! Disk-wall contacts go through the same table and stages (the narrow phase puts the wall's normal
+//! and the overlap in place of the geometry loop's), each disk's between the blocks, once no later
+//! block can touch the disk (see [`TouchingPairs::contacts`]).
 
 use super::contact::{self, Coefficients, ContactForce, ContactLaw, ContactOptions, Kinematics, PairProperties};
 use super::diagnostics::ContactTotals;
@@ -59,24 +60,6 @@ impl ContactKind {
     #[inline(always)]
     fn resolve(&self, c: &Coefficients, k: &Kinematics, spring: &mut f64) -> ContactForce {
         contact::resolve(c, &self.options, k, spring, self.dt)
-    }
-
-    /// Adds contact `c` to body `b` of radius `r` whose unit normal towards the wall is `(nx, ny)`:
-    /// the force of [`ContactForce::on_first_body`], torque `F_t r`, rolling resistance `μ0 F_n r`.
-    #[inline(always)]
-    fn apply<const SAMPLE: bool>(&self, f: &mut Forces<'_>, b: usize, c: &ContactForce, nx: f64, ny: f64, r: f64) {
-        let [force_x, force_y] = c.on_first_body(nx, ny);
-        f.fx[b] += force_x;
-        f.fy[b] += force_y;
-        if self.rotation {
-            f.torque[b] += c.tangential * r;
-        }
-        if self.material.rolling_friction > 0.0 {
-            f.rolling[b] += self.material.rolling_friction * c.normal.max(0.0) * r;
-        }
-        if SAMPLE {
-            f.contact_force[b] += c.magnitude();
-        }
     }
 }
 
@@ -188,16 +171,72 @@ impl TouchingPairs {
         for (block, block_springs) in pairs.entries.chunks(BLOCK).zip(pairs.springs.chunks_mut(BLOCK)) {
             let below = block[0].i as usize;
             wall_done +=
-                wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, wall_done, below, s, f, totals);
+                self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, wall_done, below, s, f, totals);
             if predicted {
                 self.collect::<true>(s, block, block_springs);
             } else {
                 self.collect::<false>(s, block, block_springs);
             }
-            self.compute_forces(law, disk_kind);
-            self.scatter::<L, SAMPLE>(law, disk_kind, block_springs, f, totals);
+            self.compute_forces::<L, true>(law, disk_kind);
+            self.scatter::<L, SAMPLE, true>(law, disk_kind, block_springs, f, totals);
         }
-        wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, wall_done, usize::MAX, s, f, totals);
+        self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, wall_done, usize::MAX, s, f, totals);
+    }
+
+    /// Adds the disk-wall contacts of the candidates from index `first` on whose disk is below
+    /// `below` (and with `SAMPLE`, their contact sums to `totals`), through the same table and
+    /// vector loops as the disk pairs, `BLOCK` at a time; returns how many candidates there were.
+    #[allow(clippy::too_many_arguments)]
+    fn wall_contacts<L: ContactLaw, const SAMPLE: bool>(
+        &mut self,
+        law: &L,
+        kind: &ContactKind,
+        walls: &[Wall],
+        candidates: &mut Candidates<WallPair>,
+        first: usize,
+        below: usize,
+        s: &State<'_>,
+        f: &mut Forces<'_>,
+        totals: &mut ContactTotals,
+    ) -> usize {
+        let entries = &candidates.entries[first..];
+        let count = entries.iter().take_while(|c| (c.i as usize) < below).count();
+        let (entries, springs) = (&entries[..count], &mut candidates.springs[first..first + count]);
+        for (chunk, chunk_springs) in entries.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)) {
+            self.collect_walls(s, walls, chunk, chunk_springs);
+            self.compute_forces::<L, false>(law, kind);
+            self.scatter::<L, SAMPLE, false>(law, kind, chunk_springs, f, totals);
+        }
+        count
+    }
+
+    /// Stage 1 for disk-wall candidates: the table rows of those touching, with the wall's normal
+    /// and the overlap already in place (a wall has no centre to measure a distance from); the
+    /// wall is the second body, at rest, of infinite radius and mass (`R* = r`, `m* = m`).
+    fn collect_walls(&mut self, s: &State<'_>, walls: &[Wall], candidates: &[WallPair], springs: &mut [f64]) {
+        let n = s.x.len();
+        let mut len = 0;
+        for (k, (candidate, spring)) in candidates.iter().zip(springs.iter_mut()).enumerate() {
+            let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
+            assert!(i < n, "wall candidate out of range");
+            let r = s.r[i];
+            let overlap = wall.overlap(s.x[i], s.y[i], r);
+            if overlap <= 0.0 {
+                *spring = 0.0;
+                continue;
+            }
+            self.candidate[len] = k;
+            (self.i[len], self.j[len]) = (i, i);
+            [self.unit_x[len], self.unit_y[len]] = wall.normal;
+            self.overlap[len] = overlap;
+            (self.ri[len], self.rj[len]) = (r, f64::INFINITY);
+            (self.r_star[len], self.m_star[len]) = (r, s.mass[i]);
+            (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
+            (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
+            self.spring[len] = *spring;
+            len += 1;
+        }
+        self.len = len;
     }
 
     /// Stage 1: appends the touching pairs of `block` to the table with what stage 2 needs; pairs
@@ -263,26 +302,30 @@ impl TouchingPairs {
     /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
     /// vector instructions the CPU has. (Dispatched here rather than through
     /// [`vector::widest`](super::vector::widest): behind its closure these loops no longer vectorise.)
-    fn compute_forces<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
+    /// `GEOMETRY`: whether normals and overlaps are to be computed from the centres (disk pairs)
+    /// or are in the table already (walls).
+    fn compute_forces<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            unsafe { self.forces_avx2(law, kind) };
+            unsafe { self.forces_avx2::<L, GEOMETRY>(law, kind) };
             return;
         }
-        self.forces_portable(law, kind);
+        self.forces_portable::<L, GEOMETRY>(law, kind);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn forces_avx2<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
-        self.forces_portable(law, kind);
+    fn forces_avx2<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
+        self.forces_portable::<L, GEOMETRY>(law, kind);
     }
 
     #[inline(always)]
-    fn forces_portable<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
-        self.geometry();
+    fn forces_portable<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
+        if GEOMETRY {
+            self.geometry();
+        }
         self.coefficients(law, kind);
         self.resolve_all(kind);
     }
@@ -353,8 +396,9 @@ impl TouchingPairs {
         }
     }
 
-    /// Stage 3: adds the forces of the touching pairs to both disks, in list order, and stores the springs.
-    fn scatter<L: ContactLaw, const SAMPLE: bool>(
+    /// Stage 3: adds the forces of the touching pairs to both disks (`PAIRS`; walls: to the disk),
+    /// in list order, and stores the springs.
+    fn scatter<L: ContactLaw, const SAMPLE: bool, const PAIRS: bool>(
         &self,
         law: &L,
         kind: &ContactKind,
@@ -369,20 +413,26 @@ impl TouchingPairs {
         let rolling_friction = kind.material.rolling_friction;
         for c in 0..self.len {
             let (i, j) = (self.i[c], self.j[c]);
-            assert!(i < n && j < n, "neighbour pair out of range");
+            assert!(i < n && j < n, "contact out of range");
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
             fx[i] += force_x;
             fy[i] += force_y;
-            fx[j] -= force_x;
-            fy[j] -= force_y;
+            if PAIRS {
+                fx[j] -= force_x;
+                fy[j] -= force_y;
+            }
             if kind.rotation {
                 torque[i] += self.torque_i[c];
-                torque[j] += self.torque_j[c];
+                if PAIRS {
+                    torque[j] += self.torque_j[c];
+                }
             }
             if rolling_friction > 0.0 {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
                 rolling[i] += resistance * self.ri[c];
-                rolling[j] += resistance * self.rj[c];
+                if PAIRS {
+                    rolling[j] += resistance * self.rj[c];
+                }
             }
             springs[self.candidate[c]] = self.spring[c];
             if SAMPLE {
@@ -393,7 +443,9 @@ impl TouchingPairs {
                 };
                 let magnitude = force.magnitude();
                 contact_force[i] += magnitude;
-                contact_force[j] += magnitude;
+                if PAIRS {
+                    contact_force[j] += magnitude;
+                }
                 let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
                 let overlap = self.overlap[c];
                 let energy = contact::elastic_energy(law, &pair, overlap, &force, self.spring[c]);
@@ -401,51 +453,6 @@ impl TouchingPairs {
             }
         }
     }
-}
-
-/// Adds the disk-wall contact forces of the candidates from index `first` on whose disk is below
-/// `below` (and with `SAMPLE`, the contact sums to `totals`); returns how many it evaluated.
-#[allow(clippy::too_many_arguments)]
-#[inline(never)] // so profiles show disk and wall contacts apart
-fn wall_contacts<L: ContactLaw, const SAMPLE: bool>(
-    law: &L,
-    kind: &ContactKind,
-    walls: &[Wall],
-    candidates: &mut Candidates<WallPair>,
-    first: usize,
-    below: usize,
-    s: &State<'_>,
-    f: &mut Forces<'_>,
-    totals: &mut ContactTotals,
-) -> usize {
-    let entries = &candidates.entries[first..];
-    let count = entries.iter().take_while(|c| (c.i as usize) < below).count();
-    let (entries, springs) = (&entries[..count], &mut candidates.springs[first..first + count]);
-    let n = s.x.len();
-    for (candidate, spring) in entries.iter().zip(springs.iter_mut()) {
-        let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
-        assert!(i < n, "wall candidate out of range");
-        let (x, y, r) = (s.x[i], s.y[i], s.r[i]);
-        let overlap = wall.overlap(x, y, r);
-        if overlap <= 0.0 {
-            *spring = 0.0;
-            continue;
-        }
-        let [nx, ny] = wall.normal;
-        let motion = Kinematics {
-            overlap,
-            approach_speed: s.vx[i] * nx + s.vy[i] * ny,
-            tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * r,
-        };
-        let pair = kind.pair_properties(r, s.mass[i]);
-        let force = kind.resolve(&law.coefficients(&pair, overlap), &motion, spring);
-        kind.apply::<SAMPLE>(f, i, &force, nx, ny, r);
-        if SAMPLE {
-            let energy = contact::elastic_energy(law, &pair, overlap, &force, *spring);
-            totals.add(energy, force.magnitude(), overlap / r);
-        }
-    }
-    count
 }
 
 #[cfg(test)]
@@ -536,7 +543,7 @@ mod tests {
             let (law, kind) = (HertzMindlin, kind(allow_tension));
             let mut t = table();
             let before = t.spring;
-            t.compute_forces(&law, &kind);
+            t.compute_forces::<_, true>(&law, &kind);
             let (mut sliding, mut clamped) = (0, 0);
             for (c, &spring_before) in before.iter().enumerate().take(t.len) {
                 // One contact at a time, opaque to the compiler, so it cannot be vectorised.
@@ -561,5 +568,68 @@ mod tests {
             assert!(sliding > 5 && sliding < 95 && clamped > 5, "cases covered: {sliding} sliding, {clamped} clamped");
             assert_eq!(t.force_x[7].to_bits(), (-t.normal[7] - 0.0 * t.tangential[7]).to_bits());
         }
+    }
+
+    #[test]
+    fn wall_contacts_equal_one_contact_at_a_time_bit_for_bit() {
+        // 150 disks (more than a block), half along the floor, half up the left wall, every third
+        // one clear of its wall, with assorted velocities and spins; candidates for both walls.
+        let disks: Vec<_> = (0..150)
+            .map(|k| {
+                let w = (k as f64 * 0.77).sin();
+                let off_wall = 0.01 + if k % 3 == 0 { 1e-3 } else { -1e-5 * (1.0 + w) };
+                let along = 0.05 + 0.02 * (k % 75) as f64;
+                let (x, y) = if k < 75 { (along, off_wall) } else { (off_wall, along) };
+                InitialDisk { x, y, r: 0.01, vx: w, vy: 0.3 * w - 0.1, omega: 20.0 * w }
+            })
+            .collect();
+        let mut particles = Particles::new(&disks, 1000.0, 1.0);
+        let walls = crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
+            width: 1.0,
+            height: 4.0,
+            lid: false,
+        });
+        let mut candidates = Candidates::<WallPair>::default();
+        candidates.entries = (0..150u32).flat_map(|i| [WallPair { i, wall: 0 }, WallPair { i, wall: 1 }]).collect();
+        candidates.springs = (0..300).map(|k| 1e-6 * ((k % 7) as f64 - 3.0)).collect();
+        let before = candidates.springs.clone();
+        let (law, kind) = (HertzMindlin, kind(false));
+        let (s, mut f) = particles.split();
+        let mut totals = ContactTotals::default();
+        let mut t = TouchingPairs::default();
+        let count =
+            t.wall_contacts::<_, true>(&law, &kind, &walls.walls, &mut candidates, 0, 150, &s, &mut f, &mut totals);
+        assert_eq!(count, 300);
+        let mut touching = 0;
+        for i in 0..150 {
+            let (mut fx, mut fy, mut torque) = (0.0, 0.0, 0.0);
+            for k in [2 * i, 2 * i + 1] {
+                let wall = &walls.walls[candidates.entries[k].wall as usize];
+                let overlap = wall.overlap(s.x[i], s.y[i], s.r[i]);
+                if overlap <= 0.0 {
+                    assert_eq!(candidates.springs[k], 0.0);
+                    continue;
+                }
+                touching += 1;
+                let [nx, ny] = wall.normal;
+                let motion = Kinematics {
+                    overlap,
+                    approach_speed: s.vx[i] * nx + s.vy[i] * ny,
+                    tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * s.r[i],
+                };
+                let c = law.coefficients(&kind.pair_properties(s.r[i], s.mass[i]), overlap);
+                let mut spring = before[k];
+                let force = contact::resolve(&c, &kind.options, &motion, &mut spring, kind.dt);
+                let [force_x, force_y] = force.on_first_body(nx, ny);
+                (fx, fy, torque) = (fx + force_x, fy + force_y, torque + force.tangential * s.r[i]);
+                assert_eq!(candidates.springs[k].to_bits(), spring.to_bits(), "spring {k}");
+            }
+            assert_eq!(
+                [f.fx[i], f.fy[i], f.torque[i]].map(f64::to_bits),
+                [fx, fy, torque].map(f64::to_bits),
+                "disk {i}"
+            );
+        }
+        assert_eq!((touching, totals.contacts), (100, 100), "all but every third disk touch one wall");
     }
 }
