@@ -236,7 +236,7 @@ impl TouchingPairs {
             [self.unit_x[len], self.unit_y[len]] = wall.normal;
             self.overlap[len] = overlap;
             (self.ri[len], self.rj[len]) = (r, f64::INFINITY);
-            (self.r_star[len], self.m_star[len]) = (r, s.mass[i]);
+            (self.r_star[len], self.m_star[len]) = (r, candidate.m_star);
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
             (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
             self.spring[len] = *spring;
@@ -596,7 +596,8 @@ mod tests {
             lid: false,
         });
         let mut candidates = Candidates::<WallPair>::default();
-        candidates.entries = (0..150u32).flat_map(|i| [WallPair { i, wall: 0 }, WallPair { i, wall: 1 }]).collect();
+        let m_star = particles.mass[0];
+        candidates.entries = (0..150u32).flat_map(|i| [0, 1].map(|wall| WallPair { i, wall, m_star })).collect();
         candidates.springs = (0..300).map(|k| 1e-6 * ((k % 7) as f64 - 3.0)).collect();
         let before = candidates.springs.clone();
         let (law, kind) = (HertzMindlin, kind(false));
@@ -621,7 +622,7 @@ mod tests {
                     approach_speed: s.vx[i] * nx + s.vy[i] * ny,
                     tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * s.r[i],
                 };
-                let c = law.coefficients(&kind.pair_properties(s.r[i], s.mass[i]), overlap);
+                let c = law.coefficients(&kind.pair_properties(s.r[i], m_star), overlap);
                 let mut spring = before[k];
                 let force = contact::resolve(&c, &kind.options, &motion, &mut spring, kind.dt);
                 let [force_x, force_y] = force.on_first_body(nx, ny);

@@ -39,13 +39,16 @@ impl NeighborPair {
     }
 }
 
-/// A disk that may touch a wall (its spring lives in [`Candidates::springs`]).
+/// A disk that may touch a wall (its spring lives in [`Candidates::springs`]), with the contact's
+/// effective mass: the disk's (kept here, so the step loop needs no fetch of the mass array).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WallPair {
     /// The disk.
     pub i: u32,
     /// Index of the wall in [`BoxWalls::walls`].
     pub wall: u32,
+    /// Effective mass m* (kg).
+    pub m_star: f64,
 }
 
 /// A list entry with a sort key, for carrying springs over rebuilds.
@@ -161,7 +164,7 @@ impl NeighborList {
                 // NaN positions are kept as candidates, so a diverging disk is still seen.
                 let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
                 if overlap > -self.skin || overlap.is_nan() {
-                    self.walls.fresh.push(WallPair { i: i as u32, wall: w as u32 });
+                    self.walls.fresh.push(WallPair { i: i as u32, wall: w as u32, m_star: p.mass[i] });
                 }
             }
         }

@@ -109,7 +109,6 @@ impl Particles {
                 vy: &self.vy[..n],
                 omega: &self.omega[..n],
                 r: &self.r[..n],
-                mass: &self.mass[..n],
             },
             Forces {
                 fx: &mut self.fx[..n],
@@ -136,8 +135,6 @@ pub struct State<'a> {
     pub omega: &'a [f64],
     /// Radius (m).
     pub r: &'a [f64],
-    /// Mass (kg).
-    pub mass: &'a [f64],
 }
 
 /// Writable force accumulators (see [`Particles::split`]).
