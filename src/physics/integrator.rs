@@ -3,16 +3,25 @@
 //! then the caller evaluates forces at the new state, then [`Integrator::finish`] completes the step.
 //!
 //! The force arrays hold contact forces only; gravity `g` enters as an acceleration. `advance`
-//! is the last reader of the forces at `t`: it clears them for the next evaluation and returns their
-//! power `Σ F·v + M·ω` at `t` (for the energy balance), all in the same pass over the disks.
-//! It takes the disks a range at a time, so that the caller can follow each range with its own
-//! pass (the neighbour list's staleness check) while that range's arrays are still in cache.
+//! is the last reader of the forces at `t`: it clears them for the next evaluation and reports their
+//! power `Σ F·v + M·ω` at `t` (for the energy balance) and the longest move of a disk (for the
+//! neighbour list), all in the same pass over the disks. It takes the disks a range at a time, so
+//! that each range's arrays stay in cache from the power sum to the update.
 
 use std::ops::Range;
 
 use super::config::IntegratorKind;
 use super::particles::Particles;
 use super::vector;
+
+/// What [`Integrator::advance`] reports about the disks it moved.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Moved {
+    /// Power of the contact forces and torques at the start of the step (W).
+    pub power: f64,
+    /// The longest move of a disk (`root()`: its length in m, NaN if some move was NaN).
+    pub longest: vector::LargestSquare,
+}
 
 /// A time stepping scheme with whatever history it keeps.
 #[derive(Clone, Debug)]
@@ -56,8 +65,8 @@ impl Integrator {
     }
 
     /// Moves the positions (and velocities) of `disks` from `t` to `t + dt` using the contact forces
-    /// at `t`, clears their forces, and returns the forces' power at `t` (W).
-    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, disks: Range<usize>) -> f64 {
+    /// at `t` and clears their forces.
+    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, disks: Range<usize>) -> Moved {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
@@ -68,15 +77,17 @@ impl Integrator {
             }
             Integrator::VelocityVerlet => {
                 let power = kick(p, c, true, disks.clone());
-                let (x, y, vx, vy) =
-                    (&mut p.x[disks.clone()], &mut p.y[disks.clone()], &p.vx[disks.clone()], &p.vy[disks]);
-                for (x, vx) in x.iter_mut().zip(vx) {
-                    *x += vx * c.dt;
+                let n = disks.len();
+                let (x, y) = (&mut p.x[disks.clone()][..n], &mut p.y[disks.clone()][..n]);
+                let (vx, vy) = (&p.vx[disks.clone()][..n], &p.vy[disks][..n]);
+                let mut longest = vector::LargestSquare::default();
+                for i in 0..n {
+                    let (step_x, step_y) = (vx[i] * c.dt, vy[i] * c.dt);
+                    x[i] += step_x;
+                    y[i] += step_y;
+                    longest.add(step_x, step_y);
                 }
-                for (y, vy) in y.iter_mut().zip(vy) {
-                    *y += vy * c.dt;
-                }
-                power
+                Moved { power, longest }
             }
         }
     }
@@ -100,7 +111,7 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
 }
 
 #[inline(always)]
-fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disks: Range<usize>) -> f64 {
+fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disks: Range<usize>) -> Moved {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
     let n = disks.len();
@@ -111,13 +122,16 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disk
     let (prev_ax, prev_ay) = (&mut prev.ax[d()][..n], &mut prev.ay[d()][..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
     let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
+    let mut longest = vector::LargestSquare::default();
     for i in 0..n {
         let ax = fx[i] * inv_mass[i] + gx;
         let ay = fy[i] * inv_mass[i] + gy;
         let new_vx = vx[i] + (3.0 * ax - prev_ax[i]) * h;
         let new_vy = vy[i] + (3.0 * ay - prev_ay[i]) * h;
-        x[i] += (vx[i] + new_vx) * h;
-        y[i] += (vy[i] + new_vy) * h;
+        let (step_x, step_y) = ((vx[i] + new_vx) * h, (vy[i] + new_vy) * h);
+        x[i] += step_x;
+        y[i] += step_y;
+        longest.add(step_x, step_y);
         vx[i] = new_vx;
         vy[i] = new_vy;
         prev_ax[i] = ax;
@@ -136,7 +150,7 @@ fn adams_step(p: &mut Particles, prev: &mut Accelerations, c: &StepContext, disk
             torque[i] = 0.0;
         }
     }
-    power
+    Moved { power, longest }
 }
 
 /// Half kick `v += (F/m + g) dt/2` of `disks`; with `clear`, also clears their forces and returns

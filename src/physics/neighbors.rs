@@ -1,12 +1,11 @@
 //! Who may touch whom: a Verlet neighbour list built by a cell grid (or all pairs, for tests),
 //! plus the disks near walls, carrying each contact's tangential spring from one build to the next.
 //!
-//! The list holds every pair closer than `r_i + r_j + skin` and is rebuilt once any disk has moved
-//! more than half the skin since the last build, so no contact is missed in between. Pairs are kept
+//! The list holds every pair closer than `r_i + r_j + skin` and is rebuilt once any disk may have
+//! moved more than half the skin since the last build (by the sum of every step's longest move, which
+//! the integrator reports), so no contact is missed in between. Pairs are kept
 //! sorted by `(i, j)`, which makes the result independent of the broad phase and lets a rebuild carry
 //! tangential springs over by a linear merge: no hashing, no allocation once buffers have grown.
-
-use std::ops::Range;
 
 use super::config::BroadPhaseKind;
 use super::material::{effective_mass, effective_radius};
@@ -115,8 +114,9 @@ pub struct NeighborList {
     pub pairs: Candidates<NeighborPair>,
     /// Candidate disk-wall contacts, sorted by `(i, wall)`.
     pub walls: Candidates<WallPair>,
-    x_ref: Vec<f64>,
-    y_ref: Vec<f64>,
+    /// Longest distance a disk can have moved since the last build (m): the sum of every step's
+    /// longest move, an upper bound that needs no stored positions.
+    travel: f64,
     skin: f64,
     broad_phase: BroadPhaseKind,
     grid: CellGrid,
@@ -128,28 +128,19 @@ impl NeighborList {
         Self {
             pairs: Candidates::default(),
             walls: Candidates::default(),
-            x_ref: Vec::new(),
-            y_ref: Vec::new(),
+            travel: 0.0,
             skin,
             broad_phase,
             grid: CellGrid::default(),
         }
     }
 
-    /// Whether some disk of `disks` moved more than half the skin since the last build.
-    pub fn needs_rebuild(&self, p: &Particles, disks: Range<usize>) -> bool {
-        let limit = 0.25 * self.skin * self.skin;
-        let n = disks.len();
-        let d = || disks.clone();
-        let (x, y, x_ref, y_ref) = (&p.x[d()][..n], &p.y[d()][..n], &self.x_ref[d()][..n], &self.y_ref[d()][..n]);
-        // Counted without stopping early, so the loop vectorises. NaN positions count as moved, so a
-        // diverging state never keeps a stale list.
-        let moved = (0..n).filter(|&i| {
-            let (dx, dy) = (x[i] - x_ref[i], y[i] - y_ref[i]);
-            let distance_squared = dx * dx + dy * dy;
-            distance_squared >= limit || distance_squared.is_nan()
-        });
-        moved.count() > 0
+    /// Adds a step in which no disk moved farther than `longest` (m); returns whether the list
+    /// must be rebuilt: some disk may have moved more than half the skin since the last build
+    /// (an infinite or NaN move counts as that).
+    pub fn note_step(&mut self, longest: f64) -> bool {
+        self.travel += longest;
+        self.travel >= 0.5 * self.skin || self.travel.is_nan()
     }
 
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs.
@@ -169,8 +160,7 @@ impl NeighborList {
             }
         }
         self.walls.swap_in_fresh();
-        self.x_ref.clone_from(&p.x);
-        self.y_ref.clone_from(&p.y);
+        self.travel = 0.0;
     }
 }
 
@@ -303,5 +293,23 @@ mod tests {
         assert_eq!(list.entries, [pair(0, 3), pair(1, 2), pair(2, 3)]);
         assert_eq!(list.springs, [2.0, 0.0, 3.0]);
         assert!(list.fresh.is_empty());
+    }
+
+    #[test]
+    fn rebuild_due_once_the_moves_add_up_to_half_the_skin() {
+        let mut scene = SceneConfig::default();
+        scene.particles.count = 20;
+        let p = Particles::new(&placement::generate(&scene).unwrap(), 1000.0, 1.0);
+        let walls = BoxWalls::new(&scene.domain);
+        let mut list = NeighborList::new(BroadPhaseKind::Grid, 0.004);
+        list.rebuild(&p, &walls);
+        let steps_until_due = |list: &mut NeighborList, step: f64| (1..).find(|_| list.note_step(step)).unwrap();
+        assert_eq!(steps_until_due(&mut list, 0.00025), 8);
+        // Due until rebuilt; then counted afresh.
+        assert!(list.note_step(0.0));
+        list.rebuild(&p, &walls);
+        assert_eq!(steps_until_due(&mut list, 0.0005), 4);
+        list.rebuild(&p, &walls);
+        assert!(!list.note_step(0.0) && list.note_step(f64::NAN));
     }
 }

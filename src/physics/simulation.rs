@@ -19,8 +19,8 @@ use super::stability::{self, StabilityReport};
 use super::vector;
 use super::walls::BoxWalls;
 
-/// Disks per range of [`Simulation::move_disks`]: their fifteen arrays (some 60 KiB) stay in the L2
-/// cache from the integrator's update to the staleness check.
+/// Disks per range of [`Simulation::move_disks`]: their arrays stay in cache from the integrator's
+/// power sum to its update.
 const SWEEP: usize = 512;
 
 /// What a running simulation tells its caller at every sample.
@@ -172,18 +172,18 @@ impl<L: ContactLaw> Simulation<L> {
         self.step += 1;
     }
 
-    /// The integrator's update, `SWEEP` disks at a time, each range followed by the neighbour list's
-    /// staleness check while its arrays are still in cache. Returns the power of the contact forces
-    /// at the start of the step and whether the neighbour list must be rebuilt.
+    /// The integrator's update, `SWEEP` disks at a time. Returns the power of the contact forces at
+    /// the start of the step and whether the neighbour list must be rebuilt.
     fn move_disks(&mut self) -> (f64, bool) {
         let n = self.particles.len();
-        let (mut power, mut stale) = (0.0, false);
+        let (mut power, mut longest) = (0.0, vector::LargestSquare::default());
         for start in (0..n).step_by(SWEEP) {
             let disks = start..(start + SWEEP).min(n);
-            power += self.integrator.advance(&mut self.particles, &self.context, disks.clone());
-            stale |= self.neighbors.needs_rebuild(&self.particles, disks);
+            let moved = self.integrator.advance(&mut self.particles, &self.context, disks);
+            power += moved.power;
+            longest = longest.max(moved.longest);
         }
-        (power, stale)
+        (power, self.neighbors.note_step(longest.root()))
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).

@@ -43,9 +43,34 @@ pub fn lane_sum(n: usize, term: impl Fn(usize) -> f64) -> f64 {
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
 }
 
+/// The largest `x² + y²` of a loop, NaN if any is NaN, in a form that keeps the loop vectorised:
+/// the maximum of the values' bit patterns. For non-negative numbers those order as the numbers do,
+/// and every NaN's is above infinity's. (`f64::max` would skip NaNs, and as a running maximum of
+/// floats it keeps the compiler from vectorising the loop.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LargestSquare(u64);
+
+impl LargestSquare {
+    /// Takes `x² + y²` into account.
+    #[inline(always)]
+    pub fn add(&mut self, x: f64, y: f64) {
+        self.0 = self.0.max((x * x + y * y).to_bits());
+    }
+
+    /// The larger of two.
+    pub fn max(self, other: Self) -> Self {
+        Self(self.0.max(other.0))
+    }
+
+    /// The square root of the largest `x² + y²` so far (0 before any): the longest vector `(x, y)`.
+    pub fn root(self) -> f64 {
+        f64::from_bits(self.0).sqrt()
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::lane_sum;
+    use super::{LargestSquare, lane_sum};
 
     #[test]
     fn lane_sum_adds_every_term_once_with_any_tail() {
@@ -54,5 +79,21 @@ mod tests {
             let total = lane_sum(n, |i| f64::from(1u32 << i));
             assert_eq!(total, f64::from((1u32 << n) - 1), "n = {n}");
         }
+    }
+
+    #[test]
+    fn largest_square_is_the_longest_vector_and_keeps_nan() {
+        let mut a = LargestSquare::default();
+        assert_eq!(a.root(), 0.0);
+        for (x, y) in [(3.0, -4.0), (0.0, 1.0), (-1e-300, 0.0), (2.0, 2.0)] {
+            a.add(x, y);
+        }
+        assert_eq!(a.root(), 5.0);
+        let mut b = LargestSquare::default();
+        b.add(f64::INFINITY, 0.0);
+        assert_eq!(a.max(b).root(), f64::INFINITY);
+        b.add(f64::NAN, 1.0);
+        b.add(7.0, 0.0);
+        assert!(b.root().is_nan() && a.max(b).root().is_nan() && b.max(a).root().is_nan());
     }
 }
