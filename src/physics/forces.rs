@@ -149,8 +149,9 @@ impl Default for TouchingPairs {
 }
 
 impl TouchingPairs {
-    /// Adds all contact forces: disk pairs block by block, and before each block the disk-wall
-    /// contacts of the disks below its first disk; with `SAMPLE`, also the contact sums to `totals`.
+    /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
+    /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
+    /// contact sums to `totals`.
     ///
     /// Every disk's sums come out as if all disk pairs were added first and then the walls (pairs
     /// are sorted by first disk, so no later block touches a disk below the block's first disk),
