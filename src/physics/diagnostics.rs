@@ -89,7 +89,11 @@ pub fn unbalanced_force_ratio(p: &Particles, g: [f64; 2], totals: &ContactTotals
     if totals.contacts == 0 || p.is_empty() {
         return f64::NAN;
     }
-    let net: f64 = (0..p.len()).map(|i| (p.fx[i] + p.mass[i] * g[0]).hypot(p.fy[i] + p.mass[i] * g[1])).sum();
+    let net_force = |i: usize| {
+        let (x, y) = (p.fx[i] + p.mass[i] * g[0], p.fy[i] + p.mass[i] * g[1]);
+        (x * x + y * y).sqrt()
+    };
+    let net: f64 = (0..p.len()).map(net_force).sum();
     (net / p.len() as f64) / (totals.force_sum / totals.contacts as f64)
 }
 

@@ -87,10 +87,11 @@ pub struct ContactForce {
 }
 
 impl ContactForce {
-    /// Magnitude of the contact force vector (N).
+    /// Magnitude of the contact force vector (N). (A plain square root: contact forces are far
+    /// from overflowing when squared, and `hypot`'s guard against it is a slow library call.)
     #[inline]
     pub fn magnitude(&self) -> f64 {
-        self.normal.hypot(self.tangential)
+        (self.normal * self.normal + self.tangential * self.tangential).sqrt()
     }
 
     /// The force vector on body i, `−F_n n + F_t t` with `t = (−n_y, n_x)`, for the unit normal
