@@ -84,17 +84,11 @@ impl Figure for LogLogFigure<'_> {
             .x_label_area_size(55)
             .y_label_area_size(85)
             .build_cartesian_2d(log_range(all().map(|p| p.0)).log_scale(), log_range(all().map(|p| p.1)).log_scale())?;
-        chart
-            .configure_mesh()
+        style::numbered_mesh(&mut chart.configure_mesh())
             .x_desc(self.x_desc)
             .y_desc(self.y_desc)
             .x_labels(6)
             .y_labels(8)
-            .x_label_formatter(&|v| style::short_number(*v))
-            .y_label_formatter(&|v| style::short_number(*v))
-            .label_style(style::text(LABEL_SIZE))
-            .axis_desc_style(style::text(style::AXIS_DESC_SIZE))
-            .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         for (index, series) in self.series.iter().enumerate() {
             let line_style = style::series_colour(index).stroke_width(LINE_WIDTH);

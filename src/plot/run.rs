@@ -155,15 +155,7 @@ where
         .x_label_area_size(X_LABEL_AREA)
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(time, y)?;
-    chart
-        .configure_mesh()
-        .x_desc("time (s)")
-        .y_desc(y_desc)
-        .y_label_formatter(&|v| style::short_number(*v))
-        .label_style(style::text(style::LABEL_SIZE))
-        .axis_desc_style(style::text(style::AXIS_DESC_SIZE))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
+    style::numbered_mesh(&mut chart.configure_mesh()).x_desc("time (s)").y_desc(y_desc).draw()?;
     Ok(chart)
 }
 
@@ -356,17 +348,12 @@ impl Figure for SnapshotFigure<'_> {
             .x_label_area_size(X_LABEL_AREA)
             .y_label_area_size(Y_LABEL_AREA)
             .build_cartesian_2d(x_range, y_range)?;
-        chart
-            .configure_mesh()
+        style::numbered_mesh(&mut chart.configure_mesh())
             .disable_mesh()
             .x_desc("x (m)")
             .y_desc("y (m)")
             .x_labels(6)
             .y_labels(8)
-            .x_label_formatter(&|v| style::short_number(*v))
-            .y_label_formatter(&|v| style::short_number(*v))
-            .label_style(style::text(style::LABEL_SIZE))
-            .axis_desc_style(style::text(style::AXIS_DESC_SIZE))
             .draw()?;
         let (width, height) = self.box_size;
         chart.draw_series([PathElement::new(

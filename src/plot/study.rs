@@ -157,16 +157,7 @@ impl Figure for LinesFigure<'_> {
             .x_label_area_size(55)
             .y_label_area_size(85)
             .build_cartesian_2d(x_range.clone(), 0.0..top * 1.2)?;
-        chart
-            .configure_mesh()
-            .x_desc(self.x_param)
-            .y_desc("settle time (s)")
-            .x_label_formatter(&|v| style::short_number(*v))
-            .y_label_formatter(&|v| style::short_number(*v))
-            .label_style(style::text(LABEL_SIZE))
-            .axis_desc_style(style::text(style::AXIS_DESC_SIZE))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()?;
+        style::numbered_mesh(&mut chart.configure_mesh()).x_desc(self.x_param).y_desc("settle time (s)").draw()?;
         let row = [(x_range.start, unsettled_row), (x_range.end, unsettled_row)];
         chart.draw_series(DashedLineSeries::new(row, 4, 6, NOT_SETTLED.stroke_width(1)))?;
         for (index, (label, runs)) in self.series().iter().enumerate() {

@@ -3,7 +3,9 @@
 use std::ops::Range;
 use std::sync::Once;
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::register_font as register_plotters_font;
 
@@ -42,6 +44,27 @@ pub(super) const SERIES: [RGBColor; 8] = [
 
 /// DejaVu Sans (Bitstream Vera licence, see `assets/fonts/DejaVu-LICENSE.txt`).
 static FONT_FILE: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// Gives a chart's mesh the common look: numbers on both axes written short, the shared text
+/// sizes, light grid lines.
+pub(super) fn numbered_mesh<'a, 'b, 'm, X, Y, DB>(
+    mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    DB: DrawingBackend,
+{
+    mesh.x_label_formatter(&axis_number)
+        .y_label_formatter(&axis_number)
+        .label_style(text(LABEL_SIZE))
+        .axis_desc_style(text(AXIS_DESC_SIZE))
+        .light_line_style(RGBColor(235, 235, 235))
+}
+
+fn axis_number(value: &f64) -> String {
+    short_number(*value)
+}
 
 /// Registers the bundled font with plotters (once per process).
 pub(super) fn register_font() {
