@@ -171,6 +171,39 @@ fn disk_resting_on_floor_has_hertz_static_overlap_and_no_unbalanced_force() {
 }
 
 #[test]
+fn rolling_friction_decelerates_a_rolling_disk_as_theory_says_and_stops_it() {
+    // Rolling without slip against the constant torque μ0 m g R: m a R + I a / R = −μ0 m g R with
+    // I = m R²/2, so the disk slows at (2/3) μ0 g until it stops, and then stays put.
+    let (mu0, v0, g) = (0.05, 0.2, 9.81);
+    let deceleration_theory = 2.0 / 3.0 * mu0 * g;
+    let mut scene = free_scene(1e8, IntegratorKind::AdamsBashforthMoulton, 2e-6);
+    scene.gravity = [0.0, -g];
+    scene.material.restitution = Some(0.3);
+    scene.material.beta = None;
+    scene.material.friction = 0.5;
+    scene.material.rolling_friction = mu0;
+    let disks = [InitialDisk { x: 0.5, y: R, r: R, vx: v0, omega: -v0 / R, ..Default::default() }];
+    let mut sim = Simulation::new(&scene, &disks, HertzMindlin);
+    let mut advance_to = |time: f64| {
+        while sim.time() < time {
+            sim.advance(false);
+        }
+        let p = &sim.particles;
+        (p.x[0], p.vx[0], p.omega[0])
+    };
+    let (_, v1, _) = advance_to(0.05);
+    let (_, v2, w2) = advance_to(0.25);
+    let deceleration = (v1 - v2) / 0.2;
+    println!("deceleration {deceleration:.5} m/s² (theory {deceleration_theory:.5}), slip {:.2e} m/s", v2 + w2 * R);
+    assert!((deceleration / deceleration_theory - 1.0).abs() < 0.01, "deceleration {deceleration}");
+    // Stops after v0 / a ≈ 0.61 s and neither creeps nor rocks back.
+    let (x3, v3, w3) = advance_to(0.9);
+    let (x4, v4, w4) = advance_to(1.2);
+    println!("at rest: x moved {:.2e} m in 0.3 s, vx {v4:.2e} m/s, omega {w4:.2e} rad/s", x4 - x3);
+    assert!((x4 - x3).abs() < 1e-6 && v3.abs().max(v4.abs()) < 1e-5 && (w3.abs().max(w4.abs())) * R < 1e-5);
+}
+
+#[test]
 fn oblique_sliding_impact_matches_rigid_body_coulomb_theory() {
     // The rigid-body result holds whatever the normal law: both laws are checked.
     let (mu, vx0, vy0) = (0.1, 2.0, 1.0);
