@@ -107,11 +107,15 @@ fn restitution_falls_with_beta_and_edem_relation_error_is_bounded() {
 /// Normal stiffness of the linear-law impacts (N/m).
 const LINEAR_STIFFNESS: f64 = 1e5;
 
+/// Duration of an undamped linear-law disk-wall contact, π √(m / k) (s).
+fn linear_contact_time() -> f64 {
+    std::f64::consts::PI * (disk_mass(R) / LINEAR_STIFFNESS).sqrt()
+}
+
 /// A disk hitting the floor at 1 m/s (no gravity) under the linear spring-dashpot law with damping
 /// ratio `beta`; returns (restitution, contact duration) measured from per-step overlaps.
 fn linear_wall_impact(beta: f64, allow_tension: bool) -> (f64, f64) {
-    let period = std::f64::consts::PI * (disk_mass(R) / LINEAR_STIFFNESS).sqrt();
-    let mut scene = free_scene(E, IntegratorKind::AdamsBashforthMoulton, period / 1000.0);
+    let mut scene = free_scene(E, IntegratorKind::AdamsBashforthMoulton, linear_contact_time() / 1000.0);
     scene.material.beta = Some(beta);
     scene.contact.allow_tension = allow_tension;
     let gap = 0.01 * R;
@@ -208,8 +212,7 @@ fn oblique_sliding_impact_matches_rigid_body_coulomb_theory() {
     // The rigid-body result holds whatever the normal law: both laws are checked.
     let (mu, vx0, vy0) = (0.1, 2.0, 1.0);
     let hertz_duration = hertz_impact(same_material_e_star(E, NU), R, disk_mass(R), vy0).1;
-    let linear_duration = std::f64::consts::PI * (disk_mass(R) / LINEAR_STIFFNESS).sqrt();
-    let cases = [(ContactLawKind::HertzMindlin, hertz_duration), (ContactLawKind::Linear, linear_duration)];
+    let cases = [(ContactLawKind::HertzMindlin, hertz_duration), (ContactLawKind::Linear, linear_contact_time())];
     for (scheme, (law, duration)) in SCHEMES.into_iter().flat_map(|scheme| cases.map(|case| (scheme, case))) {
         let mut scene = free_scene(E, scheme, duration / 100.0);
         scene.contact.law = law;
