@@ -11,6 +11,7 @@ use demsweep::study::{self, Plan};
 
 mod results;
 mod slurm;
+mod tune;
 
 /// Exit status when the study file is invalid.
 const INVALID_STUDY: u8 = 2;
@@ -138,6 +139,22 @@ enum Command {
                       --out /scratch/damping --print"
     )]
     Slurm(slurm::SlurmArgs),
+    /// Find the fastest deposition that still makes the same pile (a tune file: [scene], [levers], [keep], [search]).
+    #[command(
+        long_about = "Search the levers of a tune file for the cheapest setting whose settled pile is the same as \
+                      the reference scene's: every kept metric equivalent by the two one-sided tests (90 % Welch \
+                      interval of the difference inside the tolerance), every run settled. The reference runs on \
+                      several seeds; candidates from a Halton design and a pattern search run in parallel batches \
+                      through the ordinary runner into OUT/<name>.h5 (every run is kept: --resume after a kill \
+                      replays the search from the file); candidates predicted to overlap past \
+                      limits.max_overlap_ratio are not run; the best is verified on fresh seeds. Prints the \
+                      recommendation and writes OUT/<name>_best.toml (a runnable study), \
+                      OUT/<name>_candidates.csv and charts in OUT/plots/. Exit status 0 when done (with or \
+                      without a recommendation), 1 on a failure, 2 for an invalid tune file, 130 after Ctrl-C.",
+        after_help = "Examples:\n  demsweep tune studies/tune_deposition.toml\n  \
+                      demsweep tune studies/tune_deposition.toml --jobs 2 --out /tmp/tune --resume"
+    )]
+    Tune(tune::TuneArgs),
 }
 
 #[derive(Args)]
@@ -173,6 +190,7 @@ pub fn main() -> ExitCode {
             Ok(plan) => slurm::slurm(&args, &plan),
             Err(code) => code,
         },
+        Command::Tune(args) => tune::run(&args),
     }
 }
 
@@ -186,6 +204,9 @@ fn load_or_report(path: &Path) -> Result<Plan, ExitCode> {
 }
 
 fn check(args: &CheckArgs) -> ExitCode {
+    if demsweep::tune::is_tune_file(&args.study) {
+        return tune::check(&args.study);
+    }
     match load_or_report(&args.study) {
         Ok(plan) => {
             println!("ok: {}", runs(plan.runs.len()));
@@ -196,6 +217,10 @@ fn check(args: &CheckArgs) -> ExitCode {
 }
 
 fn plan(args: &PlanArgs) -> ExitCode {
+    if demsweep::tune::is_tune_file(&args.study) {
+        let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        return tune::plan(&args.study, cores);
+    }
     let plan = match load_or_report(&args.study) {
         Ok(plan) => plan,
         Err(code) => return code,

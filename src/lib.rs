@@ -13,4 +13,6 @@ pub mod physics;
 pub mod plot;
 pub mod runner;
 pub mod slurm;
+pub mod stats;
 pub mod study;
+pub mod tune;

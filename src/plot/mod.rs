@@ -19,6 +19,7 @@ pub mod results;
 pub mod run;
 pub mod study;
 mod style;
+pub mod tune;
 
 /// Image file format of a chart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

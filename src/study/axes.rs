@@ -196,7 +196,7 @@ fn with_article(value: &toml::Value) -> String {
 }
 
 /// A list element as a parameter value.
-fn scalar(value: &toml::Value) -> Result<ParamValue, String> {
+pub(crate) fn scalar(value: &toml::Value) -> Result<ParamValue, String> {
     match value {
         toml::Value::Float(v) => Ok(ParamValue::Float(*v)),
         toml::Value::Integer(v) => Ok(ParamValue::Int(*v)),

@@ -103,7 +103,7 @@ pub struct StudyErrors(pub Vec<StudyError>);
 
 impl StudyErrors {
     /// Sorted by file and position, for reading top to bottom.
-    pub(super) fn sorted(mut errors: Vec<StudyError>) -> Self {
+    pub(crate) fn sorted(mut errors: Vec<StudyError>) -> Self {
         errors.sort_by(|a, b| (&a.file, a.location).cmp(&(&b.file, b.location)));
         Self(errors)
     }
@@ -131,7 +131,7 @@ impl From<StudyError> for StudyErrors {
 
 /// Collects problems; the same problem found in several runs is kept once, with the first run and a count.
 #[derive(Default)]
-pub(super) struct ErrorSink {
+pub(crate) struct ErrorSink {
     errors: Vec<StudyError>,
     seen: HashMap<Identity, usize>,
 }

@@ -11,10 +11,10 @@ use toml::de::DeTable;
 use super::errors::{Location, StudyError, StudyErrors};
 
 /// A key path: table names from the root, e.g. `["scene", "material", "friction"]`.
-pub(super) type KeyPath = Vec<String>;
+pub(crate) type KeyPath = Vec<String>;
 
 /// The study file's path and text.
-pub(super) struct StudyFile {
+pub(crate) struct StudyFile {
     /// Path as given.
     pub path: PathBuf,
     /// The file's text.
@@ -52,7 +52,7 @@ impl StudyFile {
 }
 
 /// A parsed study: its values, and where each key (at any depth of tables) was written.
-pub(super) struct Document {
+pub(crate) struct Document {
     /// The document's values.
     pub root: toml::Table,
     /// Span of every key that names a value or table, by key path.
@@ -104,7 +104,7 @@ fn collect_spans(table: &DeTable<'_>, prefix: &mut KeyPath, spans: &mut HashMap<
 }
 
 /// Every non-table value and empty table under `table` with its key path (relative to `table`).
-pub(super) fn leaves(table: &toml::Table) -> Vec<(KeyPath, &toml::Value)> {
+pub(crate) fn leaves(table: &toml::Table) -> Vec<(KeyPath, &toml::Value)> {
     let mut out = Vec::new();
     collect_leaves(table, &mut Vec::new(), &mut out);
     out
@@ -122,7 +122,7 @@ fn collect_leaves<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Ve
 }
 
 /// Sets `path` in `table` to `value`, creating missing tables on the way.
-pub(super) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), String> {
+pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), String> {
     let (last, parents) = path.split_last().ok_or("an empty key path")?;
     let mut here = table;
     for (depth, key) in parents.iter().enumerate() {
@@ -136,19 +136,19 @@ pub(super) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Va
 }
 
 /// A table holding only `value` at `path`.
-pub(super) fn tree_with(path: &[String], value: toml::Value) -> toml::Table {
+pub(crate) fn tree_with(path: &[String], value: toml::Value) -> toml::Table {
     let mut table = toml::Table::new();
     set_path(&mut table, path, value).expect("a fresh table has no values in the way");
     table
 }
 
 /// A key path as written in TOML: segments joined by dots, quoted where they are not bare keys.
-pub(super) fn dotted(path: &[String]) -> String {
+pub(crate) fn dotted(path: &[String]) -> String {
     path.iter().map(|k| quoted_key(k)).collect::<Vec<_>>().join(".")
 }
 
 /// A single key as written in TOML: bare when possible, else quoted.
-pub(super) fn quoted_key(key: &str) -> String {
+pub(crate) fn quoted_key(key: &str) -> String {
     let bare = !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
     if bare { key.to_string() } else { toml::Value::String(key.to_string()).to_string() }
 }

@@ -4,11 +4,11 @@
 //! [`load`] reads a study file (format: README.md, "Study files") and checks everything a run
 //! could fail on at its start: every problem of the whole study is reported at once.
 
-mod axes;
-mod errors;
-mod file;
+pub(crate) mod axes;
+pub(crate) mod errors;
+pub(crate) mod file;
 pub mod initial_csv;
-mod plan;
+pub(crate) mod plan;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

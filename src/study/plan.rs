@@ -69,7 +69,7 @@ fn check_top_level(file: &StudyFile, doc: &Document) -> Vec<StudyError> {
 
 /// Deserializes every value of `[section]` on its own into `T`, so that each unknown key and
 /// wrong type is reported (serde stops at the first). Returns the section without the bad values.
-fn split_leaves<T: DeserializeOwned>(
+pub(crate) fn split_leaves<T: DeserializeOwned>(
     file: &StudyFile,
     doc: &Document,
     section: &str,
@@ -131,7 +131,7 @@ fn study_name(doc: &Document, path: &Path) -> String {
 }
 
 /// FNV-1a 64 of the study text and the demsweep version, as 16 hex digits.
-fn fingerprint(text: &str) -> String {
+pub(crate) fn fingerprint(text: &str) -> String {
     let bytes = text.bytes().chain(std::iter::once(0)).chain(env!("CARGO_PKG_VERSION").bytes());
     let hash = bytes.fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
     format!("{hash:016x}")

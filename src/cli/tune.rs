@@ -1,0 +1,182 @@
+//! `demsweep tune FILE`: the fastest deposition that still makes the same pile; and what `check` and
+//! `plan` say about a tune file.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use clap::Args;
+use demsweep::runner::interrupt;
+use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec, report};
+
+use super::INVALID_STUDY;
+
+#[derive(Args)]
+pub struct TuneArgs {
+    /// The tune file (TOML: [scene], [levers], [keep], [search]).
+    file: PathBuf,
+    /// Worker threads, one simulation each (default: all cores). The answer does not depend on it.
+    #[arg(long, short = 'j')]
+    jobs: Option<usize>,
+    /// Output directory (default: results/<name>/).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Reuse the runs of an existing results file (after a kill, Ctrl-C or crash) and go on.
+    #[arg(long, conflicts_with = "force")]
+    resume: bool,
+    /// Replace an existing results file.
+    #[arg(long)]
+    force: bool,
+    /// No line per batch.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
+pub fn load_or_report(path: &Path) -> Result<TuneSpec, ExitCode> {
+    tune::load(path).map_err(|errors| {
+        eprintln!("{errors}");
+        eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+        ExitCode::from(INVALID_STUDY)
+    })
+}
+
+/// `demsweep check` of a tune file.
+pub fn check(path: &Path) -> ExitCode {
+    match load_or_report(path) {
+        Ok(spec) => {
+            println!(
+                "ok: tune file, {} levers, {} kept metrics, budget {} runs",
+                spec.levers.len(),
+                spec.keep.len(),
+                spec.search.budget
+            );
+            ExitCode::SUCCESS
+        }
+        Err(code) => code,
+    }
+}
+
+/// `demsweep plan` of a tune file: levers, seeds and the budget's cost bound.
+pub fn plan(path: &Path, cores: usize) -> ExitCode {
+    let spec = match load_or_report(path) {
+        Ok(spec) => spec,
+        Err(code) => return code,
+    };
+    let s = &spec.search;
+    println!("tune {} ({}), fingerprint {}", spec.name, spec.path.display(), spec.fingerprint);
+    println!("levers:");
+    for lever in &spec.levers {
+        let range = match &lever.range {
+            tune::LeverRange::Linear { low, high, .. } => format!("linear {low} .. {high}"),
+            tune::LeverRange::Log { low, high, .. } => format!("log {low} .. {high}"),
+            tune::LeverRange::List(values) => {
+                format!("one of {}", values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(", "))
+            }
+        };
+        println!("  {}: {range}", lever.key);
+    }
+    println!("keep:");
+    for keep in &spec.keep {
+        let kind = if keep.absolute { "absolute" } else { "relative" };
+        println!("  {}: within ±{} ({kind})", keep.metric, keep.tolerance);
+    }
+    println!(
+        "search: objective {}, {} seeds per candidate (up to {}), reference {} seeds, verification {} fresh seeds, \
+         budget {} runs, seed {}",
+        s.objective.name(),
+        s.seeds,
+        s.max_seeds,
+        s.reference_seeds(),
+        s.verify_seeds(),
+        s.budget,
+        s.seed
+    );
+    // The dearest run over the reference and every lever's extremes bounds the cost of a run.
+    let reference_cost = spec.reference.particles.count as f64 * spec.reference.total_steps() as f64;
+    let mut dearest = reference_cost;
+    for (d, lever) in spec.levers.iter().enumerate() {
+        for u in [0.0, 1.0] {
+            let mut point: Vec<f64> = spec.reference_values().iter().map(|(_, _, c)| c.unwrap_or(0.5)).collect();
+            point.resize(spec.levers.len(), 0.5);
+            point[d] = u;
+            let mut values: Vec<_> = spec.values(&point);
+            values.retain(|(k, _)| *k == lever.key);
+            if let Ok(scene) = spec.scene(&values) {
+                dearest = dearest.max(scene.particles.count as f64 * scene.total_steps() as f64);
+            }
+        }
+    }
+    let bound = dearest * s.budget as f64;
+    let seconds = bound * super::SECONDS_PER_PARTICLE_STEP;
+    println!(
+        "reference run: {reference_cost:.3e} particle-steps at most (full duration); budget bound {bound:.3e} \
+         particle-steps ({} runs x {dearest:.3e}, the dearest lever extreme): about {} on 1 core, {} on {cores} cores \
+         (runs stop when settled, so far less)",
+        s.budget,
+        super::duration(seconds),
+        super::duration(seconds / cores as f64)
+    );
+    ExitCode::SUCCESS
+}
+
+/// `demsweep tune FILE`.
+pub fn run(args: &TuneArgs) -> ExitCode {
+    let spec = match load_or_report(&args.file) {
+        Ok(spec) => spec,
+        Err(code) => return code,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
+        eprintln!("warning: {e}");
+    }
+    let options = TuneOptions {
+        jobs: args.jobs.unwrap_or(0),
+        out_dir: args.out.clone(),
+        resume: args.resume,
+        force: args.force,
+        verbose: !args.quiet,
+        stop,
+    };
+    let started = std::time::Instant::now();
+    let outcome = match tune::tune(&spec, &options) {
+        Ok(outcome) => outcome,
+        Err(TuneError::Interrupted) => {
+            eprintln!("tune: {}", TuneError::Interrupted);
+            return ExitCode::from(interrupt::EXIT_INTERRUPTED as u8);
+        }
+        Err(e) => {
+            eprintln!("tune: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let text = report::paragraph(&spec, &outcome.result);
+    println!();
+    println!("{text}");
+    println!();
+    let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let written = match report::write_all(&spec, &outcome.result, &dir, &text) {
+        Ok(written) => written,
+        Err(e) => {
+            eprintln!("tune: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    println!("wrote {}", outcome.results.display());
+    for file in &written.files {
+        println!("wrote {}", file.display());
+    }
+    for e in &written.chart_errors {
+        eprintln!("chart not drawn: {e}");
+    }
+    println!(
+        "{} runs ({} made now, {} from the file), {:.3e} particle-steps, {:.1} s",
+        outcome.ran + outcome.reused,
+        outcome.ran,
+        outcome.reused,
+        outcome.total_particle_steps,
+        started.elapsed().as_secs_f64()
+    );
+    if written.chart_errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+}

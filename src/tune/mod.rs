@@ -1,0 +1,358 @@
+//! `demsweep tune`: find the fastest deposition that still makes the same pile (issue #15).
+//!
+//! A tune file ([`file`]) names a reference scene, the levers tune may move, the pile metrics to keep
+//! and the search settings. [`search`] decides which runs to make; here they become batches of
+//! [`PlannedRun`]s that the ordinary runner executes into one HDF5 file (every run lands there as
+//! `run`'s do, so `--resume` after a kill replays the search from the file: the search is deterministic
+//! and reads every outcome back from the file). [`report`] writes the recommendation, the best study,
+//! the candidates table and the charts.
+
+pub mod file;
+pub mod report;
+pub mod search;
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load};
+pub use search::{Evaluator, Job, Outcome, Role, SearchConfig, SearchResult};
+
+use crate::output::table::{ColumnData, SummaryTable};
+use crate::physics::placement;
+use crate::runner::{self, ProgressMode, RunOptions};
+use crate::study::{ParamValue, Plan, PlannedRun};
+
+/// How to run a tune.
+#[derive(Clone, Debug, Default)]
+pub struct TuneOptions {
+    /// Worker threads; 0 = the available cores.
+    pub jobs: usize,
+    /// Output directory; default `results/<name>/`.
+    pub out_dir: Option<PathBuf>,
+    /// Reuse the runs of an existing results file.
+    pub resume: bool,
+    /// Overwrite an existing results file.
+    pub force: bool,
+    /// Print one line per batch.
+    pub verbose: bool,
+    /// Set (e.g. by Ctrl-C) to stop.
+    pub stop: Arc<AtomicBool>,
+}
+
+/// Why a tune could not finish.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TuneError {
+    /// The runner or the results file failed.
+    Runner(String),
+    /// Stopped by Ctrl-C; the finished runs are in the file.
+    Interrupted,
+    /// The search could not go on (e.g. the reference does not settle).
+    Search(String),
+}
+
+impl fmt::Display for TuneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TuneError::Runner(e) | TuneError::Search(e) => write!(f, "{e}"),
+            TuneError::Interrupted => write!(f, "interrupted: finished runs are kept; continue with --resume"),
+        }
+    }
+}
+
+impl std::error::Error for TuneError {}
+
+/// What a tune did.
+#[derive(Clone, Debug)]
+pub struct TuneReport {
+    /// The search's result.
+    pub result: SearchResult,
+    /// The HDF5 file with every run.
+    pub results: PathBuf,
+    /// Runs that were already in the file (`--resume`).
+    pub reused: usize,
+    /// Runs made by this invocation.
+    pub ran: usize,
+    /// Particle-steps of every run, all included.
+    pub total_particle_steps: f64,
+}
+
+/// The search's configuration from a tune file.
+pub fn search_config(spec: &TuneSpec) -> SearchConfig {
+    let s = &spec.search;
+    SearchConfig {
+        dims: spec.levers.len(),
+        levels: spec
+            .levers
+            .iter()
+            .map(|l| match &l.range {
+                LeverRange::List(values) => Some(values.len()),
+                _ => None,
+            })
+            .collect(),
+        tolerances: spec.keep.iter().map(|k| (k.tolerance, k.absolute)).collect(),
+        seeds: s.seeds,
+        max_seeds: s.max_seeds,
+        reference_seeds: s.reference_seeds(),
+        verify_seeds: s.verify_seeds(),
+        budget: s.budget,
+        seed: s.seed,
+        initial: s.initial,
+    }
+}
+
+/// The results file of a tune: `OUT/<name>.h5`.
+pub fn results_path(spec: &TuneSpec, out_dir: Option<&Path>) -> PathBuf {
+    let dir = out_dir.map(Path::to_path_buf).unwrap_or_else(|| Path::new("results").join(&spec.name));
+    dir.join(format!("{}.h5", spec.name))
+}
+
+/// Runs a tune: the search with real runs, into `OUT/<name>.h5`.
+pub fn tune(spec: &TuneSpec, options: &TuneOptions) -> Result<TuneReport, TuneError> {
+    let mut evaluator = RunEvaluator::new(spec, options);
+    let result = match search::search(&search_config(spec), &mut evaluator) {
+        Ok(result) => result,
+        Err(e) => return Err(evaluator.error.take().unwrap_or(TuneError::Search(e))),
+    };
+    Ok(TuneReport {
+        result,
+        results: results_path(spec, options.out_dir.as_deref()),
+        reused: evaluator.reused,
+        ran: evaluator.ran,
+        total_particle_steps: evaluator.particle_steps,
+    })
+}
+
+/// The parameters of a job's run: the lever values, then the placement seed and the candidate.
+pub fn job_parameters(spec: &TuneSpec, job: &Job) -> Vec<(String, ParamValue)> {
+    let mut values: Vec<(String, ParamValue)> = match job.role {
+        Role::Reference => spec.reference_values().into_iter().map(|(k, v, _)| (k, v)).collect(),
+        _ => spec.values(&job.point),
+    };
+    let seed = spec.reference.placement.seed.wrapping_add(job.seed);
+    values.push(("placement.seed".into(), ParamValue::Int(seed as i64)));
+    values.push(("tune.candidate".into(), ParamValue::Int(job.candidate as i64)));
+    let role = match job.role {
+        Role::Reference => "reference",
+        Role::Search => "search",
+        Role::Verify => "verify",
+    };
+    values.push(("tune.role".into(), ParamValue::Text(role.into())));
+    values
+}
+
+/// Placement seeds of a list of seed numbers, as text: `2024-2031` or `2024, 2030`.
+pub fn seed_text(spec: &TuneSpec, seeds: &[u64]) -> String {
+    let base = spec.reference.placement.seed;
+    let actual: Vec<u64> = seeds.iter().map(|s| base.wrapping_add(*s)).collect();
+    match actual.as_slice() {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [first, .., last] if actual.windows(2).all(|w| w[1] == w[0] + 1) => format!("{first}-{last}"),
+        _ => actual.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", "),
+    }
+}
+
+/// The real evaluator: every batch of jobs becomes runs appended to one growing plan, run (or found in
+/// the file) by the runner.
+struct RunEvaluator<'a> {
+    spec: &'a TuneSpec,
+    options: &'a TuneOptions,
+    plan: Plan,
+    batches: usize,
+    reused: usize,
+    ran: usize,
+    particle_steps: f64,
+    error: Option<TuneError>,
+}
+
+impl<'a> RunEvaluator<'a> {
+    fn new(spec: &'a TuneSpec, options: &'a TuneOptions) -> Self {
+        let plan = Plan {
+            study_path: spec.path.clone(),
+            study_text: spec.text.clone(),
+            name: spec.name.clone(),
+            fingerprint: spec.fingerprint.clone(),
+            output: spec.output.clone(),
+            runs: Vec::new(),
+        };
+        Self { spec, options, plan, batches: 0, reused: 0, ran: 0, particle_steps: 0.0, error: None }
+    }
+
+    fn planned_run(&self, job: &Job, index: usize) -> PlannedRun {
+        let parameters = job_parameters(self.spec, job);
+        let scene_values: Vec<(String, ParamValue)> =
+            parameters.iter().filter(|(k, _)| !k.starts_with("tune.")).cloned().collect();
+        // An invalid scene becomes a run that fails with the reason (status error): the runner
+        // records it like any failed run.
+        let scene = self.spec.scene(&scene_values).unwrap_or_else(|_| {
+            let mut scene = self.spec.reference.clone();
+            scene.particles.count = 0;
+            scene
+        });
+        let estimated_cost = scene.particles.count as f64 * scene.total_steps() as f64;
+        PlannedRun {
+            id: format!("r{index:05}"),
+            index,
+            parameters,
+            scene,
+            initial: self.spec.initial.clone(),
+            estimated_cost,
+        }
+    }
+
+    fn fail(&mut self, error: TuneError) -> String {
+        let text = error.to_string();
+        self.error = Some(error);
+        text
+    }
+}
+
+impl Evaluator for RunEvaluator<'_> {
+    fn invalid(&mut self, point: &[f64]) -> Option<String> {
+        let mut values = self.spec.values(point);
+        values.push(("placement.seed".into(), ParamValue::Int(self.spec.reference.placement.seed as i64)));
+        let scene = match self.spec.scene(&values) {
+            Ok(scene) => scene,
+            Err(reason) => return Some(format!("invalid scene: {reason}")),
+        };
+        let disks = match &self.spec.initial {
+            Some(disks) => disks.as_ref().clone(),
+            None => match placement::generate(&scene) {
+                Ok(disks) => disks,
+                Err(e) => return Some(format!("placement fails: {}", e.reason)),
+            },
+        };
+        let report = crate::bench::assess(&scene, &disks);
+        let limit = scene.limits.max_overlap_ratio;
+        (report.impact_overlap_ratio > limit).then(|| {
+            format!(
+                "predicted impact overlap {:.3} of a radius exceeds limits.max_overlap_ratio = {limit} (the run would diverge)",
+                report.impact_overlap_ratio
+            )
+        })
+    }
+
+    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
+        let first_index = self.plan.runs.len();
+        for (k, job) in jobs.iter().enumerate() {
+            let run = self.planned_run(job, first_index + k);
+            self.plan.runs.push(run);
+        }
+        let first = self.batches == 0;
+        self.batches += 1;
+        let options = RunOptions {
+            jobs: self.options.jobs,
+            out_dir: Some(results_path(self.spec, self.options.out_dir.as_deref()).parent().unwrap().to_path_buf()),
+            resume: !first || self.options.resume,
+            force: first && self.options.force,
+            progress: ProgressMode::Quiet,
+            stop: self.options.stop.clone(),
+            ..Default::default()
+        };
+        let report = match runner::run_plan(&self.plan, &options) {
+            Ok(report) => report,
+            Err(e) => return Err(self.fail(TuneError::Runner(e.to_string()))),
+        };
+        if report.interrupted {
+            return Err(self.fail(TuneError::Interrupted));
+        }
+        let reused = jobs.len().saturating_sub(report.ran);
+        self.reused += reused;
+        self.ran += report.ran;
+        let rows = Rows::new(&report.summary);
+        let mut outcomes = Vec::with_capacity(jobs.len());
+        for k in 0..jobs.len() {
+            let run = &self.plan.runs[first_index + k];
+            match rows.outcome(run, self.spec) {
+                Some((outcome, steps)) => {
+                    self.particle_steps += steps;
+                    outcomes.push(outcome);
+                }
+                None => {
+                    return Err(self.fail(TuneError::Runner(format!(
+                        "{}: run {} is missing from the results file",
+                        report.results.display(),
+                        run.id
+                    ))));
+                }
+            }
+        }
+        if self.options.verbose {
+            let roles: Vec<String> = {
+                let mut c: Vec<usize> = jobs.iter().map(|j| j.candidate).collect();
+                c.dedup();
+                match (c.first(), c.last()) {
+                    (Some(0), _) => vec!["reference".into()],
+                    (Some(a), Some(b)) if a == b => vec![format!("candidate {a}")],
+                    (Some(a), Some(b)) => vec![format!("candidates {a}-{b}")],
+                    _ => Vec::new(),
+                }
+            };
+            let role = if jobs.iter().any(|j| j.role == Role::Verify) { "verification of " } else { "" };
+            println!(
+                "batch {}: {} runs ({role}{}){}; {} runs so far",
+                self.batches,
+                jobs.len(),
+                roles.join(""),
+                if reused > 0 { format!(", {reused} from the file") } else { String::new() },
+                self.plan.runs.len()
+            );
+        }
+        Ok(outcomes)
+    }
+}
+
+/// The summary's rows by run index.
+struct Rows<'a> {
+    table: &'a SummaryTable,
+    by_index: HashMap<i64, usize>,
+}
+
+impl<'a> Rows<'a> {
+    fn new(table: &'a SummaryTable) -> Self {
+        let by_index = match table.column("index").map(|c| &c.data) {
+            Some(ColumnData::Int(v)) => v.iter().enumerate().map(|(row, &i)| (i, row)).collect(),
+            _ => HashMap::new(),
+        };
+        Self { table, by_index }
+    }
+
+    fn number(&self, column: &str, row: usize) -> f64 {
+        match self.table.column(column).map(|c| &c.data) {
+            Some(ColumnData::Float(v)) => v[row],
+            Some(ColumnData::Int(v)) => v[row] as f64,
+            _ => f64::NAN,
+        }
+    }
+
+    fn text(&self, column: &str, row: usize) -> String {
+        self.table.column(column).map(|c| c.data.text(row)).unwrap_or_default()
+    }
+
+    /// The run's outcome and particle-steps, when it is in the table under its id.
+    fn outcome(&self, run: &PlannedRun, spec: &TuneSpec) -> Option<(Outcome, f64)> {
+        let row = *self.by_index.get(&(run.index as i64))?;
+        if self.text("run_id", row) != run.id {
+            return None;
+        }
+        let status = self.text("status", row);
+        let failure = (status != "settled").then(|| {
+            let message = self.text("message", row);
+            let why = if message.is_empty() { String::new() } else { format!(": {message}") };
+            format!("run {} {status}{why}", run.id)
+        });
+        let mut particle_steps = self.number("particle_steps", row);
+        if particle_steps.is_nan() {
+            particle_steps = self.number("steps", row) * run.scene.particles.count as f64;
+        }
+        let cost = match spec.search.objective {
+            Objective::ParticleSteps => particle_steps,
+            Objective::WallTime => self.number("wall_time", row),
+        };
+        let metrics = spec.keep.iter().map(|k| self.number(&k.metric, row)).collect();
+        Some((Outcome { failure, cost, metrics }, particle_steps))
+    }
+}
