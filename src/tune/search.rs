@@ -19,9 +19,11 @@
 //!    (or, while none is feasible, around the candidate closest to equivalence): ±step along every lever
 //!    plus the last successful move repeated; the step halves when a round brings no improvement. Once the
 //!    step is below the grid, further Halton points explore, until the budget is spent.
-//! 5. Verification: the cheapest feasible candidate runs on `verify_seeds` fresh seeds never used in the
-//!    search (once more when undecided), and is judged on those runs alone; when it fails, the next
-//!    cheapest is verified, as long as the budget allows.
+//! 5. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
+//!    those whose difference so far leaves room for the verification's interval, first) runs on
+//!    `verify_seeds` fresh seeds never used in the search (once more when undecided), and is judged on
+//!    those runs alone; when it fails, the next cheapest that stood further inside the tolerances is
+//!    verified, as long as the budget allows.
 
 use std::collections::HashSet;
 
@@ -321,7 +323,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let c = self.config;
         assert!(c.dims <= PRIMES.len(), "at most {} levers", PRIMES.len());
         self.reference()?;
-        let reserve = 2 * c.verify_seeds;
+        let reserve = 3 * c.verify_seeds;
         let search_end = c.budget.saturating_sub(reserve);
         let initial = c.initial.unwrap_or((4 * c.dims + 2).max(6)).min((search_end - self.result.runs) / (2 * c.seeds));
         let fresh = self.explore(initial.max(2), Origin::Initial);
@@ -564,22 +566,45 @@ impl<'a, E: Evaluator> Search<'a, E> {
         best
     }
 
+    /// Whether fresh runs would likely confirm a feasible candidate: on every metric, its difference so
+    /// far plus the 90 % interval half-width expected with `2 × verify_seeds` fresh runs stays below
+    /// 0.9 of the margin (the search's winners look better than they are: the 0.9 allows for that).
+    fn verifiable(&self, cand: &Candidate) -> bool {
+        let n = (2 * self.config.verify_seeds) as f64;
+        let reference = &self.result.reference;
+        (0..self.result.margins.len()).all(|k| {
+            let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let c = stats::describe(&cand.runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let se = (c.std * c.std / n + r.std * r.std / r.n as f64).sqrt();
+            let t = stats::student_t_quantile(0.95, n + r.n as f64 - 2.0);
+            let upper = (c.mean - r.mean).abs() + if se > 0.0 { t * se } else { 0.0 };
+            upper < 0.9 * self.result.margins[k]
+        })
+    }
+
     /// Verifies the cheapest feasible candidates on fresh seeds until one passes or the budget ends.
+    /// After a failure, only candidates that stood further inside the tolerances during the search
+    /// (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the failure says the
+    /// edge of the acceptable region is nearer than the search runs showed.
     fn verify(&mut self) -> Result<(), String> {
         let c = self.config;
-        let mut order: Vec<(usize, f64)> = self
+        let mut order: Vec<(usize, f64, f64, bool)> = self
             .result
             .candidates
             .iter()
             .enumerate()
             .filter_map(|(k, cand)| {
                 let a = self.result.assess(cand);
-                (a.state == State::Feasible).then_some((k, a.cost))
+                (a.state == State::Feasible).then(|| (k, a.cost, a.worst, self.verifiable(cand)))
             })
             .collect();
-        order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        order.sort_by(|a, b| b.3.cmp(&a.3).then(a.1.total_cmp(&b.1)).then(a.0.cmp(&b.0)));
         let mut next_seed = c.reference_seeds.max(c.max_seeds) as u64;
-        for (k, _) in order {
+        let mut limit = f64::INFINITY;
+        for (k, _, worst, _) in order {
+            if worst >= limit {
+                continue;
+            }
             for round in 0..2 {
                 if self.result.runs + c.verify_seeds > c.budget {
                     return Ok(());
@@ -606,6 +631,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
                     _ => break,
                 }
             }
+            limit = 0.9 * worst;
         }
         Ok(())
     }
