@@ -315,9 +315,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         search,
         output: toml::Value::Table(output_tree).try_into().unwrap_or_default(),
     };
-    if !sink.is_empty() {
-        return Err(sink.into_errors());
-    }
+    // The levers are checked against the valid part of the scene even when other keys are wrong, so
+    // that every problem is reported at once.
     let scene_span = doc.span(&["scene".to_string()]);
     match spec.scene(&[]) {
         Ok(scene) => spec.reference = scene,
@@ -342,17 +341,26 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         let span = doc
             .span(&["levers".to_string(), lever.key.clone()])
             .or_else(|| doc.nearest_span(&lever_doc_path(&lever.path)));
-        for value in lever.extremes() {
-            let problem = spec.scene(&[(lever.key.clone(), value.clone())]).and_then(|scene| {
-                if spec.initial.is_none() && ["domain", "particles", "placement"].contains(&lever.path[0].as_str()) {
-                    placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))
-                } else {
-                    Ok(())
-                }
-            });
-            if let Err(reason) = problem {
-                sink.push(file.error(span.clone(), lever_label(&lever.key), reason).with_value(value.to_string()));
-            }
+        let extremes = lever.extremes();
+        let failures: Vec<(ParamValue, String)> = extremes
+            .iter()
+            .filter_map(|value| {
+                let problem = spec.scene(&[(lever.key.clone(), value.clone())]).and_then(|scene| {
+                    let placed = ["domain", "particles", "placement"].contains(&lever.path[0].as_str());
+                    if spec.initial.is_none() && placed {
+                        placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))
+                    } else {
+                        Ok(())
+                    }
+                });
+                problem.err().map(|reason| (value.clone(), reason))
+            })
+            .collect();
+        let error = |reason: &str| file.error(span.clone(), lever_label(&lever.key), reason);
+        if failures.len() == extremes.len() && failures.iter().all(|(_, r)| *r == failures[0].1) {
+            sink.push(error(&failures[0].1));
+        } else {
+            failures.iter().for_each(|(value, reason)| sink.push(error(reason).with_value(value.to_string())));
         }
     }
     sink.into_result(spec)

@@ -11,7 +11,6 @@ use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs
 use crate::plot::{ChartOptions, Format};
 use crate::stats;
 use crate::study::ParamValue;
-use crate::study::file::quoted_key;
 
 /// Files a tune wrote.
 #[derive(Clone, Debug, Default)]
@@ -364,7 +363,7 @@ pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
         "# Written by `demsweep tune {}`: the reference scene with the recommended levers\n# ({}), \
          on its verification seeds. Run it with: demsweep run {}_best.toml\n",
         spec.path.display(),
-        spec.levers.iter().map(|l| quoted_key(&l.key)).collect::<Vec<_>>().join(", "),
+        spec.levers.iter().map(|l| l.key.as_str()).collect::<Vec<_>>().join(", "),
         spec.name
     );
     format!("{header}{}", toml::to_string(&doc).unwrap_or_default())

@@ -1,0 +1,190 @@
+//! `demsweep tune` as a user runs it: a tiny real tune end to end, killed with SIGKILL and resumed to
+//! the same answer as an uninterrupted tune, `check` and `plan` on tune files, and bad tune files that
+//! give every problem with file, line and key and write nothing.
+
+mod runner_common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use demsweep::output::summary;
+
+/// 30 disks falling 15 cm (about 30-60 ms of computing per run): two levers, one kept metric.
+const TUNE: &str = r#"name = "tiny_tune"
+[scene]
+particles.count = 30
+particles.radius = 0.005
+domain.width = 0.1
+domain.height = 0.15
+material.youngs_modulus = 5e10
+material.restitution = 0.5
+integrator.time_step = 7e-6
+run.duration = 1.0
+run.sample_interval = 2e-3
+settle.hold_time = 0.03
+
+[levers]
+"material.restitution" = { linear = [0.2, 0.8] }
+"integrator.time_step" = { log = [5e-6, 2.5e-5] }
+
+[keep]
+pile_height = 0.25
+
+[search]
+seeds = 2
+max_seeds = 4
+reference_seeds = 4
+verify_seeds = 3
+budget = 40
+seed = 3
+"#;
+
+fn write_tune(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("tiny_tune.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn demsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The recommendation paragraph (the line starting with "Recommendation" or "No acceptable").
+fn paragraph(stdout: &str) -> String {
+    stdout.lines().find(|l| l.starts_with("Recommendation") || l.starts_with("No acceptable")).unwrap_or("").into()
+}
+
+fn tune(file: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    args.extend(extra);
+    demsweep(&args)
+}
+
+#[test]
+fn a_tiny_tune_runs_end_to_end() {
+    let dir = runner_common::scratch("tune_end_to_end");
+    let file = write_tune(&dir, TUNE);
+    let check = demsweep(&["check", file.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stderr));
+    assert!(text(&check.stdout).starts_with("ok: tune file, 2 levers, 1 kept metrics, budget 40 runs"));
+    let plan = demsweep(&["plan", file.to_str().unwrap(), "--cores", "2"]);
+    assert_eq!(plan.status.code(), Some(0), "{}", text(&plan.stderr));
+    assert!(text(&plan.stdout).contains("budget bound"), "{}", text(&plan.stdout));
+
+    let out = dir.join("out");
+    let run = tune(&file, &out, &["--jobs", "2"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let stdout = text(&run.stdout);
+    let said = paragraph(&stdout);
+    assert!(said.starts_with("Recommendation for tiny_tune: material.restitution = "), "{stdout}");
+    assert!(said.contains("of the reference (95 % interval") && said.contains("Verified on 3 fresh placement seeds"));
+    for name in [
+        "tiny_tune.h5",
+        "tiny_tune_summary.csv",
+        "tiny_tune_candidates.csv",
+        "tiny_tune_best.toml",
+        "tiny_tune_recommendation.txt",
+        "plots/tiny_tune_cost_vs_difference.png",
+        "plots/tiny_tune_cost_along_levers.png",
+    ] {
+        assert!(out.join(name).is_file(), "{name} missing; {stdout}");
+    }
+    // Every run is in the results file, within the budget.
+    let runs = summary::read(&out.join("tiny_tune.h5")).unwrap().len();
+    assert!((10..=40).contains(&runs), "{runs} runs");
+    let csv = std::fs::read_to_string(out.join("tiny_tune_candidates.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with("candidate,origin,material.restitution,integrator.time_step,n,cost_mean,cost_ratio"));
+    assert_eq!(csv.lines().filter(|l| l.ends_with(",true")).count(), 1, "one recommended row");
+    // The best study is a runnable study.
+    let best = out.join("tiny_tune_best.toml");
+    let checked = demsweep(&["check", best.to_str().unwrap()]);
+    assert_eq!(checked.status.code(), Some(0), "{}", text(&checked.stderr));
+    // An existing file is neither overwritten nor resumed without being asked.
+    let again = tune(&file, &out, &[]);
+    assert_eq!(again.status.code(), Some(1));
+    assert!(text(&again.stderr).contains("--resume"), "{}", text(&again.stderr));
+}
+
+#[test]
+fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_tune() {
+    let dir = runner_common::scratch("tune_kill");
+    let file = write_tune(&dir, TUNE);
+    let reference_out = dir.join("reference");
+    let reference = tune(&file, &reference_out, &["--jobs", "2"]);
+    assert_eq!(reference.status.code(), Some(0), "{}", text(&reference.stderr));
+
+    let out = dir.join("killed");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "1"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let results = out.join("tiny_tune.h5");
+    let started = Instant::now();
+    while !summary::read(&results).is_ok_and(|t| t.len() >= 4) {
+        assert!(child.try_wait().unwrap().is_none(), "the tune ended before it could be killed");
+        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    assert_eq!(child.wait().unwrap().code(), None, "killed by a signal");
+    let kept = summary::read(&results).unwrap().len();
+
+    let resumed = tune(&file, &out, &["--resume", "--jobs", "2"]);
+    assert_eq!(resumed.status.code(), Some(0), "{}", text(&resumed.stderr));
+    let said = text(&resumed.stdout);
+    assert!(said.contains(&format!("from the file")), "{said}");
+    assert_eq!(paragraph(&said), paragraph(&text(&reference.stdout)));
+    let read = |dir: &Path, name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
+    for name in ["tiny_tune_candidates.csv", "tiny_tune_best.toml"] {
+        assert_eq!(read(&out, name), read(&reference_out, name), "{name} differs after resuming {kept} runs");
+    }
+    let table = |dir: &Path| summary::read(&dir.join("tiny_tune.h5")).unwrap().without_timing();
+    assert_eq!(table(&out), table(&reference_out));
+}
+
+#[test]
+fn bad_tune_files_give_every_problem_and_write_nothing() {
+    let dir = runner_common::scratch("tune_bad");
+    let bad = TUNE
+        .replace("[levers]\n", "colour = \"red\"\n[levers]\n\"material.restitutio\" = [0.1, 0.2]\n")
+        .replace("linear = [0.2, 0.8]", "linear = [0.2, 1.8]")
+        .replace("{ log = [5e-6, 2.5e-5] }", "{ log = [-1.0, 2.5e-5] }")
+        .replace("pile_height = 0.25", "pile_height = 0.25\npile_heigth = 0.1\npacking_fraction = -0.1")
+        .replace("seeds = 2\n", "seeds = 1\n")
+        .replace("[search]\n", "[search]\nobjective = \"speed\"\n");
+    let file = write_tune(&dir, &bad);
+    let out = dir.join("out");
+    for command in [&["check"][..], &["plan"], &["tune"]] {
+        let mut args: Vec<&str> = command.to_vec();
+        args.push(file.to_str().unwrap());
+        if command[0] == "tune" {
+            args.extend(["--out", out.to_str().unwrap()]);
+        }
+        let output = demsweep(&args);
+        assert_eq!(output.status.code(), Some(2), "{:?}: {}", command, text(&output.stderr));
+        let stderr = text(&output.stderr);
+        let name = file.display().to_string();
+        for expected in [
+            format!("{name}:14:1: scene.colour: unknown field `colour`"),
+            format!("{name}:16:1: levers.\"material.restitutio\": unknown field `restitutio`"),
+            format!("{name}:17:1: levers.\"material.restitution\": value 1.8: "),
+            format!("{name}:18:1: levers.\"integrator.time_step\": log: the ends must be > 0"),
+            format!("{name}:22:1: keep.pile_heigth: unknown pile metric"),
+            format!("{name}:23:1: keep.packing_fraction: the tolerance must be > 0, got -0.1"),
+            format!("{name}:26:1: search.objective: unknown variant `speed`"),
+            format!("{name}:27:1: search.seeds: must be at least 2"),
+        ] {
+            assert!(stderr.contains(&expected), "missing `{expected}` in:\n{stderr}");
+        }
+        assert!(stderr.contains("nothing was run"), "{stderr}");
+    }
+    assert!(!out.exists(), "a bad tune file writes nothing");
+}
