@@ -35,7 +35,7 @@ fn reference_scene() -> SceneConfig {
     let mut s = SceneConfig::default();
     s.material.restitution = Some(0.5);
     s.material.friction = 0.5;
-    s.integrator.time_step = 1e-5;
+    s.integrator.time_step = Some(1e-5);
     s.run.duration = 1.5;
     s.run.stop_at_settle = false;
     s
