@@ -94,7 +94,10 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         s.seed
     );
     // The dearest run over the reference and every lever's extremes bounds the cost of a run.
-    let reference_cost = spec.reference.particles.count as f64 * spec.reference.total_steps() as f64;
+    let cost = |scene: demsweep::physics::SceneConfig| {
+        demsweep::study::PlannedRun::new(String::new(), 0, Vec::new(), scene, spec.initial.clone()).estimated_cost
+    };
+    let reference_cost = cost(spec.reference.clone());
     let mut dearest = reference_cost;
     for (d, lever) in spec.levers.iter().enumerate() {
         for u in [0.0, 1.0] {
@@ -104,7 +107,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
             let mut values: Vec<_> = spec.values(&point);
             values.retain(|(k, _)| *k == lever.key);
             if let Ok(scene) = spec.scene(&values) {
-                dearest = dearest.max(scene.particles.count as f64 * scene.total_steps() as f64);
+                dearest = dearest.max(cost(scene));
             }
         }
     }

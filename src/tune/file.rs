@@ -518,7 +518,8 @@ fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
 /// The summary columns a `[keep]` entry may name: the numeric per-run results.
 pub fn keepable_metrics() -> Vec<String> {
     let table = SummaryTable::from_rows(&[SummaryRow::failed(0, "r0", &[], "")]);
-    const NOT_PILE: [&str; 4] = ["index", "wall_time", "warnings", "simulated_time"];
+    const NOT_PILE: [&str; 7] =
+        ["index", "wall_time", "warnings", "simulated_time", "steps", "particle_steps", "time_step"];
     table
         .columns
         .iter()

@@ -192,15 +192,7 @@ impl<'a> RunEvaluator<'a> {
             scene.particles.count = 0;
             scene
         });
-        let estimated_cost = scene.particles.count as f64 * scene.total_steps() as f64;
-        PlannedRun {
-            id: format!("r{index:05}"),
-            index,
-            parameters,
-            scene,
-            initial: self.spec.initial.clone(),
-            estimated_cost,
-        }
+        PlannedRun::new(format!("r{index:05}"), index, parameters, scene, self.spec.initial.clone())
     }
 
     fn fail(&mut self, error: TuneError) -> String {
