@@ -142,6 +142,18 @@ fn stability_estimate_counts_the_viscous_rate() {
 }
 
 #[test]
+fn a_step_capped_by_the_damping_limit_says_so_in_the_run() {
+    let mut scene = reference_scene();
+    scene.integrator.time_step = None;
+    scene.integrator.contact_time_fraction = Some(0.1);
+    scene.damping.viscous = 20_000.0;
+    scene.run.duration = 0.01;
+    let rec = run_scene(&scene, Some(reference_disks()), &mut |_| Control::Continue).unwrap();
+    assert!(rec.time_step <= 0.5 / 20_000.0, "{}", rec.time_step);
+    assert!(rec.warnings[0].starts_with("time step capped at"), "{:?}", rec.warnings);
+}
+
+#[test]
 fn contact_time_fraction_makes_soft_runs_take_fewer_steps() {
     let steps = |e: f64| {
         let mut s = SceneConfig::default();

@@ -186,6 +186,9 @@ fn bundled_studies_load() {
     let sf = load("stiffness_friction.toml");
     assert_eq!(sf.runs.len(), 9);
     assert_eq!(sf.runs[8].scene.material.youngs_modulus, 2e11);
+    let step_ratio = sf.runs[0].time_step / sf.runs[8].time_step;
+    assert!((step_ratio / 100f64.powf(0.4) - 1.0).abs() < 1e-3, "dt follows the contact time: {step_ratio}");
+    assert!(sf.runs[0].estimated_cost < sf.runs[8].estimated_cost / 6.0, "soft runs are cheaper");
     let paper = load("paper_table1.toml");
     assert_eq!(paper.runs.len(), 1);
     let s = &paper.runs[0].scene;
