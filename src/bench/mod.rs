@@ -5,12 +5,14 @@
 //! - [`accuracy`]: work-precision of both integrators over time steps `t_c/5 … t_c/400`;
 //! - [`stability_map`]: where runs blow up over time step × stiffness × damping, against the prediction;
 //! - [`stress`]: edge-case scenes, each ending with a clear status and message;
-//! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts.
+//! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts;
+//! - [`tune`]: `demsweep tune` against a brute-force grid over the same levers.
 
 pub mod accuracy;
 pub mod skipping;
 pub mod stability_map;
 pub mod stress;
+pub mod tune;
 
 use std::fmt::Write as _;
 use std::path::Path;

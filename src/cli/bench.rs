@@ -8,6 +8,7 @@ use demsweep::bench::accuracy::{AccuracyOptions, accuracy};
 use demsweep::bench::skipping::{SkippingOptions, skipping};
 use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
 use demsweep::bench::stress::{StressOptions, stress};
+use demsweep::bench::tune::{TuneBenchOptions, tune_bench};
 use demsweep::study;
 
 #[derive(Args)]
@@ -37,6 +38,19 @@ enum Which {
         #[arg(long, default_value = "studies/damping_sweep.toml")]
         study: PathBuf,
     },
+    /// `demsweep tune` against a brute-force grid over the same levers (3 values each, the same seeds per
+    /// point) on each tune file: cost ratio and total cost (several minutes on 2 cores).
+    Tune {
+        /// Tune files (default: studies/tune_deposition.toml and studies/tune_polydisperse.toml).
+        #[arg(long = "tune", value_name = "FILE")]
+        tunes: Vec<PathBuf>,
+        /// Grid values per lever.
+        #[arg(long, default_value_t = 3)]
+        levels: usize,
+        /// Worker threads (default: all cores).
+        #[arg(long, short = 'j')]
+        jobs: Option<usize>,
+    },
 }
 
 /// Runs one benchmark; prints its Markdown summary.
@@ -51,6 +65,17 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
         Which::Stress => stress(&StressOptions { out_dir: out.clone(), ..Default::default() }).map(|_| "stress.md"),
         Which::Skipping { study } => {
             skipping_options(study, out.clone()).and_then(|o| skipping(&o)).map(|_| "skipping.md")
+        }
+        Which::Tune { tunes, levels, jobs } => {
+            let defaults = TuneBenchOptions::default();
+            let options = TuneBenchOptions {
+                tunes: if tunes.is_empty() { defaults.tunes } else { tunes.clone() },
+                levels: (*levels).max(2),
+                jobs: jobs.unwrap_or(0),
+                work_dir: out.join("tune_work"),
+                out_dir: out.clone(),
+            };
+            tune_bench(&options).map(|_| "tune.md")
         }
     };
     match result.and_then(|summary| print_file(&out.join(summary))) {

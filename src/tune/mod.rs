@@ -157,19 +157,24 @@ pub fn seed_text(spec: &TuneSpec, seeds: &[u64]) -> String {
 
 /// The real evaluator: every batch of jobs becomes runs appended to one growing plan, run (or found in
 /// the file) by the runner.
-struct RunEvaluator<'a> {
+pub struct RunEvaluator<'a> {
     spec: &'a TuneSpec,
     options: &'a TuneOptions,
     plan: Plan,
     batches: usize,
-    reused: usize,
-    ran: usize,
-    particle_steps: f64,
-    error: Option<TuneError>,
+    /// Runs found in the results file.
+    pub reused: usize,
+    /// Runs made.
+    pub ran: usize,
+    /// Particle-steps of every run evaluated.
+    pub particle_steps: f64,
+    /// The failure behind an evaluation error.
+    pub error: Option<TuneError>,
 }
 
 impl<'a> RunEvaluator<'a> {
-    fn new(spec: &'a TuneSpec, options: &'a TuneOptions) -> Self {
+    /// An evaluator writing `OUT/<name>.h5` for the spec.
+    pub fn new(spec: &'a TuneSpec, options: &'a TuneOptions) -> Self {
         let plan = Plan {
             study_path: spec.path.clone(),
             study_text: spec.text.clone(),
