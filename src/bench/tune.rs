@@ -142,6 +142,10 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
         };
         let report = tune::tune(&spec, &tune_options).map_err(|e| e.to_string())?;
         let result = &report.result;
+        let paragraph = crate::tune::report::paragraph(&spec, result);
+        eprintln!("{paragraph}");
+        let tune_dir = options.work_dir.join(&spec.name).join("tune");
+        crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
         eprintln!("bench tune: {} — grid", spec.name);
         // The grid: every combination of `levels` values per lever (list levers: every value).
         let per_lever: Vec<Vec<f64>> = spec

@@ -162,7 +162,8 @@ pub struct SearchOptions {
     pub budget: usize,
     /// Seed of the search's random choices.
     pub seed: u64,
-    /// Points of the initial design (default: from the number of levers and the budget).
+    /// Points of the initial design (default: 2 × levers + 2, at least 6, and at most what half the
+    /// search budget runs).
     pub initial: Option<usize>,
 }
 

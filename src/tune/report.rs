@@ -150,7 +150,7 @@ fn decision_name(d: stats::Decision) -> &'static str {
 pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) -> String {
     match &a.state {
         State::NotRun(reason) => format!("not run: {reason}"),
-        State::Feasible => "acceptable".into(),
+        State::Feasible => "acceptable during the search, but the budget ran out before it was verified".into(),
         State::Infeasible(reason) if a.tests.is_empty() => reason.clone(),
         _ => {
             let worst = a

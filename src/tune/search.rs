@@ -17,7 +17,8 @@
 //!    (the cheapest feasible one) gets `seeds` more runs, up to `max_seeds`.
 //! 4. Refinement: a pattern search (compass search, Kolda, Lewis & Torczon 2003) around the incumbent
 //!    (or, while none is feasible, around the candidate closest to equivalence): ±step along every lever
-//!    plus the last successful move repeated; the step halves when a round brings no improvement. Once the
+//!    plus the last successful move repeated, leaving out moves that a log-linear fit of the costs so far
+//!    predicts dearer than the incumbent; the step halves when a round brings no improvement. Once the
 //!    step is below the grid, further Halton points explore, until the budget is spent.
 //! 5. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
 //!    those whose difference so far leaves room for the verification's interval, first) runs on
@@ -214,9 +215,14 @@ impl SearchResult {
     }
 
     /// The candidate closest to acceptable (smallest largest |difference|/margin among those whose runs
-    /// all settled), when nothing was recommended.
+    /// all settled and that did not fail a verification), when nothing was recommended.
     pub fn closest(&self) -> Option<usize> {
-        let scored = self.candidates.iter().enumerate().map(|(i, c)| (i, self.assess(c).worst));
+        let scored = self
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.verification.is_empty())
+            .map(|(i, c)| (i, self.assess(c).worst));
         scored.filter(|(_, w)| w.is_finite()).min_by(|a, b| a.1.total_cmp(&b.1)).map(|(i, _)| i)
     }
 
@@ -325,7 +331,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         self.reference()?;
         let reserve = 3 * c.verify_seeds;
         let search_end = c.budget.saturating_sub(reserve);
-        let initial = c.initial.unwrap_or((4 * c.dims + 2).max(6)).min((search_end - self.result.runs) / (2 * c.seeds));
+        let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min((search_end - self.result.runs) / (2 * c.seeds));
         let fresh = self.explore(initial.max(2), Origin::Initial);
         self.evaluate_new(&fresh, search_end)?;
         let mut step: f64 = 0.25;
@@ -474,12 +480,19 @@ impl<'a, E: Evaluator> Search<'a, E> {
         fresh
     }
 
-    /// The compass neighbours of `point` at `step`, and the last move repeated.
+    /// The compass neighbours of `point` at `step`, and the last move repeated; while there is an
+    /// incumbent, neighbours that a log-linear fit of the costs so far predicts dearer than it are left
+    /// out (they could not win: with several levers that halves a round).
     fn neighbours(&mut self, point: &[f64], step: f64, last_move: Option<&[f64]>) -> Vec<usize> {
-        let mut fresh = Vec::new();
+        let (incumbent, incumbent_cost) = self.incumbent();
+        let fit = incumbent.and_then(|_| self.cost_fit());
+        let promising = |p: &[f64]| match &fit {
+            Some(b) => (b[0] + p.iter().zip(&b[1..]).map(|(x, c)| x * c).sum::<f64>()).exp() < incumbent_cost,
+            None => true,
+        };
+        let mut moves = Vec::new();
         if let Some(m) = last_move {
-            let moved: Vec<f64> = point.iter().zip(m).map(|(x, d)| x + d).collect();
-            fresh.extend(self.propose(&moved, Origin::Refine));
+            moves.push(point.iter().zip(m).map(|(x, d)| x + d).collect::<Vec<f64>>());
         }
         for d in 0..self.config.dims {
             let h = match self.config.levels[d] {
@@ -489,10 +502,65 @@ impl<'a, E: Evaluator> Search<'a, E> {
             for sign in [-1.0, 1.0] {
                 let mut p = point.to_vec();
                 p[d] = (p[d] + sign * h).clamp(0.0, 1.0);
+                moves.push(p);
+            }
+        }
+        let mut fresh = Vec::new();
+        for p in moves {
+            if promising(&self.snap(&p).0) {
                 fresh.extend(self.propose(&p, Origin::Refine));
             }
         }
         fresh
+    }
+
+    /// Least-squares fit of ln(mean cost) = b0 + Σ b_d u_d over the candidates whose runs all settled
+    /// (a failed run's cost says nothing about a settled one's); None with too few of them.
+    fn cost_fit(&self) -> Option<Vec<f64>> {
+        let n = self.config.dims + 1;
+        let rows: Vec<(Vec<f64>, f64)> = self
+            .result
+            .candidates
+            .iter()
+            .filter(|c| !c.runs.is_empty() && c.runs.iter().all(|o| o.failure.is_none()))
+            .map(|c| {
+                let cost = c.runs.iter().map(|o| o.cost).sum::<f64>() / c.runs.len() as f64;
+                (std::iter::once(1.0).chain(c.point.iter().copied()).collect(), cost.ln())
+            })
+            .filter(|(_, y)| y.is_finite())
+            .collect();
+        if rows.len() < n + 2 {
+            return None;
+        }
+        // Normal equations (with a tiny ridge), solved by Gaussian elimination with partial pivoting.
+        let mut a = vec![vec![0.0; n + 1]; n];
+        for (x, y) in &rows {
+            for i in 0..n {
+                for j in 0..n {
+                    a[i][j] += x[i] * x[j];
+                }
+                a[i][n] += x[i] * y;
+            }
+        }
+        for (i, row) in a.iter_mut().enumerate() {
+            row[i] += 1e-9;
+        }
+        for col in 0..n {
+            let pivot = (col..n).max_by(|&p, &q| a[p][col].abs().total_cmp(&a[q][col].abs()))?;
+            a.swap(col, pivot);
+            if a[col][col].abs() < 1e-12 {
+                return None;
+            }
+            for row in 0..n {
+                if row != col {
+                    let f = a[row][col] / a[col][col];
+                    for k in col..=n {
+                        a[row][k] -= f * a[col][k];
+                    }
+                }
+            }
+        }
+        Some((0..n).map(|i| a[i][n] / a[i][i]).collect())
     }
 
     /// Runs `seeds` runs of each new candidate (in order, as many whole candidates as fit below `end`);
