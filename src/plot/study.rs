@@ -181,7 +181,7 @@ impl Figure for LinesFigure<'_> {
             let bars = line.iter().map(|(x, d)| (*x, d.mean - d.half_width_95, d.mean + d.half_width_95));
             style::error_bars(&mut chart, bars, colour)?;
             let settled = runs.iter().filter_map(|p| Some((x(p), p.settled_time()?)));
-            chart.draw_series(settled.map(|at| Circle::new(at, 2, colour.mix(0.5).filled())))?;
+            chart.draw_series(settled.map(|at| Circle::new(at, 3, colour.mix(0.5).filled())))?;
         }
         self.draw_unsettled(&mut chart, unsettled_row, &x_range)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
