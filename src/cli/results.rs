@@ -293,8 +293,9 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
         comparison.points.len()
     );
     if let Some(path) = &args.csv {
-        outcome = outcome.and_then(|()| output::summary::write_csv(path, &comparison.table(&points)));
-        println!("comparison: {}", path.display());
+        outcome = outcome
+            .and_then(|()| output::summary::write_csv(path, &comparison.table(&points)))
+            .map(|()| println!("comparison: {}", path.display()));
     }
     if args.plot {
         let dir = args.out.clone().unwrap_or_else(|| args.results.parent().unwrap_or(Path::new("")).join("plots"));
