@@ -4,6 +4,7 @@
 //! - [`physics`]: the simulation library (no I/O): particles, contacts, integrators, walls, diagnostics.
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
 //! - [`slurm`]: batch scripts running a study as a Slurm array job (one shard per task) plus a merge job.
+//! - [`stats`]: statistics over replicates (per-point descriptions, equivalence tests), no I/O.
 //! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records or a results file.
 #![deny(unsafe_code)]
 
@@ -13,4 +14,5 @@ pub mod physics;
 pub mod plot;
 pub mod runner;
 pub mod slurm;
+pub mod stats;
 pub mod study;

@@ -15,6 +15,7 @@ use plotters::prelude::*;
 use crate::physics::RunStatus;
 
 pub mod bench;
+pub mod compare;
 pub mod results;
 pub mod run;
 pub mod study;
