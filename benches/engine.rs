@@ -9,7 +9,8 @@
 //!    each of the comma-separated durations in `DEMSWEEP_BENCH_DURATION` (s; e.g. `0.4,1.5`; 0.4 s
 //!    is the fall, the impacts and most of the settling); median (and best) of 5, 3, 1 and 1 runs
 //!    (the short runs repeated, as a shared machine's speed drifts by tens of percent over seconds;
-//!    the best run is the one least slowed by other tenants).
+//!    the best run is the one least slowed by other tenants); `DEMSWEEP_BENCH_DURATION=none` skips
+//!    them (the reference scene alone, e.g. to compare two builds side by side).
 //!
 //! Results are printed and written to `results/bench/engine.csv`.
 
@@ -35,7 +36,7 @@ fn reference_scene() -> SceneConfig {
     let mut s = SceneConfig::default();
     s.material.restitution = Some(0.5);
     s.material.friction = 0.5;
-    s.integrator.time_step = 1e-5;
+    s.integrator.time_step = Some(1e-5);
     s.run.duration = 1.5;
     s.run.stop_at_settle = false;
     s
@@ -64,7 +65,10 @@ fn main() {
     csv += &format!("reference,300,150000,{:.2},{:.2},\n", times[2], times[0]);
 
     let durations = std::env::var("DEMSWEEP_BENCH_DURATION").unwrap_or_else(|_| "1.5".into());
-    let durations = durations.split(',').map(|d| d.trim().parse::<f64>().expect("DEMSWEEP_BENCH_DURATION: seconds"));
+    let durations = durations
+        .split(',')
+        .filter(|d| d.trim() != "none")
+        .map(|d| d.trim().parse::<f64>().expect("DEMSWEEP_BENCH_DURATION: seconds or none"));
     let cases = [(300usize, 5), (3_000, 3), (30_000, 1), (100_000, 1)];
     for (duration, (n, repeats)) in durations.flat_map(|d| cases.map(|case| (d, case))) {
         let mut s = reference_scene();

@@ -17,7 +17,7 @@ fn scene(n: usize) -> SceneConfig {
     let mut s = SceneConfig::default();
     s.material.restitution = Some(0.5);
     s.material.friction = 0.5;
-    s.integrator.time_step = 1e-5;
+    s.integrator.time_step = Some(1e-5);
     s.particles.count = n;
     s.domain.width = 0.4 * n as f64 / 300.0;
     s
@@ -37,7 +37,7 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
     }
     let disks = demsweep::physics::placement::generate(s).expect("placement");
     let mut sim = Simulation::new(s, &disks, HertzMindlin);
-    for _ in 0..(settle / s.integrator.time_step).round() as u64 {
+    for _ in 0..(settle / s.integrator.fixed_time_step().unwrap_or_default()).round() as u64 {
         sim.advance(false);
     }
     let p = &sim.particles;

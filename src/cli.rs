@@ -247,13 +247,18 @@ fn plan(args: &PlanArgs) -> ExitCode {
 /// One aligned line per run: id, swept parameters, disks, steps, particle-steps.
 fn run_table(plan: &Plan) -> String {
     let names = plan.runs.first().map(|r| r.parameters.iter().map(|(k, _)| k.clone()).collect()).unwrap_or_default();
-    let header: Vec<String> =
-        [vec!["id".to_string()], names, vec!["disks".into(), "steps".into(), "particle-steps".into()]].concat();
+    let header: Vec<String> = [
+        vec!["id".to_string()],
+        names,
+        vec!["disks".into(), "time_step".into(), "steps".into(), "particle-steps".into()],
+    ]
+    .concat();
     let rows = plan.runs.iter().map(|run| {
         let values = run.parameters.iter().map(|(_, v)| v.to_string());
         let cost = [
             run.scene.particles.count.to_string(),
-            run.scene.total_steps().to_string(),
+            format!("{:.3e}", run.time_step),
+            run.scene.total_steps(run.time_step).to_string(),
             format!("{:.3e}", run.estimated_cost),
         ];
         std::iter::once(run.id.clone()).chain(values).chain(cost).collect::<Vec<_>>()

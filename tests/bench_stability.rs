@@ -21,15 +21,15 @@ fn time_step_above_the_contact_time_and_strong_damping_are_warned() {
     let disks = placed_disks(&s).unwrap();
     let report = assess(&s, &disks);
     assert!(report.warnings.iter().all(|w| !w.contains("time step")), "{:?}", report.warnings);
-    s.integrator.time_step = report.contact_time;
+    s.integrator.time_step = Some(report.contact_time);
     let coarse = assess(&s, &disks);
     assert!(coarse.warnings.iter().any(|w| w.contains("of the contact time")), "{:?}", coarse.warnings);
-    s.integrator.time_step = 1e-5;
+    s.integrator.time_step = Some(1e-5);
     s.material.beta = Some(50.0);
     let damped = assess(&s, &disks);
     assert!(damped.dt_times_damping_rate > 0.5);
     assert!(damped.warnings.iter().any(|w| w.contains("damping rate")), "{:?}", damped.warnings);
-    s.integrator.time_step = damped.safe_time_step;
+    s.integrator.time_step = Some(damped.safe_time_step);
     assert!(assess(&s, &disks).warnings.is_empty(), "{:?}", assess(&s, &disks).warnings);
 }
 

@@ -22,7 +22,7 @@ fn undamped_deposition(scheme: IntegratorKind, dt: f64) -> RunRecord {
     s.material.beta = Some(0.0);
     s.material.friction = 0.0;
     s.integrator.scheme = scheme;
-    s.integrator.time_step = dt;
+    s.integrator.time_step = Some(dt);
     s.run.duration = 0.25;
     s.run.sample_interval = 1e-3;
     s.run.stop_at_settle = false;
@@ -110,7 +110,7 @@ fn paper_table1_runs_to_the_end_and_flags_the_overlap() {
     s.material.beta = Some(10.0);
     s.material.friction = 0.5;
     s.material.rolling_friction = 0.5;
-    s.integrator.time_step = 1e-4;
+    s.integrator.time_step = Some(1e-4);
     s.run.duration = 3.0;
     s.run.stop_at_settle = false;
     s.limits.max_overlap_ratio = 10.0;
@@ -146,7 +146,7 @@ fn strong_damping_with_friction_creates_no_energy() {
         &demsweep::physics::placement::generate(&s).unwrap(),
         demsweep::physics::contact::HertzMindlin,
     );
-    s.integrator.time_step = probe.stability().safe_time_step;
+    s.integrator.time_step = Some(probe.stability().safe_time_step);
     let rec = run(&s, None);
     assert_ne!(rec.status, RunStatus::Diverged, "{:?}", rec.message);
     let h = &rec.history;

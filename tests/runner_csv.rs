@@ -36,7 +36,7 @@ fn parse_csv(text: &str) -> Vec<Vec<String>> {
 fn csv_summary_has_the_columns_and_quotes_messages() {
     let fine = runner_common::tiny_scene(12, 0.04);
     let mut diverging = fine.clone();
-    diverging.integrator.time_step = 2e-3;
+    diverging.integrator.time_step = Some(2e-3);
     let mut crowded = fine.clone();
     crowded.particles.count = 400;
     let param = |dt: f64| vec![("integrator.time_step".to_string(), ParamValue::Float(dt))];
@@ -57,16 +57,28 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "status",
         "settle_time",
         "steps",
+        "particle_steps",
         "simulated_time",
         "wall_time",
+        "time_step",
         "final_kinetic",
         "final_potential",
         "final_elastic",
         "final_dissipated",
+        "final_numerical_damping_dissipated",
         "final_mechanical",
         "final_ubf",
         "pile_height",
         "packing_fraction",
+        "packing_fraction_interior",
+        "coordination_number",
+        "mechanical_coordination_number",
+        "rattler_fraction",
+        "floor_load_ratio",
+        "fabric_anisotropy",
+        "fabric_direction",
+        "sliding_fraction",
+        "mean_overlap_ratio",
         "warnings",
         "message",
     ];
@@ -76,6 +88,13 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
     let statuses: Vec<&str> = records[1..].iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(statuses, ["not_settled", "diverged", "error"]);
     assert_eq!(records[2][col("integrator.time_step")], "0.002");
+    assert_eq!(records[2][col("time_step")], "0.002", "the time step used is a column of its own");
+    assert_eq!(
+        records[1][col("particle_steps")],
+        (12 * 4000).to_string(),
+        "12 disks x 0.04 s / 1e-5 s: {:?}",
+        records[1]
+    );
     assert!(records[2][col("message")].contains("limits."), "divergence explained: {:?}", records[2]);
 
     let placement_error = demsweep::physics::placement::generate(&crowded).unwrap_err().to_string();

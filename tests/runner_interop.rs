@@ -10,6 +10,7 @@ use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;
 use demsweep::physics::material::{Elastic, Materials, restitution_from_beta};
+use demsweep::physics::pile::PILE_METRIC_NAMES;
 use demsweep::physics::simulation::{Control, run_scene};
 use demsweep::study::{ParamValue, Plan, PlannedRun};
 use serde_json::{Map, Value, json};
@@ -38,6 +39,7 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
     }
     a.insert("settle_time".into(), json!(record.and_then(|r| r.settle_time)));
     a.insert("steps".into(), json!(record.map_or(0, |r| r.steps)));
+    a.insert("particle_steps".into(), json!(record.map_or(0, |r| r.steps * r.final_state.x.len() as u64)));
     a.insert("simulated_time".into(), json!(record.map_or(0.0, |r| r.simulated_time)));
     a.insert("wall_time".into(), json!(wall_time));
     a.insert("parameters".into(), json!(run.parameters.iter().map(|(k, _)| k).collect::<Vec<_>>()));
@@ -50,6 +52,8 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         ("final_potential", last(|r| &r.history.potential)),
         ("final_elastic", last(|r| &r.history.elastic)),
         ("final_dissipated", last(|r| &r.history.dissipated)),
+        ("final_numerical_damping_dissipated", last(|r| &r.history.numerical_damping_dissipated)),
+        ("time_step", record.map_or(nan, |r| r.time_step)),
         ("final_mechanical", last(|r| &r.history.mechanical)),
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
         ("pile_height", record.map_or(nan, |r| r.pile_height())),
@@ -57,6 +61,10 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
     ];
     for (name, value) in finals {
         a.insert(name.into(), json!(value));
+    }
+    let pile = record.map_or([nan; PILE_METRIC_NAMES.len()], |r| r.pile.values());
+    for (name, value) in PILE_METRIC_NAMES.iter().zip(pile) {
+        a.insert(name.to_string(), json!(value));
     }
     let s = &run.scene;
     let beta = Materials::from_scene(s).particle.beta;
@@ -112,6 +120,7 @@ fn history(r: &RunRecord) -> Value {
         ("potential", json!(h.potential)),
         ("elastic", json!(h.elastic)),
         ("dissipated", json!(h.dissipated)),
+        ("numerical_damping_dissipated", json!(h.numerical_damping_dissipated)),
         ("total", json!(h.total)),
         ("mechanical", json!(h.mechanical)),
         ("unbalanced_force_ratio", json!(h.unbalanced_force_ratio)),

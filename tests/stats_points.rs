@@ -3,6 +3,7 @@
 
 use demsweep::output::SummaryRow;
 use demsweep::output::SummaryTable;
+use demsweep::output::row::FINAL_VALUE_NAMES;
 use demsweep::output::table::ColumnData;
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::Points;
@@ -29,8 +30,9 @@ fn row(index: usize, e: f64, seed: i64, settle: Option<f64>, packing: f64, steps
     row.settle_time = settle;
     row.steps = steps;
     row.wall_time = steps as f64 * 1e-4;
-    row.final_values = [0.0; 8];
-    row.final_values[7] = packing;
+    row.particle_steps = steps * 300;
+    row.final_values = [0.0; FINAL_VALUE_NAMES.len()];
+    row.final_values[FINAL_VALUE_NAMES.iter().position(|n| *n == "packing_fraction").unwrap()] = packing;
     row
 }
 
@@ -179,8 +181,8 @@ fn ratio_interval_by_the_delta_method_on_logs() {
 
 #[test]
 fn compare_finds_points_and_refuses_unknown_ones() {
-    let summary = summary();
-    let points = Points::new(&summary);
+    let table = summary();
+    let points = Points::new(&table);
     assert_eq!(compare::find_point(&points, "material.restitution=0.9"), Ok(1));
     assert_eq!(compare::find_point(&points, "restitution=0.5"), Ok(0));
     assert_eq!(compare::find_point(&points, "r0005"), Ok(1), "a run id names its point");
@@ -197,7 +199,18 @@ fn compare_finds_points_and_refuses_unknown_ones() {
         "the tolerance of `x` must be a positive relative tolerance, got 0"
     );
 
-    // No pile metrics in this summary: the fallback, said in a note.
+    // By default the pile metrics, and cost in particle-steps.
+    let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
+    let kept: Vec<&str> = comparison.kept.iter().map(|k| k.tolerance.metric.as_str()).collect();
+    assert_eq!(kept, compare::DEFAULT_KEEP.map(|(m, _)| m));
+    assert_eq!((comparison.notes.len(), comparison.cost_column.as_str()), (0, "particle_steps"));
+    assert!(close(comparison.points[0].cost.ratio, 2000.0 / 1200.0, 1e-12));
+
+    // A file written before the pile metrics and particle-steps: the fallback, said in a note.
+    let mut old = summary();
+    let newer: Vec<&str> = compare::DEFAULT_KEEP.iter().map(|(m, _)| *m).chain(["particle_steps"]).collect();
+    old.columns.retain(|c| !newer.contains(&c.name.as_str()));
+    let points = Points::new(&old);
     let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
     let kept: Vec<&str> = comparison.kept.iter().map(|k| k.tolerance.metric.as_str()).collect();
     assert_eq!(kept, ["packing_fraction", "pile_height"]);

@@ -53,8 +53,8 @@ fn plan_lists_runs_parameters_and_cost() {
     assert!(lines[0].starts_with("study p ("), "{stdout}");
     assert!(lines[0].ends_with(", 2 runs"));
     let header: Vec<&str> = lines[1].split_whitespace().collect();
-    assert_eq!(header, ["id", "material.friction", "disks", "steps", "particle-steps"]);
-    assert_eq!(lines[3].split_whitespace().collect::<Vec<_>>(), ["r0001", "0.5", "20", "1000", "2.000e4"]);
+    assert_eq!(header, ["id", "material.friction", "disks", "time_step", "steps", "particle-steps"]);
+    assert_eq!(lines[3].split_whitespace().collect::<Vec<_>>(), ["r0001", "0.5", "20", "1.000e-5", "1000", "2.000e4"]);
     assert!(lines[4].starts_with("total 4.000e4 particle-steps"), "{stdout}");
     assert!(lines[4].ends_with("on 2 cores"), "{stdout}");
 }

@@ -65,6 +65,20 @@ fn non_positive_time_step() {
 }
 
 #[test]
+fn time_step_given_twice_names_both_keys() {
+    let e = single_error(
+        "dt-twice",
+        "[scene]\nparticles.count = 20\nintegrator.time_step = 1e-5\nintegrator.contact_time_fraction = 0.05\n",
+        4,
+        "scene.integrator.contact_time_fraction",
+    );
+    assert_eq!(e.reason, "give either integrator.time_step or integrator.contact_time_fraction, not both");
+    let text = "[scene]\nparticles.count = 20\n[sweep]\n\"integrator.rayleigh_fraction\" = [0.1]\n\"integrator.contact_time_fraction\" = [0.05]\n";
+    let e = single_error("fractions", text, 4, "sweep.\"integrator.rayleigh_fraction\"");
+    assert!(e.reason.contains("integrator.contact_time_fraction or integrator.rayleigh_fraction"), "{e}");
+}
+
+#[test]
 fn swept_poisson_ratio_outside_its_range_names_value_and_run() {
     let text =
         format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.5]\n\"material.poisson_ratio\" = [0.3, 0.7]\n");

@@ -186,6 +186,9 @@ fn bundled_studies_load() {
     let sf = load("stiffness_friction.toml");
     assert_eq!(sf.runs.len(), 9);
     assert_eq!(sf.runs[8].scene.material.youngs_modulus, 2e11);
+    let step_ratio = sf.runs[0].time_step / sf.runs[8].time_step;
+    assert!((step_ratio / 100f64.powf(0.4) - 1.0).abs() < 1e-3, "dt follows the contact time: {step_ratio}");
+    assert!(sf.runs[0].estimated_cost < sf.runs[8].estimated_cost / 6.0, "soft runs are cheaper");
     let paper = load("paper_table1.toml");
     assert_eq!(paper.runs.len(), 1);
     let s = &paper.runs[0].scene;
@@ -193,7 +196,7 @@ fn bundled_studies_load() {
     assert_eq!((m.density, m.youngs_modulus, m.shear_modulus, m.beta), (1000.0, 20000.0, Some(20000.0), Some(10.0)));
     assert_eq!((m.friction, m.rolling_friction, m.poisson_ratio), (0.5, 0.5, None));
     assert_eq!((s.particles.radius, s.particles.count, s.gravity), (0.01, 300, [0.0, -9.81]));
-    assert_eq!((s.integrator.time_step, s.run.duration, s.run.stop_at_settle), (1e-4, 3.0, false));
+    assert_eq!((s.integrator.time_step, s.run.duration, s.run.stop_at_settle), (Some(1e-4), 3.0, false));
     assert_eq!((s.domain.width, s.domain.height), (0.4, 0.6));
     assert_eq!(s.run.frame_times, [0.0, 0.23, 0.45, 3.0]);
 }

@@ -180,16 +180,22 @@ fn impact_rows(options: &AccuracyOptions, beta: f64) -> Result<Vec<AccuracyRow>,
     let (problem, reference) = if beta == 0.0 {
         ("impact_undamped", vec![("contact_duration", duration), ("max_overlap", overlap), ("restitution", 1.0)])
     } else {
-        scene.integrator.time_step = duration / options.impact_reference_ratio;
+        scene.integrator.time_step = Some(duration / options.impact_reference_ratio);
         ("impact_damped", binary_impact(&scene, speed))
     };
     let mut rows = Vec::new();
     for &scheme in &options.schemes {
         for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {
             scene.integrator.scheme = scheme;
-            scene.integrator.time_step = duration / ratio;
+            scene.integrator.time_step = Some(duration / ratio);
             let (observed, run_time) = repeated_timing(|| binary_impact(&scene, speed));
-            let at = Setting { problem, scheme, ratio, time_step: scene.integrator.time_step, run_time };
+            let at = Setting {
+                problem,
+                scheme,
+                ratio,
+                time_step: scene.integrator.fixed_time_step().unwrap_or_default(),
+                run_time,
+            };
             rows.extend(at.compare(&observed, &reference));
         }
     }
@@ -333,7 +339,7 @@ fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Obser
         let (rec, seconds) = timed(|| super::run(scene, disks));
         Ok((deposition_observables(&rec?, width), seconds))
     };
-    scene.integrator.time_step = contact_time / options.deposition_reference_ratio;
+    scene.integrator.time_step = Some(contact_time / options.deposition_reference_ratio);
     let (reference, _) = observe(&scene, &disks)?;
     let mut floor: Observables = reference.iter().map(|(n, _)| (*n, 0.0)).collect();
     for moved in 0..CHAOS_COPIES.min(disks.len()) {
@@ -348,9 +354,15 @@ fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Obser
     for &scheme in &options.schemes {
         for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {
             scene.integrator.scheme = scheme;
-            scene.integrator.time_step = contact_time / ratio;
+            scene.integrator.time_step = Some(contact_time / ratio);
             let (observed, run_time) = observe(&scene, &disks)?;
-            let at = Setting { problem: "deposition", scheme, ratio, time_step: scene.integrator.time_step, run_time };
+            let at = Setting {
+                problem: "deposition",
+                scheme,
+                ratio,
+                time_step: scene.integrator.fixed_time_step().unwrap_or_default(),
+                run_time,
+            };
             rows.extend(at.compare(&observed, &reference));
         }
     }

@@ -52,7 +52,7 @@ pub fn damping_sweep_scene() -> SceneConfig {
     s.material.poisson_ratio = Some(0.3);
     s.material.restitution = Some(0.5);
     s.material.friction = 0.5;
-    s.integrator.time_step = 7e-6;
+    s.integrator.time_step = Some(7e-6);
     s.run.duration = 2.0;
     s.run.sample_interval = 1e-3;
     s
@@ -175,7 +175,7 @@ fn configured(scene: &SceneConfig, stop: bool, every: Option<u64>, duration: f64
     let mut s = scene.clone();
     s.run.stop_at_settle = stop;
     if let Some(k) = every {
-        s.run.sample_interval = k as f64 * s.integrator.time_step;
+        s.run.sample_interval = k as f64 * s.integrator.fixed_time_step().unwrap_or_default();
     }
     s.run.duration = duration;
     s
@@ -219,7 +219,7 @@ fn summary(options: &SkippingOptions, rows: &[SkippingRow]) -> String {
         options.scenes.len(),
         s.particles.count,
         s.material.youngs_modulus,
-        s.integrator.time_step,
+        s.integrator.fixed_time_step().unwrap_or_default(),
         options.window,
         markdown_table(SkippingRow::HEADER, &table)
     )

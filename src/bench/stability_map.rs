@@ -245,7 +245,7 @@ fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapR
     let mut rows: Vec<MapRow> = Vec::new();
     let mut stable_below = 0;
     for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {
-        scene.integrator.time_step = contact_time / ratio;
+        scene.integrator.time_step = Some(contact_time / ratio);
         let row = map_case(column, &scene, &disks)?;
         let predicted_safe = row.time_step <= row.safe_time_step;
         stable_below = if row.blew_up() || !predicted_safe { 0 } else { stable_below + 1 };
@@ -264,7 +264,7 @@ fn map_case(column: &Column, scene: &SceneConfig, disks: &[InitialDisk]) -> Resu
     Ok(MapRow {
         column: *column,
         restitution: restitution_from_beta(column.beta),
-        time_step: scene.integrator.time_step,
+        time_step: scene.integrator.fixed_time_step().unwrap_or_default(),
         contact_time: st.contact_time,
         dt_over_contact_time: st.dt_over_contact_time,
         damping_rate: st.damping_rate,

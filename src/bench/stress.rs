@@ -177,7 +177,7 @@ fn paper_table1(options: &StressOptions) -> Report {
     s.material.shear_modulus = Some(20_000.0);
     s.material.beta = Some(10.0);
     s.material.rolling_friction = 0.5;
-    s.integrator.time_step = 1e-4;
+    s.integrator.time_step = Some(1e-4);
     s.run.duration = 2.0 * options.duration;
     let (outcome, message, warnings, _) = report(run_generated(&s), String::new());
     let collapsed = outcome == Outcome::Run(RunStatus::Diverged) && message.contains("overlap");
@@ -193,7 +193,7 @@ fn paper_table1(options: &StressOptions) -> Report {
 fn very_stiff_large_dt(options: &StressOptions) -> Report {
     let mut s = deposition(options);
     s.material.youngs_modulus = 1e12;
-    s.integrator.time_step = 1e-4;
+    s.integrator.time_step = Some(1e-4);
     report(run_generated(&s), String::new())
 }
 
@@ -248,8 +248,11 @@ fn beta_50_frictionless_safe_dt(options: &StressOptions) -> Report {
         Ok(d) => d,
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
     };
-    s.integrator.time_step = super::assess(&s, &disks).safe_time_step;
-    report(super::run(&s, &disks), format!("time step {:.3e} s (the predicted safe step)", s.integrator.time_step))
+    s.integrator.time_step = Some(super::assess(&s, &disks).safe_time_step);
+    report(
+        super::run(&s, &disks),
+        format!("time step {:.3e} s (the predicted safe step)", s.integrator.fixed_time_step().unwrap_or_default()),
+    )
 }
 
 /// No friction: rotation and tangential forces are skipped; the time saved against μ = 1e-9.
@@ -286,7 +289,7 @@ fn large(options: &StressOptions) -> Report {
     s.particles.count = options.large_count;
     s.domain.width = 0.4 * options.large_count as f64 / 300.0;
     s.run.stop_at_settle = false;
-    s.run.duration = options.large_steps as f64 * s.integrator.time_step;
+    s.run.duration = options.large_steps as f64 * s.integrator.fixed_time_step().unwrap_or_default();
     let disks = match placed_disks(&s) {
         Ok(d) => d,
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),

@@ -31,13 +31,14 @@ pub const POINTS: &str = "points";
 /// Attribute of `/summary` and `/points` listing the column names in order.
 pub const SUMMARY_COLUMNS: &str = "columns";
 /// History series names: the fields of the `history` table.
-pub const HISTORY_SERIES: [&str; 11] = [
+pub const HISTORY_SERIES: [&str; 12] = [
     "t",
     "kinetic_translational",
     "kinetic_rotational",
     "potential",
     "elastic",
     "dissipated",
+    "numerical_damping_dissipated",
     "total",
     "mechanical",
     "unbalanced_force_ratio",
@@ -45,7 +46,7 @@ pub const HISTORY_SERIES: [&str; 11] = [
     "max_overlap_ratio",
 ];
 /// The history table: one field per series, in the order of [`HISTORY_SERIES`].
-pub fn history_table(h: &History) -> [(&'static str, Field<'_>); 11] {
+pub fn history_table(h: &History) -> [(&'static str, Field<'_>); 12] {
     [
         ("t", Field::F64(&h.time)),
         ("kinetic_translational", Field::F64(&h.kinetic_translational)),
@@ -53,6 +54,7 @@ pub fn history_table(h: &History) -> [(&'static str, Field<'_>); 11] {
         ("potential", Field::F64(&h.potential)),
         ("elastic", Field::F64(&h.elastic)),
         ("dissipated", Field::F64(&h.dissipated)),
+        ("numerical_damping_dissipated", Field::F64(&h.numerical_damping_dissipated)),
         ("total", Field::F64(&h.total)),
         ("mechanical", Field::F64(&h.mechanical)),
         ("unbalanced_force_ratio", Field::F64(&h.unbalanced_force_ratio)),
@@ -86,6 +88,7 @@ const WARNINGS: &str = "warnings";
 const WARNING_COUNT: &str = "warning_count";
 const SETTLE_TIME: &str = "settle_time";
 const STEPS: &str = "steps";
+const PARTICLE_STEPS: &str = "particle_steps";
 const SIMULATED_TIME: &str = "simulated_time";
 const WALL_TIME: &str = "wall_time";
 
@@ -110,6 +113,7 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValu
         (WARNING_COUNT.into(), AttrValue::I64(row.warnings.len() as i64)),
         (SETTLE_TIME.into(), AttrValue::F64(row.settle_time.unwrap_or(f64::NAN))),
         (STEPS.into(), AttrValue::I64(row.steps as i64)),
+        (PARTICLE_STEPS.into(), AttrValue::I64(row.particle_steps as i64)),
         (SIMULATED_TIME.into(), AttrValue::F64(row.simulated_time)),
         (WALL_TIME.into(), AttrValue::F64(row.wall_time)),
     ];
@@ -139,7 +143,7 @@ pub fn scene_values(scene: &SceneConfig) -> Vec<(&'static str, AttrValue)> {
         ("friction", AttrValue::F64(m.particle.friction)),
         ("rolling_friction", AttrValue::F64(m.particle.rolling_friction)),
         ("density", AttrValue::F64(scene.material.density)),
-        ("time_step", AttrValue::F64(scene.integrator.time_step)),
+        ("time_step", AttrValue::F64(scene.integrator.time_step.unwrap_or(f64::NAN))),
         ("integrator", serde_name(&scene.integrator.scheme)),
         ("contact_law", serde_name(&scene.contact.law)),
         ("count", AttrValue::I64(scene.particles.count as i64)),
@@ -191,10 +195,18 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
             get(k).and_then(|v| attr_param(v).ok_or(format!("`{k}` has an unsupported type"))).map(|v| (k.clone(), v))
         })
         .collect::<Result<Vec<_>, _>>()?;
+    // Files written before a final value existed lack its attribute: it reads as missing (NaN).
     let mut final_values = [f64::NAN; FINAL_VALUE_NAMES.len()];
     for (slot, name) in final_values.iter_mut().zip(FINAL_VALUE_NAMES) {
-        *slot = float(name)?;
+        if attrs.contains_key(name) {
+            *slot = float(name)?;
+        }
     }
+    let steps = int(STEPS)? as u64;
+    let particle_steps = match attrs.get(PARTICLE_STEPS) {
+        Some(_) => int(PARTICLE_STEPS)? as u64,
+        None => steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
+    };
     let settle = float(SETTLE_TIME)?;
     Ok(SummaryRow {
         index: int(INDEX)? as usize,
@@ -204,7 +216,8 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
         message: text(MESSAGE)?,
         warnings: attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default(),
         settle_time: (!settle.is_nan()).then_some(settle),
-        steps: int(STEPS)? as u64,
+        steps,
+        particle_steps,
         simulated_time: float(SIMULATED_TIME)?,
         wall_time: float(WALL_TIME)?,
         final_values,

@@ -1,6 +1,7 @@
 //! One summary row per run: what the writer stores on each run group and what `/summary` and the
 //! CSV summary are built from.
 
+use crate::physics::pile::PILE_METRIC_NAMES;
 use crate::physics::record::RunRecord;
 use crate::study::ParamValue;
 
@@ -26,6 +27,8 @@ pub struct SummaryRow {
     pub settle_time: Option<f64>,
     /// Time steps taken.
     pub steps: u64,
+    /// Time steps times disks: the run's cost, independent of the machine.
+    pub particle_steps: u64,
     /// Simulated time reached (s).
     pub simulated_time: f64,
     /// Wall-clock time of the simulation (s).
@@ -34,32 +37,51 @@ pub struct SummaryRow {
     pub final_values: [f64; FINAL_VALUE_NAMES.len()],
 }
 
-/// Names of the final values of a row (columns of the summary, attributes of a run group).
-pub const FINAL_VALUE_NAMES: [&str; 8] = [
+/// Names of the final values of a row (columns of the summary, attributes of a run group): the
+/// time step, energies, the unbalanced force ratio and the pile metrics of [`PILE_METRIC_NAMES`].
+pub const FINAL_VALUE_NAMES: [&str; 19] = [
+    "time_step",
     "final_kinetic",
     "final_potential",
     "final_elastic",
     "final_dissipated",
+    "final_numerical_damping_dissipated",
     "final_mechanical",
     "final_ubf",
     "pile_height",
     "packing_fraction",
+    PILE_METRIC_NAMES[0],
+    PILE_METRIC_NAMES[1],
+    PILE_METRIC_NAMES[2],
+    PILE_METRIC_NAMES[3],
+    PILE_METRIC_NAMES[4],
+    PILE_METRIC_NAMES[5],
+    PILE_METRIC_NAMES[6],
+    PILE_METRIC_NAMES[7],
+    PILE_METRIC_NAMES[8],
 ];
 
 /// Final values of a record, in the order of [`FINAL_VALUE_NAMES`]; `width` is the box width (m).
 pub fn final_values(record: &RunRecord, width: f64) -> [f64; FINAL_VALUE_NAMES.len()] {
     let h = &record.history;
     let last = RunRecord::last;
-    [
+    let head = [
+        record.time_step,
         last(&h.kinetic_translational) + last(&h.kinetic_rotational),
         last(&h.potential),
         last(&h.elastic),
         last(&h.dissipated),
+        last(&h.numerical_damping_dissipated),
         last(&h.mechanical),
         last(&h.unbalanced_force_ratio),
         record.pile_height(),
         record.packing_fraction(width),
-    ]
+    ];
+    let mut values = [f64::NAN; FINAL_VALUE_NAMES.len()];
+    let pile = record.pile.values();
+    values[..head.len()].copy_from_slice(&head);
+    values[head.len()..].copy_from_slice(&pile);
+    values
 }
 
 impl SummaryRow {
@@ -80,6 +102,7 @@ impl SummaryRow {
             warnings: record.warnings.clone(),
             settle_time: record.settle_time,
             steps: record.steps,
+            particle_steps: record.steps * record.final_state.x.len() as u64,
             simulated_time: record.simulated_time,
             wall_time: 0.0,
             final_values: final_values(record, width),
@@ -97,6 +120,7 @@ impl SummaryRow {
             warnings: Vec::new(),
             settle_time: None,
             steps: 0,
+            particle_steps: 0,
             simulated_time: 0.0,
             wall_time: 0.0,
             final_values: [f64::NAN; FINAL_VALUE_NAMES.len()],

@@ -80,15 +80,19 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
 
 /// The history series from the columns of a `history` table.
 fn history(table: &HashMap<String, ColumnData>) -> Result<History, String> {
-    let [t, kt, kr, potential, elastic, dissipated, total, mechanical, ubf, contacts, overlap] =
+    let [t, kt, kr, potential, elastic, dissipated, numerical, total, mechanical, ubf, contacts, overlap] =
         HISTORY_SERIES.map(|name| floats(table, name));
+    let t = t?;
+    // Files written before numerical damping existed have no such series: nothing was dissipated by it.
+    let numerical = if table.contains_key("numerical_damping_dissipated") { numerical? } else { vec![0.0; t.len()] };
     Ok(History {
-        time: t?,
+        time: t,
         kinetic_translational: kt?,
         kinetic_rotational: kr?,
         potential: potential?,
         elastic: elastic?,
         dissipated: dissipated?,
+        numerical_damping_dissipated: numerical,
         total: total?,
         mechanical: mechanical?,
         unbalanced_force_ratio: ubf?,

@@ -137,6 +137,7 @@ impl SummaryTable {
             column("status", texts(&|r| r.status.clone())),
             column("settle_time", floats(&|r| r.settle_time.unwrap_or(f64::NAN))),
             column("steps", ints(&|r| r.steps as i64)),
+            column("particle_steps", ints(&|r| r.particle_steps as i64)),
             column("simulated_time", floats(&|r| r.simulated_time)),
             column("wall_time", floats(&|r| r.wall_time)),
         ]);

@@ -25,6 +25,8 @@ pub struct SceneConfig {
     pub gravity: [f64; 2],
     /// Time stepping scheme and step.
     pub integrator: IntegratorConfig,
+    /// Numerical (non-physical) damping: Cundall local damping and global viscous damping.
+    pub damping: DampingConfig,
     /// Duration, sampling and frames.
     pub run: RunConfig,
     /// When the pile counts as settled.
@@ -169,14 +171,55 @@ pub enum IntegratorKind {
     VelocityVerlet,
 }
 
-/// Integrator choice and time step.
+/// Time step used when none of `time_step`, `contact_time_fraction` and `rayleigh_fraction` is given (s).
+pub const DEFAULT_TIME_STEP: f64 = 1e-5;
+
+/// Integrator choice and time step. The step is given as at most one of `time_step` (absolute),
+/// `contact_time_fraction` or `rayleigh_fraction` (relative to a time scale of the scene, resolved
+/// before the run by [`super::time_step`]); [`DEFAULT_TIME_STEP`] when none is given.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorConfig {
     /// The scheme.
     pub scheme: IntegratorKind,
     /// Time step Δt (s).
-    pub time_step: f64,
+    pub time_step: Option<f64>,
+    /// Δt as this fraction of the Hertz contact time of the scene's hardest impact.
+    pub contact_time_fraction: Option<f64>,
+    /// Δt as this fraction of the Rayleigh time of the smallest disk (EDEM's convention).
+    pub rayleigh_fraction: Option<f64>,
+}
+
+impl IntegratorConfig {
+    /// The absolute time step when the scene fixes one (given, or the default); `None` when it is
+    /// relative to a time scale of the scene and must be resolved.
+    pub fn fixed_time_step(&self) -> Option<f64> {
+        match (self.contact_time_fraction, self.rayleigh_fraction) {
+            (None, None) => Some(self.time_step.unwrap_or(DEFAULT_TIME_STEP)),
+            _ => None,
+        }
+    }
+}
+
+/// Numerical damping, applied by the integrator to every disk's net force and torque; its work is
+/// dissipated energy. Both off by default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DampingConfig {
+    /// Cundall local (non-viscous) damping α in [0, 1): every component of the net force and the
+    /// torque is reduced against the velocity, `F_k ← F_k − α |F_k| sign(v_k)` (Cundall 1987).
+    pub local: f64,
+    /// Whether gravity is part of the force that local damping reduces (Yade's convention).
+    pub local_gravity: bool,
+    /// Global viscous damping rate c (1/s): `F ← F − c m v`, `M ← M − c I ω`.
+    pub viscous: f64,
+}
+
+impl DampingConfig {
+    /// Whether any numerical damping acts.
+    pub fn is_active(&self) -> bool {
+        self.local > 0.0 || self.viscous > 0.0
+    }
 }
 
 /// Run length, sampling and recorded frames.
@@ -256,6 +299,7 @@ impl Default for SceneConfig {
             contact: ContactConfig::default(),
             gravity: [0.0, -9.81],
             integrator: IntegratorConfig::default(),
+            damping: DampingConfig::default(),
             run: RunConfig::default(),
             settle: SettleConfig::default(),
             limits: LimitsConfig::default(),
@@ -317,7 +361,18 @@ impl Default for ContactConfig {
 
 impl Default for IntegratorConfig {
     fn default() -> Self {
-        Self { scheme: IntegratorKind::AdamsBashforthMoulton, time_step: 1e-5 }
+        Self {
+            scheme: IntegratorKind::AdamsBashforthMoulton,
+            time_step: None,
+            contact_time_fraction: None,
+            rayleigh_fraction: None,
+        }
+    }
+}
+
+impl Default for DampingConfig {
+    fn default() -> Self {
+        Self { local: 0.0, local_gravity: true, viscous: 0.0 }
     }
 }
 
@@ -529,7 +584,32 @@ impl SceneConfig {
     }
 
     fn check_time(&self, c: &mut Checker) {
-        c.positive("integrator.time_step", self.integrator.time_step);
+        let i = &self.integrator;
+        if let Some(dt) = i.time_step {
+            c.positive("integrator.time_step", dt);
+        }
+        for (key, fraction) in [
+            ("integrator.contact_time_fraction", i.contact_time_fraction),
+            ("integrator.rayleigh_fraction", i.rayleigh_fraction),
+        ] {
+            if let Some(f) = fraction
+                && !(f.is_finite() && f > 0.0 && f <= 1.0)
+            {
+                c.fail(key, format!("must lie in (0, 1], got {f}"));
+            }
+            c.exclusive("integrator.time_step", i.time_step.is_some(), key, fraction.is_some());
+        }
+        c.exclusive(
+            "integrator.contact_time_fraction",
+            i.contact_time_fraction.is_some(),
+            "integrator.rayleigh_fraction",
+            i.rayleigh_fraction.is_some(),
+        );
+        let d = &self.damping;
+        if !(d.local.is_finite() && (0.0..1.0).contains(&d.local)) {
+            c.fail("damping.local", format!("must lie in [0, 1), got {}", d.local));
+        }
+        c.non_negative("damping.viscous", d.viscous);
         let r = &self.run;
         c.positive("run.duration", r.duration);
         c.positive("run.sample_interval", r.sample_interval);
@@ -539,7 +619,7 @@ impl SceneConfig {
         if let Some(t) = r.frame_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
             c.fail("run.frame_times", format!("frame times must be >= 0, found {t}"));
         }
-        let steps = r.duration / self.integrator.time_step;
+        let steps = r.duration / i.fixed_time_step().unwrap_or(f64::INFINITY);
         if steps.is_finite() && steps > 1e12 {
             c.fail("run.duration", format!("needs {steps:.3e} steps of integrator.time_step; at most 1e12"));
         }
@@ -567,8 +647,14 @@ impl SceneConfig {
         }
     }
 
-    /// Number of time steps of the full duration.
-    pub fn total_steps(&self) -> u64 {
-        (self.run.duration / self.integrator.time_step).round().max(1.0) as u64
+    /// Number of time steps of the full duration at time step `dt` (s).
+    pub fn total_steps(&self, dt: f64) -> u64 {
+        (self.run.duration / dt).round().max(1.0) as u64
+    }
+
+    /// The smallest disk radius the configuration can produce (m).
+    pub fn smallest_radius(&self) -> f64 {
+        let p = &self.particles;
+        p.radii.as_ref().map_or(p.radius, |radii| radii.iter().cloned().fold(f64::INFINITY, f64::min))
     }
 }

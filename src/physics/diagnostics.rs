@@ -41,8 +41,10 @@ pub struct Sample {
     pub potential: f64,
     /// Elastic energy in contacts (J).
     pub elastic: f64,
-    /// Energy removed by damping and friction so far (J).
+    /// Energy removed by damping and friction so far, numerical damping included (J).
     pub dissipated: f64,
+    /// The part of `dissipated` removed by numerical damping (J).
+    pub numerical_damping_dissipated: f64,
     /// Unbalanced force ratio; NaN without contacts.
     pub unbalanced_force_ratio: f64,
     /// Contact count.
@@ -106,6 +108,7 @@ impl History {
         self.potential.push(s.potential);
         self.elastic.push(s.elastic);
         self.dissipated.push(s.dissipated);
+        self.numerical_damping_dissipated.push(s.numerical_damping_dissipated);
         self.total.push(s.total());
         self.mechanical.push(s.mechanical());
         self.unbalanced_force_ratio.push(s.unbalanced_force_ratio);

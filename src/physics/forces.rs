@@ -70,6 +70,20 @@ impl ContactKind {
     fn resolve(&self, c: &Coefficients, k: &Kinematics, spring: &mut f64) -> ContactForce {
         contact::resolve(c, &self.options, k, spring, self.dt)
     }
+
+    /// The force of one contact of effective radius `r_star` and mass `m_star` (one at a time, for
+    /// measuring a state; the step evaluates contacts in blocks). Leaves the spring as it was.
+    pub fn force_of<L: ContactLaw>(
+        &self,
+        law: &L,
+        r_star: f64,
+        m_star: f64,
+        motion: &Kinematics,
+        spring: f64,
+    ) -> ContactForce {
+        let coefficients = law.coefficients(&self.pair_properties(r_star, m_star), motion.overlap);
+        self.resolve(&coefficients, motion, &mut spring.clone())
+    }
 }
 
 /// The touching pairs of one block, one array per quantity. Fixed-size arrays: indexing them all

@@ -6,7 +6,7 @@
 //! Reading order for a newcomer:
 //! [`config`] (what a scene is) → [`material`] (pair properties) → [`contact`] (force laws) →
 //! [`neighbors`] (who touches whom) → [`forces`] (contact forces of a step) → [`integrator`] (time stepping) → [`simulation`] (the step loop) →
-//! [`diagnostics`], [`stability`] and [`record`] (what comes out).
+//! [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out).
 
 pub mod config;
 pub mod contact;
@@ -17,11 +17,13 @@ pub mod material;
 mod monitor;
 pub mod neighbors;
 pub mod particles;
+pub mod pile;
 pub mod placement;
 pub mod record;
 pub mod rng;
 pub mod simulation;
 pub mod stability;
+pub mod time_step;
 mod vector;
 pub mod walls;
 

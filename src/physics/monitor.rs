@@ -12,9 +12,8 @@ pub(super) struct FrameSchedule {
 }
 
 impl FrameSchedule {
-    /// The frame steps of a scene.
-    pub(super) fn new(scene: &SceneConfig, total_steps: u64) -> Self {
-        let dt = scene.integrator.time_step;
+    /// The frame steps of a scene run with time step `dt` (s).
+    pub(super) fn new(scene: &SceneConfig, dt: f64, total_steps: u64) -> Self {
         let mut times = scene.run.frame_times.clone();
         if let Some(interval) = scene.run.frame_interval {
             let count = (scene.run.duration / interval).floor() as u64;

@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::pile::PileMetrics;
 use super::stability::StabilityReport;
 
 /// How a run ended.
@@ -43,8 +44,10 @@ pub struct History {
     pub potential: Vec<f64>,
     /// Elastic energy stored in contacts, normal and tangential springs (J).
     pub elastic: Vec<f64>,
-    /// Energy removed by damping and friction since the start (J).
+    /// Energy removed by damping and friction since the start, numerical damping included (J).
     pub dissipated: Vec<f64>,
+    /// The part of `dissipated` removed by numerical damping (`damping.local`, `damping.viscous`) (J).
+    pub numerical_damping_dissipated: Vec<f64>,
     /// The paper's total: kinetic + potential (J).
     pub total: Vec<f64>,
     /// Mechanical total: kinetic + potential + elastic (J).
@@ -91,8 +94,12 @@ pub struct RunRecord {
     pub settle_time: Option<f64>,
     /// Time steps taken.
     pub steps: u64,
+    /// The time step used (s): given, or resolved from the scene's time scales.
+    pub time_step: f64,
     /// Simulated time reached (s).
     pub simulated_time: f64,
+    /// Structure of the pile at the end of the run.
+    pub pile: PileMetrics,
     /// Pre-run stability estimate.
     pub stability: StabilityReport,
     /// Sampled diagnostics.

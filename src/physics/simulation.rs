@@ -6,16 +6,18 @@
 //! divergence checks and the settle criterion run on sampled steps only.
 
 use super::config::{ContactLawKind, SceneConfig};
-use super::contact::{ContactLaw, ContactOptions, HertzMindlin, LinearSpringDashpot};
+use super::contact::{ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot};
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::forces::{ContactKind, TouchingPairs};
-use super::integrator::{Integrator, StepContext};
+use super::integrator::{Integrator, NumericalDamping, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
 use super::particles::{InitialDisk, Particles};
+use super::pile::{Partner, PileContact, PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::stability::{self, StabilityReport};
+use super::time_step::{self, ResolvedTimeStep};
 use super::vector;
 use super::walls::BoxWalls;
 
@@ -66,20 +68,31 @@ pub fn run_scene(
     }
     Ok(match scene.contact.law {
         ContactLawKind::HertzMindlin => Simulation::new(scene, &disks, HertzMindlin).run(observer),
-        ContactLawKind::Linear => {
-            let law = LinearSpringDashpot {
-                normal_stiffness: scene.contact.normal_stiffness,
-                tangential_ratio: scene.contact.tangential_stiffness_ratio,
-            };
-            Simulation::new(scene, &disks, law).run(observer)
-        }
+        ContactLawKind::Linear => Simulation::new(scene, &disks, linear_law(scene)).run(observer),
     })
+}
+
+/// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.
+pub fn scene_time_step(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> ResolvedTimeStep {
+    match scene.contact.law {
+        ContactLawKind::HertzMindlin => time_step::resolve(&HertzMindlin, scene, disks),
+        ContactLawKind::Linear => time_step::resolve(&linear_law(scene), scene, disks),
+    }
+}
+
+fn linear_law(scene: &SceneConfig) -> LinearSpringDashpot {
+    LinearSpringDashpot {
+        normal_stiffness: scene.contact.normal_stiffness,
+        tangential_ratio: scene.contact.tangential_stiffness_ratio,
+    }
 }
 
 /// One simulation of a scene with contact law `L`.
 pub struct Simulation<L: ContactLaw> {
     law: L,
+    /// The scene, with its time step resolved.
     scene: SceneConfig,
+    time_step_warning: Option<String>,
     /// The disks.
     pub particles: Particles,
     walls: BoxWalls,
@@ -95,6 +108,9 @@ pub struct Simulation<L: ContactLaw> {
     context: StepContext,
     work: f64,
     last_power: Option<f64>,
+    /// Work of the numerical damping so far (J, ≤ 0) and its power at the last step's start (W).
+    damping_work: f64,
+    last_damping_power: f64,
     totals: ContactTotals,
     initial_elastic: f64,
 }
@@ -102,6 +118,11 @@ pub struct Simulation<L: ContactLaw> {
 impl<L: ContactLaw> Simulation<L> {
     /// A simulation at time zero with forces evaluated at the initial state.
     pub fn new(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
+        let resolved = time_step::resolve(&law, scene, Some(disks));
+        let mut scene = scene.clone();
+        scene.integrator.time_step = Some(resolved.dt);
+        (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
+        let scene = &scene;
         let materials = Materials::from_scene(scene);
         let particles = Particles::new(disks, materials.density, scene.particles.thickness);
         let walls = BoxWalls::new(&scene.domain);
@@ -112,12 +133,13 @@ impl<L: ContactLaw> Simulation<L> {
             material: *m,
             options: ContactOptions { allow_tension: scene.contact.allow_tension, tangential, friction: m.friction },
             rotation,
-            dt: scene.integrator.time_step,
+            dt: resolved.dt,
         };
         let skin = scene.neighbors.skin_ratio * particles.max_radius();
         let mut sim = Self {
             law,
             scene: scene.clone(),
+            time_step_warning: resolved.warning,
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
             disk_kind: kind(&materials.particle),
             wall_kind: kind(&materials.wall),
@@ -128,9 +150,20 @@ impl<L: ContactLaw> Simulation<L> {
             walls,
             materials,
             step: 0,
-            context: StepContext { dt: scene.integrator.time_step, gravity: scene.gravity, rotation },
+            context: StepContext {
+                dt: resolved.dt,
+                gravity: scene.gravity,
+                rotation,
+                damping: NumericalDamping {
+                    local: scene.damping.local,
+                    local_gravity: scene.damping.local_gravity,
+                    viscous: scene.damping.viscous,
+                },
+            },
             work: 0.0,
             last_power: None,
+            damping_work: 0.0,
+            last_damping_power: 0.0,
             totals: ContactTotals::default(),
             initial_elastic: 0.0,
         };
@@ -152,11 +185,13 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
     pub fn advance(&mut self, sample: bool) {
-        let (power, stale) = self.move_disks();
+        let (power, damping_power, stale) = self.move_disks();
         if let Some(last) = self.last_power {
             self.work += 0.5 * (last + power) * self.context.dt;
+            self.damping_work += 0.5 * (self.last_damping_power + damping_power) * self.context.dt;
         }
         self.last_power = Some(power);
+        self.last_damping_power = damping_power;
         if stale {
             self.neighbors.rebuild(&self.particles, &self.walls);
         }
@@ -172,18 +207,19 @@ impl<L: ContactLaw> Simulation<L> {
         self.step += 1;
     }
 
-    /// The integrator's update, `SWEEP` disks at a time. Returns the power of the contact forces at
-    /// the start of the step and whether the neighbour list must be rebuilt.
-    fn move_disks(&mut self) -> (f64, bool) {
+    /// The integrator's update, `SWEEP` disks at a time. Returns the power of the contact forces and
+    /// of the numerical damping at the start of the step, and whether the neighbour list must be rebuilt.
+    fn move_disks(&mut self) -> (f64, f64, bool) {
         let n = self.particles.len();
-        let (mut power, mut longest) = (0.0, vector::LargestSquare::default());
+        let (mut power, mut damping_power, mut longest) = (0.0, 0.0, vector::LargestSquare::default());
         for start in (0..n).step_by(SWEEP) {
             let disks = start..(start + SWEEP).min(n);
             let moved = self.integrator.advance(&mut self.particles, &self.context, disks);
             power += moved.power;
+            damping_power += moved.damping_power;
             longest = longest.max(moved.longest);
         }
-        (power, self.neighbors.note_step(longest.root()))
+        (power, damping_power, self.neighbors.note_step(longest.root()))
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).
@@ -192,13 +228,15 @@ impl<L: ContactLaw> Simulation<L> {
         // Work of the contacts up to now: the stored trapezoids end one step back; close the last one.
         let work =
             self.work + self.last_power.map_or(0.0, |last| 0.5 * (last + self.contact_power()) * self.context.dt);
+        let damping_work = self.damping_work + self.closing_damping_work();
         Sample {
             time: self.time(),
             kinetic_translational: kt,
             kinetic_rotational: kr,
             potential: diagnostics::potential_energy(&self.particles, self.scene.gravity),
             elastic: self.totals.elastic,
-            dissipated: self.initial_elastic - self.totals.elastic - work,
+            dissipated: self.initial_elastic - self.totals.elastic - work - damping_work,
+            numerical_damping_dissipated: -damping_work,
             unbalanced_force_ratio: diagnostics::unbalanced_force_ratio(
                 &self.particles,
                 self.scene.gravity,
@@ -237,6 +275,61 @@ impl<L: ContactLaw> Simulation<L> {
             power += vector::lane_sum(n, |i| torque[i] * omega[i]);
         }
         power
+    }
+
+    /// The numerical damping's work since the start of the last step (J), closing its trapezoid at
+    /// the current state as [`Self::sample`] does for the contacts.
+    fn closing_damping_work(&self) -> f64 {
+        let d = &self.context.damping;
+        if !d.is_active() || self.last_power.is_none() {
+            return 0.0;
+        }
+        let now = d.power(&self.particles, self.context.gravity, self.context.rotation);
+        0.5 * (self.last_damping_power + now) * self.context.dt
+    }
+
+    /// The contacts at the current state (after a sampled step, or at time zero), with their forces.
+    pub fn contacts(&self) -> Vec<PileContact> {
+        let p = &self.particles;
+        let mut contacts = Vec::new();
+        let pairs = self.neighbors.pairs.entries.iter().zip(&self.neighbors.pairs.springs);
+        for (pair, &spring) in pairs {
+            let (i, j) = (pair.i as usize, pair.j as usize);
+            let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
+            let distance = (dx * dx + dy * dy).sqrt();
+            let overlap = p.r[i] + p.r[j] - distance;
+            if overlap > 0.0 && distance > 0.0 {
+                let normal = [dx / distance, dy / distance];
+                let relative = [p.vx[i] - p.vx[j], p.vy[i] - p.vy[j]];
+                let spin = p.omega[i] * p.r[i] + p.omega[j] * p.r[j];
+                let motion = kinematics(overlap, normal, relative, spin);
+                let force = self.disk_kind.force_of(&self.law, pair.r_star, pair.m_star, &motion, spring);
+                let ratio = overlap / p.r[i].min(p.r[j]);
+                contacts.push(pile_contact(i, Partner::Disk(j), normal, force, &self.disk_kind, ratio));
+            }
+        }
+        let walls = self.neighbors.walls.entries.iter().zip(&self.neighbors.walls.springs);
+        for (candidate, &spring) in walls {
+            let (i, k) = (candidate.i as usize, candidate.wall as usize);
+            let wall = &self.walls.walls[k];
+            let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+            if overlap > 0.0 {
+                let motion = kinematics(overlap, wall.normal, [p.vx[i], p.vy[i]], p.omega[i] * p.r[i]);
+                let force = self.wall_kind.force_of(&self.law, p.r[i], candidate.m_star, &motion, spring);
+                let ratio = overlap / p.r[i];
+                contacts.push(pile_contact(i, Partner::Wall(k), wall.normal, force, &self.wall_kind, ratio));
+            }
+        }
+        contacts
+    }
+
+    /// The pile measures of the current state (see [`Self::contacts`]).
+    pub fn pile_metrics(&self) -> PileMetrics {
+        let p = &self.particles;
+        let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
+        let geometry =
+            PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight: p.mass.iter().sum::<f64>() * g, width: self.walls.width };
+        PileMetrics::measure(&geometry, &self.contacts())
     }
 
     /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
@@ -285,10 +378,11 @@ impl<L: ContactLaw> Simulation<L> {
     /// Runs to the end, to settling, to divergence, or until the observer says stop.
     pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
         let stability = self.stability();
-        let mut warnings = stability.warnings.clone();
-        let total_steps = self.scene.total_steps();
+        let mut warnings: Vec<String> = self.time_step_warning.iter().cloned().collect();
+        warnings.extend(stability.warnings.iter().cloned());
+        let total_steps = self.scene.total_steps(self.context.dt);
         let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
-        let mut frames = FrameSchedule::new(&self.scene, total_steps);
+        let mut frames = FrameSchedule::new(&self.scene, self.context.dt, total_steps);
         let mut monitor = Monitor::new(&self.particles, &self.walls, self.scene.gravity, self.initial_elastic);
         let mut settle = SettleDetector::new(&self.scene.settle);
         let mut history = History::default();
@@ -341,11 +435,43 @@ impl<L: ContactLaw> Simulation<L> {
             warnings,
             settle_time: settle.settle_time,
             steps: self.step,
+            time_step: self.context.dt,
             simulated_time: self.time(),
+            pile: self.pile_metrics(),
             stability,
             history,
             final_state: self.snapshot(),
             frames: recorded_frames,
         }
+    }
+}
+
+/// Relative motion of a contact with unit normal `normal` from body i to j, relative velocity
+/// `v_i − v_j` and spin term `ω_i r_i + ω_j r_j` (conventions of [`super::contact`]).
+fn kinematics(overlap: f64, normal: [f64; 2], relative: [f64; 2], spin: f64) -> Kinematics {
+    let [nx, ny] = normal;
+    Kinematics {
+        overlap,
+        approach_speed: relative[0] * nx + relative[1] * ny,
+        tangential_speed: -relative[0] * ny + relative[1] * nx + spin,
+    }
+}
+
+fn pile_contact(
+    disk: usize,
+    partner: Partner,
+    normal: [f64; 2],
+    force: super::contact::ContactForce,
+    kind: &ContactKind,
+    overlap_ratio: f64,
+) -> PileContact {
+    PileContact {
+        disk,
+        partner,
+        normal,
+        normal_force: force.normal,
+        tangential_force: force.tangential,
+        friction: if kind.options.tangential { kind.options.friction } else { 0.0 },
+        overlap_ratio,
     }
 }

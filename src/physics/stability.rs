@@ -29,7 +29,7 @@ pub struct StabilityReport {
     pub impact_overlap_ratio: f64,
     /// Predicted static overlap at the floor under the weight of the settled pile, over the radius.
     pub static_overlap_ratio: f64,
-    /// Largest normal damping rate `c_n/m*` during that impact (1/s).
+    /// Largest normal damping rate `c_n/m*` during that impact, plus the viscous damping rate (1/s).
     pub damping_rate: f64,
     /// Δt / t_c.
     pub dt_over_contact_time: f64,
@@ -39,6 +39,55 @@ pub struct StabilityReport {
     pub safe_time_step: f64,
     /// What is wrong, in words (empty when nothing is).
     pub warnings: Vec<String>,
+}
+
+/// The hardest impact of a scene, for the time step and its checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HardestImpact {
+    /// Shorter of the disk-disk and disk-wall contact durations (s).
+    pub contact_time: f64,
+    /// Larger of the two impacts' largest overlaps (m).
+    pub max_overlap: f64,
+    /// Largest damping rate: the contacts' `c_n/m*` plus the viscous rate (1/s).
+    pub damping_rate: f64,
+}
+
+/// Head-on impacts at `speed` of the smallest disk (`radius`, `mass`) on its twin and on a wall.
+/// `viscous`: the numerical viscous damping rate (1/s), added to the contacts' damping rate.
+pub fn hardest_impact<L: ContactLaw>(
+    law: &L,
+    materials: &Materials,
+    speed: f64,
+    radius: f64,
+    mass: f64,
+    viscous: f64,
+) -> HardestImpact {
+    let pair = |m: &ContactMaterial, r2: f64, m2: f64| PairProperties {
+        e_star: m.e_star,
+        g_star: m.g_star,
+        r_star: effective_radius(radius, r2),
+        m_star: effective_mass(mass, m2),
+        beta: m.beta,
+    };
+    let disk_disk = estimate_impact(law, &pair(&materials.particle, radius, mass), speed);
+    let disk_wall = estimate_impact(law, &pair(&materials.wall, f64::INFINITY, f64::INFINITY), speed);
+    HardestImpact {
+        contact_time: disk_disk.duration.min(disk_wall.duration),
+        max_overlap: disk_disk.max_overlap.max(disk_wall.max_overlap),
+        damping_rate: disk_disk.max_damping_rate.max(disk_wall.max_damping_rate) + viscous,
+    }
+}
+
+/// The scene's numerical viscous damping rate `damping.viscous` (1/s).
+pub fn viscous_rate(scene: &SceneConfig) -> f64 {
+    scene.damping.viscous
+}
+
+/// Largest time step whose `Δt · damping_rate` stays within `limits.damping_rate_fraction` of the
+/// integrator's stability limit (s; infinite without damping).
+pub fn damping_time_step_limit(scene: &SceneConfig, damping_rate: f64) -> f64 {
+    let limit = scene.limits.damping_rate_fraction * damping_stability_limit(scene.integrator.scheme);
+    if damping_rate > 0.0 { limit / damping_rate } else { f64::INFINITY }
 }
 
 /// Largest `Δt · rate` of a linear decay `v' = −rate·v` that the scheme keeps stable.
@@ -74,37 +123,24 @@ pub fn assess<L: ContactLaw>(
     if p.is_empty() {
         return StabilityReport::default();
     }
-    let dt = scene.integrator.time_step;
+    let dt = scene.integrator.fixed_time_step().expect("assessed scenes have a resolved time step");
     let speed = impact_speed(p, walls, scene.gravity);
     let rmin = p.r.iter().cloned().fold(f64::INFINITY, f64::min);
     let mmin = p.mass.iter().cloned().fold(f64::INFINITY, f64::min);
-    let pair = |m: &ContactMaterial, r2: f64, m2: f64| PairProperties {
-        e_star: m.e_star,
-        g_star: m.g_star,
-        r_star: effective_radius(rmin, r2),
-        m_star: effective_mass(mmin, m2),
-        beta: m.beta,
-    };
-    let disk_disk = estimate_impact(law, &pair(&materials.particle, rmin, mmin), speed);
-    let disk_wall = estimate_impact(law, &pair(&materials.wall, f64::INFINITY, f64::INFINITY), speed);
-    let contact_time = disk_disk.duration.min(disk_wall.duration);
-    let damping_rate = disk_disk.max_damping_rate.max(disk_wall.max_damping_rate);
+    let impact = hardest_impact(law, materials, speed, rmin, mmin, viscous_rate(scene));
     let static_overlap = static_floor_overlap(law, scene, p, materials);
     let limits = &scene.limits;
     let damping_limit = limits.damping_rate_fraction * damping_stability_limit(scene.integrator.scheme);
     let mut report = StabilityReport {
         impact_speed: speed,
-        contact_time,
-        impact_overlap_ratio: disk_disk.max_overlap.max(disk_wall.max_overlap) / rmin,
+        contact_time: impact.contact_time,
+        impact_overlap_ratio: impact.max_overlap / rmin,
         static_overlap_ratio: static_overlap / p.max_radius(),
-        damping_rate,
-        dt_over_contact_time: dt / contact_time,
-        dt_times_damping_rate: dt * damping_rate,
-        safe_time_step: (limits.contact_time_fraction * contact_time).min(if damping_rate > 0.0 {
-            damping_limit / damping_rate
-        } else {
-            f64::INFINITY
-        }),
+        damping_rate: impact.damping_rate,
+        dt_over_contact_time: dt / impact.contact_time,
+        dt_times_damping_rate: dt * impact.damping_rate,
+        safe_time_step: (limits.contact_time_fraction * impact.contact_time)
+            .min(damping_time_step_limit(scene, impact.damping_rate)),
         warnings: Vec::new(),
     };
     report.warnings = warnings(scene, &report, damping_limit);
@@ -117,12 +153,12 @@ fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec
     if r.dt_over_contact_time > limits.contact_time_fraction {
         w.push(format!(
             "time step {:.3e} s is {:.3} of the contact time {:.3e} s of an impact at {:.3} m/s (limit {} = limits.contact_time_fraction): contacts are under-resolved and the run may blow up; use a time step below {:.3e} s",
-            scene.integrator.time_step, r.dt_over_contact_time, r.contact_time, r.impact_speed, limits.contact_time_fraction, r.safe_time_step
+            r.dt_over_contact_time * r.contact_time, r.dt_over_contact_time, r.contact_time, r.impact_speed, limits.contact_time_fraction, r.safe_time_step
         ));
     }
     if r.dt_times_damping_rate > damping_limit {
         w.push(format!(
-            "time step x contact damping rate = {:.3} exceeds {:.3} ({} of the integrator's stability limit {}): the damping (beta) is too strong for this time step; use a time step below {:.3e} s",
+            "time step x damping rate = {:.3} exceeds {:.3} ({} of the integrator's stability limit {}): the damping (beta, damping.viscous) is too strong for this time step; use a time step below {:.3e} s",
             r.dt_times_damping_rate, damping_limit, limits.damping_rate_fraction, damping_stability_limit(scene.integrator.scheme), r.safe_time_step
         ));
     }

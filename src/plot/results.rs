@@ -271,7 +271,7 @@ fn snapshot_names(stored: &StoredRun) -> Vec<(String, &Snapshot)> {
     let mut pictures: Vec<(String, &Snapshot)> =
         stored.frames.iter().enumerate().map(|(k, frame)| (format!("frame_{k}"), frame)).collect();
     if let Some(last) = &stored.final_state {
-        let half_step = 0.5 * stored.scene.integrator.time_step;
+        let half_step = 0.5 * stored.scene.integrator.fixed_time_step().unwrap_or(1e-12);
         if !stored.frames.last().is_some_and(|frame| (frame.time - last.time).abs() < half_step) {
             pictures.push(("final".to_string(), last));
         }

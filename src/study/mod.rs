@@ -99,8 +99,27 @@ pub struct PlannedRun {
     pub scene: SceneConfig,
     /// Initial states read from the placement file, shared by runs that use the same file.
     pub initial: Option<Arc<Vec<InitialDisk>>>,
-    /// Relative cost estimate (particle-steps), for progress and shard balancing.
+    /// The time step the run will use (s): given, or resolved from the scene (see
+    /// [`crate::physics::time_step`]).
+    pub time_step: f64,
+    /// Relative cost estimate (particle-steps at most: runs stop when settled), for progress and
+    /// shard balancing.
     pub estimated_cost: f64,
+}
+
+impl PlannedRun {
+    /// A run of a (validated) scene, with its time step resolved and its cost estimated.
+    pub fn new(
+        id: String,
+        index: usize,
+        parameters: Vec<(String, ParamValue)>,
+        scene: SceneConfig,
+        initial: Option<Arc<Vec<InitialDisk>>>,
+    ) -> Self {
+        let time_step = crate::physics::simulation::scene_time_step(&scene, initial.as_deref().map(Vec::as_slice)).dt;
+        let estimated_cost = scene.particles.count as f64 * scene.total_steps(time_step) as f64;
+        Self { id, index, parameters, scene, initial, time_step, estimated_cost }
+    }
 }
 
 /// A validated, expanded study.

@@ -201,8 +201,7 @@ impl<'a> Planner<'a> {
         }
         let initial = self.initial_states(&point, &mut scene)?;
         self.check_scene(&point, &scene, initial.as_deref())?;
-        let estimated_cost = scene.particles.count as f64 * scene.total_steps() as f64;
-        Ok(PlannedRun { id: point.id, index, parameters, scene, initial, estimated_cost })
+        Ok(PlannedRun::new(point.id, index, parameters, scene, initial))
     }
 
     /// The base scene with this run's swept values set.

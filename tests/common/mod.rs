@@ -22,7 +22,7 @@ pub fn free_scene(youngs_modulus: f64, scheme: IntegratorKind, dt: f64) -> Scene
     s.material.friction = 0.0;
     s.material.rolling_friction = 0.0;
     s.integrator.scheme = scheme;
-    s.integrator.time_step = dt;
+    s.integrator.time_step = Some(dt);
     s.placement.kind = PlacementKind::File;
     s.placement.file = Some("in-memory".into());
     s.run.stop_at_settle = false;
@@ -87,7 +87,7 @@ pub fn reference_scene() -> SceneConfig {
     s.material.friction = 0.5;
     s.placement.kind = PlacementKind::File;
     s.placement.file = Some("deposition_300.csv".into());
-    s.integrator.time_step = 1e-5;
+    s.integrator.time_step = Some(1e-5);
     s
 }
 

@@ -15,7 +15,7 @@ pub fn tiny_scene(restitution: f64, time_step: f64) -> SceneConfig {
     scene.domain.width = 0.2;
     scene.domain.height = 0.3;
     scene.material.restitution = Some(restitution);
-    scene.integrator.time_step = time_step;
+    scene.integrator.time_step = Some(time_step);
     scene.run.duration = 0.7;
     scene.run.frame_times = vec![0.0, 0.1, 0.2];
     scene.settle.ubf_threshold = 0.05;

@@ -23,14 +23,7 @@ pub fn plan(name: &str, runs: Vec<(Vec<(String, ParamValue)>, SceneConfig)>) -> 
     let runs = runs
         .into_iter()
         .enumerate()
-        .map(|(index, (parameters, scene))| PlannedRun {
-            id: format!("r{index:03}"),
-            index,
-            estimated_cost: scene.particles.count as f64 * scene.total_steps() as f64,
-            parameters,
-            scene,
-            initial: None,
-        })
+        .map(|(index, (parameters, scene))| PlannedRun::new(format!("r{index:03}"), index, parameters, scene, None))
         .collect();
     Plan {
         study_path: PathBuf::from(format!("{name}.toml")),

@@ -1,0 +1,138 @@
+//! Pile metrics with known answers: a hexagonal lattice, a chain, settled piles with and without
+//! wall friction.
+
+mod common;
+
+use demsweep::physics::config::{PlacementKind, SceneConfig};
+use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::particles::InitialDisk;
+use demsweep::physics::pile::{Partner, fabric};
+use demsweep::physics::simulation::{Control, Simulation, run_scene};
+
+/// A scene without gravity whose disks are given in memory, in a `width` x `height` box.
+fn static_scene(width: f64, height: f64) -> SceneConfig {
+    let mut s = SceneConfig::default();
+    (s.domain.width, s.domain.height, s.gravity) = (width, height, [0.0, 0.0]);
+    s.placement.kind = PlacementKind::File;
+    s.placement.file = Some("in-memory".into());
+    s
+}
+
+/// Disk centres of a hexagonal lattice with spacing `2 r (1 − 1e-6)` (every neighbour pair
+/// overlaps slightly, so each contact carries force), `columns` x `rows`, resting on the floor.
+fn hexagonal_lattice(r: f64, columns: usize, rows: usize) -> Vec<InitialDisk> {
+    let a = 2.0 * r * (1.0 - 1e-6);
+    let row_height = a * 3f64.sqrt() / 2.0;
+    let row = |k: usize| (0..columns).map(move |j| (k, j));
+    (0..rows)
+        .flat_map(row)
+        .map(|(k, j)| {
+            let x = r + a * j as f64 + if k % 2 == 1 { 0.5 * a } else { 0.0 };
+            InitialDisk { x, y: r + row_height * k as f64, r, ..Default::default() }
+        })
+        .collect()
+}
+
+#[test]
+fn hexagonal_lattice_has_the_close_packed_fraction_and_six_contacts_inside() {
+    let (r, columns, rows) = (0.01, 80, 90);
+    let disks = hexagonal_lattice(r, columns, rows);
+    let width = 2.0 * r * (columns as f64 + 0.5);
+    let sim = Simulation::new(&static_scene(width, 3.0), &disks, HertzMindlin);
+    let metrics = sim.pile_metrics();
+    let close_packed = std::f64::consts::PI / (2.0 * 3f64.sqrt());
+    println!("interior packing fraction {:.6} (hexagonal {close_packed:.6})", metrics.packing_fraction_interior);
+    assert!((metrics.packing_fraction_interior / close_packed - 1.0).abs() < 0.005);
+    let mut count = vec![0usize; disks.len()];
+    for c in sim.contacts() {
+        count[c.disk] += 1;
+        if let Partner::Disk(j) = c.partner {
+            count[j] += 1;
+        }
+    }
+    let top = disks.iter().map(|d| d.y).fold(0.0, f64::max);
+    let interior: Vec<usize> = (0..disks.len())
+        .filter(|&i| disks[i].x > 0.1 && disks[i].x < width - 0.1 && disks[i].y > 0.1 && disks[i].y < top - 0.1)
+        .collect();
+    assert!(interior.len() > 3000);
+    assert!(interior.iter().all(|&i| count[i] == 6), "every interior disk touches six");
+    assert_eq!(metrics.rattler_fraction, 0.0);
+    assert!(metrics.coordination_number > 5.7 && metrics.coordination_number < 6.0, "{}", metrics.coordination_number);
+}
+
+#[test]
+fn hexagonal_patch_is_isotropic() {
+    // A hexagon of the lattice (axial coordinates |i|, |j|, |i + j| ≤ 6): the same number of
+    // contacts along each of the three lattice directions.
+    let (r, rings) = (0.01, 6i32);
+    let a = 2.0 * r * (1.0 - 1e-6);
+    let disks: Vec<InitialDisk> = (-rings..=rings)
+        .flat_map(|i| (-rings..=rings).map(move |j| (i, j)))
+        .filter(|(i, j)| (i + j).abs() <= rings)
+        .map(|(i, j)| InitialDisk {
+            x: 0.5 + a * (i as f64 + 0.5 * j as f64),
+            y: 0.5 + a * 3f64.sqrt() / 2.0 * j as f64,
+            r,
+            ..Default::default()
+        })
+        .collect();
+    let sim = Simulation::new(&static_scene(1.0, 1.0), &disks, HertzMindlin);
+    let contacts = sim.contacts();
+    assert_eq!(disks.len(), (3 * rings * rings + 3 * rings + 1) as usize);
+    assert_eq!(contacts.len(), (3 * (3 * rings * rings + rings)) as usize, "bonds of a hexagon of {rings} rings");
+    let (anisotropy, _) = fabric(&contacts);
+    println!("hexagonal patch: {} contacts, anisotropy {anisotropy:.3e}", contacts.len());
+    assert!(anisotropy.abs() < 1e-9);
+}
+
+#[test]
+fn a_chain_of_disks_has_anisotropy_two_along_its_line() {
+    let angle: f64 = 0.4;
+    let a = 0.02 * (1.0 - 1e-6);
+    let disks: Vec<InitialDisk> = (0..12)
+        .map(|k| InitialDisk {
+            x: 0.2 + a * k as f64 * angle.cos(),
+            y: 0.2 + a * k as f64 * angle.sin(),
+            r: 0.01,
+            ..Default::default()
+        })
+        .collect();
+    let metrics = Simulation::new(&static_scene(1.0, 1.0), &disks, HertzMindlin).pile_metrics();
+    assert!((metrics.fabric_anisotropy - 2.0).abs() < 1e-9, "{}", metrics.fabric_anisotropy);
+    assert!((metrics.fabric_direction - angle).abs() < 1e-9, "{}", metrics.fabric_direction);
+    assert!((metrics.coordination_number - 2.0 * 11.0 / 12.0).abs() < 1e-12);
+    assert_eq!(metrics.rattler_fraction, 1.0, "a chain has two disks with one contact, and unravels from there");
+}
+
+/// A pile of `count` disks poured into a `width`-wide box and run until it is at rest.
+/// At rest: the unbalanced force ratio bounds the floor's deviation from the weight (the disks' net
+/// vertical forces add up to floor load minus weight).
+fn settled_pile(count: usize, width: f64, height: f64, wall_friction: f64) -> demsweep::physics::RunRecord {
+    let mut s = SceneConfig::default();
+    s.particles.count = count;
+    s.particles.radius_max = Some(0.012);
+    (s.domain.width, s.domain.height) = (width, height);
+    s.wall_material.friction = Some(wall_friction);
+    s.material.restitution = Some(0.3);
+    s.settle.ubf_threshold = 2e-4;
+    s.settle.hold_time = 0.05;
+    s.run.duration = 3.0;
+    let rec = run_scene(&s, None, &mut |_| Control::Continue).unwrap();
+    assert_eq!(rec.status.as_str(), "settled", "{:?}", rec.message);
+    rec
+}
+
+#[test]
+fn frictionless_side_walls_put_the_whole_weight_on_the_floor() {
+    let rec = settled_pile(120, 0.2, 0.8, 0.0);
+    println!("frictionless walls: floor load ratio {:.5}", rec.pile.floor_load_ratio);
+    assert!((rec.pile.floor_load_ratio - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn wall_friction_carries_part_of_a_narrow_column() {
+    let rec = settled_pile(60, 0.05, 1.2, 0.8);
+    println!("wall friction 0.8, narrow column: floor load ratio {:.5}", rec.pile.floor_load_ratio);
+    assert!(rec.pile.floor_load_ratio < 0.95, "the walls carry weight (Janssen)");
+    assert!(rec.pile.floor_load_ratio > 0.1);
+}
