@@ -29,13 +29,10 @@ fn row(index: usize, e: f64, seed: i64, settle: Option<f64>, packing: f64, steps
     row.message.clear();
     row.settle_time = settle;
     row.steps = steps;
-    row.particle_steps = 100 * steps;
     row.wall_time = steps as f64 * 1e-4;
-    // Final values as a file written before the pile metrics reads them: missing (NaN).
-    row.final_values = [f64::NAN; FINAL_VALUE_NAMES.len()];
-    let slot = |name: &str| FINAL_VALUE_NAMES.iter().position(|n| *n == name).unwrap();
-    row.final_values[slot("packing_fraction")] = packing;
-    row.final_values[slot("pile_height")] = 0.1;
+    row.particle_steps = steps * 300;
+    row.final_values = [0.0; FINAL_VALUE_NAMES.len()];
+    row.final_values[FINAL_VALUE_NAMES.iter().position(|n| *n == "packing_fraction").unwrap()] = packing;
     row
 }
 
@@ -184,8 +181,8 @@ fn ratio_interval_by_the_delta_method_on_logs() {
 
 #[test]
 fn compare_finds_points_and_refuses_unknown_ones() {
-    let summary = summary();
-    let points = Points::new(&summary);
+    let table = summary();
+    let points = Points::new(&table);
     assert_eq!(compare::find_point(&points, "material.restitution=0.9"), Ok(1));
     assert_eq!(compare::find_point(&points, "restitution=0.5"), Ok(0));
     assert_eq!(compare::find_point(&points, "r0005"), Ok(1), "a run id names its point");
@@ -202,12 +199,23 @@ fn compare_finds_points_and_refuses_unknown_ones() {
         "the tolerance of `x` must be a positive relative tolerance, got 0"
     );
 
-    // No pile metrics in this summary: the fallback, said in a note.
+    // By default the pile metrics, and cost in particle-steps.
+    let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
+    let kept: Vec<&str> = comparison.kept.iter().map(|k| k.tolerance.metric.as_str()).collect();
+    assert_eq!(kept, compare::DEFAULT_KEEP.map(|(m, _)| m));
+    assert_eq!((comparison.notes.len(), comparison.cost_column.as_str()), (0, "particle_steps"));
+    assert!(close(comparison.points[0].cost.ratio, 2000.0 / 1200.0, 1e-12));
+
+    // A file written before the pile metrics and particle-steps: the fallback, said in a note.
+    let mut old = summary();
+    let newer: Vec<&str> = compare::DEFAULT_KEEP.iter().map(|(m, _)| *m).chain(["particle_steps"]).collect();
+    old.columns.retain(|c| !newer.contains(&c.name.as_str()));
+    let points = Points::new(&old);
     let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
     let kept: Vec<&str> = comparison.kept.iter().map(|k| k.tolerance.metric.as_str()).collect();
     assert_eq!(kept, ["packing_fraction", "pile_height"]);
     assert!(comparison.notes[0].contains("keeping packing_fraction, pile_height instead"));
-    assert_eq!(comparison.cost_column, "particle_steps");
+    assert_eq!(comparison.cost_column, "steps");
     let other = &comparison.points[0];
     assert_eq!((other.point, other.n), (1, 4));
     // Packing 0.70 against 0.82 ± 0.0082: clearly different.
@@ -217,5 +225,13 @@ fn compare_finds_points_and_refuses_unknown_ones() {
     assert!(close(other.cost.ratio, 2000.0 / 1200.0, 1e-12));
     let table = comparison.table(&points);
     assert_eq!(table.len(), 2, "one row per other point and kept metric");
+
+    // Read back from an old file, the newer columns exist but hold no value: the same fallback.
+    let mut unmeasured = summary();
+    for column in unmeasured.columns.iter_mut().filter(|c| compare::DEFAULT_KEEP.iter().any(|(m, _)| *m == c.name)) {
+        column.data = ColumnData::Float(vec![f64::NAN; column.data.len()]);
+    }
+    let comparison = compare::compare(&Points::new(&unmeasured), "restitution=0.5", &[]).unwrap();
+    assert_eq!(comparison.kept[0].tolerance.metric, "packing_fraction");
     assert_eq!(table.column("decision").unwrap().data.text(0), "different");
 }
