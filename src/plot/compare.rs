@@ -9,7 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH, NOT_SETTLED};
-use super::{ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
 use crate::stats::Ratio;
 use crate::stats::compare::Comparison;
 use crate::stats::points::Points;
@@ -37,16 +37,16 @@ pub struct MetricPoint {
 }
 
 /// Draws `metric` against `x_param` (a line per value of `series_param`), every point with its 95 %
-/// interval, and the reference's tolerance band `band` shaded, into `path`.
-pub fn metric_chart(
+/// interval, and the reference's tolerance band `band` shaded, onto `canvas`.
+pub fn metric_chart<'c>(
     metric: &str,
     points: &[MetricPoint],
     (x_param, series_param): (&str, Option<&str>),
     band: Range<f64>,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&MetricFigure { metric, points, x_param, series_param, band }, options, path)
+    render(&MetricFigure { metric, points, x_param, series_param, band }, options, canvas.into())
 }
 
 /// One point of the cost chart.
@@ -63,9 +63,14 @@ pub struct CostPoint {
 }
 
 /// Draws each point's cost ratio (with its 95 % interval) against its deviation, acceptable points
-/// filled green, the reference at (0, 1), into `path`; `cost` names the cost measure.
-pub fn cost_chart(points: &[CostPoint], cost: &str, options: &ChartOptions, path: &Path) -> Result<(), PlotError> {
-    render(&CostFigure { points, cost }, options, path)
+/// filled green, the reference at (0, 1), onto `canvas`; `cost` names the cost measure.
+pub fn cost_chart<'c>(
+    points: &[CostPoint],
+    cost: &str,
+    options: &ChartOptions,
+    canvas: impl Into<Canvas<'c>>,
+) -> Result<(), PlotError> {
+    render(&CostFigure { points, cost }, options, canvas.into())
 }
 
 /// Draws `compare_<metric>` for every kept metric and `compare_cost` into `dir` as PNG; returns the

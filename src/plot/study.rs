@@ -6,7 +6,6 @@
 //! (lines) or grey cells (heatmap). A legend explains the marks that appear.
 
 use std::ops::Range;
-use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{SegmentValue, SegmentedCoord};
@@ -15,38 +14,40 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::style::{self, DIVERGED, LABEL_SIZE, LINE_WIDTH, NOT_SETTLED};
-use super::{ChartOptions, DrawResult, Figure, PlotError, StudyPoint, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, StudyPoint, render};
 use crate::physics::RunStatus;
 use crate::stats::{Describe, describe};
 
 /// Draws settle time against the swept parameter `x_param`, one line per value of `series_param`
-/// (one line in all without it), into `path`. A line joins the mean settle time of the settled runs
+/// (one line in all without it), onto `canvas`. A line joins the mean settle time of the settled runs
 /// at each x, with its 95 % interval as an error bar where two or more settled; every run is marked,
 /// those without a settle time in a row above the data.
-pub fn settle_time_lines(
+pub fn settle_time_lines<'c>(
     points: &[StudyPoint],
     x_param: &str,
     series_param: Option<&str>,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    check_parameters(points, [Some(x_param), series_param].into_iter().flatten(), path)?;
-    render(&LinesFigure { points, x_param, series_param }, options, path)
+    let canvas = canvas.into();
+    check_parameters(points, [Some(x_param), series_param].into_iter().flatten(), &canvas)?;
+    render(&LinesFigure { points, x_param, series_param }, options, canvas)
 }
 
-/// Draws a heatmap of settle time over the grid of `x_param` × `y_param` values into `path` and
+/// Draws a heatmap of settle time over the grid of `x_param` × `y_param` values onto `canvas` and
 /// returns its cells, one per grid point that has runs. A cell shows the mean settle time (and its
 /// 95 % half-width, with two or more runs) when all its runs settled; otherwise it is marked
 /// diverged if one of them diverged, not settled if not.
-pub fn settle_time_heatmap(
+pub fn settle_time_heatmap<'c>(
     points: &[StudyPoint],
     x_param: &str,
     y_param: &str,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<Vec<HeatmapCell>, PlotError> {
-    check_parameters(points, [x_param, y_param], path)?;
-    render(&HeatmapFigure { grid: Grid::new(points, x_param, y_param), x_param, y_param }, options, path)
+    let canvas = canvas.into();
+    check_parameters(points, [x_param, y_param], &canvas)?;
+    render(&HeatmapFigure { grid: Grid::new(points, x_param, y_param), x_param, y_param }, options, canvas)
 }
 
 /// What a heatmap cell shows.
@@ -81,12 +82,12 @@ pub struct HeatmapCell {
 fn check_parameters<'a>(
     points: &[StudyPoint],
     names: impl IntoIterator<Item = &'a str>,
-    path: &Path,
+    canvas: &Canvas<'_>,
 ) -> Result<(), PlotError> {
     for name in names {
         if let Some(index) = points.iter().position(|p| p.parameter(name).is_none()) {
             let reason = format!("run {index} has no swept parameter '{name}' to plot against");
-            return Err(PlotError { path: path.to_path_buf(), reason });
+            return Err(PlotError { path: canvas.label(), reason });
         }
     }
     Ok(())
