@@ -138,6 +138,19 @@ enum Command {
                       demsweep plot results/damping_sweep/damping_sweep.h5 --run r0003 --run r0012 --out figs"
     )]
     Plot(plot::PlotArgs),
+    /// Write the morning-after report of a results file: one self-contained HTML page.
+    #[command(
+        long_about = "Write one self-contained HTML page about a results file (inline CSS, SVG charts and a \
+                      little JavaScript, no network request; open it anywhere, attach it to an e-mail): what \
+                      was run, how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
+                      interval of settle time, cost and pile metrics; sortable by any column, filterable by \
+                      status), the settle-time charts, and a section per charted run (energies, unbalanced \
+                      force ratio, final pile) linked from its point's row. `run`, `merge` and `tune` write \
+                      it next to their results as <study name>_report.html.",
+        after_help = "Examples:\n  demsweep report results/damping_sweep/damping_sweep.h5\n  \
+                      demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
+    )]
+    Report(results::ReportArgs),
     /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
@@ -193,6 +206,7 @@ pub fn main() -> ExitCode {
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
         Command::Plot(args) => plot::plot(&args),
+        Command::Report(args) => results::report(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Slurm(args) => match load_or_report(args.study()) {
             Ok(plan) => slurm::slurm(&args, &plan),

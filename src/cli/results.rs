@@ -12,6 +12,7 @@ use demsweep::output::SummaryTable;
 use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
 use demsweep::plot::{self, ChartOptions};
+use demsweep::report::ReportContext;
 use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, interrupt};
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::{self, Points};
@@ -119,6 +120,15 @@ pub struct HistoryArgs {
 }
 
 #[derive(Args)]
+pub struct ReportArgs {
+    /// A results file (.h5).
+    results: PathBuf,
+    /// Where to write the page (default: <study name>_report.html next to the results file).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Args)]
 pub struct MergeArgs {
     /// Output directory: receives <study name>.h5 and <study name>_summary.csv.
     out: PathBuf,
@@ -200,6 +210,7 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         report.summary_csv.display(),
         report.points_csv.display()
     );
+    write_report(&report.results, &ReportContext { jobs: Some(report.jobs), elapsed: Some(wall) });
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
@@ -326,6 +337,21 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
     report_error(outcome)
 }
 
+/// `demsweep report`: the HTML report of a results file.
+pub fn report(args: &ReportArgs) -> ExitCode {
+    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default(), None);
+    report_error(written.map(|path| println!("report: {}", path.display())))
+}
+
+/// Writes the report of a results file just written and prints where it went; a report that cannot
+/// be written is a warning (the results are safe).
+pub fn write_report(results: &Path, context: &ReportContext) {
+    match demsweep::report::write_report(results, None, context, None) {
+        Ok(path) => println!("report: {}", path.display()),
+        Err(e) => eprintln!("warning: no report: {e}"),
+    }
+}
+
 /// `demsweep merge`: shard files into one results file.
 pub fn merge(args: &MergeArgs) -> ExitCode {
     let outcome = output::merge(&args.out, &args.inputs, args.force).map(|report| {
@@ -337,6 +363,7 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
             report.summary_csv.display(),
             report.points_csv.display()
         );
+        write_report(&report.results, &ReportContext::default());
     });
     report_error(outcome)
 }
