@@ -70,16 +70,40 @@ enum Command {
                       demsweep run studies/damping_sweep.toml --shard 2/8 --out results/shards"
     )]
     Run(results::RunArgs),
-    /// Print the summary of a results file (one row per run), or export it as CSV.
+    /// Print the summary of a results file (one row per run, or per grid point), or export it as CSV.
     #[command(
         long_about = "Print the summary of a results file as an aligned table: run id, swept parameters, \
                       status, settle time, steps, times, final energies, UBF, pile height, packing fraction, \
                       warnings and message. With --csv, write it as a CSV file instead. Works on a file \
-                      whose run was killed, too (the summary is then rebuilt from the committed runs).",
+                      whose run was killed, too (the summary is then rebuilt from the committed runs).\n\n\
+                      With --by-point, one row per grid point (the runs that differ only by placement seed): \
+                      n, status counts and, per numeric column, n, mean, sample standard deviation, 95 % \
+                      confidence half-width (Student t), min and max (printed as mean ± half-width for a few \
+                      metrics; --csv writes every statistic, as does /points). Settle time is over the \
+                      settled runs; `unsettled` counts the others. Files written before /points existed \
+                      get it computed from their summary.",
         after_help = "Examples:\n  demsweep summary results/damping_sweep/damping_sweep.h5\n  \
-                      demsweep summary results/damping_sweep/damping_sweep.h5 --csv damping.csv"
+                      demsweep summary results/damping_sweep/damping_sweep.h5 --csv damping.csv\n  \
+                      demsweep summary results/damping_sweep/damping_sweep.h5 --by-point --metric settle_time\n  \
+                      demsweep summary results/damping_sweep/damping_sweep.h5 --by-point --csv points.csv"
     )]
     Summary(results::SummaryArgs),
+    /// Compare every grid point with a reference point: equivalent, different or undecided per metric.
+    #[command(
+        long_about = "Compare every grid point of a results file with a reference point. For every kept \
+                      metric (relative tolerance TOL: margin = TOL x |reference mean|) it prints the difference \
+                      of means with its 90 % Welch interval and the decision of two one-sided tests \
+                      (Schuirmann 1987): equivalent (the interval lies inside ± margin), different (wholly \
+                      outside) or undecided (and roughly how many seeds per point would decide). Then the cost \
+                      (particle-steps, or steps in older files) and wall time of each point relative to the \
+                      reference with 95 % intervals (delta method on logs). A point is acceptable when every \
+                      kept metric is equivalent. Exit status 2 for an unknown point or metric.",
+        after_help = "Examples:\n  demsweep compare results/damping_sweep/damping_sweep.h5 \
+                      --reference material.restitution=0.5,material.friction=0.6\n  \
+                      demsweep compare results/damping_sweep/damping_sweep.h5 --reference r0000 \
+                      --keep packing_fraction=0.005 --keep pile_height=0.01 --csv compare.csv --plot"
+    )]
+    Compare(results::CompareArgs),
     /// Print one run's histories (energies, UBF, contacts over time) as CSV.
     #[command(
         long_about = "Print the sampled histories of one run as CSV on stdout: time t and the kinetic, \
@@ -115,6 +139,19 @@ enum Command {
                       demsweep plot results/damping_sweep/damping_sweep.h5 --run r0003 --run r0012 --out figs"
     )]
     Plot(plot::PlotArgs),
+    /// Write the morning-after report of a results file: one self-contained HTML page.
+    #[command(
+        long_about = "Write one self-contained HTML page about a results file (inline CSS, SVG charts and a \
+                      little JavaScript, no network request; open it anywhere, attach it to an e-mail): what \
+                      was run, how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
+                      interval of settle time, cost and pile metrics; sortable by any column, filterable by \
+                      status), the settle-time charts, and a section per charted run (energies, unbalanced \
+                      force ratio, final pile) linked from its point's row. `run`, `merge` and `tune` write \
+                      it next to their results as <study name>_report.html.",
+        after_help = "Examples:\n  demsweep report results/damping_sweep/damping_sweep.h5\n  \
+                      demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
+    )]
+    Report(results::ReportArgs),
     /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
@@ -182,9 +219,11 @@ pub fn main() -> ExitCode {
             Err(code) => code,
         },
         Command::Summary(args) => results::summary(&args),
+        Command::Compare(args) => results::compare(&args),
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
         Command::Plot(args) => plot::plot(&args),
+        Command::Report(args) => results::report(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Slurm(args) => match load_or_report(args.study()) {
             Ok(plan) => slurm::slurm(&args, &plan),

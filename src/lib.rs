@@ -4,13 +4,16 @@
 //! - [`physics`]: the simulation library (no I/O): particles, contacts, integrators, walls, diagnostics.
 //! - study / runner / output / CLI: study files → plan → parallel runs → HDF5 and CSV.
 //! - [`slurm`]: batch scripts running a study as a Slurm array job (one shard per task) plus a merge job.
+//! - [`stats`]: statistics over replicates (per-point descriptions, equivalence tests), no I/O.
 //! - [`plot`]: PNG and SVG pictures of runs and studies, drawn from in-memory records or a results file.
+//! - [`report`]: one self-contained HTML page per results file, built from the results, statistics and charts.
 #![deny(unsafe_code)]
 
 pub mod bench;
 pub mod output;
 pub mod physics;
 pub mod plot;
+pub mod report;
 pub mod runner;
 pub mod slurm;
 pub mod stats;

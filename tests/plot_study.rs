@@ -89,6 +89,10 @@ fn heatmap_cell_of_replicates_shows_their_mean_or_their_worst_end() {
     let cells = study::settle_time_heatmap(&points, RESTITUTION, TIME_STEP, &ChartOptions::default(), &path).unwrap();
     let state = |x: f64, y: f64| cells.iter().find(|c| c.x == x && c.y == y).map(|c| (c.state, c.runs));
     assert!(matches!(state(0.3, 1e-5), Some((CellState::Settled(t), 2)) if (t - 0.3).abs() < 1e-12));
+    // 95 % half-width of 0.2 and 0.4: t(0.975, 1) · s / √2 with s = 0.1 √2.
+    let half_width = |x: f64, y: f64| cells.iter().find(|c| c.x == x && c.y == y).and_then(|c| c.half_width_95);
+    assert!((half_width(0.3, 1e-5).unwrap() - 12.7062 * 0.1).abs() < 1e-4);
+    assert_eq!((half_width(0.9, 1e-5), half_width(0.3, 1e-4)), (None, None), "no interval without a settle time");
     assert_eq!(state(0.9, 1e-5), Some((CellState::Diverged, 2)));
     assert_eq!(state(0.3, 1e-4), Some((CellState::NotSettled, 2)));
     assert_eq!(state(0.9, 1e-4), Some((CellState::NotSettled, 1)));
@@ -142,6 +146,20 @@ fn settle_time_lines_join_the_mean_of_replicates() {
         .expect("the mean line");
     let rows: Vec<&str> = line["points"].split_whitespace().map(|p| p.split_once(',').unwrap().1).collect();
     assert_eq!(rows[0], rows[1], "level line: {}", line["points"]);
+    // An error bar (a vertical stroke and two caps) at x = 0.3, with two runs, none at x = 0.9.
+    let ends = |l: &std::collections::HashMap<String, String>| -> Vec<(f64, f64)> {
+        let xy = |p: &str| p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap();
+        l["points"].split_whitespace().map(xy).collect()
+    };
+    let strokes: Vec<Vec<(f64, f64)>> =
+        svg_elements(&path, "polyline").iter().filter(|l| l["stroke"] == "#1F77B4").map(ends).collect();
+    let vertical: Vec<&Vec<(f64, f64)>> = strokes.iter().filter(|e| e.len() == 2 && e[0].0 == e[1].0).collect();
+    assert_eq!(vertical.len(), 1, "{strokes:?}");
+    let caps = strokes.iter().filter(|e| e.len() == 2 && e[0].1 == e[1].1 && e[0].0 != e[1].0).count();
+    assert_eq!(caps, 2 + 2, "two caps, the level mean line and its legend sample");
+    let mean_row: f64 = rows[0].parse().unwrap();
+    let (top, bottom) = (vertical[0][0].1.min(vertical[0][1].1), vertical[0][0].1.max(vertical[0][1].1));
+    assert!(top < mean_row && mean_row < bottom, "the bar spans the mean ({top} < {mean_row} < {bottom})");
 }
 
 #[test]

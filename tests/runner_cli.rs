@@ -159,4 +159,31 @@ fn summary_history_and_merge_commands() {
     let missing = demsweep(&["history", results.to_str().unwrap(), "r9999"]);
     assert_eq!(missing.status.code(), Some(1));
     assert!(stderr(&missing).contains("no run `r9999`"), "{}", stderr(&missing));
+
+    let r = results.to_str().unwrap();
+    let by_point = demsweep(&["summary", r, "--by-point"]);
+    let text = String::from_utf8_lossy(&by_point.stdout);
+    assert_eq!(text.lines().count(), 1 + 4, "one line per restitution value:\n{text}");
+    assert!(text.lines().nth(1).unwrap().starts_with("0.2  "), "{text}");
+    let points_csv = dir.join("points.csv");
+    let export = demsweep(&["summary", r, "--by-point", "--csv", points_csv.to_str().unwrap()]);
+    assert_eq!(export.status.code(), Some(0));
+    assert_eq!(std::fs::read(&points_csv).unwrap(), std::fs::read(merged.join("cli_sweep_points.csv")).unwrap());
+
+    let compare = demsweep(&["compare", r, "--reference", "restitution=0.4", "--keep", "pile_height=0.05"]);
+    let text = String::from_utf8_lossy(&compare.stdout);
+    assert_eq!(compare.status.code(), Some(0), "{}", stderr(&compare));
+    let decided = text.lines().filter(|l| l.contains("  pile_height  "));
+    let decisions: Vec<&str> = decided.filter_map(|l| l.split_whitespace().nth(8)).collect();
+    assert_eq!(decisions.len(), 3, "the three other points, one metric:\n{text}");
+    assert!(decisions.iter().all(|d| ["equivalent", "different", "undecided"].contains(d)), "{text}");
+    for (reference, keep, expected) in [
+        ("restitution=0.3", "pile_height=0.05", "no point has restitution=0.3"),
+        ("restitution=0.4", "bogus=0.1", "`bogus` is not a numeric summary column; the metrics are: settle_time,"),
+        ("placement.seed=1", "pile_height=0.05", "placement.seed is not a point coordinate"),
+    ] {
+        let refused = demsweep(&["compare", r, "--reference", reference, "--keep", keep]);
+        assert_eq!(refused.status.code(), Some(2), "{reference} {keep}");
+        assert!(stderr(&refused).starts_with(&format!("error: {r}: {expected}")), "{}", stderr(&refused));
+    }
 }

@@ -107,3 +107,27 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
     let steps: u64 = records[1][col("steps")].parse().unwrap();
     assert_eq!(steps, 4000);
 }
+
+#[test]
+fn points_csv_and_the_points_group_agree() {
+    // Restitution 0.3, 0.4, 0.5, 0.6 with two seeds each: four points of two runs.
+    let plan = runner_common::sweep("points", 8);
+    let report = run_plan(&plan, &runner_common::options(&runner_common::scratch("points"), 2)).unwrap();
+    assert!(report.points_csv.ends_with("points_points.csv"));
+    let stored = demsweep::output::summary::read_points(&report.results).unwrap();
+    assert_eq!(stored, report.points);
+    assert_eq!(stored, demsweep::stats::points::Points::new(&report.summary).table());
+    assert_eq!(stored.len(), 4);
+
+    let records = parse_csv(&std::fs::read_to_string(&report.points_csv).unwrap());
+    let header: Vec<&str> = stored.columns.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(records[0], header);
+    assert_eq!(&header[..3], ["material.restitution", "n", "settled"]);
+    assert_eq!(records.len(), 1 + 4);
+    for (i, record) in records[1..].iter().enumerate() {
+        let cells: Vec<String> = stored.columns.iter().map(|c| c.data.text(i)).collect();
+        assert_eq!(record, &cells, "point {i}");
+    }
+    let n = stored.columns.iter().position(|c| c.name == "n").unwrap();
+    assert!(records[1..].iter().all(|r| r[n] == "2"));
+}

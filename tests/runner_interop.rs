@@ -1,6 +1,6 @@
 //! An independent libhdf5-based reader (h5py) finds exactly what the simulations produced: every
-//! group, dataset and attribute of the results file is compared with a JSON description built here
-//! from the plan and from re-running each (deterministic) simulation.
+//! group, dataset and attribute of the results file (`/points` included) is compared with a JSON
+//! description built here from the plan and from re-running each (deterministic) simulation.
 
 mod runner_common;
 
@@ -130,18 +130,18 @@ fn history(r: &RunRecord) -> Value {
     table(f, json!({}))
 }
 
-/// The expected `/summary` datasets, typed by the values the runs produced.
-fn summary_datasets(summary: &SummaryTable, datasets: &mut Map<String, Value>) -> Value {
-    for c in &summary.columns {
+/// The expected datasets of the group `/<group>` (`summary`, `points`): one per column, typed by its values.
+fn column_datasets(group: &str, table: &SummaryTable, datasets: &mut Map<String, Value>) -> Value {
+    for c in &table.columns {
         let values = match &c.data {
             ColumnData::Float(v) => json!(v),
             ColumnData::Int(v) => json!(v),
             ColumnData::Bool(v) => json!(v),
             ColumnData::Text(v) => json!(v),
         };
-        datasets.insert(format!("/summary/{}", c.name), json!({"attrs": {}, "values": values}));
+        datasets.insert(format!("/{group}/{}", c.name), json!({"attrs": {}, "values": values}));
     }
-    json!({"columns": summary.columns.iter().map(|c| &c.name).collect::<Vec<_>>()})
+    json!({"columns": table.columns.iter().map(|c| &c.name).collect::<Vec<_>>()})
 }
 
 fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
@@ -175,7 +175,15 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
             datasets.insert(format!("{base}/frames/{k}"), snapshot(frame));
         }
     }
-    groups.insert("/summary".into(), summary_datasets(summary, &mut datasets));
+    groups.insert("/summary".into(), column_datasets("summary", summary, &mut datasets));
+    // The crowded copy of run 0 (it failed) shares run 0's point; the others are points of their own.
+    let points = demsweep::stats::points::Points::new(summary).table();
+    let column = |name: &str| points.column(name).unwrap().data.clone();
+    assert_eq!(column("n"), ColumnData::Int(vec![2, 1, 1]));
+    assert_eq!(column("error"), ColumnData::Int(vec![1, 0, 0]));
+    let steps = |i: usize| summary.column("steps").unwrap().data.number(i).unwrap();
+    assert_eq!(column("steps_mean"), ColumnData::Float(vec![steps(0), steps(1), steps(2)]), "the failed run left out");
+    groups.insert("/points".into(), column_datasets("points", &points, &mut datasets));
     json!({"groups": groups, "datasets": datasets})
 }
 

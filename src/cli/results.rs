@@ -1,19 +1,26 @@
 //! The result commands: `run`, `summary`, `history` and `merge`.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
-use demsweep::output::table::ColumnData;
+use demsweep::output::SummaryTable;
+use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
+use demsweep::plot::{self, ChartOptions};
+use demsweep::report::ReportContext;
 use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, interrupt};
+use demsweep::stats::compare::{self, Tolerance};
+use demsweep::stats::points::{self, Points};
 
 /// Exit status of a command that failed (bad results file, refused output, I/O error).
 const FAILED: u8 = 1;
+/// Exit status for bad input: an unknown point or metric.
+const BAD_INPUT: u8 = 2;
 
 #[derive(Args)]
 pub struct RunArgs {
@@ -66,9 +73,42 @@ enum Progress {
 pub struct SummaryArgs {
     /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
     results: PathBuf,
-    /// Write the summary to this CSV file instead of printing it.
+    /// Write the table to this CSV file instead of printing it.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
+    /// One row per grid point (the runs that differ only by placement seed): n, status counts and
+    /// mean, std, 95 % half-width, min, max of every numeric column.
+    #[arg(long)]
+    by_point: bool,
+    /// With --by-point, print these metrics (repeatable; default: settle time, the pile metrics
+    /// compared by default, cost and wall time). The CSV always has every metric.
+    #[arg(long, value_name = "NAME", requires = "by_point")]
+    metric: Vec<String>,
+}
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    results: PathBuf,
+    /// The reference point: its swept values (KEY=VALUE,KEY=VALUE; a key may be shortened to its last
+    /// part) or the id of one of its runs.
+    #[arg(long, value_name = "POINT")]
+    reference: String,
+    /// A metric to keep within a relative tolerance of the reference mean (repeatable), e.g.
+    /// packing_fraction_interior=0.01. Default: packing_fraction_interior=0.01,
+    /// coordination_number=0.03, floor_load_ratio=0.02, fabric_anisotropy=0.25 (those present;
+    /// packing_fraction=0.01, pile_height=0.01 for files without pile metrics).
+    #[arg(long, value_name = "METRIC=TOL")]
+    keep: Vec<Tolerance>,
+    /// Write the comparison (one row per point and metric) to this CSV file as well.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// Draw a chart per kept metric and a cost-versus-deviation chart (PNG).
+    #[arg(long)]
+    plot: bool,
+    /// Image folder for --plot (default: plots/ next to the results file).
+    #[arg(long, value_name = "DIR", requires = "plot")]
+    out: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -77,6 +117,15 @@ pub struct HistoryArgs {
     results: PathBuf,
     /// The run id (first column of `demsweep summary`), e.g. r0007.
     run_id: String,
+}
+
+#[derive(Args)]
+pub struct ReportArgs {
+    /// A results file (.h5).
+    results: PathBuf,
+    /// Where to write the page (default: <study name>_report.html next to the results file).
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -155,7 +204,13 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         "wall time {wall:.2} s; writing results took {writer:.3} s ({:.1} % of it, in its own thread)",
         100.0 * writer / wall.max(f64::MIN_POSITIVE)
     );
-    println!("results: {}\nsummary: {}", report.results.display(), report.summary_csv.display());
+    println!(
+        "results: {}\nsummary: {}\npoints: {}",
+        report.results.display(),
+        report.summary_csv.display(),
+        report.points_csv.display()
+    );
+    write_report(&report.results, &ReportContext { jobs: Some(report.jobs), elapsed: Some(wall) });
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
@@ -171,14 +226,105 @@ fn print_report(report: &RunReport, args: &RunArgs) {
     }
 }
 
-/// `demsweep summary`: the summary table, aligned on stdout or as a CSV file.
+/// `demsweep summary`: the summary (or points) table, aligned on stdout or as a CSV file; exit 2 for
+/// an unknown --metric.
 pub fn summary(args: &SummaryArgs) -> ExitCode {
-    let outcome = output::summary::read(&args.results).and_then(|table| match &args.csv {
-        Some(path) => output::summary::write_csv(path, &table),
-        None => output::summary::print_aligned(&mut std::io::stdout().lock(), &table)
-            .map_err(|e| output::OutputError::io(std::path::Path::new("<stdout>"), e)),
+    let read = if args.by_point { output::summary::read_points } else { output::summary::read };
+    let table = match read(&args.results) {
+        Ok(table) => table,
+        Err(e) => return report_error(Err(e)),
+    };
+    if let Some(path) = &args.csv {
+        return report_error(output::summary::write_csv(path, &table));
+    }
+    let shown = if args.by_point {
+        let metrics = if args.metric.is_empty() { default_metrics(&table) } else { args.metric.clone() };
+        match points::view(&table, &metrics.iter().map(String::as_str).collect::<Vec<_>>()) {
+            Ok(view) => view,
+            Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
+        }
+    } else {
+        table
+    };
+    report_error(print(&shown))
+}
+
+/// The metrics `summary --by-point` prints by default: settle time, the default compare metrics
+/// present, cost and wall time.
+fn default_metrics(points_table: &SummaryTable) -> Vec<String> {
+    let known = points::table_metrics(points_table);
+    let pile = compare::DEFAULT_KEEP.iter().filter(|(m, _)| known.contains(m)).map(|(m, _)| *m).collect::<Vec<_>>();
+    let pile = if pile.is_empty() { compare::FALLBACK_KEEP.iter().map(|(m, _)| *m).collect() } else { pile };
+    let cost = ["particle_steps", "steps"].into_iter().find(|c| known.contains(c));
+    std::iter::once("settle_time")
+        .chain(pile)
+        .chain(cost)
+        .chain(["wall_time"])
+        .filter(|m| known.contains(m))
+        .map(str::to_string)
+        .collect()
+}
+
+/// Prints a table aligned on stdout.
+fn print(table: &SummaryTable) -> Result<(), output::OutputError> {
+    output::summary::print_aligned(&mut std::io::stdout().lock(), table)
+        .map_err(|e| output::OutputError::io(std::path::Path::new("<stdout>"), e))
+}
+
+/// `demsweep compare`: every point against the reference; exit 2 for an unknown point or metric.
+pub fn compare(args: &CompareArgs) -> ExitCode {
+    let summary = match output::summary::read(&args.results) {
+        Ok(table) => table,
+        Err(e) => return report_error(Err(e)),
+    };
+    let points = Points::new(&summary);
+    let comparison = match compare::compare(&points, &args.reference, &args.keep) {
+        Ok(comparison) => comparison,
+        Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
+    };
+    let reference = comparison.reference;
+    println!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());
+    let kept: Vec<String> = comparison
+        .kept
+        .iter()
+        .map(|k| format!("{} within {} (±{})", k.tolerance.metric, k.tolerance.relative, short_float(k.margin)))
+        .collect();
+    println!("kept (relative tolerance of the reference mean): {}", kept.join(", "));
+    for note in &comparison.notes {
+        println!("note: {note}");
+    }
+    let (decisions, costs) = comparison.printed(&points);
+    let acceptable = comparison.points.iter().filter(|p| p.acceptable()).count();
+    let mut outcome = print(&decisions).and_then(|()| {
+        println!();
+        print(&costs)
     });
+    println!(
+        "{acceptable} of {} points acceptable (every kept metric equivalent: its 90 % interval inside ± margin)",
+        comparison.points.len()
+    );
+    if let Some(path) = &args.csv {
+        outcome = outcome
+            .and_then(|()| output::summary::write_csv(path, &comparison.table(&points)))
+            .map(|()| println!("comparison: {}", path.display()));
+    }
+    if args.plot {
+        let dir = args.out.clone().unwrap_or_else(|| args.results.parent().unwrap_or(Path::new("")).join("plots"));
+        match plot::compare::draw_all(&points, &comparison, &dir, &ChartOptions::default()) {
+            Ok(written) => written.iter().for_each(|p| println!("wrote {}", p.display())),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(FAILED);
+            }
+        }
+    }
     report_error(outcome)
+}
+
+/// Reports bad input (an unknown point or metric) with exit status 2.
+fn bad_input(error: &output::OutputError) -> ExitCode {
+    eprintln!("error: {error}");
+    ExitCode::from(BAD_INPUT)
 }
 
 /// `demsweep history`: one run's histories as CSV on stdout (a closed pipe, as with `| head`, is no error).
@@ -191,16 +337,33 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
     report_error(outcome)
 }
 
+/// `demsweep report`: the HTML report of a results file.
+pub fn report(args: &ReportArgs) -> ExitCode {
+    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default(), None);
+    report_error(written.map(|path| println!("report: {}", path.display())))
+}
+
+/// Writes the report of a results file just written and prints where it went; a report that cannot
+/// be written is a warning (the results are safe).
+pub fn write_report(results: &Path, context: &ReportContext) {
+    match demsweep::report::write_report(results, None, context, None) {
+        Ok(path) => println!("report: {}", path.display()),
+        Err(e) => eprintln!("warning: no report: {e}"),
+    }
+}
+
 /// `demsweep merge`: shard files into one results file.
 pub fn merge(args: &MergeArgs) -> ExitCode {
     let outcome = output::merge(&args.out, &args.inputs, args.force).map(|report| {
         println!(
-            "merged {} runs from {} shards\nresults: {}\nsummary: {}",
+            "merged {} runs from {} shards\nresults: {}\nsummary: {}\npoints: {}",
             report.runs,
             report.shards,
             report.results.display(),
-            report.summary_csv.display()
+            report.summary_csv.display(),
+            report.points_csv.display()
         );
+        write_report(&report.results, &ReportContext::default());
     });
     report_error(outcome)
 }

@@ -26,7 +26,9 @@ pub const BUCKET_SIZE: usize = 100;
 pub const RUNS: &str = "runs";
 /// The group holding the summary columns.
 pub const SUMMARY: &str = "summary";
-/// Attribute of `/summary` listing the column names in order.
+/// The group holding the per-point statistics (one dataset per column, like `/summary`).
+pub const POINTS: &str = "points";
+/// Attribute of `/summary` and `/points` listing the column names in order.
 pub const SUMMARY_COLUMNS: &str = "columns";
 /// History series names: the fields of the `history` table.
 pub const HISTORY_SERIES: [&str; 12] = [

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::header::{FileHeader, utc_now};
 use super::row::SummaryRow;
 use super::writer::ResultsWriter;
-use super::{OutputError, csv_path, hdf5_error, reader};
+use super::{OutputError, hdf5_error, reader, write_csv_files};
 use crate::study::OutputOptions;
 
 /// Runs copied per commit while merging.
@@ -19,6 +19,8 @@ pub struct MergeReport {
     pub results: PathBuf,
     /// Its CSV summary.
     pub summary_csv: PathBuf,
+    /// Its per-point CSV.
+    pub points_csv: PathBuf,
     /// Number of runs merged.
     pub runs: usize,
     /// Number of shard files merged.
@@ -33,7 +35,7 @@ struct ShardFile {
 }
 
 /// Merges the shard files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`) into
-/// `out_dir/<study name>.h5` and its CSV summary. Refuses, naming the files, shards of different
+/// `out_dir/<study name>.h5` and its CSV summary and points. Refuses, naming the files, shards of different
 /// studies, runs present in two shards, and missing shards or runs (saying which shards to re-run).
 /// An existing merged file is only replaced with `force`.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
@@ -63,10 +65,9 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         writer.commit()?;
         runs += shard.rows.len();
     }
-    let table = writer.finish()?;
-    let summary_csv = csv_path(&results);
-    super::summary::write_csv(&summary_csv, &table)?;
-    Ok(MergeReport { results, summary_csv, runs, shards: shards.len() })
+    let tables = writer.finish()?;
+    let (summary_csv, points_csv) = write_csv_files(&results, &tables)?;
+    Ok(MergeReport { results, summary_csv, points_csv, runs, shards: shards.len() })
 }
 
 /// The shard files named by `inputs`, directories expanded, sorted.

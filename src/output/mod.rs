@@ -1,7 +1,8 @@
 //! Result files: one HDF5 file per study (or shard) and a CSV summary next to it.
 //!
 //! Data flows one way: runner → [`writer::ResultsWriter`] (run groups committed in batches) →
-//! [`writer::ResultsWriter::finish`] (`/summary`) → [`summary::write_csv`]. The layout is in
+//! [`writer::ResultsWriter::finish`] (`/summary`, and `/points` from [`crate::stats::points`]) →
+//! [`write_csv_files`]. The layout is in
 //! [`layout`] and README.md, "Result files".
 
 use std::fmt;
@@ -24,7 +25,7 @@ pub use header::{FileHeader, ShardInfo, ShardSpec};
 pub use merge::merge;
 pub use row::SummaryRow;
 pub use table::SummaryTable;
-pub use writer::{ResultsWriter, RunResult};
+pub use writer::{ResultsWriter, RunResult, Tables};
 
 /// A results-file problem, naming the file.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,6 +63,24 @@ pub(crate) fn hdf5_error(path: &Path, error: hdf5_pure::Error) -> OutputError {
 
 /// The summary CSV path next to a results file: `<stem>_summary.csv`.
 pub fn csv_path(results: &Path) -> PathBuf {
+    sibling(results, "summary")
+}
+
+/// The per-point CSV path next to a results file: `<stem>_points.csv`.
+pub fn points_csv_path(results: &Path) -> PathBuf {
+    sibling(results, "points")
+}
+
+/// `<stem>_<what>.csv` next to a results file.
+fn sibling(results: &Path, what: &str) -> PathBuf {
     let stem = results.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    results.with_file_name(format!("{stem}_summary.csv"))
+    results.with_file_name(format!("{stem}_{what}.csv"))
+}
+
+/// Writes the summary and points CSV files next to a results file; returns their paths.
+pub fn write_csv_files(results: &Path, tables: &Tables) -> Result<(PathBuf, PathBuf), OutputError> {
+    let (summary, points) = (csv_path(results), points_csv_path(results));
+    summary::write_csv(&summary, &tables.summary)?;
+    summary::write_csv(&points, &tables.points)?;
+    Ok((summary, points))
 }

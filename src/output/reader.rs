@@ -5,10 +5,11 @@ use std::path::Path;
 use hdf5_pure::{DType, Dataset, File};
 
 use super::header::FileHeader;
-use super::layout::{self, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
 use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error};
+use crate::stats::points::Points;
 
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
@@ -44,11 +45,28 @@ pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
 /// The summary: `/summary` when the file has it, else assembled from the run groups (a file whose
 /// writer was killed before finishing).
 pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
-    let err = |e| hdf5_error(path, e);
-    if !file.root().groups().map_err(err)?.iter().any(|g| g == SUMMARY) {
-        return Ok(SummaryTable::from_rows(&rows(file, path)?));
+    match columns(file, path, SUMMARY)? {
+        Some(table) => Ok(table),
+        None => Ok(SummaryTable::from_rows(&rows(file, path)?)),
     }
-    let group = file.group(SUMMARY).map_err(err)?;
+}
+
+/// The per-point statistics: `/points` when the file has it, else computed from the summary (a file
+/// written before `/points` existed, or whose writer was killed).
+pub fn points(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
+    match columns(file, path, POINTS)? {
+        Some(table) => Ok(table),
+        None => Ok(Points::new(&summary(file, path)?).table()),
+    }
+}
+
+/// The table stored as one dataset per column in the group `name`, if the file has that group.
+fn columns(file: &File, path: &Path, name: &str) -> Result<Option<SummaryTable>, OutputError> {
+    let err = |e| hdf5_error(path, e);
+    if !file.root().groups().map_err(err)?.iter().any(|g| g == name) {
+        return Ok(None);
+    }
+    let group = file.group(name).map_err(err)?;
     let attrs = group.attrs().map_err(err)?;
     let names = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()).unwrap_or(&[]);
     let columns = names
@@ -59,7 +77,7 @@ pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
             Ok(Column { name: name.clone(), data })
         })
         .collect::<Result<_, OutputError>>()?;
-    Ok(SummaryTable { columns })
+    Ok(Some(SummaryTable { columns }))
 }
 
 fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {

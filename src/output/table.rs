@@ -78,6 +78,30 @@ impl ColumnData {
 }
 
 impl ColumnData {
+    /// The value of row `i` as a number: floats and integers; `None` for booleans and text.
+    pub fn number(&self, i: usize) -> Option<f64> {
+        match self {
+            ColumnData::Float(v) => Some(v[i]),
+            ColumnData::Int(v) => Some(v[i] as f64),
+            _ => None,
+        }
+    }
+
+    /// Whether the column holds floats or integers.
+    pub fn is_numeric(&self) -> bool {
+        matches!(self, ColumnData::Float(_) | ColumnData::Int(_))
+    }
+
+    /// The values of the rows `rows`, in that order.
+    pub fn select(&self, rows: &[usize]) -> ColumnData {
+        match self {
+            ColumnData::Float(v) => ColumnData::Float(rows.iter().map(|&i| v[i]).collect()),
+            ColumnData::Int(v) => ColumnData::Int(rows.iter().map(|&i| v[i]).collect()),
+            ColumnData::Bool(v) => ColumnData::Bool(rows.iter().map(|&i| v[i]).collect()),
+            ColumnData::Text(v) => ColumnData::Text(rows.iter().map(|&i| v[i].clone()).collect()),
+        }
+    }
+
     /// The value of row `i` for reading on screen: floats to 6 significant digits, missing values `-`.
     pub fn display(&self, i: usize) -> String {
         match self {
@@ -89,7 +113,7 @@ impl ColumnData {
 }
 
 /// A float to 6 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
-fn short_float(x: f64) -> String {
+pub fn short_float(x: f64) -> String {
     if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
         let digits = if x == 0.0 || !x.is_finite() { 1 } else { (5 - x.abs().log10().floor() as i32).max(0) as usize };
         let text = format!("{x:.digits$}");
@@ -140,9 +164,24 @@ impl SummaryTable {
         self.columns.iter().find(|c| c.name == name)
     }
 
-    /// The same table without the timing columns (for comparing runs made at different times).
+    /// The swept parameter columns of a summary: those between `index` and `status`.
+    pub fn parameters(&self) -> &[Column] {
+        let position = |name: &str| self.columns.iter().position(|c| c.name == name);
+        match (position("index"), position("status")) {
+            (Some(first), Some(end)) if first < end => &self.columns[first + 1..end],
+            _ => &[],
+        }
+    }
+
+    /// The same table without the timing columns (for comparing runs made at different times):
+    /// those named in [`TIMING_COLUMNS`] and their statistics (`wall_time_mean`, …).
     pub fn without_timing(&self) -> Self {
-        let columns = self.columns.iter().filter(|c| !TIMING_COLUMNS.contains(&c.name.as_str())).cloned().collect();
+        let timing = |name: &str| {
+            TIMING_COLUMNS
+                .iter()
+                .any(|t| name.strip_prefix(t).is_some_and(|rest| rest.is_empty() || rest.starts_with('_')))
+        };
+        let columns = self.columns.iter().filter(|c| !timing(&c.name)).cloned().collect();
         Self { columns }
     }
 }

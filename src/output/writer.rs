@@ -8,13 +8,14 @@ use hdf5_pure::{DatasetBuilder, File, FileBuilder, StagedGroup};
 
 use super::compound::{self, Field};
 use super::header::FileHeader;
-use super::layout::{self, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
 use super::reader;
 use super::row::SummaryRow;
 use super::table::{ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error};
 use crate::physics::SceneConfig;
 use crate::physics::record::{RunRecord, Snapshot};
+use crate::stats::points::Points;
 use crate::study::OutputOptions;
 
 /// Tables with at least this many rows are chunked and compressed (shuffle + deflate).
@@ -136,27 +137,40 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Commits what is staged, rewrites `/summary` from every committed run, closes the file and
-    /// returns the summary.
-    pub fn finish(mut self) -> Result<SummaryTable, OutputError> {
+    /// Commits what is staged, rewrites `/summary` from every committed run and `/points` from the
+    /// summary, closes the file and returns both tables.
+    pub fn finish(mut self) -> Result<Tables, OutputError> {
         self.commit()?;
-        let table = SummaryTable::from_rows(&self.committed);
-        write_summary(&self.file, &table).map_err(|e| hdf5_error(&self.path, e))?;
-        self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
-        self.file.close().map_err(|e| hdf5_error(&self.path, e))?;
-        Ok(table)
+        let summary = SummaryTable::from_rows(&self.committed);
+        let points = Points::new(&summary).table();
+        let err = |e| hdf5_error(&self.path, e);
+        write_columns(&self.file, SUMMARY, &summary).map_err(err)?;
+        write_columns(&self.file, POINTS, &points).map_err(err)?;
+        self.file.commit().map_err(err)?;
+        self.file.close().map_err(err)?;
+        Ok(Tables { summary, points })
     }
 }
 
-/// Replaces `/summary` with one dataset per column (in one commit, so it is never absent).
-pub fn write_summary(file: &File, table: &SummaryTable) -> Result<(), hdf5_pure::Error> {
+/// The tables a finished results file holds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tables {
+    /// One row per run (`/summary`).
+    pub summary: SummaryTable,
+    /// One row per grid point (`/points`).
+    pub points: SummaryTable,
+}
+
+/// Replaces the group `name` (`/summary`, `/points`) with one dataset per column of `table`, listed
+/// in order by its attribute `columns` (staged for one commit, so the group is never absent).
+pub fn write_columns(file: &File, name: &str, table: &SummaryTable) -> Result<(), hdf5_pure::Error> {
     let root = file.root();
-    if root.groups()?.iter().any(|g| g == SUMMARY) {
-        root.delete(SUMMARY)?;
+    if root.groups()?.iter().any(|g| g == name) {
+        root.delete(name)?;
     }
     let names: Vec<String> = table.columns.iter().map(|c| c.name.clone()).collect();
     let mut failure = None;
-    root.create_group_with(SUMMARY, |g| {
+    root.create_group_with(name, |g| {
         g.set_attr(SUMMARY_COLUMNS, hdf5_pure::AttrValue::StringArray(names));
         for column in &table.columns {
             g.create_dataset(&column.name, |b| {

@@ -1,12 +1,10 @@
 //! Charts of the benchmarks: work-precision (log-log lines) and stability maps (outcome per case).
 
-use std::path::Path;
-
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{self, DIVERGED, LABEL_SIZE, LINE_WIDTH};
-use super::{ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
 
 /// One line of a log-log chart.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,16 +15,16 @@ pub struct LogLogSeries {
     pub points: Vec<(f64, f64)>,
 }
 
-/// Draws lines with markers on logarithmic x and y axes into `path`.
-pub fn log_log_chart(
+/// Draws lines with markers on logarithmic x and y axes onto `canvas`.
+pub fn log_log_chart<'c>(
     title: &str,
     x_desc: &str,
     y_desc: &str,
     series: &[LogLogSeries],
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&LogLogFigure { title, x_desc, y_desc, series }, options, path)
+    render(&LogLogFigure { title, x_desc, y_desc, series }, options, canvas.into())
 }
 
 /// One panel of a stability map: cases at (x, y) that blew up or not, and a predicted boundary.
@@ -40,17 +38,17 @@ pub struct MapPanel {
     pub predicted: Vec<(f64, f64)>,
 }
 
-/// Draws stability-map panels side by side in a grid of `columns` into `path`: x linear with tick
+/// Draws stability-map panels side by side in a grid of `columns` onto `canvas`: x linear with tick
 /// labels `x_labels` at 0, 1, 2, …; y logarithmic.
-pub fn stability_map_chart(
+pub fn stability_map_chart<'c>(
     panels: &[MapPanel],
     columns: usize,
     (x_desc, x_labels): (&str, &[String]),
     y_desc: &str,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&MapFigure { panels, columns: columns.max(1), x_desc, x_labels, y_desc }, options, path)
+    render(&MapFigure { panels, columns: columns.max(1), x_desc, x_labels, y_desc }, options, canvas.into())
 }
 
 /// A logarithmic axis range covering the positive values with a factor-of-1.5 margin.

@@ -15,6 +15,7 @@ use plotters::prelude::*;
 use crate::physics::RunStatus;
 
 pub mod bench;
+pub mod compare;
 pub mod results;
 pub mod run;
 pub mod study;
@@ -130,9 +131,47 @@ trait Figure {
         DB::ErrorType: 'static;
 }
 
-/// Draws `figure` into the file `path` in the options' format and size, creating its folder.
-fn render<F: Figure>(figure: &F, options: &ChartOptions, path: &Path) -> Result<F::Layout, PlotError> {
-    let fail = |reason: String| PlotError { path: path.to_path_buf(), reason };
+/// Where a chart is drawn: an image file in the options' format, or an SVG document in memory
+/// (for a page that embeds its charts). Chart functions take either (`&Path`, `&PathBuf`, `&mut String`).
+pub enum Canvas<'a> {
+    /// An image file (its folder is created if needed).
+    File(&'a Path),
+    /// An SVG document appended to this string, whatever the options' format.
+    Svg(&'a mut String),
+}
+
+impl Canvas<'_> {
+    /// What errors name: the file, or `(SVG in memory)`.
+    fn label(&self) -> PathBuf {
+        match self {
+            Canvas::File(path) => path.to_path_buf(),
+            Canvas::Svg(_) => PathBuf::from("(SVG in memory)"),
+        }
+    }
+}
+
+impl<'a> From<&'a Path> for Canvas<'a> {
+    fn from(path: &'a Path) -> Self {
+        Canvas::File(path)
+    }
+}
+
+impl<'a> From<&'a PathBuf> for Canvas<'a> {
+    fn from(path: &'a PathBuf) -> Self {
+        Canvas::File(path)
+    }
+}
+
+impl<'a> From<&'a mut String> for Canvas<'a> {
+    fn from(svg: &'a mut String) -> Self {
+        Canvas::Svg(svg)
+    }
+}
+
+/// Draws `figure` onto `canvas` in the options' size (and format, for a file), creating the file's folder.
+fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> Result<F::Layout, PlotError> {
+    let label = canvas.label();
+    let fail = |reason: String| PlotError { path: label.clone(), reason };
     let (min_width, min_height) = ChartOptions::MIN_SIZE;
     if options.width < min_width || options.height < min_height {
         return Err(fail(format!(
@@ -140,14 +179,17 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, path: &Path) -> Result<
             options.width, options.height
         )));
     }
-    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+    if let Canvas::File(path) = &canvas
+        && let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty())
+    {
         std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
     }
     style::register_font();
     let size = (options.width, options.height);
-    let drawn = match options.format {
-        Format::Png => paint(figure, options, BitMapBackend::new(path, size).into_drawing_area()),
-        Format::Svg => paint(figure, options, SVGBackend::new(path, size).into_drawing_area()),
+    let drawn = match (canvas, options.format) {
+        (Canvas::Svg(svg), _) => paint(figure, options, SVGBackend::with_string(svg, size).into_drawing_area()),
+        (Canvas::File(path), Format::Png) => paint(figure, options, BitMapBackend::new(path, size).into_drawing_area()),
+        (Canvas::File(path), Format::Svg) => paint(figure, options, SVGBackend::new(path, size).into_drawing_area()),
     };
     drawn.map_err(|e| fail(e.to_string()))
 }

@@ -11,7 +11,7 @@ use hdf5_pure::File;
 
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
-use super::{ChartOptions, Format, PlotError, StudyPoint};
+use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
 use crate::output::stored::{self, StoredRun};
 use crate::output::{OutputError, SummaryRow, reader};
 use crate::physics::RunStatus;
@@ -100,16 +100,32 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let selected = select_runs(&rows, request)?;
     let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), ..Default::default() };
     let mut drawer = Drawer { request, dir, report, on_event };
-    drawer.study(&study_name, &rows);
+    study_charts(&mut drawer, &study_name, &rows);
     for row in selected {
-        drawer.run(&file, row);
+        run_charts(&mut drawer, (&file, path), row, request.colour_by);
     }
     Ok(drawer.report)
 }
 
+/// Where the charts of a results file go: image files (`demsweep plot`), or SVG documents (the report).
+pub trait ChartSink {
+    /// Draws the chart `name` (e.g. `r0007_energy`) about `subject` with `draw`, given the options
+    /// and a canvas; returns what the drawing returned, `None` when it failed (reported by the sink).
+    fn chart<T>(
+        &mut self,
+        name: &str,
+        subject: &str,
+        draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
+    ) -> Option<T>;
+    /// What was chosen or left out, in words.
+    fn note(&mut self, text: &str);
+    /// A chart that could not be drawn, or a run that could not be read.
+    fn fail(&mut self, error: &PlotError);
+}
+
 /// The runs to draw per-run charts for: the named ones (in the order named), else all runs or at
 /// most [`DEFAULT_RUN_LIMIT`] spread evenly over the study (first and last included).
-fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<Vec<&'r SummaryRow>, PlotError> {
+pub fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<Vec<&'r SummaryRow>, PlotError> {
     if !request.run_ids.is_empty() {
         let mut selected: Vec<&SummaryRow> = Vec::new();
         for id in &request.run_ids {
@@ -137,7 +153,7 @@ fn run_status(row: &SummaryRow) -> Option<RunStatus> {
 
 /// A run's id, swept parameters and status, for chart titles. Parameters go by the last part of
 /// their key path (`restitution = 0.3`) unless two of them share it.
-fn run_subject(row: &SummaryRow) -> String {
+pub fn run_subject(row: &SummaryRow) -> String {
     let short = |key: &str| key.rsplit('.').next().unwrap_or(key).to_string();
     let mut names: Vec<String> = row.parameters.iter().map(|(k, _)| short(k)).collect();
     let mut unique = names.clone();
@@ -162,7 +178,7 @@ struct Drawer<'a> {
     on_event: &'a mut dyn FnMut(Event<'_>),
 }
 
-impl Drawer<'_> {
+impl ChartSink for Drawer<'_> {
     fn note(&mut self, text: &str) {
         (self.on_event)(Event::Note(text));
     }
@@ -172,20 +188,20 @@ impl Drawer<'_> {
         (self.on_event)(Event::Failed(error));
     }
 
-    /// Draws the chart `name` (file name without extension) about `subject` in every requested
-    /// format with `draw`; returns what the last successful drawing returned.
+    /// Draws the chart into `<name>.<extension>` in every requested format; returns what the last
+    /// successful drawing returned.
     fn chart<T>(
         &mut self,
         name: &str,
         subject: &str,
-        draw: impl Fn(&ChartOptions, &Path) -> Result<T, PlotError>,
+        draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
     ) -> Option<T> {
         let mut drawn = None;
         for &format in &self.request.formats {
             let (width, height) = self.request.size;
             let options = ChartOptions { width, height, format, subject: Some(subject.to_string()) };
             let path = self.dir.join(format!("{name}.{}", format.extension()));
-            match draw(&options, &path) {
+            match draw(&options, Canvas::File(&path)) {
                 Ok(value) => {
                     self.report.written += 1;
                     (self.on_event)(Event::Wrote(&path));
@@ -196,72 +212,71 @@ impl Drawer<'_> {
         }
         drawn
     }
+}
 
-    /// The study charts: settle-time lines, and a heatmap when two parameters span a grid.
-    fn study(&mut self, study_name: &str, rows: &[SummaryRow]) {
-        let axes = StudyAxes::choose(rows);
-        for note in &axes.notes {
-            self.note(note);
-        }
-        let points: Vec<StudyPoint> = rows.iter().filter_map(study_point).collect();
-        if points.len() < rows.len() {
-            let failed = rows.len() - points.len();
-            self.note(&format!("{failed} run(s) failed with an error: left out of the study charts"));
-        }
-        let Some(x) = axes.x.as_deref() else {
-            return self.note("no swept numeric parameter with two or more values: no study charts");
-        };
-        let series = axes.series.as_deref();
-        self.chart("settle_time", study_name, |o, p| study::settle_time_lines(&points, x, series, o, p));
-        let Some(y) = series else { return };
-        let cells =
-            self.chart("settle_time_heatmap", study_name, |o, p| study::settle_time_heatmap(&points, x, y, o, p));
-        if let Some(cells) = cells {
-            self.note(&format!("settle time heatmap: {} cells over {x} x {y}", cells.len()));
-        }
+/// The study charts of `rows`: settle-time lines, and a heatmap when two parameters span a grid.
+pub fn study_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[SummaryRow]) {
+    let axes = StudyAxes::choose(rows);
+    for note in &axes.notes {
+        sink.note(note);
     }
-
-    /// The charts of one run: energies and UBF (when histories are stored) and its snapshots.
-    fn run(&mut self, file: &File, row: &SummaryRow) {
-        if run_status(row).is_none() {
-            return self.note(&format!("{}: {} ({}): nothing to plot", row.id, row.status, row.message));
-        }
-        let stored = match stored::read_run(file, &self.request.results, row) {
-            Ok(stored) => stored,
-            Err(error) => return self.fail(&error.into()),
-        };
-        let subject = run_subject(row);
-        match &stored.history {
-            Some(history) => {
-                self.chart(&format!("{}_energy", row.id), &subject, |o, p| run::energy_chart(history, o, p));
-                let threshold = stored.scene.settle.ubf_threshold;
-                let settle_time = row.settle_time;
-                self.chart(&format!("{}_ubf", row.id), &subject, |o, p| {
-                    run::ubf_chart(history, threshold, settle_time, o, p)
-                });
-            }
-            None => self.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
-        }
-        self.snapshots(row, &stored, &subject);
+    let points: Vec<StudyPoint> = rows.iter().filter_map(study_point).collect();
+    if points.len() < rows.len() {
+        let failed = rows.len() - points.len();
+        sink.note(&format!("{failed} run(s) failed with an error: left out of the study charts"));
     }
+    let Some(x) = axes.x.as_deref() else {
+        return sink.note("no swept numeric parameter with two or more values: no study charts");
+    };
+    let series = axes.series.as_deref();
+    sink.chart("settle_time", study_name, |o, c| study::settle_time_lines(&points, x, series, o, c));
+    let Some(y) = series else { return };
+    let cells = sink.chart("settle_time_heatmap", study_name, |o, c| study::settle_time_heatmap(&points, x, y, o, c));
+    if let Some(cells) = cells {
+        sink.note(&format!("settle time heatmap: {} cells over {x} x {y}", cells.len()));
+    }
+}
 
-    /// A snapshot per stored frame and of the final state (unless the last frame shows it).
-    fn snapshots(&mut self, row: &SummaryRow, stored: &StoredRun, subject: &str) {
-        let pictures = snapshot_names(stored);
-        if pictures.is_empty() {
-            return self.note(&format!("{}: no frames or final state stored: no snapshots", row.id));
+/// The charts of one run of the results `file` (at `path`): energies and UBF (when histories are
+/// stored) and its snapshots, disks coloured `by`.
+pub fn run_charts(sink: &mut impl ChartSink, (file, path): (&File, &Path), row: &SummaryRow, by: ColourBy) {
+    if run_status(row).is_none() {
+        return sink.note(&format!("{}: {} ({}): nothing to plot", row.id, row.status, row.message));
+    }
+    let stored = match stored::read_run(file, path, row) {
+        Ok(stored) => stored,
+        Err(error) => return sink.fail(&error.into()),
+    };
+    let subject = run_subject(row);
+    match &stored.history {
+        Some(history) => {
+            sink.chart(&format!("{}_energy", row.id), &subject, |o, c| run::energy_chart(history, o, c));
+            let threshold = stored.scene.settle.ubf_threshold;
+            let settle_time = row.settle_time;
+            sink.chart(&format!("{}_ubf", row.id), &subject, |o, c| {
+                run::ubf_chart(history, threshold, settle_time, o, c)
+            });
         }
-        let box_size = (stored.scene.domain.width, stored.scene.domain.height);
-        let by = self.request.colour_by;
-        let shared = ColourScale::fitted(by, pictures.iter().map(|(_, s)| *s));
-        for (name, snapshot) in pictures {
-            let scale = match by {
-                ColourBy::Speed => shared,
-                ColourBy::ContactForce => ColourScale::fitted(by, [snapshot]),
-            };
-            let name = format!("{}_{name}", row.id);
-            self.chart(&name, subject, |o, p| run::snapshot(snapshot, box_size, &scale, o, p));
-        }
+        None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
+    }
+    snapshots(sink, row, &stored, &subject, by);
+}
+
+/// A snapshot per stored frame and of the final state (unless the last frame shows it).
+fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, subject: &str, by: ColourBy) {
+    let pictures = snapshot_names(stored);
+    if pictures.is_empty() {
+        return sink.note(&format!("{}: no frames or final state stored: no snapshots", row.id));
+    }
+    let box_size = (stored.scene.domain.width, stored.scene.domain.height);
+    let shared = ColourScale::fitted(by, pictures.iter().map(|(_, s)| *s));
+    for (name, snapshot) in pictures {
+        let scale = match by {
+            ColourBy::Speed => shared,
+            ColourBy::ContactForce => ColourScale::fitted(by, [snapshot]),
+        };
+        let name = format!("{}_{name}", row.id);
+        sink.chart(&name, subject, |o, c| run::snapshot(snapshot, box_size, &scale, o, c));
     }
 }
 

@@ -1,7 +1,6 @@
 //! Charts of one run: energies and unbalanced force ratio against time, and pile snapshots.
 
 use std::ops::Range;
-use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
@@ -9,38 +8,42 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH};
-use super::{ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
 use crate::physics::record::{History, Snapshot};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
-/// energy against time into `path`. Samples that are not finite (a diverged run) break the lines.
-pub fn energy_chart(history: &History, options: &ChartOptions, path: &Path) -> Result<(), PlotError> {
-    render(&EnergyFigure { history }, options, path)
+/// energy against time onto `canvas`. Samples that are not finite (a diverged run) break the lines.
+pub fn energy_chart<'c>(
+    history: &History,
+    options: &ChartOptions,
+    canvas: impl Into<Canvas<'c>>,
+) -> Result<(), PlotError> {
+    render(&EnergyFigure { history }, options, canvas.into())
 }
 
-/// Draws the unbalanced force ratio against time on a log scale into `path`, with the settle
+/// Draws the unbalanced force ratio against time on a log scale onto `canvas`, with the settle
 /// threshold and, if the run settled, its settle time (s) marked. Samples without contacts (NaN)
 /// and zeros are left out.
-pub fn ubf_chart(
+pub fn ubf_chart<'c>(
     history: &History,
     threshold: f64,
     settle_time: Option<f64>,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&UbfFigure { history, threshold, settle_time }, options, path)
+    render(&UbfFigure { history, threshold, settle_time }, options, canvas.into())
 }
 
 /// Draws the disks of `snapshot` to scale inside the box `box_size` = (width, height) (m),
-/// coloured on `scale`, with a colour bar, into `path`. Returns where the box landed in pixels.
-pub fn snapshot(
+/// coloured on `scale`, with a colour bar, onto `canvas`. Returns where the box landed in pixels.
+pub fn snapshot<'c>(
     snapshot: &Snapshot,
     box_size: (f64, f64),
     scale: &ColourScale,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<BoxFrame, PlotError> {
-    render(&SnapshotFigure { snapshot, box_size, scale }, options, path)
+    render(&SnapshotFigure { snapshot, box_size, scale }, options, canvas.into())
 }
 
 /// What the disks of a snapshot are coloured by.

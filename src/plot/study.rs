@@ -1,11 +1,11 @@
 //! Charts of a whole study: settle time against swept parameters.
 //!
-//! Runs that settled show their settle time; runs that diverged are red crosses (lines) or red
+//! Runs that settled show their settle time, with the mean over the runs at each grid point and its
+//! 95 % confidence interval (Student t) as error bars where there are two or more; runs that diverged are red crosses (lines) or red
 //! crossed cells (heatmap); runs that did not settle or were interrupted are grey hollow circles
 //! (lines) or grey cells (heatmap). A legend explains the marks that appear.
 
 use std::ops::Range;
-use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{SegmentValue, SegmentedCoord};
@@ -14,35 +14,40 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::style::{self, DIVERGED, LABEL_SIZE, LINE_WIDTH, NOT_SETTLED};
-use super::{ChartOptions, DrawResult, Figure, PlotError, StudyPoint, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, StudyPoint, render};
 use crate::physics::RunStatus;
+use crate::stats::{Describe, describe};
 
 /// Draws settle time against the swept parameter `x_param`, one line per value of `series_param`
-/// (one line in all without it), into `path`. A line joins the mean settle time of the settled runs
-/// at each x; every run is marked, those without a settle time in a row above the data.
-pub fn settle_time_lines(
+/// (one line in all without it), onto `canvas`. A line joins the mean settle time of the settled runs
+/// at each x, with its 95 % interval as an error bar where two or more settled; every run is marked,
+/// those without a settle time in a row above the data.
+pub fn settle_time_lines<'c>(
     points: &[StudyPoint],
     x_param: &str,
     series_param: Option<&str>,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    check_parameters(points, [Some(x_param), series_param].into_iter().flatten(), path)?;
-    render(&LinesFigure { points, x_param, series_param }, options, path)
+    let canvas = canvas.into();
+    check_parameters(points, [Some(x_param), series_param].into_iter().flatten(), &canvas)?;
+    render(&LinesFigure { points, x_param, series_param }, options, canvas)
 }
 
-/// Draws a heatmap of settle time over the grid of `x_param` × `y_param` values into `path` and
-/// returns its cells, one per grid point that has runs. A cell shows the mean settle time when all
-/// its runs settled; otherwise it is marked diverged if one of them diverged, not settled if not.
-pub fn settle_time_heatmap(
+/// Draws a heatmap of settle time over the grid of `x_param` × `y_param` values onto `canvas` and
+/// returns its cells, one per grid point that has runs. A cell shows the mean settle time (and its
+/// 95 % half-width, with two or more runs) when all its runs settled; otherwise it is marked
+/// diverged if one of them diverged, not settled if not.
+pub fn settle_time_heatmap<'c>(
     points: &[StudyPoint],
     x_param: &str,
     y_param: &str,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<Vec<HeatmapCell>, PlotError> {
-    check_parameters(points, [x_param, y_param], path)?;
-    render(&HeatmapFigure { grid: Grid::new(points, x_param, y_param), x_param, y_param }, options, path)
+    let canvas = canvas.into();
+    check_parameters(points, [x_param, y_param], &canvas)?;
+    render(&HeatmapFigure { grid: Grid::new(points, x_param, y_param), x_param, y_param }, options, canvas)
 }
 
 /// What a heatmap cell shows.
@@ -67,6 +72,8 @@ pub struct HeatmapCell {
     pub state: CellState,
     /// Number of runs at this grid point (replicates).
     pub runs: usize,
+    /// Half-width of the 95 % interval of the mean settle time (settled cells of two or more runs).
+    pub half_width_95: Option<f64>,
     /// The filled rectangle in pixels: upper left and lower right corner (column, row).
     pub pixels: [(i32, i32); 2],
 }
@@ -75,12 +82,12 @@ pub struct HeatmapCell {
 fn check_parameters<'a>(
     points: &[StudyPoint],
     names: impl IntoIterator<Item = &'a str>,
-    path: &Path,
+    canvas: &Canvas<'_>,
 ) -> Result<(), PlotError> {
     for name in names {
         if let Some(index) = points.iter().position(|p| p.parameter(name).is_none()) {
             let reason = format!("run {index} has no swept parameter '{name}' to plot against");
-            return Err(PlotError { path: path.to_path_buf(), reason });
+            return Err(PlotError { path: canvas.label(), reason });
         }
     }
     Ok(())
@@ -94,10 +101,9 @@ fn distinct_values<'a>(points: impl IntoIterator<Item = &'a StudyPoint>, name: &
     values
 }
 
-/// Mean of the settle times of the settled runs among `runs`, if any settled.
-fn mean_settle_time<'a>(runs: impl IntoIterator<Item = &'a StudyPoint>) -> Option<f64> {
-    let times: Vec<f64> = runs.into_iter().filter_map(StudyPoint::settled_time).collect();
-    (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64)
+/// The settle times of the settled runs among `runs` described (mean, 95 % half-width, …).
+fn settle_times<'a>(runs: impl IntoIterator<Item = &'a StudyPoint>) -> Describe {
+    describe(&runs.into_iter().filter_map(StudyPoint::settled_time).collect::<Vec<_>>())
 }
 
 /// Shift along x between the no-settle-time marks of neighbouring series, as a fraction of the x range.
@@ -125,14 +131,12 @@ impl LinesFigure<'_> {
             .collect()
     }
 
-    /// The line of one series: mean settle time of its settled runs at each x where some settled.
-    fn mean_line(&self, runs: &[&StudyPoint]) -> Vec<(f64, f64)> {
+    /// The line of one series: the settle times of its settled runs at each x where some settled.
+    fn mean_line(&self, runs: &[&StudyPoint]) -> Vec<(f64, Describe)> {
         distinct_values(runs.iter().copied(), self.x_param)
             .into_iter()
-            .filter_map(|x| {
-                let mean = mean_settle_time(runs.iter().copied().filter(|p| p.parameter(self.x_param) == Some(x)))?;
-                Some((x, mean))
-            })
+            .map(|x| (x, settle_times(runs.iter().copied().filter(|p| p.parameter(self.x_param) == Some(x)))))
+            .filter(|(_, times)| times.n > 0)
             .collect()
     }
 }
@@ -146,7 +150,15 @@ impl Figure for LinesFigure<'_> {
     {
         let x = |p: &StudyPoint| p.parameter(self.x_param).unwrap_or(f64::NAN);
         let x_range = style::padded(style::finite_bounds(self.points.iter().map(x)), 0.05);
-        let longest = self.points.iter().filter_map(StudyPoint::settled_time).fold(0.0, f64::max);
+        let lines: Vec<(String, Vec<(f64, Describe)>)> =
+            self.series().into_iter().map(|(label, runs)| (label, self.mean_line(&runs))).collect();
+        let upper = |d: &Describe| d.mean + d.half_width_95.max(0.0);
+        let longest = self
+            .points
+            .iter()
+            .filter_map(StudyPoint::settled_time)
+            .chain(lines.iter().flat_map(|(_, line)| line.iter().map(|(_, d)| upper(d))))
+            .fold(0.0, f64::max);
         let top = if longest > 0.0 { longest } else { 1.0 };
         // Runs without a settle time sit on a row above the data.
         let unsettled_row = top * 1.12;
@@ -160,15 +172,17 @@ impl Figure for LinesFigure<'_> {
         style::numbered_mesh(&mut chart.configure_mesh()).x_desc(self.x_param).y_desc("settle time (s)").draw()?;
         let row = [(x_range.start, unsettled_row), (x_range.end, unsettled_row)];
         chart.draw_series(DashedLineSeries::new(row, 4, 6, NOT_SETTLED.stroke_width(1)))?;
-        for (index, (label, runs)) in self.series().iter().enumerate() {
+        for (index, ((label, line), (_, runs))) in lines.iter().zip(self.series()).enumerate() {
             let colour = style::series_colour(index);
             let line_style = colour.stroke_width(LINE_WIDTH);
             chart
-                .draw_series(LineSeries::new(self.mean_line(runs), line_style).point_size(4))?
+                .draw_series(LineSeries::new(line.iter().map(|(x, d)| (*x, d.mean)), line_style).point_size(4))?
                 .label(label.as_str())
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], line_style));
+            let bars = line.iter().map(|(x, d)| (*x, d.mean - d.half_width_95, d.mean + d.half_width_95));
+            style::error_bars(&mut chart, bars, colour)?;
             let settled = runs.iter().filter_map(|p| Some((x(p), p.settled_time()?)));
-            chart.draw_series(settled.map(|at| Circle::new(at, 3, colour.filled())))?;
+            chart.draw_series(settled.map(|at| Circle::new(at, 3, colour.mix(0.5).filled())))?;
         }
         self.draw_unsettled(&mut chart, unsettled_row, &x_range)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
@@ -222,8 +236,9 @@ impl LinesFigure<'_> {
 struct Grid {
     xs: Vec<f64>,
     ys: Vec<f64>,
-    /// (x index, y index, state, run count) of every grid point that has runs.
-    cells: Vec<(usize, usize, CellState, usize)>,
+    /// (x index, y index, state, run count, 95 % half-width of a settled cell) of every grid point
+    /// that has runs.
+    cells: Vec<(usize, usize, CellState, usize, Option<f64>)>,
 }
 
 impl Grid {
@@ -239,7 +254,11 @@ impl Grid {
                     .filter(|p| p.parameter(x_param) == Some(x) && p.parameter(y_param) == Some(y))
                     .collect();
                 if !runs.is_empty() {
-                    cells.push((i, j, cell_state(&runs), runs.len()));
+                    let state = cell_state(&runs);
+                    let half_width = settle_times(runs.iter().copied()).half_width_95;
+                    let half_width =
+                        (matches!(state, CellState::Settled(_)) && half_width.is_finite()).then_some(half_width);
+                    cells.push((i, j, state, runs.len(), half_width));
                 }
             }
         }
@@ -248,7 +267,7 @@ impl Grid {
 
     /// The colour scale range: the settle times of settled cells.
     fn settle_range(&self) -> Range<f64> {
-        let times = self.cells.iter().filter_map(|(_, _, state, _)| match state {
+        let times = self.cells.iter().filter_map(|(_, _, state, _, _)| match state {
             CellState::Settled(t) => Some(*t),
             _ => None,
         });
@@ -264,7 +283,7 @@ fn cell_state(runs: &[&StudyPoint]) -> CellState {
     if runs.iter().any(|p| p.status == RunStatus::Diverged) {
         CellState::Diverged
     } else if runs.iter().all(|p| p.settled_time().is_some()) {
-        mean_settle_time(runs.iter().copied()).map_or(CellState::NotSettled, CellState::Settled)
+        CellState::Settled(settle_times(runs.iter().copied()).mean)
     } else {
         CellState::NotSettled
     }
@@ -348,16 +367,16 @@ impl HeatmapFigure<'_> {
         DB::ErrorType: 'static,
     {
         let mut cells = Vec::with_capacity(self.grid.cells.len());
-        for &(i, j, state, runs) in &self.grid.cells {
+        for &(i, j, state, runs, half_width_95) in &self.grid.cells {
             let (i, j) = (i as i32, j as i32);
             let upper_left = chart.backend_coord(&(SegmentValue::Exact(i), SegmentValue::Exact(j + 1)));
             let lower_right = chart.backend_coord(&(SegmentValue::Exact(i + 1), SegmentValue::Exact(j)));
             // One pixel of white between neighbouring cells.
             let pixels = [(upper_left.0 + 1, upper_left.1 + 1), (lower_right.0 - 1, lower_right.1 - 1)];
             root.draw(&Rectangle::new(pixels, cell_fill(state, range).filled()))?;
-            draw_cell_mark(root, state, pixels, range)?;
+            draw_cell_mark(root, state, half_width_95, pixels, range)?;
             let (x, y) = (self.grid.xs[i as usize], self.grid.ys[j as usize]);
-            cells.push(HeatmapCell { x, y, state, runs, pixels });
+            cells.push(HeatmapCell { x, y, state, runs, half_width_95, pixels });
         }
         Ok(cells)
     }
@@ -372,7 +391,7 @@ impl HeatmapFigure<'_> {
             let top = 10 + 36 * row as i32;
             let swatch = [(0, top), (28, top + 26)];
             area.draw(&Rectangle::new(swatch, cell_fill(state, &(0.0..1.0)).filled()))?;
-            draw_cell_mark(area, state, swatch, &(0.0..1.0))?;
+            draw_cell_mark(area, state, None, swatch, &(0.0..1.0))?;
             area.draw(&Text::new(
                 label,
                 (38, top + 13),
@@ -392,10 +411,12 @@ fn cell_fill(state: CellState, range: &Range<f64>) -> RGBColor {
     }
 }
 
-/// What a cell shows on top of its fill: a red X when diverged, its settle time when there is room.
+/// What a cell shows on top of its fill: a red X when diverged, its settle time (and below it the
+/// 95 % half-width, when known and there is room) when there is room.
 fn draw_cell_mark<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     state: CellState,
+    half_width_95: Option<f64>,
     [(x0, y0), (x1, y1)]: [(i32, i32); 2],
     range: &Range<f64>,
 ) -> DrawResult<()>
@@ -412,7 +433,16 @@ where
             let light_cell = (t - range.start) / (range.end - range.start) > 0.6;
             let colour = if light_cell { BLACK } else { WHITE };
             let text = style::text(LABEL_SIZE).color(&colour).pos(Pos::new(HPos::Center, VPos::Center));
-            area.draw(&Text::new(style::short_number(t), ((x0 + x1) / 2, (y0 + y1) / 2), text))?;
+            let centre = ((x0 + x1) / 2, (y0 + y1) / 2);
+            match half_width_95.filter(|_| y1 - y0 >= 2 * CELL_TEXT_MIN.1) {
+                Some(half) => {
+                    let line = LABEL_SIZE as i32 / 2 + 2;
+                    area.draw(&Text::new(style::short_number(t), (centre.0, centre.1 - line), text.clone()))?;
+                    let spread = format!("± {}", style::short_number(half));
+                    area.draw(&Text::new(spread, (centre.0, centre.1 + line), text))?;
+                }
+                None => area.draw(&Text::new(style::short_number(t), centre, text))?,
+            }
         }
         _ => {}
     }

@@ -75,6 +75,31 @@ pub(super) fn register_font() {
     });
 }
 
+/// Half-length of the caps of an error bar (pixels).
+const ERROR_BAR_CAP: i32 = 5;
+
+/// Draws vertical error bars `(x, low, high)` in `colour`: a line from low to high with short caps.
+/// Bars with a non-finite end are left out.
+pub(super) fn error_bars<DB, CT>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    bars: impl IntoIterator<Item = (f64, f64, f64)>,
+    colour: RGBColor,
+) -> DrawResult<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    let line = colour.stroke_width(LINE_WIDTH);
+    let cap = |at: (f64, f64)| EmptyElement::at(at) + PathElement::new([(-ERROR_BAR_CAP, 0), (ERROR_BAR_CAP, 0)], line);
+    for (x, low, high) in bars.into_iter().filter(|(x, low, high)| x.is_finite() && low.is_finite() && high.is_finite())
+    {
+        chart.draw_series([PathElement::new([(x, low), (x, high)], line)])?;
+        chart.draw_series([cap((x, low)), cap((x, high))])?;
+    }
+    Ok(())
+}
+
 /// Draws the legend of `chart`'s labelled series at `position`, on a light box with a black border.
 pub(super) fn draw_legend<'a, DB, CT>(
     chart: &mut ChartContext<'a, DB, CT>,

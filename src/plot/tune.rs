@@ -42,12 +42,12 @@ pub fn cost_vs_difference_chart(
     options: &ChartOptions,
     path: &Path,
 ) -> Result<(), PlotError> {
-    render(&CostFigure { points, recommended }, options, path)
+    render(&CostFigure { points, recommended }, options, path.into())
 }
 
 /// Cost ratio along each lever, one panel per lever.
 pub fn cost_along_levers_chart(series: &[LeverSeries], options: &ChartOptions, path: &Path) -> Result<(), PlotError> {
-    render(&LeverFigure { series }, options, path)
+    render(&LeverFigure { series }, options, path.into())
 }
 
 struct CostFigure<'a> {

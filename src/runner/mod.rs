@@ -55,6 +55,8 @@ pub struct RunReport {
     pub results: PathBuf,
     /// The CSV summary next to it.
     pub summary_csv: PathBuf,
+    /// The per-point CSV next to it.
+    pub points_csv: PathBuf,
     /// Runs this invocation is responsible for (the whole plan, or the shard).
     pub selected: usize,
     /// Of those, runs already in the file before this invocation (`--resume`).
@@ -65,6 +67,10 @@ pub struct RunReport {
     pub interrupted: bool,
     /// The summary of every run in the file.
     pub summary: SummaryTable,
+    /// The statistics of every grid point in the file (see [`crate::stats::points`]).
+    pub points: SummaryTable,
+    /// Worker threads the runs ran on.
+    pub jobs: usize,
     /// Wall time of this invocation.
     pub wall_time: std::time::Duration,
     /// Time the writer thread spent staging, committing and finishing the results file.
@@ -125,7 +131,7 @@ impl From<OutputError> for RunnerError {
 }
 
 /// Runs a plan (or one shard of it) into `OUT/<name>.h5` (or `OUT/<name>.shard-K-of-N.h5`) and its CSV
-/// summary; see [`RunOptions`].
+/// summary and points; see [`RunOptions`].
 pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerError> {
     let started = std::time::Instant::now();
     let selected = match options.shard {
@@ -145,19 +151,21 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     view.finish();
-    let (summary, writer_time) =
+    let (tables, writer_time) =
         writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
-    let summary_csv = output::csv_path(&path);
-    output::summary::write_csv(&summary_csv, &summary)?;
+    let (summary_csv, points_csv) = output::write_csv_files(&path, &tables)?;
     let ran = ran?;
     Ok(RunReport {
         results: path,
         summary_csv,
+        points_csv,
         selected: selected.len(),
         already_done: done.len(),
         ran,
         interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
-        summary,
+        summary: tables.summary,
+        points: tables.points,
+        jobs,
         wall_time: started.elapsed(),
         writer_time,
     })

@@ -6,7 +6,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use crate::output::{OutputError, ResultsWriter, RunResult, SummaryTable};
+use crate::output::{OutputError, ResultsWriter, RunResult, Tables};
 
 /// When staged runs are committed: after `max_runs` runs or `interval`, whichever comes first, but
 /// never so often that committing takes more than `max_overhead` of the time (a commit's cost grows
@@ -36,7 +36,7 @@ impl CommitPolicy {
     }
 }
 
-/// Starts the writer thread; it ends when every sender is dropped, returning the summary and the
+/// Starts the writer thread; it ends when every sender is dropped, returning the tables and the
 /// time it spent writing (staging, committing, finishing). On an error it sets `stop` (so the sweep
 /// ends) and returns the error.
 pub fn spawn(
@@ -44,7 +44,7 @@ pub fn spawn(
     runs: Receiver<RunResult>,
     policy: CommitPolicy,
     stop: Arc<AtomicBool>,
-) -> JoinHandle<Result<(SummaryTable, Duration), OutputError>> {
+) -> JoinHandle<Result<(Tables, Duration), OutputError>> {
     thread::spawn(move || {
         let outcome = write_all(writer, &runs, policy);
         if outcome.is_err() {
@@ -58,7 +58,7 @@ fn write_all(
     mut writer: ResultsWriter,
     runs: &Receiver<RunResult>,
     policy: CommitPolicy,
-) -> Result<(SummaryTable, Duration), OutputError> {
+) -> Result<(Tables, Duration), OutputError> {
     let mut last_commit = Instant::now();
     let mut last_cost = Duration::ZERO;
     let mut busy = Duration::ZERO;
@@ -81,8 +81,8 @@ fn write_all(
         }
     }
     let started = Instant::now();
-    let summary = writer.finish()?;
-    Ok((summary, busy + started.elapsed()))
+    let tables = writer.finish()?;
+    Ok((tables, busy + started.elapsed()))
 }
 
 #[cfg(test)]

@@ -1,17 +1,27 @@
-//! Statistics of replicated runs: description, Student t quantiles, equivalence (TOST) and ratios.
+//! Statistics over replicates (no I/O): per-point descriptions, equivalence of a setting with a
+//! reference by two one-sided tests, ratios of means with intervals.
 //!
-//! Placeholder with the agreed public API (issue 14); the real module lands on main.
+//! A *point* is the set of runs of a study that differ only by placement seed ([`points`]);
+//! [`compare`] sets every point against a reference point (`demsweep compare`). See
+//! `shared/spec/deposition.md`, "Statistics".
 
-/// Summary of a sample (NaN values skipped).
-#[derive(Clone, Debug, PartialEq)]
+mod distribution;
+
+pub mod compare;
+pub mod points;
+
+/// n, mean, sample std, 95% Student-t half-width, min, max of the finite values (NaN skipped).
+///
+/// With no value every field but `n` is NaN; with one value `std` and `half_width_95` are NaN.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Describe {
-    /// Number of values.
+    /// Number of finite values.
     pub n: usize,
-    /// Mean.
+    /// Their mean.
     pub mean: f64,
-    /// Sample standard deviation (n − 1).
+    /// Sample standard deviation (n − 1 in the denominator).
     pub std: f64,
-    /// 95 % confidence half-width of the mean (Student t, n − 1 degrees of freedom).
+    /// Half-width of the 95 % confidence interval of the mean: t(0.975, n − 1) · std / √n.
     pub half_width_95: f64,
     /// Smallest value.
     pub min: f64,
@@ -19,199 +29,145 @@ pub struct Describe {
     pub max: f64,
 }
 
-/// Describes a sample; NaN values are skipped.
+/// Describes the finite values of `values` (NaN and infinities are skipped).
 pub fn describe(values: &[f64]) -> Describe {
-    let v: Vec<f64> = values.iter().copied().filter(|x| !x.is_nan()).collect();
-    let n = v.len();
+    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    let n = finite.len();
+    let nan = f64::NAN;
     if n == 0 {
-        return Describe { n, mean: f64::NAN, std: f64::NAN, half_width_95: f64::NAN, min: f64::NAN, max: f64::NAN };
+        return Describe { n, mean: nan, std: nan, half_width_95: nan, min: nan, max: nan };
     }
-    let mean = v.iter().sum::<f64>() / n as f64;
-    let std =
-        if n > 1 { (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt() } else { f64::NAN };
-    let half_width_95 =
-        if n > 1 { student_t_quantile(0.975, (n - 1) as f64) * std / (n as f64).sqrt() } else { f64::NAN };
-    let min = v.iter().copied().fold(f64::INFINITY, f64::min);
-    let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mean = finite.iter().sum::<f64>() / n as f64;
+    let (std, half_width_95) = if n < 2 {
+        (nan, nan)
+    } else {
+        let variance = finite.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+        let std = variance.sqrt();
+        (std, student_t_quantile(0.975, (n - 1) as f64) * std / (n as f64).sqrt())
+    };
+    let min = finite.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     Describe { n, mean, std, half_width_95, min, max }
 }
 
-/// The `p` quantile of Student's t distribution with `df` degrees of freedom.
+/// Quantile of Student's t distribution with `df` degrees of freedom (df may be fractional, Welch), p in (0,1).
+///
+/// Computed by bisection on the distribution function (regularized incomplete beta function) to
+/// about 15 significant digits; NaN for p outside (0, 1) or df ≤ 0.
 pub fn student_t_quantile(p: f64, df: f64) -> f64 {
-    if !(0.0..=1.0).contains(&p) || df.is_nan() || df <= 0.0 {
-        return f64::NAN;
-    }
-    if p == 0.5 {
-        return 0.0;
-    }
-    if p < 0.5 {
-        return -student_t_quantile(1.0 - p, df);
-    }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while t_cdf(hi, df) < p {
-        hi *= 2.0;
-        if hi > 1e12 {
-            return f64::INFINITY;
-        }
-    }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if t_cdf(mid, df) < p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-fn t_cdf(t: f64, df: f64) -> f64 {
-    let x = df / (df + t * t);
-    let tail = 0.5 * incomplete_beta(0.5 * df, 0.5, x);
-    if t >= 0.0 { 1.0 - tail } else { tail }
-}
-
-/// Regularized incomplete beta I_x(a, b) (continued fraction, Numerical Recipes 6.4).
-fn incomplete_beta(a: f64, b: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x >= 1.0 {
-        return 1.0;
-    }
-    let front = (ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln()).exp();
-    if x < (a + 1.0) / (a + b + 2.0) {
-        front * beta_fraction(a, b, x) / a
-    } else {
-        1.0 - front * beta_fraction(b, a, 1.0 - x) / b
-    }
-}
-
-fn beta_fraction(a: f64, b: f64, x: f64) -> f64 {
-    let tiny = 1e-300;
-    let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
-    let mut c = 1.0;
-    let mut d = 1.0 - qab * x / qap;
-    if d.abs() < tiny {
-        d = tiny;
-    }
-    d = 1.0 / d;
-    let mut h = d;
-    for m in 1..300 {
-        let m = m as f64;
-        let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() < 1e-15 {
-            break;
-        }
-    }
-    h
-}
-
-/// ln Γ(x) (Lanczos, g = 7).
-fn ln_gamma(x: f64) -> f64 {
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let t = x + 7.5;
-    let sum = C[0] + C.iter().enumerate().skip(1).map(|(i, c)| c / (x + i as f64)).sum::<f64>();
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + sum.ln()
+    distribution::t_quantile(p, df)
 }
 
 /// Outcome of an equivalence test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Decision {
-    /// The 90 % interval lies inside (−margin, +margin).
+    /// The 90 % interval of the difference lies inside (−margin, +margin).
     Equivalent,
-    /// The 90 % interval lies wholly outside (−margin, +margin).
+    /// The interval lies wholly outside: entirely ≥ margin or entirely ≤ −margin.
     Different,
-    /// Neither: more seeds needed.
+    /// Neither: more seeds are needed (or a group has fewer than 2 values).
     Undecided,
 }
 
-/// Two one-sided tests (Schuirmann 1987) of mean(candidate) − mean(reference) against ±margin.
-#[derive(Clone, Debug, PartialEq)]
+impl Decision {
+    /// The decision in words: `equivalent`, `different` or `undecided`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Decision::Equivalent => "equivalent",
+            Decision::Different => "different",
+            Decision::Undecided => "undecided",
+        }
+    }
+}
+
+/// A candidate set against a reference set on one metric.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Equivalence {
     /// mean(candidate) − mean(reference).
     pub difference: f64,
-    /// Lower end of the 90 % Welch interval.
+    /// Lower end of its 90 % Welch interval (NaN when a group has fewer than 2 values).
     pub low: f64,
-    /// Upper end of the 90 % Welch interval.
+    /// Upper end of its 90 % Welch interval.
     pub high: f64,
-    /// The decision.
+    /// Equivalent, different or undecided.
     pub decision: Decision,
-    /// About how many seeds per side would decide an undecided case (None when decided or hopeless).
+    /// For an undecided test: the rough number of values per group at which the interval would
+    /// decide (see [`equivalence`]); `None` otherwise, or when it cannot be estimated.
     pub seeds_needed: Option<usize>,
 }
 
-/// TOST with a 90 % Welch interval of mean(candidate) − mean(reference) and an absolute margin.
+/// Largest per-group count that [`equivalence`] reports as seeds needed.
+const MAX_SEEDS: usize = 100_000;
+
+/// TOST (Schuirmann 1987): 90% Welch interval of mean(candidate) - mean(reference), absolute margin `margin` > 0.
+///
+/// Two one-sided t tests at 5 % each are equivalent to asking whether the 90 % confidence interval
+/// d ± t(0.95, ν) · √(s_c²/n_c + s_r²/n_r) (Welch–Satterthwaite ν) lies inside (−margin, +margin).
+/// Different when it lies wholly outside; undecided otherwise, and always when a group has fewer than
+/// 2 finite values. `seeds_needed` (undecided only) assumes the observed difference d and the pooled
+/// standard deviation s_p stay as they are and n values in each group: it is the smallest n with
+/// t(0.95, 2n − 2) · s_p · √(2/n) < | margin − |d| |, the half-width at which the interval clears the
+/// nearer margin; `None` when d sits on the margin or more than 100 000 would be needed.
 pub fn equivalence(reference: &[f64], candidate: &[f64], margin: f64) -> Equivalence {
     let (r, c) = (describe(reference), describe(candidate));
     let difference = c.mean - r.mean;
-    let (vr, vc) = (variance_of_mean(&r), variance_of_mean(&c));
-    let se = (vr + vc).sqrt();
-    let t = if se > 0.0 {
-        let df = (vr + vc).powi(2) / (vr * vr / (r.n as f64 - 1.0) + vc * vc / (c.n as f64 - 1.0));
-        student_t_quantile(0.95, df)
-    } else {
-        0.0
-    };
-    let (low, high) = (difference - t * se, difference + t * se);
-    let decision = if low.is_nan() || high.is_nan() {
-        Decision::Undecided
-    } else if low > -margin && high < margin {
+    if r.n < 2 || c.n < 2 {
+        let nan = f64::NAN;
+        return Equivalence { difference, low: nan, high: nan, decision: Decision::Undecided, seeds_needed: None };
+    }
+    let (vr, vc) = (r.std.powi(2) / r.n as f64, c.std.powi(2) / c.n as f64);
+    let half =
+        if vr + vc > 0.0 { student_t_quantile(0.95, welch_df(vr, r.n, vc, c.n)) * (vr + vc).sqrt() } else { 0.0 };
+    let (low, high) = (difference - half, difference + half);
+    let decision = if -margin < low && high < margin {
         Decision::Equivalent
     } else if low >= margin || high <= -margin {
         Decision::Different
     } else {
         Decision::Undecided
     };
-    let seeds_needed = if decision == Decision::Undecided && difference.abs() < margin && r.n > 1 && c.n > 1 {
-        let s2 = r.std.powi(2) + c.std.powi(2);
-        (2..10_000).find(|&n| {
-            let t = student_t_quantile(0.95, (2 * n - 2) as f64);
-            difference.abs() + t * (s2 / n as f64).sqrt() < margin
-        })
-    } else {
-        None
-    };
+    let pooled =
+        (((r.n - 1) as f64 * r.std.powi(2) + (c.n - 1) as f64 * c.std.powi(2)) / (r.n + c.n - 2) as f64).sqrt();
+    let seeds_needed = if decision == Decision::Undecided { seeds_to_decide(difference, pooled, margin) } else { None };
     Equivalence { difference, low, high, decision, seeds_needed }
 }
 
-fn variance_of_mean(d: &Describe) -> f64 {
-    if d.n > 1 { d.std * d.std / d.n as f64 } else { f64::NAN }
+/// Welch–Satterthwaite degrees of freedom of a sum of two variance terms v = s²/n.
+fn welch_df(v1: f64, n1: usize, v2: f64, n2: usize) -> f64 {
+    (v1 + v2).powi(2) / (v1.powi(2) / (n1 - 1) as f64 + v2.powi(2) / (n2 - 1) as f64)
 }
 
-/// A ratio of means with its confidence interval.
-#[derive(Clone, Debug, PartialEq)]
+/// Smallest per-group n whose 90 % half-width t(0.95, 2n − 2) s √(2/n) is below |margin − |d||.
+fn seeds_to_decide(difference: f64, pooled_std: f64, margin: f64) -> Option<usize> {
+    let gap = (margin - difference.abs()).abs();
+    if !(gap > 0.0 && pooled_std.is_finite()) {
+        return None;
+    }
+    let half_width = |n: usize| student_t_quantile(0.95, (2 * n - 2) as f64) * pooled_std * (2.0 / n as f64).sqrt();
+    let decides = |n: usize| half_width(n) < gap;
+    if !decides(MAX_SEEDS) {
+        return None;
+    }
+    // The half-width falls with n: bisect between a count that does not decide and one that does.
+    let (mut low, mut high) = (1, MAX_SEEDS);
+    while high - low > 1 {
+        let mid = (low + high) / 2;
+        if mid >= 2 && decides(mid) {
+            high = mid;
+        } else {
+            low = mid;
+        }
+    }
+    Some(high)
+}
+
+/// Ratio of means mean(candidate)/mean(reference) with a 95% interval (say which method: Fieller or delta method on logs).
+///
+/// Delta method on logs: ln r = ln m_c − ln m_r with variance s_c²/(n_c m_c²) + s_r²/(n_r m_r²)
+/// and Welch–Satterthwaite degrees of freedom; the interval is exp(ln r ± t(0.975, ν) · se), so it
+/// never includes zero or negative ratios. `low` and `high` are NaN when a group has fewer than
+/// 2 finite values or a mean is not positive; equal to the ratio when neither group varies.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ratio {
     /// mean(candidate) / mean(reference).
     pub ratio: f64,
@@ -221,18 +177,76 @@ pub struct Ratio {
     pub high: f64,
 }
 
-/// mean(candidate) / mean(reference) with a 95 % interval (delta method on the log ratio, Welch df).
+/// The ratio of the means of `candidate` and `reference` with its 95 % interval (see [`Ratio`]).
 pub fn ratio_interval(reference: &[f64], candidate: &[f64]) -> Ratio {
     let (r, c) = (describe(reference), describe(candidate));
     let ratio = c.mean / r.mean;
-    let vr = variance_of_mean(&r) / (r.mean * r.mean);
-    let vc = variance_of_mean(&c) / (c.mean * c.mean);
-    let v = vr + vc;
-    if !(v > 0.0) {
+    let nan = f64::NAN;
+    if r.n < 2 || c.n < 2 || !(r.mean > 0.0 && c.mean > 0.0) {
+        return Ratio { ratio, low: nan, high: nan };
+    }
+    let vr = (r.std / r.mean).powi(2) / r.n as f64;
+    let vc = (c.std / c.mean).powi(2) / c.n as f64;
+    if vr + vc == 0.0 {
         return Ratio { ratio, low: ratio, high: ratio };
     }
-    let df = v * v / (vr * vr / (r.n as f64 - 1.0) + vc * vc / (c.n as f64 - 1.0));
-    let t = student_t_quantile(0.975, df);
-    let k = (t * v.sqrt()).exp();
-    Ratio { ratio, low: ratio / k, high: ratio * k }
+    let half = student_t_quantile(0.975, welch_df(vr, r.n, vc, c.n)) * (vr + vc).sqrt();
+    Ratio { ratio, low: ratio * (-half).exp(), high: ratio * half.exp() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64, tolerance: f64) -> bool {
+        (a - b).abs() <= tolerance
+    }
+
+    #[test]
+    fn t_quantiles_match_the_tables() {
+        // Two-sided 90 % and 95 % critical values (e.g. NIST/SEMATECH e-Handbook, table 1.3.6.7.2).
+        let table = [
+            (1.0, 6.3138, 12.7062),
+            (2.0, 2.9200, 4.3027),
+            (3.0, 2.3534, 3.1824),
+            (4.0, 2.1318, 2.7764),
+            (5.0, 2.0150, 2.5706),
+            (10.0, 1.8125, 2.2281),
+            (30.0, 1.6973, 2.0423),
+        ];
+        for (df, t95, t975) in table {
+            assert!(close(student_t_quantile(0.95, df), t95, 5e-5), "t(0.95, {df})");
+            assert!(close(student_t_quantile(0.975, df), t975, 5e-5), "t(0.975, {df})");
+            assert!(close(student_t_quantile(0.025, df), -t975, 5e-5), "symmetric");
+        }
+    }
+
+    #[test]
+    fn t_quantiles_match_closed_forms_and_the_normal_limit() {
+        for p in [0.6, 0.9, 0.975, 0.999] {
+            let cauchy = (std::f64::consts::PI * (p - 0.5)).tan();
+            assert!(close(student_t_quantile(p, 1.0), cauchy, 1e-9 * cauchy), "df 1, p {p}");
+            let two = (2.0 * p - 1.0) / (2.0 * p * (1.0 - p)).sqrt();
+            assert!(close(student_t_quantile(p, 2.0), two, 1e-10 * two), "df 2, p {p}");
+        }
+        assert!(close(student_t_quantile(0.975, 1e9), 1.959_964, 1e-6));
+        // Fractional (Welch) degrees of freedom fall between their neighbours.
+        let t = student_t_quantile(0.95, 3.5);
+        assert!(t < student_t_quantile(0.95, 3.0) && t > student_t_quantile(0.95, 4.0));
+        assert_eq!(student_t_quantile(0.5, 7.0), 0.0);
+        assert!(student_t_quantile(1.0, 3.0).is_nan() && student_t_quantile(0.9, 0.0).is_nan());
+    }
+
+    #[test]
+    fn describe_skips_missing_values() {
+        let d = describe(&[2.0, f64::NAN, 4.0, 6.0, 8.0]);
+        assert_eq!((d.n, d.mean, d.min, d.max), (4, 5.0, 2.0, 8.0));
+        // Sample variance (9 + 1 + 1 + 9) / 3.
+        assert!(close(d.std, (20.0f64 / 3.0).sqrt(), 1e-15));
+        assert!(close(d.half_width_95, 3.182_446_305 * d.std / 2.0, 1e-8));
+        let one = describe(&[3.0]);
+        assert_eq!((one.n, one.mean, one.min, one.max), (1, 3.0, 3.0, 3.0));
+        assert!(one.std.is_nan() && one.half_width_95.is_nan());
+        assert!(describe(&[f64::NAN]).mean.is_nan());
+    }
 }

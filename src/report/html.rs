@@ -1,0 +1,188 @@
+//! HTML pieces of the report: the page around the sections, escaping, numbers, and the tables.
+
+use serde_json::{Value, json};
+
+use crate::output::SummaryTable;
+use crate::output::table::ColumnData;
+use crate::stats::points::Points;
+
+/// Summary columns shown per point (those the file has), with their units.
+const POINT_METRICS: [(&str, &str); 16] = [
+    ("settle_time", "s"),
+    ("particle_steps", ""),
+    ("wall_time", "s"),
+    ("time_step", "s"),
+    ("packing_fraction_interior", ""),
+    ("coordination_number", ""),
+    ("mechanical_coordination_number", ""),
+    ("rattler_fraction", ""),
+    ("floor_load_ratio", ""),
+    ("fabric_anisotropy", ""),
+    ("sliding_fraction", ""),
+    ("mean_overlap_ratio", ""),
+    ("packing_fraction", ""),
+    ("pile_height", "m"),
+    ("final_ubf", ""),
+    ("warnings", ""),
+];
+
+/// Run statuses counted per point.
+const STATUSES: [&str; 4] = ["settled", "not_settled", "diverged", "error"];
+
+/// A page being assembled: sections in order, then the closing script.
+pub struct Page {
+    html: String,
+}
+
+impl Page {
+    /// A page titled after the study.
+    pub fn new(title: &str) -> Self {
+        let html = format!(
+            "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
+             <title>{} — demsweep report</title><style>{}</style></head><body><main>",
+            escape(title),
+            include_str!("report.css")
+        );
+        Self { html }
+    }
+
+    /// Appends a section.
+    pub fn push(&mut self, section: &str) {
+        self.html += section;
+    }
+
+    /// The complete document.
+    pub fn finish(self) -> String {
+        format!("{}</main><script>{}</script></body></html>", self.html, include_str!("report.js"))
+    }
+}
+
+/// Text made safe for HTML content and attribute values.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out += "&amp;",
+            '<' => out += "&lt;",
+            '>' => out += "&gt;",
+            '"' => out += "&quot;",
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A number to 4 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
+pub fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return if x.is_nan() { "–".into() } else { format!("{x}") };
+    }
+    if (1e-3..1e6).contains(&x.abs()) {
+        let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+        let text = format!("{x:.digits$}");
+        if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// A float for the page's data: 5 significant digits (the page shows 4), `null` when not finite.
+fn short(x: f64) -> Value {
+    if x.is_finite() { format!("{x:.4e}").parse::<f64>().map_or(Value::Null, |v| json!(v)) } else { Value::Null }
+}
+
+/// The per-point table's columns and rows, for the page's script (see `report.js`).
+pub struct PointsTable {
+    columns: Vec<Value>,
+    rows: Vec<Value>,
+}
+
+impl PointsTable {
+    /// The table of `points`; `charted`: runs that have a section of their own.
+    pub fn new(points: &Points, charted: &[&str]) -> Self {
+        let summary = points.summary();
+        let status = summary.column("status").map(|c| &c.data);
+        let ids = summary.column("run_id").map(|c| &c.data);
+        let metrics: Vec<(&str, &str)> =
+            POINT_METRICS.iter().copied().filter(|(m, _)| points.metric_names().contains(m)).collect();
+        let mut columns: Vec<Value> = points
+            .coordinates()
+            .iter()
+            .map(|c| json!({"name": c.name, "kind": if c.data.is_numeric() { "number" } else { "text" }, "unit": ""}))
+            .collect();
+        columns.push(json!({"name": "n", "kind": "number", "unit": ""}));
+        columns.extend(STATUSES.iter().map(|s| json!({"name": s, "kind": "number", "unit": ""})));
+        columns.extend(metrics.iter().map(|(m, unit)| json!({"name": m, "kind": "number", "unit": unit})));
+        columns.push(json!({"name": "runs", "kind": "run", "unit": ""}));
+        let rows = (0..points.len())
+            .map(|p| {
+                let runs = points.rows(p);
+                let text = |row: usize, data: Option<&ColumnData>| data.map(|d| d.text(row)).unwrap_or_default();
+                let statuses: Vec<String> = runs.iter().map(|&r| text(r, status)).collect();
+                let mut cells: Vec<Value> = points
+                    .coordinates()
+                    .iter()
+                    .map(|c| match points.coordinate(p, &c.name) {
+                        Some(x) if c.data.is_numeric() => short(x),
+                        _ => json!(points.coordinate_text(p, &c.name)),
+                    })
+                    .collect();
+                cells.push(json!(runs.len()));
+                cells.extend(STATUSES.iter().map(|s| json!(statuses.iter().filter(|t| t == s).count())));
+                for (metric, _) in &metrics {
+                    let d = points.describe(p, metric);
+                    cells.push(if d.n == 0 { Value::Null } else { json!([short(d.mean), short(d.half_width_95)]) });
+                }
+                let run_ids: Vec<String> = runs.iter().map(|&r| text(r, ids)).collect();
+                let linked = run_ids.iter().find(|id| charted.contains(&id.as_str()));
+                cells.push(json!([linked, run_ids.join(" ")]));
+                let mut present: Vec<&String> = statuses.iter().collect();
+                present.sort();
+                present.dedup();
+                json!({"statuses": present, "cells": cells})
+            })
+            .collect();
+        Self { columns, rows }
+    }
+
+    /// The header cells, with each column's kind and unit.
+    pub fn header_cells(&self) -> String {
+        self.columns
+            .iter()
+            .map(|c| {
+                let (name, kind, unit) = (c["name"].as_str(), c["kind"].as_str(), c["unit"].as_str());
+                let unit = unit.filter(|u| !u.is_empty()).map(|u| format!(" ({u})")).unwrap_or_default();
+                format!(
+                    "<th data-kind=\"{}\" title=\"sort by {name}\">{}{unit}</th>",
+                    kind.unwrap_or("text"),
+                    escape(name.unwrap_or("")),
+                    name = escape(name.unwrap_or(""))
+                )
+            })
+            .collect()
+    }
+
+    /// The data the page's script renders, as JSON safe inside a `<script>` element.
+    pub fn json(&self) -> String {
+        json!({"columns": self.columns, "rows": self.rows}).to_string().replace("</", "<\\/")
+    }
+}
+
+/// A table rendered as plain HTML (small tables only), numbers to 4 significant digits.
+pub fn static_table(table: &SummaryTable) -> String {
+    let head: String = table.columns.iter().map(|c| format!("<th>{}</th>", escape(&c.name))).collect();
+    let body: String = (0..table.len())
+        .map(|i| {
+            let cells: String = table
+                .columns
+                .iter()
+                .map(|c| match &c.data {
+                    ColumnData::Float(v) => format!("<td class=\"num\">{}</td>", number(v[i])),
+                    data => format!("<td>{}</td>", escape(&data.text(i))),
+                })
+                .collect();
+            format!("<tr>{cells}</tr>")
+        })
+        .collect();
+    format!("<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+}

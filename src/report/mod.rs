@@ -1,0 +1,259 @@
+//! The morning-after report: one self-contained HTML page per results file (inline CSS, inline SVG
+//! charts, a little inline JavaScript, no network request of any kind).
+//!
+//! Top to bottom: what was run; how the runs ended and their warnings grouped by message; the
+//! per-point table (sortable by any column, filterable by status; [`crate::stats::points`]); the
+//! study charts (settle time with 95 % intervals, heatmap); the tune, when the file holds one; a
+//! section per charted run (energies, unbalanced force ratio, final pile), the runs `demsweep plot`
+//! chooses, each linked from its point's row.
+
+mod html;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable, reader};
+use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
+use crate::plot::run::ColourBy;
+use crate::plot::{Canvas, ChartOptions, Format, PlotError};
+use crate::stats::points::Points;
+use html::{escape, number};
+
+/// What the caller knows about how the results were made (not stored in the file).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReportContext {
+    /// Worker threads the runs ran on.
+    pub jobs: Option<usize>,
+    /// Wall-clock time of the whole command (s).
+    pub elapsed: Option<f64>,
+}
+
+/// A section the tune adds to the report of its results file (see `demsweep tune`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TuneSection {
+    /// The recommendation, one paragraph of plain text.
+    pub recommendation: String,
+    /// Cost against largest |difference| / tolerance, as an SVG document.
+    pub chart_svg: String,
+    /// Every evaluated setting (the candidates table).
+    pub candidates: SummaryTable,
+}
+
+/// `<results folder>/<study name>_report.html`.
+pub fn report_path(results: &Path, study_name: &str) -> PathBuf {
+    results.with_file_name(format!("{study_name}_report.html"))
+}
+
+/// Writes the report of the results file `results` to `out` (default: [`report_path`]); returns
+/// where it went.
+pub fn write_report(
+    results: &Path,
+    out: Option<&Path>,
+    context: &ReportContext,
+    tune: Option<&TuneSection>,
+) -> Result<PathBuf, OutputError> {
+    let file = reader::open(results)?;
+    let header = reader::header(&file, results)?;
+    let rows = reader::rows(&file, results)?;
+    let summary = SummaryTable::from_rows(&rows);
+    let request = PlotRequest {
+        results: results.to_path_buf(),
+        out_dir: None,
+        run_ids: Vec::new(),
+        all_runs: false,
+        formats: vec![Format::Svg],
+        colour_by: ColourBy::Speed,
+        size: (900, 560),
+    };
+    let charted: Vec<&SummaryRow> =
+        results::select_runs(&rows, &request).map_err(|e| OutputError::new(results, e.reason))?;
+    let mut page = html::Page::new(&header.study_name);
+    page.push(&overview(&header, &rows, context));
+    page.push(&outcomes(&rows));
+    let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
+    page.push(&points_section(&summary, &charted_ids));
+    let mut study = Svgs::default();
+    results::study_charts(&mut study, &header.study_name, &rows);
+    page.push(&charts_section(&study));
+    if let Some(tune) = tune {
+        page.push(&tune_section(tune));
+    }
+    let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
+    if rows.len() > charted.len() {
+        runs += &format!(
+            "<p class=\"note\">{} of {} runs charted ({DEFAULT_RUN_LIMIT} at most, spread over the study; `demsweep plot --run ID` draws any other).</p>",
+            charted.len(),
+            rows.len()
+        );
+    }
+    for row in &charted {
+        let mut svgs = Svgs::default();
+        results::run_charts(&mut svgs, (&file, results), row, ColourBy::Speed);
+        runs += &run_section(row, &svgs);
+    }
+    runs += "</div>";
+    page.push(&runs);
+    let path = out.map_or_else(|| report_path(results, &header.study_name), Path::to_path_buf);
+    std::fs::write(&path, page.finish()).map_err(|e| OutputError::io(&path, e))?;
+    Ok(path)
+}
+
+/// Charts drawn as SVG documents, in order, with what was noted on the way.
+#[derive(Default)]
+struct Svgs {
+    charts: Vec<(String, String)>,
+    notes: Vec<String>,
+}
+
+impl ChartSink for Svgs {
+    fn chart<T>(
+        &mut self,
+        name: &str,
+        subject: &str,
+        draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
+    ) -> Option<T> {
+        let options = ChartOptions { width: 900, height: 560, format: Format::Svg, subject: Some(subject.to_string()) };
+        let mut svg = String::new();
+        match draw(&options, Canvas::Svg(&mut svg)) {
+            Ok(value) => {
+                self.charts.push((name.to_string(), svg));
+                Some(value)
+            }
+            Err(error) => {
+                self.fail(&error);
+                None
+            }
+        }
+    }
+
+    fn note(&mut self, text: &str) {
+        self.notes.push(text.to_string());
+    }
+
+    fn fail(&mut self, error: &PlotError) {
+        self.notes.push(format!("chart not drawn: {}", error.reason));
+    }
+}
+
+/// What was run: study, fingerprint, version, dates, wall time, cores, and the study file itself.
+fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext) -> String {
+    let description = toml::from_str::<toml::Table>(&header.study_text)
+        .ok()
+        .and_then(|t| t.get("description").and_then(|d| d.as_str().map(str::to_string)));
+    let run_seconds: f64 = rows.iter().map(|r| r.wall_time).sum();
+    let mut facts = vec![
+        ("study", escape(&header.study_name)),
+        ("fingerprint", format!("<code>{}</code>", escape(&header.fingerprint))),
+        ("demsweep", escape(&header.demsweep_version)),
+        ("results file created", escape(&header.created)),
+        ("report written", escape(&crate::output::header::utc_now())),
+        ("runs", format!("{} of {} planned", rows.len(), header.planned_runs)),
+        ("simulation time", format!("{} s over all runs", number(run_seconds))),
+    ];
+    if let Some(elapsed) = context.elapsed {
+        facts.push(("wall time", format!("{} s", number(elapsed))));
+    }
+    if let Some(jobs) = context.jobs {
+        facts.push(("cores", format!("{jobs} worker threads")));
+    }
+    let facts: String = facts.iter().map(|(k, v)| format!("<dt>{k}</dt><dd>{v}</dd>")).collect();
+    format!(
+        "<h1>{}</h1><p class=\"lead\">{}</p><dl class=\"facts\">{facts}</dl><details><summary>study file</summary><pre>{}</pre></details>",
+        escape(&header.study_name),
+        escape(description.as_deref().unwrap_or("")),
+        escape(&header.study_text)
+    )
+}
+
+/// How the runs ended (counts by status) and their warnings and failure messages, grouped.
+fn outcomes(rows: &[SummaryRow]) -> String {
+    let mut statuses: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut warnings: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
+    for row in rows {
+        *statuses.entry(&row.status).or_default() += 1;
+        for warning in &row.warnings {
+            *warnings.entry(warning).or_default() += 1;
+        }
+        if !row.message.is_empty() {
+            *messages.entry((&row.status, &row.message)).or_default() += 1;
+        }
+    }
+    let badges: String =
+        statuses.iter().map(|(s, n)| format!("<span class=\"{}\">{n} {}</span>", escape(s), escape(s))).collect();
+    let mut out = format!("<h2 id=\"outcomes\">How the runs ended</h2><p class=\"badges\">{badges}</p>");
+    let grouped = |title: &str, entries: Vec<(String, usize)>| {
+        let mut sorted = entries;
+        sorted.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let rows: String =
+            sorted.iter().map(|(m, n)| format!("<tr><td class=\"num\">{n}</td><td>{}</td></tr>", escape(m))).collect();
+        format!(
+            "<h3>{title}</h3><table><thead><tr><th>runs</th><th>message</th></tr></thead><tbody>{rows}</tbody></table>"
+        )
+    };
+    if !messages.is_empty() {
+        let entries = messages.into_iter().map(|((s, m), n)| (format!("{s}: {m}"), n)).collect();
+        out += &grouped("Why runs failed or diverged", entries);
+    }
+    if warnings.is_empty() {
+        out += "<p class=\"note\">No run has a warning.</p>";
+    } else {
+        out += &grouped("Warnings", warnings.into_iter().map(|(m, n)| (m.to_string(), n)).collect());
+    }
+    out
+}
+
+/// The per-point table: rows built in the browser from embedded JSON.
+fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
+    let points = Points::new(summary);
+    let table = html::PointsTable::new(&points, charted);
+    let statuses: String = ["settled", "not_settled", "diverged", "error"]
+        .iter()
+        .map(|s| format!("<option value=\"{s}\">with {s} runs</option>"))
+        .collect();
+    format!(
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs. Click a column header to sort; click again to reverse.</p>\
+         <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
+         <div class=\"scroll\"><table id=\"points\"><thead><tr>{}</tr></thead><tbody></tbody></table></div>\
+         <script type=\"application/json\" id=\"points-data\">{}</script>",
+        table.header_cells(),
+        table.json()
+    )
+}
+
+/// The study charts, each as inline SVG.
+fn charts_section(svgs: &Svgs) -> String {
+    let mut out = String::from("<h2 id=\"charts\">Settle time</h2>");
+    for (_, svg) in &svgs.charts {
+        out += &format!("<div class=\"chart\">{svg}</div>");
+    }
+    for note in &svgs.notes {
+        out += &format!("<p class=\"note\">{}</p>", escape(note));
+    }
+    out
+}
+
+/// The tune's recommendation, chart and candidate table.
+fn tune_section(tune: &TuneSection) -> String {
+    format!(
+        "<h2 id=\"tune\">Tune</h2><p class=\"recommendation\">{}</p><div class=\"chart\">{}</div><h3>Candidates</h3><div class=\"scroll\">{}</div>",
+        escape(&tune.recommendation),
+        tune.chart_svg,
+        html::static_table(&tune.candidates)
+    )
+}
+
+/// A charted run: its energies, unbalanced force ratio and pile.
+fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
+    let charts: String = svgs.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
+    let notes: String = svgs.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
+    let settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
+    format!(
+        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}</div>{notes}</section>",
+        escape(&results::run_subject(row)),
+        row.steps,
+        number(row.wall_time),
+        row.warnings.len(),
+        id = escape(&row.id),
+    )
+}

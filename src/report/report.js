@@ -1,0 +1,82 @@
+// demsweep report: builds the per-point table from the embedded JSON, sorts it by any column
+// (click a header; again to reverse) and filters it by run status. No network, no libraries.
+//
+// Data: { columns: [{ name, kind: "text" | "number" | "run", unit }], rows: [{ statuses, cells }] };
+// a number cell is a value or [mean, 95 % half-width], a text cell a string, a run cell
+// [id of a run with a section of its own or null, the point's run ids], a missing value null.
+(function () {
+  "use strict";
+  var data = JSON.parse(document.getElementById("points-data").textContent);
+  var table = document.getElementById("points");
+  var body = table.tBodies[0];
+  var headers = table.tHead.rows[0].cells;
+  var filter = document.getElementById("status-filter");
+  var order = data.rows.map(function (_, i) { return i; });
+  var sortColumn = -1, descending = false;
+
+  function escape(text) {
+    return String(text).replace(/[&<>"]/g, function (c) {
+      return { "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c];
+    });
+  }
+
+  function number(x) {
+    if (x === 0) return "0";
+    var a = Math.abs(x);
+    return a >= 1e-3 && a < 1e6 ? String(Number(x.toPrecision(4))) : x.toExponential(3);
+  }
+
+  function cell(value, column) {
+    if (value === null || value === undefined) return "<td class=\"missing\">\u2013</td>";
+    if (column.kind === "run") {
+      var runs = escape(value[1]);
+      if (value[0] === null) return "<td>" + runs + "</td>";
+      return "<td><a class=\"run\" href=\"#run-" + escape(value[0]) + "\">" + escape(value[0]) + "</a>" +
+        (value[1] === value[0] ? "" : " (" + runs + ")") + "</td>";
+    }
+    if (column.kind === "text") return "<td>" + escape(value) + "</td>";
+    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1 " + number(value[1])) : number(value);
+    return "<td class=\"num\">" + text + (column.unit ? " " + escape(column.unit) : "") + "</td>";
+  }
+
+  function render() {
+    var wanted = filter ? filter.value : "";
+    var html = [];
+    for (var k = 0; k < order.length; k++) {
+      var row = data.rows[order[k]];
+      if (wanted && row.statuses.indexOf(wanted) < 0) continue;
+      var cells = [];
+      for (var c = 0; c < data.columns.length; c++) cells.push(cell(row.cells[c], data.columns[c]));
+      html.push("<tr>" + cells.join("") + "</tr>");
+    }
+    body.innerHTML = html.join("");
+  }
+
+  function key(row, column) {
+    var value = data.rows[row].cells[column];
+    if (value === null || value === undefined) return null;
+    if (data.columns[column].kind === "run") return value[1];
+    return Array.isArray(value) ? value[0] : value;
+  }
+
+  function sortBy(column) {
+    var start = performance.now();
+    descending = column === sortColumn ? !descending : false;
+    sortColumn = column;
+    order.sort(function (a, b) {
+      var x = key(a, column), y = key(b, column);
+      if (x === null || y === null) return x === null ? (y === null ? a - b : 1) : -1;
+      var c = x < y ? -1 : x > y ? 1 : a - b;
+      return descending ? -c : c;
+    });
+    render();
+    for (var h = 0; h < headers.length; h++) headers[h].removeAttribute("aria-sort");
+    headers[column].setAttribute("aria-sort", descending ? "descending" : "ascending");
+    table.dataset.sortMs = String(performance.now() - start);
+    table.dataset.sorted = data.columns[column].name + (descending ? " desc" : " asc");
+  }
+
+  for (var h = 0; h < headers.length; h++) headers[h].addEventListener("click", sortBy.bind(null, h));
+  if (filter) filter.addEventListener("change", render);
+  render();
+})();
