@@ -140,7 +140,7 @@ fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_tune() {
     let resumed = tune(&file, &out, &["--resume", "--jobs", "2"]);
     assert_eq!(resumed.status.code(), Some(0), "{}", text(&resumed.stderr));
     let said = text(&resumed.stdout);
-    assert!(said.contains(&format!("from the file")), "{said}");
+    assert!(said.contains("from the file"), "{said}");
     assert_eq!(paragraph(&said), paragraph(&text(&reference.stdout)));
     let read = |dir: &Path, name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
     for name in ["tiny_tune_candidates.csv", "tiny_tune_best.toml"] {

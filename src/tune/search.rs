@@ -551,12 +551,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if a[col][col].abs() < 1e-12 {
                 return None;
             }
-            for row in 0..n {
-                if row != col {
-                    let f = a[row][col] / a[col][col];
-                    for k in col..=n {
-                        a[row][k] -= f * a[col][k];
-                    }
+            let pivot_row = a[col].clone();
+            for (i, row) in a.iter_mut().enumerate() {
+                if i != col {
+                    let f = row[col] / pivot_row[col];
+                    row.iter_mut().zip(&pivot_row).skip(col).for_each(|(x, p)| *x -= f * p);
                 }
             }
         }
