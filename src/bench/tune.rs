@@ -145,7 +145,13 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
         let paragraph = crate::tune::report::paragraph(&spec, result);
         eprintln!("{paragraph}");
         let tune_dir = options.work_dir.join(&spec.name).join("tune");
-        crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
+        let written = crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
+        std::fs::create_dir_all(&options.out_dir).map_err(|e| format!("{}: {e}", options.out_dir.display()))?;
+        for chart in written.files.iter().filter(|f| f.extension().is_some_and(|e| e == "png")) {
+            let name = chart.file_name().unwrap_or_default().to_string_lossy().into_owned();
+            let name = if name.starts_with("tune") { name } else { format!("tune_{name}") };
+            std::fs::copy(chart, options.out_dir.join(name)).map_err(|e| format!("{}: {e}", chart.display()))?;
+        }
         eprintln!("bench tune: {} — grid", spec.name);
         // The grid: every combination of `levels` values per lever (list levers: every value).
         let per_lever: Vec<Vec<f64>> = spec
