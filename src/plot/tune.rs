@@ -71,8 +71,8 @@ impl Figure for CostFigure<'_> {
         let x_max = finite_worst.fold(1.5f64, f64::max).min(20.0) * 1.1;
         let failed_x = x_max * 0.97;
         let ratios = self.points.iter().map(|p| p.cost_ratio).chain([1.0]);
-        let (lo, hi) = style::finite_bounds(ratios).unwrap_or((0.5, 1.5));
-        let y = (lo * 0.9).max(0.0)..hi * 1.1;
+        let (_, hi) = style::finite_bounds(ratios).unwrap_or((0.5, 1.5));
+        let y = 0.0..hi * 1.1;
         let mut chart = ChartBuilder::on(root)
             .caption(&title, style::title_text(root, &title, style::TITLE_SIZE))
             .margin(15)
@@ -131,8 +131,8 @@ impl Figure for LeverFigure<'_> {
         let columns = self.series.len().clamp(1, 3);
         let rows = self.series.len().div_ceil(columns).max(1);
         let ratios = self.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).chain([1.0]);
-        let (lo, hi) = style::finite_bounds(ratios).unwrap_or((0.5, 1.5));
-        let y = (lo * 0.9).max(0.0)..hi * 1.1;
+        let (_, hi) = style::finite_bounds(ratios).unwrap_or((0.5, 1.5));
+        let y = 0.0..hi * 1.1;
         for (series, cell) in self.series.iter().zip(area.split_evenly((rows, columns))) {
             let (xlo, xhi) = style::finite_bounds(series.points.iter().map(|p| p.0)).unwrap_or((0.0, 1.0));
             let caption = style::text(LABEL_SIZE + 2);
