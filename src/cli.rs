@@ -160,7 +160,7 @@ pub fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
-        Command::Run(args) => match load_or_report(args.study()) {
+        Command::Run(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => results::run(&args, &plan),
             Err(code) => code,
         },
@@ -169,26 +169,40 @@ pub fn main() -> ExitCode {
         Command::Merge(args) => results::merge(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Bench(args) => bench::bench(&args),
-        Command::Slurm(args) => match load_or_report(args.study()) {
+        Command::Slurm(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => slurm::slurm(&args, &plan),
             Err(code) => code,
         },
     }
 }
 
-/// The study's plan, or its problems printed to stderr and the exit status for an invalid study.
-fn load_or_report(path: &Path) -> Result<Plan, ExitCode> {
-    study::load(path).map_err(|errors| {
+/// The study's plan, its warnings printed to stderr (with one about the space its results need in
+/// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
+fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+    let plan = study::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
         ExitCode::from(INVALID_STUDY)
-    })
+    })?;
+    for warning in &plan.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let out = out.map_or_else(|| Path::new("results").join(&plan.name), Path::to_path_buf);
+    if let Some(warning) = study::resources::output_space_warning(&plan, &out) {
+        eprintln!("warning: {warning}");
+    }
+    Ok(plan)
 }
 
 fn check(args: &CheckArgs) -> ExitCode {
-    match load_or_report(&args.study) {
+    match load_or_report(&args.study, None) {
         Ok(plan) => {
-            println!("ok: {}", runs(plan.runs.len()));
+            let warnings = match plan.warnings.len() {
+                0 => String::new(),
+                1 => " (1 warning above)".into(),
+                n => format!(" ({n} warnings above)"),
+            };
+            println!("ok: {}{warnings}", runs(plan.runs.len()));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -196,7 +210,7 @@ fn check(args: &CheckArgs) -> ExitCode {
 }
 
 fn plan(args: &PlanArgs) -> ExitCode {
-    let plan = match load_or_report(&args.study) {
+    let plan = match load_or_report(&args.study, None) {
         Ok(plan) => plan,
         Err(code) => return code,
     };

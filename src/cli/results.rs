@@ -96,6 +96,11 @@ impl RunArgs {
     pub fn study(&self) -> &std::path::Path {
         &self.study
     }
+
+    /// The output directory, when given.
+    pub fn out(&self) -> Option<&std::path::Path> {
+        self.out.as_deref()
+    }
 }
 
 /// `demsweep run`: exit 0 when every run finished, 1 on failed or missing runs, 130 after Ctrl-C.

@@ -45,6 +45,11 @@ impl SlurmArgs {
     pub fn study(&self) -> &Path {
         &self.study
     }
+
+    /// The output directory, when given.
+    pub fn out(&self) -> Option<&Path> {
+        self.out.as_deref()
+    }
 }
 
 /// `demsweep slurm`: exit 0 when the scripts were written (and submitted), 1 otherwise.

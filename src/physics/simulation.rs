@@ -66,14 +66,27 @@ pub fn run_scene(
     }
     Ok(match scene.contact.law {
         ContactLawKind::HertzMindlin => Simulation::new(scene, &disks, HertzMindlin).run(observer),
-        ContactLawKind::Linear => {
-            let law = LinearSpringDashpot {
-                normal_stiffness: scene.contact.normal_stiffness,
-                tangential_ratio: scene.contact.tangential_stiffness_ratio,
-            };
-            Simulation::new(scene, &disks, law).run(observer)
-        }
+        ContactLawKind::Linear => Simulation::new(scene, &disks, linear_law(scene)).run(observer),
     })
+}
+
+/// The pre-run stability estimate of a scene starting from `disks`, without building a simulation.
+pub fn predict_stability(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
+    let materials = Materials::from_scene(scene);
+    let particles = Particles::new(disks, materials.density, scene.particles.thickness);
+    let walls = BoxWalls::new(&scene.domain);
+    match scene.contact.law {
+        ContactLawKind::HertzMindlin => stability::assess(&HertzMindlin, scene, &particles, &materials, &walls),
+        ContactLawKind::Linear => stability::assess(&linear_law(scene), scene, &particles, &materials, &walls),
+    }
+}
+
+/// The linear spring-dashpot law of a scene.
+fn linear_law(scene: &SceneConfig) -> LinearSpringDashpot {
+    LinearSpringDashpot {
+        normal_stiffness: scene.contact.normal_stiffness,
+        tangential_ratio: scene.contact.tangential_stiffness_ratio,
+    }
 }
 
 /// One simulation of a scene with contact law `L`.
