@@ -15,6 +15,9 @@ use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, 
 /// Exit status of a command that failed (bad results file, refused output, I/O error).
 const FAILED: u8 = 1;
 
+/// Kinds of warnings printed in full at the end of a sweep.
+const WARNING_KINDS_SHOWN: usize = 5;
+
 #[derive(Args)]
 pub struct RunArgs {
     /// The study file (TOML).
@@ -161,6 +164,7 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         100.0 * writer / wall.max(f64::MIN_POSITIVE)
     );
     println!("results: {}\nsummary: {}", report.results.display(), report.summary_csv.display());
+    print_warnings(report);
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
@@ -174,6 +178,29 @@ fn print_report(report: &RunReport, args: &RunArgs) {
     if report.failed() > 0 {
         eprintln!("{} runs failed with an error: see the status and message columns", report.failed());
     }
+}
+
+/// The warnings of the runs just run, one line per kind (the first few), then where to find the rest.
+fn print_warnings(report: &RunReport) {
+    let digest = &report.warnings;
+    if digest.groups.is_empty() {
+        return;
+    }
+    eprintln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
+    for group in digest.groups.iter().take(WARNING_KINDS_SHOWN) {
+        let runs = match group.runs {
+            1 => format!("1 run ({})", group.first_run),
+            n => format!("{n} runs (first {})", group.first_run),
+        };
+        eprintln!("  {runs}: {}", group.example);
+    }
+    if digest.groups.len() > WARNING_KINDS_SHOWN {
+        eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
+    }
+    eprintln!(
+        "each run's warnings: `demsweep summary {}` (warnings column), the texts in each run group's `warnings` attribute",
+        report.results.display()
+    );
 }
 
 /// `demsweep summary`: the summary table, aligned on stdout or as a CSV file.

@@ -16,9 +16,11 @@ pub mod interrupt;
 pub mod progress;
 pub mod shard;
 pub mod sink;
+pub mod warnings;
 
 pub use progress::ProgressMode;
 pub use sink::CommitPolicy;
+pub use warnings::WarningDigest;
 
 use crate::output::header::utc_now;
 use crate::output::row::STATUS_ERROR;
@@ -69,6 +71,8 @@ pub struct RunReport {
     pub wall_time: std::time::Duration,
     /// Time the writer thread spent staging, committing and finishing the results file.
     pub writer_time: std::time::Duration,
+    /// The warnings of the runs finished by this invocation, by kind.
+    pub warnings: WarningDigest,
 }
 
 impl RunReport {
@@ -144,7 +148,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (sender, receiver) = mpsc::channel();
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
-    view.finish();
+    let warnings = view.finish();
     let (summary, writer_time) =
         writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
     let summary_csv = output::csv_path(&path);
@@ -160,6 +164,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         summary,
         wall_time: started.elapsed(),
         writer_time,
+        warnings,
     })
 }
 
