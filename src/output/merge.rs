@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use super::header::{FileHeader, utc_now};
 use super::row::SummaryRow;
 use super::writer::ResultsWriter;
-use super::{OutputError, csv_path, hdf5_error, reader};
+use super::{OutputError, csv_path, reader};
 use crate::study::OutputOptions;
 
-/// Runs copied per commit while merging.
-const COPIES_PER_COMMIT: usize = 500;
+/// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
+const BYTES_PER_COMMIT: usize = 8 << 20;
 
 /// What a merge produced.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,16 +51,16 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
     let mut writer = ResultsWriter::create(&results, &header, OutputOptions::default())?;
-    let mut runs = 0;
+    let (mut runs, mut staged) = (0, 0);
     for shard in &shards {
-        let source = hdf5_pure::File::open(&shard.path).map_err(|e| hdf5_error(&shard.path, e))?;
+        let source = reader::open(&shard.path)?;
         for row in &shard.rows {
-            writer.stage_copy(&source, row)?;
-            if writer.pending() >= COPIES_PER_COMMIT {
+            staged += writer.stage_copy(&source, &shard.path, row)?;
+            if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
+                staged = 0;
             }
         }
-        writer.commit()?;
         runs += shard.rows.len();
     }
     let table = writer.finish()?;

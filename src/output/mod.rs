@@ -8,6 +8,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub mod compound;
+pub mod copy;
 pub mod csv;
 pub mod header;
 pub mod history;

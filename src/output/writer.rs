@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hdf5_pure::{DatasetBuilder, File, FileBuilder, StagedGroup};
 
 use super::compound::{self, Field};
+use super::copy::GroupCopy;
 use super::header::FileHeader;
 use super::layout::{self, RUNS, SUMMARY, SUMMARY_COLUMNS};
 use super::reader;
@@ -107,13 +108,21 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Stages a copy of a committed run group of another results file (for merging shards).
-    pub fn stage_copy(&mut self, source: &File, row: &SummaryRow) -> Result<(), OutputError> {
-        self.stage_bucket(row.index)?;
+    /// Stages a copy of a committed run group of another results file (for merging shards), read
+    /// from `source` run by run (open it streaming: only this run is held); returns the bytes of
+    /// dataset data staged.
+    pub fn stage_copy(&mut self, source: &File, source_path: &Path, row: &SummaryRow) -> Result<usize, OutputError> {
         let path = layout::run_path(row.index, &row.id);
-        self.file.copy_from(source, &path, &path).map_err(|e| hdf5_error(&self.path, e))?;
+        let copy = source
+            .group(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|group| GroupCopy::read(&group))
+            .map_err(|reason| OutputError::new(source_path, format!("/{path}: {reason}")))?;
+        let bytes = copy.data_bytes();
+        self.stage_bucket(row.index)?;
+        self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.pending.push(row.clone());
-        Ok(())
+        Ok(bytes)
     }
 
     /// Stages the bucket group of a run unless the file has it.
