@@ -91,8 +91,10 @@ enum Command {
     #[command(
         long_about = "Merge the shard files of one study (written by `demsweep run --shard K/N`) into \
                       OUT/<study name>.h5 and its CSV summary, the same files a one-machine run writes \
-                      (but for the creation time and wall times). Refuses shards of different studies, \
-                      runs present in two files, and missing shards or runs, saying which shards to re-run.",
+                      (but for the creation time and wall times), copying one run at a time. Refuses shards \
+                      of different studies and runs present in two files. Missing shards, missing runs and \
+                      runs that failed with an error do not stop it: it merges what there is, lists them, \
+                      prints the commands that run those shards again and merge again, and exits 1.",
         after_help = "Examples:\n  demsweep merge results/damping_sweep results/shards\n  \
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
@@ -130,9 +132,10 @@ enum Command {
                       each running `demsweep run STUDY --shard K/N --out OUT/shards --resume` on --jobs CPUs \
                       (logs in OUT/logs/), and a merge job writing OUT/<study name>.h5 and its CSV summary. \
                       Without --submit, prints how to submit them; with --submit, submits both with sbatch, \
-                      the merge with --dependency=afterok on the array job, and prints the job ids. A failed \
-                      task leaves the other shards intact: re-run it with `sbatch --array=K OUT/slurm/array.sbatch` \
-                      (it resumes its shard), then submit the merge again.",
+                      the merge with --dependency=afterany on the array job (it runs when every task ended), \
+                      and prints the job ids. A failed task leaves the other shards intact; the merge then \
+                      merges them, exits 1 and prints the commands that complete it: `sbatch --array=K \
+                      OUT/slurm/array.sbatch` (the task resumes its shard) and the merge again.",
         after_help = "Examples:\n  demsweep slurm studies/damping_sweep.toml --shards 16 --time 02:00:00 --submit\n  \
                       demsweep slurm studies/damping_sweep.toml --shards 8 --jobs 4 --partition long \
                       --out /scratch/damping --print"

@@ -1,7 +1,7 @@
 //! The result commands: `run`, `summary`, `history` and `merge`.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -28,7 +28,7 @@ pub struct RunArgs {
     /// Output directory (default: results/<study name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Continue existing results: run only the runs the file lacks.
+    /// Continue existing results: run only the runs the file lacks or that failed with an error.
     #[arg(long, conflicts_with = "force")]
     resume: bool,
     /// Replace existing results.
@@ -92,6 +92,10 @@ pub struct MergeArgs {
     /// Replace an existing merged file.
     #[arg(long)]
     force: bool,
+    /// The Slurm array script that ran the shards (`demsweep slurm` passes it): shards to run again
+    /// are then given as `sbatch --array=K,...` of it.
+    #[arg(long, value_name = "PATH")]
+    array_script: Option<PathBuf>,
 }
 
 impl RunArgs {
@@ -176,7 +180,10 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         );
     }
     if report.failed() > 0 {
-        eprintln!("{} runs failed with an error: see the status and message columns", report.failed());
+        eprintln!(
+            "{} runs failed with an error: see the status and message columns; `--resume` runs them again",
+            report.failed()
+        );
     }
 }
 
@@ -223,18 +230,69 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
     report_error(outcome)
 }
 
-/// `demsweep merge`: shard files into one results file.
+/// `demsweep merge`: shard files into one results file; exit 1 when shards or runs are missing or
+/// failed (what there is is merged, and the commands that complete it are printed).
 pub fn merge(args: &MergeArgs) -> ExitCode {
-    let outcome = output::merge(&args.out, &args.inputs, args.force).map(|report| {
-        println!(
-            "merged {} runs from {} shards\nresults: {}\nsummary: {}",
-            report.runs,
-            report.shards,
-            report.results.display(),
-            report.summary_csv.display()
-        );
-    });
-    report_error(outcome)
+    let report = match output::merge(&args.out, &args.inputs, args.force) {
+        Ok(report) => report,
+        Err(e) => return report_error(Err(e)),
+    };
+    println!(
+        "merged {} of {} runs from {} of {} shards\nresults: {}\nsummary: {}",
+        report.runs,
+        report.planned_runs,
+        report.shards,
+        report.shard_count,
+        report.results.display(),
+        report.summary_csv.display()
+    );
+    if report.problems.is_empty() {
+        return ExitCode::SUCCESS;
+    }
+    eprintln!("error: the merge is incomplete:");
+    for problem in &report.problems {
+        eprintln!("  {}", problem.reason);
+    }
+    eprintln!("{}", rerun_commands(args, &report));
+    ExitCode::from(FAILED)
+}
+
+/// The commands that run the shards of `report`'s problems again (each resumes its file: the runs it
+/// lacks and those that failed run again) and merge after them.
+fn rerun_commands(args: &MergeArgs, report: &output::MergeReport) -> String {
+    let shards = report.shards_to_rerun();
+    let out = args.out.display();
+    let first = &args.inputs[0];
+    let shard_dir = if first.is_dir() { first.as_path() } else { first.parent().unwrap_or(Path::new(".")) };
+    match &args.array_script {
+        Some(array) => {
+            let list: Vec<String> = shards.iter().map(usize::to_string).collect();
+            format!(
+                "run them again, then merge again:\n  ARRAY=$(sbatch --parsable --array={} {})\n  \
+                 sbatch --dependency=afterany:$ARRAY {}",
+                list.join(","),
+                array.display(),
+                array.with_file_name("merge.sbatch").display()
+            )
+        }
+        None => {
+            let runs: Vec<String> = shards
+                .iter()
+                .map(|k| {
+                    format!(
+                        "  demsweep run STUDY --shard {k}/{} --out {} --resume",
+                        report.shard_count,
+                        shard_dir.display()
+                    )
+                })
+                .collect();
+            format!(
+                "run them again (STUDY: the study file), then merge again:\n{}\n  demsweep merge {out} {} --force",
+                runs.join("\n"),
+                shard_dir.display()
+            )
+        }
+    }
 }
 
 fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {

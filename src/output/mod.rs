@@ -22,7 +22,7 @@ pub mod table;
 pub mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
-pub use merge::merge;
+pub use merge::{MergeReport, ShardProblem, merge};
 pub use row::SummaryRow;
 pub use table::SummaryTable;
 pub use writer::{ResultsWriter, RunResult};

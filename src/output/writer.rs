@@ -84,6 +84,22 @@ impl ResultsWriter {
         &self.committed
     }
 
+    /// Deletes the committed runs that failed with an error (in one commit), so that they can run
+    /// again; returns how many there were.
+    pub fn forget_failed(&mut self) -> Result<usize, OutputError> {
+        let (failed, kept): (Vec<SummaryRow>, Vec<SummaryRow>) =
+            std::mem::take(&mut self.committed).into_iter().partition(|row| !row.is_finished());
+        self.committed = kept;
+        for row in &failed {
+            let bucket = format!("{RUNS}/{}", layout::bucket_name(row.index));
+            self.file.group(&bucket).and_then(|g| g.delete(&row.id)).map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        if !failed.is_empty() {
+            self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        Ok(failed.len())
+    }
+
     /// Number of runs staged and not yet committed.
     pub fn pending(&self) -> usize {
         self.pending.len()

@@ -36,7 +36,7 @@ pub struct RunOptions {
     pub jobs: usize,
     /// Output directory; default `results/<study name>/`.
     pub out_dir: Option<PathBuf>,
-    /// Continue an existing results file: run only the runs it lacks.
+    /// Continue an existing results file: run only the runs it lacks or that failed with an error.
     pub resume: bool,
     /// Overwrite an existing results file.
     pub force: bool,
@@ -191,8 +191,9 @@ fn open_results(
     check_writable(dir)?;
     let exists = path.exists();
     if exists && options.resume {
-        let (writer, header) = ResultsWriter::open(path, plan.output.clone())?;
+        let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
         check_same_study(path, &header, plan, options.shard)?;
+        writer.forget_failed()?;
         return Ok(writer);
     }
     if exists && !options.force {
