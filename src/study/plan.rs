@@ -150,7 +150,7 @@ type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
 /// Disks a generated placement gives, or its problem (key, reason).
 type Placed = Result<Arc<Vec<InitialDisk>>, (String, String)>;
 
-/// Expands runs, caching what several runs share (placement files, placement trials).
+/// Expands runs, caching what several runs share (placement files, placement outcomes).
 struct Planner<'a> {
     file: &'a StudyFile,
     doc: &'a Document,
@@ -159,8 +159,10 @@ struct Planner<'a> {
     study_dir: PathBuf,
     /// Placement files read so far, by path and default radius.
     initial_files: HashMap<(PathBuf, u64), InitialStates>,
-    /// Placement trials so far, by the scene sections they depend on.
-    placements: HashMap<String, Placed>,
+    /// Placements that failed, by the scene sections they depend on: (key, reason).
+    failed_placements: HashMap<String, (String, String)>,
+    /// The last placement that succeeded: its setup and disks.
+    last_placement: Option<(String, Arc<Vec<InitialDisk>>)>,
     /// Warnings so far, one per kind and place.
     warnings: ErrorSink,
 }
@@ -175,8 +177,8 @@ struct RunPoint<'a> {
 impl<'a> Planner<'a> {
     fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
         let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let (initial_files, placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
-        Self { file, doc, base, sweep, study_dir, initial_files, placements, warnings }
+        let (initial_files, failed_placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
+        Self { file, doc, base, sweep, study_dir, initial_files, failed_placements, last_placement: None, warnings }
     }
 
     fn expand(&mut self, sink: &mut ErrorSink) -> Vec<PlannedRun> {
@@ -308,17 +310,31 @@ impl<'a> Planner<'a> {
         Ok(())
     }
 
-    /// The disks of a generated placement, or its problem (key, reason); computed once per setup.
+    /// The disks of a generated placement, or its problem (key, reason). A failure is remembered per
+    /// setup; the disks only for the last setup (consecutive runs often share it; keeping every
+    /// setup's disks could fill the memory).
     fn try_placement(&mut self, scene: &SceneConfig) -> Placed {
         let setup = serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default();
-        let outcome = self.placements.entry(setup).or_insert_with(|| match placement::generate(scene) {
+        if let Some((last, disks)) = &self.last_placement
+            && *last == setup
+        {
+            return Ok(disks.clone());
+        }
+        if let Some(problem) = self.failed_placements.get(&setup) {
+            return Err(problem.clone());
+        }
+        let outcome = match placement::generate(scene) {
             Ok(disks) if disks.is_empty() => {
-                Err(("particles.count".into(), "a scene needs at least one disk, got 0".into()))
+                Err(("particles.count".to_string(), "a scene needs at least one disk, got 0".to_string()))
             }
             Ok(disks) => Ok(Arc::new(disks)),
             Err(e) => Err((e.key, e.reason)),
-        });
-        outcome.clone()
+        };
+        match &outcome {
+            Ok(disks) => self.last_placement = Some((setup, disks.clone())),
+            Err(problem) => drop(self.failed_placements.insert(setup, problem.clone())),
+        }
+        outcome
     }
 }
 
