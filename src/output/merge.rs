@@ -10,7 +10,7 @@ use super::{OutputError, csv_path, reader};
 use crate::study::OutputOptions;
 
 /// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
-const BYTES_PER_COMMIT: usize = 8 << 20;
+const BYTES_PER_COMMIT: usize = 16 << 20;
 
 /// What a merge produced.
 #[derive(Clone, Debug, PartialEq)]
