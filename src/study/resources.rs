@@ -69,7 +69,7 @@ pub fn output_space_warning(plan: &Plan, out_dir: &Path) -> Option<String> {
             plan.study_path.display(),
             plan.runs.len(),
             bytes(need),
-            existing.display(),
+            std::path::absolute(existing).unwrap_or_else(|_| existing.to_path_buf()).display(),
             bytes(free)
         )
     })
