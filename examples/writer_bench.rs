@@ -2,15 +2,17 @@
 //! the runner does (batched in-place commits) and reports commit times, total writer time and file
 //! size against the raw data size.
 //!
-//! Usage: `cargo run --release --example writer_bench -- [RUNS] [BATCH] [OUT_DIR]`
-//! (defaults: 10000 runs, 50 runs per commit, a temporary directory). Each run has 1 500-sample
-//! histories and a 300-disk final state.
+//! Usage: `cargo run --release --example writer_bench -- [RUNS] [BATCH] [OUT_DIR] [SHARDS]`
+//! (defaults: 10000 runs, 50 runs per commit, a temporary directory, one file). Each run has 1 500-sample
+//! histories and a 300-disk final state. With SHARDS = N > 1 the runs go round-robin into the shard
+//! files `bench.shard-K-of-N.h5` instead (input for measuring `demsweep merge`); the report is then
+//! about all of them together.
 
 use std::time::Instant;
 
 use demsweep::output::header::utc_now;
 use demsweep::output::row::SummaryRow;
-use demsweep::output::{FileHeader, ResultsWriter, RunResult};
+use demsweep::output::{FileHeader, ResultsWriter, RunResult, ShardInfo, ShardSpec};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::record::{History, RunRecord, RunStatus, Snapshot};
 use demsweep::physics::stability::StabilityReport;
@@ -24,30 +26,44 @@ fn main() {
     let runs: usize = args.get(1).map_or(10_000, |a| a.parse().expect("RUNS must be a number"));
     let batch: usize = args.get(2).map_or(50, |a| a.parse().expect("BATCH must be a number"));
     let dir = args.get(3).map_or_else(|| std::env::temp_dir().join("demsweep_writer_bench"), Into::into);
+    let shards: usize = args.get(4).map_or(1, |a| a.parse().expect("SHARDS must be a number"));
     std::fs::create_dir_all(&dir).expect("create output directory");
-    let path = dir.join("bench.h5");
-    let _ = std::fs::remove_file(&path);
     let output = OutputOptions { histories: true, final_states: true, frames: false };
-    let header = FileHeader {
-        study_name: "bench".into(),
-        study_text: "# synthetic".into(),
-        fingerprint: "bench".into(),
-        demsweep_version: env!("CARGO_PKG_VERSION").into(),
-        created: utc_now(),
-        planned_runs: runs,
-        shard: None,
-    };
+    let files: Vec<(std::path::PathBuf, FileHeader)> = (1..=shards)
+        .map(|k| {
+            let spec = ShardSpec { index: k, count: shards };
+            let shard = (shards > 1).then(|| ShardInfo { spec, runs: (k - 1..runs).step_by(shards).collect() });
+            let name = if shards > 1 { format!("bench.shard-{k}-of-{shards}.h5") } else { "bench.h5".into() };
+            let header = FileHeader {
+                study_name: "bench".into(),
+                study_text: "# synthetic".into(),
+                fingerprint: "bench".into(),
+                demsweep_version: env!("CARGO_PKG_VERSION").into(),
+                created: utc_now(),
+                planned_runs: runs,
+                shard,
+            };
+            (dir.join(name), header)
+        })
+        .collect();
     let scene = SceneConfig::default();
     let started = Instant::now();
-    let mut writer = ResultsWriter::create(&path, &header, output).expect("create results file");
+    let mut writers: Vec<ResultsWriter> = files
+        .iter()
+        .map(|(path, header)| {
+            let _ = std::fs::remove_file(path);
+            ResultsWriter::create(path, header, output.clone()).expect("create results file")
+        })
+        .collect();
     let mut commit_ms: Vec<f64> = Vec::new();
     let mut stage_s = 0.0;
     for index in 0..runs {
         let result = synthetic_run(index, &scene);
+        let writer = &mut writers[index % shards];
         let t = Instant::now();
         writer.stage(&result).expect("stage run");
         stage_s += t.elapsed().as_secs_f64();
-        if writer.pending() >= batch || index + 1 == runs {
+        if writer.pending() >= batch || index + shards >= runs {
             let t = Instant::now();
             writer.commit().expect("commit");
             commit_ms.push(t.elapsed().as_secs_f64() * 1e3);
@@ -57,10 +73,11 @@ fn main() {
         }
     }
     let t = Instant::now();
-    writer.finish().expect("finish");
+    writers.into_iter().for_each(|w| drop(w.finish().expect("finish")));
     let finish_s = t.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
-    report(runs, batch, &commit_ms, stage_s, finish_s, total_s, &path);
+    let paths: Vec<&std::path::Path> = files.iter().map(|(p, _)| p.as_path()).collect();
+    report(runs, batch, &commit_ms, stage_s, finish_s, total_s, &paths);
 }
 
 fn report(
@@ -70,10 +87,10 @@ fn report(
     stage_s: f64,
     finish_s: f64,
     total_s: f64,
-    path: &std::path::Path,
+    paths: &[&std::path::Path],
 ) {
     let raw = runs * (SAMPLES * (10 * 8 + 4) + DISKS * 7 * 8);
-    let size = std::fs::metadata(path).map_or(0, |m| m.len());
+    let size: u64 = paths.iter().map(|p| std::fs::metadata(p).map_or(0, |m| m.len())).sum();
     let quarter = commit_ms.len() / 4;
     let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len().max(1) as f64;
     println!("runs {runs}, {batch} runs per commit, {} commits", commit_ms.len());

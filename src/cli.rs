@@ -116,8 +116,10 @@ enum Command {
     #[command(
         long_about = "Merge the shard files of one study (written by `demsweep run --shard K/N`) into \
                       OUT/<study name>.h5 and its CSV summary, the same files a one-machine run writes \
-                      (but for the creation time and wall times). Refuses shards of different studies, \
-                      runs present in two files, and missing shards or runs, saying which shards to re-run.",
+                      (but for the creation time and wall times), copying one run at a time. Refuses shards \
+                      of different studies and runs present in two files. Missing shards, missing runs and \
+                      runs that failed with an error do not stop it: it merges what there is, lists them, \
+                      prints the commands that run those shards again and merge again, and exits 1.",
         after_help = "Examples:\n  demsweep merge results/damping_sweep results/shards\n  \
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
@@ -168,9 +170,10 @@ enum Command {
                       each running `demsweep run STUDY --shard K/N --out OUT/shards --resume` on --jobs CPUs \
                       (logs in OUT/logs/), and a merge job writing OUT/<study name>.h5 and its CSV summary. \
                       Without --submit, prints how to submit them; with --submit, submits both with sbatch, \
-                      the merge with --dependency=afterok on the array job, and prints the job ids. A failed \
-                      task leaves the other shards intact: re-run it with `sbatch --array=K OUT/slurm/array.sbatch` \
-                      (it resumes its shard), then submit the merge again.",
+                      the merge with --dependency=afterany on the array job (it runs when every task ended), \
+                      and prints the job ids. A failed task leaves the other shards intact; the merge then \
+                      merges them, exits 1 and prints the commands that complete it: `sbatch --array=K \
+                      OUT/slurm/array.sbatch` (the task resumes its shard) and the merge again.",
         after_help = "Examples:\n  demsweep slurm studies/damping_sweep.toml --shards 16 --time 02:00:00 --submit\n  \
                       demsweep slurm studies/damping_sweep.toml --shards 8 --jobs 4 --partition long \
                       --out /scratch/damping --print"
@@ -214,7 +217,7 @@ pub fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
-        Command::Run(args) => match load_or_report(args.study()) {
+        Command::Run(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => results::run(&args, &plan),
             Err(code) => code,
         },
@@ -225,7 +228,7 @@ pub fn main() -> ExitCode {
         Command::Plot(args) => plot::plot(&args),
         Command::Report(args) => results::report(&args),
         Command::Bench(args) => bench::bench(&args),
-        Command::Slurm(args) => match load_or_report(args.study()) {
+        Command::Slurm(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => slurm::slurm(&args, &plan),
             Err(code) => code,
         },
@@ -233,22 +236,36 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// The study's plan, or its problems printed to stderr and the exit status for an invalid study.
-fn load_or_report(path: &Path) -> Result<Plan, ExitCode> {
-    study::load(path).map_err(|errors| {
+/// The study's plan, its warnings printed to stderr (with one about the space its results need in
+/// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
+fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+    let plan = study::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
         ExitCode::from(INVALID_STUDY)
-    })
+    })?;
+    for warning in &plan.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let out = out.map_or_else(|| Path::new("results").join(&plan.name), Path::to_path_buf);
+    if let Some(warning) = study::resources::output_space_warning(&plan, &out) {
+        eprintln!("warning: {warning}");
+    }
+    Ok(plan)
 }
 
 fn check(args: &CheckArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
         return tune::check(&args.study);
     }
-    match load_or_report(&args.study) {
+    match load_or_report(&args.study, None) {
         Ok(plan) => {
-            println!("ok: {}", runs(plan.runs.len()));
+            let warnings = match plan.warnings.len() {
+                0 => String::new(),
+                1 => " (1 warning above)".into(),
+                n => format!(" ({n} warnings above)"),
+            };
+            println!("ok: {}{warnings}", runs(plan.runs.len()));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -260,7 +277,7 @@ fn plan(args: &PlanArgs) -> ExitCode {
         let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
         return tune::plan(&args.study, cores);
     }
-    let plan = match load_or_report(&args.study) {
+    let plan = match load_or_report(&args.study, None) {
         Ok(plan) => plan,
         Err(code) => return code,
     };

@@ -1,5 +1,7 @@
 //! Scale-out on Slurm: batch scripts that run a study as an array job (one task per shard, each
-//! `demsweep run --shard K/N --resume`) and a merge job that depends on it, and their submission.
+//! `demsweep run --shard K/N --resume`) and a merge job that runs after every task ended (whether it
+//! succeeded or not: the merge merges what there is and names the shards to run again), and their
+//! submission.
 //!
 //! The scripts are the templates in `scripts/slurm/` with their `{{PLACEHOLDERS}}` filled in.
 //! Layout under the output directory: `shards/` (shard files), `logs/` (job output), `slurm/` (scripts);
@@ -46,7 +48,7 @@ pub struct Scripts {
 pub struct Submitted {
     /// The array job.
     pub array_id: String,
-    /// The merge job (starts when every array task succeeded).
+    /// The merge job (starts when every array task ended).
     pub merge_id: String,
 }
 
@@ -118,10 +120,10 @@ impl ArrayJob {
     }
 }
 
-/// Submits the array job, then the merge job with `--dependency=afterok:<array job>`.
+/// Submits the array job, then the merge job with `--dependency=afterany:<array job>`.
 pub fn submit(scripts: &Scripts) -> Result<Submitted, String> {
     let array_id = sbatch(&[], &scripts.array)?;
-    let dependency = format!("--dependency=afterok:{array_id}");
+    let dependency = format!("--dependency=afterany:{array_id}");
     let merge_id = sbatch(&[&dependency], &scripts.merge).map_err(|e| {
         format!(
             "{e}\nthe array job {array_id} was submitted; submit the merge by hand: sbatch {dependency} {}",
@@ -242,7 +244,10 @@ mod tests {
         let script = job().merge_script().unwrap();
         assert!(!script.contains("{{"), "placeholder left:\n{script}");
         assert!(script.contains("#SBATCH --job-name=demsweep-damping_sweep-merge\n"));
-        assert!(script.contains("exec /opt/bin/demsweep merge /scratch/out /scratch/out/shards --force\n"));
+        assert!(script.contains(
+            "exec /opt/bin/demsweep merge /scratch/out /scratch/out/shards --force \\\n    \
+             --array-script /scratch/out/slurm/array.sbatch\n"
+        ));
     }
 
     #[test]

@@ -187,3 +187,26 @@ fn summary_history_and_merge_commands() {
         assert!(stderr(&refused).starts_with(&format!("error: {r}: {expected}")), "{}", stderr(&refused));
     }
 }
+
+#[test]
+fn a_sweep_says_how_many_warnings_each_run_has_and_which_kinds() {
+    let out_dir = runner_common::scratch("cli_warnings");
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/paper_table1.toml");
+    let out = demsweep(&["run", study, "--out", out_dir.to_str().unwrap(), "--progress", "lines"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let line = stdout.lines().next().unwrap();
+    assert!(line.starts_with("r0000  not_settled  settle -  wall ") && line.ends_with(" s  4 warnings"), "{stdout}");
+    let stderr = stderr(&out);
+    let digest: Vec<&str> = stderr.lines().skip_while(|l| !l.starts_with("warnings: ")).collect();
+    assert_eq!(digest.first(), Some(&"warnings: 4 kind(s) in 1 of 1 runs run now:"), "{stderr}");
+    for expected in [
+        "  1 run (r0000): an impact at 3.370 m/s would overlap 0.814 radii",
+        "  1 run (r0000): the settled pile's weight would press the bottom disks 8.528 radii into the floor",
+        "  1 run (r0000): largest overlap 3.044 radii at t = ",
+        "  1 run (r0000): energy balance (mechanical + dissipated = initial) is off by ",
+    ] {
+        assert!(digest.iter().any(|l| l.starts_with(expected)), "{expected}\n{stderr}");
+    }
+    assert!(digest.last().unwrap().starts_with("each run's warnings: `demsweep summary "), "{stderr}");
+}

@@ -64,7 +64,7 @@ fn merge_error(inputs: &[PathBuf]) -> String {
 }
 
 #[test]
-fn merge_refuses_other_studies_overlaps_and_missing_runs() {
+fn merge_refuses_other_studies_and_overlaps() {
     let plan = runner_common::sweep("merge_checks", 5);
     let dir = runner_common::scratch("merge_checks");
     let one = run_shard(&plan, &dir, 1, 2);
@@ -80,18 +80,62 @@ fn merge_refuses_other_studies_overlaps_and_missing_runs() {
 
     let copy = dir.join("copy.shard-1-of-2.h5");
     std::fs::copy(&one, &copy).unwrap();
-    let e = merge_error(&[one.clone(), two.clone(), copy.clone()]);
+    let e = merge_error(&[one, two, copy.clone()]);
     assert!(e.contains("overlaps") && e.contains("copy.shard-1-of-2.h5"), "{e}");
+}
 
-    let e = merge_error(std::slice::from_ref(&one));
-    assert!(e.contains("shard 2/2: no file given") && e.contains("--shard K/N --resume"), "{e}");
+#[test]
+fn merge_merges_what_there_is_and_names_the_shards_to_run_again() {
+    let mut plan = runner_common::sweep("merge_partial", 6);
+    let failing = demsweep::runner::shard::select(&plan, ShardSpec { index: 1, count: 3 })[0];
+    plan.runs[failing].scene.integrator.time_step = Some(-1.0); // fails when the run starts (no study check in between)
+    let dir = runner_common::scratch("merge_partial");
+    let mut options = runner_common::options(&dir, 1);
+    options.shard = Some(ShardSpec { index: 1, count: 3 });
+    let one = run_plan(&plan, &options).unwrap();
+    assert_eq!(one.exit_code(), 1, "shard 1 holds the failing run");
+    let failed_id = &plan.runs[failing].id;
+    assert!(one.summary.len() == 2 && summary::read(&one.results).is_ok());
+    // Shard 2 stopped before any run finished; shard 3 never ran.
+    let mut stopped = runner_common::options(&dir, 1);
+    stopped.shard = Some(ShardSpec { index: 2, count: 3 });
+    stopped.stop.store(true, Ordering::SeqCst);
+    run_plan(&plan, &stopped).unwrap();
 
-    // A shard whose sweep was stopped before any run finished.
-    let stopped_dir = runner_common::scratch("merge_checks_stopped");
-    let mut options = runner_common::options(&stopped_dir, 1);
-    options.shard = Some(ShardSpec { index: 2, count: 2 });
-    options.stop.store(true, Ordering::SeqCst);
-    let empty = run_plan(&plan, &options).unwrap().results;
-    let e = merge_error(&[one, empty]);
-    assert!(e.contains("shard 2/2") && e.contains("runs missing"), "{e}");
+    let out = runner_common::scratch("merge_partial_out");
+    let report = merge(&out, std::slice::from_ref(&dir), false).expect("a partial merge");
+    assert_eq!((report.runs, report.shards, report.planned_runs, report.shard_count), (2, 2, 6, 3));
+    assert_eq!(report.shards_to_rerun(), [1, 2, 3]);
+    let reasons: Vec<&str> = report.problems.iter().map(|p| p.reason.as_str()).collect();
+    assert!(
+        reasons[0].starts_with("shard 1/3 (")
+            && reasons[0].contains(&format!("run {failed_id} failed with an error: ")),
+        "{reasons:?}"
+    );
+    assert!(reasons[1].starts_with("shard 2/3 (") && reasons[1].contains("2 of 2 runs missing"), "{reasons:?}");
+    assert_eq!(reasons[2], "shard 3/3: no file given");
+    assert_eq!(summary::read(&report.results).unwrap().len(), 2, "what there is was merged");
+
+    let cli = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args([
+            "merge",
+            out.to_str().unwrap(),
+            dir.to_str().unwrap(),
+            "--force",
+            "--array-script",
+            "/x/slurm/array.sbatch",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(cli.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&cli.stdout).starts_with("merged 2 of 6 runs from 2 of 3 shards\n"));
+    let stderr = String::from_utf8_lossy(&cli.stderr);
+    assert!(stderr.starts_with("error: the merge is incomplete:\n  shard 1/3 ("), "{stderr}");
+    assert!(
+        stderr.ends_with(
+            "run them again, then merge again:\n  ARRAY=$(sbatch --parsable --array=1,2,3 /x/slurm/array.sbatch)\n  \
+             sbatch --dependency=afterany:$ARRAY /x/slurm/merge.sbatch\n"
+        ),
+        "{stderr}"
+    );
 }

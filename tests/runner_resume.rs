@@ -70,3 +70,21 @@ fn a_sweep_stopped_before_it_starts_records_nothing_and_stays_valid() {
     let csv = std::fs::read_to_string(&report.summary_csv).unwrap();
     assert_eq!(csv.lines().count(), 1, "header only: {csv}");
 }
+
+#[test]
+fn resume_runs_again_the_runs_that_failed_with_an_error() {
+    let mut plan = runner_common::sweep("resume_failed", 4);
+    let good_scene = plan.runs[2].scene.clone();
+    plan.runs[2].scene.integrator.time_step = Some(-1.0); // fails when the run starts (no study check in between)
+    let dir = runner_common::scratch("resume_failed");
+    let first = run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
+    assert_eq!((first.failed(), first.exit_code()), (1, 1));
+
+    plan.runs[2].scene = good_scene;
+    let mut again = runner_common::options(&dir, 2);
+    again.resume = true;
+    let resumed = run_plan(&plan, &again).unwrap();
+    assert_eq!((resumed.already_done, resumed.ran, resumed.failed(), resumed.exit_code()), (3, 1, 0, 0));
+    let reference = run_plan(&plan, &runner_common::options(&runner_common::scratch("resume_failed_ref"), 2)).unwrap();
+    assert_eq!(summary::read(&resumed.results).unwrap().without_timing(), reference.summary.without_timing());
+}

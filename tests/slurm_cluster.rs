@@ -1,6 +1,7 @@
 //! `demsweep slurm --submit` against a real (throw-away, single-node) Slurm cluster started with
-//! `scripts/slurm/cluster.sh`: a 4-task array job plus the merge job give the one-machine result, and
-//! a lost shard re-run alone (`sbatch --array=K`) then merged again gives it too.
+//! `scripts/slurm/cluster.sh`: a 4-task array job whose task 2 fails still gets its merge job, which
+//! merges the other shards and prints the commands that complete it; those commands give the
+//! one-machine result, and a lost shard re-run alone (`sbatch --array=K`) then merged again gives it too.
 //!
 //! Needs root and apt-get (as CI has). Where no cluster can be started this test FAILS, saying so,
 //! unless DEMSWEEP_ALLOW_NO_SLURM=1 is set (then it only prints that it did not run).
@@ -12,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+use demsweep::output::summary;
 use slurm_common::{NAME, demsweep, succeeded};
 
 /// How long the jobs may take to finish (each needs well under a second).
@@ -78,20 +80,28 @@ impl Cluster {
             .collect()
     }
 
-    /// Waits until every task of every job has ended; panics with the logs unless all completed.
-    fn wait_completed(&self, ids: &[&str], logs: &Path) {
+    /// Waits until every task of every job has ended; returns their states (panics with the logs
+    /// after [`JOB_TIMEOUT`]).
+    fn wait_ended(&self, ids: &[&str], logs: &Path) -> Vec<String> {
         let started = Instant::now();
         loop {
             let states: Vec<String> = ids.iter().flat_map(|id| self.job_states(id)).collect();
             let running = ["PENDING", "CONFIGURING", "RUNNING", "COMPLETING"];
-            if states.iter().all(|s| s == "COMPLETED") {
-                return;
+            if !states.iter().any(|s| running.contains(&s.as_str())) {
+                return states;
             }
-            let stuck = started.elapsed() > JOB_TIMEOUT;
-            if stuck || states.iter().any(|s| !running.contains(&s.as_str()) && s != "COMPLETED") {
-                panic!("jobs {ids:?} ended as {states:?} (after {:?}); logs:\n{}", started.elapsed(), read_logs(logs));
+            if started.elapsed() > JOB_TIMEOUT {
+                panic!("jobs {ids:?} still {states:?} after {:?}; logs:\n{}", started.elapsed(), read_logs(logs));
             }
             std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+
+    /// Waits until every task of every job has ended; panics with the logs unless all completed.
+    fn wait_completed(&self, ids: &[&str], logs: &Path) {
+        let states = self.wait_ended(ids, logs);
+        if states.iter().any(|s| s != "COMPLETED") {
+            panic!("jobs {ids:?} ended as {states:?}; logs:\n{}", read_logs(logs));
         }
     }
 }
@@ -126,6 +136,13 @@ fn job_ids(stdout: &str) -> (String, String) {
     (after("array job "), after("merge job "))
 }
 
+/// The text of the log of merge job `id` in `logs`.
+fn merge_log(logs: &Path, id: &str) -> String {
+    let entries = std::fs::read_dir(logs).unwrap().flatten().map(|e| e.path());
+    let log = entries.into_iter().find(|p| p.to_string_lossy().ends_with(&format!("-merge_{id}.out")));
+    std::fs::read_to_string(log.unwrap_or_else(|| panic!("no log of merge job {id}:\n{}", read_logs(logs)))).unwrap()
+}
+
 #[test]
 fn array_job_and_merge_on_a_real_cluster_equal_a_local_run() {
     let Some(cluster) = Cluster::start() else { return };
@@ -133,27 +150,47 @@ fn array_job_and_merge_on_a_real_cluster_equal_a_local_run() {
     let study = slurm_common::write_study(&dir);
     let out = dir.join("out");
     let logs = out.join("logs");
+    let scripts = out.join("slurm");
+    // Shard 2 cannot write its file (a directory is in the way): its task fails with exit status 1.
+    let blocked = out.join(format!("shards/{NAME}.shard-2-of-4.h5"));
+    std::fs::create_dir_all(blocked.join("in_the_way")).unwrap();
     let started = Instant::now();
     let args = ["slurm", study.to_str().unwrap(), "--shards", "4", "--out", out.to_str().unwrap(), "--submit"];
     let stdout = succeeded("demsweep slurm --submit", &demsweep(&args, &[("SLURM_CONF", &cluster.conf())]));
     let (array_id, merge_id) = job_ids(&stdout);
-    cluster.wait_completed(&[&array_id, &merge_id], &logs);
+    let mut states = cluster.wait_ended(&[&array_id], &logs);
+    states.sort();
+    assert_eq!(states, ["COMPLETED", "COMPLETED", "COMPLETED", "FAILED"], "one task per shard, task 2 failed");
+    // The merge runs all the same: it merges the 3 other shards, names shard 2 and exits 1.
+    assert_eq!(cluster.wait_ended(&[&merge_id], &logs), ["FAILED"]);
     eprintln!("4-task array job and merge done in {:.1} s", started.elapsed().as_secs_f64());
-    assert_eq!(cluster.job_states(&array_id).len(), 4, "one task per shard");
+    let merge_log = merge_log(&logs, &merge_id);
+    assert!(merge_log.contains("merged 6 of 8 runs from 3 of 4 shards\n"), "{merge_log}");
+    assert!(merge_log.contains("error: the merge is incomplete:\n  shard 2/4: no file given\n"), "{merge_log}");
+    let array_script = scripts.join("array.sbatch");
+    let rerun = format!("  ARRAY=$(sbatch --parsable --array=2 {})\n", array_script.display());
+    let merge_again = format!("  sbatch --dependency=afterany:$ARRAY {}\n", scripts.join("merge.sbatch").display());
+    assert!(merge_log.ends_with(&format!("run them again, then merge again:\n{rerun}{merge_again}")), "{merge_log}");
+    assert_eq!(summary::read(&out.join(format!("{NAME}.h5"))).unwrap().len(), 6, "what there was was merged");
 
+    // Out of the way, the printed commands complete the study.
+    std::fs::remove_dir_all(&blocked).unwrap();
+    let rerun_id = cluster.sbatch(&["--array=2", array_script.to_str().unwrap()]);
+    let dependency = format!("--dependency=afterany:{rerun_id}");
+    let merge_again = cluster.sbatch(&[&dependency, scripts.join("merge.sbatch").to_str().unwrap()]);
+    cluster.wait_completed(&[&rerun_id, &merge_again], &logs);
     let local = slurm_common::local_summary(&study, &dir.join("local"));
     assert_eq!(slurm_common::merged_summary(&out), local, "merged on the cluster vs. one machine");
 
-    // Shard 3 lost: the merge refuses and names it; the other shards stay; re-running task 3 alone fixes it.
+    // Shard 3 lost: the merge names it; the other shards stay; re-running task 3 alone fixes it.
     let lost = out.join(format!("shards/{NAME}.shard-3-of-4.h5"));
     std::fs::remove_file(&lost).unwrap();
     let refused =
         demsweep(&["merge", dir.join("refused").to_str().unwrap(), out.join("shards").to_str().unwrap()], &[]);
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(!refused.status.success() && stderr.contains("shard 3/4: no file given"), "{stderr}");
-    let scripts = out.join("slurm");
-    let rerun_id = cluster.sbatch(&["--array=3", scripts.join("array.sbatch").to_str().unwrap()]);
-    let dependency = format!("--dependency=afterok:{rerun_id}");
+    let rerun_id = cluster.sbatch(&["--array=3", array_script.to_str().unwrap()]);
+    let dependency = format!("--dependency=afterany:{rerun_id}");
     let merge_again = cluster.sbatch(&[&dependency, scripts.join("merge.sbatch").to_str().unwrap()]);
     cluster.wait_completed(&[&rerun_id, &merge_again], &logs);
     assert_eq!(cluster.job_states(&rerun_id).len(), 1, "only shard 3 ran again");

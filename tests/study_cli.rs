@@ -20,7 +20,27 @@ fn check_accepts_a_valid_study() {
     let study = dir.write("ok.toml", &format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.3, 0.5, 0.7]\n"));
     let out = demsweep(&["check", study.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout), "ok: 4 runs\n");
+    assert_eq!(text(&out.stdout), "ok: 4 runs (1 warning above)\n");
+    assert!(
+        text(&out.stderr).contains("(run r0000 and 3 more runs): predicted: an impact at"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn check_prints_the_warnings_it_can_predict_without_failing() {
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/paper_table1.toml");
+    let out = demsweep(&["check", study]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "ok: 1 run (2 warnings above)\n");
+    let stderr = text(&out.stderr);
+    for expected in [
+        "paper_table1.toml:28:2: scene (run r0000): predicted: an impact at 3.370 m/s would overlap 0.814 radii",
+        "paper_table1.toml:28:2: scene (run r0000): predicted: the settled pile's weight would press the bottom disks 8.528 radii into the floor",
+    ] {
+        assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(expected)), "{expected}\n{stderr}");
+    }
 }
 
 #[test]

@@ -214,3 +214,33 @@ fn an_empty_table_with_a_misspelt_name_is_not_ignored() {
     let e = single_error("emptytable", "[scene]\nparticles.count = 20\n[scene.materail]\n", 3, "scene.materail");
     assert!(e.reason.starts_with("unknown field `materail`"), "{e}");
 }
+
+#[test]
+#[cfg(target_os = "linux")]
+fn a_scene_too_large_for_memory_is_an_error_not_a_crash() {
+    let text = "[scene]\nparticles.count = 100000000000\ndomain.width = 1000.0\ndomain.height = 1000.0\n";
+    let e = single_error("huge", text, 2, "scene.particles.count");
+    assert!(e.reason.starts_with("100000000000 disks need about 85.6 TB of memory to simulate"), "{e}");
+    assert!(e.reason.contains("but this machine has") && e.reason.contains("(MemTotal in /proc/meminfo)"), "{e}");
+}
+
+#[test]
+fn initial_disks_overlapping_beyond_the_divergence_limit_are_errors() {
+    let dir = StudyDir::new("csvoverlap");
+    let study = dir.write("s.toml", "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\n");
+    dir.write("init.csv", "x,y,r\n0.1,0.1,0.01\n0.3,0.1,0.01\n0.305,0.1,0.01\n");
+    let e = &errors_at(&study)[0];
+    assert_eq!((e.key.as_str(), e.location.map(|l| l.line)), ("scene.placement.file", Some(3)));
+    assert_eq!(
+        e.reason,
+        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 1.500 radii, beyond limits.max_overlap_ratio = 0.5: \
+         the run would end as diverged at t = 0"
+    );
+    dir.write("init.csv", "x,y,r\n0.1,0.004,0.01\n0.2,0.1,0.01\n0.395,0.2,0.01\n");
+    let e = &errors_at(&study)[0];
+    assert_eq!(
+        e.reason,
+        "disk 1 (x = 0.1, y = 0.004, r = 0.01) crosses the floor by 0.600 radii, beyond limits.max_overlap_ratio = 0.5: \
+         the run would end as diverged at t = 0; 2 overlaps beyond the limit in all"
+    );
+}

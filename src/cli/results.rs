@@ -22,6 +22,9 @@ const FAILED: u8 = 1;
 /// Exit status for bad input: an unknown point or metric.
 const BAD_INPUT: u8 = 2;
 
+/// Kinds of warnings printed in full at the end of a sweep.
+const WARNING_KINDS_SHOWN: usize = 5;
+
 #[derive(Args)]
 pub struct RunArgs {
     /// The study file (TOML).
@@ -32,7 +35,7 @@ pub struct RunArgs {
     /// Output directory (default: results/<study name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Continue existing results: run only the runs the file lacks.
+    /// Continue existing results: run only the runs the file lacks or that failed with an error.
     #[arg(long, conflicts_with = "force")]
     resume: bool,
     /// Replace existing results.
@@ -138,12 +141,21 @@ pub struct MergeArgs {
     /// Replace an existing merged file.
     #[arg(long)]
     force: bool,
+    /// The Slurm array script that ran the shards (`demsweep slurm` passes it): shards to run again
+    /// are then given as `sbatch --array=K,...` of it.
+    #[arg(long, value_name = "PATH")]
+    array_script: Option<PathBuf>,
 }
 
 impl RunArgs {
     /// The study file.
     pub fn study(&self) -> &std::path::Path {
         &self.study
+    }
+
+    /// The output directory, when given.
+    pub fn out(&self) -> Option<&std::path::Path> {
+        self.out.as_deref()
     }
 }
 
@@ -210,6 +222,7 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         report.summary_csv.display(),
         report.points_csv.display()
     );
+    print_warnings(report);
     write_report(&report.results, &ReportContext { jobs: Some(report.jobs), elapsed: Some(wall) });
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
@@ -222,8 +235,34 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         );
     }
     if report.failed() > 0 {
-        eprintln!("{} runs failed with an error: see the status and message columns", report.failed());
+        eprintln!(
+            "{} runs failed with an error: see the status and message columns; `--resume` runs them again",
+            report.failed()
+        );
     }
+}
+
+/// The warnings of the runs just run, one line per kind (the first few), then where to find the rest.
+fn print_warnings(report: &RunReport) {
+    let digest = &report.warnings;
+    if digest.groups.is_empty() {
+        return;
+    }
+    eprintln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
+    for group in digest.groups.iter().take(WARNING_KINDS_SHOWN) {
+        let runs = match group.runs {
+            1 => format!("1 run ({})", group.first_run),
+            n => format!("{n} runs (first {})", group.first_run),
+        };
+        eprintln!("  {runs}: {}", group.example);
+    }
+    if digest.groups.len() > WARNING_KINDS_SHOWN {
+        eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
+    }
+    eprintln!(
+        "each run's warnings: `demsweep summary {}` (warnings column), the texts in each run group's `warnings` attribute",
+        report.results.display()
+    );
 }
 
 /// `demsweep summary`: the summary (or points) table, aligned on stdout or as a CSV file; exit 2 for
@@ -352,20 +391,71 @@ pub fn write_report(results: &Path, context: &ReportContext) {
     }
 }
 
-/// `demsweep merge`: shard files into one results file.
+/// `demsweep merge`: shard files into one results file; exit 1 when shards or runs are missing or
+/// failed (what there is is merged, and the commands that complete it are printed).
 pub fn merge(args: &MergeArgs) -> ExitCode {
-    let outcome = output::merge(&args.out, &args.inputs, args.force).map(|report| {
-        println!(
-            "merged {} runs from {} shards\nresults: {}\nsummary: {}\npoints: {}",
-            report.runs,
-            report.shards,
-            report.results.display(),
-            report.summary_csv.display(),
-            report.points_csv.display()
-        );
-        write_report(&report.results, &ReportContext::default());
-    });
-    report_error(outcome)
+    let report = match output::merge(&args.out, &args.inputs, args.force) {
+        Ok(report) => report,
+        Err(e) => return report_error(Err(e)),
+    };
+    println!(
+        "merged {} of {} runs from {} of {} shards\nresults: {}\nsummary: {}\npoints: {}",
+        report.runs,
+        report.planned_runs,
+        report.shards,
+        report.shard_count,
+        report.results.display(),
+        report.summary_csv.display(),
+        report.points_csv.display()
+    );
+    write_report(&report.results, &ReportContext::default());
+    if report.problems.is_empty() {
+        return ExitCode::SUCCESS;
+    }
+    eprintln!("error: the merge is incomplete:");
+    for problem in &report.problems {
+        eprintln!("  {}", problem.reason);
+    }
+    eprintln!("{}", rerun_commands(args, &report));
+    ExitCode::from(FAILED)
+}
+
+/// The commands that run the shards of `report`'s problems again (each resumes its file: the runs it
+/// lacks and those that failed run again) and merge after them.
+fn rerun_commands(args: &MergeArgs, report: &output::MergeReport) -> String {
+    let shards = report.shards_to_rerun();
+    let out = args.out.display();
+    let first = &args.inputs[0];
+    let shard_dir = if first.is_dir() { first.as_path() } else { first.parent().unwrap_or(Path::new(".")) };
+    match &args.array_script {
+        Some(array) => {
+            let list: Vec<String> = shards.iter().map(usize::to_string).collect();
+            format!(
+                "run them again, then merge again:\n  ARRAY=$(sbatch --parsable --array={} {})\n  \
+                 sbatch --dependency=afterany:$ARRAY {}",
+                list.join(","),
+                array.display(),
+                array.with_file_name("merge.sbatch").display()
+            )
+        }
+        None => {
+            let runs: Vec<String> = shards
+                .iter()
+                .map(|k| {
+                    format!(
+                        "  demsweep run STUDY --shard {k}/{} --out {} --resume",
+                        report.shard_count,
+                        shard_dir.display()
+                    )
+                })
+                .collect();
+            format!(
+                "run them again (STUDY: the study file), then merge again:\n{}\n  demsweep merge {out} {} --force",
+                runs.join("\n"),
+                shard_dir.display()
+            )
+        }
+    }
 }
 
 fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {

@@ -45,6 +45,11 @@ impl SlurmArgs {
     pub fn study(&self) -> &Path {
         &self.study
     }
+
+    /// The output directory, when given.
+    pub fn out(&self) -> Option<&Path> {
+        self.out.as_deref()
+    }
 }
 
 /// `demsweep slurm`: exit 0 when the scripts were written (and submitted), 1 otherwise.
@@ -105,7 +110,7 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
     }
     let ids = slurm::submit(&scripts)?;
     println!(
-        "submitted array job {} ({} tasks) and merge job {} (starts when every task succeeded)",
+        "submitted array job {} ({} tasks) and merge job {} (starts when every task ended)",
         ids.array_id, job.shards, ids.merge_id
     );
     println!("watch: squeue -j {},{}; logs in {}", ids.array_id, ids.merge_id, job.log_dir().display());
@@ -118,7 +123,7 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
 
 fn print_how_to_submit(scripts: &Scripts) {
     println!(
-        "submit with:\n  ARRAY=$(sbatch --parsable {})\n  sbatch --dependency=afterok:$ARRAY {}\n\
+        "submit with:\n  ARRAY=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$ARRAY {}\n\
          (or run this command again with --submit)",
         scripts.array.display(),
         scripts.merge.display()

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use super::header::{FileHeader, utc_now};
 use super::row::SummaryRow;
 use super::writer::ResultsWriter;
-use super::{OutputError, hdf5_error, reader, write_csv_files};
+use super::{OutputError, reader, write_csv_files};
 use crate::study::OutputOptions;
 
-/// Runs copied per commit while merging.
-const COPIES_PER_COMMIT: usize = 500;
+/// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
+const BYTES_PER_COMMIT: usize = 16 << 20;
 
 /// What a merge produced.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +25,31 @@ pub struct MergeReport {
     pub runs: usize,
     /// Number of shard files merged.
     pub shards: usize,
+    /// Runs in the whole study.
+    pub planned_runs: usize,
+    /// Shards the study was split into.
+    pub shard_count: usize,
+    /// Shards missing, incomplete or holding runs that failed with an error: they must run again
+    /// (empty when the merge is complete).
+    pub problems: Vec<ShardProblem>,
+}
+
+/// A shard that must run again before the merge is complete.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShardProblem {
+    /// Which shard (1-based).
+    pub shard: usize,
+    /// What is wrong, in words.
+    pub reason: String,
+}
+
+impl MergeReport {
+    /// The shards to run again (ascending, each once).
+    pub fn shards_to_rerun(&self) -> Vec<usize> {
+        let mut shards: Vec<usize> = self.problems.iter().map(|p| p.shard).collect();
+        shards.dedup();
+        shards
+    }
 }
 
 /// One shard file, checked.
@@ -35,12 +60,14 @@ struct ShardFile {
 }
 
 /// Merges the shard files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`) into
-/// `out_dir/<study name>.h5` and its CSV summary and points. Refuses, naming the files, shards of different
-/// studies, runs present in two shards, and missing shards or runs (saying which shards to re-run).
+/// `out_dir/<study name>.h5` and its CSV summary and points. Refuses, naming the files, shards of
+/// different studies and runs present in two shards. Missing shards, missing runs and runs that
+/// failed with an error do not stop it: it merges what there is and lists them in
+/// [`MergeReport::problems`].
 /// An existing merged file is only replaced with `force`.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
     let shards = read_shards(&shard_paths(inputs)?)?;
-    check_complete(&shards)?;
+    let problems = check_complete(&shards)?;
     let first = &shards[0].header;
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
     let results = out_dir.join(format!("{}.h5", first.study_name));
@@ -53,21 +80,31 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
     let mut writer = ResultsWriter::create(&results, &header, OutputOptions::default())?;
-    let mut runs = 0;
+    let (mut runs, mut staged) = (0, 0);
     for shard in &shards {
-        let source = hdf5_pure::File::open(&shard.path).map_err(|e| hdf5_error(&shard.path, e))?;
+        let source = reader::open(&shard.path)?;
         for row in &shard.rows {
-            writer.stage_copy(&source, row)?;
-            if writer.pending() >= COPIES_PER_COMMIT {
+            staged += writer.stage_copy(&source, &shard.path, row)?;
+            if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
+                staged = 0;
             }
         }
-        writer.commit()?;
         runs += shard.rows.len();
     }
     let tables = writer.finish()?;
     let (summary_csv, points_csv) = write_csv_files(&results, &tables)?;
-    Ok(MergeReport { results, summary_csv, points_csv, runs, shards: shards.len() })
+    let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
+    Ok(MergeReport {
+        results,
+        summary_csv,
+        points_csv,
+        runs,
+        shards: shards.len(),
+        planned_runs: first.planned_runs,
+        shard_count,
+        problems,
+    })
 }
 
 /// The shard files named by `inputs`, directories expanded, sorted.
@@ -78,7 +115,7 @@ fn shard_paths(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, OutputError> {
             let entries = std::fs::read_dir(input).map_err(|e| OutputError::io(input, e))?;
             let mut found: Vec<PathBuf> = entries
                 .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(is_shard_file_name))
+                .filter(|p| p.is_file() && p.file_name().and_then(|n| n.to_str()).is_some_and(is_shard_file_name))
                 .collect();
             if found.is_empty() {
                 return Err(OutputError::new(input, "no shard files (*.shard-K-of-N.h5) in this directory"));
@@ -145,8 +182,8 @@ fn check_same_study(shards: &[ShardFile]) -> Result<(), OutputError> {
     Ok(())
 }
 
-/// Every run exactly once: no run in two files, every shard given, every shard complete.
-fn check_complete(shards: &[ShardFile]) -> Result<(), OutputError> {
+/// No run in two files (an error); the shards missing, incomplete or with failed runs (problems).
+fn check_complete(shards: &[ShardFile]) -> Result<Vec<ShardProblem>, OutputError> {
     let mut owner: BTreeMap<usize, &Path> = BTreeMap::new();
     for shard in shards {
         for row in &shard.rows {
@@ -161,32 +198,31 @@ fn check_complete(shards: &[ShardFile]) -> Result<(), OutputError> {
     let count = shards[0].header.shard.as_ref().map_or(0, |s| s.spec.count);
     let mut problems = Vec::new();
     for k in 1..=count {
-        match shards.iter().find(|s| s.header.shard.as_ref().is_some_and(|i| i.spec.index == k)) {
-            None => problems.push(format!("shard {k}/{count}: no file given")),
-            Some(shard) => {
-                let assigned = shard.header.shard.as_ref().map_or(&[][..], |s| &s.runs[..]);
-                let missing: Vec<String> =
-                    assigned.iter().filter(|i| !owner.contains_key(i)).map(|i| format!("#{i}")).collect();
-                if !missing.is_empty() {
-                    problems.push(format!(
-                        "shard {k}/{count} ({}): {} of {} runs missing (plan indices {})",
-                        shard.path.display(),
-                        missing.len(),
-                        assigned.len(),
-                        missing.join(", ")
-                    ));
-                }
-            }
+        let problem = |reason: String| ShardProblem { shard: k, reason };
+        let Some(shard) = shards.iter().find(|s| s.header.shard.as_ref().is_some_and(|i| i.spec.index == k)) else {
+            problems.push(problem(format!("shard {k}/{count}: no file given")));
+            continue;
+        };
+        let assigned = shard.header.shard.as_ref().map_or(&[][..], |s| &s.runs[..]);
+        let missing: Vec<String> =
+            assigned.iter().filter(|i| !owner.contains_key(i)).map(|i| format!("#{i}")).collect();
+        if !missing.is_empty() {
+            problems.push(problem(format!(
+                "shard {k}/{count} ({}): {} of {} runs missing (plan indices {})",
+                shard.path.display(),
+                missing.len(),
+                assigned.len(),
+                missing.join(", ")
+            )));
+        }
+        for row in shard.rows.iter().filter(|r| !r.is_finished()) {
+            problems.push(problem(format!(
+                "shard {k}/{count} ({}): run {} failed with an error: {}",
+                shard.path.display(),
+                row.id,
+                row.message
+            )));
         }
     }
-    if problems.is_empty() {
-        return Ok(());
-    }
-    Err(OutputError::new(
-        &shards[0].path,
-        format!(
-            "incomplete shards, nothing merged:\n  {}\nre-run those shards with `demsweep run STUDY --shard K/N --resume`, then merge again",
-            problems.join("\n  ")
-        ),
-    ))
+    Ok(problems)
 }

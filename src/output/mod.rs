@@ -9,6 +9,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub mod compound;
+pub mod copy;
 pub mod csv;
 pub mod header;
 pub mod history;
@@ -22,7 +23,7 @@ pub mod table;
 pub mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
-pub use merge::merge;
+pub use merge::{MergeReport, ShardProblem, merge};
 pub use row::SummaryRow;
 pub use table::SummaryTable;
 pub use writer::{ResultsWriter, RunResult, Tables};

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hdf5_pure::{DatasetBuilder, File, FileBuilder, StagedGroup};
 
 use super::compound::{self, Field};
+use super::copy::GroupCopy;
 use super::header::FileHeader;
 use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
 use super::reader;
@@ -84,6 +85,22 @@ impl ResultsWriter {
         &self.committed
     }
 
+    /// Deletes the committed runs that failed with an error (in one commit), so that they can run
+    /// again; returns how many there were.
+    pub fn forget_failed(&mut self) -> Result<usize, OutputError> {
+        let (failed, kept): (Vec<SummaryRow>, Vec<SummaryRow>) =
+            std::mem::take(&mut self.committed).into_iter().partition(|row| !row.is_finished());
+        self.committed = kept;
+        for row in &failed {
+            let bucket = format!("{RUNS}/{}", layout::bucket_name(row.index));
+            self.file.group(&bucket).and_then(|g| g.delete(&row.id)).map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        if !failed.is_empty() {
+            self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        Ok(failed.len())
+    }
+
     /// Number of runs staged and not yet committed.
     pub fn pending(&self) -> usize {
         self.pending.len()
@@ -108,13 +125,21 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Stages a copy of a committed run group of another results file (for merging shards).
-    pub fn stage_copy(&mut self, source: &File, row: &SummaryRow) -> Result<(), OutputError> {
-        self.stage_bucket(row.index)?;
+    /// Stages a copy of a committed run group of another results file (for merging shards), read
+    /// from `source` run by run (open it streaming: only this run is held); returns the bytes of
+    /// dataset data staged.
+    pub fn stage_copy(&mut self, source: &File, source_path: &Path, row: &SummaryRow) -> Result<usize, OutputError> {
         let path = layout::run_path(row.index, &row.id);
-        self.file.copy_from(source, &path, &path).map_err(|e| hdf5_error(&self.path, e))?;
+        let copy = source
+            .group(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|group| GroupCopy::read(&group))
+            .map_err(|reason| OutputError::new(source_path, format!("/{path}: {reason}")))?;
+        let bytes = copy.data_bytes();
+        self.stage_bucket(row.index)?;
+        self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.pending.push(row.clone());
-        Ok(())
+        Ok(bytes)
     }
 
     /// Stages the bucket group of a run unless the file has it.

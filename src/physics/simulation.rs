@@ -80,6 +80,31 @@ pub fn scene_time_step(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> Re
     }
 }
 
+/// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
+fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
+    let mut scene = scene.clone();
+    scene.integrator.time_step = Some(dt);
+    (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
+    scene
+}
+
+/// The pre-run stability estimate of a scene starting from `disks`, without building a simulation
+/// (a time step capped by the damping-rate limit is its first warning).
+pub fn predict_stability(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
+    let resolved = scene_time_step(scene, Some(disks));
+    let scene = &with_time_step(scene, resolved.dt);
+    let materials = Materials::from_scene(scene);
+    let particles = Particles::new(disks, materials.density, scene.particles.thickness);
+    let walls = BoxWalls::new(&scene.domain);
+    let mut report = match scene.contact.law {
+        ContactLawKind::HertzMindlin => stability::assess(&HertzMindlin, scene, &particles, &materials, &walls),
+        ContactLawKind::Linear => stability::assess(&linear_law(scene), scene, &particles, &materials, &walls),
+    };
+    report.warnings.splice(0..0, resolved.warning);
+    report
+}
+
+/// The linear spring-dashpot law of a scene.
 fn linear_law(scene: &SceneConfig) -> LinearSpringDashpot {
     LinearSpringDashpot {
         normal_stiffness: scene.contact.normal_stiffness,
@@ -119,10 +144,7 @@ impl<L: ContactLaw> Simulation<L> {
     /// A simulation at time zero with forces evaluated at the initial state.
     pub fn new(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
         let resolved = time_step::resolve(&law, scene, Some(disks));
-        let mut scene = scene.clone();
-        scene.integrator.time_step = Some(resolved.dt);
-        (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
-        let scene = &scene;
+        let scene = &with_time_step(scene, resolved.dt);
         let materials = Materials::from_scene(scene);
         let particles = Particles::new(disks, materials.density, scene.particles.thickness);
         let walls = BoxWalls::new(&scene.domain);

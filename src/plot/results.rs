@@ -102,7 +102,7 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let mut drawer = Drawer { request, dir, report, on_event };
     study_charts(&mut drawer, &study_name, &rows);
     for row in selected {
-        run_charts(&mut drawer, (&file, path), row, request.colour_by);
+        run_charts(&mut drawer, (&file, path), row, (request.colour_by, true));
     }
     Ok(drawer.report)
 }
@@ -238,8 +238,14 @@ pub fn study_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[Summary
 }
 
 /// The charts of one run of the results `file` (at `path`): energies and UBF (when histories are
-/// stored) and its snapshots, disks coloured `by`.
-pub fn run_charts(sink: &mut impl ChartSink, (file, path): (&File, &Path), row: &SummaryRow, by: ColourBy) {
+/// stored) and its snapshots (the final state, and with `frames` every recorded frame), disks
+/// coloured `by`.
+pub fn run_charts(
+    sink: &mut impl ChartSink,
+    (file, path): (&File, &Path),
+    row: &SummaryRow,
+    (by, frames): (ColourBy, bool),
+) {
     if run_status(row).is_none() {
         return sink.note(&format!("{}: {} ({}): nothing to plot", row.id, row.status, row.message));
     }
@@ -259,12 +265,21 @@ pub fn run_charts(sink: &mut impl ChartSink, (file, path): (&File, &Path), row: 
         }
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }
-    snapshots(sink, row, &stored, &subject, by);
+    snapshots(sink, row, &stored, &subject, (by, frames));
 }
 
 /// A snapshot per stored frame and of the final state (unless the last frame shows it).
-fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, subject: &str, by: ColourBy) {
-    let pictures = snapshot_names(stored);
+fn snapshots(
+    sink: &mut impl ChartSink,
+    row: &SummaryRow,
+    stored: &StoredRun,
+    subject: &str,
+    (by, frames): (ColourBy, bool),
+) {
+    let pictures = match frames {
+        true => snapshot_names(stored),
+        false => stored.final_state.iter().map(|s| ("final".to_string(), s)).collect(),
+    };
     if pictures.is_empty() {
         return sink.note(&format!("{}: no frames or final state stored: no snapshots", row.id));
     }

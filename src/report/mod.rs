@@ -88,7 +88,7 @@ pub fn write_report(
     }
     for row in &charted {
         let mut svgs = Svgs::default();
-        results::run_charts(&mut svgs, (&file, results), row, ColourBy::Speed);
+        results::run_charts(&mut svgs, (&file, results), row, (ColourBy::Speed, false));
         runs += &run_section(row, &svgs);
     }
     runs += "</div>";

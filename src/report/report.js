@@ -29,10 +29,12 @@
   function cell(value, column) {
     if (value === null || value === undefined) return "<td class=\"missing\">\u2013</td>";
     if (column.kind === "run") {
-      var runs = escape(value[1]);
-      if (value[0] === null) return "<td>" + runs + "</td>";
-      return "<td><a class=\"run\" href=\"#run-" + escape(value[0]) + "\">" + escape(value[0]) + "</a>" +
-        (value[1] === value[0] ? "" : " (" + runs + ")") + "</td>";
+      // The charted run (or the first), and how many more; every id in the tooltip.
+      var ids = value[1].split(" ");
+      var shown = value[0] === null ? escape(ids[0]) :
+        "<a class=\"run\" href=\"#run-" + escape(value[0]) + "\">" + escape(value[0]) + "</a>";
+      var more = ids.length > 1 ? " +" + (ids.length - 1) : "";
+      return "<td class=\"runs\" title=\"" + escape(value[1]) + "\">" + shown + more + "</td>";
     }
     if (column.kind === "text") return "<td>" + escape(value) + "</td>";
     var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1 " + number(value[1])) : number(value);

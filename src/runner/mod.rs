@@ -16,9 +16,11 @@ pub mod interrupt;
 pub mod progress;
 pub mod shard;
 pub mod sink;
+pub mod warnings;
 
 pub use progress::ProgressMode;
 pub use sink::CommitPolicy;
+pub use warnings::WarningDigest;
 
 use crate::output::header::utc_now;
 use crate::output::row::STATUS_ERROR;
@@ -34,7 +36,7 @@ pub struct RunOptions {
     pub jobs: usize,
     /// Output directory; default `results/<study name>/`.
     pub out_dir: Option<PathBuf>,
-    /// Continue an existing results file: run only the runs it lacks.
+    /// Continue an existing results file: run only the runs it lacks or that failed with an error.
     pub resume: bool,
     /// Overwrite an existing results file.
     pub force: bool,
@@ -75,6 +77,8 @@ pub struct RunReport {
     pub wall_time: std::time::Duration,
     /// Time the writer thread spent staging, committing and finishing the results file.
     pub writer_time: std::time::Duration,
+    /// The warnings of the runs finished by this invocation, by kind.
+    pub warnings: WarningDigest,
 }
 
 impl RunReport {
@@ -150,7 +154,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (sender, receiver) = mpsc::channel();
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
-    view.finish();
+    let warnings = view.finish();
     let (tables, writer_time) =
         writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
     let (summary_csv, points_csv) = output::write_csv_files(&path, &tables)?;
@@ -168,6 +172,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         jobs,
         wall_time: started.elapsed(),
         writer_time,
+        warnings,
     })
 }
 
@@ -194,8 +199,9 @@ fn open_results(
     check_writable(dir)?;
     let exists = path.exists();
     if exists && options.resume {
-        let (writer, header) = ResultsWriter::open(path, plan.output.clone())?;
+        let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
         check_same_study(path, &header, plan, options.shard)?;
+        writer.forget_failed()?;
         return Ok(writer);
     }
     if exists && !options.force {

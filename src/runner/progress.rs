@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use super::warnings::WarningDigest;
 use crate::output::SummaryRow;
 use crate::physics::simulation::Progress;
 
@@ -32,6 +33,7 @@ pub struct ProgressView {
     mode: ProgressMode,
     overall: ProgressBar,
     workers: Vec<(ProgressBar, Mutex<Option<Instant>>)>,
+    warnings: Mutex<WarningDigest>,
 }
 
 impl ProgressView {
@@ -43,7 +45,7 @@ impl ProgressView {
             other => other,
         };
         if mode != ProgressMode::Bars {
-            return Self { mode, overall: ProgressBar::hidden(), workers: Vec::new() };
+            return Self { mode, overall: ProgressBar::hidden(), workers: Vec::new(), warnings: Mutex::default() };
         }
         let multi = MultiProgress::with_draw_target(ProgressDrawTarget::stderr_with_hz(10));
         let overall = multi.add(ProgressBar::new(total as u64).with_position(done as u64));
@@ -61,7 +63,7 @@ impl ProgressView {
                 (bar, Mutex::new(None))
             })
             .collect();
-        Self { mode, overall, workers }
+        Self { mode, overall, workers, warnings: Mutex::default() }
     }
 
     /// A worker reports a sample of its running simulation (throttled to 10 updates a second).
@@ -80,13 +82,18 @@ impl ProgressView {
 
     /// A worker finished a run.
     pub fn finished(&self, worker: usize, row: &SummaryRow) {
+        self.warnings.lock().unwrap_or_else(|e| e.into_inner()).add(&row.id, &row.warnings);
         self.overall.inc(1);
         if let Some((bar, _)) = self.workers.get(worker) {
             bar.set_message("idle");
         }
         if self.mode == ProgressMode::Lines {
             let settle = row.settle_time.map_or("-".to_string(), |t| format!("{t:.4} s"));
-            let mut line = format!("{}  {}  settle {settle}  wall {:.2} s", row.id, row.status, row.wall_time);
+            let count = match row.warnings.len() {
+                1 => "1 warning".to_string(),
+                n => format!("{n} warnings"),
+            };
+            let mut line = format!("{}  {}  settle {settle}  wall {:.2} s  {count}", row.id, row.status, row.wall_time);
             if !row.message.is_empty() {
                 line.push_str(&format!("  ({})", row.message));
             }
@@ -94,11 +101,12 @@ impl ProgressView {
         }
     }
 
-    /// Clears the bars.
-    pub fn finish(&self) {
+    /// Clears the bars; returns the warnings of the runs finished, by kind.
+    pub fn finish(&self) -> WarningDigest {
         for (bar, _) in &self.workers {
             bar.finish_and_clear();
         }
         self.overall.finish();
+        self.warnings.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 }

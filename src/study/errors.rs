@@ -129,20 +129,56 @@ impl From<StudyError> for StudyErrors {
     }
 }
 
+/// The kind of a warning or problem: its text with every number replaced by `#`, so that the same
+/// warning about different values (an overlap of 0.81 or of 0.93 radii) is one kind.
+pub fn warning_kind(text: &str) -> String {
+    let mut kind = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    let mut in_number = false;
+    while let Some(c) = chars.next() {
+        let next_is_exponent = chars.peek().is_some_and(|n| n.is_ascii_digit() || *n == '-' || *n == '+');
+        let exponent = in_number && (c == 'e' || c == 'E') && next_is_exponent;
+        if c.is_ascii_digit() || (in_number && c == '.') || exponent {
+            if !in_number {
+                kind.push('#');
+            }
+            in_number = true;
+            if exponent {
+                chars.next_if(|n| *n == '-' || *n == '+');
+            }
+        } else {
+            in_number = false;
+            kind.push(c);
+        }
+    }
+    kind
+}
+
 /// Collects problems; the same problem found in several runs is kept once, with the first run and a count.
 #[derive(Default)]
 pub(crate) struct ErrorSink {
     errors: Vec<StudyError>,
     seen: HashMap<Identity, usize>,
+    /// Whether problems whose reasons differ only in numbers count as the same (see [`warning_kind`]).
+    by_kind: bool,
 }
 
 impl ErrorSink {
+    /// A sink that keeps one problem per kind and place: the first run's, with the count of runs.
+    pub fn by_kind() -> Self {
+        Self { by_kind: true, ..Self::default() }
+    }
+
     /// Adds a problem, or counts one more run for a problem already seen.
     pub fn push(&mut self, error: StudyError) {
-        match self.seen.get(&error.identity()) {
+        let mut identity = error.identity();
+        if self.by_kind {
+            identity.4 = warning_kind(&identity.4);
+        }
+        match self.seen.get(&identity) {
             Some(&k) => self.errors[k].runs_affected += error.runs_affected,
             None => {
-                self.seen.insert(error.identity(), self.errors.len());
+                self.seen.insert(identity, self.errors.len());
                 self.errors.push(error);
             }
         }
@@ -207,5 +243,19 @@ mod tests {
         assert_eq!(errors[0].runs_affected, 3);
         assert!(errors[0].to_string().contains("(run r0001 and 2 more runs)"));
         assert_eq!(errors[1].runs_affected, 1);
+    }
+
+    #[test]
+    fn kinds_mask_numbers_only() {
+        assert_eq!(
+            warning_kind("an impact at 1.25 m/s would overlap 8.1e-1 radii (r0003, limit 0.1)"),
+            "an impact at # m/s would overlap # radii (r#, limit #)"
+        );
+        assert_eq!(warning_kind("energy balance off by 17 %."), "energy balance off by # %.");
+        let mut sink = ErrorSink::by_kind();
+        sink.push(StudyError::new("s.toml", None, "scene", "overlap 0.81 radii").in_run("r0000"));
+        sink.push(StudyError::new("s.toml", None, "scene", "overlap 0.93 radii").in_run("r0001"));
+        let errors = sink.into_errors().0;
+        assert_eq!((errors.len(), errors[0].runs_affected, errors[0].reason.as_str()), (1, 2, "overlap 0.81 radii"));
     }
 }

@@ -9,6 +9,7 @@ pub(crate) mod errors;
 pub(crate) mod file;
 pub mod initial_csv;
 pub(crate) mod plan;
+pub mod resources;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -17,7 +18,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 pub use axes::MAX_RUNS;
-pub use errors::{Location, StudyError, StudyErrors};
+pub use errors::{Location, StudyError, StudyErrors, warning_kind};
 
 use crate::physics::SceneConfig;
 use crate::physics::particles::InitialDisk;
@@ -137,6 +138,10 @@ pub struct Plan {
     pub output: OutputOptions,
     /// The runs, in a stable order.
     pub runs: Vec<PlannedRun>,
+    /// What will not stop the study but deserves a look (validity predicted before running, sampling
+    /// that cannot sample, initial overlaps), located like errors; warnings of one kind shared by
+    /// several runs are listed once, with the first run and how many runs have one.
+    pub warnings: Vec<StudyError>,
 }
 
 impl Plan {

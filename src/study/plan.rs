@@ -10,11 +10,11 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, resources};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
-use crate::physics::placement;
+use crate::physics::{placement, simulation};
 
 /// Keys allowed at the top of a study file.
 const TOP_LEVEL: [&str; 5] = ["name", "description", "scene", "sweep", "output"];
@@ -43,6 +43,7 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
         fingerprint: fingerprint(&file.text),
         output: toml::Value::Table(output).try_into().unwrap_or_default(),
         runs,
+        warnings: planner.warnings.into_errors().0,
     };
     sink.into_result(plan)
 }
@@ -146,7 +147,10 @@ pub(super) fn run_id(index: usize, runs: usize) -> String {
 /// Disks read from a placement file, or why they could not be read.
 type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
 
-/// Expands runs, caching what several runs share (placement files, placement trials).
+/// Disks a generated placement gives, or its problem (key, reason).
+type Placed = Result<Arc<Vec<InitialDisk>>, (String, String)>;
+
+/// Expands runs, caching what several runs share (placement files, placement outcomes).
 struct Planner<'a> {
     file: &'a StudyFile,
     doc: &'a Document,
@@ -155,8 +159,12 @@ struct Planner<'a> {
     study_dir: PathBuf,
     /// Placement files read so far, by path and default radius.
     initial_files: HashMap<(PathBuf, u64), InitialStates>,
-    /// Placement trials so far, by the scene sections they depend on.
-    placements: HashMap<String, Option<(String, String)>>,
+    /// Placements that failed, by the scene sections they depend on: (key, reason).
+    failed_placements: HashMap<String, (String, String)>,
+    /// The last placement that succeeded: its setup and disks.
+    last_placement: Option<(String, Arc<Vec<InitialDisk>>)>,
+    /// Warnings so far, one per kind and place.
+    warnings: ErrorSink,
 }
 
 /// One run while it is being planned: its swept values, for locating problems.
@@ -169,7 +177,8 @@ struct RunPoint<'a> {
 impl<'a> Planner<'a> {
     fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
         let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
-        Self { file, doc, base, sweep, study_dir, initial_files: HashMap::new(), placements: HashMap::new() }
+        let (initial_files, failed_placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
+        Self { file, doc, base, sweep, study_dir, initial_files, failed_placements, last_placement: None, warnings }
     }
 
     fn expand(&mut self, sink: &mut ErrorSink) -> Vec<PlannedRun> {
@@ -200,7 +209,7 @@ impl<'a> Planner<'a> {
             parameters.push(("placement.seed".into(), ParamValue::Int(seed)));
         }
         let initial = self.initial_states(&point, &mut scene)?;
-        self.check_scene(&point, &scene, initial.as_deref())?;
+        self.check_scene(&point, &scene, initial.as_ref())?;
         Ok(PlannedRun::new(point.id, index, parameters, scene, initial))
     }
 
@@ -258,57 +267,262 @@ impl<'a> Planner<'a> {
         Ok(Some(disks))
     }
 
-    /// Validation, then (for valid scenes) whether the disks fit: placement is tried once per
-    /// distinct domain/particles/placement, and file disks must lie inside the box.
+    /// Validation, then (for valid scenes) whether the state fits in memory and the disks in the box:
+    /// placement is tried once per distinct domain/particles/placement, and file disks must not overlap
+    /// each other or the walls beyond `limits.max_overlap_ratio`. Warnings (overlaps beyond
+    /// `limits.overlap_warning_ratio`, sampling, the predicted validity of the run) are collected.
     fn check_scene(
         &mut self,
         point: &RunPoint,
         scene: &SceneConfig,
-        initial: Option<&Vec<InitialDisk>>,
+        initial: Option<&Arc<Vec<InitialDisk>>>,
     ) -> Result<(), Vec<StudyError>> {
         if let Err(issues) = scene.validate() {
             return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
         }
-        let failure = match initial {
-            Some(disks) => outside_box(scene, disks).map(|reason| ("placement.file".to_string(), reason)),
-            None => self.try_placement(scene),
-        };
-        match failure {
-            Some((key, reason)) => Err(vec![self.problem(point, &key, reason)]),
-            None => Ok(()),
+        if let Some(reason) = resources::memory_problem(scene) {
+            return Err(vec![self.problem(point, "particles.count", reason)]);
         }
+        for (key, reason) in sampling_warnings(scene) {
+            let warning = self.problem(point, key, reason);
+            self.warnings.push(warning);
+        }
+        let disks = match initial {
+            Some(disks) => {
+                let overlaps = Overlaps::find(scene, disks);
+                if let Some(reason) = overlaps.warning() {
+                    let warning = self.problem(point, "placement.file", reason);
+                    self.warnings.push(warning);
+                }
+                if let Some(reason) = overlaps.error() {
+                    return Err(vec![self.problem(point, "placement.file", reason)]);
+                }
+                disks.clone()
+            }
+            None => self.try_placement(scene).map_err(|(key, reason)| vec![self.problem(point, &key, reason)])?,
+        };
+        let span = self.doc.span(&["scene".to_string()]);
+        for reason in simulation::predict_stability(scene, &disks).warnings {
+            let warning = self.file.error(span.clone(), "scene", format!("predicted: {reason}")).in_run(&point.id);
+            self.warnings.push(warning);
+        }
+        Ok(())
     }
 
-    /// The placement error (key, reason) of a generated placement, if any; computed once per setup.
-    fn try_placement(&mut self, scene: &SceneConfig) -> Option<(String, String)> {
+    /// The disks of a generated placement, or its problem (key, reason). A failure is remembered per
+    /// setup; the disks only for the last setup (consecutive runs often share it; keeping every
+    /// setup's disks could fill the memory).
+    fn try_placement(&mut self, scene: &SceneConfig) -> Placed {
         let setup = serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default();
-        let outcome = self.placements.entry(setup).or_insert_with(|| match placement::generate(scene) {
+        if let Some((last, disks)) = &self.last_placement
+            && *last == setup
+        {
+            return Ok(disks.clone());
+        }
+        if let Some(problem) = self.failed_placements.get(&setup) {
+            return Err(problem.clone());
+        }
+        let outcome = match placement::generate(scene) {
             Ok(disks) if disks.is_empty() => {
-                Some(("particles.count".into(), "a scene needs at least one disk, got 0".into()))
+                Err(("particles.count".to_string(), "a scene needs at least one disk, got 0".to_string()))
             }
-            Ok(_) => None,
-            Err(e) => Some((e.key, e.reason)),
-        });
-        outcome.clone()
+            Ok(disks) => Ok(Arc::new(disks)),
+            Err(e) => Err((e.key, e.reason)),
+        };
+        match &outcome {
+            Ok(disks) => self.last_placement = Some((setup, disks.clone())),
+            Err(problem) => drop(self.failed_placements.insert(setup, problem.clone())),
+        }
+        outcome
     }
 }
 
-/// The first file disk that crosses a wall, in words.
-fn outside_box(scene: &SceneConfig, disks: &[InitialDisk]) -> Option<String> {
+/// Sampling that cannot sample: an interval longer than the run, frames past its end (key, reason).
+fn sampling_warnings(scene: &SceneConfig) -> Vec<(&'static str, String)> {
+    let run = &scene.run;
+    let mut warnings = Vec::new();
+    if run.sample_interval > run.duration {
+        warnings.push((
+            "run.sample_interval",
+            format!(
+                "{} s is longer than run.duration ({} s): the run is sampled only at its start and end, so its \
+                 histories, settle detection and divergence checks see two samples; use an interval below the duration",
+                run.sample_interval, run.duration
+            ),
+        ));
+    }
+    if let Some(interval) = run.frame_interval.filter(|i| *i > run.duration) {
+        warnings.push((
+            "run.frame_interval",
+            format!("{interval} s is longer than run.duration ({} s): no periodic frame is recorded", run.duration),
+        ));
+    }
+    let late: Vec<String> = run.frame_times.iter().filter(|t| **t > run.duration).map(|t| format!("{t} s")).collect();
+    if !late.is_empty() {
+        warnings.push((
+            "run.frame_times",
+            format!("{} past run.duration ({} s): never recorded", late.join(", "), run.duration),
+        ));
+    }
+    warnings
+}
+
+/// Overlaps of file disks with each other and with the walls, as fractions of the smaller radius:
+/// the worst one and how many there are beyond the scene's error and warning limits.
+struct Overlaps {
+    /// Beyond `limits.max_overlap_ratio` (or a centre outside the box): (worst, count).
+    errors: Option<(Overlap, usize)>,
+    /// Beyond `limits.overlap_warning_ratio` but not an error: (worst, count).
+    warnings: Option<(Overlap, usize)>,
+    max_ratio: f64,
+    warning_ratio: f64,
+}
+
+/// One overlap between disks (0-based rows) or a disk and a wall.
+#[derive(Clone, Debug)]
+struct Overlap {
+    ratio: f64,
+    what: String,
+}
+
+impl Overlaps {
+    fn find(scene: &SceneConfig, disks: &[InitialDisk]) -> Self {
+        let limits = &scene.limits;
+        let mut found = Self {
+            errors: None,
+            warnings: None,
+            max_ratio: limits.max_overlap_ratio,
+            warning_ratio: limits.overlap_warning_ratio,
+        };
+        for (i, disk) in disks.iter().enumerate() {
+            if let Some(reason) = outside_box(scene, i, disk) {
+                found.add(Overlap { ratio: f64::INFINITY, what: reason });
+            } else {
+                for (wall, depth) in wall_depths(scene, disk) {
+                    found.add(Overlap {
+                        ratio: depth / disk.r,
+                        what: format!(
+                            "disk {} (x = {}, y = {}, r = {}) crosses the {wall}",
+                            i + 1,
+                            disk.x,
+                            disk.y,
+                            disk.r
+                        ),
+                    });
+                }
+            }
+        }
+        for (i, j) in touching_pairs(disks) {
+            let (a, b) = (&disks[i], &disks[j]);
+            let depth = a.r + b.r - (a.x - b.x).hypot(a.y - b.y);
+            found.add(Overlap {
+                ratio: depth / a.r.min(b.r),
+                what: format!(
+                    "disks {} and {} (rows {} and {} of the file) overlap",
+                    i.min(j) + 1,
+                    i.max(j) + 1,
+                    i.min(j) + 1,
+                    i.max(j) + 1
+                ),
+            });
+        }
+        found
+    }
+
+    fn add(&mut self, overlap: Overlap) {
+        let slot = if overlap.ratio > self.max_ratio {
+            &mut self.errors
+        } else if overlap.ratio > self.warning_ratio {
+            &mut self.warnings
+        } else {
+            return;
+        };
+        match slot {
+            Some((worst, count)) => {
+                *count += 1;
+                if overlap.ratio > worst.ratio {
+                    *worst = overlap;
+                }
+            }
+            None => *slot = Some((overlap, 1)),
+        }
+    }
+
+    /// The worst overlap beyond `limits.max_overlap_ratio`, in words: the run would diverge at t = 0.
+    fn error(&self) -> Option<String> {
+        let (worst, count) = self.errors.as_ref()?;
+        let what = if worst.ratio.is_finite() {
+            format!(
+                "{} by {:.3} radii, beyond limits.max_overlap_ratio = {}: the run would end as diverged at t = 0",
+                worst.what, worst.ratio, self.max_ratio
+            )
+        } else {
+            worst.what.clone()
+        };
+        Some(format!("{what}{}", more(*count, "beyond the limit")))
+    }
+
+    /// The worst overlap beyond `limits.overlap_warning_ratio` that is no error, in words.
+    fn warning(&self) -> Option<String> {
+        let (worst, count) = self.warnings.as_ref()?;
+        Some(format!(
+            "{} by {:.3} radii, beyond limits.overlap_warning_ratio = {} (Hertz validity): they start pushed apart{}",
+            worst.what,
+            worst.ratio,
+            self.warning_ratio,
+            more(*count, "beyond it")
+        ))
+    }
+}
+
+/// `; N overlaps WHERE in all` when there is more than one.
+fn more(count: usize, place: &str) -> String {
+    if count > 1 { format!("; {count} overlaps {place} in all") } else { String::new() }
+}
+
+/// A disk whose centre is outside the box, in words.
+fn outside_box(scene: &SceneConfig, i: usize, k: &InitialDisk) -> Option<String> {
     let d = &scene.domain;
-    let inside = |k: &InitialDisk| {
-        k.x - k.r >= 0.0 && k.x + k.r <= d.width && k.y - k.r >= 0.0 && (!d.lid || k.y + k.r <= d.height)
-    };
-    let (i, bad) = disks.iter().enumerate().find(|(_, k)| !inside(k))?;
-    Some(format!(
-        "disk {} (x = {}, y = {}, r = {}) is not inside the box (domain.width = {} m{})",
-        i + 1,
-        bad.x,
-        bad.y,
-        bad.r,
-        d.width,
-        if d.lid { format!(", lid at {} m", d.height) } else { String::new() }
-    ))
+    let inside = k.x >= 0.0 && k.x <= d.width && k.y >= 0.0 && (!d.lid || k.y <= d.height);
+    (!inside).then(|| {
+        format!(
+            "disk {} (x = {}, y = {}, r = {}) is not inside the box (domain.width = {} m{})",
+            i + 1,
+            k.x,
+            k.y,
+            k.r,
+            d.width,
+            if d.lid { format!(", lid at {} m", d.height) } else { String::new() }
+        )
+    })
+}
+
+/// How deep a disk (centre inside the box) reaches into each wall it crosses (m).
+fn wall_depths(scene: &SceneConfig, k: &InitialDisk) -> Vec<(&'static str, f64)> {
+    let d = &scene.domain;
+    let lid = if d.lid { k.y + k.r - d.height } else { 0.0 };
+    [("floor", k.r - k.y), ("left wall", k.r - k.x), ("right wall", k.x + k.r - d.width), ("lid", lid)]
+        .into_iter()
+        .filter(|(_, depth)| *depth > 0.0)
+        .collect()
+}
+
+/// Pairs of disks (indices) that touch or overlap: a sweep along x over the disks sorted by x.
+fn touching_pairs(disks: &[InitialDisk]) -> Vec<(usize, usize)> {
+    let mut order: Vec<usize> = (0..disks.len()).collect();
+    order.sort_by(|&a, &b| disks[a].x.total_cmp(&disks[b].x));
+    let largest = disks.iter().map(|d| d.r).fold(0.0, f64::max);
+    let mut pairs = Vec::new();
+    for (k, &i) in order.iter().enumerate() {
+        let a = &disks[i];
+        for &j in order[k + 1..].iter().take_while(|&&j| disks[j].x - a.x < a.r + largest) {
+            let b = &disks[j];
+            if (a.x - b.x).hypot(a.y - b.y) < a.r + b.r {
+                pairs.push((i, j));
+            }
+        }
+    }
+    pairs
 }
 
 #[cfg(test)]

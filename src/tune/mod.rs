@@ -182,6 +182,7 @@ impl<'a> RunEvaluator<'a> {
             fingerprint: spec.fingerprint.clone(),
             output: spec.output.clone(),
             runs: Vec::new(),
+            warnings: Vec::new(),
         };
         Self { spec, options, plan, batches: 0, reused: 0, ran: 0, particle_steps: 0.0, error: None }
     }

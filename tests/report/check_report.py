@@ -95,6 +95,7 @@ def main():
             options = status.locator("option").all_inner_texts()
             out["status_options"] = options
         if screenshot:
+            page.set_viewport_size({"width": 1280, "height": 2200})
             page.goto(url, wait_until="load")
             page.screenshot(path=screenshot, full_page=False)
         browser.close()

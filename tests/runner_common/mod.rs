@@ -32,6 +32,7 @@ pub fn plan(name: &str, runs: Vec<(Vec<(String, ParamValue)>, SceneConfig)>) -> 
         fingerprint: format!("test-fingerprint-{name}"),
         output: OutputOptions { histories: true, final_states: true, frames: true },
         runs,
+        warnings: Vec::new(),
     }
 }
 

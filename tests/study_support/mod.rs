@@ -3,7 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use demsweep::study::{self, Plan, StudyError};
+use demsweep::physics::SceneConfig;
+use demsweep::study::{self, OutputOptions, Plan, PlannedRun, StudyError};
 
 /// A temporary folder for study files, removed when dropped.
 pub struct StudyDir {
@@ -65,4 +66,23 @@ pub fn single_error(name: &str, text: &str, line: usize, key: &str) -> StudyErro
     assert_eq!(error.location.map(|l| l.line), Some(line), "{error}");
     assert_eq!(error.key, key, "{error}");
     error
+}
+
+/// A plan of `name`.toml built in code, one run per scene (no study file behind it).
+pub fn plan_in_code(name: &str, scenes: Vec<SceneConfig>) -> Plan {
+    let runs = scenes
+        .into_iter()
+        .enumerate()
+        .map(|(index, scene)| PlannedRun::new(format!("r{index:06}"), index, Vec::new(), scene, None))
+        .collect();
+    let (study_path, name) = (PathBuf::from(format!("{name}.toml")), name.to_string());
+    Plan {
+        study_path,
+        study_text: String::new(),
+        name,
+        fingerprint: String::new(),
+        output: OutputOptions::default(),
+        runs,
+        warnings: Vec::new(),
+    }
 }

@@ -1,0 +1,109 @@
+//! Copying a run group from one results file into another one run at a time: the group is read from
+//! the (streaming) source into memory, then staged in the destination, so that a merge holds a few
+//! runs in memory, never a whole shard. Datasets keep their datatype, shape, chunking, filters and
+//! attributes; their data is decoded and encoded again.
+
+use hdf5_pure::{AttrValue, DatasetBuilder, Datatype, Group, StagedGroup};
+
+/// HDF5's registered filter identifiers of deflate and shuffle.
+const FILTER_DEFLATE: u16 = 1;
+const FILTER_SHUFFLE: u16 = 2;
+
+/// A group read from a results file: its attributes, datasets and subgroups, sorted by name.
+pub struct GroupCopy {
+    attrs: Vec<(String, AttrValue)>,
+    datasets: Vec<DatasetCopy>,
+    groups: Vec<(String, GroupCopy)>,
+}
+
+/// A dataset read from a results file.
+struct DatasetCopy {
+    name: String,
+    datatype: Datatype,
+    shape: Vec<u64>,
+    bytes: Vec<u8>,
+    chunks: Option<Vec<u64>>,
+    /// Shuffle, then deflate at this level, as the source had them.
+    shuffle: bool,
+    deflate: Option<u32>,
+    attrs: Vec<(String, AttrValue)>,
+}
+
+impl GroupCopy {
+    /// Reads `group` and everything under it; a filter other than shuffle and deflate is refused.
+    pub fn read(group: &Group) -> Result<Self, String> {
+        let text = |e: hdf5_pure::Error| e.to_string();
+        let mut datasets = Vec::new();
+        for (name, dataset) in group.iter_datasets().map_err(text)? {
+            let (mut shuffle, mut deflate) = (false, None);
+            for filter in dataset.filter_pipeline() {
+                match filter.id {
+                    FILTER_SHUFFLE => shuffle = true,
+                    FILTER_DEFLATE => deflate = Some(filter.client_data.first().copied().unwrap_or(1)),
+                    other => return Err(format!("{name}: filter {other} cannot be copied")),
+                }
+            }
+            datasets.push(DatasetCopy {
+                datatype: dataset.datatype().map_err(text)?,
+                shape: dataset.shape().map_err(text)?,
+                bytes: dataset.read_raw().map_err(text)?,
+                chunks: dataset.chunk_shape().map_err(text)?,
+                shuffle,
+                deflate,
+                attrs: sorted(dataset.attrs().map_err(text)?),
+                name,
+            });
+        }
+        datasets.sort_by(|a, b| a.name.cmp(&b.name));
+        let mut groups = Vec::new();
+        for (name, child) in group.iter_groups().map_err(text)? {
+            groups.push((name, Self::read(&child)?));
+        }
+        groups.sort_by(|a, b| a.0.cmp(&b.0));
+        Ok(Self { attrs: sorted(group.attrs().map_err(text)?), datasets, groups })
+    }
+
+    /// Bytes of dataset data held (the decoded size).
+    pub fn data_bytes(&self) -> usize {
+        let own: usize = self.datasets.iter().map(|d| d.bytes.len()).sum();
+        own + self.groups.iter().map(|(_, g)| g.data_bytes()).sum::<usize>()
+    }
+
+    /// Stages the copy into `g` (a new, empty group).
+    pub fn stage(self, g: &mut StagedGroup<'_>) {
+        for (name, value) in self.attrs {
+            g.set_attr(&name, value);
+        }
+        for dataset in self.datasets {
+            g.create_dataset(&dataset.name.clone(), |b| dataset.stage(b));
+        }
+        for (name, group) in self.groups {
+            g.create_group_with(&name, |child| group.stage(child));
+        }
+    }
+}
+
+impl DatasetCopy {
+    fn stage(self, b: &mut DatasetBuilder) {
+        let elements = self.shape.iter().product();
+        b.with_raw_data(self.datatype, self.bytes, elements).with_shape(&self.shape);
+        if let Some(chunks) = &self.chunks {
+            b.with_chunks(chunks);
+        }
+        if self.shuffle {
+            b.with_shuffle();
+        }
+        if let Some(level) = self.deflate {
+            b.with_deflate(level);
+        }
+        for (name, value) in self.attrs {
+            b.set_attr(&name, value);
+        }
+    }
+}
+
+fn sorted(attrs: std::collections::HashMap<String, AttrValue>) -> Vec<(String, AttrValue)> {
+    let mut attrs: Vec<(String, AttrValue)> = attrs.into_iter().collect();
+    attrs.sort_by(|a, b| a.0.cmp(&b.0));
+    attrs
+}

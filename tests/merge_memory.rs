@@ -1,0 +1,69 @@
+//! `demsweep merge` streams: its peak memory stays at a few runs, below the size of one shard
+//! file (which it used to read whole). Linux only: the peak is the merge process's `ru_maxrss`.
+
+#![cfg(target_os = "linux")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// 128 runs of 300 disks recording 200 frames each (3.4 MB of data a run): shard files of about 60 MB.
+const STUDY: &str = r#"name = "merge_memory"
+[scene]
+run.duration = 0.02
+run.frame_interval = 1e-4
+[sweep]
+replicates = 128
+"#;
+
+fn demsweep() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_demsweep"))
+}
+
+/// Runs `command` and returns its exit status and peak resident memory (bytes).
+#[allow(unsafe_code)]
+fn peak_memory(command: &mut Command) -> (i32, u64) {
+    #[allow(clippy::zombie_processes)] // reaped by wait4 below, which also gives its resource usage
+    let child = command.stdout(Stdio::null()).spawn().unwrap();
+    let (mut status, mut usage) = (0, std::mem::MaybeUninit::<libc::rusage>::uninit());
+    // SAFETY: the pid is our unwaited child; `status` and `usage` are valid places for wait4 to fill.
+    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, usage.as_mut_ptr()) };
+    assert_eq!(pid, child.id() as i32);
+    // SAFETY: wait4 returned the child, so it filled `usage`.
+    let usage = unsafe { usage.assume_init() };
+    (libc::WEXITSTATUS(status), usage.ru_maxrss as u64 * 1024)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn file_size(path: &Path) -> u64 {
+    std::fs::metadata(path).unwrap().len()
+}
+
+#[test]
+fn merge_memory_stays_below_one_shard() {
+    // The shards are written by child processes, so that this process stays small: a child's peak
+    // memory starts from its parent's.
+    let dir = scratch("merge_memory");
+    let study = dir.join("merge_memory.toml");
+    std::fs::write(&study, STUDY).unwrap();
+    let shards = dir.join("shards");
+    for shard in ["1/2", "2/2"] {
+        let out = demsweep()
+            .args(["run", study.to_str().unwrap(), "--shard", shard, "--out", shards.to_str().unwrap()])
+            .args(["--progress", "quiet"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let largest = (1..=2).map(|k| file_size(&shards.join(format!("merge_memory.shard-{k}-of-2.h5")))).max().unwrap();
+    let merged = dir.join("merged");
+    let (status, peak) = peak_memory(demsweep().args(["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]));
+    assert_eq!(status, 0);
+    eprintln!("merge peak memory {:.1} MB, largest shard file {:.1} MB", peak as f64 / 1e6, largest as f64 / 1e6);
+    assert!(peak < largest, "merge peak memory {peak} bytes, largest shard file {largest} bytes");
+}

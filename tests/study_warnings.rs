@@ -1,0 +1,77 @@
+//! What a study may do but probably should not: warned about before running, with file, line and key,
+//! without failing.
+
+mod study_support;
+
+use demsweep::study::StudyError;
+use study_support::{SMALL_SCENE, StudyDir, plan};
+
+/// The warnings with `key`.
+fn with_key<'a>(warnings: &'a [StudyError], key: &str) -> Vec<&'a StudyError> {
+    warnings.iter().filter(|w| w.key == key).collect()
+}
+
+#[test]
+fn sampling_longer_than_the_run_is_warned_with_its_key() {
+    let text = format!("{SMALL_SCENE}run.sample_interval = 0.05\nrun.frame_times = [0.0, 0.005, 0.5]\n");
+    let warnings = plan("sampling", &text).warnings;
+    let interval = with_key(&warnings, "scene.run.sample_interval");
+    assert_eq!(interval.len(), 1, "{warnings:#?}");
+    assert_eq!(interval[0].location.map(|l| l.line), Some(5));
+    assert!(
+        interval[0]
+            .reason
+            .starts_with("0.05 s is longer than run.duration (0.01 s): the run is sampled only at its start and end")
+    );
+    let frames = with_key(&warnings, "scene.run.frame_times");
+    assert_eq!(frames[0].reason, "0.5 s past run.duration (0.01 s): never recorded");
+    let swept = format!("{SMALL_SCENE}[sweep]\n\"run.sample_interval\" = [0.001, 0.02]\n");
+    let warnings = plan("sampling_swept", &swept).warnings;
+    let on_axis = with_key(&warnings, "sweep.\"run.sample_interval\"");
+    assert_eq!(
+        (on_axis.len(), on_axis[0].value.as_deref(), on_axis[0].run.as_deref()),
+        (1, Some("0.02"), Some("r0001"))
+    );
+}
+
+#[test]
+fn overlapping_initial_disks_below_the_divergence_limit_are_warned_with_rows() {
+    let dir = StudyDir::new("csvwarn");
+    let study = dir.write("s.toml", "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\n");
+    dir.write("init.csv", "x,y,r\n0.1,0.1,0.01\n0.3,0.1,0.01\n0.318,0.1,0.01\n0.2,0.0085,0.01\n0.2,0.05,0.01\n");
+    let warnings = demsweep::study::load(&study).unwrap().warnings;
+    let overlaps = with_key(&warnings, "scene.placement.file");
+    assert_eq!(overlaps.len(), 1, "{warnings:#?}");
+    assert_eq!(
+        overlaps[0].reason,
+        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 0.200 radii, beyond limits.overlap_warning_ratio = 0.1 \
+         (Hertz validity): they start pushed apart; 2 overlaps beyond it in all"
+    );
+}
+
+#[test]
+fn predicted_validity_is_warned_once_per_kind_with_the_runs_it_affects() {
+    let text =
+        "[scene]\nparticles.count = 20\nrun.duration = 0.01\n[sweep]\n\"material.youngs_modulus\" = [2e4, 3e4, 1e11]\n";
+    let warnings = plan("predicted", text).warnings;
+    let impact: Vec<&StudyError> =
+        warnings.iter().filter(|w| w.reason.starts_with("predicted: an impact at")).collect();
+    assert_eq!(impact.len(), 1, "{warnings:#?}");
+    assert_eq!(
+        (impact[0].key.as_str(), impact[0].run.as_deref(), impact[0].runs_affected),
+        ("scene", Some("r0000"), 2)
+    );
+    assert!(impact[0].reason.contains("would overlap") && impact[0].reason.contains("E = 2.000e4 Pa"), "{}", impact[0]);
+    assert!(warnings.iter().any(|w| w.reason.contains("into the floor")), "{warnings:#?}");
+}
+
+#[test]
+fn results_larger_than_the_free_disk_space_are_warned_with_the_figures() {
+    let mut scene = demsweep::physics::SceneConfig::default();
+    scene.run.frame_interval = Some(1e-6);
+    let plan = study_support::plan_in_code("huge_output", vec![scene; 100_000]);
+    let dir = StudyDir::new("space");
+    let warning = demsweep::study::resources::output_space_warning(&plan, &dir.path.join("not/yet")).unwrap();
+    assert!(warning.starts_with("huge_output.toml: the results of 100000 runs need about 2.5 PB"), "{warning}");
+    assert!(warning.contains(&format!("but {} has ", dir.path.display())) && warning.ends_with(" free"), "{warning}");
+}
