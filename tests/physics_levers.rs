@@ -115,9 +115,8 @@ fn numerical_damping_work_closes_the_energy_balance() {
         scene.damping.viscous = 2.0;
         scene.run.duration = 0.4;
         let rec = run_scene(&scene, Some(reference_disks()), &mut |_| Control::Continue).unwrap();
-        let h = &rec.history;
+        let (h, worst) = (&rec.history, common::largest_balance_error(&rec.history));
         let initial = h.mechanical[0];
-        let worst = (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - initial).abs()).fold(0.0, f64::max);
         let (dissipated, numerical) = (*h.dissipated.last().unwrap(), *h.numerical_damping_dissipated.last().unwrap());
         println!(
             "{scheme:?}: dissipated {dissipated:.3} J, of it numerical damping {numerical:.3} J; balance error {worst:.3e} J of {initial:.3} J"

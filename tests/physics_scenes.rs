@@ -58,9 +58,8 @@ fn damped_frictional_deposition_balances_energy() {
         scene.material.rolling_friction = 0.1;
         scene.run.duration = 0.4;
         let rec = run(&scene, Some(reference_disks()));
-        let h = &rec.history;
+        let (h, worst) = (&rec.history, common::largest_balance_error(&rec.history));
         let initial = h.mechanical[0];
-        let worst = (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - initial).abs()).fold(0.0, f64::max);
         let dissipated = *h.dissipated.last().unwrap();
         println!(
             "{scheme:?}: dissipated {dissipated:.3} J, largest balance error {worst:.3e} J of initial {initial:.3} J"
@@ -152,6 +151,6 @@ fn strong_damping_with_friction_creates_no_energy() {
     let h = &rec.history;
     let highest = h.mechanical.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     assert!(highest <= h.mechanical[0] * (1.0 + 1e-3), "energy grew: {highest} > {}", h.mechanical[0]);
-    let balance = (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - h.mechanical[0]).abs()).fold(0.0, f64::max);
+    let balance = common::largest_balance_error(h);
     assert!(balance < 0.01 * h.mechanical[0], "energy balance off by {balance}");
 }

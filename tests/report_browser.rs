@@ -62,11 +62,12 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     println!("{seen}");
     assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
     assert_eq!(seen["requests"], Value::Array(Vec::new()), "no network request: {seen}");
-    assert_eq!(seen["rows"], 3, "one row per grid point");
+    assert_eq!((&seen["rows"], &seen["rows_in_page"]), (&Value::from(3), &Value::from(3)), "one row per grid point");
     assert_eq!(seen["sorted_column"], "material.restitution");
     assert_eq!((seen["sorted_ascending"].as_bool(), seen["sorted_descending"].as_bool()), (Some(true), Some(true)));
     assert_eq!(seen["charts"], 1 + 9 * 3, "the settle-time chart and 3 charts per run: {seen}");
     assert_eq!(seen["charts_without_size"], 0);
+    assert_eq!(seen["bottom_reached"], true);
     assert_eq!(seen["run_links"], 3, "each point links to a run section");
     assert_eq!(seen["run_links_reached"], 3);
 }

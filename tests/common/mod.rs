@@ -3,6 +3,7 @@
 
 use demsweep::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use demsweep::physics::particles::InitialDisk;
+use demsweep::physics::record::History;
 
 /// Integral ∫₀¹ (1 − x^{5/2})^{−1/2} dx = √π Γ(2/5) / (5/2 Γ(9/10)): Hertz contact time factor / 2.
 pub const HERTZ_TIME_INTEGRAL: f64 = 1.4716375921623521;
@@ -94,4 +95,9 @@ pub fn reference_scene() -> SceneConfig {
 /// Bit patterns of a float series (NaN-safe exact comparison).
 pub fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Largest |mechanical + dissipated − initial mechanical| energy over the samples (J).
+pub fn largest_balance_error(h: &History) -> f64 {
+    (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - h.mechanical[0]).abs()).fold(0.0, f64::max)
 }

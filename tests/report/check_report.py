@@ -49,7 +49,8 @@ def main():
         out["first_paint_ms"] = dict(paint).get("first-contentful-paint")
 
         table = page.locator("table#points")
-        out["rows"] = table.locator("tbody tr").count()
+        out["rows"] = int(table.get_attribute("data-rows"))
+        out["rows_in_page"] = table.locator("tbody tr:not(.spacer)").count()
         headers = table.locator("thead th")
         out["columns"] = [headers.nth(k).inner_text().strip() for k in range(headers.count())]
         # Sort by the first numeric column (after the swept values): click, read it back.
@@ -58,7 +59,7 @@ def main():
         )
         out["sorted_column"] = out["columns"][column] if column is not None else None
         if column is not None:
-            cells = lambda: table.locator(f"tbody tr td:nth-child({column + 1})").all_inner_texts()
+            cells = lambda: table.locator(f"tbody tr:not(.spacer) td:nth-child({column + 1})").all_inner_texts()
             start = time.time()
             headers.nth(column).click()
             page.wait_for_function("() => document.querySelector('table#points').dataset.sorted !== undefined")
@@ -72,6 +73,13 @@ def main():
             )
             values = [v for v in map(numeric, cells()) if v is not None]
             out["sorted_descending"] = values == sorted(values, reverse=True) and len(values) > 1
+
+        # Scrolled to the end, a long table draws its last rows (no spacer below them).
+        page.evaluate("() => { const s = document.querySelector('.scroll'); s.scrollTop = s.scrollHeight; }")
+        page.wait_for_timeout(200)
+        out["bottom_reached"] = page.evaluate(
+            "() => !document.querySelector('table#points tbody').lastElementChild.classList.contains('spacer')"
+        )
 
         charts = page.locator("svg")
         sizes = [charts.nth(k).bounding_box() for k in range(charts.count())]
