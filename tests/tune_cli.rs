@@ -91,9 +91,24 @@ fn a_tiny_tune_runs_end_to_end() {
         "tiny_tune_recommendation.txt",
         "plots/tiny_tune_cost_vs_difference.png",
         "plots/tiny_tune_cost_along_levers.png",
+        "tiny_tune_tune.json",
+        "tiny_tune_report.html",
     ] {
         assert!(out.join(name).is_file(), "{name} missing; {stdout}");
     }
+    // The report page carries the tune: recommendation, chart and candidates; so does a rewrite.
+    let page = std::fs::read_to_string(out.join("tiny_tune_report.html")).unwrap();
+    let tune_part = &page[page.find("<h2 id=\"tune\">").expect("a tune section")..];
+    assert!(
+        tune_part.contains("Recommendation for tiny_tune") && tune_part.contains("<svg"),
+        "recommendation and chart"
+    );
+    assert!(tune_part.contains("<th>cost_ratio</th>"), "the candidates table");
+    let rewritten = out.join("again.html");
+    let report =
+        demsweep(&["report", out.join("tiny_tune.h5").to_str().unwrap(), "--out", rewritten.to_str().unwrap()]);
+    assert_eq!(report.status.code(), Some(0), "{}", text(&report.stderr));
+    assert!(std::fs::read_to_string(&rewritten).unwrap().contains("Recommendation for tiny_tune"));
     // Every run is in the results file, within the budget.
     let runs = summary::read(&out.join("tiny_tune.h5")).unwrap().len();
     assert!((10..=40).contains(&runs), "{runs} runs");

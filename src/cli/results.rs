@@ -378,14 +378,14 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 
 /// `demsweep report`: the HTML report of a results file.
 pub fn report(args: &ReportArgs) -> ExitCode {
-    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default(), None);
+    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default());
     report_error(written.map(|path| println!("report: {}", path.display())))
 }
 
 /// Writes the report of a results file just written and prints where it went; a report that cannot
 /// be written is a warning (the results are safe).
 pub fn write_report(results: &Path, context: &ReportContext) {
-    match demsweep::report::write_report(results, None, context, None) {
+    match demsweep::report::write_report(results, None, context) {
         Ok(path) => println!("report: {}", path.display()),
         Err(e) => eprintln!("warning: no report: {e}"),
     }

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use clap::Args;
+use demsweep::report::ReportContext;
 use demsweep::runner::interrupt;
 use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec, report};
 
@@ -170,6 +171,17 @@ pub fn run(args: &TuneArgs) -> ExitCode {
     for file in &written.files {
         println!("wrote {}", file.display());
     }
+    let section = report::report_section(&spec, &outcome.result, &text).and_then(|s| {
+        demsweep::report::write_tune_section(&outcome.results, &spec.name, &s).map_err(|e| e.to_string())
+    });
+    match section {
+        Ok(path) => println!("wrote {}", path.display()),
+        Err(e) => eprintln!("warning: no tune section for the report: {e}"),
+    }
+    let jobs =
+        if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
+    let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };
+    super::results::write_report(&outcome.results, &context);
     for e in &written.chart_errors {
         eprintln!("chart not drawn: {e}");
     }

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{self, DIVERGED, LABEL_SIZE, NOT_SETTLED};
-use super::{ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
 
 /// One evaluated candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,13 +36,13 @@ pub struct LeverSeries {
 }
 
 /// Cost ratio against largest |difference|/tolerance; the feasible region (below 1) shaded.
-pub fn cost_vs_difference_chart(
+pub fn cost_vs_difference_chart<'c>(
     points: &[CostPoint],
     recommended: Option<CostPoint>,
     options: &ChartOptions,
-    path: &Path,
+    canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&CostFigure { points, recommended }, options, path.into())
+    render(&CostFigure { points, recommended }, options, canvas.into())
 }
 
 /// Cost ratio along each lever, one panel per lever.

@@ -2,7 +2,6 @@
 
 use serde_json::{Value, json};
 
-use crate::output::SummaryTable;
 use crate::output::table::ColumnData;
 use crate::stats::points::Points;
 
@@ -168,21 +167,15 @@ impl PointsTable {
     }
 }
 
-/// A table rendered as plain HTML (small tables only), numbers to 4 significant digits.
-pub fn static_table(table: &SummaryTable) -> String {
-    let head: String = table.columns.iter().map(|c| format!("<th>{}</th>", escape(&c.name))).collect();
-    let body: String = (0..table.len())
-        .map(|i| {
-            let cells: String = table
-                .columns
-                .iter()
-                .map(|c| match &c.data {
-                    ColumnData::Float(v) => format!("<td class=\"num\">{}</td>", number(v[i])),
-                    data => format!("<td>{}</td>", escape(&data.text(i))),
-                })
-                .collect();
-            format!("<tr>{cells}</tr>")
-        })
-        .collect();
+/// Records (the first one the header) as a plain HTML table; numbers to 4 significant digits.
+pub fn static_table(records: &[Vec<String>]) -> String {
+    let Some((header, rows)) = records.split_first() else { return String::new() };
+    let head: String = header.iter().map(|name| format!("<th>{}</th>", escape(name))).collect();
+    let cell = |text: &String| match text.parse::<f64>() {
+        Ok(x) if text.contains('.') || text.contains('e') => format!("<td class=\"num\">{}</td>", number(x)),
+        _ => format!("<td>{}</td>", escape(text)),
+    };
+    let body: String =
+        rows.iter().map(|row| format!("<tr>{}</tr>", row.iter().map(cell).collect::<String>())).collect();
     format!("<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
 }

@@ -10,6 +10,8 @@
 mod html;
 
 use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable, reader};
@@ -28,15 +30,16 @@ pub struct ReportContext {
     pub elapsed: Option<f64>,
 }
 
-/// A section the tune adds to the report of its results file (see `demsweep tune`).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The section a tune adds to the report of its results file: `demsweep tune` writes it next to the
+/// results as `<name>_tune.json` ([`tune_section_path`]), and every report of that file shows it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TuneSection {
     /// The recommendation, one paragraph of plain text.
     pub recommendation: String,
     /// Cost against largest |difference| / tolerance, as an SVG document.
     pub chart_svg: String,
-    /// Every evaluated setting (the candidates table).
-    pub candidates: SummaryTable,
+    /// Every evaluated setting: the header, then one record per setting (as in `<name>_candidates.csv`).
+    pub candidates: Vec<Vec<String>>,
 }
 
 /// `<results folder>/<study name>_report.html`.
@@ -44,14 +47,29 @@ pub fn report_path(results: &Path, study_name: &str) -> PathBuf {
     results.with_file_name(format!("{study_name}_report.html"))
 }
 
+/// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
+pub fn tune_section_path(results: &Path, study_name: &str) -> PathBuf {
+    results.with_file_name(format!("{study_name}_tune.json"))
+}
+
+/// Writes the tune's section next to its results file (see [`TuneSection`]).
+pub fn write_tune_section(results: &Path, study_name: &str, section: &TuneSection) -> Result<PathBuf, OutputError> {
+    let path = tune_section_path(results, study_name);
+    let json = serde_json::to_string(section).map_err(|e| OutputError::new(&path, e.to_string()))?;
+    std::fs::write(&path, json).map_err(|e| OutputError::io(&path, e))?;
+    Ok(path)
+}
+
+/// The tune section next to a results file, if there is one (unreadable: a note in its place).
+fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSection, String>> {
+    let path = tune_section_path(results, study_name);
+    let text = std::fs::read_to_string(&path).ok()?;
+    Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display())))
+}
+
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]); returns
 /// where it went.
-pub fn write_report(
-    results: &Path,
-    out: Option<&Path>,
-    context: &ReportContext,
-    tune: Option<&TuneSection>,
-) -> Result<PathBuf, OutputError> {
+pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext) -> Result<PathBuf, OutputError> {
     let file = reader::open(results)?;
     let header = reader::header(&file, results)?;
     let rows = reader::rows(&file, results)?;
@@ -75,8 +93,10 @@ pub fn write_report(
     let mut study = Svgs::default();
     results::study_charts(&mut study, &header.study_name, &rows);
     page.push(&charts_section(&study));
-    if let Some(tune) = tune {
-        page.push(&tune_section(tune));
+    match read_tune_section(results, &header.study_name) {
+        Some(Ok(tune)) => page.push(&tune_section(&tune)),
+        Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(&reason))),
+        None => {}
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {

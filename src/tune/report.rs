@@ -9,6 +9,7 @@ use super::{TuneSpec, seed_text};
 use crate::output::csv::write_record;
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
 use crate::plot::{ChartOptions, Format};
+use crate::report::TuneSection;
 use crate::stats;
 use crate::study::ParamValue;
 
@@ -262,6 +263,15 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
 /// The candidates table.
 fn write_candidates(spec: &TuneSpec, result: &SearchResult, path: &Path) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    for record in candidate_records(spec, result) {
+        write_record(&mut out, &record)?;
+    }
+    std::io::Write::flush(&mut out)
+}
+
+/// The candidates table (`<name>_candidates.csv`): the header, the reference, then every evaluated
+/// setting with its levers, n, cost, metric means, decisions and verification.
+pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
     let reference = stats::describe(&result.reference_costs());
     let mut header: Vec<String> = vec!["candidate".into(), "origin".into()];
     header.extend(spec.levers.iter().map(|l| l.key.clone()));
@@ -282,7 +292,7 @@ fn write_candidates(spec: &TuneSpec, result: &SearchResult, path: &Path) -> std:
         "verify_decision".into(),
         "recommended".into(),
     ]);
-    write_record(&mut out, &header)?;
+    let mut records = vec![header];
     let mean_of = |runs: &[super::Outcome], k: usize| {
         stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
     };
@@ -301,7 +311,7 @@ fn write_candidates(spec: &TuneSpec, result: &SearchResult, path: &Path) -> std:
             row.extend(std::iter::repeat_n(String::new(), 5));
             row
         };
-    write_record(&mut out, &reference_row)?;
+    records.push(reference_row);
     for (index, cand) in result.candidates.iter().enumerate() {
         let a = result.assess(cand);
         let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
@@ -325,9 +335,19 @@ fn write_candidates(spec: &TuneSpec, result: &SearchResult, path: &Path) -> std:
             None => row.extend([String::new(), String::new(), String::new()]),
         }
         row.push((result.recommended == Some(index)).to_string());
-        write_record(&mut out, &row)?;
+        records.push(row);
     }
-    std::io::Write::flush(&mut out)
+    records
+}
+
+/// The tune's section of the report page: the recommendation, the cost-versus-deviation chart (SVG)
+/// and the candidates table.
+pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Result<TuneSection, String> {
+    let options = ChartOptions { subject: Some(spec.name.clone()), ..Default::default() };
+    let (points, recommended) = cost_points(result);
+    let mut chart_svg = String::new();
+    cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg).map_err(|e| e.to_string())?;
+    Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates: candidate_records(spec, result) })
 }
 
 /// A runnable study of the recommended scene: the reference scene with the lever values set, run on
