@@ -1,35 +1,12 @@
 //! `bench tune` on a tiny tune file: tune against a two-level grid, both sharing the reference runs,
 //! with its CSV, Markdown and charts written.
 
+mod tune_common;
+
 use std::path::PathBuf;
 
 use demsweep::bench::tune::{TuneBenchOptions, tune_bench};
-
-const TUNE: &str = r#"name = "tiny_bench"
-[scene]
-particles.count = 30
-particles.radius = 0.005
-domain.width = 0.1
-domain.height = 0.15
-material.youngs_modulus = 5e10
-material.restitution = 0.5
-integrator.time_step = 7e-6
-run.duration = 1.0
-run.sample_interval = 2e-3
-settle.hold_time = 0.03
-[levers]
-"material.restitution" = { linear = [0.2, 0.8] }
-"integrator.time_step" = { log = [5e-6, 2.5e-5] }
-[keep]
-pile_height = 0.25
-[search]
-seeds = 2
-max_seeds = 4
-reference_seeds = 4
-verify_seeds = 3
-budget = 40
-seed = 3
-"#;
+use tune_common::TUNE;
 
 #[test]
 fn tune_against_a_grid_writes_its_table() {
@@ -37,7 +14,7 @@ fn tune_against_a_grid_writes_its_table() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("tiny_bench.toml");
-    std::fs::write(&file, TUNE).unwrap();
+    std::fs::write(&file, TUNE.replace("name = \"tiny_tune\"", "name = \"tiny_bench\"")).unwrap();
     let options = TuneBenchOptions {
         tunes: vec![file],
         levels: 2,

@@ -3,42 +3,14 @@
 //! give every problem with file, line and key and write nothing.
 
 mod runner_common;
+mod tune_common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use demsweep::output::summary;
-
-/// 30 disks falling 15 cm (about 30-60 ms of computing per run): two levers, one kept metric.
-const TUNE: &str = r#"name = "tiny_tune"
-[scene]
-particles.count = 30
-particles.radius = 0.005
-domain.width = 0.1
-domain.height = 0.15
-material.youngs_modulus = 5e10
-material.restitution = 0.5
-integrator.time_step = 7e-6
-run.duration = 1.0
-run.sample_interval = 2e-3
-settle.hold_time = 0.03
-
-[levers]
-"material.restitution" = { linear = [0.2, 0.8] }
-"integrator.time_step" = { log = [5e-6, 2.5e-5] }
-
-[keep]
-pile_height = 0.25
-
-[search]
-seeds = 2
-max_seeds = 4
-reference_seeds = 4
-verify_seeds = 3
-budget = 40
-seed = 3
-"#;
+use tune_common::TUNE;
 
 fn write_tune(dir: &Path, text: &str) -> PathBuf {
     let path = dir.join("tiny_tune.toml");

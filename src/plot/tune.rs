@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::prelude::*;
 
 use super::style::{self, DIVERGED, LABEL_SIZE, NOT_SETTLED};
@@ -116,6 +117,41 @@ impl Figure for CostFigure<'_> {
     }
 }
 
+/// One lever's panel on `cell`: cost ratio against the lever on the x axis `x` (linear or log),
+/// points filled `ok` when feasible, `other` when not, the recommendation as a vertical line.
+fn lever_panel<DB, X>(
+    cell: &DrawingArea<DB, Shift>,
+    series: &LeverSeries,
+    x: X,
+    y: std::ops::Range<f64>,
+    (ok, other): (ShapeStyle, ShapeStyle),
+) -> DrawResult<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    X: AsRangedCoord<Value = f64>,
+    X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut chart = ChartBuilder::on(cell)
+        .caption(&series.name, style::text(LABEL_SIZE + 2))
+        .margin(8)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x, y.clone())?;
+    chart
+        .configure_mesh()
+        .x_labels(if series.log { 4 } else { 5 })
+        .x_label_formatter(&|v| style::short_number(*v))
+        .y_label_formatter(&|v| style::short_number(*v))
+        .label_style(style::text(LABEL_SIZE - 3))
+        .draw()?;
+    chart.draw_series(series.points.iter().map(|p| Circle::new((p.0, p.1), 4, if p.2 { ok } else { other })))?;
+    if let Some(b) = series.best {
+        chart.draw_series(LineSeries::new([(b, y.start), (b, y.end)], BLACK.stroke_width(2)))?;
+    }
+    Ok(())
+}
+
 struct LeverFigure<'a> {
     series: &'a [LeverSeries],
 }
@@ -135,51 +171,13 @@ impl Figure for LeverFigure<'_> {
         let y = 0.0..hi * 1.1;
         for (series, cell) in self.series.iter().zip(area.split_evenly((rows, columns))) {
             let (xlo, xhi) = style::finite_bounds(series.points.iter().map(|p| p.0)).unwrap_or((0.0, 1.0));
-            let caption = style::text(LABEL_SIZE + 2);
             let ok = feasible_colour().filled();
             let other = NOT_SETTLED.filled();
             if series.log && xlo > 0.0 {
-                let x = (xlo / 1.2)..(xhi * 1.2);
-                let mut chart = ChartBuilder::on(&cell)
-                    .caption(&series.name, caption)
-                    .margin(8)
-                    .x_label_area_size(40)
-                    .y_label_area_size(60)
-                    .build_cartesian_2d(x.log_scale(), y.clone())?;
-                chart
-                    .configure_mesh()
-                    .x_labels(4)
-                    .x_label_formatter(&|v| style::short_number(*v))
-                    .y_label_formatter(&|v| style::short_number(*v))
-                    .label_style(style::text(LABEL_SIZE - 3))
-                    .draw()?;
-                chart.draw_series(
-                    series.points.iter().map(|p| Circle::new((p.0, p.1), 4, if p.2 { ok } else { other })),
-                )?;
-                if let Some(b) = series.best {
-                    chart.draw_series(LineSeries::new([(b, y.start), (b, y.end)], BLACK.stroke_width(2)))?;
-                }
+                lever_panel(&cell, series, ((xlo / 1.2)..(xhi * 1.2)).log_scale(), y.clone(), (ok, other))?;
             } else {
                 let pad = ((xhi - xlo) * 0.05).max(1e-12);
-                let mut chart = ChartBuilder::on(&cell)
-                    .caption(&series.name, caption)
-                    .margin(8)
-                    .x_label_area_size(40)
-                    .y_label_area_size(60)
-                    .build_cartesian_2d((xlo - pad)..(xhi + pad), y.clone())?;
-                chart
-                    .configure_mesh()
-                    .x_labels(5)
-                    .x_label_formatter(&|v| style::short_number(*v))
-                    .y_label_formatter(&|v| style::short_number(*v))
-                    .label_style(style::text(LABEL_SIZE - 3))
-                    .draw()?;
-                chart.draw_series(
-                    series.points.iter().map(|p| Circle::new((p.0, p.1), 4, if p.2 { ok } else { other })),
-                )?;
-                if let Some(b) = series.best {
-                    chart.draw_series(LineSeries::new([(b, y.start), (b, y.end)], BLACK.stroke_width(2)))?;
-                }
+                lever_panel(&cell, series, (xlo - pad)..(xhi + pad), y.clone(), (ok, other))?;
             }
         }
         Ok(())
