@@ -17,12 +17,13 @@ use crate::physics::particles::InitialDisk;
 use crate::physics::{placement, simulation};
 
 /// Keys allowed at the top of a study file.
-const TOP_LEVEL: [&str; 5] = ["name", "description", "scene", "sweep", "output"];
+/// The tables of a study file (besides the strings `name` and `description`).
+const TABLES: [&str; 3] = ["scene", "sweep", "output"];
 
 /// Checks the whole study and expands it into runs; every problem is reported at once.
 pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyErrors> {
     let mut sink = ErrorSink::default();
-    sink.extend(check_top_level(file, doc));
+    sink.extend(check_top_level(file, doc, ("a study", &TABLES)));
     let (base, scene_errors) = split_leaves::<SceneConfig>(file, doc, "scene");
     sink.extend(scene_errors);
     let (output, output_errors) = split_leaves::<OutputOptions>(file, doc, "output");
@@ -49,15 +50,19 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
 }
 
 /// Unknown top-level keys, and sections or strings of the wrong type.
-fn check_top_level(file: &StudyFile, doc: &Document) -> Vec<StudyError> {
+/// Unknown top-level keys, and tables or strings of the wrong type, of `what` (e.g. "a study")
+/// whose tables are `tables`.
+pub(crate) fn check_top_level(file: &StudyFile, doc: &Document, (what, tables): (&str, &[&str])) -> Vec<StudyError> {
     let mut errors = Vec::new();
     for (key, value) in &doc.root {
         let span = doc.span(std::slice::from_ref(key));
         let wrong = match key.as_str() {
-            "name" | "description" if !value.is_str() => Some("must be a string"),
-            "scene" | "sweep" | "output" if !value.is_table() => Some("must be a table"),
-            k if !TOP_LEVEL.contains(&k) => {
-                Some("unknown key (a study has name, description, [scene], [sweep], [output])")
+            "name" | "description" if !value.is_str() => Some("must be a string".to_string()),
+            k if tables.contains(&k) && !value.is_table() => Some("must be a table".to_string()),
+            "name" | "description" => None,
+            k if !tables.contains(&k) => {
+                let known: Vec<String> = tables.iter().map(|t| format!("[{t}]")).collect();
+                Some(format!("unknown key ({what} has name, description, {})", known.join(", ")))
             }
             _ => None,
         };

@@ -13,12 +13,13 @@ use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 use crate::physics::placement;
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
-use crate::study::file::{Document, KeyPath, StudyFile, dotted, quoted_key, set_path};
-use crate::study::plan::{fingerprint, split_leaves};
+use crate::study::file::{Document, KeyPath, StudyFile, quoted_key, set_path};
+use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{OutputOptions, ParamValue, initial_csv};
 
 /// Keys allowed at the top of a tune file.
-const TOP_LEVEL: [&str; 7] = ["name", "description", "scene", "levers", "keep", "search", "output"];
+/// The tables of a tune file (besides the strings `name` and `description`).
+const TABLES: [&str; 5] = ["scene", "levers", "keep", "search", "output"];
 
 /// Significant digits lever values are rounded to (clean values in the best study, and candidates
 /// that differ by less are the same candidate).
@@ -376,21 +377,7 @@ fn lever_label(key: &str) -> String {
 }
 
 fn check_top_level(file: &StudyFile, doc: &Document) -> Vec<StudyError> {
-    let mut errors = Vec::new();
-    for (key, value) in &doc.root {
-        let span = doc.span(std::slice::from_ref(key));
-        let wrong = match key.as_str() {
-            "name" | "description" if !value.is_str() => Some("must be a string"),
-            "scene" | "levers" | "keep" | "search" | "output" if !value.is_table() => Some("must be a table"),
-            k if !TOP_LEVEL.contains(&k) => {
-                Some("unknown key (a tune file has name, description, [scene], [levers], [keep], [search], [output])")
-            }
-            _ => None,
-        };
-        if let Some(reason) = wrong {
-            errors.push(file.error(span, dotted(std::slice::from_ref(key)), reason));
-        }
-    }
+    let mut errors = plan::check_top_level(file, doc, ("a tune file", &TABLES));
     for section in ["levers", "keep"] {
         if !doc.root.contains_key(section) {
             errors.push(file.error(None, section, format!("a tune file needs a [{section}] table")));
