@@ -90,6 +90,7 @@ fn the_report_command_rewrites_a_report_anywhere() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains("restitution with replicates, for the report test"), "the study's description");
+    assert!(html.contains("<dt>cores</dt>") && html.contains("<dt>wall time</dt>"), "how the sweep ran, from the file");
     assert_eq!(html.matches("<section id=\"run-").count(), 3, "a section per run of a small study");
     let missing = Command::new(env!("CARGO_BIN_EXE_demsweep")).args(["report", "/nonexistent.h5"]).output().unwrap();
     assert!(!missing.status.success());

@@ -175,7 +175,11 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
             datasets.insert(format!("{base}/frames/{k}"), snapshot(frame));
         }
     }
-    groups.insert("/summary".into(), column_datasets("summary", summary, &mut datasets));
+    let mut summary_attrs = column_datasets("summary", summary, &mut datasets);
+    // How the sweep ran: 2 worker threads (runner_common::options), for some seconds.
+    summary_attrs["jobs"] = json!(2);
+    summary_attrs["wall_time"] = json!({"$range": [0.0, 600.0]});
+    groups.insert("/summary".into(), summary_attrs);
     // The crowded copy of run 0 (it failed) shares run 0's point; the others are points of their own.
     let points = demsweep::stats::points::Points::new(summary).table();
     let column = |name: &str| points.column(name).unwrap().data.clone();

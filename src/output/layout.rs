@@ -6,7 +6,8 @@
 //!     history              compound table, one field per series, one row per sample
 //!     final                compound table, one field per disk property, one row per disk (attr `time`)
 //!     frames/<k>           the same table for recorded frame k = 0, 1, … (attribute `time`)
-//! /summary/<column>        one dataset per summary column (attribute `columns` on /summary)
+//! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
+//!                          `jobs`, `wall_time` of the last sweep: see `writer::SWEEP_JOBS`)
 //! ```
 
 use std::collections::HashMap;

@@ -26,6 +26,15 @@ pub fn header(file: &File, path: &Path) -> Result<FileHeader, OutputError> {
         .map_err(|reason| OutputError::new(path, format!("not a demsweep results file: {reason}")))
 }
 
+/// How the last sweep into the file ran: worker threads and wall time (s), when it was recorded
+/// (`/summary` attributes, see [`super::writer::SWEEP_JOBS`]).
+pub fn sweep(file: &File) -> Option<(usize, f64)> {
+    let attrs = file.group(SUMMARY).and_then(|g| g.attrs()).ok()?;
+    let jobs = attrs.get(super::writer::SWEEP_JOBS)?.as_i64()?;
+    let wall_time = attrs.get(super::writer::SWEEP_WALL_TIME)?.as_f64()?;
+    Some((jobs as usize, wall_time))
+}
+
 /// The rows of every committed run, sorted by run index.
 pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
     let err = |e| hdf5_error(path, e);

@@ -3,8 +3,9 @@
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
-use hdf5_pure::{DatasetBuilder, File, FileBuilder, StagedGroup};
+use hdf5_pure::{AttrValue, DatasetBuilder, File, FileBuilder, StagedGroup};
 
 use super::compound::{self, Field};
 use super::copy::GroupCopy;
@@ -45,9 +46,22 @@ pub struct ResultsWriter {
     buckets: HashSet<String>,
     committed: Vec<SummaryRow>,
     pending: Vec<SummaryRow>,
+    sweep: Option<(usize, Instant)>,
 }
 
+/// Attributes of `/summary` saying how the last sweep into the file ran: its worker threads and
+/// its wall time (s) from start to finish.
+pub const SWEEP_JOBS: &str = "jobs";
+/// See [`SWEEP_JOBS`].
+pub const SWEEP_WALL_TIME: &str = "wall_time";
+
 impl ResultsWriter {
+    /// Notes that a sweep on `jobs` worker threads started at `started`: [`Self::finish`] stores both
+    /// (see [`SWEEP_JOBS`]).
+    pub fn note_sweep(&mut self, jobs: usize, started: Instant) {
+        self.sweep = Some((jobs, started));
+    }
+
     /// Creates a new file with the header and an empty `/runs` group (written under a temporary
     /// name and renamed, so a crash never leaves a half-written file at `path`).
     pub fn create(path: &Path, header: &FileHeader, output: OutputOptions) -> Result<Self, OutputError> {
@@ -76,6 +90,7 @@ impl ResultsWriter {
             buckets: buckets.into_iter().collect(),
             committed,
             pending: Vec::new(),
+            sweep: None,
         };
         Ok((writer, header))
     }
@@ -169,8 +184,18 @@ impl ResultsWriter {
         let summary = SummaryTable::from_rows(&self.committed);
         let points = Points::new(&summary).table();
         let err = |e| hdf5_error(&self.path, e);
-        write_columns(&self.file, SUMMARY, &summary).map_err(err)?;
-        write_columns(&self.file, POINTS, &points).map_err(err)?;
+        let sweep: Vec<(&str, AttrValue)> = self
+            .sweep
+            .iter()
+            .flat_map(|(jobs, started)| {
+                [
+                    (SWEEP_JOBS, AttrValue::I64(*jobs as i64)),
+                    (SWEEP_WALL_TIME, AttrValue::F64(started.elapsed().as_secs_f64())),
+                ]
+            })
+            .collect();
+        write_columns(&self.file, SUMMARY, &summary, &sweep).map_err(err)?;
+        write_columns(&self.file, POINTS, &points, &[]).map_err(err)?;
         self.file.commit().map_err(err)?;
         self.file.close().map_err(err)?;
         Ok(Tables { summary, points })
@@ -187,8 +212,14 @@ pub struct Tables {
 }
 
 /// Replaces the group `name` (`/summary`, `/points`) with one dataset per column of `table`, listed
-/// in order by its attribute `columns` (staged for one commit, so the group is never absent).
-pub fn write_columns(file: &File, name: &str, table: &SummaryTable) -> Result<(), hdf5_pure::Error> {
+/// in order by its attribute `columns`, and the attributes `attrs` (staged for one commit, so the
+/// group is never absent).
+pub fn write_columns(
+    file: &File,
+    name: &str,
+    table: &SummaryTable,
+    attrs: &[(&str, AttrValue)],
+) -> Result<(), hdf5_pure::Error> {
     let root = file.root();
     if root.groups()?.iter().any(|g| g == name) {
         root.delete(name)?;
@@ -196,7 +227,10 @@ pub fn write_columns(file: &File, name: &str, table: &SummaryTable) -> Result<()
     let names: Vec<String> = table.columns.iter().map(|c| c.name.clone()).collect();
     let mut failure = None;
     root.create_group_with(name, |g| {
-        g.set_attr(SUMMARY_COLUMNS, hdf5_pure::AttrValue::StringArray(names));
+        g.set_attr(SUMMARY_COLUMNS, AttrValue::StringArray(names));
+        for (key, value) in attrs {
+            g.set_attr(key, value.clone());
+        }
         for column in &table.columns {
             g.create_dataset(&column.name, |b| {
                 if let Err(e) = column_data(b, &column.data) {

@@ -21,7 +21,7 @@ use crate::plot::{Canvas, ChartOptions, Format, PlotError};
 use crate::stats::points::Points;
 use html::{escape, number};
 
-/// What the caller knows about how the results were made (not stored in the file).
+/// How the results were made: what the caller says, else what the file recorded of its last sweep.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ReportContext {
     /// Worker threads the runs ran on.
@@ -85,8 +85,13 @@ pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext)
     };
     let charted: Vec<&SummaryRow> =
         results::select_runs(&rows, &request).map_err(|e| OutputError::new(results, e.reason))?;
+    let recorded = reader::sweep(&file);
+    let context = ReportContext {
+        jobs: context.jobs.or(recorded.map(|(jobs, _)| jobs)),
+        elapsed: context.elapsed.or(recorded.map(|(_, wall)| wall)),
+    };
     let mut page = html::Page::new(&header.study_name);
-    page.push(&overview(&header, &rows, context));
+    page.push(&overview(&header, &rows, &context));
     page.push(&outcomes(&rows));
     let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
     page.push(&points_section(&summary, &charted_ids));
@@ -171,7 +176,7 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext) -
         ("simulation time", format!("{} s over all runs", number(run_seconds))),
     ];
     if let Some(elapsed) = context.elapsed {
-        facts.push(("wall time", format!("{} s", number(elapsed))));
+        facts.push(("wall time", format!("{} s (the last sweep into the file)", number(elapsed))));
     }
     if let Some(jobs) = context.jobs {
         facts.push(("cores", format!("{jobs} worker threads")));

@@ -143,13 +143,14 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         None => (0..plan.runs.len()).collect(),
     };
     let path = results_path(plan, options);
-    let writer = open_results(plan, options, &path, &selected)?;
+    let mut writer = open_results(plan, options, &path, &selected)?;
     let done: HashSet<usize> = writer.committed().iter().map(|r| r.index).collect();
     let mut todo: Vec<&PlannedRun> =
         selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
     todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let jobs =
         if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
+    writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::channel();
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());

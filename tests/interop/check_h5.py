@@ -5,7 +5,7 @@ Usage: check_h5.py RESULTS.h5 EXPECTED.json
 
 EXPECTED.json: {"groups": {path: {attr: value}}, "datasets": {path: {"attrs": {...}, "fields": [[name, [..]], ..]}
 or {"attrs": {...}, "values": [..]}}}. Every group, dataset and attribute in the file must be listed and
-equal (floats exactly; null means NaN; {"$regex": ...} matches a string). Exits 1 listing every difference,
+equal (floats exactly; null means NaN; {"$regex": ...} matches a string, {"$range": [lo, hi]} a number). Exits 1 listing every difference,
 2 when h5py cannot be imported.
 """
 import json
@@ -37,6 +37,9 @@ def plain(value):
 def equal(found, expected):
     if isinstance(expected, dict) and "$regex" in expected:
         return isinstance(found, str) and re.fullmatch(expected["$regex"], found) is not None
+    if isinstance(expected, dict) and "$range" in expected:
+        low, high = expected["$range"]
+        return isinstance(found, (int, float)) and low <= found <= high
     if expected is None:
         return isinstance(found, float) and math.isnan(found)
     if isinstance(expected, list):
