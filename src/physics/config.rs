@@ -201,9 +201,9 @@ impl IntegratorConfig {
     }
 }
 
-/// Numerical damping, applied by the integrator to every disk's net force and torque; its work is
-/// dissipated energy. Both off by default.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Numerical damping, applied by the integrator to every disk's net force and torque (its forces:
+/// `super::integrator`); its work is dissipated energy. Both off by default.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DampingConfig {
     /// Cundall local (non-viscous) damping α in [0, 1): every component of the net force and the

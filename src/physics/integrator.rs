@@ -8,13 +8,13 @@
 //! neighbour list), all in the same pass over the disks. It takes the disks a range at a time, so
 //! that each range's arrays stay in cache from the power sum to the update.
 //!
-//! Numerical damping ([`NumericalDamping`]) is added to the net force and torque of every disk
+//! Numerical damping ([`DampingConfig`]) is added to the net force and torque of every disk
 //! where the scheme reads them; its power is reported separately. Scenes without it run a copy of
 //! each loop compiled without it (`DAMPED = false`), so they pay nothing for it.
 
 use std::ops::Range;
 
-use super::config::IntegratorKind;
+use super::config::{DampingConfig, IntegratorKind};
 use super::particles::Particles;
 use super::vector;
 
@@ -60,28 +60,13 @@ pub struct StepContext {
     /// Whether angular velocities can change (false when no torque can arise).
     pub rotation: bool,
     /// Numerical damping.
-    pub damping: NumericalDamping,
+    pub damping: DampingConfig,
 }
 
-/// Numerical damping of the net forces and torques (see `DampingConfig`): Cundall's local damping
+/// The forces of the numerical damping (see [`DampingConfig`]): Cundall's local damping
 /// `−α |F| sign(v)` per component, of the contact force plus (with `local_gravity`) the weight, and
 /// viscous damping `−c m v` (`−c I ω`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct NumericalDamping {
-    /// Local damping α in [0, 1).
-    pub local: f64,
-    /// Whether the weight is part of the locally damped force.
-    pub local_gravity: bool,
-    /// Viscous damping rate c (1/s).
-    pub viscous: f64,
-}
-
-impl NumericalDamping {
-    /// Whether any damping acts.
-    pub fn is_active(&self) -> bool {
-        self.local > 0.0 || self.viscous > 0.0
-    }
-
+impl DampingConfig {
     /// The damping force of one component (N, or N·m for a torque): `contact` is the contact force,
     /// `weight` the gravity force (0 for torques), `inertia` the mass (or moment of inertia) and `v`
     /// the velocity (or angular velocity) it acts against.

@@ -9,7 +9,7 @@ use super::config::{ContactLawKind, SceneConfig};
 use super::contact::{ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot};
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::forces::{ContactKind, TouchingPairs};
-use super::integrator::{Integrator, NumericalDamping, StepContext};
+use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
@@ -172,16 +172,7 @@ impl<L: ContactLaw> Simulation<L> {
             walls,
             materials,
             step: 0,
-            context: StepContext {
-                dt: resolved.dt,
-                gravity: scene.gravity,
-                rotation,
-                damping: NumericalDamping {
-                    local: scene.damping.local,
-                    local_gravity: scene.damping.local_gravity,
-                    viscous: scene.damping.viscous,
-                },
-            },
+            context: StepContext { dt: resolved.dt, gravity: scene.gravity, rotation, damping: scene.damping },
             work: 0.0,
             last_power: None,
             damping_work: 0.0,

@@ -78,11 +78,6 @@ pub fn hardest_impact<L: ContactLaw>(
     }
 }
 
-/// The scene's numerical viscous damping rate `damping.viscous` (1/s).
-pub fn viscous_rate(scene: &SceneConfig) -> f64 {
-    scene.damping.viscous
-}
-
 /// Largest time step whose `Δt · damping_rate` stays within `limits.damping_rate_fraction` of the
 /// integrator's stability limit (s; infinite without damping).
 pub fn damping_time_step_limit(scene: &SceneConfig, damping_rate: f64) -> f64 {
@@ -127,7 +122,7 @@ pub fn assess<L: ContactLaw>(
     let speed = impact_speed(p, walls, scene.gravity);
     let rmin = p.r.iter().cloned().fold(f64::INFINITY, f64::min);
     let mmin = p.mass.iter().cloned().fold(f64::INFINITY, f64::min);
-    let impact = hardest_impact(law, materials, speed, rmin, mmin, viscous_rate(scene));
+    let impact = hardest_impact(law, materials, speed, rmin, mmin, scene.damping.viscous);
     let static_overlap = static_floor_overlap(law, scene, p, materials);
     let limits = &scene.limits;
     let damping_limit = limits.damping_rate_fraction * damping_stability_limit(scene.integrator.scheme);

@@ -95,8 +95,7 @@ fn hardest_impact<L: ContactLaw>(
         }
     };
     let speed = speed.max((2.0 * g[0].hypot(g[1]) * scene.largest_radius()).sqrt()).max(1e-3);
-    let damping = stability::viscous_rate(scene);
-    stability::hardest_impact(law, materials, speed, radius, mass(radius), damping)
+    stability::hardest_impact(law, materials, speed, radius, mass(radius), scene.damping.viscous)
 }
 
 /// `g·(to − from)` per unit mass: the potential energy released falling from `from` to `to` (J/kg).
