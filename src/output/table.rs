@@ -114,12 +114,20 @@ impl ColumnData {
 
 /// A float to 6 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
 pub fn short_float(x: f64) -> String {
+    significant(x, 6)
+}
+
+/// A float to `digits` (≥ 1) significant digits: plain between 1e-3 and 1e6 (trailing zeros
+/// dropped), scientific otherwise.
+pub fn significant(x: f64, digits: usize) -> String {
+    let digits = digits.max(1) as i32;
     if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
-        let digits = if x == 0.0 || !x.is_finite() { 1 } else { (5 - x.abs().log10().floor() as i32).max(0) as usize };
-        let text = format!("{x:.digits$}");
+        let decimals =
+            if x == 0.0 || !x.is_finite() { 1 } else { (digits - 1 - x.abs().log10().floor() as i32).max(0) as usize };
+        let text = format!("{x:.decimals$}");
         if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
     } else {
-        format!("{x:.5e}")
+        format!("{x:.*e}", (digits - 1) as usize)
     }
 }
 

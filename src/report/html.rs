@@ -2,7 +2,7 @@
 
 use serde_json::{Value, json};
 
-use crate::output::table::ColumnData;
+use crate::output::table::{ColumnData, significant};
 use crate::stats::points::Points;
 
 /// Summary columns shown per point (those the file has), with their units.
@@ -71,18 +71,9 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-/// A number to 4 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
+/// A number to 4 significant digits (see [`significant`]), `–` when missing.
 pub fn number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return if x.is_nan() { "–".into() } else { format!("{x}") };
-    }
-    if (1e-3..1e6).contains(&x.abs()) {
-        let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
-        let text = format!("{x:.digits$}");
-        if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
-    } else {
-        format!("{x:.3e}")
-    }
+    if x.is_nan() { "–".into() } else { significant(x, 4) }
 }
 
 /// A float for the page's data: 5 significant digits (the page shows 4), `null` when not finite.
