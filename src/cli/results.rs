@@ -223,7 +223,7 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         report.points_csv.display()
     );
     print_warnings(report);
-    write_report(&report.results, &ReportContext { jobs: Some(report.jobs), elapsed: Some(wall) });
+    write_report(&report.results, &ReportContext::default());
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));

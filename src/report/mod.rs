@@ -21,6 +21,9 @@ use crate::plot::{Canvas, ChartOptions, Format, PlotError};
 use crate::stats::points::Points;
 use html::{escape, number};
 
+/// Size of every chart on the page (pixels; the page scales them to its width).
+const CHART_SIZE: (u32, u32) = (900, 560);
+
 /// How the results were made: what the caller says, else what the file recorded of its last sweep.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ReportContext {
@@ -81,7 +84,7 @@ pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext)
         all_runs: false,
         formats: vec![Format::Svg],
         colour_by: ColourBy::Speed,
-        size: (900, 560),
+        size: CHART_SIZE,
     };
     let charted: Vec<&SummaryRow> =
         results::select_runs(&rows, &request).map_err(|e| OutputError::new(results, e.reason))?;
@@ -137,7 +140,8 @@ impl ChartSink for Svgs {
         subject: &str,
         draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
     ) -> Option<T> {
-        let options = ChartOptions { width: 900, height: 560, format: Format::Svg, subject: Some(subject.to_string()) };
+        let (width, height) = CHART_SIZE;
+        let options = ChartOptions { width, height, format: Format::Svg, subject: Some(subject.to_string()) };
         let mut svg = String::new();
         match draw(&options, Canvas::Svg(&mut svg)) {
             Ok(value) => {

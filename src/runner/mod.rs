@@ -71,8 +71,6 @@ pub struct RunReport {
     pub summary: SummaryTable,
     /// The statistics of every grid point in the file (see [`crate::stats::points`]).
     pub points: SummaryTable,
-    /// Worker threads the runs ran on.
-    pub jobs: usize,
     /// Wall time of this invocation.
     pub wall_time: std::time::Duration,
     /// Time the writer thread spent staging, committing and finishing the results file.
@@ -170,7 +168,6 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
         summary: tables.summary,
         points: tables.points,
-        jobs,
         wall_time: started.elapsed(),
         writer_time,
         warnings,
