@@ -194,12 +194,12 @@ fn static_floor_overlap<L: ContactLaw>(law: &L, scene: &SceneConfig, p: &Particl
 /// Overlap at which the law's elastic normal force equals `force` (bisection), m.
 pub fn static_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, force: f64) -> f64 {
     let (mut lo, mut hi) = (0.0_f64, pair.r_star);
-    while law.coefficients(pair, hi).normal_force < force && hi < 1e6 {
+    while law.loading_coefficients(pair, hi).normal_force < force && hi < 1e6 {
         hi *= 2.0;
     }
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
-        if law.coefficients(pair, mid).normal_force < force { lo = mid } else { hi = mid }
+        if law.loading_coefficients(pair, mid).normal_force < force { lo = mid } else { hi = mid }
     }
     0.5 * (lo + hi)
 }
