@@ -149,6 +149,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         omega: field(&mut noise, 1e-3),
         r: vec![0.01; DISKS],
         contact_force: field(&mut noise, 5.0),
+        ..Default::default()
     };
     let record = RunRecord {
         status: RunStatus::Settled,

@@ -7,8 +7,8 @@ use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::contact::HertzMindlin;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::pile::{Partner, fabric};
-use demsweep::physics::simulation::{Control, Simulation};
 use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 /// A scene without gravity whose disks are given in memory, in a `width` x `height` box.
 fn static_scene(width: f64, height: f64) -> SceneConfig {

@@ -15,6 +15,7 @@
 pub mod config;
 pub mod contact;
 mod contact_list;
+pub mod contact_network;
 pub mod diagnostics;
 mod dispatch;
 mod energy;

@@ -79,6 +79,9 @@ pub struct Snapshot {
     pub r: Vec<f64>,
     /// Sum of contact force magnitudes on each disk (N).
     pub contact_force: Vec<f64>,
+    /// The contacts with their forces.
+    #[serde(default)]
+    pub contacts: super::contact_network::ContactNetwork,
 }
 
 /// Everything one run produces.
