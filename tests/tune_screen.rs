@@ -38,8 +38,8 @@ fn tune_screen_and_check_predict_the_same_overlap_on_a_linear_law_scene() {
     let spec = demsweep::tune::load(&tune).expect("the tune file loads");
     let options = TuneOptions { out_dir: Some(dir.clone()), ..Default::default() };
     let mut evaluator = demsweep::tune::RunEvaluator::new(&spec, &options);
-    let screened = evaluator.invalid(&[0.5]).expect("the screen rejects the candidate");
-    let predicted = number_after(&screened, "predicted impact overlap ");
+    let screened = evaluator.screen(&[0.5], None).invalid.expect("the screen rejects the candidate");
+    let predicted = number_after(&screened, "would overlap ");
     println!("check: {checked} radii; tune's screen: {predicted} radii");
     assert!(checked > 1.0, "a soft linear contact overlaps by more than a radius: {checked}");
     assert_eq!(checked, predicted);

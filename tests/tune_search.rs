@@ -1,17 +1,42 @@
 //! The tune search on a cheap analytic stand-in with noise: the known optimum is found, the budget is
 //! kept, the same configuration gives the same answer, the infeasible and predicted-invalid regions
-//! are never the answer (and the predicted-invalid one is never run).
+//! are never the answer (and the predicted-invalid one is never run); runs with validity warnings make
+//! a candidate infeasible; settings that resolve to the same runs are one candidate; a reference too
+//! noisy for its tolerance stops the search before it proposes anything; the standard ladder runs
+//! first and is the answer when nothing beats it; runs that can no longer win are cut.
 
-use demsweep::tune::search::{Evaluator, Job, Outcome, Role, SearchConfig, SearchResult, State, search};
+use demsweep::tune::search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, State, search};
 
 /// cost = 10 − 4a − 3b (cheaper to the upper right); one metric, 1 + 0.1·max(0, a + b − 1.2) plus
-/// Gaussian noise (sd 0.005) that depends only on the point and the seed; runs with a > 0.95 diverge;
-/// a < 0.25 is predicted invalid. With an absolute tolerance of 0.02 the optimum lies near a = 0.95,
-/// b ≈ 0.4 (cost ≈ 4.9-5.1).
+/// Gaussian noise (`noise`, sd 0.005 by default) that depends only on the point and the seed; runs with
+/// a > 0.95 diverge; a < 0.25 is predicted invalid; runs with b > 0.9 carry a validity warning; a above
+/// 0.97 resolves to 0.97 (like a capped time step), so those points make the same runs. Standard
+/// setting k sits at `standards[k]`. Runs at b < 0.1 never settle and cost 50 unless cut; the metric
+/// of runs at points of the lever space (not the reference's, not a standard setting's) is shifted by
+/// `offset`.
 struct StandIn {
     runs: usize,
     jobs: Vec<Job>,
     batches: usize,
+    screened: Vec<String>,
+    noise: f64,
+    offset: f64,
+    standards: Vec<(f64, f64)>,
+}
+
+impl StandIn {
+    fn new() -> Self {
+        Self { runs: 0, jobs: Vec::new(), batches: 0, screened: Vec::new(), noise: 0.005, offset: 0.0, standards: Vec::new() }
+    }
+
+    /// The point a setting resolves to.
+    fn resolved(&self, point: &[f64], standard: Option<usize>) -> (f64, f64) {
+        let (a, b) = match standard {
+            Some(k) => self.standards[k],
+            None => (point[0], point[1]),
+        };
+        (a.min(0.97), b)
+    }
 }
 
 fn hash(mut x: u64) -> u64 {
@@ -29,8 +54,12 @@ fn normal(key: u64) -> f64 {
 }
 
 impl Evaluator for StandIn {
-    fn invalid(&mut self, point: &[f64]) -> Option<String> {
-        (point[0] < 0.25).then(|| "predicted to overlap too much".to_string())
+    fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
+        let (a, b) = self.resolved(point, standard);
+        self.screened.push(format!("{a} {b}"));
+        let invalid = (a < 0.25).then(|| "predicted to overlap too much".to_string());
+        let resolved = if standard.is_some() { Vec::new() } else { vec![a, b] };
+        Screen { identity: format!("{a} {b}"), invalid, resolved }
     }
 
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
@@ -40,11 +69,25 @@ impl Evaluator for StandIn {
         Ok(jobs
             .iter()
             .map(|job| {
-                let (a, b) = if job.role == Role::Reference { (0.3, 0.2) } else { (job.point[0], job.point[1]) };
+                let (a, b) =
+                    if job.role == Role::Reference { (0.3, 0.2) } else { self.resolved(&job.point, job.standard) };
                 let key = a.to_bits() ^ b.to_bits().rotate_left(17) ^ job.seed.wrapping_mul(0x9e37_79b9);
-                let metric = 1.0 + 0.1 * (a + b - 1.2).max(0.0) + 0.005 * normal(key);
-                let failure = (a > 0.95).then(|| "diverged".to_string());
-                Outcome { failure, cost: 10.0 - 4.0 * a - 3.0 * b, metrics: vec![metric] }
+                let shift = if job.role == Role::Reference || job.standard.is_some() { 0.0 } else { self.offset };
+                let metric = 1.0 + 0.1 * (a + b - 1.2).max(0.0) + self.noise * normal(key) + shift;
+                let stuck = job.role != Role::Reference && b < 0.1;
+                let cost = if stuck { 50.0 } else { 10.0 - 4.0 * a - 3.0 * b };
+                let mut outcome = Outcome::settled(cost, vec![metric]);
+                outcome.failure = (a > 0.95).then(|| "diverged".to_string());
+                if stuck {
+                    outcome.failure = Some("not settled".into());
+                }
+                if let Some(cap) = job.cap.filter(|&cap| cost > cap) {
+                    (outcome.cost, outcome.cut, outcome.failure) = (cap, true, Some("cut".into()));
+                }
+                if b > 0.9 {
+                    outcome.warnings.push("energy balance off by 7 %".into());
+                }
+                outcome
             })
             .collect())
     }
@@ -62,11 +105,17 @@ fn config() -> SearchConfig {
         budget: 200,
         seed: 11,
         initial: None,
+        standards: 0,
+        max_spend: 1e9,
+        cut_runs: false,
     }
 }
 
 fn run(config: &SearchConfig) -> (SearchResult, StandIn) {
-    let mut stand_in = StandIn { runs: 0, jobs: Vec::new(), batches: 0 };
+    run_on(config, StandIn::new())
+}
+
+fn run_on(config: &SearchConfig, mut stand_in: StandIn) -> (SearchResult, StandIn) {
     let result = search(config, &mut stand_in).expect("the search runs");
     (result, stand_in)
 }
@@ -104,7 +153,7 @@ fn the_same_configuration_gives_the_same_answer() {
 
 #[test]
 fn predicted_invalid_points_are_never_run_and_failures_never_recommended() {
-    let (result, stand_in) = run(&config());
+    let (result, stand_in) = run(&SearchConfig { initial: Some(12), ..config() });
     assert!(stand_in.jobs.iter().filter(|j| j.role != Role::Reference).all(|j| j.point[0] >= 0.25));
     assert!(result.candidates.iter().any(|c| c.predicted_invalid.is_some()), "the design touched the region");
     for c in result.candidates.iter().filter(|c| c.runs.iter().any(|o| o.failure.is_some())) {
@@ -114,10 +163,106 @@ fn predicted_invalid_points_are_never_run_and_failures_never_recommended() {
 
 #[test]
 fn nothing_acceptable_names_the_closest_candidate() {
-    // An absolute tolerance far below the noise: nothing can be shown equivalent.
-    let config = SearchConfig { tolerances: vec![(1e-4, true)], budget: 80, ..config() };
-    let (result, stand_in) = run(&config);
+    // Every candidate's metric sits 0.05 off the reference's, past the tolerance of 0.02.
+    let config = SearchConfig { budget: 80, ..config() };
+    let (result, stand_in) = run_on(&config, StandIn { offset: 0.05, ..StandIn::new() });
     assert_eq!(result.recommended, None);
     assert!(result.closest().is_some());
     assert!(result.runs <= config.budget && stand_in.runs == result.runs);
 }
+
+#[test]
+fn runs_with_validity_warnings_make_a_candidate_infeasible() {
+    let (result, _) = run(&config());
+    let warned: Vec<_> = result.candidates.iter().filter(|c| c.runs.iter().any(|o| !o.warnings.is_empty())).collect();
+    assert!(!warned.is_empty(), "the search ran into the warning region");
+    for c in warned {
+        assert!(matches!(result.assess(c).state, State::Infeasible(ref why) if why.contains("validity warning")));
+    }
+    let best = &result.candidates[result.recommended.expect("a recommendation")];
+    assert!(best.runs.iter().chain(&best.verification).all(|o| o.warnings.is_empty()));
+}
+
+#[test]
+fn settings_that_resolve_to_the_same_runs_are_one_candidate() {
+    let (result, stand_in) = run(&config());
+    let mut identities: Vec<&str> = result.candidates.iter().map(|c| c.identity.as_str()).collect();
+    let count = identities.len();
+    identities.sort_unstable();
+    identities.dedup();
+    assert_eq!(identities.len(), count, "no two candidates resolve to the same runs");
+    let mut screened = stand_in.screened.clone();
+    screened.sort_unstable();
+    screened.dedup();
+    assert!(screened.len() < stand_in.screened.len(), "some proposals resolved to an existing candidate");
+    assert_eq!(screened.len(), count, "and were dropped, not run again");
+    assert!(result.candidates.iter().all(|c| c.point[0] <= 0.97), "candidates record the resolved values");
+    assert!(result.candidates.iter().any(|c| c.point[0] == 0.97), "the search reached past the cap");
+}
+
+#[test]
+fn a_reference_too_noisy_for_its_tolerance_stops_before_the_search() {
+    let stand_in = StandIn { noise: 0.05, ..StandIn::new() };
+    let asked = config();
+    let (result, stand_in) = run_on(&asked, stand_in);
+    assert_eq!(result.undecidable.len(), 1, "{:?}", result.undecidable);
+    let u = &result.undecidable[0];
+    assert!(u.decidable_margin > 0.02 && u.spread > 0.02, "{u:?}");
+    assert!(u.seeds_needed.is_none_or(|n| n > asked.max_seeds), "{u:?}");
+    assert_eq!(stand_in.runs, asked.reference_seeds, "only the reference ran");
+    assert!(result.candidates.is_empty() && result.recommended.is_none());
+    // The same spread with a decidable tolerance searches.
+    let (result, _) = run_on(&SearchConfig { tolerances: vec![(0.2, true)], ..asked }, StandIn {
+        noise: 0.05,
+        ..StandIn::new()
+    });
+    assert!(result.undecidable.is_empty() && !result.candidates.is_empty());
+}
+
+#[test]
+fn the_standard_ladder_runs_first_and_is_the_answer_when_nothing_beats_it() {
+    // Standard 0 is equivalent (a = 0.9, b = 0.3, cost 5.5); standard 1 is predicted invalid.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3), (0.1, 0.1)], ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 2, ..config() }, stand_in);
+    let first_batch: Vec<&Job> = stand_in.jobs.iter().filter(|j| j.role != Role::Reference).take(3).collect();
+    assert!(first_batch.iter().all(|j| j.standard == Some(0)), "the ladder runs before the design");
+    assert!(result.candidates[1].predicted_invalid.is_some(), "an invalid standard is recorded, not run");
+    assert_eq!(result.best_standard(), Some(0));
+    let best = &result.candidates[result.recommended.expect("a recommendation")];
+    let cost = |c: &demsweep::tune::search::Candidate| result.assess(c).cost;
+    assert!(cost(best) <= cost(&result.candidates[0]), "the answer never costs more than the best standard");
+    // With every point of the lever space off the reference, nothing beats the standard: it is the answer.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], offset: 0.05, ..StandIn::new() };
+    let (result, _) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    assert_eq!(result.recommended, Some(0), "the standard setting is the answer");
+}
+
+#[test]
+fn runs_that_can_no_longer_win_are_cut() {
+    let stand_in = || StandIn { standards: vec![(0.9, 0.3)], ..StandIn::new() };
+    let uncut = SearchConfig { standards: 1, initial: Some(12), ..config() };
+    let (whole, whole_stand_in) = run_on(&uncut, stand_in());
+    let (cut, cut_stand_in) = run_on(&SearchConfig { cut_runs: true, ..uncut }, stand_in());
+    let cut_runs: Vec<&Outcome> = cut.candidates.iter().flat_map(|c| &c.runs).filter(|o| o.cut).collect();
+    assert!(!cut_runs.is_empty(), "the never-settling region was entered and cut");
+    let incumbent_bound = 3.0 * 5.5 * 1.01;
+    assert!(cut_runs.iter().all(|o| o.cost < incumbent_bound && o.failure.is_some()));
+    assert!(whole.candidates.iter().flat_map(|c| &c.runs).all(|o| !o.cut), "no cap, no cut");
+    assert!(cut_stand_in.jobs.iter().all(|j| j.role != Role::Verify || j.cap.is_none()), "verification is whole");
+    let spent = |r: &SearchResult| r.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)).map(|o| o.cost).sum::<f64>();
+    assert!(spent(&cut) < spent(&whole), "cutting saves: {} vs {}", spent(&cut), spent(&whole));
+    assert_eq!(whole_stand_in.runs, whole.runs);
+}
+
+#[test]
+fn the_spend_limit_bounds_the_whole_tune() {
+    let (result, _) = run(&SearchConfig { max_spend: 30.0, cut_runs: true, ..config() });
+    let reference_cost = 10.0 - 4.0 * 0.3 - 3.0 * 0.2;
+    assert!(result.recommended.is_some(), "the limit leaves room for an answer");
+    let total = result.reference.iter().chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification))).map(|o| o.cost).sum::<f64>();
+    assert!(total <= 30.0 * reference_cost, "{total} > 30 reference runs of {reference_cost}");
+    let (unlimited, _) = run(&config());
+    assert!(unlimited.runs > result.runs, "the limit stopped the search early");
+}
+
+

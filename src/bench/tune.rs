@@ -174,7 +174,7 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
         let mut evaluator = RunEvaluator::new(&spec, &grid_options);
         let seeds = spec.search.seeds as u64;
         let reference_jobs: Vec<Job> = (0..result.reference.len() as u64)
-            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed })
+            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
             .collect();
         let reference = evaluator.evaluate(&reference_jobs)?;
         let mut points = Vec::new();
@@ -186,7 +186,7 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
                 point[d] = per_lever[d][rest % per_lever[d].len()];
                 rest /= per_lever[d].len();
             }
-            if evaluator.invalid(&point).is_some() {
+            if evaluator.screen(&point, None).invalid.is_some() {
                 skipped += 1;
             } else {
                 points.push(point);
@@ -196,7 +196,14 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
             .iter()
             .enumerate()
             .flat_map(|(k, p)| {
-                (0..seeds).map(move |seed| Job { candidate: k + 1, point: p.clone(), role: Role::Search, seed })
+                (0..seeds).map(move |seed| Job {
+                    candidate: k + 1,
+                    point: p.clone(),
+                    role: Role::Search,
+                    seed,
+                    standard: None,
+                    cap: None,
+                })
             })
             .collect();
         let outcomes = evaluator.evaluate(&jobs)?;
@@ -213,6 +220,8 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
         let as_candidate = |k: usize| Candidate {
             id: k + 1,
             point: points[k].clone(),
+            standard: None,
+            identity: String::new(),
             origin: Origin::Initial,
             predicted_invalid: None,
             runs: Vec::new(),
@@ -232,7 +241,14 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
                 };
                 let jobs: Vec<Job> = fresh
                     .iter()
-                    .map(|&seed| Job { candidate: k + 1, point: points[k].clone(), role: Role::Verify, seed })
+                    .map(|&seed| Job {
+                        candidate: k + 1,
+                        point: points[k].clone(),
+                        role: Role::Verify,
+                        seed,
+                        standard: None,
+                        cap: None,
+                    })
                     .collect();
                 let runs = evaluator.evaluate(&jobs)?;
                 assess(&reference, &runs, &result.margins).state.name().to_string()

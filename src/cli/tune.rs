@@ -13,6 +13,9 @@ use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec, report};
 
 use super::INVALID_STUDY;
 
+/// Exit status of a tune that stopped because a kept metric's tolerance cannot be decided.
+pub const UNDECIDABLE: u8 = 3;
+
 #[derive(Args)]
 pub struct TuneArgs {
     /// The tune file (TOML: [scene], [levers], [keep], [search]).
@@ -35,20 +38,36 @@ pub struct TuneArgs {
 }
 
 /// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
-pub fn load_or_report(path: &Path) -> Result<TuneSpec, ExitCode> {
-    tune::load(path).map_err(|errors| {
+/// The warnings of a valid file (clipped lever ranges, the reference scene's predicted validity
+/// warnings) go to stderr; returns them with the spec.
+pub fn load_or_report(path: &Path) -> Result<(TuneSpec, usize), ExitCode> {
+    let spec = tune::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
         ExitCode::from(INVALID_STUDY)
-    })
+    })?;
+    let mut warnings = spec.warnings.clone();
+    match tune::validity::predicted_warnings(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) {
+        Ok(predicted) => warnings.extend(predicted.iter().map(|w| format!("scene (the reference): predicted: {w}"))),
+        Err(reason) => warnings.push(format!("scene (the reference): {reason}")),
+    }
+    for warning in &warnings {
+        eprintln!("warning: {}: {warning}", path.display());
+    }
+    Ok((spec, warnings.len()))
 }
 
 /// `demsweep check` of a tune file.
 pub fn check(path: &Path) -> ExitCode {
     match load_or_report(path) {
-        Ok(spec) => {
+        Ok((spec, warnings)) => {
+            let above = match warnings {
+                0 => String::new(),
+                1 => " (1 warning above)".into(),
+                n => format!(" ({n} warnings above)"),
+            };
             println!(
-                "ok: tune file, {} levers, {} kept metrics, budget {} runs",
+                "ok: tune file, {} levers, {} kept metrics, budget {} runs{above}",
                 spec.levers.len(),
                 spec.keep.len(),
                 spec.search.budget
@@ -62,7 +81,7 @@ pub fn check(path: &Path) -> ExitCode {
 /// `demsweep plan` of a tune file: levers, seeds and the budget's cost bound.
 pub fn plan(path: &Path, cores: usize) -> ExitCode {
     let spec = match load_or_report(path) {
-        Ok(spec) => spec,
+        Ok((spec, _)) => spec,
         Err(code) => return code,
     };
     let s = &spec.search;
@@ -78,6 +97,10 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         };
         println!("  {}: {range}", lever.key);
     }
+    println!("standard settings, evaluated first:");
+    for standard in &spec.standards {
+        println!("  {}", standard.name);
+    }
     println!("keep:");
     for keep in &spec.keep {
         let kind = if keep.absolute { "absolute" } else { "relative" };
@@ -85,13 +108,14 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
     }
     println!(
         "search: objective {}, {} seeds per candidate (up to {}), reference {} seeds, verification {} fresh seeds, \
-         budget {} runs, seed {}",
+         budget {} runs and {} reference depositions, seed {}",
         s.objective.name(),
         s.seeds,
         s.max_seeds,
         s.reference_seeds(),
         s.verify_seeds(),
         s.budget,
+        s.max_spend,
         s.seed
     );
     // The dearest run over the reference and every lever's extremes bounds the cost of a run.
@@ -128,7 +152,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
 /// `demsweep tune FILE`.
 pub fn run(args: &TuneArgs) -> ExitCode {
     let spec = match load_or_report(&args.file) {
-        Ok(spec) => spec,
+        Ok((spec, _)) => spec,
         Err(code) => return code,
     };
     let stop = Arc::new(AtomicBool::new(false));
@@ -193,5 +217,11 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         outcome.total_particle_steps,
         started.elapsed().as_secs_f64()
     );
-    if written.chart_errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+    if !outcome.result.undecidable.is_empty() {
+        ExitCode::from(UNDECIDABLE)
+    } else if written.chart_errors.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
 }

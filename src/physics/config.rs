@@ -239,6 +239,9 @@ pub struct LimitsConfig {
     pub overlap_warning_ratio: f64,
     /// A run diverges when mechanical energy grows by more than this fraction of the energy available.
     pub energy_growth_ratio: f64,
+    /// Warn when the energy balance (mechanical + dissipated = initial) is off by more than this
+    /// fraction of the energy available (default 0.01).
+    pub energy_balance_tolerance: f64,
     /// Warn when Δt exceeds this fraction of the predicted Hertz contact time.
     pub contact_time_fraction: f64,
     /// Warn when Δt times the largest contact damping rate exceeds this (per integrator stability).
@@ -367,6 +370,7 @@ impl Default for LimitsConfig {
             max_overlap_ratio: 0.5,
             overlap_warning_ratio: 0.1,
             energy_growth_ratio: 0.5,
+            energy_balance_tolerance: 0.01,
             contact_time_fraction: 0.1,
             damping_rate_fraction: 0.5,
         }
@@ -599,6 +603,7 @@ impl SceneConfig {
         c.positive("limits.max_overlap_ratio", l.max_overlap_ratio);
         c.positive("limits.overlap_warning_ratio", l.overlap_warning_ratio);
         c.positive("limits.energy_growth_ratio", l.energy_growth_ratio);
+        c.positive("limits.energy_balance_tolerance", l.energy_balance_tolerance);
         c.positive("limits.contact_time_fraction", l.contact_time_fraction);
         c.positive("limits.damping_rate_fraction", l.damping_rate_fraction);
     }

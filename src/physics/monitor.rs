@@ -42,9 +42,6 @@ pub(super) struct Monitor {
     worst_imbalance: (f64, f64),
 }
 
-/// Energy balance error, as a fraction of the energy available, above which a run is warned about.
-const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
-
 impl Monitor {
     /// A monitor for a run starting from `p` with `initial_elastic` J stored in its contacts.
     pub(super) fn new(p: &Particles, walls: &BoxWalls, g: [f64; 2], initial_elastic: f64) -> Self {
@@ -121,11 +118,12 @@ impl Monitor {
             ));
         }
         let (imbalance, time) = self.worst_imbalance;
-        if imbalance > ENERGY_BALANCE_TOLERANCE * self.energy_scale {
+        if imbalance > limits.energy_balance_tolerance * self.energy_scale {
             w.push(format!(
-                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping)",
+                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping; limit limits.energy_balance_tolerance = {})",
                 100.0 * imbalance / self.energy_scale,
-                self.energy_scale
+                self.energy_scale,
+                limits.energy_balance_tolerance
             ));
         }
         w

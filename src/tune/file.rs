@@ -17,6 +17,8 @@ use crate::study::file::{Document, KeyPath, StudyFile, quoted_key, set_path};
 use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{OutputOptions, ParamValue, initial_csv};
 
+use super::validity::{self, StandardSetting};
+
 /// Keys allowed at the top of a tune file.
 /// The tables of a tune file (besides the strings `name` and `description`).
 const TABLES: [&str; 5] = ["scene", "levers", "keep", "search", "output"];
@@ -166,6 +168,9 @@ pub struct SearchOptions {
     /// Points of the initial design (default: 2 × levers + 2, at least 6, and at most what half the
     /// search budget runs).
     pub initial: Option<usize>,
+    /// Most the whole tune may spend, in reference depositions (mean particle-steps of a reference
+    /// run): the search stops proposing when its next round and the verification would pass it.
+    pub max_spend: f64,
 }
 
 impl Default for SearchOptions {
@@ -179,6 +184,7 @@ impl Default for SearchOptions {
             budget: 150,
             seed: 1,
             initial: None,
+            max_spend: 20.0,
         }
     }
 }
@@ -220,12 +226,30 @@ pub struct TuneSpec {
     pub search: SearchOptions,
     /// Optional outputs of every run (histories and frames default to off).
     pub output: OutputOptions,
+    /// What loading changed and the user should know (lever ranges clipped at a validity limit).
+    pub warnings: Vec<String>,
+    /// The standard settings evaluated before the search.
+    pub standards: Vec<StandardSetting>,
 }
 
 impl TuneSpec {
     /// The scene with `values` set on the base scene.
     pub fn scene(&self, values: &[(String, ParamValue)]) -> Result<SceneConfig, String> {
+        self.edited_scene(values, &[])
+    }
+
+    /// The scene of standard setting `k`.
+    pub fn standard_scene(&self, k: usize) -> Result<SceneConfig, String> {
+        let standard = &self.standards[k];
+        self.edited_scene(&standard.values, &standard.removed)
+    }
+
+    /// The base scene with the keys `removed` taken out, then `values` set.
+    fn edited_scene(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<SceneConfig, String> {
         let mut tree = self.base.clone();
+        for key in removed {
+            remove_path(&mut tree, key);
+        }
         for (key, value) in values {
             let path: KeyPath = key.split('.').map(String::from).collect();
             set_path(&mut tree, &path, value.to_toml())?;
@@ -267,6 +291,20 @@ impl TuneSpec {
                 Some((lever.key.clone(), value, coordinate))
             })
             .collect()
+    }
+}
+
+/// Removes a dotted key from a TOML tree (nothing when it is not there).
+fn remove_path(tree: &mut toml::Table, key: &str) {
+    match key.split_once('.') {
+        Some((head, rest)) => {
+            if let Some(toml::Value::Table(inner)) = tree.get_mut(head) {
+                remove_path(inner, rest);
+            }
+        }
+        None => {
+            tree.remove(key);
+        }
     }
 }
 
@@ -316,6 +354,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         keep,
         search,
         output: toml::Value::Table(output_tree).try_into().unwrap_or_default(),
+        warnings: Vec::new(),
+        standards: Vec::new(),
     };
     // The levers are checked against the valid part of the scene even when other keys are wrong, so
     // that every problem is reported at once.
@@ -364,6 +404,10 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         } else {
             failures.iter().for_each(|(value, reason)| sink.push(error(reason).with_value(value.to_string())));
         }
+    }
+    if sink.is_empty() {
+        spec.warnings = validity::clip_levers(&mut spec);
+        spec.standards = validity::standard_settings(&spec.reference);
     }
     sink.into_result(spec)
 }
@@ -417,6 +461,11 @@ fn check_search(file: &StudyFile, doc: &Document, s: &SearchOptions) -> Vec<Stud
         ),
     );
     check(s.budget <= 100_000, "budget", format!("must be at most 100000 runs, got {}", s.budget));
+    check(
+        s.max_spend >= 1.0 && s.max_spend.is_finite(),
+        "max_spend",
+        format!("must be at least 1 reference deposition, got {}", s.max_spend),
+    );
     errors
 }
 

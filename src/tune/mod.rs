@@ -10,6 +10,7 @@
 pub mod file;
 pub mod report;
 pub mod search;
+pub mod validity;
 
 use std::collections::HashMap;
 use std::fmt;
@@ -18,10 +19,9 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load};
-pub use search::{Evaluator, Job, Outcome, Role, SearchConfig, SearchResult};
+pub use search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult};
 
 use crate::output::table::{ColumnData, SummaryTable};
-use crate::physics::placement;
 use crate::runner::{self, ProgressMode, RunOptions};
 use crate::study::{ParamValue, Plan, PlannedRun};
 
@@ -100,6 +100,9 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         budget: s.budget,
         seed: s.seed,
         initial: s.initial,
+        standards: spec.standards.len(),
+        max_spend: s.max_spend,
+        cut_runs: s.objective == Objective::ParticleSteps,
     }
 }
 
@@ -127,8 +130,9 @@ pub fn tune(spec: &TuneSpec, options: &TuneOptions) -> Result<TuneReport, TuneEr
 
 /// The parameters of a job's run: the lever values, then the placement seed and the candidate.
 pub fn job_parameters(spec: &TuneSpec, job: &Job) -> Vec<(String, ParamValue)> {
-    let mut values: Vec<(String, ParamValue)> = match job.role {
-        Role::Reference => spec.reference_values().into_iter().map(|(k, v, _)| (k, v)).collect(),
+    let mut values: Vec<(String, ParamValue)> = match (job.role, job.standard) {
+        (Role::Reference, _) => spec.reference_values().into_iter().map(|(k, v, _)| (k, v)).collect(),
+        (_, Some(k)) => spec.standards[k].values.clone(),
         _ => spec.values(&job.point),
     };
     let seed = spec.reference.placement.seed.wrapping_add(job.seed);
@@ -140,7 +144,30 @@ pub fn job_parameters(spec: &TuneSpec, job: &Job) -> Vec<(String, ParamValue)> {
         Role::Verify => "verify",
     };
     values.push(("tune.role".into(), ParamValue::Text(role.into())));
+    if let Some(cap) = job.cap {
+        values.push(("tune.cap".into(), ParamValue::Float(cap)));
+    }
     values
+}
+
+/// The scene of a candidate's first seed.
+pub fn candidate_scene(spec: &TuneSpec, candidate: &search::Candidate) -> Result<crate::physics::SceneConfig, String> {
+    setting_scene(spec, &candidate.point, candidate.standard, 0)
+}
+
+/// The scene of a job or a candidate: standard setting `standard`, or the levers at `point`.
+fn setting_scene(
+    spec: &TuneSpec,
+    point: &[f64],
+    standard: Option<usize>,
+    seed: u64,
+) -> Result<crate::physics::SceneConfig, String> {
+    let mut scene = match standard {
+        Some(k) => spec.standard_scene(k)?,
+        None => spec.scene(&spec.values(point))?,
+    };
+    scene.placement.seed = spec.reference.placement.seed.wrapping_add(seed);
+    Ok(scene)
 }
 
 /// Placement seeds of a list of seed numbers, as text: `2024-2031` or `2024, 2030`.
@@ -189,15 +216,27 @@ impl<'a> RunEvaluator<'a> {
 
     fn planned_run(&self, job: &Job, index: usize) -> PlannedRun {
         let parameters = job_parameters(self.spec, job);
-        let scene_values: Vec<(String, ParamValue)> =
-            parameters.iter().filter(|(k, _)| !k.starts_with("tune.")).cloned().collect();
+        let scene = match job.role {
+            Role::Reference => {
+                let mut scene = self.spec.reference.clone();
+                scene.placement.seed = self.spec.reference.placement.seed.wrapping_add(job.seed);
+                Ok(scene)
+            }
+            _ => setting_scene(self.spec, &job.point, job.standard, job.seed),
+        };
         // An invalid scene becomes a run that fails with the reason (status error): the runner
         // records it like any failed run.
-        let scene = self.spec.scene(&scene_values).unwrap_or_else(|_| {
+        let mut scene = scene.unwrap_or_else(|_| {
             let mut scene = self.spec.reference.clone();
             scene.particles.count = 0;
             scene
         });
+        if let Some(cap) = job.cap {
+            // Particle-steps past the cap prove the candidate cannot win: stop there.
+            let dt = crate::physics::scene_time_step(&scene, self.spec.initial.as_deref().map(Vec::as_slice)).dt;
+            let steps = (cap / scene.particles.count.max(1) as f64).ceil();
+            scene.run.duration = scene.run.duration.min(steps * dt);
+        }
         PlannedRun::new(format!("r{index:05}"), index, parameters, scene, self.spec.initial.clone())
     }
 
@@ -209,28 +248,31 @@ impl<'a> RunEvaluator<'a> {
 }
 
 impl Evaluator for RunEvaluator<'_> {
-    fn invalid(&mut self, point: &[f64]) -> Option<String> {
-        let mut values = self.spec.values(point);
-        values.push(("placement.seed".into(), ParamValue::Int(self.spec.reference.placement.seed as i64)));
-        let scene = match self.spec.scene(&values) {
+    fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
+        let scene = match setting_scene(self.spec, point, standard, 0) {
             Ok(scene) => scene,
-            Err(reason) => return Some(format!("invalid scene: {reason}")),
+            Err(reason) => {
+                return Screen { identity: format!("{point:?} {standard:?}"), invalid: Some(reason), resolved: Vec::new() };
+            }
         };
-        let disks = match &self.spec.initial {
-            Some(disks) => disks.as_ref().clone(),
-            None => match placement::generate(&scene) {
-                Ok(disks) => disks,
-                Err(e) => return Some(format!("placement fails: {}", e.reason)),
-            },
+        let disks = self.spec.initial.as_deref().map(Vec::as_slice);
+        let identity = validity::identity(&scene, disks);
+        let invalid = match validity::predicted_warnings(&scene, disks) {
+            Ok(warnings) => warnings.into_iter().next().map(|w| format!("predicted: {w}")),
+            Err(reason) => Some(reason),
         };
-        let report = crate::physics::predict_stability(&scene, &disks);
-        let limit = scene.limits.max_overlap_ratio;
-        (report.impact_overlap_ratio > limit).then(|| {
-            format!(
-                "predicted impact overlap {:.3} of a radius exceeds limits.max_overlap_ratio = {limit} (the run would diverge)",
-                report.impact_overlap_ratio
-            )
-        })
+        // The coordinates of the values as written to the scene (rounded, list bins).
+        let resolved = match standard {
+            Some(_) => Vec::new(),
+            None => self
+                .spec
+                .levers
+                .iter()
+                .zip(point)
+                .map(|(lever, &u)| lever.coordinate(&lever.value(u)).unwrap_or(u))
+                .collect(),
+        };
+        Screen { identity, invalid, resolved }
     }
 
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
@@ -260,11 +302,15 @@ impl Evaluator for RunEvaluator<'_> {
         let reused = jobs.len().saturating_sub(report.ran);
         self.reused += reused;
         self.ran += report.ran;
-        let rows = Rows::new(&report.summary);
+        let mut rows = Rows::new(&report.summary);
+        let warned = (first_index..self.plan.runs.len()).any(|i| rows.warned(i));
+        if warned {
+            rows.warnings = warning_texts(&report.results).map_err(|e| self.fail(TuneError::Runner(e)))?;
+        }
         let mut outcomes = Vec::with_capacity(jobs.len());
-        for k in 0..jobs.len() {
+        for (k, job) in jobs.iter().enumerate() {
             let run = &self.plan.runs[first_index + k];
-            match rows.outcome(run, self.spec) {
+            match rows.outcome(run, job, self.spec) {
                 Some((outcome, steps)) => {
                     self.particle_steps += steps;
                     outcomes.push(outcome);
@@ -303,10 +349,21 @@ impl Evaluator for RunEvaluator<'_> {
     }
 }
 
+/// The warning texts of every run in a results file, by run index.
+fn warning_texts(results: &Path) -> Result<HashMap<usize, Vec<String>>, String> {
+    let file = crate::output::reader::open(results).map_err(|e| e.to_string())?;
+    let rows = crate::output::reader::rows(&file, results).map_err(|e| e.to_string())?;
+    Ok(rows.into_iter().map(|row| (row.index, row.warnings)).collect())
+}
+
 /// The summary's rows by run index.
 struct Rows<'a> {
     table: &'a SummaryTable,
     by_index: HashMap<i64, usize>,
+    /// Warning texts by run index, read from the file when a run has any.
+    warnings: HashMap<usize, Vec<String>>,
+    /// Every pile metric of the summary.
+    pile: Vec<String>,
 }
 
 impl<'a> Rows<'a> {
@@ -315,7 +372,12 @@ impl<'a> Rows<'a> {
             Some(ColumnData::Int(v)) => v.iter().enumerate().map(|(row, &i)| (i, row)).collect(),
             _ => HashMap::new(),
         };
-        Self { table, by_index }
+        Self { table, by_index, warnings: HashMap::new(), pile: file::keepable_metrics() }
+    }
+
+    /// Whether run `index` has validity warnings.
+    fn warned(&self, index: usize) -> bool {
+        self.by_index.get(&(index as i64)).is_some_and(|&row| self.number("warnings", row) > 0.0)
     }
 
     fn number(&self, column: &str, row: usize) -> f64 {
@@ -331,16 +393,23 @@ impl<'a> Rows<'a> {
     }
 
     /// The run's outcome and particle-steps, when it is in the table under its id.
-    fn outcome(&self, run: &PlannedRun, spec: &TuneSpec) -> Option<(Outcome, f64)> {
+    fn outcome(&self, run: &PlannedRun, job: &Job, spec: &TuneSpec) -> Option<(Outcome, f64)> {
         let row = *self.by_index.get(&(run.index as i64))?;
         if self.text("run_id", row) != run.id {
             return None;
         }
         let status = self.text("status", row);
-        let failure = (status != "settled").then(|| {
-            let message = self.text("message", row);
-            let why = if message.is_empty() { String::new() } else { format!(": {message}") };
-            format!("run {} {status}{why}", run.id)
+        let cut = job.cap.is_some() && status == "not_settled";
+        let failure = (status != "settled").then(|| match job.cap {
+            Some(cap) if cut => format!(
+                "run {} cut at {cap:.4e} particle-steps: its candidate can no longer beat the incumbent",
+                run.id
+            ),
+            _ => {
+                let message = self.text("message", row);
+                let why = if message.is_empty() { String::new() } else { format!(": {message}") };
+                format!("run {} {status}{why}", run.id)
+            }
         });
         let mut particle_steps = self.number("particle_steps", row);
         if particle_steps.is_nan() {
@@ -351,6 +420,13 @@ impl<'a> Rows<'a> {
             Objective::WallTime => self.number("wall_time", row),
         };
         let metrics = spec.keep.iter().map(|k| self.number(&k.metric, row)).collect();
-        Some((Outcome { failure, cost, metrics }, particle_steps))
+        let pile = self.pile.iter().map(|m| self.number(m, row)).collect();
+        let warnings = if self.warned(run.index) {
+            let texts = self.warnings.get(&run.index).cloned().unwrap_or_default();
+            if texts.is_empty() { vec![format!("run {} has validity warnings", run.id)] } else { texts }
+        } else {
+            Vec::new()
+        };
+        Some((Outcome { failure, cost, metrics, warnings, cut, pile }, particle_steps))
     }
 }

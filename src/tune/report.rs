@@ -36,44 +36,141 @@ fn num(x: f64) -> String {
     }
 }
 
-/// The lever settings of a candidate: `key = value, ...`.
+/// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
 pub fn settings(spec: &TuneSpec, candidate: &Candidate) -> String {
-    spec.values(&candidate.point).iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ")
+    let values = match candidate.standard {
+        Some(k) => spec.standards[k].values.clone(),
+        None => spec.values(&candidate.point),
+    };
+    let text = values.iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ");
+    match candidate.standard {
+        Some(k) => format!("the standard setting \"{}\" ({text})", spec.standards[k].name),
+        None => text,
+    }
 }
 
-/// The recommendation (or why there is none) as one paragraph.
+/// The time step a candidate's runs actually use, and what it is of the contact time.
+fn resolved_time_step(spec: &TuneSpec, candidate: &Candidate) -> String {
+    let Ok(scene) = super::candidate_scene(spec, candidate) else { return String::new() };
+    let disks = spec.initial.as_deref().map(Vec::as_slice);
+    let dt = crate::physics::scene_time_step(&scene, disks).dt;
+    let fraction = super::validity::predicted_report(&scene, disks).map(|r| r.dt_over_contact_time);
+    match fraction {
+        Ok(f) => format!("time step {} s ({} of the contact time)", num(dt), num(f)),
+        Err(_) => format!("time step {} s", num(dt)),
+    }
+}
+
+/// The 95 % upper bound of a rate seen `failed` times in `n` trials (Clopper-Pearson).
+pub fn rate_upper_bound(failed: usize, n: usize) -> f64 {
+    if n == 0 || failed >= n {
+        return 1.0;
+    }
+    // P(X ≤ failed | n, p) = 0.05, by bisection on p (the binomial tail falls as p grows).
+    let tail = |p: f64| {
+        let mut term = (1.0 - p).powi(n as i32);
+        let mut sum = term;
+        for k in 0..failed {
+            term *= (n - k) as f64 / (k + 1) as f64 * p / (1.0 - p);
+            sum += term;
+        }
+        sum
+    };
+    let (mut low, mut high) = (failed as f64 / n as f64, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (low + high);
+        if tail(mid) > 0.05 { low = mid } else { high = mid }
+    }
+    high
+}
+
+/// The whole cost of the tune in mean reference runs.
+pub fn spend(result: &SearchResult) -> f64 {
+    let reference = stats::describe(&result.reference_costs()).mean;
+    let runs = result.reference.iter().chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)));
+    runs.map(|o| o.cost).sum::<f64>() / reference
+}
+
+/// Runs by role, in words that add up: `211 runs: 10 reference, 9 standard settings, ...`.
+pub fn run_counts(result: &SearchResult) -> String {
+    let standard: usize = result.candidates.iter().filter(|c| c.standard.is_some()).map(|c| c.runs.len()).sum();
+    let search: usize = result.candidates.iter().filter(|c| c.standard.is_none()).map(|c| c.runs.len()).sum();
+    let verify: usize = result.candidates.iter().map(|c| c.verification.len()).sum();
+    let cut = result.candidates.iter().flat_map(|c| &c.runs).filter(|o| o.cut).count();
+    format!(
+        "{} runs: {} reference, {standard} standard settings, {search} search ({cut} of them cut once they could no \
+         longer win), {verify} verification",
+        result.reference.len() + standard + search + verify,
+        result.reference.len()
+    )
+}
+
+/// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
 pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
+    if !result.undecidable.is_empty() {
+        return undecidable_text(spec, result);
+    }
     let mut text = String::new();
     let objective = spec.search.objective.name();
     let reference = result.reference_costs();
     let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
     let skipped = result.candidates.iter().filter(|c| c.predicted_invalid.is_some()).count();
+    let spent = spend(result);
     let budget_line = format!(
-        "The search evaluated {evaluated} settings ({skipped} more were predicted to diverge and not run) in {} of \
-         {} runs; the reference ran on seeds {}.",
-        result.runs,
+        "The tune evaluated {evaluated} settings ({skipped} more were predicted to break a validity limit and not \
+         run) in {} of a budget of {} runs, and spent {} reference depositions ({objective}; limit {}); the \
+         reference ran on seeds {}.",
+        run_counts(result),
         result.budget,
+        num(spent),
+        num(spec.search.max_spend),
         seed_text(spec, &(0..result.reference.len() as u64).collect::<Vec<_>>())
     );
     match result.recommended {
         Some(k) => {
             let cand = &result.candidates[k];
-            let verified = result.assess_verification(cand).expect("a recommendation is verified");
             let costs: Vec<f64> = cand.verification.iter().map(|o| o.cost).collect();
             let ratio = stats::ratio_interval(&reference, &costs);
-            let _ = write!(
+            let _ = writeln!(
                 text,
-                "Recommendation for {}: {} (candidate {}). Cost ({objective}) {} of the reference (95 % interval \
-                 {}-{}), a speedup of {}x. Kept metrics, candidate minus reference with 90 % interval: {}. \
-                 Verified on {} fresh placement seeds {} never used during the search. {budget_line}",
+                "Recommendation for {}: {} (candidate {}), as resolved: {}.",
                 spec.name,
                 settings(spec, cand),
                 cand.id,
+                resolved_time_step(spec, cand)
+            );
+            if cand.standard.is_some() {
+                text.push_str("The search found nothing cheaper than this standard setting: it is the answer.\n");
+            }
+            let _ = writeln!(
+                text,
+                "Cost ({objective}, on the fresh verification seeds): {} of the reference (95 % interval {}-{}), a \
+                 speedup of {}x; {}.",
                 num(ratio.ratio),
                 num(ratio.low),
                 num(ratio.high),
                 num(1.0 / ratio.ratio),
-                metric_lines(spec, result, &verified),
+                against_standard(spec, result, &costs)
+            );
+            let _ = writeln!(text, "{}", payback(result, ratio.ratio, spent));
+            let _ = writeln!(
+                text,
+                "Pile metrics, recommendation minus reference with 90 % interval and in the reference's \
+                 seed-to-seed spread (σ):"
+            );
+            text.push_str(&pile_lines(spec, result, cand));
+            text.push_str(&bound_line(spec, cand));
+            let runs = cand.runs.len() + cand.verification.len();
+            let unsettled = cand.runs.iter().chain(&cand.verification).filter(|o| o.failure.is_some()).count();
+            let _ = writeln!(
+                text,
+                "Runs that did not settle: {unsettled} of its {runs} runs (95 % upper bound on the rate: {} %).",
+                num(100.0 * rate_upper_bound(unsettled, runs))
+            );
+            let _ = writeln!(text, "{}", checks_passed(spec));
+            let _ = writeln!(
+                text,
+                "Verified on {} fresh placement seeds {} never used during the search. {budget_line}",
                 cand.verification.len(),
                 seed_text(spec, &cand.verify_seeds),
             );
@@ -107,10 +204,136 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                         metric_lines(spec, result, &a)
                     );
                 }
-                None => text.push_str("No candidate's runs all settled. "),
+                None => text.push_str("No candidate's runs all settled without a validity warning. "),
             }
             text.push_str(&budget_line);
         }
+    }
+    text.trim_end().to_string()
+}
+
+/// The recommendation's cost against the best valid standard setting's, with its interval.
+fn against_standard(spec: &TuneSpec, result: &SearchResult, costs: &[f64]) -> String {
+    match result.best_standard() {
+        Some(s) => {
+            let standard = &result.candidates[s];
+            let runs: Vec<f64> = standard.runs.iter().chain(&standard.verification).map(|o| o.cost).collect();
+            let r = stats::ratio_interval(&runs, costs);
+            format!(
+                "{} of the best valid standard setting, {} (95 % interval {}-{})",
+                num(r.ratio),
+                spec.standards[standard.standard.unwrap_or(0)].name,
+                num(r.low),
+                num(r.high)
+            )
+        }
+        None => "no standard setting was both valid and equivalent to the reference".into(),
+    }
+}
+
+/// After how many depositions the answer has saved more than the tune cost.
+fn payback(result: &SearchResult, ratio: f64, spent: f64) -> String {
+    let count = |saving: f64| if saving > 0.0 { num((spent / saving).ceil()) } else { "never".into() };
+    let reference = stats::describe(&result.reference_costs()).mean;
+    let standard = result.best_standard().map(|s| result.assess(&result.candidates[s]).cost / reference);
+    let against = match standard {
+        Some(s) => format!(", {} against the best standard setting", count(s - ratio)),
+        None => String::new(),
+    };
+    format!(
+        "Payback: the tune spent {} reference depositions; it has saved more than that after {} depositions \
+         against the reference{against}.",
+        num(spent),
+        count(1.0 - ratio)
+    )
+}
+
+/// Every pile metric of the summary, kept or not: the recommendation's verification runs against the
+/// reference, flagged beyond 2σ of the reference's spread.
+fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> String {
+    let names = super::file::keepable_metrics();
+    let mut text = String::new();
+    for (k, name) in names.iter().enumerate() {
+        let column = |runs: &[super::Outcome]| runs.iter().filter_map(|o| o.pile.get(k).copied()).collect::<Vec<f64>>();
+        let (reference, runs) = (column(&result.reference), column(&cand.verification));
+        if reference.iter().chain(&runs).any(|x| !x.is_finite()) || reference.len() < 2 || runs.len() < 2 {
+            continue;
+        }
+        let spread = stats::describe(&reference).std;
+        let t = stats::equivalence(&reference, &runs, f64::INFINITY);
+        let sigmas = if spread > 0.0 { t.difference / spread } else { 0.0 };
+        let kept = spec.keep.iter().position(|keep| keep.metric == *name);
+        let tolerance = kept.map(|i| format!(", kept within ±{}", num(result.margins[i]))).unwrap_or_default();
+        let flag = if sigmas.abs() > 2.0 { " — beyond 2σ" } else { "" };
+        let _ = writeln!(
+            text,
+            "  {name}: {} ({} to {}), {}σ{tolerance}{flag}",
+            num(t.difference),
+            num(t.low),
+            num(t.high),
+            num(sigmas)
+        );
+    }
+    text
+}
+
+/// The levers that sit on a bound of their range.
+fn bound_line(spec: &TuneSpec, cand: &Candidate) -> String {
+    let edge = 1.0 / super::search::QUANT;
+    let on: Vec<String> = spec
+        .levers
+        .iter()
+        .zip(&cand.point)
+        .filter(|(l, _)| !matches!(l.range, super::LeverRange::List(_)))
+        .filter_map(|(l, &u)| {
+            let end = if u <= edge { "low" } else if u >= 1.0 - edge { "high" } else { return None };
+            Some(format!("{} at the {end} end of its range ({})", l.key, l.value(u)))
+        })
+        .collect();
+    if on.is_empty() { String::new() } else { format!("Levers on a range bound: {}.\n", on.join("; ")) }
+}
+
+/// The validity checks every run of a recommendation passed, with the limits that applied.
+fn checks_passed(spec: &TuneSpec) -> String {
+    let l = &spec.reference.limits;
+    format!(
+        "Validity checks passed by every one of its runs: settled; time step at most limits.contact_time_fraction = {} \
+         of the contact time and not capped by the damping-rate limit (limits.damping_rate_fraction = {}); \
+         predicted and measured overlap below limits.overlap_warning_ratio = {} of a radius; energy balance within \
+         limits.energy_balance_tolerance = {} of the energy available.",
+        l.contact_time_fraction, l.damping_rate_fraction, l.overlap_warning_ratio, l.energy_balance_tolerance
+    )
+}
+
+/// Why the tune stopped before searching: a kept metric the reference's own spread cannot decide.
+fn undecidable_text(spec: &TuneSpec, result: &SearchResult) -> String {
+    let mut text = format!(
+        "Cannot decide for {}: after the {} reference runs, stopped before searching (nothing else was run).",
+        spec.name,
+        result.reference.len()
+    );
+    for u in &result.undecidable {
+        let keep = &spec.keep[u.metric];
+        let relative = |m: f64| if u.mean != 0.0 { format!(" ({} % of the mean)", num(100.0 * m / u.mean.abs())) } else { String::new() };
+        let seeds = match u.seeds_needed {
+            Some(n) => format!("the asked tolerance would need about {n} seeds per candidate (search.max_seeds)"),
+            None => "no number of candidate seeds would decide the asked tolerance with this reference: it needs \
+                     more seeds too (search.reference_seeds)"
+                .into(),
+        };
+        let _ = write!(
+            text,
+            " {}: the reference spreads {} between seeds{} against a tolerance of ±{}{}; with search.max_seeds = {} \
+             the smallest decidable tolerance is ±{}{}; {seeds}.",
+            keep.metric,
+            num(u.spread),
+            relative(u.spread),
+            num(u.margin),
+            relative(u.margin),
+            spec.search.max_seeds,
+            num(u.decidable_margin),
+            relative(u.decidable_margin),
+        );
     }
     text
 }

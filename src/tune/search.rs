@@ -57,6 +57,13 @@ pub struct SearchConfig {
     pub seed: u64,
     /// Points of the initial design (None: from the dimension and the budget).
     pub initial: Option<usize>,
+    /// Standard settings the evaluator knows (the ladder), evaluated before the search.
+    pub standards: usize,
+    /// Most the whole tune may spend, in mean reference runs' cost (the search stops proposing
+    /// when the next round and the verification would pass it).
+    pub max_spend: f64,
+    /// Whether runs that can no longer win are cut at a cost cap (see [`Job::cap`]).
+    pub cut_runs: bool,
 }
 
 /// Why a run is wanted.
@@ -81,6 +88,11 @@ pub struct Job {
     pub role: Role,
     /// Replicate number: the evaluator's placement seed is derived from it.
     pub seed: u64,
+    /// The standard setting (index into the evaluator's ladder) instead of a point.
+    pub standard: Option<usize>,
+    /// Cost past which the run is stopped: by then its candidate cannot beat the incumbent whatever
+    /// its other runs cost (None: run to the end).
+    pub cap: Option<f64>,
 }
 
 /// One run's result.
@@ -92,12 +104,44 @@ pub struct Outcome {
     pub cost: f64,
     /// The kept metrics, in order.
     pub metrics: Vec<f64>,
+    /// The run's validity warnings (any one makes its candidate infeasible).
+    pub warnings: Vec<String>,
+    /// Whether the run was stopped at its cost cap.
+    pub cut: bool,
+    /// Every pile metric of the summary (the evaluator's list), kept or not, for the answer sheet.
+    pub pile: Vec<f64>,
 }
 
-/// Runs batches of jobs and predicts invalid points.
+impl Outcome {
+    /// A settled run without warnings.
+    pub fn settled(cost: f64, metrics: Vec<f64>) -> Self {
+        Self { failure: None, cost, metrics, warnings: Vec::new(), cut: false, pile: Vec::new() }
+    }
+
+    /// Why the run cannot count: its failure, else its first validity warning.
+    pub fn problem(&self) -> Option<String> {
+        self.failure.clone().or_else(|| self.warnings.first().map(|w| format!("validity warning: {w}")))
+    }
+}
+
+/// What an evaluator predicts of a setting before running it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Screen {
+    /// Identifies the runs the setting makes, as resolved (e.g. the time step that actually runs):
+    /// settings with the same identity are one candidate.
+    pub identity: String,
+    /// Why the setting is predicted to break a validity limit or fail (it is recorded, never run).
+    pub invalid: Option<String>,
+    /// The normalized point of the values that actually run (empty: the point as asked, or a
+    /// standard setting); the candidate records this one.
+    pub resolved: Vec<f64>,
+}
+
+/// Runs batches of jobs and screens settings.
 pub trait Evaluator {
-    /// Why `point` is predicted to fail without running it (None when it may run).
-    fn invalid(&mut self, point: &[f64]) -> Option<String>;
+    /// What `point` (or standard setting `standard`, when given) resolves to and whether it is
+    /// predicted invalid.
+    fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen;
     /// Runs `jobs` (as one parallel batch); outcomes in job order.
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String>;
 }
@@ -111,6 +155,8 @@ pub enum Origin {
     Refine,
     /// Exploration after the pattern search converged.
     Explore,
+    /// A standard setting of the ladder.
+    Standard,
 }
 
 impl Origin {
@@ -120,6 +166,7 @@ impl Origin {
             Origin::Initial => "initial",
             Origin::Refine => "refine",
             Origin::Explore => "explore",
+            Origin::Standard => "standard",
         }
     }
 }
@@ -169,8 +216,12 @@ pub struct Assessment {
 pub struct Candidate {
     /// Number, from 1 (0 is the reference).
     pub id: usize,
-    /// Normalized coordinates.
+    /// Normalized coordinates (empty for a standard setting).
     pub point: Vec<f64>,
+    /// The standard setting it is (index into the ladder), if it is one.
+    pub standard: Option<usize>,
+    /// What it resolves to (see [`Screen::identity`]).
+    pub identity: String,
     /// Where it came from.
     pub origin: Origin,
     /// Why it was not run, when it was predicted invalid.
@@ -198,6 +249,28 @@ pub struct SearchResult {
     pub runs: usize,
     /// The budget.
     pub budget: usize,
+    /// Kept metrics whose tolerance the reference's own spread cannot decide within `max_seeds`:
+    /// when any, the search stopped before proposing anything.
+    pub undecidable: Vec<Undecidable>,
+}
+
+/// A kept metric the search cannot decide (see [`decidability`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Undecidable {
+    /// Index of the kept metric.
+    pub metric: usize,
+    /// The reference's mean.
+    pub mean: f64,
+    /// The reference's seed-to-seed standard deviation.
+    pub spread: f64,
+    /// The asked absolute margin.
+    pub margin: f64,
+    /// The smallest absolute margin decidable with `max_seeds` seeds (the 90 % half-width of an
+    /// equal-spread candidate with no difference at all).
+    pub decidable_margin: f64,
+    /// Seeds per candidate that would decide the asked margin with the reference as run; None when
+    /// no number would (the reference needs more seeds too).
+    pub seeds_needed: Option<usize>,
 }
 
 impl SearchResult {
@@ -217,13 +290,40 @@ impl SearchResult {
     /// The candidate closest to acceptable (smallest largest |difference|/margin among those whose runs
     /// all settled and that did not fail a verification), when nothing was recommended.
     pub fn closest(&self) -> Option<usize> {
+        self.closest_where(|_| true)
+    }
+
+    /// [`Self::closest`] among the points of the lever space (standard settings left out).
+    pub fn closest_point(&self) -> Option<usize> {
+        self.closest_where(|c| c.standard.is_none())
+    }
+
+    fn closest_where(&self, keep: impl Fn(&Candidate) -> bool) -> Option<usize> {
         let scored = self
             .candidates
             .iter()
             .enumerate()
-            .filter(|(_, c)| c.verification.is_empty())
+            .filter(|(_, c)| c.verification.is_empty() && keep(c))
             .map(|(i, c)| (i, self.assess(c).worst));
         scored.filter(|(_, w)| w.is_finite()).min_by(|a, b| a.1.total_cmp(&b.1)).map(|(i, _)| i)
+    }
+
+    /// The cheapest candidate feasible in the search among those `keep` accepts, and its mean cost
+    /// (infinite when there is none).
+    pub fn cheapest_feasible(&self, keep: impl Fn(&Candidate) -> bool) -> (Option<usize>, f64) {
+        let mut best = (None, f64::INFINITY);
+        for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c)) {
+            let a = self.assess(cand);
+            if a.state == State::Feasible && a.cost < best.1 {
+                best = (Some(k), a.cost);
+            }
+        }
+        best
+    }
+
+    /// The cheapest standard setting that was feasible in the search (valid and equivalent).
+    pub fn best_standard(&self) -> Option<usize> {
+        self.cheapest_feasible(|c| c.standard.is_some()).0
     }
 
     /// Reference costs.
@@ -249,7 +349,7 @@ pub fn assess(reference: &[Outcome], runs: &[Outcome], margins: &[f64]) -> Asses
     }
     let cost = runs.iter().map(|o| o.cost).sum::<f64>() / runs.len() as f64;
     let base = Assessment { n: runs.len(), cost, tests: Vec::new(), worst: f64::INFINITY, state: State::Undecided };
-    if let Some(failure) = runs.iter().find_map(|o| o.failure.clone()) {
+    if let Some(failure) = runs.iter().find_map(Outcome::problem) {
         return Assessment { state: State::Infeasible(failure), ..base };
     }
     let column = |set: &[Outcome], k: usize| set.iter().map(|o| o.metrics[k]).collect::<Vec<f64>>();
@@ -264,6 +364,46 @@ pub fn assess(reference: &[Outcome], runs: &[Outcome], margins: &[f64]) -> Asses
         State::Undecided
     };
     Assessment { n: runs.len(), cost, tests, worst, state }
+}
+
+/// The kept metrics whose margin cannot be decided within `max_seeds` candidate seeds given the
+/// reference's own spread: even a candidate with exactly the reference's mean and spread would leave
+/// its 90 % interval, `t(0.95, n + n_r − 2) · s · √(1/n + 1/n_r)`, wider than the margin.
+pub fn decidability(reference: &[Outcome], margins: &[f64], max_seeds: usize) -> Vec<Undecidable> {
+    let n_r = reference.len();
+    let half = |s: f64, n: usize| {
+        stats::student_t_quantile(0.95, (n + n_r - 2) as f64) * s * (1.0 / n as f64 + 1.0 / n_r as f64).sqrt()
+    };
+    margins
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &margin)| {
+            let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let decidable_margin = half(r.std, max_seeds.max(2));
+            (decidable_margin >= margin).then(|| Undecidable {
+                metric: k,
+                mean: r.mean,
+                spread: r.std,
+                margin,
+                decidable_margin,
+                seeds_needed: first_deciding(max_seeds.max(2), |n| half(r.std, n) < margin),
+            })
+        })
+        .collect()
+}
+
+/// The smallest count from `low` up to 100 000 for which `decides` holds (it must stay true above
+/// it), by bisection; None when even 100 000 does not decide.
+fn first_deciding(low: usize, decides: impl Fn(usize) -> bool) -> Option<usize> {
+    let (mut low, mut high) = (low, 100_000);
+    if !decides(high) {
+        return None;
+    }
+    while low < high {
+        let mid = (low + high) / 2;
+        if decides(mid) { high = mid } else { low = mid + 1 }
+    }
+    Some(high)
 }
 
 /// SplitMix64 (Steele, Lea & Flood 2014): the search's only source of randomness.
@@ -305,9 +445,11 @@ struct Search<'a, E> {
     config: &'a SearchConfig,
     evaluator: &'a mut E,
     result: SearchResult,
-    seen: HashSet<Vec<i64>>,
+    seen: HashSet<String>,
     shift: Vec<f64>,
     halton_index: u64,
+    /// Cost of every run so far.
+    spent: f64,
 }
 
 impl<'a, E: Evaluator> Search<'a, E> {
@@ -321,17 +463,25 @@ impl<'a, E: Evaluator> Search<'a, E> {
             recommended: None,
             runs: 0,
             budget: config.budget,
+            undecidable: Vec::new(),
         };
-        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1 }
+        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0 }
     }
 
     fn run(mut self) -> Result<SearchResult, String> {
         let c = self.config;
         assert!(c.dims <= PRIMES.len(), "at most {} levers", PRIMES.len());
         self.reference()?;
+        self.result.undecidable = decidability(&self.result.reference, &self.result.margins, c.max_seeds);
+        if !self.result.undecidable.is_empty() {
+            return Ok(self.result);
+        }
         let reserve = 3 * c.verify_seeds;
         let search_end = c.budget.saturating_sub(reserve);
-        let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min((search_end - self.result.runs) / (2 * c.seeds));
+        let standards: Vec<usize> = (0..c.standards).filter_map(|k| self.propose_standard(k)).collect();
+        self.evaluate_new(&standards, search_end)?;
+        let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
+        let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         let fresh = self.explore(initial.max(2), Origin::Initial);
         self.evaluate_new(&fresh, search_end)?;
         let mut step: f64 = 0.25;
@@ -339,15 +489,15 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut last_move: Option<Vec<f64>> = None;
         let mut best_cost = f64::INFINITY;
         loop {
-            if self.result.runs + c.seeds.min(c.max_seeds) > search_end {
+            if self.result.runs + c.seeds.min(c.max_seeds) > search_end || self.affordable() == 0 {
                 break;
             }
             if self.extra_seeds(search_end)? {
                 continue;
             }
-            // One pattern-search round.
-            let (incumbent, cost) = self.incumbent();
-            let focus = incumbent.or_else(|| self.result.closest());
+            // One pattern-search round, around the best point of the lever space.
+            let cost = self.incumbent().1;
+            let focus = self.focus();
             let improved = cost < best_cost;
             if improved {
                 best_cost = cost;
@@ -393,12 +543,17 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn reference(&mut self) -> Result<(), String> {
         let c = self.config;
         let jobs: Vec<Job> = (0..c.reference_seeds as u64)
-            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed })
+            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
             .collect();
-        let outcomes = self.evaluator.evaluate(&jobs)?;
-        self.result.runs += jobs.len();
+        let outcomes = self.evaluate(&jobs)?;
         if let Some(failure) = outcomes.iter().find_map(|o| o.failure.clone()) {
             return Err(format!("the reference scene itself does not settle on every seed ({failure}): fix it first"));
+        }
+        if let Some(warning) = outcomes.iter().find_map(|o| o.warnings.first()) {
+            return Err(format!(
+                "the reference scene itself breaks a validity limit ({warning}): no candidate can be held to the \
+                 limits it breaks; fix it first"
+            ));
         }
         let mut margins = Vec::new();
         for (k, &(tolerance, absolute)) in c.tolerances.iter().enumerate() {
@@ -419,43 +574,60 @@ impl<'a, E: Evaluator> Search<'a, E> {
         Ok(())
     }
 
-    /// The point snapped to the grid (list levers to bin centres).
-    fn snap(&self, point: &[f64]) -> (Vec<f64>, Vec<i64>) {
-        let mut snapped = Vec::with_capacity(point.len());
-        let mut key = Vec::with_capacity(point.len());
-        for (x, levels) in point.iter().zip(&self.config.levels) {
-            let x = x.clamp(0.0, 1.0);
-            match levels {
-                Some(n) => {
-                    let k = ((x * *n as f64).floor() as i64).min(*n as i64 - 1);
-                    snapped.push((k as f64 + 0.5) / *n as f64);
-                    key.push(k);
-                }
-                None => {
-                    let k = (x * QUANT).round() as i64;
-                    snapped.push(k as f64 / QUANT);
-                    key.push(k);
-                }
-            }
-        }
-        (snapped, key)
+    /// Runs a batch, counting its runs and cost.
+    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
+        let outcomes = self.evaluator.evaluate(jobs)?;
+        self.result.runs += jobs.len();
+        self.spent += outcomes.iter().map(|o| o.cost).sum::<f64>();
+        Ok(outcomes)
     }
 
-    /// A new candidate at `point` unless one is there already; predicted-invalid ones are recorded, not
+    /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping two
+    /// verification rounds; a run is priced at the incumbent's mean cost (the reference's without one).
+    fn affordable(&self) -> usize {
+        let c = self.config;
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        let (_, incumbent) = self.incumbent();
+        let unit = if incumbent.is_finite() { incumbent } else { reference };
+        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * unit;
+        if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
+    }
+
+    /// The point snapped to the grid (list levers to bin centres).
+    fn snap(&self, point: &[f64]) -> Vec<f64> {
+        point
+            .iter()
+            .zip(&self.config.levels)
+            .map(|(x, levels)| {
+                let x = x.clamp(0.0, 1.0);
+                match levels {
+                    Some(n) => {
+                        let k = ((x * *n as f64).floor() as i64).min(*n as i64 - 1);
+                        (k as f64 + 0.5) / *n as f64
+                    }
+                    None => (x * QUANT).round() / QUANT,
+                }
+            })
+            .collect()
+    }
+
+    /// A new candidate unless one resolves to the same runs; predicted-invalid ones are recorded, not
     /// returned.
-    fn propose(&mut self, point: &[f64], origin: Origin) -> Option<usize> {
-        let (point, key) = self.snap(point);
-        if !self.seen.insert(key) {
+    fn add(&mut self, point: Vec<f64>, standard: Option<usize>, origin: Origin) -> Option<usize> {
+        let screen = self.evaluator.screen(&point, standard);
+        if !self.seen.insert(screen.identity.clone()) {
             return None;
         }
-        let predicted_invalid = self.evaluator.invalid(&point);
-        let valid = predicted_invalid.is_none();
+        let valid = screen.invalid.is_none();
         let id = self.result.candidates.len() + 1;
+        let point = if screen.resolved.is_empty() { point } else { screen.resolved };
         self.result.candidates.push(Candidate {
             id,
             point,
+            standard,
+            identity: screen.identity,
             origin,
-            predicted_invalid,
+            predicted_invalid: screen.invalid,
             runs: Vec::new(),
             verification: Vec::new(),
             verify_seeds: Vec::new(),
@@ -463,7 +635,26 @@ impl<'a, E: Evaluator> Search<'a, E> {
         valid.then_some(id - 1)
     }
 
-    /// Up to `count` new runnable Halton points.
+    fn propose(&mut self, point: &[f64], origin: Origin) -> Option<usize> {
+        let point = self.snap(point);
+        self.add(point, None, origin)
+    }
+
+    fn propose_standard(&mut self, k: usize) -> Option<usize> {
+        self.add(Vec::new(), Some(k), Origin::Standard)
+    }
+
+    /// Whether a log-linear fit of the costs so far predicts `point` cheaper than the incumbent (true
+    /// without an incumbent or a fit): only such points can still win.
+    fn promising(&self, point: &[f64]) -> bool {
+        let (_, incumbent_cost) = self.incumbent();
+        match incumbent_cost.is_finite().then(|| self.cost_fit()).flatten() {
+            Some(b) => (b[0] + point.iter().zip(&b[1..]).map(|(x, c)| x * c).sum::<f64>()).exp() < incumbent_cost,
+            None => true,
+        }
+    }
+
+    /// Up to `count` new runnable Halton points that can still win.
     fn explore(&mut self, count: usize, origin: Origin) -> Vec<usize> {
         let mut fresh = Vec::new();
         let mut tries = 0;
@@ -473,23 +664,16 @@ impl<'a, E: Evaluator> Search<'a, E> {
             self.halton_index += 1;
             let point: Vec<f64> =
                 (0..self.config.dims).map(|d| (radical_inverse(i, PRIMES[d]) + self.shift[d]).fract()).collect();
-            if let Some(k) = self.propose(&point, origin) {
-                fresh.push(k);
+            if self.promising(&self.snap(&point)) {
+                fresh.extend(self.propose(&point, origin));
             }
         }
         fresh
     }
 
-    /// The compass neighbours of `point` at `step`, and the last move repeated; while there is an
-    /// incumbent, neighbours that a log-linear fit of the costs so far predicts dearer than it are left
-    /// out (they could not win: with several levers that halves a round).
+    /// The compass neighbours of `point` at `step`, and the last move repeated, leaving out those that
+    /// cannot win (see [`Self::promising`]).
     fn neighbours(&mut self, point: &[f64], step: f64, last_move: Option<&[f64]>) -> Vec<usize> {
-        let (incumbent, incumbent_cost) = self.incumbent();
-        let fit = incumbent.and_then(|_| self.cost_fit());
-        let promising = |p: &[f64]| match &fit {
-            Some(b) => (b[0] + p.iter().zip(&b[1..]).map(|(x, c)| x * c).sum::<f64>()).exp() < incumbent_cost,
-            None => true,
-        };
         let mut moves = Vec::new();
         if let Some(m) = last_move {
             moves.push(point.iter().zip(m).map(|(x, d)| x + d).collect::<Vec<f64>>());
@@ -507,22 +691,22 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         let mut fresh = Vec::new();
         for p in moves {
-            if promising(&self.snap(&p).0) {
+            if self.promising(&self.snap(&p)) {
                 fresh.extend(self.propose(&p, Origin::Refine));
             }
         }
         fresh
     }
 
-    /// Least-squares fit of ln(mean cost) = b0 + Σ b_d u_d over the candidates whose runs all settled
-    /// (a failed run's cost says nothing about a settled one's); None with too few of them.
+    /// Least-squares fit of ln(mean cost) = b0 + Σ b_d u_d over the lever-space candidates whose runs
+    /// all settled (a failed run's cost says nothing about a settled one's); None with too few of them.
     fn cost_fit(&self) -> Option<Vec<f64>> {
         let n = self.config.dims + 1;
         let rows: Vec<(Vec<f64>, f64)> = self
             .result
             .candidates
             .iter()
-            .filter(|c| !c.runs.is_empty() && c.runs.iter().all(|o| o.failure.is_none()))
+            .filter(|c| c.standard.is_none() && !c.runs.is_empty() && c.runs.iter().all(|o| o.failure.is_none()))
             .map(|c| {
                 let cost = c.runs.iter().map(|o| o.cost).sum::<f64>() / c.runs.len() as f64;
                 (std::iter::once(1.0).chain(c.point.iter().copied()).collect(), cost.ln())
@@ -566,7 +750,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// returns how many candidates ran.
     fn evaluate_new(&mut self, fresh: &[usize], end: usize) -> Result<usize, String> {
         let seeds = self.config.seeds;
-        let fit = end.saturating_sub(self.result.runs) / seeds;
+        let fit = (end.saturating_sub(self.result.runs) / seeds).min(self.affordable());
         let chosen: Vec<(usize, usize)> = fresh.iter().take(fit).map(|&k| (k, seeds)).collect();
         self.run_more(&chosen)?;
         Ok(chosen.len())
@@ -577,7 +761,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let c = self.config;
         let (_, incumbent_cost) = self.incumbent();
         let mut chosen = Vec::new();
-        let mut room = end.saturating_sub(self.result.runs);
+        let mut room = end.saturating_sub(self.result.runs).min(self.affordable() * c.seeds);
         for (k, cand) in self.result.candidates.iter().enumerate() {
             let a = self.result.assess(cand);
             if a.state == State::Undecided && a.n < c.max_seeds && a.cost < incumbent_cost {
@@ -595,42 +779,52 @@ impl<'a, E: Evaluator> Search<'a, E> {
         Ok(true)
     }
 
+    /// The cost past which a further run of `cand` (which will then have `more` further runs) proves
+    /// that it cannot beat the incumbent (the reference itself while there is none): with every other
+    /// run costing nothing, its mean would still reach the incumbent's.
+    fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        let incumbent = self.incumbent().1.min(reference);
+        let spent: f64 = cand.runs.iter().map(|o| o.cost).sum();
+        self.config.cut_runs.then(|| (cand.runs.len() + more) as f64 * incumbent - spent)
+    }
+
     /// Runs `more` further search seeds of each candidate, as one batch.
     fn run_more(&mut self, chosen: &[(usize, usize)]) -> Result<(), String> {
-        let jobs: Vec<Job> = chosen
-            .iter()
-            .flat_map(|&(k, more)| {
-                let cand = &self.result.candidates[k];
-                let first = cand.runs.len() as u64;
-                (first..first + more as u64).map(move |seed| Job {
-                    candidate: cand.id,
-                    point: cand.point.clone(),
-                    role: Role::Search,
-                    seed,
-                })
-            })
-            .collect();
+        let mut jobs = Vec::new();
+        for &(k, more) in chosen {
+            let cand = &self.result.candidates[k];
+            let cap = self.cap(cand, more);
+            let first = cand.runs.len() as u64;
+            jobs.extend((first..first + more as u64).map(|seed| Job {
+                candidate: cand.id,
+                point: cand.point.clone(),
+                role: Role::Search,
+                seed,
+                standard: cand.standard,
+                cap,
+            }));
+        }
         if jobs.is_empty() {
             return Ok(());
         }
-        let outcomes = self.evaluator.evaluate(&jobs)?;
-        self.result.runs += jobs.len();
+        let outcomes = self.evaluate(&jobs)?;
         for (job, outcome) in jobs.iter().zip(outcomes) {
             self.result.candidates[job.candidate - 1].runs.push(outcome);
         }
         Ok(())
     }
 
-    /// The cheapest feasible candidate and its cost (infinite when there is none).
+    /// The cheapest feasible candidate, standard settings included, and its cost (infinite when
+    /// there is none).
     fn incumbent(&self) -> (Option<usize>, f64) {
-        let mut best = (None, f64::INFINITY);
-        for (k, cand) in self.result.candidates.iter().enumerate() {
-            let a = self.result.assess(cand);
-            if a.state == State::Feasible && a.cost < best.1 {
-                best = (Some(k), a.cost);
-            }
-        }
-        best
+        self.result.cheapest_feasible(|_| true)
+    }
+
+    /// Where the pattern search centres: the cheapest feasible point of the lever space, else the one
+    /// closest to equivalence.
+    fn focus(&self) -> Option<usize> {
+        self.result.cheapest_feasible(|c| c.standard.is_none()).0.or_else(|| self.result.closest_point())
     }
 
     /// Whether fresh runs would likely confirm a feasible candidate: on every metric, its difference so
@@ -673,7 +867,12 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 continue;
             }
             for round in 0..2 {
-                if self.result.runs + c.verify_seeds > c.budget {
+                let reference = stats::describe(&self.result.reference_costs()).mean;
+                let price = c.verify_seeds as f64 * self.result.assess(&self.result.candidates[k]).cost;
+                let first = self.result.candidates.iter().all(|c| c.verification.is_empty());
+                if self.result.runs + c.verify_seeds > c.budget
+                    || (!first && self.spent + price > c.max_spend * reference)
+                {
                     return Ok(());
                 }
                 let cand = &self.result.candidates[k];
@@ -681,10 +880,16 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 next_seed += c.verify_seeds as u64;
                 let jobs: Vec<Job> = seeds
                     .iter()
-                    .map(|&seed| Job { candidate: cand.id, point: cand.point.clone(), role: Role::Verify, seed })
+                    .map(|&seed| Job {
+                        candidate: cand.id,
+                        point: cand.point.clone(),
+                        role: Role::Verify,
+                        seed,
+                        standard: cand.standard,
+                        cap: None,
+                    })
                     .collect();
-                let outcomes = self.evaluator.evaluate(&jobs)?;
-                self.result.runs += jobs.len();
+                let outcomes = self.evaluate(&jobs)?;
                 let cand = &mut self.result.candidates[k];
                 cand.verification.extend(outcomes);
                 cand.verify_seeds.extend(seeds);
@@ -717,7 +922,7 @@ mod tests {
 
     #[test]
     fn assessment_follows_the_tests() {
-        let run = |m: f64| Outcome { failure: None, cost: 1.0, metrics: vec![m] };
+        let run = |m: f64| Outcome::settled(1.0, vec![m]);
         let reference: Vec<Outcome> = [1.0, 1.01, 0.99, 1.0].iter().map(|&m| run(m)).collect();
         let same: Vec<Outcome> = [1.0, 1.005, 0.995].iter().map(|&m| run(m)).collect();
         assert_eq!(assess(&reference, &same, &[0.05]).state, State::Feasible);
