@@ -203,7 +203,8 @@ fn every_command_shown_exists_as_written() {
             problems.extend(scripts.into_iter().map(|p| format!("{}:{line}: {p}", path.display())));
             let found = commands(&piece, "demsweep").into_iter().map(|c| (c, true));
             for (words, is_demsweep) in found.chain(commands(&piece, "cargo").into_iter().map(|c| (c, false))) {
-                let mut wrong = if is_demsweep { demsweep_problems(&words, &mut cache) } else { cargo_problems(&words) };
+                let mut wrong =
+                    if is_demsweep { demsweep_problems(&words, &mut cache) } else { cargo_problems(&words) };
                 wrong.extend(missing_files(&words, &["studies/"]));
                 let program = if is_demsweep { "demsweep" } else { "cargo" };
                 let shown = format!("{}:{line}: `{program} {}`", path.display(), words.join(" "));
@@ -226,4 +227,50 @@ fn the_checker_catches_an_unknown_option_and_subcommand() {
     assert!(demsweep_problems(&["summary", "R.h5", "[--by-point", "[--metric", "NAME]...]"], &mut cache).is_empty());
     assert_eq!(cargo_problems(&["run", "--release", "--", "plot"]).len(), 1);
     assert!(cargo_problems(&["run", "--release", "--example", "settled_pile", "--", "300"]).is_empty());
+}
+
+/// The relative links of a Markdown text (`[text](path)`, without an address or an anchor).
+fn relative_links(text: &str) -> Vec<&str> {
+    text.split("](")
+        .skip(1)
+        .filter_map(|rest| rest.split(')').next())
+        .map(|link| link.split('#').next().unwrap_or(link))
+        .filter(|link| !link.is_empty() && !link.contains("://"))
+        .collect()
+}
+
+#[test]
+fn the_repository_stands_alone() {
+    let mut problems = Vec::new();
+    for (path, text) in documents() {
+        let folder = path.parent().unwrap();
+        let broken = relative_links(&text).into_iter().filter(|link| !folder.join(link).exists());
+        problems.extend(broken.map(|link| format!("{}: link to {link}, which does not exist", path.display())));
+    }
+    // Paths outside the repository (the project's private notes) mean nothing in a clone.
+    let outside = ["spec", "reference", "paper"].map(|folder| format!("shared/{folder}"));
+    let mut files = vec![Path::new(ROOT).join("README.md"), Path::new(ROOT).join("Cargo.toml")];
+    for folder in ["src", "tests", "benches", "examples", "scripts", "studies", "docs"] {
+        files.extend(files_under(&Path::new(ROOT).join(folder)));
+    }
+    for file in files {
+        let Ok(text) = std::fs::read_to_string(&file) else { continue };
+        let named = outside.iter().filter(|o| text.contains(o.as_str()));
+        problems.extend(named.map(|o| format!("{} refers to {o}, which is not in the repository", file.display())));
+    }
+    for file in ["LICENSE", "CITATION.cff"] {
+        if !Path::new(ROOT).join(file).is_file() {
+            problems.push(format!("no {file}"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap().map(Result::unwrap) {
+        let path = entry.path();
+        if path.is_dir() { files.extend(files_under(&path)) } else { files.push(path) }
+    }
+    files
 }

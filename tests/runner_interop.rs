@@ -5,7 +5,6 @@
 mod python_env;
 mod runner_common;
 
-
 use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;

@@ -25,6 +25,11 @@ use crate::physics::simulation::{Control, Simulation, run_scene};
 use crate::physics::stability::StabilityReport;
 use crate::physics::{RunRecord, placement};
 
+/// Where benchmarks write by default: a folder git ignores, so that running one changes no tracked file.
+pub const LATEST_DIR: &str = "results/bench_latest";
+/// The committed figures the README quotes; written only when asked (`demsweep bench KIND --update-results`).
+pub const COMMITTED_DIR: &str = "results/bench";
+
 /// Both integrators, the paper's first.
 pub const SCHEMES: [IntegratorKind; 2] = [IntegratorKind::AdamsBashforthMoulton, IntegratorKind::VelocityVerlet];
 
