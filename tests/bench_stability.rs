@@ -4,7 +4,8 @@ mod bench_common;
 
 use bench_common::*;
 use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
-use demsweep::bench::{assess, placed_disks};
+use demsweep::bench::placed_disks;
+use demsweep::physics::predict_stability as assess;
 use demsweep::physics::SceneConfig;
 use demsweep::physics::config::IntegratorKind;
 

@@ -19,11 +19,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::physics::config::{IntegratorKind, SceneConfig};
-use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
-use crate::physics::simulation::{Control, Simulation, run_scene};
-use crate::physics::stability::StabilityReport;
-use crate::physics::{RunRecord, placement};
+use crate::physics::simulation::Control;
+use crate::physics::{RunRecord, placement, run_scene};
 
 /// Where benchmarks write by default: a folder git ignores, so that running one changes no tracked file.
 pub const LATEST_DIR: &str = "results/bench_latest";
@@ -82,11 +80,6 @@ pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 /// Runs a scene to its end (no observer), with its initial disks.
 pub fn run(scene: &SceneConfig, disks: &[InitialDisk]) -> Result<RunRecord, String> {
     run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue)
-}
-
-/// The engine's pre-run stability estimate of a scene with these disks (Hertz-Mindlin law).
-pub fn assess(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
-    Simulation::new(scene, disks, HertzMindlin).stability()
 }
 
 /// The initial disks a scene's random or lattice placement generates.

@@ -241,7 +241,7 @@ fn columns(o: &StabilityMapOptions) -> Vec<Column> {
 fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapRow>, String> {
     let mut scene = map_scene(options, column);
     let disks = placed_disks(&scene)?;
-    let contact_time = super::assess(&scene, &disks).contact_time;
+    let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
     let mut rows: Vec<MapRow> = Vec::new();
     let mut stable_below = 0;
     for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {

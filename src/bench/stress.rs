@@ -248,7 +248,7 @@ fn beta_50_frictionless_safe_dt(options: &StressOptions) -> Report {
         Ok(d) => d,
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
     };
-    s.integrator.time_step = Some(super::assess(&s, &disks).safe_time_step);
+    s.integrator.time_step = Some(crate::physics::predict_stability(&s, &disks).safe_time_step);
     report(
         super::run(&s, &disks),
         format!("time step {:.3e} s (the predicted safe step)", s.integrator.fixed_time_step().unwrap_or_default()),
@@ -295,7 +295,7 @@ fn large(options: &StressOptions) -> Report {
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
     };
     let before = resident_memory();
-    let sim = Simulation::new(&s, &disks, HertzMindlin);
+    let sim = Simulation::<HertzMindlin>::new(&s, &disks);
     let memory = resident_memory().zip(before).map(|(after, before)| after.saturating_sub(before));
     let (rec, seconds) = timed(|| sim.run(&mut |_| crate::physics::Control::Continue));
     let per_step = seconds / rec.steps.max(1) as f64;

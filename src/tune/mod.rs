@@ -223,7 +223,7 @@ impl Evaluator for RunEvaluator<'_> {
                 Err(e) => return Some(format!("placement fails: {}", e.reason)),
             },
         };
-        let report = crate::bench::assess(&scene, &disks);
+        let report = crate::physics::predict_stability(&scene, &disks);
         let limit = scene.limits.max_overlap_ratio;
         (report.impact_overlap_ratio > limit).then(|| {
             format!(
