@@ -156,13 +156,15 @@ enum Command {
                       demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
     )]
     Report(results::ReportArgs),
-    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
+    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a grid.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
-                      (default results/bench) and printing its Markdown summary: `accuracy` (work-precision of \
+                      (default results/bench_latest, which git ignores; --update-results writes the \
+                      committed results/bench instead) and printing its Markdown summary: `accuracy` (work-precision of \
                       both integrators), `stability` (where runs blow up against the predicted safe time step), \
                       `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
-                      settle, sparse diagnostics and frictionless shortcuts).",
+                      settle, sparse diagnostics and frictionless shortcuts), `tune` (tune against a \
+                      brute-force grid).",
         after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
     )]
     Bench(bench::BenchArgs),

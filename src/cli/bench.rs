@@ -34,7 +34,8 @@ enum Which {
     /// Stress scenarios: Table 1, too-large steps, 50 m/s impact, dense lattice, 0, 1 and 100 000 disks,
     /// β = 50, frictionless (about ten seconds).
     Stress,
-    /// Time saved by stopping at settle, sparse diagnostics and frictionless shortcuts (about two minutes).
+    /// Time saved by stopping at settle, sparse diagnostics and frictionless shortcuts (on the 80 runs of
+    /// the default study: about six minutes on one core).
     Skipping {
         /// Study whose runs the stop-at-settle saving is measured on (the first run also for sampling and
         /// friction).
