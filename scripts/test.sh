@@ -58,6 +58,8 @@ need_package() {   # PACKAGE... WHY
 
 if [[ -z $PYTHON ]]; then
     missing+=("no Python 3 found (the tests' h5py and Playwright run in a virtual environment made from it): install python3, or set DEMSWEEP_BASE_PYTHON")
+elif ! "$PYTHON" -c '' 2>/dev/null; then
+    missing+=("$PYTHON (the base Python) does not run: install python3, or set DEMSWEEP_BASE_PYTHON to one")
 elif ! have_venv; then
     need_package python3-venv "$PYTHON cannot make a virtual environment (no venv/ensurepip)"
 fi
