@@ -96,7 +96,7 @@ if ((${#apt_packages[@]})); then
 fi
 
 if ! cmp -s "$REQUIREMENTS" "$VENV/requirements.txt"; then
-    echo "scripts/test.sh: Python environment $VENV from $PYTHON ($(cat $REQUIREMENTS | tr '\n' ' '))"
+    echo "scripts/test.sh: Python environment $VENV from $PYTHON:" $(grep -o '^[A-Za-z0-9_.-]*' "$REQUIREMENTS")
     rm -rf "$VENV"
     "$PYTHON" -m venv "$VENV"
     if ! "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r "$REQUIREMENTS"; then
