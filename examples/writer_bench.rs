@@ -12,10 +12,11 @@ use std::time::Instant;
 
 use demsweep::output::header::utc_now;
 use demsweep::output::row::SummaryRow;
-use demsweep::output::{FileHeader, ResultsWriter, RunResult, ShardInfo, ShardSpec};
+use demsweep::output::{FileHeader, ResultSink, ResultsWriter, RunResult, ShardInfo, ShardSpec};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::record::{History, RunRecord, RunStatus, Snapshot};
 use demsweep::physics::stability::StabilityReport;
+use demsweep::stats::points;
 use demsweep::study::{OutputOptions, ParamValue};
 
 const SAMPLES: usize = 1500;
@@ -73,7 +74,10 @@ fn main() {
         }
     }
     let t = Instant::now();
-    writers.into_iter().for_each(|w| drop(w.finish().expect("finish")));
+    for writer in writers {
+        let tables = points::tables(writer.committed());
+        ResultSink::finish(Box::new(writer), &tables).expect("finish");
+    }
     let finish_s = t.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
     let paths: Vec<&std::path::Path> = files.iter().map(|(p, _)| p.as_path()).collect();

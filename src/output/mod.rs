@@ -1,9 +1,9 @@
 //! Result files: one HDF5 file per study (or shard) and a CSV summary next to it.
 //!
-//! Data flows one way: runner → [`writer::ResultsWriter`] (run groups committed in batches) →
-//! [`writer::ResultsWriter::finish`] (`/summary`, and `/points` from [`crate::stats::points`]) →
-//! [`write_csv_files`]. The layout is in
-//! [`layout`] and README.md, "Result files".
+//! Data flows one way: runner → [`sink::ResultSink`]s; the results file ([`writer::ResultsWriter`])
+//! is one: run groups committed in batches, then `/summary`, `/points` and [`write_csv_files`] from
+//! the tables the runner computes. This layer reads and writes; it computes no statistics. The
+//! layout is in [`layout`] and README.md, "Result files".
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -14,17 +14,17 @@ pub mod csv;
 pub mod header;
 pub mod history;
 pub mod layout;
-pub mod merge;
 pub mod reader;
 pub mod row;
+pub mod sink;
 pub mod stored;
 pub mod summary;
 pub mod table;
 pub mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
-pub use merge::{MergeReport, ShardProblem, merge};
 pub use row::SummaryRow;
+pub use sink::ResultSink;
 pub use table::SummaryTable;
 pub use writer::{ResultsWriter, RunResult, Tables};
 

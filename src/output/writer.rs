@@ -10,14 +10,14 @@ use hdf5_pure::{AttrValue, DatasetBuilder, File, FileBuilder, StagedGroup};
 use super::compound::{self, Field};
 use super::copy::GroupCopy;
 use super::header::FileHeader;
-use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::reader;
 use super::row::SummaryRow;
+use super::sink::ResultSink;
 use super::table::{ColumnData, SummaryTable};
-use super::{OutputError, hdf5_error};
+use super::{OutputError, hdf5_error, write_csv_files};
 use crate::physics::SceneConfig;
 use crate::physics::record::{RunRecord, Snapshot};
-use crate::stats::points::Points;
 use crate::study::OutputOptions;
 
 /// Tables with at least this many rows are chunked and compressed (shuffle + deflate).
@@ -49,15 +49,9 @@ pub struct ResultsWriter {
     sweep: Option<(usize, Instant)>,
 }
 
-/// Attributes of `/summary` saying how the last sweep into the file ran: its worker threads and
-/// its wall time (s) from start to finish.
-pub const SWEEP_JOBS: &str = "jobs";
-/// See [`SWEEP_JOBS`].
-pub const SWEEP_WALL_TIME: &str = "wall_time";
-
 impl ResultsWriter {
     /// Notes that a sweep on `jobs` worker threads started at `started`: [`Self::finish`] stores both
-    /// (see [`SWEEP_JOBS`]).
+    /// (see [`layout::SWEEP_JOBS`]).
     pub fn note_sweep(&mut self, jobs: usize, started: Instant) {
         self.sweep = Some((jobs, started));
     }
@@ -177,12 +171,9 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Commits what is staged, rewrites `/summary` from every committed run and `/points` from the
-    /// summary, closes the file and returns both tables.
-    pub fn finish(mut self) -> Result<Tables, OutputError> {
+    /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file.
+    fn write_tables(mut self, tables: &Tables) -> Result<(), OutputError> {
         self.commit()?;
-        let summary = SummaryTable::from_rows(&self.committed);
-        let points = Points::new(&summary).table();
         let err = |e| hdf5_error(&self.path, e);
         let sweep: Vec<(&str, AttrValue)> = self
             .sweep
@@ -194,11 +185,28 @@ impl ResultsWriter {
                 ]
             })
             .collect();
-        write_columns(&self.file, SUMMARY, &summary, &sweep).map_err(err)?;
-        write_columns(&self.file, POINTS, &points, &[]).map_err(err)?;
+        write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
+        write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
         self.file.commit().map_err(err)?;
-        self.file.close().map_err(err)?;
-        Ok(Tables { summary, points })
+        self.file.close().map_err(err)
+    }
+}
+
+/// The results file as a sink: runs become run groups (committed in place), the tables `/summary`,
+/// `/points` and the CSV files next to the file.
+impl ResultSink for ResultsWriter {
+    fn accept(&mut self, run: &RunResult) -> Result<(), OutputError> {
+        self.stage(run)
+    }
+
+    fn commit(&mut self) -> Result<(), OutputError> {
+        ResultsWriter::commit(self)
+    }
+
+    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError> {
+        let path = self.path.clone();
+        self.write_tables(tables)?;
+        write_csv_files(&path, tables).map(drop)
     }
 }
 

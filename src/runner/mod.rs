@@ -13,19 +13,21 @@ use std::sync::mpsc;
 
 pub mod execute;
 pub mod interrupt;
+pub mod merge;
 pub mod progress;
 pub mod shard;
 pub mod sink;
 pub mod warnings;
 
+pub use merge::{MergeReport, ShardProblem, merge};
 pub use progress::ProgressMode;
 pub use sink::CommitPolicy;
 pub use warnings::WarningDigest;
 
 use crate::output::header::utc_now;
-use crate::output::row::STATUS_ERROR;
 use crate::output::table::ColumnData;
 use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
+use crate::physics::RunStatus;
 use crate::study::{Plan, PlannedRun};
 use progress::ProgressView;
 
@@ -83,7 +85,7 @@ impl RunReport {
     /// Recorded runs whose status is `error`.
     pub fn failed(&self) -> usize {
         match self.summary.column("status").map(|c| &c.data) {
-            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == STATUS_ERROR).count(),
+            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == RunStatus::Error.as_str()).count(),
             _ => 0,
         }
     }
@@ -151,12 +153,13 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::channel();
-    let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
+    let sinks = sink::Sinks { committed: writer.committed().to_vec(), sinks: vec![Box::new(writer)] };
+    let writer_thread = sink::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     let warnings = view.finish();
     let (tables, writer_time) =
         writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
-    let (summary_csv, points_csv) = output::write_csv_files(&path, &tables)?;
+    let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
     let ran = ran?;
     Ok(RunReport {
         results: path,
