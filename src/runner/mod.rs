@@ -11,13 +11,13 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
-pub mod execute;
+mod execute;
 pub mod interrupt;
 pub mod merge;
-pub mod progress;
+mod progress;
 pub mod shard;
-pub mod sink;
-pub mod warnings;
+mod sink;
+mod warnings;
 
 pub use merge::{MergeReport, ShardProblem, merge};
 pub use progress::ProgressMode;

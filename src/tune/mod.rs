@@ -7,7 +7,7 @@
 //! and reads every outcome back from the file). [`report`] writes the recommendation, the best study,
 //! the candidates table and the charts.
 
-pub mod file;
+mod file;
 pub mod report;
 pub mod search;
 
