@@ -104,7 +104,68 @@ fn write_all(
 
 #[cfg(test)]
 mod tests {
+    use std::sync::Mutex;
+    use std::sync::mpsc;
+
     use super::*;
+    use crate::physics::SceneConfig;
+    use crate::study::ParamValue;
+
+    /// What a sink was handed, in order.
+    #[derive(Clone, Debug, Default, PartialEq)]
+    struct Seen {
+        accepted: Vec<String>,
+        commits: usize,
+        finished: Option<Tables>,
+    }
+
+    /// A sink that records what it is handed (as an export format's sink would use it).
+    struct Recorder(Arc<Mutex<Seen>>);
+
+    impl ResultSink for Recorder {
+        fn accept(&mut self, run: &RunResult) -> Result<(), OutputError> {
+            self.0.lock().unwrap().accepted.push(run.row.id.clone());
+            Ok(())
+        }
+        fn commit(&mut self) -> Result<(), OutputError> {
+            self.0.lock().unwrap().commits += 1;
+            Ok(())
+        }
+        fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError> {
+            self.0.lock().unwrap().finished = Some(tables.clone());
+            Ok(())
+        }
+    }
+
+    fn row(index: usize, restitution: f64) -> SummaryRow {
+        let parameters = [("material.restitution".to_string(), ParamValue::Float(restitution))];
+        SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "no scene")
+    }
+
+    #[test]
+    fn every_sink_gets_every_run_and_the_tables_of_all_rows() {
+        let seen: Vec<Arc<Mutex<Seen>>> = (0..2).map(|_| Arc::default()).collect();
+        let sinks: Vec<Box<dyn ResultSink>> =
+            seen.iter().map(|s| Box::new(Recorder(s.clone())) as Box<dyn ResultSink>).collect();
+        let earlier = vec![row(0, 0.3)];
+        let (sender, receiver) = mpsc::channel();
+        for (index, restitution) in [(2, 0.5), (1, 0.3)] {
+            let run = RunResult { row: row(index, restitution), scene: SceneConfig::default(), record: None };
+            sender.send(run).unwrap();
+        }
+        drop(sender);
+        let policy = CommitPolicy { max_runs: 1, interval: Duration::ZERO, max_overhead: 1.0 };
+        let (tables, _) = write_all(Sinks { sinks, committed: earlier }, &receiver, policy).unwrap();
+        assert_eq!(tables, points::tables(&[row(0, 0.3), row(1, 0.3), row(2, 0.5)]));
+        assert_eq!(tables.summary.len(), 3, "earlier rows and new ones, sorted by index");
+        assert_eq!(tables.points.len(), 2, "two restitutions");
+        for seen in &seen {
+            let seen = seen.lock().unwrap();
+            assert_eq!(seen.accepted, ["r0002", "r0001"]);
+            assert!(seen.commits >= 2, "one commit per run with max_runs = 1, then the last");
+            assert_eq!(seen.finished.as_ref(), Some(&tables));
+        }
+    }
 
     #[test]
     fn commits_on_count_or_interval_within_the_overhead_budget() {
