@@ -16,13 +16,13 @@ pub mod interrupt;
 pub mod merge;
 mod progress;
 pub mod shard;
-mod sink;
 mod warnings;
+mod writer_thread;
 
 pub use merge::{MergeReport, ShardProblem, merge};
 pub use progress::ProgressMode;
-pub use sink::CommitPolicy;
 pub use warnings::WarningDigest;
+pub use writer_thread::CommitPolicy;
 
 use crate::output::header::utc_now;
 use crate::output::table::ColumnData;
@@ -153,12 +153,12 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::channel();
-    let sinks = sink::Sinks { committed: writer.committed().to_vec(), sinks: vec![Box::new(writer)] };
-    let writer_thread = sink::spawn(sinks, receiver, options.commit, options.stop.clone());
+    let sinks = writer_thread::Sinks { committed: writer.committed().to_vec(), sinks: vec![Box::new(writer)] };
+    let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     let warnings = view.finish();
     let (tables, writer_time) =
-        writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
+        writing.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
     let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
     let ran = ran?;
     Ok(RunReport {
