@@ -56,6 +56,7 @@ fn main() {
             ResultsWriter::create(path, header, output.clone()).expect("create results file")
         })
         .collect();
+    let mut rows: Vec<Vec<SummaryRow>> = vec![Vec::new(); shards];
     let mut commit_ms: Vec<f64> = Vec::new();
     let mut stage_s = 0.0;
     for index in 0..runs {
@@ -63,6 +64,7 @@ fn main() {
         let writer = &mut writers[index % shards];
         let t = Instant::now();
         writer.stage(&result).expect("stage run");
+        rows[index % shards].push(result.row);
         stage_s += t.elapsed().as_secs_f64();
         if writer.pending() >= batch || index + shards >= runs {
             let t = Instant::now();
@@ -74,8 +76,8 @@ fn main() {
         }
     }
     let t = Instant::now();
-    for writer in writers {
-        let tables = points::tables(writer.committed());
+    for (writer, rows) in writers.into_iter().zip(&rows) {
+        let tables = points::tables(rows);
         ResultSink::finish(Box::new(writer), &tables).expect("finish");
     }
     let finish_s = t.elapsed().as_secs_f64();

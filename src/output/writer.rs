@@ -44,8 +44,8 @@ pub struct ResultsWriter {
     path: PathBuf,
     output: OutputOptions,
     buckets: HashSet<String>,
-    committed: Vec<SummaryRow>,
-    pending: Vec<SummaryRow>,
+    existing: Vec<SummaryRow>,
+    pending: usize,
     sweep: Option<(usize, Instant)>,
 }
 
@@ -75,31 +75,32 @@ impl ResultsWriter {
     pub fn open(path: &Path, output: OutputOptions) -> Result<(Self, FileHeader), OutputError> {
         let file = File::open_rw(path).map_err(|e| hdf5_error(path, e))?;
         let header = reader::header(&file, path)?;
-        let committed = reader::rows(&file, path)?;
+        let existing = reader::rows(&file, path)?;
         let buckets = file.group(RUNS).and_then(|g| g.groups()).map_err(|e| hdf5_error(path, e))?;
         let writer = Self {
             file,
             path: path.to_path_buf(),
             output,
             buckets: buckets.into_iter().collect(),
-            committed,
-            pending: Vec::new(),
+            existing,
+            pending: 0,
             sweep: None,
         };
         Ok((writer, header))
     }
 
-    /// Rows of the runs already committed.
-    pub fn committed(&self) -> &[SummaryRow] {
-        &self.committed
+    /// Rows of the runs the file held when it was opened (sorted by index), which the writer
+    /// hands over: it keeps no rows (the runner, above it, keeps those of the sweep's statistics).
+    pub fn take_existing(&mut self) -> Vec<SummaryRow> {
+        std::mem::take(&mut self.existing)
     }
 
     /// Deletes the committed runs that failed with an error (in one commit), so that they can run
     /// again; returns how many there were.
     pub fn forget_failed(&mut self) -> Result<usize, OutputError> {
         let (failed, kept): (Vec<SummaryRow>, Vec<SummaryRow>) =
-            std::mem::take(&mut self.committed).into_iter().partition(|row| !row.is_finished());
-        self.committed = kept;
+            std::mem::take(&mut self.existing).into_iter().partition(|row| !row.is_finished());
+        self.existing = kept;
         for row in &failed {
             let bucket = format!("{RUNS}/{}", layout::bucket_name(row.index));
             self.file.group(&bucket).and_then(|g| g.delete(&row.id)).map_err(|e| hdf5_error(&self.path, e))?;
@@ -112,7 +113,7 @@ impl ResultsWriter {
 
     /// Number of runs staged and not yet committed.
     pub fn pending(&self) -> usize {
-        self.pending.len()
+        self.pending
     }
 
     /// Stages one run (its group, attributes and the outputs the study asks for).
@@ -130,7 +131,7 @@ impl ResultsWriter {
             }
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
-        self.pending.push(run.row.clone());
+        self.pending += 1;
         Ok(())
     }
 
@@ -147,7 +148,7 @@ impl ResultsWriter {
         let bytes = copy.data_bytes();
         self.stage_bucket(row.index)?;
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
-        self.pending.push(row.clone());
+        self.pending += 1;
         Ok(bytes)
     }
 
@@ -163,11 +164,11 @@ impl ResultsWriter {
 
     /// Commits the staged runs.
     pub fn commit(&mut self) -> Result<(), OutputError> {
-        if self.pending.is_empty() {
+        if self.pending == 0 {
             return Ok(());
         }
         self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
-        self.committed.append(&mut self.pending);
+        self.pending = 0;
         Ok(())
     }
 

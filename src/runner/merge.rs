@@ -91,8 +91,8 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         }
         runs += shard.rows.len();
     }
-    writer.commit()?;
-    let tables = points::tables(writer.committed());
+    let rows: Vec<SummaryRow> = shards.iter().flat_map(|s| s.rows.iter().cloned()).collect();
+    let tables = points::tables(&rows);
     ResultSink::finish(Box::new(writer), &tables)?;
     let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
     let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);

@@ -144,7 +144,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     };
     let path = results_path(plan, options);
     let mut writer = open_results(plan, options, &path, &selected)?;
-    let done: HashSet<usize> = writer.committed().iter().map(|r| r.index).collect();
+    let existing = writer.take_existing();
+    let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
     let mut todo: Vec<&PlannedRun> =
         selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
     todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
@@ -153,7 +154,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::channel();
-    let sinks = writer_thread::Sinks { committed: writer.committed().to_vec(), sinks: vec![Box::new(writer)] };
+    let sinks = writer_thread::Sinks { committed: existing, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     let warnings = view.finish();
