@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release --example library` (a few seconds).
 
-use demsweep::physics::simulation::run_scene;
+use demsweep::physics::run_scene;
 use demsweep::physics::{Control, RunStatus, SceneConfig};
 
 fn main() -> Result<(), String> {
