@@ -3,8 +3,8 @@
 
 use demsweep::output::SummaryRow;
 use demsweep::output::SummaryTable;
-use demsweep::output::row::FINAL_VALUE_NAMES;
 use demsweep::output::table::ColumnData;
+use demsweep::physics::quantity::{self, FINAL_VALUE_COUNT};
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::Points;
 use demsweep::stats::{Decision, equivalence, ratio_interval, student_t_quantile};
@@ -31,8 +31,9 @@ fn row(index: usize, e: f64, seed: i64, settle: Option<f64>, packing: f64, steps
     row.steps = steps;
     row.wall_time = steps as f64 * 1e-4;
     row.particle_steps = steps * 300;
-    row.final_values = [0.0; FINAL_VALUE_NAMES.len()];
-    row.final_values[FINAL_VALUE_NAMES.iter().position(|n| *n == "packing_fraction").unwrap()] = packing;
+    row.final_values = [0.0; FINAL_VALUE_COUNT];
+    row.final_values[quantity::final_value_declarations().position(|q| q.name == "packing_fraction").unwrap()] =
+        packing;
     row
 }
 

@@ -6,7 +6,8 @@
 //! Reading order for a newcomer:
 //! [`config`] (what a scene is) → [`material`] (pair properties) → [`contact`] (force laws) →
 //! [`neighbors`] (who touches whom) → [`forces`] (contact forces of a step) → [`integrator`] (time stepping) → [`simulation`] (the step loop) →
-//! [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out).
+//! [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out), with
+//! every per-run quantity's name and unit declared in [`quantity`].
 
 pub mod config;
 pub mod contact;
@@ -19,6 +20,7 @@ pub mod neighbors;
 pub mod particles;
 pub mod pile;
 pub mod placement;
+pub mod quantity;
 pub mod record;
 pub mod rng;
 pub mod simulation;
