@@ -194,7 +194,7 @@ fn compare_finds_points_and_refuses_unknown_ones() {
 
     let keep = [Tolerance { metric: "bogus".into(), relative: 0.1 }];
     let err = compare::compare(&points, "r0000", &keep).unwrap_err();
-    assert!(err.starts_with("`bogus` is not a numeric summary column; the metrics are: settle_time, steps,"), "{err}");
+    assert!(err.starts_with("`bogus`: not a per-run quantity or numeric summary column; the metrics of this file are: settle_time, steps,"), "{err}");
     assert_eq!(
         "x=0".parse::<Tolerance>().unwrap_err(),
         "the tolerance of `x` must be a positive relative tolerance, got 0"

@@ -227,6 +227,14 @@ pub fn with_unit(column: &str) -> String {
     }
 }
 
+/// A history series' name with its unit for headers, `name (unit)`; the name alone without one.
+pub fn series_with_unit(name: &str) -> String {
+    match HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.unit) {
+        Some(unit) if !unit.is_empty() => format!("{name} ({unit})"),
+        _ => name.to_string(),
+    }
+}
+
 /// The values of a history series.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SeriesValues<'a> {
@@ -424,5 +432,7 @@ mod tests {
         assert_eq!(with_unit("coordination_number_mean"), "coordination_number_mean", "dimensionless");
         assert_eq!(column_quantity("coordination_number_mean").map(|q| q.unit), Some(""));
         assert_eq!(with_unit("material.friction"), "material.friction");
+        assert_eq!(series_with_unit("t"), "t (s)");
+        assert_eq!(series_with_unit("contacts"), "contacts");
     }
 }
