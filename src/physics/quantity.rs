@@ -54,6 +54,13 @@ const fn declared(name: &'static str, unit: &'static str, description: &'static 
     Quantity { name, unit, description, value: () }
 }
 
+/// A final value that is the last sample of the history series in the `History` field `$field`.
+macro_rules! last_sample {
+    ($field:ident, $name:literal, $unit:literal, $description:literal) => {
+        Quantity { name: $name, unit: $unit, description: $description, value: |r| RunRecord::last(&r.history.$field) }
+    };
+}
+
 /// Final values of a run taken from its record (before the pile metrics in the summary).
 pub const FINAL_VALUES: [Quantity<RunValue>; 8] = [
     Quantity {
@@ -68,42 +75,27 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 8] = [
         description: "Kinetic energy, translational plus rotational, at the last sample.",
         value: |r| RunRecord::last(&r.history.kinetic_translational) + RunRecord::last(&r.history.kinetic_rotational),
     },
-    Quantity {
-        name: "final_potential",
-        unit: "J",
-        description: "Gravitational potential energy at the last sample (zero at the origin).",
-        value: |r| RunRecord::last(&r.history.potential),
-    },
-    Quantity {
-        name: "final_elastic",
-        unit: "J",
-        description: "Elastic energy stored in the contacts at the last sample.",
-        value: |r| RunRecord::last(&r.history.elastic),
-    },
-    Quantity {
-        name: "final_dissipated",
-        unit: "J",
-        description: "Energy removed by damping and friction, numerical damping included.",
-        value: |r| RunRecord::last(&r.history.dissipated),
-    },
-    Quantity {
-        name: "final_numerical_damping_dissipated",
-        unit: "J",
-        description: "The part of final_dissipated removed by numerical damping.",
-        value: |r| RunRecord::last(&r.history.numerical_damping_dissipated),
-    },
-    Quantity {
-        name: "final_mechanical",
-        unit: "J",
-        description: "Kinetic plus potential plus elastic energy at the last sample.",
-        value: |r| RunRecord::last(&r.history.mechanical),
-    },
-    Quantity {
-        name: "final_ubf",
-        unit: "",
-        description: "Unbalanced force ratio at the last sample.",
-        value: |r| RunRecord::last(&r.history.unbalanced_force_ratio),
-    },
+    last_sample!(
+        potential,
+        "final_potential",
+        "J",
+        "Gravitational potential energy at the last sample (zero at the origin)."
+    ),
+    last_sample!(elastic, "final_elastic", "J", "Elastic energy stored in the contacts at the last sample."),
+    last_sample!(
+        dissipated,
+        "final_dissipated",
+        "J",
+        "Energy removed by damping and friction, numerical damping included."
+    ),
+    last_sample!(
+        numerical_damping_dissipated,
+        "final_numerical_damping_dissipated",
+        "J",
+        "The part of final_dissipated removed by numerical damping."
+    ),
+    last_sample!(mechanical, "final_mechanical", "J", "Kinetic plus potential plus elastic energy at the last sample."),
+    last_sample!(unbalanced_force_ratio, "final_ubf", "", "Unbalanced force ratio at the last sample."),
 ];
 
 /// The pile metrics, measured once at the end of a run (see [`super::pile`] for the definitions;
@@ -255,104 +247,53 @@ pub struct Series {
     pub when_absent: Option<f64>,
 }
 
+/// A series of real numbers stored in the `History` field `$field`, required in files.
+macro_rules! real_series {
+    ($field:ident, $name:literal, $unit:literal, $description:literal) => {
+        Series {
+            quantity: Quantity {
+                name: $name,
+                unit: $unit,
+                description: $description,
+                value: |h| SeriesValues::Real(&h.$field),
+            },
+            store: |h, v| h.$field = v,
+            when_absent: None,
+        }
+    };
+}
+
 /// The history series, in the order of the `history` table's fields.
 pub const HISTORY_SERIES: [Series; 12] = [
+    real_series!(time, "t", "s", "Simulated time."),
+    real_series!(kinetic_translational, "kinetic_translational", "J", "Translational kinetic energy Σ ½ m v²."),
+    real_series!(kinetic_rotational, "kinetic_rotational", "J", "Rotational kinetic energy Σ ½ I ω²."),
+    real_series!(potential, "potential", "J", "Gravitational potential energy −Σ m g·x."),
+    real_series!(elastic, "elastic", "J", "Elastic energy stored in the contacts."),
+    real_series!(
+        dissipated,
+        "dissipated",
+        "J",
+        "Energy removed by damping and friction so far, numerical damping included."
+    ),
+    // Files written before numerical damping existed: nothing was dissipated by it.
     Series {
-        quantity: Quantity { name: "t", unit: "s", description: "Simulated time.", value: |h| real(&h.time) },
-        store: |h, v| h.time = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "kinetic_translational",
-            unit: "J",
-            description: "Translational kinetic energy Σ ½ m v².",
-            value: |h| real(&h.kinetic_translational),
-        },
-        store: |h, v| h.kinetic_translational = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "kinetic_rotational",
-            unit: "J",
-            description: "Rotational kinetic energy Σ ½ I ω².",
-            value: |h| real(&h.kinetic_rotational),
-        },
-        store: |h, v| h.kinetic_rotational = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "potential",
-            unit: "J",
-            description: "Gravitational potential energy −Σ m g·x.",
-            value: |h| real(&h.potential),
-        },
-        store: |h, v| h.potential = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "elastic",
-            unit: "J",
-            description: "Elastic energy stored in the contacts.",
-            value: |h| real(&h.elastic),
-        },
-        store: |h, v| h.elastic = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "dissipated",
-            unit: "J",
-            description: "Energy removed by damping and friction so far, numerical damping included.",
-            value: |h| real(&h.dissipated),
-        },
-        store: |h, v| h.dissipated = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "numerical_damping_dissipated",
-            unit: "J",
-            description: "The part of dissipated removed by numerical damping.",
-            value: |h| real(&h.numerical_damping_dissipated),
-        },
-        store: |h, v| h.numerical_damping_dissipated = v,
-        // Files written before numerical damping existed: nothing was dissipated by it.
         when_absent: Some(0.0),
+        ..real_series!(
+            numerical_damping_dissipated,
+            "numerical_damping_dissipated",
+            "J",
+            "The part of dissipated removed by numerical damping."
+        )
     },
-    Series {
-        quantity: Quantity {
-            name: "total",
-            unit: "J",
-            description: "The paper's total energy: kinetic plus potential.",
-            value: |h| real(&h.total),
-        },
-        store: |h, v| h.total = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "mechanical",
-            unit: "J",
-            description: "Kinetic plus potential plus elastic energy.",
-            value: |h| real(&h.mechanical),
-        },
-        store: |h, v| h.mechanical = v,
-        when_absent: None,
-    },
-    Series {
-        quantity: Quantity {
-            name: "unbalanced_force_ratio",
-            unit: "",
-            description: "Mean net force over mean contact force (gravity included); NaN without contacts.",
-            value: |h| real(&h.unbalanced_force_ratio),
-        },
-        store: |h, v| h.unbalanced_force_ratio = v,
-        when_absent: None,
-    },
+    real_series!(total, "total", "J", "The paper's total energy: kinetic plus potential."),
+    real_series!(mechanical, "mechanical", "J", "Kinetic plus potential plus elastic energy."),
+    real_series!(
+        unbalanced_force_ratio,
+        "unbalanced_force_ratio",
+        "",
+        "Mean net force over mean contact force (gravity included); NaN without contacts."
+    ),
     Series {
         quantity: Quantity {
             name: "contacts",
@@ -363,21 +304,8 @@ pub const HISTORY_SERIES: [Series; 12] = [
         store: |h, v| h.contacts = v.into_iter().map(|c| c as u32).collect(),
         when_absent: None,
     },
-    Series {
-        quantity: Quantity {
-            name: "max_overlap_ratio",
-            unit: "",
-            description: "Largest overlap over the smaller radius of its pair.",
-            value: |h| real(&h.max_overlap_ratio),
-        },
-        store: |h, v| h.max_overlap_ratio = v,
-        when_absent: None,
-    },
+    real_series!(max_overlap_ratio, "max_overlap_ratio", "", "Largest overlap over the smaller radius of its pair."),
 ];
-
-fn real(values: &[f64]) -> SeriesValues<'_> {
-    SeriesValues::Real(values)
-}
 
 #[cfg(test)]
 mod tests {
@@ -403,7 +331,8 @@ mod tests {
         let fields = serde_json::to_value(History::default()).unwrap();
         let mut fields: Vec<String> = fields.as_object().unwrap().keys().map(|k| k.replace("time", "t")).collect();
         let mut declared: Vec<String> = HISTORY_SERIES.iter().map(|s| s.quantity.name.to_string()).collect();
-        (fields.sort(), declared.sort());
+        fields.sort();
+        declared.sort();
         assert_eq!(fields, declared);
     }
 

@@ -8,7 +8,7 @@ use crate::stats::points::Points;
 
 /// Per-run quantities not shown per point (the energies, raw counts, a direction): every other
 /// declared quantity the file has is a column, with its unit, and then the warning count.
-const NOT_SHOWN: [&str; 10] = [
+const NOT_SHOWN: [&str; 9] = [
     "steps",
     "simulated_time",
     "final_kinetic",
@@ -18,7 +18,6 @@ const NOT_SHOWN: [&str; 10] = [
     "final_numerical_damping_dissipated",
     "final_mechanical",
     "fabric_direction",
-    "packing_fraction",
 ];
 
 /// The columns shown per point, with their units: the declared quantities but [`NOT_SHOWN`], and
