@@ -133,6 +133,10 @@ fn frictionless_side_walls_put_the_whole_weight_on_the_floor() {
     let rec = settled_pile(120, 0.2, 0.8, 0.0);
     println!("frictionless walls: floor load ratio {:.5}", rec.pile["floor_load_ratio"]);
     assert!((rec.pile["floor_load_ratio"] - 1.0).abs() < 0.01);
+    let (width, floor_force) = (rec.pile["normal_force_width"], rec.pile["floor_mean_contact_force"]);
+    println!("normal force width {width:.4}, floor mean contact force {floor_force:.4e} N");
+    assert!(width > 0.2 && width < 2.0, "a pile under its weight is loaded unevenly (force chains)");
+    assert!(floor_force > 0.0, "the floor carries the pile");
 }
 
 #[test]

@@ -247,6 +247,21 @@ pub struct Series {
     pub when_absent: Option<f64>,
 }
 
+impl Series {
+    /// Bytes one sample of the series takes (8 for a real, 4 for a count), in memory and in files.
+    pub fn bytes_per_sample(&self) -> u64 {
+        match (self.quantity.value)(&History::default()) {
+            SeriesValues::Real(_) => 8,
+            SeriesValues::Count(_) => 4,
+        }
+    }
+}
+
+/// Bytes one history sample takes: every series of [`HISTORY_SERIES`].
+pub fn history_bytes_per_sample() -> u64 {
+    HISTORY_SERIES.iter().map(Series::bytes_per_sample).sum()
+}
+
 /// A series of real numbers stored in the `History` field `$field`, required in files.
 macro_rules! real_series {
     ($field:ident, $name:literal, $unit:literal, $description:literal) => {
