@@ -8,8 +8,8 @@ use demsweep::physics::config::{ContactLawKind, IntegratorKind};
 use demsweep::physics::contact::{HertzMindlin, HystereticLinear, LinearSpringDashpot};
 use demsweep::physics::material::restitution_from_beta;
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::{Control, Simulation};
 use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 const E: f64 = 1e7;
 const NU: f64 = 0.3;
@@ -122,7 +122,8 @@ fn linear_wall_impact(beta: f64, allow_tension: bool) -> (f64, f64) {
     let gap = 0.01 * R;
     let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
     scene.contact.law = ContactLawKind::Linear;
-    scene.contact.linear = LinearSpringDashpot { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
+    scene.contact.linear =
+        LinearSpringDashpot { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
     let mut sim = Simulation::<LinearSpringDashpot>::new(&scene, &disks);
     let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
     while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
@@ -279,7 +280,9 @@ fn hysteretic_law_rebounds_with_the_root_of_its_stiffness_ratio() {
         let dt = duration / 2000.0;
         let (restitution, measured) = hysteretic_wall_impact(ratio, dt);
         let expected = 1.0 / ratio.sqrt();
-        println!("k2/k1 = {ratio}: e = {restitution:.5} (theory {expected:.5}), contact {measured:.4e} s (theory {duration:.4e})");
+        println!(
+            "k2/k1 = {ratio}: e = {restitution:.5} (theory {expected:.5}), contact {measured:.4e} s (theory {duration:.4e})"
+        );
         assert!((restitution - expected).abs() < 2e-3, "restitution {restitution} against {expected}");
         assert!((measured - duration).abs() < 4.0 * dt, "duration {measured} against {duration}");
     }

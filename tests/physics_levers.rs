@@ -8,8 +8,8 @@ use common::{SCHEMES, free_scene, reference_disks, reference_scene};
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
 use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::{Control, Simulation};
 use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 const G: f64 = 9.81;
 

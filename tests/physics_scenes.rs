@@ -6,8 +6,8 @@ mod common;
 use common::*;
 use demsweep::physics::config::{BroadPhaseKind, IntegratorKind, SceneConfig};
 use demsweep::physics::record::{RunRecord, RunStatus};
-use demsweep::physics::simulation::Control;
 use demsweep::physics::run_scene;
+use demsweep::physics::simulation::Control;
 
 fn run(scene: &SceneConfig, disks: Option<Vec<demsweep::physics::particles::InitialDisk>>) -> RunRecord {
     run_scene(scene, disks, &mut |_| Control::Continue).unwrap()

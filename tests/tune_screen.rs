@@ -28,7 +28,8 @@ fn tune_screen_and_check_predict_the_same_overlap_on_a_linear_law_scene() {
     let study = dir.join("soft_linear.toml");
     std::fs::write(&study, format!("name = \"soft_linear\"\n{SCENE}")).unwrap();
     let plan = demsweep::study::load(&study).expect("the study loads");
-    let warning = plan.warnings.iter().map(|w| w.reason.clone()).find(|w| w.contains("would overlap")).expect("a warning");
+    let warning =
+        plan.warnings.iter().map(|w| w.reason.clone()).find(|w| w.contains("would overlap")).expect("a warning");
     let checked = number_after(&warning, "would overlap ");
 
     let tune = dir.join("soft_linear_tune.toml");

@@ -2,7 +2,7 @@
 //! It uses the same per-contact arithmetic as the step's block stages
 //! ([`forces`](super::forces)), so it gives the forces the next step would compute, to the bit.
 
-use super::contact::{ContactLaw, ContactForce};
+use super::contact::{ContactForce, ContactLaw};
 use super::forces::{ContactParameters, relative_motion, unit_normal_and_overlap};
 use super::neighbors::NeighborList;
 use super::particles::Particles;

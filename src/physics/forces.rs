@@ -30,6 +30,20 @@ use super::particles::{Forces, State};
 use super::walls::Wall;
 use std::ops::Range;
 
+/// Whether a law's contact state takes memory (a law without state has `S = ()`: every use of it is
+/// compiled out, bounds checks included).
+#[inline(always)]
+const fn stateful<S>() -> bool {
+    std::mem::size_of::<S>() != 0
+}
+
+/// The law states `range` of `states`; none for a law without state (so that its loops carry no
+/// slice at all).
+#[inline(always)]
+fn states_of<S>(states: &mut [S], range: Range<usize>) -> &mut [S] {
+    if stateful::<S>() { &mut states[range] } else { &mut [] }
+}
+
 /// The tangential springs and law states of a run of candidates.
 type Histories<'a, S> = (&'a mut [f64], &'a mut [S]);
 
@@ -229,8 +243,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (mut done, mut ready) = (0, 0);
         let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
         self.touching_before.resize(pairs.entries.len().div_ceil(BLOCK), 0);
-        let histories = pairs.springs.chunks_mut(BLOCK).zip(pairs.states.chunks_mut(BLOCK));
-        for (b, (block, (springs, states))) in pairs.entries.chunks(BLOCK).zip(histories).enumerate() {
+        let blocks = pairs.entries.chunks(BLOCK).zip(pairs.springs.chunks_mut(BLOCK));
+        for (b, (block, springs)) in blocks.enumerate() {
+            let states = states_of(&mut pairs.states, b * BLOCK..b * BLOCK + block.len());
             let below = block[0].i;
             ready += wall_candidates.entries[ready..].iter().take_while(|c| c.i < below).count();
             if ready - done >= WALL_BATCH {
@@ -264,10 +279,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        let entries = &candidates.entries[range.clone()];
-        let (springs, states) = (&mut candidates.springs[range.clone()], &mut candidates.states[range]);
-        let histories = springs.chunks_mut(BLOCK).zip(states.chunks_mut(BLOCK));
-        for (chunk, (springs, states)) in entries.chunks(BLOCK).zip(histories) {
+        let (entries, springs) = (&candidates.entries[range.clone()], &mut candidates.springs[range.clone()]);
+        for (k, (chunk, springs)) in entries.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)).enumerate() {
+            let first = range.start + k * BLOCK;
+            let states = states_of(&mut candidates.states, first..first + chunk.len());
             self.collect_walls(s, walls, chunk, (springs, states));
             self.compute_forces::<L, false>(law, kind);
             self.scatter::<L, SAMPLE, false>(law, kind, (springs, states), f, totals);
@@ -281,13 +296,16 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let n = s.x.len();
         let mut len = 0;
         let (springs, states) = histories;
-        for (k, (candidate, (spring, state))) in candidates.iter().zip(springs.iter_mut().zip(states)).enumerate() {
+        for (k, (candidate, spring)) in candidates.iter().zip(springs.iter_mut()).enumerate() {
             let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
             assert!(i < n, "wall candidate out of range");
             let r = s.r[i];
             let overlap = wall.overlap(s.x[i], s.y[i], r);
             if overlap <= 0.0 {
-                (*spring, *state) = (0.0, S::default());
+                *spring = 0.0;
+                if stateful::<S>() {
+                    states[k] = S::default();
+                }
                 continue;
             }
             self.candidate[len] = k;
@@ -298,7 +316,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             (self.r_star[len], self.m_star[len]) = (r, candidate.m_star);
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
             (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
-            (self.spring[len], self.state[len]) = (*spring, *state);
+            self.spring[len] = *spring;
+            if stateful::<S>() {
+                self.state[len] = states[k];
+            }
             len += 1;
         }
         self.len = len;
@@ -317,10 +338,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let n = s.x.len();
         // Slices of one known length: the assert below covers all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
-        let (springs, states) = (&mut histories.0[..block.len()], &mut histories.1[..block.len()]);
+        let (springs, states) = histories;
+        let springs = &mut springs[..block.len()];
         let mut len = 0;
         for k in 0..block.len() {
-            let (pair, spring, state) = (&block[k], &mut springs[k], &mut states[k]);
+            let (pair, spring) = (&block[k], &mut springs[k]);
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
             let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
@@ -336,8 +358,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 if *spring != 0.0 {
                     *spring = 0.0;
                 }
-                if *state != S::default() {
-                    *state = S::default();
+                if stateful::<S>() && states[k] != S::default() {
+                    states[k] = S::default();
                 }
                 continue;
             }
@@ -356,11 +378,17 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.dvy[len] = vy[i] - vy[j];
             self.spin_i[len] = omega[i] * ri;
             self.spin_j[len] = omega[j] * rj;
-            (self.spring[len], self.state[len]) = (*spring, *state);
+            self.spring[len] = *spring;
+            if stateful::<S>() {
+                self.state[len] = states[k];
+            }
             if !PREDICTED {
                 // Cleared unconditionally (a conditional store would be a branch): pairs out of
                 // contact lose their history, touching ones get their new one from the scatter.
-                (*spring, *state) = (0.0, S::default());
+                *spring = 0.0;
+                if stateful::<S>() {
+                    states[k] = S::default();
+                }
             }
             len += usize::from(touching);
         }
@@ -496,7 +524,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                     rolling[j] += resistance * self.rj[c];
                 }
             }
-            (springs[self.candidate[c]], states[self.candidate[c]]) = (self.spring[c], self.state[c]);
+            springs[self.candidate[c]] = self.spring[c];
+            if stateful::<S>() {
+                states[self.candidate[c]] = self.state[c];
+            }
             if SAMPLE {
                 let force = ContactForce {
                     normal: self.normal[c],
@@ -617,7 +648,8 @@ mod tests {
                     approach_speed: t.dvx[c] * nx + t.dvy[c] * ny,
                     tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
                 };
-                let coefficients = law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap, &mut ());
+                let coefficients =
+                    law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap, &mut ());
                 let mut spring = spring_before;
                 let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
                 let expect = force.on_first_body(nx, ny);

@@ -8,6 +8,7 @@
 use super::config::SceneConfig;
 use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
 use super::contact_list;
+use super::contact_network::ContactNetwork;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::dispatch::with_time_step;
 use super::energy::EnergyLedger;
@@ -80,9 +81,8 @@ impl<L: RegisteredLaw> Simulation<L> {
     /// A simulation of `scene` from `disks` at time zero, with forces evaluated at the initial
     /// state. Panics unless `L` is the law `scene.contact.law` names.
     pub fn new(scene: &SceneConfig, disks: &[InitialDisk]) -> Self {
-        let law = L::chosen_in(&scene.contact).unwrap_or_else(|| {
-            panic!("scene.contact.law is {:?}, not the Simulation's law", scene.contact.law)
-        });
+        let law = L::chosen_in(&scene.contact)
+            .unwrap_or_else(|| panic!("scene.contact.law is {:?}, not the Simulation's law", scene.contact.law));
         Self::with_law(scene, disks, law.clone())
     }
 }
@@ -212,8 +212,13 @@ impl<L: ContactLaw> Simulation<L> {
         }
     }
 
-    /// Full state now (contact forces as of the last sampled step).
+    /// Full state now (contact force sums as of the last sampled step), with the contact network.
     pub fn snapshot(&self) -> Snapshot {
+        self.snapshot_with(&self.contacts())
+    }
+
+    /// Full state now with `contacts` (those of [`Self::contacts`]) as its network.
+    fn snapshot_with(&self, contacts: &[PileContact]) -> Snapshot {
         let p = &self.particles;
         Snapshot {
             time: self.time(),
@@ -224,6 +229,7 @@ impl<L: ContactLaw> Simulation<L> {
             omega: p.omega.clone(),
             r: p.r.clone(),
             contact_force: p.contact_force.clone(),
+            contacts: ContactNetwork::new(contacts, p),
         }
     }
 
@@ -257,11 +263,16 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// The pile measures of the current state (see [`Self::contacts`]).
     pub fn pile_metrics(&self) -> PileMetrics {
+        self.pile_metrics_of(&self.contacts())
+    }
+
+    /// The pile measures of the current state with its `contacts`.
+    fn pile_metrics_of(&self, contacts: &[PileContact]) -> PileMetrics {
         let p = &self.particles;
         let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
         let geometry =
             PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight: p.mass.iter().sum::<f64>() * g, width: self.walls.width };
-        PileMetrics::measure(&geometry, &self.contacts())
+        PileMetrics::measure(&geometry, contacts)
     }
 
     /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
@@ -342,6 +353,7 @@ impl<L: ContactLaw> Simulation<L> {
             }
         };
         warnings.extend(monitor.warnings(&self.scene.limits));
+        let contacts = self.contacts();
         RunRecord {
             status,
             message,
@@ -350,10 +362,10 @@ impl<L: ContactLaw> Simulation<L> {
             steps: self.step,
             time_step: self.context.dt,
             simulated_time: self.time(),
-            pile: self.pile_metrics(),
+            pile: self.pile_metrics_of(&contacts),
             stability,
             history,
-            final_state: self.snapshot(),
+            final_state: self.snapshot_with(&contacts),
             frames: recorded_frames,
         }
     }
@@ -380,7 +392,8 @@ mod tests {
         let (mut fx, mut fy, mut torque, mut magnitude) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let r = sim.particles.r.clone();
         for c in &contacts {
-            let force = ContactForce { normal: c.normal_force, tangential: c.tangential_force, tangential_stiffness: 0.0 };
+            let force =
+                ContactForce { normal: c.normal_force, tangential: c.tangential_force, tangential_stiffness: 0.0 };
             let [x, y] = force.on_first_body(c.normal[0], c.normal[1]);
             let i = c.disk;
             (fx[i], fy[i], torque[i], magnitude[i]) =

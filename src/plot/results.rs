@@ -148,13 +148,13 @@ pub fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<
 
 /// How a run ended, or `None` for a run that failed with an error (no record).
 fn run_status(row: &SummaryRow) -> Option<RunStatus> {
-    serde_json::from_value(serde_json::Value::String(row.status.clone())).ok()
+    Some(row.status).filter(|s| *s != RunStatus::Error)
 }
 
 /// A run's id, swept parameters and status, for chart titles. Parameters go by their full key path
 /// (`damping.local = 0.2`: the last part alone would not say which setting it is).
 pub fn run_subject(row: &SummaryRow) -> String {
-    subject_with(row, &row.status)
+    subject_with(row, row.status.as_str())
 }
 
 /// The title subject of a snapshot at `time` (s): a frame taken before the run settled says when it
@@ -397,8 +397,19 @@ mod tests {
         let parameters: Vec<(String, ParamValue)> =
             parameters.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
         let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
-        row.status = "settled".into();
+        row.status = RunStatus::Settled;
         row
+    }
+
+    #[test]
+    fn titles_keep_full_key_paths_and_frames_before_settling_say_so() {
+        let mut settled =
+            row(0, &[("damping.local", ParamValue::Float(0.2)), ("material.friction", ParamValue::Float(0.5))]);
+        settled.settle_time = Some(0.42);
+        assert_eq!(run_subject(&settled), "r0000: damping.local = 0.2, material.friction = 0.5 (settled)");
+        let before = snapshot_subject(&settled, 0.15);
+        assert_eq!(before, "r0000: damping.local = 0.2, material.friction = 0.5 (settles at t = 0.42 s)");
+        assert_eq!(snapshot_subject(&settled, 0.42), run_subject(&settled), "the settled pile is called settled");
     }
 
     #[test]

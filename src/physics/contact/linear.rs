@@ -29,7 +29,10 @@ pub(super) fn stiffness_or_hertz_secant(k: Option<f64>, p: &PairProperties) -> f
 }
 
 /// Problems of a stiffness (N/m, optional, > 0) and a ratio (≥ 0), under their keys.
-pub(super) fn stiffness_problems(stiffness: (&'static str, Option<f64>), ratio: (&'static str, f64)) -> Vec<(&'static str, String)> {
+pub(super) fn stiffness_problems(
+    stiffness: (&'static str, Option<f64>),
+    ratio: (&'static str, f64),
+) -> Vec<(&'static str, String)> {
     let mut problems = Vec::new();
     if let (key, Some(k)) = stiffness
         && !(k.is_finite() && k > 0.0)
