@@ -95,8 +95,8 @@ fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
 /// Warns when the jobs would run a cargo build folder's binary (`cargo run -- slurm ...`): the next
 /// `cargo build` replaces it under queued jobs.
 fn warn_if_build_folder(exe: &Path) {
-    let target = exe.parent().and_then(Path::parent);
-    if target.is_some_and(|dir| dir.join("CACHEDIR.TAG").exists()) {
+    // Cargo keeps its build state in `.fingerprint/` beside the binaries of a profile folder.
+    if exe.parent().is_some_and(|profile| profile.join(".fingerprint").is_dir()) {
         eprintln!(
             "warning: the jobs will run {}, a cargo build folder's binary, which the next cargo build replaces \
              under queued jobs: install demsweep (cargo install --path .) and run `demsweep slurm` from the PATH, \
