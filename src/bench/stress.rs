@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::skipping::friction_rows;
-use super::{CsvRow, markdown_table, placed_disks, quoted, timed, write_csv, write_file};
+use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::{PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
@@ -33,7 +33,7 @@ impl Default for StressOptions {
             duration: 1.5,
             large_count: 100_000,
             large_steps: 200,
-            out_dir: PathBuf::from("results/bench"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
 }
@@ -96,9 +96,9 @@ impl CsvRow for StressRow {
             self.outcome.as_str().into(),
             self.as_expected().to_string(),
             format!("{:.3}", self.run_time),
-            quoted(&self.message),
-            quoted(&self.warnings.join(" | ")),
-            quoted(&self.note),
+            self.message.clone(),
+            self.warnings.join(" | "),
+            self.note.clone(),
         ]
     }
 }
@@ -331,7 +331,7 @@ fn summary(options: &StressOptions, rows: &[StressRow]) -> String {
     let unexpected = rows.iter().filter(|r| !r.as_expected()).count();
     format!(
         "# Stress scenarios\n\n\
-         Regenerate: `cargo run --release -- bench stress`.\n\n\
+         Regenerate: `demsweep bench stress --update-results`.\n\n\
          {} scenarios ({} disks in the depositions, up to {} s; large scene {} disks over {} steps), {unexpected} \
          ended otherwise than expected. Every warning is in `stress.csv`.\n\n{}",
         rows.len(),

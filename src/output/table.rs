@@ -1,6 +1,7 @@
 //! The summary as a table of typed columns, shared by `/summary`, the CSV file and the printed table.
 
-use super::row::{FINAL_VALUE_NAMES, SummaryRow};
+use super::row::{OutcomeValue, SummaryRow};
+use crate::physics::quantity::{self, OUTCOME};
 use crate::study::ParamValue;
 
 /// The values of one column. Equality treats NaN as equal to NaN (a missing value equals a missing value).
@@ -120,6 +121,9 @@ pub fn short_float(x: f64) -> String {
 /// A float to `digits` (≥ 1) significant digits: plain between 1e-3 and 1e6 (trailing zeros
 /// dropped), scientific otherwise.
 pub fn significant(x: f64, digits: usize) -> String {
+    if x == 0.0 {
+        return "0".to_string(); // -0.0 too: a zero energy is not negative
+    }
     let digits = digits.max(1) as i32;
     if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
         let decimals =
@@ -141,16 +145,12 @@ impl SummaryTable {
         let ints = |f: &dyn Fn(&SummaryRow) -> i64| ColumnData::Int(rows.iter().map(|r| f(r)).collect());
         let mut columns = vec![column("run_id", texts(&|r| r.id.clone())), column("index", ints(&|r| r.index as i64))];
         columns.extend(parameter_columns(&rows));
-        columns.extend([
-            column("status", texts(&|r| r.status.clone())),
-            column("settle_time", floats(&|r| r.settle_time.unwrap_or(f64::NAN))),
-            column("steps", ints(&|r| r.steps as i64)),
-            column("particle_steps", ints(&|r| r.particle_steps as i64)),
-            column("simulated_time", floats(&|r| r.simulated_time)),
-            column("wall_time", floats(&|r| r.wall_time)),
-        ]);
-        for (k, name) in FINAL_VALUE_NAMES.iter().enumerate() {
-            columns.push(column(name, floats(&|r| r.final_values[k])));
+        columns.push(column("status", texts(&|r| r.status.as_str().to_string())));
+        for (k, declared) in OUTCOME.iter().enumerate() {
+            columns.push(column(declared.name, outcome_column(&rows, k)));
+        }
+        for (k, declared) in quantity::final_value_declarations().enumerate() {
+            columns.push(column(declared.name, floats(&|r| r.final_values[k])));
         }
         columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
         columns.push(column("message", texts(&|r| r.message.clone())));
@@ -191,6 +191,15 @@ impl SummaryTable {
         };
         let columns = self.columns.iter().filter(|c| !timing(&c.name)).cloned().collect();
         Self { columns }
+    }
+}
+
+/// The column of outcome `k` of the rows: integers or floats, as every row's outcome `k` is.
+fn outcome_column(rows: &[&SummaryRow], k: usize) -> ColumnData {
+    let values = rows.iter().map(|r| r.outcome()[k]);
+    match SummaryRow::failed(0, "", &[], "").outcome()[k] {
+        OutcomeValue::Int(_) => ColumnData::Int(values.map(OutcomeValue::as_i64).collect()),
+        OutcomeValue::Float(_) => ColumnData::Float(values.map(OutcomeValue::as_f64).collect()),
     }
 }
 
@@ -261,5 +270,12 @@ mod tests {
         assert_eq!(shown, ["0.396396", "1234.57", "2.50000e-7", "0", "-", "3", "1.50000e9"]);
         assert_eq!(column.text(0), "0.39639599999999997", "the CSV keeps every digit");
         assert_eq!(column.text(4), "", "a missing value is an empty CSV cell");
+    }
+
+    #[test]
+    fn a_negative_zero_shows_as_zero() {
+        assert_eq!(short_float(-0.0), "0");
+        assert_eq!(significant(-0.0, 3), "0");
+        assert_eq!(short_float(-2e-9), "-2.00000e-9", "a small negative value keeps its sign");
     }
 }

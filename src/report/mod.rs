@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable, reader};
+use crate::physics::RunStatus;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
@@ -45,9 +46,11 @@ pub struct TuneSection {
     pub candidates: Vec<Vec<String>>,
 }
 
-/// `<results folder>/<study name>_report.html`.
-pub fn report_path(results: &Path, study_name: &str) -> PathBuf {
-    results.with_file_name(format!("{study_name}_report.html"))
+/// `<results file name without .h5>_report.html` beside it: `<study name>_report.html` for a study's
+/// results, `<study name>.shard-K-of-N_report.html` for a shard's, so that shards never share a page.
+pub fn report_path(results: &Path) -> PathBuf {
+    let stem = results.file_stem().unwrap_or_default().to_string_lossy();
+    results.with_file_name(format!("{stem}_report.html"))
 }
 
 /// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
@@ -121,7 +124,7 @@ pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext)
     }
     runs += "</div>";
     page.push(&runs);
-    let path = out.map_or_else(|| report_path(results, &header.study_name), Path::to_path_buf);
+    let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
     std::fs::write(&path, page.finish()).map_err(|e| OutputError::io(&path, e))?;
     Ok(path)
 }
@@ -200,12 +203,12 @@ fn outcomes(rows: &[SummaryRow]) -> String {
     let mut warnings: BTreeMap<&str, usize> = BTreeMap::new();
     let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     for row in rows {
-        *statuses.entry(&row.status).or_default() += 1;
+        *statuses.entry(row.status.as_str()).or_default() += 1;
         for warning in &row.warnings {
             *warnings.entry(warning).or_default() += 1;
         }
         if !row.message.is_empty() {
-            *messages.entry((&row.status, &row.message)).or_default() += 1;
+            *messages.entry((row.status.as_str(), &row.message)).or_default() += 1;
         }
     }
     let badges: String =
@@ -236,10 +239,8 @@ fn outcomes(rows: &[SummaryRow]) -> String {
 fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
     let points = Points::new(summary);
     let table = html::PointsTable::new(&points, charted);
-    let statuses: String = ["settled", "not_settled", "diverged", "error"]
-        .iter()
-        .map(|s| format!("<option value=\"{s}\">with {s} runs</option>"))
-        .collect();
+    let statuses: String =
+        RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
         "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs. Click a column header to sort; click again to reverse.</p>\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\

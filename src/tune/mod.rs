@@ -7,7 +7,7 @@
 //! and reads every outcome back from the file). [`report`] writes the recommendation, the best study,
 //! the candidates table and the charts.
 
-pub mod file;
+mod file;
 pub mod report;
 pub mod search;
 pub mod validity;
@@ -22,6 +22,7 @@ pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load}
 pub use search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult};
 
 use crate::output::table::{ColumnData, SummaryTable};
+use crate::physics::RunStatus;
 use crate::runner::{self, ProgressMode, RunOptions};
 use crate::study::{ParamValue, Plan, PlannedRun};
 
@@ -399,8 +400,8 @@ impl<'a> Rows<'a> {
             return None;
         }
         let status = self.text("status", row);
-        let cut = job.cap.is_some() && status == "not_settled";
-        let failure = (status != "settled").then(|| match job.cap {
+        let cut = job.cap.is_some() && RunStatus::parse(&status) == Some(RunStatus::NotSettled);
+        let failure = (RunStatus::parse(&status) != Some(RunStatus::Settled)).then(|| match job.cap {
             Some(cap) if cut => format!(
                 "run {} cut at {cap:.4e} particle-steps: its candidate can no longer beat the incumbent",
                 run.id
