@@ -246,14 +246,7 @@ impl TuneSpec {
 
     /// The base scene with the keys `removed` taken out, then `values` set.
     fn edited_scene(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<SceneConfig, String> {
-        let mut tree = self.base.clone();
-        for key in removed {
-            remove_path(&mut tree, key);
-        }
-        for (key, value) in values {
-            let path: KeyPath = key.split('.').map(String::from).collect();
-            set_path(&mut tree, &path, value.to_toml())?;
-        }
+        let tree = self.edited_tree(values, removed)?;
         let mut scene: SceneConfig = toml::Value::Table(tree).try_into().map_err(|e| e.message().to_string())?;
         if let Some(disks) = &self.initial {
             scene.particles.count = disks.len();
@@ -262,6 +255,27 @@ impl TuneSpec {
             issues.iter().map(|i| format!("{}: {}", i.key, i.reason)).collect::<Vec<_>>().join("; ")
         })?;
         Ok(scene)
+    }
+
+    /// The scene as written with `removed` taken out, then `values` set; a standard setting's when
+    /// `standard` is given, else the levers at `point`.
+    pub fn setting_tree(&self, point: &[f64], standard: Option<usize>) -> Result<toml::Table, String> {
+        match standard {
+            Some(k) => self.edited_tree(&self.standards[k].values, &self.standards[k].removed),
+            None => self.edited_tree(&self.values(point), &[]),
+        }
+    }
+
+    fn edited_tree(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<toml::Table, String> {
+        let mut tree = self.base.clone();
+        for key in removed {
+            remove_path(&mut tree, key);
+        }
+        for (key, value) in values {
+            let path: KeyPath = key.split('.').map(String::from).collect();
+            set_path(&mut tree, &path, value.to_toml())?;
+        }
+        Ok(tree)
     }
 
     /// The lever values of normalized point `u`.

@@ -253,7 +253,11 @@ impl Evaluator for RunEvaluator<'_> {
         let scene = match setting_scene(self.spec, point, standard, 0) {
             Ok(scene) => scene,
             Err(reason) => {
-                return Screen { identity: format!("{point:?} {standard:?}"), invalid: Some(reason), resolved: Vec::new() };
+                return Screen {
+                    identity: format!("{point:?} {standard:?}"),
+                    invalid: Some(reason),
+                    resolved: Vec::new(),
+                };
             }
         };
         let disks = self.spec.initial.as_deref().map(Vec::as_slice);

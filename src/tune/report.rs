@@ -87,7 +87,8 @@ pub fn rate_upper_bound(failed: usize, n: usize) -> f64 {
 /// The whole cost of the tune in mean reference runs.
 pub fn spend(result: &SearchResult) -> f64 {
     let reference = stats::describe(&result.reference_costs()).mean;
-    let runs = result.reference.iter().chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)));
+    let runs =
+        result.reference.iter().chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)));
     runs.map(|o| o.cost).sum::<f64>() / reference
 }
 
@@ -286,7 +287,13 @@ fn bound_line(spec: &TuneSpec, cand: &Candidate) -> String {
         .zip(&cand.point)
         .filter(|(l, _)| !matches!(l.range, super::LeverRange::List(_)))
         .filter_map(|(l, &u)| {
-            let end = if u <= edge { "low" } else if u >= 1.0 - edge { "high" } else { return None };
+            let end = if u <= edge {
+                "low"
+            } else if u >= 1.0 - edge {
+                "high"
+            } else {
+                return None;
+            };
             Some(format!("{} at the {end} end of its range ({})", l.key, l.value(u)))
         })
         .collect();
@@ -314,7 +321,9 @@ fn undecidable_text(spec: &TuneSpec, result: &SearchResult) -> String {
     );
     for u in &result.undecidable {
         let keep = &spec.keep[u.metric];
-        let relative = |m: f64| if u.mean != 0.0 { format!(" ({} % of the mean)", num(100.0 * m / u.mean.abs())) } else { String::new() };
+        let relative = |m: f64| {
+            if u.mean != 0.0 { format!(" ({} % of the mean)", num(100.0 * m / u.mean.abs())) } else { String::new() }
+        };
         let seeds = match u.seeds_needed {
             Some(n) => format!("the asked tolerance would need about {n} seeds per candidate (search.max_seeds)"),
             None => "no number of candidate seeds would decide the asked tolerance with this reference: it needs \
@@ -459,7 +468,7 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
             let points = result
                 .candidates
                 .iter()
-                .filter(|c| !c.runs.is_empty())
+                .filter(|c| !c.runs.is_empty() && c.standard.is_none())
                 .map(|c| {
                     let a = result.assess(c);
                     let x = match lever.value(c.point[d]) {
@@ -470,7 +479,7 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
                     (x, a.cost / reference, a.state == State::Feasible)
                 })
                 .collect();
-            let best = result.recommended.map(|k| {
+            let best = result.recommended.filter(|&k| result.candidates[k].standard.is_none()).map(|k| {
                 let c = &result.candidates[k];
                 match lever.value(c.point[d]) {
                     ParamValue::Float(x) => x,
@@ -538,7 +547,17 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<Stri
     for (index, cand) in result.candidates.iter().enumerate() {
         let a = result.assess(cand);
         let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
-        row.extend(spec.values(&cand.point).iter().map(|(_, v)| crate::output::table::param_text(v)));
+        let values = match cand.standard {
+            Some(s) => spec.standards[s].values.clone(),
+            None => spec.values(&cand.point),
+        };
+        row.extend(spec.levers.iter().map(|l| {
+            values
+                .iter()
+                .find(|(k, _)| *k == l.key)
+                .map(|(_, v)| crate::output::table::param_text(v))
+                .unwrap_or_default()
+        }));
         let number = |x: f64| if x.is_finite() { format!("{x:?}") } else { String::new() };
         row.extend([a.n.to_string(), number(a.cost), number(a.cost / reference.mean)]);
         for k in 0..spec.keep.len() {
@@ -577,11 +596,7 @@ pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Res
 /// the verification seeds.
 pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
     let cand = &result.candidates[k];
-    let mut scene = spec.base.clone();
-    for (key, value) in spec.values(&cand.point) {
-        let path: Vec<String> = key.split('.').map(String::from).collect();
-        let _ = crate::study::file::set_path(&mut scene, &path, value.to_toml());
-    }
+    let mut scene = spec.setting_tree(&cand.point, cand.standard).unwrap_or_else(|_| spec.base.clone());
     let first_seed = spec.reference.placement.seed.wrapping_add(cand.verify_seeds.first().copied().unwrap_or(0));
     let _ = crate::study::file::set_path(
         &mut scene,

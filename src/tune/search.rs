@@ -463,8 +463,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         let reserve = 3 * c.verify_seeds;
         let search_end = c.budget.saturating_sub(reserve);
-        let standards: Vec<usize> = (0..c.standards).filter_map(|k| self.propose_standard(k)).collect();
-        self.evaluate_new(&standards, search_end)?;
+        // The ladder always runs (it is the yardstick of the answer), one setting per batch so that
+        // each is cut against the best so far.
+        for k in 0..c.standards {
+            if let Some(index) = self.propose_standard(k) {
+                self.run_more(&[(index, c.seeds)])?;
+            }
+        }
         let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         let fresh = self.explore(initial.max(2), Origin::Initial);
@@ -568,12 +573,18 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping two
-    /// verification rounds; a run is priced at the incumbent's mean cost (the reference's without one).
+    /// verification rounds; a run is priced at the incumbent's mean cost (without one: the mean of the
+    /// candidates' runs so far, else the reference's).
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = stats::describe(&self.result.reference_costs()).mean;
         let (_, incumbent) = self.incumbent();
-        let unit = if incumbent.is_finite() { incumbent } else { reference };
+        let tried: Vec<f64> = self.result.candidates.iter().flat_map(|c| &c.runs).map(|o| o.cost).collect();
+        let unit = match (incumbent.is_finite(), tried.is_empty()) {
+            (true, _) => incumbent,
+            (false, false) => stats::describe(&tried).mean,
+            (false, true) => reference,
+        };
         let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * unit;
         if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
     }

@@ -50,10 +50,7 @@ pub fn standard_settings(reference: &SceneConfig) -> Vec<StandardSetting> {
         },
         StandardSetting {
             name: format!("time step at {} % of the Rayleigh time", 100.0 * STANDARD_RAYLEIGH_FRACTION),
-            values: vec![(
-                "integrator.rayleigh_fraction".to_string(),
-                ParamValue::Float(STANDARD_RAYLEIGH_FRACTION),
-            )],
+            values: vec![("integrator.rayleigh_fraction".to_string(), ParamValue::Float(STANDARD_RAYLEIGH_FRACTION))],
             removed: vec!["integrator.time_step".to_string(), "integrator.contact_time_fraction".to_string()],
         },
     ]
@@ -132,7 +129,11 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
                 let mid = 0.5 * (good + wrong);
                 if problem(mid).is_some() { wrong = mid } else { good = mid }
             }
-            if end == 0.0 { ends.0 = good } else { ends.1 = good }
+            if end == 0.0 {
+                ends.0 = good
+            } else {
+                ends.1 = good
+            }
             named.push(limit_named(&reason).to_string());
         }
         if named.is_empty() {
