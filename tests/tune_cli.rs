@@ -27,8 +27,11 @@ fn text(bytes: &[u8]) -> String {
 }
 
 /// The recommendation paragraph (the line starting with "Recommendation" or "No acceptable").
+/// The answer sheet: from its first line to the next blank line.
 fn paragraph(stdout: &str) -> String {
-    stdout.lines().find(|l| l.starts_with("Recommendation") || l.starts_with("No acceptable")).unwrap_or("").into()
+    let start = stdout.lines().position(|l| l.starts_with("Recommendation") || l.starts_with("No acceptable"));
+    let lines = stdout.lines().skip(start.unwrap_or(usize::MAX)).take_while(|l| !l.is_empty());
+    lines.collect::<Vec<_>>().join("\n")
 }
 
 fn tune(file: &Path, out: &Path, extra: &[&str]) -> Output {

@@ -310,9 +310,9 @@ impl SearchResult {
     }
 
     /// The cheapest candidate feasible in the search among those `keep` accepts, and its mean cost
-    /// (infinite when there is none).
+    /// (infinite when there is none); one dearer than the reference itself never counts.
     pub fn cheapest_feasible(&self, keep: impl Fn(&Candidate) -> bool) -> (Option<usize>, f64) {
-        let mut best = (None, f64::INFINITY);
+        let mut best = (None, stats::describe(&self.reference_costs()).mean);
         for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c)) {
             let a = self.assess(cand);
             if a.state == State::Feasible && a.cost < best.1 {
@@ -578,9 +578,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = stats::describe(&self.result.reference_costs()).mean;
-        let (_, incumbent) = self.incumbent();
+        let (best, incumbent) = self.incumbent();
         let tried: Vec<f64> = self.result.candidates.iter().flat_map(|c| &c.runs).map(|o| o.cost).collect();
-        let unit = match (incumbent.is_finite(), tried.is_empty()) {
+        let unit = match (best.is_some(), tried.is_empty()) {
             (true, _) => incumbent,
             (false, false) => stats::describe(&tried).mean,
             (false, true) => reference,
@@ -779,8 +779,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// that it cannot beat the incumbent (the reference itself while there is none): with every other
     /// run costing nothing, its mean would still reach the incumbent's.
     fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
-        let reference = stats::describe(&self.result.reference_costs()).mean;
-        let incumbent = self.incumbent().1.min(reference);
+        let incumbent = self.incumbent().1;
         let spent: f64 = cand.runs.iter().map(|o| o.cost).sum();
         self.config.cut_runs.then(|| (cand.runs.len() + more) as f64 * incumbent - spent)
     }
@@ -852,7 +851,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .enumerate()
             .filter_map(|(k, cand)| {
                 let a = self.result.assess(cand);
-                (a.state == State::Feasible).then(|| (k, a.cost, a.worst, self.verifiable(cand)))
+                let cheaper = self.result.cheapest_feasible(|c| c.id == cand.id).0.is_some();
+                (cheaper && a.state == State::Feasible).then(|| (k, a.cost, a.worst, self.verifiable(cand)))
             })
             .collect();
         order.sort_by(|a, b| b.3.cmp(&a.3).then(a.1.total_cmp(&b.1)).then(a.0.cmp(&b.0)));
