@@ -244,3 +244,30 @@ fn initial_disks_overlapping_beyond_the_divergence_limit_are_errors() {
          the run would end as diverged at t = 0; 2 overlaps beyond the limit in all"
     );
 }
+
+#[test]
+fn unsafe_study_names_are_refused_with_the_rule() {
+    for (name, problem) in [
+        ("../../x", "contains '/'"),
+        ("/abs/path", "contains '/'"),
+        (".", "starts with '.'"),
+        ("a\\u0000b", "contains '\\0'"),
+        ("bell\\u0007", "contains '\\u{7}'"),
+    ] {
+        let text = format!("name = \"{name}\"\n{SMALL_SCENE}");
+        let e = single_error("badname", &text, 1, "name");
+        assert!(e.reason.contains(problem), "{name}: {e}");
+        assert!(e.reason.contains(study::name::NAME_RULE), "{e}");
+    }
+    let long = format!("name = \"{}\"\n{SMALL_SCENE}", "n".repeat(560));
+    assert!(single_error("longname", &long, 1, "name").reason.contains("has 560 characters"));
+}
+
+#[test]
+fn an_unsafe_file_stem_asks_for_a_name() {
+    let dir = StudyDir::new("stem");
+    let errors = errors_at(&dir.write("my (draft).toml", SMALL_SCENE));
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(errors[0].key, "name");
+    assert!(errors[0].reason.contains("comes from the file name: set `name"), "{}", errors[0]);
+}

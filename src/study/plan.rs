@@ -10,7 +10,7 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, resources};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
@@ -70,7 +70,21 @@ pub(crate) fn check_top_level(file: &StudyFile, doc: &Document, (what, tables): 
             errors.push(file.error(span, dotted(std::slice::from_ref(key)), reason));
         }
     }
+    errors.extend(check_study_name(file, doc));
     errors
+}
+
+/// An unsafe study name (the `name` key, or the file stem when there is none).
+fn check_study_name(file: &StudyFile, doc: &Document) -> Option<StudyError> {
+    let written = doc.section("name");
+    if written.is_some_and(|n| !n.is_str()) {
+        return None;
+    }
+    let reason = name::check_name(&study_name(doc, &file.path)).err()?;
+    Some(match written {
+        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason),
+        None => file.error(None, "name", format!("{reason}; the name comes from the file name: set `name = \"…\"`")),
+    })
 }
 
 /// Deserializes every value of `[section]` on its own into `T`, so that each unknown key and
@@ -129,7 +143,8 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
     failures.into_iter().map(|(v, reason)| with(reason).with_value(v.to_string())).collect()
 }
 
-fn study_name(doc: &Document, path: &Path) -> String {
+/// The study's `name`, else the file stem.
+pub(crate) fn study_name(doc: &Document, path: &Path) -> String {
     match doc.section("name").and_then(|n| n.as_str()) {
         Some(name) => name.to_string(),
         None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),

@@ -304,10 +304,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     let mut spec = TuneSpec {
         path: file.path.clone(),
         text: file.text.clone(),
-        name: match doc.section("name").and_then(|n| n.as_str()) {
-            Some(name) => name.to_string(),
-            None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
-        },
+        name: plan::study_name(&doc, path),
         fingerprint: fingerprint(&file.text),
         base,
         reference: SceneConfig::default(),
