@@ -61,8 +61,8 @@ enum Command {
                       OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
                       frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
-                      to a crash or kill: continue with --resume. Ctrl-C stops cleanly (exit 130); a second \
-                      Ctrl-C quits at once. Exit status 0 when every run finished (settled, not settled or \
+                      to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
+                      (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \
                       diverged), 1 when a run failed or is missing, 2 for an invalid study.",
         after_help = "Examples:\n  demsweep run studies/damping_sweep.toml\n  \
                       demsweep run studies/damping_sweep.toml --jobs 8 --out /scratch/damping\n  \

@@ -1,4 +1,4 @@
-//! `demsweep run` as a user runs it: killed with SIGKILL or stopped with Ctrl-C mid-sweep, then
+//! `demsweep run` as a user runs it: killed with SIGKILL or stopped with Ctrl-C, SIGTERM or SIGHUP mid-sweep, then
 //! continued with `--resume`, it ends with the summary of an uninterrupted run; `summary`, `history`
 //! and `merge` on its files.
 
@@ -120,6 +120,21 @@ fn ctrl_c_stops_cleanly_with_exit_130_and_resumes() {
     assert_eq!(csv.lines().count(), kept + 1);
 
     resume_and_compare(&study, &out, kept, &reference(&study, "cli_ctrl_c_reference"));
+}
+
+#[test]
+fn sigterm_and_sighup_stop_cleanly_like_ctrl_c() {
+    for signal in ["TERM", "HUP"] {
+        let (_, out, code, kept) = stopped_midway(&format!("cli_sig{signal}"), |child| {
+            let sent = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+            assert!(sent.success());
+        });
+        assert_eq!(code, Some(130), "SIG{signal}");
+        let file = hdf5_pure::File::open(out.join("cli_sweep.h5")).unwrap();
+        assert!(file.group("summary").is_ok(), "SIG{signal}: a clean stop writes /summary");
+        let csv = std::fs::read_to_string(out.join("cli_sweep_summary.csv")).unwrap();
+        assert_eq!(csv.lines().count(), kept + 1, "SIG{signal}: every finished run is in the CSV");
+    }
 }
 
 #[test]
