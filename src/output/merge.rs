@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::header::{FileHeader, utc_now};
+use super::lock::ResultsLock;
 use super::row::SummaryRow;
 use super::writer::ResultsWriter;
 use super::{OutputError, reader, write_csv_files};
@@ -64,22 +65,24 @@ struct ShardFile {
 /// different studies and runs present in two shards. Missing shards, missing runs and runs that
 /// failed with an error do not stop it: it merges what there is and lists them in
 /// [`MergeReport::problems`].
-/// An existing merged file is only replaced with `force`.
+/// An existing merged file is only replaced with `force`; the merged file is written under a
+/// temporary name (`<name>.merging.h5`) and renamed when complete, holding the results file's lock.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
     let shards = read_shards(&shard_paths(inputs)?)?;
     let problems = check_complete(&shards)?;
     let first = &shards[0].header;
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
     let results = out_dir.join(format!("{}.h5", first.study_name));
+    let _lock = ResultsLock::acquire(&results)?;
     if results.exists() && !force {
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
-    if results.exists() {
-        std::fs::remove_file(&results).map_err(|e| OutputError::io(&results, e))?;
-    }
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
+    // Written under a temporary name and renamed when complete: a killed merge leaves no partial
+    // file under the final name (and an existing one stays until the new one replaces it).
+    let partial = results.with_extension("merging.h5");
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
-    let mut writer = ResultsWriter::create(&results, &header, OutputOptions::default())?;
+    let mut writer = ResultsWriter::create(&partial, &header, OutputOptions::default())?;
     let (mut runs, mut staged) = (0, 0);
     for shard in &shards {
         let source = reader::open(&shard.path)?;
@@ -93,6 +96,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         runs += shard.rows.len();
     }
     let tables = writer.finish()?;
+    std::fs::rename(&partial, &results).map_err(|e| OutputError::io(&results, e))?;
     let (summary_csv, points_csv) = write_csv_files(&results, &tables)?;
     let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
     Ok(MergeReport {

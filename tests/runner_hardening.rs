@@ -1,0 +1,143 @@
+//! A shared cluster's faults: two processes on one results folder, absurd `--jobs`, a killed merge.
+
+mod runner_common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use demsweep::output::summary;
+
+/// 80 runs of 30 disks (about 20 ms each on one worker): long enough to overlap another process.
+const STUDY: &str = r#"name = "shared"
+[scene]
+particles.count = 30
+domain.width = 0.16
+domain.height = 0.25
+run.duration = 0.2
+run.sample_interval = 2e-3
+[sweep]
+"material.restitution" = { linear = [0.2, 0.8], steps = 4 }
+replicates = 20
+[output]
+frames = false
+"#;
+const RUNS: usize = 80;
+
+fn write_study(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("shared.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn command(args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_demsweep"));
+    command.args(args).stdout(Stdio::piped()).stderr(Stdio::piped());
+    command
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// `demsweep run STUDY --out OUT --jobs 1` plus `extra`, started.
+fn spawn_run(study: &Path, out: &Path, extra: &[&str]) -> Child {
+    let (s, o) = (study.to_str().unwrap(), out.to_str().unwrap());
+    command(&["run", s, "--out", o, "--jobs", "1", "--commit-interval", "0.05", "--progress", "quiet"])
+        .args(extra)
+        .spawn()
+        .unwrap()
+}
+
+/// Waits (at most a minute) until `results` holds a committed run while `child` runs.
+fn wait_for_first_commit(results: &Path, child: &mut Child) {
+    let started = Instant::now();
+    while !summary::read(results).is_ok_and(|t| !t.is_empty()) {
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
+        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+#[test]
+fn force_and_resume_are_refused_while_another_process_writes() {
+    let dir = runner_common::scratch("hard_force");
+    let study = write_study(&dir, STUDY);
+    let other = write_study(&runner_common::scratch("hard_force_other"), &STUDY.replace("steps = 4", "steps = 2"));
+    let out = dir.join("out");
+    let results = out.join("shared.h5");
+    let mut first = spawn_run(&study, &out, &[]);
+    wait_for_first_commit(&results, &mut first);
+    for (study, flag) in [(&other, "--force"), (&study, "--resume"), (&study, "--force")] {
+        let second = spawn_run(study, &out, &[flag]).wait_with_output().unwrap();
+        assert_eq!(second.status.code(), Some(1), "{flag}: {}", stderr(&second));
+        let expected = format!("is being written by another process (pid {} on ", first.id());
+        assert!(stderr(&second).contains(&expected), "{flag}: {}", stderr(&second));
+        assert!(stderr(&second).contains("then use --resume"), "{}", stderr(&second));
+        assert!(!stderr(&second).contains("HDF5_USE_FILE_LOCKING"), "no library text: {}", stderr(&second));
+    }
+    let first = first.wait_with_output().unwrap();
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    assert_eq!(summary::read(&results).unwrap().len(), RUNS, "the first study's file, whole");
+    let csv = std::fs::read_to_string(out.join("shared_summary.csv")).unwrap();
+    assert_eq!(csv.lines().count(), RUNS + 1, "the CSV is the same study's");
+}
+
+#[test]
+fn of_two_fresh_starts_at_once_exactly_one_writes() {
+    let dir = runner_common::scratch("hard_fresh");
+    let study = write_study(&dir, &STUDY.replace("replicates = 20", "replicates = 2"));
+    for trial in 0..4 {
+        let out = dir.join(format!("out{trial}"));
+        let children = [spawn_run(&study, &out, &[]), spawn_run(&study, &out, &[])];
+        let outputs: Vec<Output> = children.into_iter().map(|c| c.wait_with_output().unwrap()).collect();
+        let mut codes: Vec<Option<i32>> = outputs.iter().map(|o| o.status.code()).collect();
+        codes.sort();
+        assert_eq!(codes, [Some(0), Some(1)], "trial {trial}: {:?}", outputs.iter().map(stderr).collect::<Vec<_>>());
+        let refused = outputs.iter().find(|o| o.status.code() == Some(1)).unwrap();
+        let message = stderr(refused);
+        assert!(
+            message.contains("is being written by another process") || message.contains("results already exist"),
+            "{message}"
+        );
+        assert_eq!(summary::read(&out.join("shared.h5")).unwrap().len(), 8, "trial {trial}");
+    }
+}
+
+#[test]
+fn jobs_are_capped_by_the_runs_to_do() {
+    let dir = runner_common::scratch("hard_jobs");
+    let study = write_study(&dir, &STUDY.replace("replicates = 20", "").replace("steps = 4", "steps = 2"));
+    let (s, out) = (study.to_str().unwrap(), dir.join("out"));
+    let run = command(&["run", s, "--out", out.to_str().unwrap(), "--jobs", "100000"]).output().unwrap();
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(stderr(&run).contains("note: --jobs 100000 capped to 2 worker threads (2 runs to do)"), "{}", stderr(&run));
+}
+
+#[test]
+fn a_killed_merge_leaves_nothing_under_the_final_name() {
+    let dir = runner_common::scratch("hard_merge");
+    let study = write_study(&dir, STUDY);
+    let shards = dir.join("shards");
+    for k in ["1/2", "2/2"] {
+        let run = command(&["run", study.to_str().unwrap(), "--out", shards.to_str().unwrap(), "--shard", k])
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    }
+    let merged = dir.join("merged");
+    let results = merged.join("shared.h5");
+    let mut merge = command(&["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]).spawn().unwrap();
+    let started = Instant::now();
+    while !merged.join("shared.merging.h5").exists() && !results.exists() && merge.try_wait().unwrap().is_none() {
+        assert!(started.elapsed() < Duration::from_secs(60), "the merge wrote nothing within a minute");
+        std::thread::sleep(Duration::from_micros(200));
+    }
+    merge.kill().unwrap();
+    let killed = merge.wait().unwrap().code().is_none();
+    assert!(killed, "the merge ended before it could be killed: make the shards larger");
+    assert!(!results.exists(), "a partial merge under the final name");
+    let again = command(&["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]).output().unwrap();
+    assert_eq!(again.status.code(), Some(0), "{}", stderr(&again));
+    assert_eq!(summary::read(&results).unwrap().len(), RUNS);
+}
