@@ -141,3 +141,37 @@ fn a_killed_merge_leaves_nothing_under_the_final_name() {
     assert_eq!(again.status.code(), Some(0), "{}", stderr(&again));
     assert_eq!(summary::read(&results).unwrap().len(), RUNS);
 }
+
+/// 10 000 runs of one disk for 10 steps (well under a millisecond each): the writer is the bottleneck.
+const TINY_RUNS: &str = r#"name = "shared"
+[scene]
+particles.count = 1
+run.duration = 1e-3
+integrator.time_step = 1e-4
+[sweep]
+"material.friction" = { linear = [0.0, 1.0], steps = 10000 }
+"#;
+
+#[test]
+fn kill_9_loses_at_most_the_commit_interval_even_when_runs_are_tiny() {
+    use std::io::BufRead;
+    let dir = runner_common::scratch("hard_tiny_kill");
+    let study = write_study(&dir, TINY_RUNS);
+    let out = dir.join("out");
+    let (s, o) = (study.to_str().unwrap(), out.to_str().unwrap());
+    let mut child = command(&["run", s, "--out", o, "--jobs", "1", "--commit-interval", "0.1", "--progress", "lines"])
+        .spawn()
+        .unwrap();
+    // One line per finished run, printed before the run goes to the writer.
+    let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
+    let finished = 1000;
+    for k in 0..finished {
+        assert!(lines.next().is_some_and(|l| l.is_ok()), "the sweep ended after {k} runs");
+    }
+    std::thread::sleep(Duration::from_secs(4));
+    assert!(child.try_wait().unwrap().is_none(), "the sweep ended before the kill: make it longer");
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let committed = summary::read(&out.join("shared.h5")).expect("a killed sweep's file is valid").len();
+    assert!(committed >= finished, "{committed} of the {finished} runs finished 4 s before kill -9 were committed");
+}

@@ -47,8 +47,8 @@ pub struct RunArgs {
     /// Progress display.
     #[arg(long, value_enum, default_value_t = Progress::Auto)]
     progress: Progress,
-    /// Commit finished runs to the file at least this often (seconds; also after every 100 runs, and
-    /// never so often that committing takes over 3 % of the time).
+    /// Commit finished runs to the file at least this often (seconds; also after every 500 runs):
+    /// `kill -9` loses at most the runs of this interval and one commit.
     #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
     commit_interval: Duration,
 }

@@ -1,5 +1,5 @@
 //! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
-//! runs through a channel to one writer thread, progress, resume, shards and Ctrl-C.
+//! runs through a bounded channel to one writer thread, progress, resume, shards and Ctrl-C.
 //!
 //! Results do not depend on `jobs`: every simulation is single-threaded and deterministic, and the
 //! summary is sorted by run index whatever order runs finish in.
@@ -154,7 +154,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     }
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
-    let (sender, receiver) = mpsc::channel();
+    let (sender, receiver) = mpsc::sync_channel(jobs * sink::BACKLOG_PER_WORKER);
     let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     let warnings = view.finish();
@@ -283,7 +283,7 @@ fn run_all(
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
-    sender: mpsc::Sender<RunResult>,
+    sender: mpsc::SyncSender<RunResult>,
 ) -> Result<usize, RunnerError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
