@@ -239,6 +239,13 @@ pub fn main() -> ExitCode {
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
 /// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+    if demsweep::tune::is_tune_file(path) {
+        eprintln!(
+            "error: {0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
+            path.display()
+        );
+        return Err(ExitCode::from(INVALID_STUDY));
+    }
     let plan = study::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
-use super::errors::{ErrorSink, StudyError, StudyErrors};
+use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
 use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
 use crate::physics::SceneConfig;
@@ -102,12 +102,29 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
         match toml::Value::Table(tree_with(&path, value.clone())).try_into::<T>() {
             Ok(_) => set_path(&mut valid, &path, value.clone()).expect("leaves of a table do not collide"),
             Err(e) => {
+                let reason = explain::<T>(&path, e.message());
                 let full: KeyPath = std::iter::once(section.to_string()).chain(path).collect();
-                errors.push(file.error(doc.span(&full), dotted(&full), e.message()));
+                errors.push(file.error(doc.span(&full), dotted(&full), reason));
             }
         }
     }
     (valid, errors)
+}
+
+/// A deserializer's message about the value at `path` of a `T` in the study's words: a value of
+/// the wrong type for a choice lists the choices, Rust type names become what to write
+/// ([`plain_types`]).
+fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
+    if message.contains("unit variant") {
+        let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
+        if let Err(e) = probe.try_into::<T>() {
+            if let Some((_, choices)) = e.message().split_once("expected ").filter(|_| e.message().contains("variant"))
+            {
+                return format!("must be {choices} (a string in quotes)");
+            }
+        }
+    }
+    plain_types(message)
 }
 
 /// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
@@ -134,7 +151,7 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
         .iter()
         .filter_map(|v| {
             let tree = toml::Value::Table(tree_with(&axis.path, v.to_toml()));
-            tree.try_into::<SceneConfig>().err().map(|e| (v, e.message().to_string()))
+            tree.try_into::<SceneConfig>().err().map(|e| (v, explain::<SceneConfig>(&axis.path, e.message())))
         })
         .collect();
     if failures.len() == axis.values.len() && failures.iter().all(|(_, m)| *m == failures[0].1) {
@@ -300,8 +317,8 @@ impl<'a> Planner<'a> {
         if let Err(issues) = scene.validate() {
             return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
         }
-        if let Some(reason) = resources::memory_problem(scene) {
-            return Err(vec![self.problem(point, "particles.count", reason)]);
+        if let Some((key, reason)) = resources::memory_problem(scene) {
+            return Err(vec![self.problem(point, key, reason)]);
         }
         for (key, reason) in sampling_warnings(scene) {
             let warning = self.problem(point, key, reason);
