@@ -18,7 +18,8 @@ use std::time::Instant;
 
 use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::{Control, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::Control;
 
 fn reference_disks() -> Vec<InitialDisk> {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/deposition_300.csv"))

@@ -36,11 +36,11 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
             .collect();
     }
     let disks = demsweep::physics::placement::generate(s).expect("placement");
-    let mut sim = Simulation::new(s, &disks, HertzMindlin);
+    let mut sim = Simulation::<HertzMindlin>::new(s, &disks);
     for _ in 0..(settle / s.integrator.fixed_time_step().unwrap_or_default()).round() as u64 {
         sim.advance(false);
     }
-    let p = &sim.particles;
+    let p = sim.particles();
     let state: Vec<InitialDisk> = (0..p.len())
         .map(|i| InitialDisk { x: p.x[i], y: p.y[i], r: p.r[i], vx: p.vx[i], vy: p.vy[i], omega: p.omega[i] })
         .collect();
@@ -66,7 +66,7 @@ fn main() {
     let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("N SETTLE STEPS")).collect();
     let [n, settle, steps] = args[..] else { panic!("usage: settled_pile N SETTLE STEPS") };
     let s = scene(n as usize);
-    let mut sim = Simulation::new(&s, &settled(&s, settle), HertzMindlin);
+    let mut sim = Simulation::<HertzMindlin>::new(&s, &settled(&s, settle));
     let mut best = f64::INFINITY;
     for _ in 0..7 {
         let start = Instant::now();

@@ -3,10 +3,11 @@
 mod bench_common;
 
 use bench_common::*;
+use demsweep::bench::placed_disks;
 use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
-use demsweep::bench::{assess, placed_disks};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::config::IntegratorKind;
+use demsweep::physics::predict_stability as assess;
 
 fn small_scene() -> SceneConfig {
     let mut s = SceneConfig::default();

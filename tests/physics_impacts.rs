@@ -5,10 +5,11 @@ mod common;
 
 use common::*;
 use demsweep::physics::config::{ContactLawKind, IntegratorKind};
-use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
+use demsweep::physics::contact::{HertzMindlin, HystereticLinear, LinearSpringDashpot};
 use demsweep::physics::material::restitution_from_beta;
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::{Control, Simulation, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 const E: f64 = 1e7;
 const NU: f64 = 0.3;
@@ -28,12 +29,12 @@ fn two_disk_impact(scheme: IntegratorKind, dt: f64) -> (f64, f64, f64) {
         InitialDisk { x: 0.4, y: 0.5, r: R, vx: 0.5, ..Default::default() },
         InitialDisk { x: 0.4 + 2.0 * R + gap, y: 0.5, r: R, vx: -0.5, ..Default::default() },
     ];
-    let mut sim = Simulation::new(&scene, &disks, HertzMindlin);
+    let mut sim = Simulation::<HertzMindlin>::new(&scene, &disks);
     let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
     let mut separated_steps = 0;
     while separated_steps < 3 {
         sim.advance(false);
-        let p = &sim.particles;
+        let p = sim.particles();
         t.push(sim.time());
         overlap.push(2.0 * R - (p.x[1] - p.x[0]));
         if *overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0) {
@@ -41,7 +42,7 @@ fn two_disk_impact(scheme: IntegratorKind, dt: f64) -> (f64, f64, f64) {
         }
     }
     let (duration, max_overlap) = contact_of(&t, &overlap);
-    let p = &sim.particles;
+    let p = sim.particles();
     (duration, max_overlap, p.vx[1] - p.vx[0])
 }
 
@@ -120,15 +121,17 @@ fn linear_wall_impact(beta: f64, allow_tension: bool) -> (f64, f64) {
     scene.contact.allow_tension = allow_tension;
     let gap = 0.01 * R;
     let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
-    let law = LinearSpringDashpot { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_ratio: 0.8 };
-    let mut sim = Simulation::new(&scene, &disks, law);
+    scene.contact.law = ContactLawKind::Linear;
+    scene.contact.linear =
+        LinearSpringDashpot { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
+    let mut sim = Simulation::<LinearSpringDashpot>::new(&scene, &disks);
     let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
     while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
         sim.advance(false);
         t.push(sim.time());
-        overlap.push(R - sim.particles.y[0]);
+        overlap.push(R - sim.particles().y[0]);
     }
-    (sim.particles.vy[0], contact_of(&t, &overlap).0)
+    (sim.particles().vy[0], contact_of(&t, &overlap).0)
 }
 
 #[test]
@@ -187,12 +190,12 @@ fn rolling_friction_decelerates_a_rolling_disk_as_theory_says_and_stops_it() {
     scene.material.friction = 0.5;
     scene.material.rolling_friction = mu0;
     let disks = [InitialDisk { x: 0.5, y: R, r: R, vx: v0, omega: -v0 / R, ..Default::default() }];
-    let mut sim = Simulation::new(&scene, &disks, HertzMindlin);
+    let mut sim = Simulation::<HertzMindlin>::new(&scene, &disks);
     let mut advance_to = |time: f64| {
         while sim.time() < time {
             sim.advance(false);
         }
-        let p = &sim.particles;
+        let p = sim.particles();
         (p.x[0], p.vx[0], p.omega[0])
     };
     let (_, v1, _) = advance_to(0.05);
@@ -216,7 +219,7 @@ fn oblique_sliding_impact_matches_rigid_body_coulomb_theory() {
     for (scheme, (law, duration)) in SCHEMES.into_iter().flat_map(|scheme| cases.map(|case| (scheme, case))) {
         let mut scene = free_scene(E, scheme, duration / 100.0);
         scene.contact.law = law;
-        scene.contact.normal_stiffness = Some(LINEAR_STIFFNESS);
+        scene.contact.linear.normal_stiffness = Some(LINEAR_STIFFNESS);
         scene.material.friction = mu;
         scene.run.duration = 0.2 * R / vy0 + 3.0 * duration;
         let disks = vec![InitialDisk { x: 0.5, y: 1.1 * R, r: R, vx: vx0, vy: -vy0, ..Default::default() }];
@@ -233,4 +236,71 @@ fn oblique_sliding_impact_matches_rigid_body_coulomb_theory() {
         assert!(((s.vx[0] - vx_theory) / (vx0 - vx_theory)).abs() < 0.02);
         assert!(((s.omega[0] - omega_theory) / omega_theory).abs() < 0.02);
     }
+}
+
+/// A disk hitting the floor at 1 m/s (no gravity, no dashpot) under the hysteretic linear law with
+/// loading stiffness `LINEAR_STIFFNESS` and unloading ratio `ratio`, time step `dt`; returns
+/// (restitution, duration of the force) measured from per-step states.
+fn hysteretic_wall_impact(ratio: f64, dt: f64) -> (f64, f64) {
+    let mut scene = free_scene(E, IntegratorKind::VelocityVerlet, dt);
+    scene.material.beta = Some(0.0);
+    scene.material.friction = 0.0;
+    scene.contact.law = ContactLawKind::HystereticLinear;
+    scene.contact.hysteretic_linear = HystereticLinear {
+        loading_stiffness: Some(LINEAR_STIFFNESS),
+        unloading_stiffness_ratio: ratio,
+        ..Default::default()
+    };
+    let gap = 0.01 * R;
+    let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
+    let mut sim = Simulation::<HystereticLinear>::new(&scene, &disks);
+    // The force acts from first touch until the disk leaves its plastic dent (it moves at its
+    // rebound speed from then on: the speed changes no more).
+    let (mut first, mut last, mut previous) = (None, 0.0, -1.0);
+    while sim.time() < 1.0 {
+        sim.advance(false);
+        let vy = sim.particles().vy[0];
+        if vy != previous {
+            first.get_or_insert(sim.time() - dt);
+            last = sim.time();
+        } else if first.is_some() {
+            break;
+        }
+        previous = vy;
+    }
+    (sim.particles().vy[0], last - first.expect("an impact"))
+}
+
+#[test]
+fn hysteretic_law_rebounds_with_the_root_of_its_stiffness_ratio() {
+    let m = disk_mass(R);
+    for ratio in [1.0, 4.0, 16.0] {
+        let k2 = LINEAR_STIFFNESS * ratio;
+        let duration = 0.5 * std::f64::consts::PI * ((m / LINEAR_STIFFNESS).sqrt() + (m / k2).sqrt());
+        let dt = duration / 2000.0;
+        let (restitution, measured) = hysteretic_wall_impact(ratio, dt);
+        let expected = 1.0 / ratio.sqrt();
+        println!(
+            "k2/k1 = {ratio}: e = {restitution:.5} (theory {expected:.5}), contact {measured:.4e} s (theory {duration:.4e})"
+        );
+        assert!((restitution - expected).abs() < 2e-3, "restitution {restitution} against {expected}");
+        assert!((measured - duration).abs() < 4.0 * dt, "duration {measured} against {duration}");
+    }
+}
+
+#[test]
+fn hysteretic_law_keeps_its_energy_balance_in_a_pile() {
+    // A small deposition: the plastic work is part of the dissipated energy, so the balance closes.
+    let mut scene = demsweep::physics::SceneConfig::default();
+    scene.particles.count = 60;
+    scene.domain.width = 0.2;
+    scene.contact.law = ContactLawKind::HystereticLinear;
+    scene.integrator.contact_time_fraction = Some(0.02);
+    scene.run.duration = 0.6;
+    scene.run.stop_at_settle = false;
+    let rec = run_scene(&scene, None, &mut |_| Control::Continue).unwrap();
+    let worst = largest_balance_error(&rec.history);
+    let dissipated = *rec.history.dissipated.last().unwrap();
+    println!("hysteretic pile: {:?}, balance error {worst:.3e} J of {dissipated:.3e} J dissipated", rec.status);
+    assert!(dissipated > 0.0 && worst < 0.01 * dissipated, "balance off by {worst} J of {dissipated} J");
 }

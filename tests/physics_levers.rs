@@ -8,7 +8,8 @@ use common::{SCHEMES, free_scene, reference_disks, reference_scene};
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
 use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::{Control, Simulation, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 const G: f64 = 9.81;
 
@@ -22,22 +23,22 @@ fn oscillator(scheme: IntegratorKind, alpha: f64) -> Simulation<LinearSpringDash
     let mut s = free_scene(1e9, scheme, 2.0 * std::f64::consts::PI / omega / 4000.0);
     s.gravity = [0.0, -G];
     s.contact.law = ContactLawKind::Linear;
-    s.contact.normal_stiffness = Some(k);
+    s.contact.linear = LinearSpringDashpot { normal_stiffness: Some(k), tangential_stiffness_ratio: 0.0 };
     s.damping.local = alpha;
     // Amplitude a third of the static overlap: the contact never opens.
     let speed = omega * static_overlap / 3.0;
     let disk = InitialDisk { x: 0.5, y: r - static_overlap, r, vy: speed, ..Default::default() };
-    Simulation::new(&s, &[disk], LinearSpringDashpot { normal_stiffness: Some(k), tangential_ratio: 0.0 })
+    Simulation::new(&s, &[disk])
 }
 
 /// Successive extremes of the displacement from equilibrium (absolute values), refined by a parabola.
 fn half_cycle_amplitudes(mut sim: Simulation<LinearSpringDashpot>, count: usize) -> Vec<f64> {
-    let equilibrium = sim.particles.y[0];
+    let equilibrium = sim.particles().y[0];
     let mut trace = vec![0.0, 0.0];
     let mut amplitudes = Vec::new();
     while amplitudes.len() < count {
         sim.advance(false);
-        trace.push(sim.particles.y[0] - equilibrium);
+        trace.push(sim.particles().y[0] - equilibrium);
         let n = trace.len();
         let (a, b, c) = (trace[n - 3], trace[n - 2], trace[n - 1]);
         if n > 3 && (b - a) * (c - b) < 0.0 {
@@ -72,11 +73,11 @@ fn free_fall(scheme: IntegratorKind, configure: impl Fn(&mut SceneConfig), durat
     s.domain.height = 10.0;
     configure(&mut s);
     let disk = InitialDisk { x: 0.5, y: 9.0, r: 0.01, ..Default::default() };
-    let mut sim = Simulation::new(&s, &[disk], HertzMindlin);
+    let mut sim = Simulation::<HertzMindlin>::new(&s, &[disk]);
     while sim.time() < duration - 1e-9 {
         sim.advance(false);
     }
-    (sim.time(), -sim.particles.vy[0])
+    (sim.time(), -sim.particles().vy[0])
 }
 
 #[test]
@@ -133,8 +134,8 @@ fn stability_estimate_counts_the_viscous_rate() {
     let mut viscous = base.clone();
     viscous.damping.viscous = 60_000.0;
     let disks = reference_disks();
-    let plain = Simulation::new(&base, &disks, HertzMindlin).stability();
-    let damped = Simulation::new(&viscous, &disks, HertzMindlin).stability();
+    let plain = Simulation::<HertzMindlin>::new(&base, &disks).stability();
+    let damped = Simulation::<HertzMindlin>::new(&viscous, &disks).stability();
     assert!((damped.damping_rate - plain.damping_rate - 60_000.0).abs() < 1e-6 * damped.damping_rate);
     assert!(plain.warnings.iter().all(|w| !w.contains("damping rate")), "{:?}", plain.warnings);
     assert!(damped.warnings.iter().any(|w| w.contains("damping.viscous")), "{:?}", damped.warnings);

@@ -7,7 +7,8 @@ use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::contact::HertzMindlin;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::pile::{Partner, fabric};
-use demsweep::physics::simulation::{Control, Simulation, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::{Control, Simulation};
 
 /// A scene without gravity whose disks are given in memory, in a `width` x `height` box.
 fn static_scene(width: f64, height: f64) -> SceneConfig {
@@ -38,7 +39,7 @@ fn hexagonal_lattice_has_the_close_packed_fraction_and_six_contacts_inside() {
     let (r, columns, rows) = (0.01, 80, 90);
     let disks = hexagonal_lattice(r, columns, rows);
     let width = 2.0 * r * (columns as f64 + 0.5);
-    let sim = Simulation::new(&static_scene(width, 3.0), &disks, HertzMindlin);
+    let sim = Simulation::<HertzMindlin>::new(&static_scene(width, 3.0), &disks);
     let metrics = sim.pile_metrics();
     let close_packed = std::f64::consts::PI / (2.0 * 3f64.sqrt());
     println!("interior packing fraction {:.6} (hexagonal {close_packed:.6})", metrics.packing_fraction_interior);
@@ -76,7 +77,7 @@ fn hexagonal_patch_is_isotropic() {
             ..Default::default()
         })
         .collect();
-    let sim = Simulation::new(&static_scene(1.0, 1.0), &disks, HertzMindlin);
+    let sim = Simulation::<HertzMindlin>::new(&static_scene(1.0, 1.0), &disks);
     let contacts = sim.contacts();
     assert_eq!(disks.len(), (3 * rings * rings + 3 * rings + 1) as usize);
     assert_eq!(contacts.len(), (3 * (3 * rings * rings + rings)) as usize, "bonds of a hexagon of {rings} rings");
@@ -97,7 +98,7 @@ fn a_chain_of_disks_has_anisotropy_two_along_its_line() {
             ..Default::default()
         })
         .collect();
-    let metrics = Simulation::new(&static_scene(1.0, 1.0), &disks, HertzMindlin).pile_metrics();
+    let metrics = Simulation::<HertzMindlin>::new(&static_scene(1.0, 1.0), &disks).pile_metrics();
     assert!((metrics.fabric_anisotropy - 2.0).abs() < 1e-9, "{}", metrics.fabric_anisotropy);
     assert!((metrics.fabric_direction - angle).abs() < 1e-9, "{}", metrics.fabric_direction);
     assert!((metrics.coordination_number - 2.0 * 11.0 / 12.0).abs() < 1e-12);

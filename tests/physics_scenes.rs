@@ -6,7 +6,8 @@ mod common;
 use common::*;
 use demsweep::physics::config::{BroadPhaseKind, IntegratorKind, SceneConfig};
 use demsweep::physics::record::{RunRecord, RunStatus};
-use demsweep::physics::simulation::{Control, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::Control;
 
 fn run(scene: &SceneConfig, disks: Option<Vec<demsweep::physics::particles::InitialDisk>>) -> RunRecord {
     run_scene(scene, disks, &mut |_| Control::Continue).unwrap()
@@ -140,12 +141,8 @@ fn strong_damping_with_friction_creates_no_energy() {
     s.material.friction = 0.5;
     s.run.duration = 0.4;
     s.run.stop_at_settle = false;
-    let probe = demsweep::physics::simulation::Simulation::new(
-        &s,
-        &demsweep::physics::placement::generate(&s).unwrap(),
-        demsweep::physics::contact::HertzMindlin,
-    );
-    s.integrator.time_step = Some(probe.stability().safe_time_step);
+    let disks = demsweep::physics::placement::generate(&s).unwrap();
+    s.integrator.time_step = Some(demsweep::physics::predict_stability(&s, &disks).safe_time_step);
     let rec = run(&s, None);
     assert_ne!(rec.status, RunStatus::Diverged, "{:?}", rec.message);
     let h = &rec.history;

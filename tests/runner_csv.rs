@@ -114,7 +114,7 @@ fn points_csv_and_the_points_group_agree() {
     let plan = runner_common::sweep("points", 8);
     let report = run_plan(&plan, &runner_common::options(&runner_common::scratch("points"), 2)).unwrap();
     assert!(report.points_csv.ends_with("points_points.csv"));
-    let stored = demsweep::output::summary::read_points(&report.results).unwrap();
+    let stored = demsweep::stats::points::read(&report.results).unwrap();
     assert_eq!(stored, report.points);
     assert_eq!(stored, demsweep::stats::points::Points::new(&report.summary).table());
     assert_eq!(stored.len(), 4);

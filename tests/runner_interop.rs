@@ -11,7 +11,8 @@ use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;
 use demsweep::physics::material::{Elastic, Materials, restitution_from_beta};
 use demsweep::physics::pile::PILE_METRIC_NAMES;
-use demsweep::physics::simulation::{Control, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::Control;
 use demsweep::study::{ParamValue, Plan, PlannedRun};
 use serde_json::{Map, Value, json};
 

@@ -5,8 +5,8 @@ mod runner_common;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
-use demsweep::output::{ShardSpec, history, merge, summary};
-use demsweep::runner::run_plan;
+use demsweep::output::{ShardSpec, history, summary};
+use demsweep::runner::{merge, run_plan};
 use demsweep::study::Plan;
 
 fn run_shard(plan: &Plan, dir: &Path, k: usize, n: usize) -> PathBuf {

@@ -5,6 +5,7 @@ use demsweep::output::SummaryRow;
 use demsweep::output::SummaryTable;
 use demsweep::output::row::FINAL_VALUE_NAMES;
 use demsweep::output::table::ColumnData;
+use demsweep::physics::RunStatus;
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::Points;
 use demsweep::stats::{Decision, equivalence, ratio_interval, student_t_quantile};
@@ -25,7 +26,7 @@ fn row(index: usize, e: f64, seed: i64, settle: Option<f64>, packing: f64, steps
         ("placement.seed".to_string(), ParamValue::Int(seed)),
     ];
     let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
-    row.status = if settle.is_some() { "settled" } else { "not_settled" }.to_string();
+    row.status = if settle.is_some() { RunStatus::Settled } else { RunStatus::NotSettled };
     row.message.clear();
     row.settle_time = settle;
     row.steps = steps;

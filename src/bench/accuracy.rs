@@ -253,8 +253,8 @@ fn binary_impact(scene: &SceneConfig, speed: f64) -> Observables {
         InitialDisk { x: 0.4, y: 0.5, r, vx: 0.5 * speed, ..Default::default() },
         InitialDisk { x: 0.4 + 2.0 * r + gap, y: 0.5, r, vx: -0.5 * speed, ..Default::default() },
     ];
-    let mut sim = Simulation::new(scene, &disks, HertzMindlin);
-    let overlap_now = |sim: &Simulation<HertzMindlin>| 2.0 * r - (sim.particles.x[1] - sim.particles.x[0]);
+    let mut sim = Simulation::<HertzMindlin>::new(scene, &disks);
+    let overlap_now = |sim: &Simulation<HertzMindlin>| 2.0 * r - (sim.particles().x[1] - sim.particles().x[0]);
     let mut overlaps = vec![(0.0, -gap)];
     while overlaps.last().is_some_and(|(_, d)| *d <= 0.0) || overlaps.iter().all(|(_, d)| *d <= 0.0) {
         sim.advance(false);
@@ -267,7 +267,7 @@ fn binary_impact(scene: &SceneConfig, speed: f64) -> Observables {
     }
     let end = overlaps.len() - 1;
     let duration = zero_crossing(&overlaps, end) - zero_crossing(&overlaps, start);
-    let rebound = sim.particles.vx[1] - sim.particles.vx[0];
+    let rebound = sim.particles().vx[1] - sim.particles().vx[0];
     vec![
         ("contact_duration", duration),
         ("max_overlap", refined_peak(&overlaps[start - 1..=end])),
@@ -333,7 +333,7 @@ const CHAOS_COPIES: usize = 3;
 fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Observables), String> {
     let mut scene = deposition_scene(options);
     let disks = placed_disks(&scene)?;
-    let contact_time = super::assess(&scene, &disks).contact_time;
+    let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
     let width = scene.domain.width;
     let observe = |scene: &SceneConfig, disks: &[InitialDisk]| -> Result<(Observables, f64), String> {
         let (rec, seconds) = timed(|| super::run(scene, disks));

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
-use super::{CsvRow, SCHEMES, markdown_table, placed_disks, quoted, ratio_grid, scheme_name, write_csv, write_file};
+use super::{CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, scheme_name, write_csv, write_file};
 use crate::physics::RunStatus;
 use crate::physics::config::{IntegratorKind, SceneConfig};
 use crate::physics::material::restitution_from_beta;
@@ -163,8 +163,8 @@ impl CsvRow for MapRow {
             self.status.as_str().into(),
             self.failure().into(),
             format!("{:.5}", self.simulated_time),
-            quoted(&self.message),
-            quoted(&self.warnings),
+            self.message.clone(),
+            self.warnings.clone(),
         ]
     }
 }
@@ -241,7 +241,7 @@ fn columns(o: &StabilityMapOptions) -> Vec<Column> {
 fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapRow>, String> {
     let mut scene = map_scene(options, column);
     let disks = placed_disks(&scene)?;
-    let contact_time = super::assess(&scene, &disks).contact_time;
+    let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
     let mut rows: Vec<MapRow> = Vec::new();
     let mut stable_below = 0;
     for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::skipping::friction_rows;
-use super::{CsvRow, markdown_table, placed_disks, quoted, timed, write_csv, write_file};
+use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::{PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
@@ -96,9 +96,9 @@ impl CsvRow for StressRow {
             self.outcome.as_str().into(),
             self.as_expected().to_string(),
             format!("{:.3}", self.run_time),
-            quoted(&self.message),
-            quoted(&self.warnings.join(" | ")),
-            quoted(&self.note),
+            self.message.clone(),
+            self.warnings.join(" | "),
+            self.note.clone(),
         ]
     }
 }
@@ -248,7 +248,7 @@ fn beta_50_frictionless_safe_dt(options: &StressOptions) -> Report {
         Ok(d) => d,
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
     };
-    s.integrator.time_step = Some(super::assess(&s, &disks).safe_time_step);
+    s.integrator.time_step = Some(crate::physics::predict_stability(&s, &disks).safe_time_step);
     report(
         super::run(&s, &disks),
         format!("time step {:.3e} s (the predicted safe step)", s.integrator.fixed_time_step().unwrap_or_default()),
@@ -295,7 +295,7 @@ fn large(options: &StressOptions) -> Report {
         Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
     };
     let before = resident_memory();
-    let sim = Simulation::new(&s, &disks, HertzMindlin);
+    let sim = Simulation::<HertzMindlin>::new(&s, &disks);
     let memory = resident_memory().zip(before).map(|(after, before)| after.saturating_sub(before));
     let (rec, seconds) = timed(|| sim.run(&mut |_| crate::physics::Control::Continue));
     let per_step = seconds / rec.steps.max(1) as f64;

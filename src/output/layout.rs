@@ -7,7 +7,7 @@
 //!     final                compound table, one field per disk property, one row per disk (attr `time`)
 //!     frames/<k>           the same table for recorded frame k = 0, 1, … (attribute `time`)
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
-//!                          `jobs`, `wall_time` of the last sweep: see `writer::SWEEP_JOBS`)
+//!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`])
 //! ```
 
 use std::collections::HashMap;
@@ -18,7 +18,7 @@ use super::compound::Field;
 use super::row::{FINAL_VALUE_NAMES, SummaryRow};
 use crate::physics::SceneConfig;
 use crate::physics::material::{Elastic, Materials, restitution_from_beta};
-use crate::physics::record::{History, Snapshot};
+use crate::physics::record::{History, RunStatus, Snapshot};
 use crate::study::ParamValue;
 
 /// Runs per bucket group under `/runs`.
@@ -31,6 +31,11 @@ pub const SUMMARY: &str = "summary";
 pub const POINTS: &str = "points";
 /// Attribute of `/summary` and `/points` listing the column names in order.
 pub const SUMMARY_COLUMNS: &str = "columns";
+/// Attributes of `/summary` saying how the last sweep into the file ran: its worker threads and
+/// its wall time (s) from start to finish.
+pub const SWEEP_JOBS: &str = "jobs";
+/// See [`SWEEP_JOBS`].
+pub const SWEEP_WALL_TIME: &str = "wall_time";
 /// History series names: the fields of the `history` table.
 pub const HISTORY_SERIES: [&str; 12] = [
     "t",
@@ -109,7 +114,7 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValu
     let mut attrs: Vec<(String, AttrValue)> = vec![
         (INDEX.into(), AttrValue::I64(row.index as i64)),
         (ID.into(), AttrValue::String(row.id.clone())),
-        (STATUS.into(), AttrValue::String(row.status.clone())),
+        (STATUS.into(), AttrValue::String(row.status.as_str().to_string())),
         (MESSAGE.into(), AttrValue::String(row.message.clone())),
         (WARNING_COUNT.into(), AttrValue::I64(row.warnings.len() as i64)),
         (SETTLE_TIME.into(), AttrValue::F64(row.settle_time.unwrap_or(f64::NAN))),
@@ -209,11 +214,13 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
         None => steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
     };
     let settle = float(SETTLE_TIME)?;
+    let status = text(STATUS)?;
+    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
     Ok(SummaryRow {
         index: int(INDEX)? as usize,
         id: text(ID)?,
         parameters,
-        status: text(STATUS)?,
+        status,
         message: text(MESSAGE)?,
         warnings: attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default(),
         settle_time: (!settle.is_nan()).then_some(settle),

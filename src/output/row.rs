@@ -2,11 +2,8 @@
 //! CSV summary are built from.
 
 use crate::physics::pile::PILE_METRIC_NAMES;
-use crate::physics::record::RunRecord;
+use crate::physics::record::{RunRecord, RunStatus};
 use crate::study::ParamValue;
-
-/// Status of a run that never produced a record (the scene could not be built, or the run panicked).
-pub const STATUS_ERROR: &str = "error";
 
 /// One run's summary: identity, swept parameters, outcome and final values.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,8 +14,8 @@ pub struct SummaryRow {
     pub id: String,
     /// Swept key paths and values, in axis order.
     pub parameters: Vec<(String, ParamValue)>,
-    /// `settled`, `not_settled`, `diverged` or `error`.
-    pub status: String,
+    /// How the run ended: one of [`RunStatus::RECORDED`].
+    pub status: RunStatus,
     /// Why the run diverged or failed; empty otherwise.
     pub message: String,
     /// Validity warnings.
@@ -97,7 +94,7 @@ impl SummaryRow {
             index,
             id: id.to_string(),
             parameters: parameters.to_vec(),
-            status: record.status.as_str().to_string(),
+            status: record.status,
             message: record.message.clone().unwrap_or_default(),
             warnings: record.warnings.clone(),
             settle_time: record.settle_time,
@@ -115,7 +112,7 @@ impl SummaryRow {
             index,
             id: id.to_string(),
             parameters: parameters.to_vec(),
-            status: STATUS_ERROR.to_string(),
+            status: RunStatus::Error,
             message: message.to_string(),
             warnings: Vec::new(),
             settle_time: None,
@@ -129,6 +126,6 @@ impl SummaryRow {
 
     /// Whether the run finished (settled, not settled or diverged), as opposed to failing.
     pub fn is_finished(&self) -> bool {
-        self.status != STATUS_ERROR
+        self.status != RunStatus::Error
     }
 }

@@ -75,7 +75,17 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
     let time = time.ok_or("no `time` attribute")?;
     let table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
     let [x, y, vx, vy, omega, r, contact_force] = STATE_FIELDS.map(|name| floats(&table, name));
-    Ok(Snapshot { time, x: x?, y: y?, vx: vx?, vy: vy?, omega: omega?, r: r?, contact_force: contact_force? })
+    Ok(Snapshot {
+        time,
+        x: x?,
+        y: y?,
+        vx: vx?,
+        vy: vy?,
+        omega: omega?,
+        r: r?,
+        contact_force: contact_force?,
+        ..Default::default()
+    })
 }
 
 /// The history series from the columns of a `history` table.

@@ -13,12 +13,6 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
     reader::summary(&file, path)
 }
 
-/// Reads the per-point statistics of a results file (see [`reader::points`]).
-pub fn read_points(path: &Path) -> Result<SummaryTable, OutputError> {
-    let file = reader::open(path)?;
-    reader::points(&file, path)
-}
-
 /// Writes a table (the summary or the points) as a CSV file (header line, RFC 4180 quoting, missing values empty).
 pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
     let file = fs::File::create(path).map_err(|e| OutputError::io(path, e))?;

@@ -142,7 +142,7 @@ impl SummaryTable {
         let mut columns = vec![column("run_id", texts(&|r| r.id.clone())), column("index", ints(&|r| r.index as i64))];
         columns.extend(parameter_columns(&rows));
         columns.extend([
-            column("status", texts(&|r| r.status.clone())),
+            column("status", texts(&|r| r.status.as_str().to_string())),
             column("settle_time", floats(&|r| r.settle_time.unwrap_or(f64::NAN))),
             column("steps", ints(&|r| r.steps as i64)),
             column("particle_steps", ints(&|r| r.particle_steps as i64)),

@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::contact::{ContactConfig, ContactLawKind};
+
 /// One simulation's complete input. Every field has a default (see [`Default`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -135,30 +137,6 @@ pub struct WallMaterialConfig {
     pub friction: Option<f64>,
     /// Rolling friction of disk-wall contacts.
     pub rolling_friction: Option<f64>,
-}
-
-/// Which contact force law.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactLawKind {
-    /// The paper's Hertz-Mindlin law with the spec's fixes.
-    HertzMindlin,
-    /// Linear spring-dashpot (Cundall-Strack) with Coulomb friction.
-    Linear,
-}
-
-/// Contact law options.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ContactConfig {
-    /// The force law.
-    pub law: ContactLawKind,
-    /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
-    pub allow_tension: bool,
-    /// Linear law: normal stiffness (N/m); default: the Hertz secant stiffness at 1 % overlap.
-    pub normal_stiffness: Option<f64>,
-    /// Linear law: tangential stiffness as a fraction of the normal stiffness.
-    pub tangential_stiffness_ratio: f64,
 }
 
 /// Time integration scheme.
@@ -344,17 +322,6 @@ impl Default for MaterialConfig {
             restitution: None,
             friction: 0.5,
             rolling_friction: 0.0,
-        }
-    }
-}
-
-impl Default for ContactConfig {
-    fn default() -> Self {
-        Self {
-            law: ContactLawKind::HertzMindlin,
-            allow_tension: false,
-            normal_stiffness: None,
-            tangential_stiffness_ratio: 2.0 / 7.0,
         }
     }
 }
@@ -577,10 +544,9 @@ impl SceneConfig {
         if let Some(f) = w.rolling_friction {
             c.non_negative("wall_material.rolling_friction", f);
         }
-        if let Some(k) = self.contact.normal_stiffness {
-            c.positive("contact.normal_stiffness", k);
+        for (key, reason) in self.contact.problems() {
+            c.fail(&key, reason);
         }
-        c.non_negative("contact.tangential_stiffness_ratio", self.contact.tangential_stiffness_ratio);
     }
 
     fn check_time(&self, c: &mut Checker) {

@@ -30,6 +30,23 @@ use super::particles::{Forces, State};
 use super::walls::Wall;
 use std::ops::Range;
 
+/// Whether a law's contact state takes memory (a law without state has `S = ()`: every use of it is
+/// compiled out, bounds checks included).
+#[inline(always)]
+const fn stateful<S>() -> bool {
+    std::mem::size_of::<S>() != 0
+}
+
+/// The law states `range` of `states`; none for a law without state (so that its loops carry no
+/// slice at all).
+#[inline(always)]
+fn states_of<S>(states: &mut [S], range: Range<usize>) -> &mut [S] {
+    if stateful::<S>() { &mut states[range] } else { &mut [] }
+}
+
+/// The tangential springs and law states of a run of candidates.
+type Histories<'a, S> = (&'a mut [f64], &'a mut [S]);
+
 /// Candidates per block: the block's table of touching pairs stays in the L1 cache.
 const BLOCK: usize = 128;
 
@@ -46,9 +63,9 @@ const SPARSE_BLOCK: u8 = 16;
 /// Fewest disk-wall candidates evaluated together (see `TouchingPairs::contacts`).
 const WALL_BATCH: usize = 64;
 
-/// What all contacts of one kind (disk-disk or disk-wall) share.
+/// What all contacts of one class (disk-disk or disk-wall) share.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactKind {
+pub struct ContactParameters {
     /// Material constants of the contact.
     pub material: ContactMaterial,
     /// Law-independent options (tension, tangential forces, μ).
@@ -59,37 +76,61 @@ pub struct ContactKind {
     pub dt: f64,
 }
 
-impl ContactKind {
-    fn pair_properties(&self, r_star: f64, m_star: f64) -> PairProperties {
+impl ContactParameters {
+    /// The effective properties of a contact of this kind with `R*` and `m*`.
+    #[inline(always)]
+    pub(super) fn pair_properties(&self, r_star: f64, m_star: f64) -> PairProperties {
         let m = &self.material;
         PairProperties { e_star: m.e_star, g_star: m.g_star, r_star, m_star, beta: m.beta }
     }
 
-    /// Resolves one contact from its coefficients and relative motion, updating its `spring`.
-    #[inline(always)]
-    fn resolve(&self, c: &Coefficients, k: &Kinematics, spring: &mut f64) -> ContactForce {
-        contact::resolve(c, &self.options, k, spring, self.dt)
-    }
-
-    /// The force of one contact of effective radius `r_star` and mass `m_star` (one at a time, for
-    /// measuring a state; the step evaluates contacts in blocks). Leaves the spring as it was.
-    pub fn force_of<L: ContactLaw>(
+    /// The force of one contact of effective radius and mass `(R*, m*)` with `motion`, from its
+    /// history (spring, law state) before the step, as the block stages compute it.
+    pub(super) fn force_of<L: ContactLaw>(
         &self,
         law: &L,
-        r_star: f64,
-        m_star: f64,
+        (r_star, m_star): (f64, f64),
         motion: &Kinematics,
-        spring: f64,
+        (mut spring, mut state): (f64, L::State),
     ) -> ContactForce {
-        let coefficients = law.coefficients(&self.pair_properties(r_star, m_star), motion.overlap);
-        self.resolve(&coefficients, motion, &mut spring.clone())
+        let coefficients = law.coefficients(&self.pair_properties(r_star, m_star), motion.overlap, &mut state);
+        self.resolve(&coefficients, motion, &mut spring)
+    }
+
+    /// Resolves one contact from its coefficients and relative motion, updating its `spring`.
+    #[inline(always)]
+    pub(super) fn resolve(&self, c: &Coefficients, k: &Kinematics, spring: &mut f64) -> ContactForce {
+        contact::resolve(c, &self.options, k, spring, self.dt)
+    }
+}
+
+/// Unit normal from centre i to centre j and overlap of two disks `(dx, dy) = x_j − x_i` apart
+/// (coincident centres: any unit normal will do). Shared by the block loops and the one-contact
+/// evaluation, so that both compute the same bits.
+#[inline(always)]
+pub(super) fn unit_normal_and_overlap(dx: f64, dy: f64, ri: f64, rj: f64) -> ([f64; 2], f64) {
+    let d = (dx * dx + dy * dy).sqrt();
+    let inv_d = 1.0 / d;
+    let unit = if d > 0.0 { [dx * inv_d, dy * inv_d] } else { [1.0, 0.0] };
+    (unit, (ri + rj) - d)
+}
+
+/// Relative motion of a contact with unit normal `n`, `v_i − v_j` = `dv` and spin terms
+/// `ω_i r_i`, `ω_j r_j` (conventions of [`super::contact`]).
+#[inline(always)]
+pub(super) fn relative_motion(overlap: f64, n: [f64; 2], dv: [f64; 2], spin: [f64; 2]) -> Kinematics {
+    let ([nx, ny], [dvx, dvy]) = (n, dv);
+    Kinematics {
+        overlap,
+        approach_speed: dvx * nx + dvy * ny,
+        tangential_speed: -dvx * ny + dvy * nx + spin[0] + spin[1],
     }
 }
 
 /// The touching pairs of one block, one array per quantity. Fixed-size arrays: indexing them all
 /// with one row number costs one bounds check.
 #[derive(Clone, Debug)]
-pub struct TouchingPairs {
+pub struct TouchingPairs<S> {
     len: usize,
     /// Touching pairs of each block at the previous step (a hint for the narrow phase).
     touching_before: Vec<u8>,
@@ -112,6 +153,8 @@ pub struct TouchingPairs {
     spin_j: [f64; BLOCK],
     /// Tangential spring, before and after the step.
     spring: [f64; BLOCK],
+    /// The law's contact state, before and after the step.
+    state: [S; BLOCK],
     // Computed by the vector stage.
     /// Unit normal from disk i to disk j.
     unit_x: [f64; BLOCK],
@@ -133,7 +176,7 @@ pub struct TouchingPairs {
     tangential_stiffness: [f64; BLOCK],
 }
 
-impl Default for TouchingPairs {
+impl<S: Copy + Default> Default for TouchingPairs<S> {
     fn default() -> Self {
         let (index, column) = ([0; BLOCK], [0.0; BLOCK]);
         Self {
@@ -153,6 +196,7 @@ impl Default for TouchingPairs {
             spin_i: column,
             spin_j: column,
             spring: column,
+            state: [S::default(); BLOCK],
             unit_x: column,
             unit_y: column,
             elastic: column,
@@ -170,7 +214,7 @@ impl Default for TouchingPairs {
     }
 }
 
-impl TouchingPairs {
+impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
     /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
     /// contact sums to `totals`.
@@ -181,12 +225,12 @@ impl TouchingPairs {
     /// just done: in large scenes, a separate pass over the disks at the walls (one in every dozen
     /// or so in a wide pile) would fetch each of them from memory again.
     #[allow(clippy::too_many_arguments)]
-    pub fn contacts<L: ContactLaw, const SAMPLE: bool>(
+    pub fn contacts<L: ContactLaw<State = S>, const SAMPLE: bool>(
         &mut self,
         law: &L,
-        kinds: [&ContactKind; 2],
-        pairs: &mut Candidates<NeighborPair>,
-        walls: (&[Wall], &mut Candidates<WallPair>),
+        kinds: [&ContactParameters; 2],
+        pairs: &mut Candidates<NeighborPair, S>,
+        walls: (&[Wall], &mut Candidates<WallPair, S>),
         s: &State<'_>,
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
@@ -200,7 +244,8 @@ impl TouchingPairs {
         let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
         self.touching_before.resize(pairs.entries.len().div_ceil(BLOCK), 0);
         let blocks = pairs.entries.chunks(BLOCK).zip(pairs.springs.chunks_mut(BLOCK));
-        for (b, (block, block_springs)) in blocks.enumerate() {
+        for (b, (block, springs)) in blocks.enumerate() {
+            let states = states_of(&mut pairs.states, b * BLOCK..b * BLOCK + block.len());
             let below = block[0].i;
             ready += wall_candidates.entries[ready..].iter().take_while(|c| c.i < below).count();
             if ready - done >= WALL_BATCH {
@@ -208,13 +253,13 @@ impl TouchingPairs {
                 done = ready;
             }
             if short || self.touching_before[b] < SPARSE_BLOCK {
-                self.collect::<true>(s, block, block_springs);
+                self.collect::<true>(s, block, (springs, states));
             } else {
-                self.collect::<false>(s, block, block_springs);
+                self.collect::<false>(s, block, (springs, states));
             }
             self.touching_before[b] = self.len as u8; // at most BLOCK = 128
             self.compute_forces::<L, true>(law, disk_kind);
-            self.scatter::<L, SAMPLE, true>(law, disk_kind, block_springs, f, totals);
+            self.scatter::<L, SAMPLE, true>(law, disk_kind, (springs, states), f, totals);
         }
         let all = done..wall_candidates.entries.len();
         self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, all, s, f, totals);
@@ -223,31 +268,34 @@ impl TouchingPairs {
     /// Adds the disk-wall contacts of the candidates in `range` (and with `SAMPLE`, their contact
     /// sums to `totals`), through the same table and vector loops as the disk pairs, `BLOCK` at a time.
     #[allow(clippy::too_many_arguments)]
-    fn wall_contacts<L: ContactLaw, const SAMPLE: bool>(
+    fn wall_contacts<L: ContactLaw<State = S>, const SAMPLE: bool>(
         &mut self,
         law: &L,
-        kind: &ContactKind,
+        kind: &ContactParameters,
         walls: &[Wall],
-        candidates: &mut Candidates<WallPair>,
+        candidates: &mut Candidates<WallPair, S>,
         range: Range<usize>,
         s: &State<'_>,
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        let (entries, springs) = (&candidates.entries[range.clone()], &mut candidates.springs[range]);
-        for (chunk, chunk_springs) in entries.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)) {
-            self.collect_walls(s, walls, chunk, chunk_springs);
+        let (entries, springs) = (&candidates.entries[range.clone()], &mut candidates.springs[range.clone()]);
+        for (k, (chunk, springs)) in entries.chunks(BLOCK).zip(springs.chunks_mut(BLOCK)).enumerate() {
+            let first = range.start + k * BLOCK;
+            let states = states_of(&mut candidates.states, first..first + chunk.len());
+            self.collect_walls(s, walls, chunk, (springs, states));
             self.compute_forces::<L, false>(law, kind);
-            self.scatter::<L, SAMPLE, false>(law, kind, chunk_springs, f, totals);
+            self.scatter::<L, SAMPLE, false>(law, kind, (springs, states), f, totals);
         }
     }
 
     /// Stage 1 for disk-wall candidates: the table rows of those touching, with the wall's normal
     /// and the overlap already in place (a wall has no centre to measure a distance from); the
     /// wall is the second body, at rest, of infinite radius and mass (`R* = r`, `m* = m`).
-    fn collect_walls(&mut self, s: &State<'_>, walls: &[Wall], candidates: &[WallPair], springs: &mut [f64]) {
+    fn collect_walls(&mut self, s: &State<'_>, walls: &[Wall], candidates: &[WallPair], histories: Histories<'_, S>) {
         let n = s.x.len();
         let mut len = 0;
+        let (springs, states) = histories;
         for (k, (candidate, spring)) in candidates.iter().zip(springs.iter_mut()).enumerate() {
             let (i, wall) = (candidate.i as usize, &walls[candidate.wall as usize]);
             assert!(i < n, "wall candidate out of range");
@@ -255,6 +303,9 @@ impl TouchingPairs {
             let overlap = wall.overlap(s.x[i], s.y[i], r);
             if overlap <= 0.0 {
                 *spring = 0.0;
+                if stateful::<S>() {
+                    states[k] = S::default();
+                }
                 continue;
             }
             self.candidate[len] = k;
@@ -266,6 +317,9 @@ impl TouchingPairs {
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
             (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
             self.spring[len] = *spring;
+            if stateful::<S>() {
+                self.state[len] = states[k];
+            }
             len += 1;
         }
         self.len = len;
@@ -280,10 +334,11 @@ impl TouchingPairs {
     /// branch also waits for the loads of both disks' positions, from L3 or memory when the list is
     /// long; without `PREDICTED` there is no branch: every candidate is written to the next row of
     /// the table, which only a touching one keeps.
-    fn collect<const PREDICTED: bool>(&mut self, s: &State<'_>, block: &[NeighborPair], springs: &mut [f64]) {
+    fn collect<const PREDICTED: bool>(&mut self, s: &State<'_>, block: &[NeighborPair], histories: Histories<'_, S>) {
         let n = s.x.len();
         // Slices of one known length: the assert below covers all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
+        let (springs, states) = histories;
         let springs = &mut springs[..block.len()];
         let mut len = 0;
         for k in 0..block.len() {
@@ -303,6 +358,9 @@ impl TouchingPairs {
                 if *spring != 0.0 {
                     *spring = 0.0;
                 }
+                if stateful::<S>() && states[k] != S::default() {
+                    states[k] = S::default();
+                }
                 continue;
             }
             // Without the branch, every candidate is written to row `len`, which only a touching
@@ -321,10 +379,16 @@ impl TouchingPairs {
             self.spin_i[len] = omega[i] * ri;
             self.spin_j[len] = omega[j] * rj;
             self.spring[len] = *spring;
+            if stateful::<S>() {
+                self.state[len] = states[k];
+            }
             if !PREDICTED {
                 // Cleared unconditionally (a conditional store would be a branch): pairs out of
-                // contact lose their spring, touching ones get their new spring from the scatter.
+                // contact lose their history, touching ones get their new one from the scatter.
                 *spring = 0.0;
+                if stateful::<S>() {
+                    states[k] = S::default();
+                }
             }
             len += usize::from(touching);
         }
@@ -336,7 +400,7 @@ impl TouchingPairs {
     /// [`vector::widest`](super::vector::widest): behind its closure these loops no longer vectorise.)
     /// `GEOMETRY`: whether normals and overlaps are to be computed from the centres (disk pairs)
     /// or are in the table already (walls).
-    fn compute_forces<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
+    fn compute_forces<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -349,12 +413,12 @@ impl TouchingPairs {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn forces_avx2<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
+    fn forces_avx2<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
         self.forces_portable::<L, GEOMETRY>(law, kind);
     }
 
     #[inline(always)]
-    fn forces_portable<L: ContactLaw, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactKind) {
+    fn forces_portable<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
         if GEOMETRY {
             self.geometry();
         }
@@ -371,24 +435,21 @@ impl TouchingPairs {
         let (dx, dy, ri, rj) = (&self.dx[..n], &self.dy[..n], &self.ri[..n], &self.rj[..n]);
         let (unit_x, unit_y, overlap) = (&mut self.unit_x[..n], &mut self.unit_y[..n], &mut self.overlap[..n]);
         for c in 0..n {
-            let d = (dx[c] * dx[c] + dy[c] * dy[c]).sqrt();
-            let inv_d = 1.0 / d;
-            // Coincident centres: any unit normal will do.
-            let apart = d > 0.0;
-            (unit_x[c], unit_y[c]) = if apart { (dx[c] * inv_d, dy[c] * inv_d) } else { (1.0, 0.0) };
-            overlap[c] = (ri[c] + rj[c]) - d;
+            let ([ux, uy], o) = unit_normal_and_overlap(dx[c], dy[c], ri[c], rj[c]);
+            (unit_x[c], unit_y[c], overlap[c]) = (ux, uy, o);
         }
     }
 
     /// The law's stiffness and damping at each overlap: a loop of its own, for the same reason.
     #[inline(always)]
-    fn coefficients<L: ContactLaw>(&mut self, law: &L, kind: &ContactKind) {
+    fn coefficients<L: ContactLaw<State = S>>(&mut self, law: &L, kind: &ContactParameters) {
         let n = self.len;
         let (overlap, r_star, m_star) = (&self.overlap[..n], &self.r_star[..n], &self.m_star[..n]);
+        let state = &mut self.state[..n];
         let (elastic, normal_damping) = (&mut self.elastic[..n], &mut self.normal_damping[..n]);
         let (stiffness, tangential_damping) = (&mut self.tangential_stiffness[..n], &mut self.tangential_damping[..n]);
         for c in 0..n {
-            let k = law.coefficients(&kind.pair_properties(r_star[c], m_star[c]), overlap[c]);
+            let k = law.coefficients(&kind.pair_properties(r_star[c], m_star[c]), overlap[c], &mut state[c]);
             (elastic[c], normal_damping[c], stiffness[c], tangential_damping[c]) =
                 (k.normal_force, k.normal_damping, k.tangential_stiffness, k.tangential_damping);
         }
@@ -396,7 +457,7 @@ impl TouchingPairs {
 
     /// The resolved forces and torques, from the geometry and coefficients.
     #[inline(always)]
-    fn resolve_all(&mut self, kind: &ContactKind) {
+    fn resolve_all(&mut self, kind: &ContactParameters) {
         let n = self.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
         let (nx, ny, overlap) = (&self.unit_x[..n], &self.unit_y[..n], &self.overlap[..n]);
@@ -414,11 +475,7 @@ impl TouchingPairs {
                 tangential_stiffness: stiffness[c],
                 tangential_damping: tangential_damping[c],
             };
-            let motion = Kinematics {
-                overlap: overlap[c],
-                approach_speed: dvx[c] * nx[c] + dvy[c] * ny[c],
-                tangential_speed: -dvx[c] * ny[c] + dvy[c] * nx[c] + spin_i[c] + spin_j[c],
-            };
+            let motion = relative_motion(overlap[c], [nx[c], ny[c]], [dvx[c], dvy[c]], [spin_i[c], spin_j[c]]);
             let force = kind.resolve(&coefficients, &motion, &mut spring[c]);
             // Torque `F_t r` on both disks.
             [force_x[c], force_y[c]] = force.on_first_body(nx[c], ny[c]);
@@ -430,11 +487,11 @@ impl TouchingPairs {
 
     /// Stage 3: adds the forces of the touching pairs to both disks (`PAIRS`; walls: to the disk),
     /// in list order, and stores the springs.
-    fn scatter<L: ContactLaw, const SAMPLE: bool, const PAIRS: bool>(
+    fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool>(
         &self,
         law: &L,
-        kind: &ContactKind,
-        springs: &mut [f64],
+        kind: &ContactParameters,
+        histories: Histories<'_, S>,
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
@@ -443,6 +500,7 @@ impl TouchingPairs {
         let (fx, fy, torque) = (&mut f.fx[..n], &mut f.fy[..n], &mut f.torque[..n]);
         let (rolling, contact_force) = (&mut f.rolling[..n], &mut f.contact_force[..n]);
         let rolling_friction = kind.material.rolling_friction;
+        let (springs, states) = histories;
         for c in 0..self.len {
             let (i, j) = (self.i[c], self.j[c]);
             assert!(i < n && j < n, "contact out of range");
@@ -467,6 +525,9 @@ impl TouchingPairs {
                 }
             }
             springs[self.candidate[c]] = self.spring[c];
+            if stateful::<S>() {
+                states[self.candidate[c]] = self.state[c];
+            }
             if SAMPLE {
                 let force = ContactForce {
                     normal: self.normal[c],
@@ -480,7 +541,7 @@ impl TouchingPairs {
                 }
                 let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
                 let overlap = self.overlap[c];
-                let energy = contact::elastic_energy(law, &pair, overlap, &force, self.spring[c]);
+                let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
                 totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
             }
         }
@@ -493,15 +554,15 @@ mod tests {
     use crate::physics::contact::HertzMindlin;
     use crate::physics::particles::{InitialDisk, Particles};
 
-    fn kind(allow_tension: bool) -> ContactKind {
+    fn kind(allow_tension: bool) -> ContactParameters {
         let material = ContactMaterial { e_star: 5e8, g_star: 2e8, beta: 0.4, friction: 0.5, rolling_friction: 0.0 };
         let options = ContactOptions { allow_tension, tangential: true, friction: material.friction };
-        ContactKind { material, options, rotation: true, dt: 1e-5 }
+        ContactParameters { material, options, rotation: true, dt: 1e-5 }
     }
 
     /// Touching pairs with assorted geometry and motion: sticking, sliding both ways, separating
     /// fast (normal force clamped or tensile), coincident centres.
-    fn table() -> TouchingPairs {
+    fn table() -> TouchingPairs<()> {
         let mut t = TouchingPairs { len: 101, ..Default::default() };
         for c in 0..t.len {
             let (a, w) = (c as f64 * 0.37, (c as f64 * 0.91).sin());
@@ -544,14 +605,15 @@ mod tests {
             .map(|(i, j)| NeighborPair { i, j, r_star: 0.005, m_star: 0.1 + f64::from(j) })
             .collect();
         let springs: Vec<f64> = (0..pairs.len()).map(|k| 1e-6 * (k % 5) as f64).collect();
-        let (mut branchy, mut branch_free) = (TouchingPairs::default(), TouchingPairs::default());
+        let (mut branchy, mut branch_free) = (TouchingPairs::<()>::default(), TouchingPairs::<()>::default());
         let (mut springs_branchy, mut springs_branch_free) = (springs.clone(), springs);
-        branchy.collect::<true>(&s, &pairs, &mut springs_branchy);
-        branch_free.collect::<false>(&s, &pairs, &mut springs_branch_free);
+        let mut states = vec![(); pairs.len()];
+        branchy.collect::<true>(&s, &pairs, (&mut springs_branchy, &mut states));
+        branch_free.collect::<false>(&s, &pairs, (&mut springs_branch_free, &mut states));
         let touching = branchy.len;
         assert!(touching > 10 && touching < pairs.len() - 10, "{touching} of {} touch", pairs.len());
         assert_eq!(branch_free.len, touching);
-        let rows = |t: &TouchingPairs| {
+        let rows = |t: &TouchingPairs<()>| {
             let columns = [t.dx, t.dy, t.ri, t.rj, t.r_star, t.m_star, t.dvx, t.dvy, t.spin_i, t.spin_j, t.spring];
             (0..t.len)
                 .map(|c| (t.candidate[c], t.i[c], t.j[c], columns.map(|column| column[c].to_bits())))
@@ -572,7 +634,7 @@ mod tests {
     #[test]
     fn vector_stage_equals_one_contact_at_a_time_bit_for_bit() {
         for allow_tension in [false, true] {
-            let (law, kind) = (HertzMindlin, kind(allow_tension));
+            let (law, kind) = (HertzMindlin {}, kind(allow_tension));
             let mut t = table();
             let before = t.spring;
             t.compute_forces::<_, true>(&law, &kind);
@@ -586,7 +648,8 @@ mod tests {
                     approach_speed: t.dvx[c] * nx + t.dvy[c] * ny,
                     tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
                 };
-                let coefficients = law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap);
+                let coefficients =
+                    law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap, &mut ());
                 let mut spring = spring_before;
                 let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
                 let expect = force.on_first_body(nx, ny);
@@ -625,11 +688,12 @@ mod tests {
         let m_star = particles.mass[0];
         candidates.entries = (0..150u32).flat_map(|i| [0, 1].map(|wall| WallPair { i, wall, m_star })).collect();
         candidates.springs = (0..300).map(|k| 1e-6 * ((k % 7) as f64 - 3.0)).collect();
+        candidates.states = vec![(); 300];
         let before = candidates.springs.clone();
-        let (law, kind) = (HertzMindlin, kind(false));
+        let (law, kind) = (HertzMindlin {}, kind(false));
         let (s, mut f) = particles.split();
         let mut totals = ContactTotals::default();
-        let mut t = TouchingPairs::default();
+        let mut t = TouchingPairs::<()>::default();
         t.wall_contacts::<_, true>(&law, &kind, &walls.walls, &mut candidates, 0..300, &s, &mut f, &mut totals);
         let mut touching = 0;
         for i in 0..150 {
@@ -648,7 +712,7 @@ mod tests {
                     approach_speed: s.vx[i] * nx + s.vy[i] * ny,
                     tangential_speed: -s.vx[i] * ny + s.vy[i] * nx + s.omega[i] * s.r[i],
                 };
-                let c = law.coefficients(&kind.pair_properties(s.r[i], m_star), overlap);
+                let c = law.coefficients(&kind.pair_properties(s.r[i], m_star), overlap, &mut ());
                 let mut spring = before[k];
                 let force = contact::resolve(&c, &kind.options, &motion, &mut spring, kind.dt);
                 let [force_x, force_y] = force.on_first_body(nx, ny);

@@ -5,22 +5,31 @@
 //!
 //! Reading order for a newcomer:
 //! [`config`] (what a scene is) → [`material`] (pair properties) → [`contact`] (force laws) →
-//! [`neighbors`] (who touches whom) → [`forces`] (contact forces of a step) → [`integrator`] (time stepping) → [`simulation`] (the step loop) →
-//! [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out).
+//! `neighbors` (who touches whom) → `forces` (contact forces of a step, in blocks) →
+//! `contact_list` (the same, one contact at a time) → `integrator` (time stepping), `energy`
+//! (work and dissipation bookkeeping), `rolling` (rolling resistance) → [`simulation`] (the step
+//! loop) → [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out).
+//! [`run_scene`], [`scene_time_step`] and [`predict_stability`] do their work with whichever law
+//! the scene names, through the law table's one dispatch ([`contact::registry`]).
 
 pub mod config;
 pub mod contact;
+mod contact_list;
+pub mod contact_network;
 pub mod diagnostics;
-pub mod forces;
-pub mod integrator;
+mod dispatch;
+mod energy;
+mod forces;
+mod integrator;
 pub mod material;
 mod monitor;
-pub mod neighbors;
+mod neighbors;
 pub mod particles;
 pub mod pile;
 pub mod placement;
 pub mod record;
 pub mod rng;
+mod rolling;
 pub mod simulation;
 pub mod stability;
 pub mod time_step;
@@ -28,5 +37,7 @@ mod vector;
 pub mod walls;
 
 pub use config::SceneConfig;
+pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
+pub use dispatch::{predict_stability, run_scene, scene_time_step};
 pub use record::{RunRecord, RunStatus};
 pub use simulation::{Control, Progress, Simulation};

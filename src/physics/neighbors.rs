@@ -68,52 +68,67 @@ impl Keyed for WallPair {
     }
 }
 
-/// One sorted candidate list with its tangential springs ξ (m; zero while not in contact), and the
-/// buffers of the next build.
+/// One sorted candidate list with each entry's contact history: its tangential spring ξ (m) and
+/// the contact law's own state `S` (both reset while not in contact), and the buffers of the next
+/// build. (Laws without state have `S = ()`, which takes no memory and no work.)
 #[derive(Clone, Debug)]
-pub struct Candidates<T> {
+pub struct Candidates<T, S = ()> {
     /// Candidates, sorted by key.
     pub entries: Vec<T>,
     /// Tangential spring of each entry.
     pub springs: Vec<f64>,
+    /// The contact law's state of each entry.
+    pub states: Vec<S>,
     fresh: Vec<T>,
     fresh_springs: Vec<f64>,
+    fresh_states: Vec<S>,
 }
 
-impl<T> Default for Candidates<T> {
+impl<T, S> Default for Candidates<T, S> {
     fn default() -> Self {
-        Self { entries: Vec::new(), springs: Vec::new(), fresh: Vec::new(), fresh_springs: Vec::new() }
+        Self {
+            entries: Vec::new(),
+            springs: Vec::new(),
+            states: Vec::new(),
+            fresh: Vec::new(),
+            fresh_springs: Vec::new(),
+            fresh_states: Vec::new(),
+        }
     }
 }
 
-impl<T: Keyed> Candidates<T> {
-    /// Replaces the entries by the freshly collected ones (in `fresh`), carrying the springs of
+impl<T: Keyed, S: Copy + Default> Candidates<T, S> {
+    /// Replaces the entries by the freshly collected ones (in `fresh`), carrying the histories of
     /// entries present in both by a linear merge of the two sorted lists.
     fn swap_in_fresh(&mut self) {
         self.fresh_springs.clear();
         self.fresh_springs.resize(self.fresh.len(), 0.0);
+        self.fresh_states.clear();
+        self.fresh_states.resize(self.fresh.len(), S::default());
         let mut k = 0;
-        for (entry, spring) in self.fresh.iter().zip(self.fresh_springs.iter_mut()) {
+        let histories = self.fresh_springs.iter_mut().zip(self.fresh_states.iter_mut());
+        for (entry, (spring, state)) in self.fresh.iter().zip(histories) {
             while k < self.entries.len() && self.entries[k].key() < entry.key() {
                 k += 1;
             }
             if k < self.entries.len() && self.entries[k].key() == entry.key() {
-                *spring = self.springs[k];
+                (*spring, *state) = (self.springs[k], self.states[k]);
             }
         }
         std::mem::swap(&mut self.entries, &mut self.fresh);
         std::mem::swap(&mut self.springs, &mut self.fresh_springs);
+        std::mem::swap(&mut self.states, &mut self.fresh_states);
         self.fresh.clear();
     }
 }
 
-/// Verlet list with its build state.
+/// Verlet list with its build state; `S`: the contact law's per-contact state.
 #[derive(Clone, Debug)]
-pub struct NeighborList {
+pub struct NeighborList<S = ()> {
     /// Candidate disk pairs, sorted by `(i, j)`.
-    pub pairs: Candidates<NeighborPair>,
+    pub pairs: Candidates<NeighborPair, S>,
     /// Candidate disk-wall contacts, sorted by `(i, wall)`.
-    pub walls: Candidates<WallPair>,
+    pub walls: Candidates<WallPair, S>,
     /// Longest distance a disk can have moved since the last build (m): the sum of every step's
     /// longest move, an upper bound that needs no stored positions.
     travel: f64,
@@ -122,7 +137,7 @@ pub struct NeighborList {
     grid: CellGrid,
 }
 
-impl NeighborList {
+impl<S: Copy + Default> NeighborList<S> {
     /// An empty list; call [`NeighborList::rebuild`] before use.
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {
         Self {
@@ -270,8 +285,8 @@ mod tests {
         let disks = placement::generate(&scene).unwrap();
         let p = Particles::new(&disks, 1000.0, 1.0);
         let walls = BoxWalls::new(&scene.domain);
-        let mut grid = NeighborList::new(BroadPhaseKind::Grid, 0.006);
-        let mut brute = NeighborList::new(BroadPhaseKind::AllPairs, 0.006);
+        let mut grid = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.006);
+        let mut brute = NeighborList::<()>::new(BroadPhaseKind::AllPairs, 0.006);
         grid.rebuild(&p, &walls);
         brute.rebuild(&p, &walls);
         assert!(!grid.walls.entries.is_empty());
@@ -281,17 +296,19 @@ mod tests {
     }
 
     #[test]
-    fn rebuild_keeps_springs_of_surviving_pairs() {
+    fn rebuild_keeps_histories_of_surviving_pairs() {
         let pair = |i, j| NeighborPair { i, j, r_star: 0.0, m_star: 0.0 };
         let mut list = Candidates {
             entries: vec![pair(0, 1), pair(0, 3), pair(2, 3)],
             springs: vec![1.0, 2.0, 3.0],
+            states: vec![10_u8, 20, 30],
             fresh: vec![pair(0, 3), pair(1, 2), pair(2, 3)],
-            fresh_springs: Vec::new(),
+            ..Default::default()
         };
         list.swap_in_fresh();
         assert_eq!(list.entries, [pair(0, 3), pair(1, 2), pair(2, 3)]);
         assert_eq!(list.springs, [2.0, 0.0, 3.0]);
+        assert_eq!(list.states, [20, 0, 30]);
         assert!(list.fresh.is_empty());
     }
 
@@ -301,9 +318,9 @@ mod tests {
         scene.particles.count = 20;
         let p = Particles::new(&placement::generate(&scene).unwrap(), 1000.0, 1.0);
         let walls = BoxWalls::new(&scene.domain);
-        let mut list = NeighborList::new(BroadPhaseKind::Grid, 0.004);
+        let mut list = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.004);
         list.rebuild(&p, &walls);
-        let steps_until_due = |list: &mut NeighborList, step: f64| (1..).find(|_| list.note_step(step)).unwrap();
+        let steps_until_due = |list: &mut NeighborList<()>, step: f64| (1..).find(|_| list.note_step(step)).unwrap();
         assert_eq!(steps_until_due(&mut list, 0.00025), 8);
         // Due until rebuilt; then counted afresh.
         assert!(list.note_step(0.0));

@@ -17,9 +17,17 @@ pub enum RunStatus {
     Diverged,
     /// The caller asked the run to stop early (e.g. Ctrl-C).
     Interrupted,
+    /// The run failed without a record (its scene could not be built, or it panicked): set by the
+    /// runner, never by the simulation.
+    Error,
 }
 
 impl RunStatus {
+    /// The statuses a results file holds, in the order of its per-status columns (interrupted runs
+    /// are not recorded).
+    pub const RECORDED: [RunStatus; 4] =
+        [RunStatus::Settled, RunStatus::NotSettled, RunStatus::Diverged, RunStatus::Error];
+
     /// The snake_case name used in files.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -27,7 +35,19 @@ impl RunStatus {
             RunStatus::NotSettled => "not_settled",
             RunStatus::Diverged => "diverged",
             RunStatus::Interrupted => "interrupted",
+            RunStatus::Error => "error",
         }
+    }
+
+    /// The status named `text` in a file ([`Self::as_str`]), if any.
+    pub fn parse(text: &str) -> Option<RunStatus> {
+        [RunStatus::Interrupted].into_iter().chain(RunStatus::RECORDED).find(|s| s.as_str() == text)
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
     }
 }
 
@@ -79,6 +99,9 @@ pub struct Snapshot {
     pub r: Vec<f64>,
     /// Sum of contact force magnitudes on each disk (N).
     pub contact_force: Vec<f64>,
+    /// The contacts with their forces.
+    #[serde(default)]
+    pub contacts: super::contact_network::ContactNetwork,
 }
 
 /// Everything one run produces.

@@ -5,25 +5,30 @@
 //! contact sums only on sampled steps), and the integrator finishes the step. Diagnostics,
 //! divergence checks and the settle criterion run on sampled steps only.
 
-use super::config::{ContactLawKind, SceneConfig};
-use super::contact::{ContactLaw, ContactOptions, HertzMindlin, Kinematics, LinearSpringDashpot};
+use super::config::SceneConfig;
+use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
+use super::contact_list;
+use super::contact_network::ContactNetwork;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
-use super::forces::{ContactKind, TouchingPairs};
+use super::dispatch::with_time_step;
+use super::energy::EnergyLedger;
+use super::forces::{ContactParameters, TouchingPairs};
 use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
 use super::particles::{InitialDisk, Particles};
-use super::pile::{Partner, PileContact, PileGeometry, PileMetrics};
+use super::pile::{PileContact, PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
+use super::rolling;
 use super::stability::{self, StabilityReport};
-use super::time_step::{self, ResolvedTimeStep};
+use super::time_step;
 use super::vector;
 use super::walls::BoxWalls;
 
-/// Disks per range of [`Simulation::move_disks`]: their arrays stay in cache from the integrator's
+/// Disks per chunk of [`Simulation::move_disks`]: their arrays stay in cache from the integrator's
 /// power sum to its update.
-const SWEEP: usize = 512;
+const INTEGRATOR_CHUNK: usize = 512;
 
 /// What a running simulation tells its caller at every sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,100 +54,43 @@ pub enum Control {
     Stop,
 }
 
-/// Builds and runs one scene with the contact law it names. `disks`: explicit initial states
-/// (file placement), or `None` to generate them from the scene's placement.
-pub fn run_scene(
-    scene: &SceneConfig,
-    disks: Option<Vec<InitialDisk>>,
-    observer: &mut dyn FnMut(&Progress) -> Control,
-) -> Result<RunRecord, String> {
-    if let Err(issues) = scene.validate() {
-        return Err(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "));
-    }
-    let disks = match disks {
-        Some(d) => d,
-        None => super::placement::generate(scene).map_err(|e| e.to_string())?,
-    };
-    if disks.is_empty() {
-        return Err("particles.count: a scene needs at least one disk, got 0".into());
-    }
-    Ok(match scene.contact.law {
-        ContactLawKind::HertzMindlin => Simulation::new(scene, &disks, HertzMindlin).run(observer),
-        ContactLawKind::Linear => Simulation::new(scene, &disks, linear_law(scene)).run(observer),
-    })
-}
-
-/// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.
-pub fn scene_time_step(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> ResolvedTimeStep {
-    match scene.contact.law {
-        ContactLawKind::HertzMindlin => time_step::resolve(&HertzMindlin, scene, disks),
-        ContactLawKind::Linear => time_step::resolve(&linear_law(scene), scene, disks),
-    }
-}
-
-/// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
-fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
-    let mut scene = scene.clone();
-    scene.integrator.time_step = Some(dt);
-    (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
-    scene
-}
-
-/// The pre-run stability estimate of a scene starting from `disks`, without building a simulation
-/// (a time step capped by the damping-rate limit is its first warning).
-pub fn predict_stability(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
-    let resolved = scene_time_step(scene, Some(disks));
-    let scene = &with_time_step(scene, resolved.dt);
-    let materials = Materials::from_scene(scene);
-    let particles = Particles::new(disks, materials.density, scene.particles.thickness);
-    let walls = BoxWalls::new(&scene.domain);
-    let mut report = match scene.contact.law {
-        ContactLawKind::HertzMindlin => stability::assess(&HertzMindlin, scene, &particles, &materials, &walls),
-        ContactLawKind::Linear => stability::assess(&linear_law(scene), scene, &particles, &materials, &walls),
-    };
-    report.warnings.splice(0..0, resolved.warning);
-    report
-}
-
-/// The linear spring-dashpot law of a scene.
-fn linear_law(scene: &SceneConfig) -> LinearSpringDashpot {
-    LinearSpringDashpot {
-        normal_stiffness: scene.contact.normal_stiffness,
-        tangential_ratio: scene.contact.tangential_stiffness_ratio,
-    }
-}
-
-/// One simulation of a scene with contact law `L`.
+/// One simulation of a scene with contact law `L`: the scene's own law when built by
+/// [`Simulation::new`], any law with [`Simulation::with_law`]. (To run a scene whichever its law,
+/// go through [`crate::physics::run_scene`] or [`super::contact::ContactConfig::dispatch`].)
 pub struct Simulation<L: ContactLaw> {
     law: L,
     /// The scene, with its time step resolved.
     scene: SceneConfig,
     time_step_warning: Option<String>,
-    /// The disks.
-    pub particles: Particles,
+    particles: Particles,
     walls: BoxWalls,
-    neighbors: NeighborList,
+    neighbors: NeighborList<L::State>,
     materials: Materials,
-    disk_kind: ContactKind,
-    wall_kind: ContactKind,
-    touching: Box<TouchingPairs>,
+    disk_contacts: ContactParameters,
+    wall_contacts: ContactParameters,
+    touching: Box<TouchingPairs<L::State>>,
     integrator: Integrator,
     rolling_resistance: bool,
-    /// Steps taken.
-    pub step: u64,
+    step: u64,
     context: StepContext,
-    work: f64,
-    last_power: Option<f64>,
-    /// Work of the numerical damping so far (J, ≤ 0) and its power at the last step's start (W).
-    damping_work: f64,
-    last_damping_power: f64,
+    energy: EnergyLedger,
     totals: ContactTotals,
-    initial_elastic: f64,
+}
+
+impl<L: RegisteredLaw> Simulation<L> {
+    /// A simulation of `scene` from `disks` at time zero, with forces evaluated at the initial
+    /// state. Panics unless `L` is the law `scene.contact.law` names.
+    pub fn new(scene: &SceneConfig, disks: &[InitialDisk]) -> Self {
+        let law = L::chosen_in(&scene.contact)
+            .unwrap_or_else(|| panic!("scene.contact.law is {:?}, not the Simulation's law", scene.contact.law));
+        Self::with_law(scene, disks, law.clone())
+    }
 }
 
 impl<L: ContactLaw> Simulation<L> {
-    /// A simulation at time zero with forces evaluated at the initial state.
-    pub fn new(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
+    /// A simulation of `scene` with contact law `law` (whatever `scene.contact.law` says: for laws
+    /// outside the registry), at time zero with forces evaluated at the initial state.
+    pub fn with_law(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
         let resolved = time_step::resolve(&law, scene, Some(disks));
         let scene = &with_time_step(scene, resolved.dt);
         let materials = Materials::from_scene(scene);
@@ -151,7 +99,7 @@ impl<L: ContactLaw> Simulation<L> {
         let tangential = materials.particle.friction > 0.0 || materials.wall.friction > 0.0;
         let spinning = particles.omega.iter().any(|w| *w != 0.0);
         let rotation = materials.has_friction() || spinning;
-        let kind = |m: &ContactMaterial| ContactKind {
+        let kind = |m: &ContactMaterial| ContactParameters {
             material: *m,
             options: ContactOptions { allow_tension: scene.contact.allow_tension, tangential, friction: m.friction },
             rotation,
@@ -163,8 +111,8 @@ impl<L: ContactLaw> Simulation<L> {
             scene: scene.clone(),
             time_step_warning: resolved.warning,
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
-            disk_kind: kind(&materials.particle),
-            wall_kind: kind(&materials.wall),
+            disk_contacts: kind(&materials.particle),
+            wall_contacts: kind(&materials.wall),
             touching: Box::default(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
@@ -173,17 +121,28 @@ impl<L: ContactLaw> Simulation<L> {
             materials,
             step: 0,
             context: StepContext { dt: resolved.dt, gravity: scene.gravity, rotation, damping: scene.damping },
-            work: 0.0,
-            last_power: None,
-            damping_work: 0.0,
-            last_damping_power: 0.0,
+            energy: EnergyLedger::default(),
             totals: ContactTotals::default(),
-            initial_elastic: 0.0,
         };
         sim.neighbors.rebuild(&sim.particles, &sim.walls);
         sim.compute_forces::<true>();
-        sim.initial_elastic = sim.totals.elastic;
+        sim.energy.initial_elastic = sim.totals.elastic;
         sim
+    }
+
+    /// The disks.
+    pub fn particles(&self) -> &Particles {
+        &self.particles
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// The time step (s), as resolved.
+    pub fn time_step(&self) -> f64 {
+        self.context.dt
     }
 
     /// Simulated time (s).
@@ -199,12 +158,7 @@ impl<L: ContactLaw> Simulation<L> {
     /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
     pub fn advance(&mut self, sample: bool) {
         let (power, damping_power, stale) = self.move_disks();
-        if let Some(last) = self.last_power {
-            self.work += 0.5 * (last + power) * self.context.dt;
-            self.damping_work += 0.5 * (self.last_damping_power + damping_power) * self.context.dt;
-        }
-        self.last_power = Some(power);
-        self.last_damping_power = damping_power;
+        self.energy.record_step(power, damping_power, self.context.dt);
         if stale {
             self.neighbors.rebuild(&self.particles, &self.walls);
         }
@@ -215,18 +169,18 @@ impl<L: ContactLaw> Simulation<L> {
         }
         self.integrator.finish(&mut self.particles, &self.context);
         if self.rolling_resistance {
-            self.work -= self.apply_rolling_resistance();
+            self.energy.remove(rolling::apply(&mut self.particles, self.context.dt));
         }
         self.step += 1;
     }
 
-    /// The integrator's update, `SWEEP` disks at a time. Returns the power of the contact forces and
+    /// The integrator's update, `INTEGRATOR_CHUNK` disks at a time. Returns the power of the contact forces and
     /// of the numerical damping at the start of the step, and whether the neighbour list must be rebuilt.
     fn move_disks(&mut self) -> (f64, f64, bool) {
         let n = self.particles.len();
         let (mut power, mut damping_power, mut longest) = (0.0, 0.0, vector::LargestSquare::default());
-        for start in (0..n).step_by(SWEEP) {
-            let disks = start..(start + SWEEP).min(n);
+        for start in (0..n).step_by(INTEGRATOR_CHUNK) {
+            let disks = start..(start + INTEGRATOR_CHUNK).min(n);
             let moved = self.integrator.advance(&mut self.particles, &self.context, disks);
             power += moved.power;
             damping_power += moved.damping_power;
@@ -238,18 +192,16 @@ impl<L: ContactLaw> Simulation<L> {
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).
     pub fn sample(&self) -> Sample {
         let (kt, kr) = diagnostics::kinetic_energies(&self.particles);
-        // Work of the contacts up to now: the stored trapezoids end one step back; close the last one.
-        let work =
-            self.work + self.last_power.map_or(0.0, |last| 0.5 * (last + self.contact_power()) * self.context.dt);
-        let damping_work = self.damping_work + self.closing_damping_work();
+        // Works up to now: the stored trapezoids end one step back; close the last one.
+        let works = self.energy.works_now(|| (self.contact_power(), self.damping_power()), self.context.dt);
         Sample {
             time: self.time(),
             kinetic_translational: kt,
             kinetic_rotational: kr,
             potential: diagnostics::potential_energy(&self.particles, self.scene.gravity),
             elastic: self.totals.elastic,
-            dissipated: self.initial_elastic - self.totals.elastic - work - damping_work,
-            numerical_damping_dissipated: -damping_work,
+            dissipated: self.energy.dissipated(self.totals.elastic, works),
+            numerical_damping_dissipated: -works.1,
             unbalanced_force_ratio: diagnostics::unbalanced_force_ratio(
                 &self.particles,
                 self.scene.gravity,
@@ -260,8 +212,13 @@ impl<L: ContactLaw> Simulation<L> {
         }
     }
 
-    /// Full state now (contact forces as of the last sampled step).
+    /// Full state now (contact force sums as of the last sampled step), with the contact network.
     pub fn snapshot(&self) -> Snapshot {
+        self.snapshot_with(&self.contacts())
+    }
+
+    /// Full state now with `contacts` (those of [`Self::contacts`]) as its network.
+    fn snapshot_with(&self, contacts: &[PileContact]) -> Snapshot {
         let p = &self.particles;
         Snapshot {
             time: self.time(),
@@ -272,6 +229,7 @@ impl<L: ContactLaw> Simulation<L> {
             omega: p.omega.clone(),
             r: p.r.clone(),
             contact_force: p.contact_force.clone(),
+            contacts: ContactNetwork::new(contacts, p),
         }
     }
 
@@ -290,59 +248,31 @@ impl<L: ContactLaw> Simulation<L> {
         power
     }
 
-    /// The numerical damping's work since the start of the last step (J), closing its trapezoid at
-    /// the current state as [`Self::sample`] does for the contacts.
-    fn closing_damping_work(&self) -> f64 {
+    /// Power of the numerical damping at the current state (W; zero when it is off).
+    fn damping_power(&self) -> f64 {
         let d = &self.context.damping;
-        if !d.is_active() || self.last_power.is_none() {
-            return 0.0;
-        }
-        let now = d.power(&self.particles, self.context.gravity, self.context.rotation);
-        0.5 * (self.last_damping_power + now) * self.context.dt
+        if d.is_active() { d.power(&self.particles, self.context.gravity, self.context.rotation) } else { 0.0 }
     }
 
-    /// The contacts at the current state (after a sampled step, or at time zero), with their forces.
+    /// The contacts at the current state with their forces: those the next step's force stage
+    /// would compute from the current springs (see [`contact_list`]).
     pub fn contacts(&self) -> Vec<PileContact> {
-        let p = &self.particles;
-        let mut contacts = Vec::new();
-        let pairs = self.neighbors.pairs.entries.iter().zip(&self.neighbors.pairs.springs);
-        for (pair, &spring) in pairs {
-            let (i, j) = (pair.i as usize, pair.j as usize);
-            let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
-            let distance = (dx * dx + dy * dy).sqrt();
-            let overlap = p.r[i] + p.r[j] - distance;
-            if overlap > 0.0 && distance > 0.0 {
-                let normal = [dx / distance, dy / distance];
-                let relative = [p.vx[i] - p.vx[j], p.vy[i] - p.vy[j]];
-                let spin = p.omega[i] * p.r[i] + p.omega[j] * p.r[j];
-                let motion = kinematics(overlap, normal, relative, spin);
-                let force = self.disk_kind.force_of(&self.law, pair.r_star, pair.m_star, &motion, spring);
-                let ratio = overlap / p.r[i].min(p.r[j]);
-                contacts.push(pile_contact(i, Partner::Disk(j), normal, force, &self.disk_kind, ratio));
-            }
-        }
-        let walls = self.neighbors.walls.entries.iter().zip(&self.neighbors.walls.springs);
-        for (candidate, &spring) in walls {
-            let (i, k) = (candidate.i as usize, candidate.wall as usize);
-            let wall = &self.walls.walls[k];
-            let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
-            if overlap > 0.0 {
-                let motion = kinematics(overlap, wall.normal, [p.vx[i], p.vy[i]], p.omega[i] * p.r[i]);
-                let force = self.wall_kind.force_of(&self.law, p.r[i], candidate.m_star, &motion, spring);
-                let ratio = overlap / p.r[i];
-                contacts.push(pile_contact(i, Partner::Wall(k), wall.normal, force, &self.wall_kind, ratio));
-            }
-        }
-        contacts
+        let kinds = [&self.disk_contacts, &self.wall_contacts];
+        contact_list::contacts(&self.law, kinds, &self.neighbors, &self.particles, &self.walls)
     }
 
     /// The pile measures of the current state (see [`Self::contacts`]).
     pub fn pile_metrics(&self) -> PileMetrics {
+        self.pile_metrics_of(&self.contacts())
+    }
+
+    /// The pile measures of the current state with its `contacts`.
+    fn pile_metrics_of(&self, contacts: &[PileContact]) -> PileMetrics {
         let p = &self.particles;
         let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
         let geometry =
             PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight: p.mass.iter().sum::<f64>() * g, width: self.walls.width };
-        PileMetrics::measure(&geometry, &self.contacts())
+        PileMetrics::measure(&geometry, contacts)
     }
 
     /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
@@ -360,32 +290,13 @@ impl<L: ContactLaw> Simulation<L> {
         let (s, mut f) = p.split();
         self.touching.contacts::<L, SAMPLE>(
             &self.law,
-            [&self.disk_kind, &self.wall_kind],
+            [&self.disk_contacts, &self.wall_contacts],
             &mut self.neighbors.pairs,
             (&self.walls.walls, &mut self.neighbors.walls),
             &s,
             &mut f,
             &mut self.totals,
         );
-    }
-
-    /// Rolling resistance (EDEM's constant directional torque, spec): `μ0 F_n R` summed per disk,
-    /// acting against the spin. It is applied to the angular velocity after the integrator's update,
-    /// as the change `Δω = −sign(ω) min(|ω|, M_r Δt / I)`: it can stop a spin within one step but
-    /// never reverse it (as a torque inside a multistep scheme it would overshoot and chatter).
-    /// Returns the kinetic energy it removed (J).
-    fn apply_rolling_resistance(&mut self) -> f64 {
-        let p = &mut self.particles;
-        let mut removed = 0.0;
-        for i in 0..p.len() {
-            let w = p.omega[i];
-            if p.rolling[i] > 0.0 && w != 0.0 {
-                let slowed = (w.abs() - p.rolling[i] * p.inv_inertia[i] * self.context.dt).max(0.0).copysign(w);
-                removed += 0.5 * (w * w - slowed * slowed) / p.inv_inertia[i];
-                p.omega[i] = slowed;
-            }
-        }
-        removed
     }
 
     /// Runs to the end, to settling, to divergence, or until the observer says stop.
@@ -396,7 +307,7 @@ impl<L: ContactLaw> Simulation<L> {
         let total_steps = self.scene.total_steps(self.context.dt);
         let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
         let mut frames = FrameSchedule::new(&self.scene, self.context.dt, total_steps);
-        let mut monitor = Monitor::new(&self.particles, &self.walls, self.scene.gravity, self.initial_elastic);
+        let mut monitor = Monitor::new(&self.particles, &self.walls, self.scene.gravity, self.energy.initial_elastic);
         let mut settle = SettleDetector::new(&self.scene.settle);
         let mut history = History::default();
         let mut recorded_frames = Vec::new();
@@ -407,7 +318,7 @@ impl<L: ContactLaw> Simulation<L> {
             }
             history.push(&s);
             monitor.observe(&s);
-            let power_finite = self.last_power.is_none_or(f64::is_finite);
+            let power_finite = self.energy.power_finite();
             if let Some(reason) = monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
                 break (RunStatus::Diverged, Some(reason));
             }
@@ -436,12 +347,13 @@ impl<L: ContactLaw> Simulation<L> {
                 if frame_due {
                     recorded_frames.push(self.snapshot());
                 }
-                if self.last_power.is_some_and(|p| !p.is_finite()) {
+                if !self.energy.power_finite() {
                     break;
                 }
             }
         };
         warnings.extend(monitor.warnings(&self.scene.limits));
+        let contacts = self.contacts();
         RunRecord {
             status,
             message,
@@ -450,41 +362,81 @@ impl<L: ContactLaw> Simulation<L> {
             steps: self.step,
             time_step: self.context.dt,
             simulated_time: self.time(),
-            pile: self.pile_metrics(),
+            pile: self.pile_metrics_of(&contacts),
             stability,
             history,
-            final_state: self.snapshot(),
+            final_state: self.snapshot_with(&contacts),
             frames: recorded_frames,
         }
     }
 }
 
-/// Relative motion of a contact with unit normal `normal` from body i to j, relative velocity
-/// `v_i − v_j` and spin term `ω_i r_i + ω_j r_j` (conventions of [`super::contact`]).
-fn kinematics(overlap: f64, normal: [f64; 2], relative: [f64; 2], spin: f64) -> Kinematics {
-    let [nx, ny] = normal;
-    Kinematics {
-        overlap,
-        approach_speed: relative[0] * nx + relative[1] * ny,
-        tangential_speed: -relative[0] * ny + relative[1] * nx + spin,
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::contact::{ContactForce, ContactLawKind, LawVisitor};
+    use crate::physics::pile::Partner;
 
-fn pile_contact(
-    disk: usize,
-    partner: Partner,
-    normal: [f64; 2],
-    force: super::contact::ContactForce,
-    kind: &ContactKind,
-    overlap_ratio: f64,
-) -> PileContact {
-    PileContact {
-        disk,
-        partner,
-        normal,
-        normal_force: force.normal,
-        tangential_force: force.tangential,
-        friction: if kind.options.tangential { kind.options.friction } else { 0.0 },
-        overlap_ratio,
+    /// Settles a small frictional pile with law `L`, then compares at that state the one-contact
+    /// evaluation with the block stages: per-disk force, torque and force-magnitude sums, each
+    /// added up in the block stages' order, to the bit.
+    fn one_contact_path_matches_block_path<L: RegisteredLaw>(scene: &SceneConfig) {
+        let disks = crate::physics::placement::generate(scene).expect("placement");
+        let mut sim = Simulation::<L>::new(scene, &disks);
+        let steps = (0.4 / sim.time_step()).round() as u64;
+        for _ in 0..steps {
+            sim.advance(false);
+        }
+        let contacts = sim.contacts();
+        let n = sim.particles.len();
+        let (mut fx, mut fy, mut torque, mut magnitude) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let r = sim.particles.r.clone();
+        for c in &contacts {
+            let force =
+                ContactForce { normal: c.normal_force, tangential: c.tangential_force, tangential_stiffness: 0.0 };
+            let [x, y] = force.on_first_body(c.normal[0], c.normal[1]);
+            let i = c.disk;
+            (fx[i], fy[i], torque[i], magnitude[i]) =
+                (fx[i] + x, fy[i] + y, torque[i] + force.tangential * r[i], magnitude[i] + force.magnitude());
+            if let Partner::Disk(j) = c.partner {
+                (fx[j], fy[j], torque[j], magnitude[j]) =
+                    (fx[j] - x, fy[j] - y, torque[j] + force.tangential * r[j], magnitude[j] + force.magnitude());
+            }
+        }
+        let p = &mut sim.particles;
+        for column in [&mut p.fx, &mut p.fy, &mut p.torque] {
+            column.fill(0.0);
+        }
+        sim.compute_forces::<true>();
+        let p = &sim.particles;
+        let sliding = contacts.iter().filter(|c| c.tangential_force.abs() >= c.friction * c.normal_force).count();
+        assert!(contacts.len() > n && sliding > 0, "{} contacts, {sliding} sliding", contacts.len());
+        assert_eq!(sim.totals.contacts as usize, contacts.len());
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&p.fx), bits(&fx), "fx");
+        assert_eq!(bits(&p.fy), bits(&fy), "fy");
+        assert_eq!(bits(&p.torque), bits(&torque), "torque");
+        assert_eq!(bits(&p.contact_force), bits(&magnitude), "force magnitudes");
+    }
+
+    #[test]
+    fn one_contact_evaluation_gives_the_block_stages_forces_to_the_bit_for_every_law() {
+        struct Check<'a>(&'a SceneConfig);
+        impl LawVisitor for Check<'_> {
+            type Output = ();
+            fn visit<L: RegisteredLaw>(self, _: &L) {
+                one_contact_path_matches_block_path::<L>(self.0);
+            }
+        }
+        let mut scene = SceneConfig::default();
+        scene.particles.count = 120;
+        scene.domain.width = 0.2;
+        scene.material.restitution = Some(0.5);
+        scene.material.friction = 0.5;
+        scene.integrator.contact_time_fraction = Some(0.05);
+        for &law in ContactLawKind::ALL {
+            scene.contact.law = law;
+            scene.contact.dispatch(Check(&scene));
+        }
     }
 }

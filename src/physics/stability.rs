@@ -23,7 +23,7 @@ const PILE_PACKING: f64 = 0.82;
 pub struct StabilityReport {
     /// Speed of the hardest expected impact (m/s).
     pub impact_speed: f64,
-    /// Hertz (law) contact time of that impact for the smallest disks (s).
+    /// The contact law's contact time of that impact for the smallest disks (s).
     pub contact_time: f64,
     /// Predicted largest overlap of that impact, over the radius.
     pub impact_overlap_ratio: f64,
@@ -138,11 +138,11 @@ pub fn assess<L: ContactLaw>(
             .min(damping_time_step_limit(scene, impact.damping_rate)),
         warnings: Vec::new(),
     };
-    report.warnings = warnings(scene, &report, damping_limit);
+    report.warnings = warnings(scene, &report, damping_limit, law.name());
     report
 }
 
-fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec<String> {
+fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64, law: &str) -> Vec<String> {
     let limits = &scene.limits;
     let mut w = Vec::new();
     if r.dt_over_contact_time > limits.contact_time_fraction {
@@ -159,14 +159,14 @@ fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec
     }
     if r.impact_overlap_ratio > limits.overlap_warning_ratio {
         w.push(format!(
-            "an impact at {:.3} m/s would overlap {:.3} radii (Hertz contact is valid below {} = limits.overlap_warning_ratio): the material (E = {:.3e} Pa) is too soft for this scene",
-            r.impact_speed, r.impact_overlap_ratio, limits.overlap_warning_ratio, scene.material.youngs_modulus
+            "an impact at {:.3} m/s would overlap {:.3} radii (contact laws are valid below {} = limits.overlap_warning_ratio): the contacts ({}, E = {:.3e} Pa) are too soft for this scene",
+            r.impact_speed, r.impact_overlap_ratio, limits.overlap_warning_ratio, law, scene.material.youngs_modulus
         ));
     }
     if r.static_overlap_ratio > limits.overlap_warning_ratio {
         w.push(format!(
-            "the settled pile's weight would press the bottom disks {:.3} radii into the floor (Hertz contact is valid below {}): the material (E = {:.3e} Pa) is too soft for this pile",
-            r.static_overlap_ratio, limits.overlap_warning_ratio, scene.material.youngs_modulus
+            "the settled pile's weight would press the bottom disks {:.3} radii into the floor (contact laws are valid below {}): the contacts ({}, E = {:.3e} Pa) are too soft for this pile",
+            r.static_overlap_ratio, limits.overlap_warning_ratio, law, scene.material.youngs_modulus
         ));
     }
     w
@@ -194,12 +194,12 @@ fn static_floor_overlap<L: ContactLaw>(law: &L, scene: &SceneConfig, p: &Particl
 /// Overlap at which the law's elastic normal force equals `force` (bisection), m.
 pub fn static_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, force: f64) -> f64 {
     let (mut lo, mut hi) = (0.0_f64, pair.r_star);
-    while law.coefficients(pair, hi).normal_force < force && hi < 1e6 {
+    while law.loading_coefficients(pair, hi).normal_force < force && hi < 1e6 {
         hi *= 2.0;
     }
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
-        if law.coefficients(pair, mid).normal_force < force { lo = mid } else { hi = mid }
+        if law.loading_coefficients(pair, mid).normal_force < force { lo = mid } else { hi = mid }
     }
     0.5 * (lo + hi)
 }

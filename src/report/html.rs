@@ -3,6 +3,7 @@
 use serde_json::{Value, json};
 
 use crate::output::table::{ColumnData, significant};
+use crate::physics::RunStatus;
 use crate::stats::points::Points;
 
 /// Summary columns shown per point (those the file has), with their units.
@@ -24,9 +25,6 @@ const POINT_METRICS: [(&str, &str); 16] = [
     ("final_ubf", ""),
     ("warnings", ""),
 ];
-
-/// Run statuses counted per point.
-const STATUSES: [&str; 4] = ["settled", "not_settled", "diverged", "error"];
 
 /// A page being assembled: sections in order, then the closing script.
 pub struct Page {
@@ -101,7 +99,7 @@ impl PointsTable {
             .map(|c| json!({"name": c.name, "kind": if c.data.is_numeric() { "number" } else { "text" }, "unit": ""}))
             .collect();
         columns.push(json!({"name": "n", "kind": "number", "unit": ""}));
-        columns.extend(STATUSES.iter().map(|s| json!({"name": s, "kind": "number", "unit": ""})));
+        columns.extend(RunStatus::RECORDED.iter().map(|s| json!({"name": s.as_str(), "kind": "number", "unit": ""})));
         columns.extend(metrics.iter().map(|(m, unit)| json!({"name": m, "kind": "number", "unit": unit})));
         columns.push(json!({"name": "runs", "kind": "run", "unit": ""}));
         let rows = (0..points.len())
@@ -118,7 +116,9 @@ impl PointsTable {
                     })
                     .collect();
                 cells.push(json!(runs.len()));
-                cells.extend(STATUSES.iter().map(|s| json!(statuses.iter().filter(|t| t == s).count())));
+                cells.extend(
+                    RunStatus::RECORDED.iter().map(|s| json!(statuses.iter().filter(|t| *t == s.as_str()).count())),
+                );
                 for (metric, _) in &metrics {
                     let d = points.describe(p, metric);
                     cells.push(if d.n == 0 { Value::Null } else { json!([short(d.mean), short(d.half_width_95)]) });

@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use crate::output::{RunResult, SummaryRow};
 use crate::physics::RunStatus;
-use crate::physics::simulation::{Control, Progress, run_scene};
+use crate::physics::run_scene;
+use crate::physics::simulation::{Control, Progress};
 use crate::study::PlannedRun;
 
 /// Runs one simulation; `observe` sees every progress sample. Returns `None` when `stop` interrupted

@@ -118,7 +118,7 @@ impl PlannedRun {
         scene: SceneConfig,
         initial: Option<Arc<Vec<InitialDisk>>>,
     ) -> Self {
-        let time_step = crate::physics::simulation::scene_time_step(&scene, initial.as_deref().map(Vec::as_slice)).dt;
+        let time_step = crate::physics::scene_time_step(&scene, initial.as_deref().map(Vec::as_slice)).dt;
         let estimated_cost = scene.particles.count as f64 * scene.total_steps(time_step) as f64;
         Self { id, index, parameters, scene, initial, time_step, estimated_cost }
     }

@@ -14,7 +14,7 @@ use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, reso
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
-use crate::physics::{placement, simulation};
+use crate::physics::placement;
 
 /// Keys allowed at the top of a study file.
 /// The tables of a study file (besides the strings `name` and `description`).
@@ -339,7 +339,7 @@ impl<'a> Planner<'a> {
             None => self.try_placement(scene).map_err(|(key, reason)| vec![self.problem(point, &key, reason)])?,
         };
         let span = self.doc.span(&["scene".to_string()]);
-        for reason in simulation::predict_stability(scene, &disks).warnings {
+        for reason in crate::physics::predict_stability(scene, &disks).warnings {
             let warning = self.file.error(span.clone(), "scene", format!("predicted: {reason}")).in_run(&point.id);
             self.warnings.push(warning);
         }

@@ -12,6 +12,7 @@ use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 use crate::physics::placement;
+use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text, set_path};
 use crate::study::plan::{self, fingerprint, split_leaves};
@@ -454,7 +455,7 @@ fn collect<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Vec<(KeyP
     for (key, value) in table {
         prefix.push(key.clone());
         match value.as_table() {
-            Some(inner) if !["linear", "log"].iter().any(|k| inner.contains_key(*k)) => collect(inner, prefix, out),
+            Some(inner) if !axes::is_range_spec(inner) => collect(inner, prefix, out),
             _ => out.push((prefix.clone(), value)),
         }
         prefix.pop();
@@ -466,35 +467,17 @@ fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
     match value {
         toml::Value::Array(items) if items.is_empty() => Err("a list lever needs at least one value".into()),
         toml::Value::Array(items) => {
-            items.iter().map(crate::study::axes::scalar).collect::<Result<Vec<_>, _>>().map(LeverRange::List)
+            items.iter().map(axes::scalar).collect::<Result<Vec<_>, _>>().map(LeverRange::List)
         }
         toml::Value::Table(table) => {
-            if let Some(unknown) = table.keys().find(|k| !["linear", "log"].contains(&k.as_str())) {
-                return Err(format!("unknown key \"{unknown}\" ({SHAPE})"));
-            }
-            let (kind, ends) = match (table.get("linear"), table.get("log")) {
-                (Some(ends), None) => ("linear", ends),
-                (None, Some(ends)) => ("log", ends),
-                _ => return Err(format!("exactly one of linear or log ({SHAPE})")),
-            };
-            let pair = ends.as_array().filter(|a| a.len() == 2);
-            let integer = pair.is_some_and(|a| a.iter().all(|v| v.is_integer()));
-            let number = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
-            let (low, high) = match pair.map(|a| (number(&a[0]), number(&a[1]))) {
-                Some((Some(a), Some(b))) if a.is_finite() && b.is_finite() => (a, b),
-                _ => return Err(format!("{kind}: expected two finite numbers [a, b], got {ends}")),
-            };
+            let RangeEnds { spacing, a: low, b: high, integer } = axes::range_ends(table, &[], SHAPE)?;
             if low >= high {
-                return Err(format!("{kind}: the ends must increase, got [{low}, {high}]"));
+                return Err(format!("{}: the ends must increase, got [{low}, {high}]", spacing.key()));
             }
-            if kind == "log" {
-                if low <= 0.0 {
-                    return Err(format!("log: the ends must be > 0, got [{low}, {high}]"));
-                }
-                Ok(LeverRange::Log { low, high, integer })
-            } else {
-                Ok(LeverRange::Linear { low, high, integer })
-            }
+            Ok(match spacing {
+                Spacing::Log => LeverRange::Log { low, high, integer },
+                Spacing::Linear => LeverRange::Linear { low, high, integer },
+            })
         }
         other => Err(format!("{SHAPE}; got a single {}", other.type_str())),
     }

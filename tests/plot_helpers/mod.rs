@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use demsweep::physics::config::SceneConfig;
 use demsweep::physics::record::RunRecord;
-use demsweep::physics::simulation::{Control, run_scene};
+use demsweep::physics::run_scene;
+use demsweep::physics::simulation::Control;
 
 /// A tiny deposition: 40 disks of radius 1 cm dropped into a 0.2 m x 0.3 m box for at most 0.7 s,
 /// frames at 0, 0.1 and 0.2 s, with a loose settle criterion so that a stable run settles.

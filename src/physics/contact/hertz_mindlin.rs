@@ -1,5 +1,7 @@
 //! The paper's Hertz-Mindlin law (eqs 6-12) with the spec's fixes.
 
+use serde::{Deserialize, Serialize};
+
 use super::{Coefficients, ContactLaw, PairProperties};
 
 /// `2·√(5/6)`: the paper's damping prefactor (eqs 7 and 12).
@@ -7,13 +9,17 @@ const DAMPING_PREFACTOR: f64 = 1.825_741_858_350_553_8;
 
 /// Hertz normal force `F_ne = 4/3 E* √R* δ^{3/2}` (eq 6), normal stiffness `S_n = 2 E* √(R* δ)` (eq 8),
 /// Mindlin tangential stiffness `S_t = 8 G* √(R* δ)` (eq 11, **fix**: the normal overlap under the
-/// root, not the tangential one), damping `2√(5/6) β √(S m*)` (eqs 7, 12).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct HertzMindlin;
+/// root, not the tangential one), damping `2√(5/6) β √(S m*)` (eqs 7, 12). Its constants are
+/// the materials' (no parameters of its own: `[contact.hertz_mindlin]` is empty).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HertzMindlin {}
 
 impl ContactLaw for HertzMindlin {
+    type State = ();
+
     #[inline]
-    fn coefficients(&self, p: &PairProperties, overlap: f64) -> Coefficients {
+    fn coefficients(&self, p: &PairProperties, overlap: f64, _: &mut ()) -> Coefficients {
         let root = (p.r_star * overlap).sqrt();
         let normal_stiffness = 2.0 * p.e_star * root;
         // √(S m*) = √(2E* or 8G*) · √(√(R*δ) m*): one square root per contact, the material
@@ -28,7 +34,7 @@ impl ContactLaw for HertzMindlin {
     }
 
     #[inline]
-    fn normal_elastic_energy(&self, p: &PairProperties, overlap: f64) -> f64 {
+    fn normal_elastic_energy(&self, p: &PairProperties, overlap: f64, _: &()) -> f64 {
         (8.0 / 15.0) * p.e_star * p.r_star.sqrt() * overlap * overlap * overlap.sqrt()
     }
 

@@ -3,17 +3,25 @@
 //! A law only says how stiff and how damped a contact is at a given overlap
 //! ([`ContactLaw::coefficients`]) and how much elastic energy it stores; the shared machinery here
 //! turns that into forces: damping, the `Fn ≥ 0` clamp, the tangential spring with its history and
-//! the Coulomb limit. A new law is one new file implementing [`ContactLaw`].
+//! the Coulomb limit. A law may keep per-contact state of its own ([`ContactLaw::State`], e.g. the
+//! largest overlap of a plastic law), carried with the contact from its first touch to its end.
+//!
+//! A new law is one new file implementing [`ContactLaw`] (its parameters are the struct's fields,
+//! read from `[contact.<name>]`) plus one line in the table of [`registry`].
 //!
 //! Sign conventions (spec): `n` is the unit normal from body i to body j, `t = (-n_y, n_x)`;
 //! the approach speed `v_n = (v_i - v_j)·n` is positive when the bodies close in; the force on i is
 //! `-F_n n + F_t t` (on j the opposite) and the torque from the tangential force is `F_t R` on each.
 
 mod hertz_mindlin;
+mod hysteretic;
 mod linear;
+pub mod registry;
 
 pub use hertz_mindlin::HertzMindlin;
+pub use hysteretic::HystereticLinear;
 pub use linear::LinearSpringDashpot;
+pub use registry::{ContactConfig, ContactLawKind, LawVisitor, RegisteredLaw};
 
 /// Effective properties of one contact (walls: infinite radius and mass, so `R* = R_i`, `m* = m_i`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,13 +52,25 @@ pub struct Coefficients {
 }
 
 /// A normal-tangential contact force law.
-pub trait ContactLaw: Send + Sync {
-    /// Stiffness and damping at overlap `overlap > 0` (m).
-    fn coefficients(&self, pair: &PairProperties, overlap: f64) -> Coefficients;
-    /// Elastic energy stored by the normal spring at overlap `overlap` (J).
-    fn normal_elastic_energy(&self, pair: &PairProperties, overlap: f64) -> f64;
-    /// Short name for reports.
+pub trait ContactLaw: Clone + Send + Sync + 'static {
+    /// Per-contact history of the law's own besides the tangential spring (`()` for none): it
+    /// starts as `Default` when two bodies first touch and is dropped when they part.
+    type State: Copy + Default + PartialEq + Send + Sync + std::fmt::Debug;
+    /// Stiffness and damping at overlap `overlap > 0` (m), updating the contact's `state`.
+    fn coefficients(&self, pair: &PairProperties, overlap: f64, state: &mut Self::State) -> Coefficients;
+    /// Elastic energy stored by the normal spring at overlap `overlap` in `state` (J).
+    fn normal_elastic_energy(&self, pair: &PairProperties, overlap: f64, state: &Self::State) -> f64;
+    /// Short name for reports: the law's `contact.law` value.
     fn name(&self) -> &'static str;
+    /// Problems with the law's parameters, as (key within `[contact.<name>]`, reason).
+    fn problems(&self) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
+
+    /// Coefficients of a fresh contact pressed monotonically to `overlap` (for estimates).
+    fn loading_coefficients(&self, pair: &PairProperties, overlap: f64) -> Coefficients {
+        self.coefficients(pair, overlap, &mut Self::State::default())
+    }
 }
 
 /// Contact options shared by all laws.
@@ -137,9 +157,10 @@ pub fn elastic_energy<L: ContactLaw>(
     pair: &PairProperties,
     overlap: f64,
     force: &ContactForce,
-    spring: f64,
+    history: (f64, &L::State),
 ) -> f64 {
-    law.normal_elastic_energy(pair, overlap) + 0.5 * force.tangential_stiffness * spring * spring
+    let (spring, state) = history;
+    law.normal_elastic_energy(pair, overlap, state) + 0.5 * force.tangential_stiffness * spring * spring
 }
 
 /// Outcome of a simulated head-on impact, used for time-step estimates.
@@ -158,12 +179,19 @@ pub struct ImpactEstimate {
 /// the largest overlap from the damped one.
 pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> ImpactEstimate {
     let undamped = PairProperties { beta: 0.0, ..*pair };
-    let accel = |d: f64| if d > 0.0 { -law.coefficients(&undamped, d).normal_force / pair.m_star } else { 0.0 };
+    let mut state = L::State::default();
+    let elastic = |d: f64, state: &mut L::State| {
+        if d > 0.0 { law.coefficients(&undamped, d, state).normal_force } else { 0.0 }
+    };
     // First guess of the duration from a linear spring at the overlap where all energy is stored.
     let mut dt = 1e-3 * guess_duration(law, &undamped, speed);
     let (mut d, mut v, mut t, mut dmax) = (0.0_f64, speed, 0.0_f64, 0.0_f64);
     let mut steps = 0;
-    while (d > 0.0 || t == 0.0) && steps < 100_000 {
+    // Until the bodies part: the overlap is gone, or (a plastic law) the force has vanished on the way out.
+    let mut touching = true;
+    while (touching || t == 0.0) && steps < 100_000 {
+        // RK4 stages at trial overlaps on a copy of the state; the state follows the accepted step.
+        let accel = |d: f64| -elastic(d, &mut state.clone()) / pair.m_star;
         let (k1d, k1v) = (v, accel(d));
         let (k2d, k2v) = (v + 0.5 * dt * k1v, accel(d + 0.5 * dt * k1d));
         let (k3d, k3v) = (v + 0.5 * dt * k2v, accel(d + 0.5 * dt * k2d));
@@ -172,21 +200,22 @@ pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64
         v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
         t += dt;
         dmax = dmax.max(d);
+        touching = d > 0.0 && (v > 0.0 || elastic(d, &mut state) > 0.0);
         steps += 1;
         if steps == 10 && dmax <= 0.0 {
             dt *= 10.0;
         }
     }
     let damped_overlap = if pair.beta > 0.0 { damped_max_overlap(law, pair, speed, dt) } else { dmax };
-    let at_max = law.coefficients(pair, dmax);
+    let at_max = law.loading_coefficients(pair, dmax);
     ImpactEstimate { duration: t, max_overlap: damped_overlap, max_damping_rate: at_max.normal_damping / pair.m_star }
 }
 
 /// Largest overlap of the damped impact (semi-implicit Euler with step `dt`, until it recedes).
 fn damped_max_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64, dt: f64) -> f64 {
-    let (mut d, mut v) = (0.0_f64, speed);
+    let (mut d, mut v, mut state) = (0.0_f64, speed, L::State::default());
     for _ in 0..1_000_000 {
-        let c = law.coefficients(pair, d.max(1e-300));
+        let c = law.coefficients(pair, d.max(1e-300), &mut state);
         v -= (c.normal_force + c.normal_damping * v).max(0.0) / pair.m_star * dt;
         if v <= 0.0 {
             break;
@@ -199,14 +228,19 @@ fn damped_max_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64,
 /// Rough contact duration: bisect the overlap that stores the impact energy, then π/ω of the secant.
 fn guess_duration<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> f64 {
     let energy = 0.5 * pair.m_star * speed * speed;
+    let loaded = |d: f64| {
+        let mut state = L::State::default();
+        law.coefficients(pair, d, &mut state);
+        law.normal_elastic_energy(pair, d, &state)
+    };
     let (mut lo, mut hi) = (0.0_f64, pair.r_star.max(1e-12));
-    while law.normal_elastic_energy(pair, hi) < energy && hi < 1e6 {
+    while loaded(hi) < energy && hi < 1e6 {
         hi *= 2.0;
     }
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
-        if law.normal_elastic_energy(pair, mid) < energy { lo = mid } else { hi = mid }
+        if loaded(mid) < energy { lo = mid } else { hi = mid }
     }
-    let stiffness = law.coefficients(pair, hi).normal_force / hi;
+    let stiffness = law.loading_coefficients(pair, hi).normal_force / hi;
     std::f64::consts::PI * (pair.m_star / stiffness).sqrt()
 }

@@ -1,4 +1,5 @@
-//! The one writer thread: receives finished runs, stages them and commits in batches.
+//! The one writer thread: receives finished runs, hands them to the result sinks and commits in
+//! batches; at the end computes the statistics and hands every sink the tables.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -6,7 +7,8 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use crate::output::{OutputError, ResultsWriter, RunResult, Tables};
+use crate::output::{OutputError, ResultSink, RunResult, SummaryRow, Tables};
+use crate::stats::points;
 
 /// When staged runs are committed: once `interval` has passed since the last commit or `max_runs`
 /// runs are staged, whichever comes first. The interval bounds what `kill -9` can lose (a finished
@@ -38,17 +40,25 @@ impl CommitPolicy {
 /// while this many wait blocks until the writer takes one.
 pub const BACKLOG_PER_WORKER: usize = 2;
 
+/// The sinks of a sweep and the rows of the runs they already hold (when resuming).
+pub struct Sinks {
+    /// Where every run goes (the results file first).
+    pub sinks: Vec<Box<dyn ResultSink>>,
+    /// Rows of the runs committed before this sweep.
+    pub committed: Vec<SummaryRow>,
+}
+
 /// Starts the writer thread; it ends when every sender is dropped, returning the tables and the
 /// time it spent writing (staging, committing, finishing). On an error it sets `stop` (so the sweep
 /// ends) and returns the error.
 pub fn spawn(
-    writer: ResultsWriter,
+    sinks: Sinks,
     runs: Receiver<RunResult>,
     policy: CommitPolicy,
     stop: Arc<AtomicBool>,
 ) -> JoinHandle<Result<(Tables, Duration), OutputError>> {
     thread::spawn(move || {
-        let outcome = write_all(writer, &runs, policy);
+        let outcome = write_all(sinks, &runs, policy);
         if outcome.is_err() {
             stop.store(true, Ordering::SeqCst);
         }
@@ -57,31 +67,38 @@ pub fn spawn(
 }
 
 fn write_all(
-    mut writer: ResultsWriter,
+    sinks: Sinks,
     runs: &Receiver<RunResult>,
     policy: CommitPolicy,
 ) -> Result<(Tables, Duration), OutputError> {
+    let Sinks { mut sinks, committed: mut rows } = sinks;
     let mut last_commit = Instant::now();
     let mut busy = Duration::ZERO;
+    let mut pending = 0;
     loop {
         match runs.recv_timeout(Duration::from_millis(200)) {
             Ok(run) => {
                 let started = Instant::now();
-                writer.stage(&run)?;
+                sinks.iter_mut().try_for_each(|sink| sink.accept(&run))?;
+                rows.push(run.row);
+                pending += 1;
                 busy += started.elapsed();
             }
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
         }
-        if policy.due(writer.pending(), last_commit.elapsed()) {
+        if policy.due(pending, last_commit.elapsed()) {
             let started = Instant::now();
-            writer.commit()?;
+            sinks.iter_mut().try_for_each(|sink| sink.commit())?;
+            pending = 0;
             busy += started.elapsed();
             last_commit = Instant::now();
         }
     }
     let started = Instant::now();
-    let tables = writer.finish()?;
+    sinks.iter_mut().try_for_each(|sink| sink.commit())?;
+    let tables = points::tables(&rows);
+    sinks.into_iter().try_for_each(|sink| sink.finish(&tables))?;
     Ok((tables, busy + started.elapsed()))
 }
 

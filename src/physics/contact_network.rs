@@ -1,0 +1,80 @@
+//! The contact network of a state as columns (one entry per contact): what is stored with final
+//! states and frames, and what exports read.
+
+use serde::{Deserialize, Serialize};
+
+use super::particles::Particles;
+use super::pile::{Partner, PileContact};
+
+/// Relative tolerance of "at the Coulomb limit" for [`ContactNetwork::sliding`].
+const SLIDING_TOLERANCE: f64 = 1e-9;
+
+/// Every contact carrying force at one time: disk pairs first (ordered by first disk), then disk-wall
+/// contacts. Forces act on `first`; on `second` (a disk) they act the other way.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ContactNetwork {
+    /// The first body: a disk index.
+    pub first: Vec<u32>,
+    /// The second body: a disk index `≥ 0`, or a wall `−1 − k` (k: index of the wall; 0 floor,
+    /// 1 left, 2 right, 3 lid).
+    pub second: Vec<i64>,
+    /// Unit normal from the first body to the second, x and y.
+    pub normal_x: Vec<f64>,
+    /// See `normal_x`.
+    pub normal_y: Vec<f64>,
+    /// Normal force (N), repulsive positive.
+    pub normal_force: Vec<f64>,
+    /// Tangential force on the first body along `t = (−n_y, n_x)` (N).
+    pub tangential_force: Vec<f64>,
+    /// Overlap δ (m).
+    pub overlap: Vec<f64>,
+    /// Contact point x (m): on the line of centres, in the middle of the overlap.
+    pub point_x: Vec<f64>,
+    /// Contact point y (m).
+    pub point_y: Vec<f64>,
+    /// Whether the tangential force sits on the Coulomb limit `μ F_n`.
+    pub sliding: Vec<bool>,
+}
+
+impl ContactNetwork {
+    /// The network of `contacts` (see [`super::simulation::Simulation::contacts`]) in state `p`.
+    pub fn new(contacts: &[PileContact], p: &Particles) -> Self {
+        let mut network = Self::default();
+        for c in contacts {
+            let i = c.disk;
+            let [nx, ny] = c.normal;
+            let second = match c.partner {
+                Partner::Disk(j) => j as i64,
+                Partner::Wall(k) => -1 - k as i64,
+            };
+            let overlap = c.overlap_ratio
+                * match c.partner {
+                    Partner::Disk(j) => p.r[i].min(p.r[j]),
+                    Partner::Wall(_) => p.r[i],
+                };
+            let reach = p.r[i] - 0.5 * overlap;
+            network.first.push(i as u32);
+            network.second.push(second);
+            network.normal_x.push(nx);
+            network.normal_y.push(ny);
+            network.normal_force.push(c.normal_force);
+            network.tangential_force.push(c.tangential_force);
+            network.overlap.push(overlap);
+            network.point_x.push(p.x[i] + reach * nx);
+            network.point_y.push(p.y[i] + reach * ny);
+            let limit = c.friction * c.normal_force.max(0.0);
+            network.sliding.push(c.friction > 0.0 && c.tangential_force.abs() >= limit * (1.0 - SLIDING_TOLERANCE));
+        }
+        network
+    }
+
+    /// Number of contacts.
+    pub fn len(&self) -> usize {
+        self.first.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.first.is_empty()
+    }
+}

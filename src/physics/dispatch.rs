@@ -1,0 +1,84 @@
+//! What a caller does with a scene whichever its contact law: run it, resolve its time step,
+//! predict its stability. Each goes through the law table's one dispatch
+//! ([`ContactConfig::dispatch`](super::contact::ContactConfig::dispatch)).
+
+use super::config::SceneConfig;
+use super::contact::{LawVisitor, RegisteredLaw};
+use super::material::Materials;
+use super::particles::{InitialDisk, Particles};
+use super::record::RunRecord;
+use super::simulation::{Control, Progress, Simulation};
+use super::stability::{self, StabilityReport};
+use super::time_step::{self, ResolvedTimeStep};
+use super::walls::BoxWalls;
+
+/// Builds and runs one scene with the contact law it names. `disks`: explicit initial states
+/// (file placement), or `None` to generate them from the scene's placement.
+pub fn run_scene(
+    scene: &SceneConfig,
+    disks: Option<Vec<InitialDisk>>,
+    observer: &mut dyn FnMut(&Progress) -> Control,
+) -> Result<RunRecord, String> {
+    if let Err(issues) = scene.validate() {
+        return Err(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "));
+    }
+    let disks = match disks {
+        Some(d) => d,
+        None => super::placement::generate(scene).map_err(|e| e.to_string())?,
+    };
+    if disks.is_empty() {
+        return Err("particles.count: a scene needs at least one disk, got 0".into());
+    }
+    struct Run<'a> {
+        scene: &'a SceneConfig,
+        disks: &'a [InitialDisk],
+        observer: &'a mut dyn FnMut(&Progress) -> Control,
+    }
+    impl LawVisitor for Run<'_> {
+        type Output = RunRecord;
+        fn visit<L: RegisteredLaw>(self, law: &L) -> RunRecord {
+            Simulation::with_law(self.scene, self.disks, law.clone()).run(self.observer)
+        }
+    }
+    Ok(scene.contact.dispatch(Run { scene, disks: &disks, observer }))
+}
+
+/// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.
+pub fn scene_time_step(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> ResolvedTimeStep {
+    struct Resolve<'a>(&'a SceneConfig, Option<&'a [InitialDisk]>);
+    impl LawVisitor for Resolve<'_> {
+        type Output = ResolvedTimeStep;
+        fn visit<L: RegisteredLaw>(self, law: &L) -> ResolvedTimeStep {
+            time_step::resolve(law, self.0, self.1)
+        }
+    }
+    scene.contact.dispatch(Resolve(scene, disks))
+}
+
+/// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
+pub(super) fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
+    let mut scene = scene.clone();
+    scene.integrator.time_step = Some(dt);
+    (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
+    scene
+}
+
+/// The pre-run stability estimate of a scene starting from `disks` with its own contact law,
+/// without building a simulation (a time step capped by the damping-rate limit is its first warning).
+pub fn predict_stability(scene: &SceneConfig, disks: &[InitialDisk]) -> StabilityReport {
+    let resolved = scene_time_step(scene, Some(disks));
+    let scene = &with_time_step(scene, resolved.dt);
+    let materials = Materials::from_scene(scene);
+    let particles = Particles::new(disks, materials.density, scene.particles.thickness);
+    let walls = BoxWalls::new(&scene.domain);
+    struct Assess<'a>(&'a SceneConfig, &'a Particles, &'a Materials, &'a BoxWalls);
+    impl LawVisitor for Assess<'_> {
+        type Output = StabilityReport;
+        fn visit<L: RegisteredLaw>(self, law: &L) -> StabilityReport {
+            stability::assess(law, self.0, self.1, self.2, self.3)
+        }
+    }
+    let mut report = scene.contact.dispatch(Assess(scene, &particles, &materials, &walls));
+    report.warnings.splice(0..0, resolved.warning);
+    report
+}
