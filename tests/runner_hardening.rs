@@ -175,3 +175,42 @@ fn kill_9_loses_at_most_the_commit_interval_even_when_runs_are_tiny() {
     let committed = summary::read(&out.join("shared.h5")).expect("a killed sweep's file is valid").len();
     assert!(committed >= finished, "{committed} of the {finished} runs finished 4 s before kill -9 were committed");
 }
+
+/// Overwrites 64 bytes around the first place the run id `id` is written in `results` (its group's
+/// `id` attribute), damaging that run group only.
+fn damage_run_group(results: &Path, id: &str) {
+    let mut bytes = std::fs::read(results).unwrap();
+    let at = bytes.windows(id.len()).position(|w| w == id.as_bytes()).expect("the run id is in the file");
+    bytes[at - 32..at + 32].fill(0xff);
+    std::fs::write(results, bytes).unwrap();
+}
+
+#[test]
+fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
+    let dir = runner_common::scratch("hard_damaged");
+    let study = write_study(&dir, &STUDY.replace("replicates = 20", "replicates = 2"));
+    let out = dir.join("out");
+    let (s, o) = (study.to_str().unwrap(), out.to_str().unwrap());
+    let first = command(&["run", s, "--out", o]).output().unwrap();
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    let results = out.join("shared.h5");
+    let intact = summary::read(&results).unwrap().without_timing();
+    damage_run_group(&results, "r0005");
+    let r = results.to_str().unwrap();
+    for args in [vec!["summary", r], vec!["report", r], vec!["plot", r, "--format", "svg"]] {
+        let seen = command(&args).output().unwrap();
+        assert_eq!(seen.status.code(), Some(3), "{args:?}: {}", stderr(&seen));
+        let expected = "damaged: 1 run group(s) cannot be read: /runs/b0000/r0005 (";
+        assert!(stderr(&seen).contains(expected), "{args:?}: {}", stderr(&seen));
+    }
+    let listed = String::from_utf8(command(&["summary", r]).output().unwrap().stdout).unwrap();
+    assert_eq!(listed.lines().count(), 1 + 7, "the seven readable runs:\n{listed}");
+    assert!(!listed.contains("r0005"), "{listed}");
+    let resumed = command(&["run", s, "--out", o, "--resume"]).output().unwrap();
+    assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
+    assert!(String::from_utf8_lossy(&resumed.stdout).contains("1 run now, 7 already done"), "{resumed:?}");
+    assert!(stderr(&resumed).contains("/runs/b0000/r0005"), "the resume names what it runs again");
+    assert_eq!(summary::read(&results).unwrap().without_timing(), intact);
+    let clean = command(&["summary", r]).output().unwrap();
+    assert_eq!(clean.status.code(), Some(0), "{}", stderr(&clean));
+}

@@ -222,6 +222,10 @@ fn open_results(
         let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
         check_same_study(path, &header, plan, options.shard)?;
         writer.forget_failed()?;
+        let damaged = writer.forget_damaged()?;
+        if !damaged.is_empty() && options.progress != ProgressMode::Quiet {
+            eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
+        }
         return Ok((lock, writer));
     }
     if exists && !options.force {
