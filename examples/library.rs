@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release --example library` (a few seconds).
 
-use demsweep::physics::simulation::run_scene;
+use demsweep::physics::run_scene;
 use demsweep::physics::{Control, RunStatus, SceneConfig};
 
 fn main() -> Result<(), String> {
@@ -23,8 +23,9 @@ fn main() -> Result<(), String> {
         (RunStatus::Settled, Some(t)) => println!("settled at t = {t:.3} s after {} steps", record.steps),
         _ => println!("did not settle within {} s", scene.run.duration),
     }
-    println!("pile height: {:.4} m", record.pile_height());
-    println!("packing fraction (interior): {:.3}", record.pile.packing_fraction_interior);
-    println!("coordination number: {:.2}", record.pile.coordination_number);
+    // Every pile metric, with its unit, from the one declaration of per-run quantities.
+    for metric in demsweep::physics::quantity::PILE_METRICS {
+        println!("{} ({}): {:.4}", metric.name, metric.unit, record.pile[metric.name]);
+    }
     Ok(())
 }

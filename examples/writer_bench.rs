@@ -176,7 +176,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         ("placement.seed".to_string(), ParamValue::Int(index as i64)),
     ];
     let id = format!("r{index:05}");
-    let mut row = SummaryRow::finished(index, &id, &parameters, &record, scene.domain.width);
+    let mut row = SummaryRow::finished(index, &id, &parameters, &record);
     row.wall_time = 3.0;
     RunResult { row, scene: scene.clone(), record: Some(record) }
 }

@@ -262,6 +262,9 @@ pub fn write_columns(
                 if let Err(e) = column_data(b, &column.data) {
                     failure = Some(e);
                 }
+                for (key, value) in layout::column_attrs(&column.name) {
+                    b.set_attr(key, value);
+                }
             });
         }
     })?;
@@ -283,7 +286,10 @@ fn column_data(b: &mut DatasetBuilder, data: &ColumnData) -> Result<(), hdf5_pur
 
 fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOptions) {
     if output.histories {
-        g.create_dataset("history", |b| stage_table(b, &layout::history_table(&record.history)));
+        g.create_dataset("history", |b| {
+            stage_table(b, &layout::history_table(&record.history));
+            b.set_attr(layout::UNITS, layout::history_units());
+        });
     }
     if output.final_states {
         stage_snapshot(g, "final", &record.final_state);

@@ -134,19 +134,6 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
-    /// Height of the pile at the end: the highest disk top (m).
-    pub fn pile_height(&self) -> f64 {
-        let s = &self.final_state;
-        s.y.iter().zip(&s.r).map(|(y, r)| y + r).fold(0.0, f64::max)
-    }
-
-    /// Area fraction of disks below the pile height in a box of the given width.
-    pub fn packing_fraction(&self, width: f64) -> f64 {
-        let h = self.pile_height();
-        let area: f64 = self.final_state.r.iter().map(|r| std::f64::consts::PI * r * r).sum();
-        if h > 0.0 { area / (width * h) } else { f64::NAN }
-    }
-
     /// Last sampled value of a history series, NaN when there is none.
     pub fn last(series: &[f64]) -> f64 {
         series.last().copied().unwrap_or(f64::NAN)

@@ -8,6 +8,7 @@ use super::{Describe, describe};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
 use crate::output::{OutputError, SummaryRow, Tables, reader};
 use crate::physics::RunStatus;
+use crate::physics::quantity;
 
 /// The tables of a results file holding `rows`: the summary and its points table (what the runner
 /// hands its sinks at the end of a sweep).
@@ -200,7 +201,14 @@ pub fn table_metrics(points: &SummaryTable) -> Vec<&str> {
 pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, String> {
     let known = table_metrics(points);
     if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
-        return Err(format!("no metric `{unknown}` in the points table; the metrics are: {}", known.join(", ")));
+        let why = match quantity::find(unknown) {
+            Some(_) => "this file was written before it existed",
+            None => "not a per-run quantity or numeric summary column",
+        };
+        return Err(format!(
+            "no metric `{unknown}` in the points table ({why}); the metrics are: {}",
+            known.join(", ")
+        ));
     }
     let end = points.columns.iter().position(|c| c.name == "n").map_or(0, |n| n + 1 + RunStatus::RECORDED.len());
     let mut columns: Vec<Column> = points.columns[..end.min(points.columns.len())].to_vec();
@@ -211,7 +219,9 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Str
             continue;
         };
         let cells = (0..points.len()).map(|i| plus_minus(mean.data.number(i), half.data.number(i))).collect();
-        columns.push(Column { name: format!("{metric} (±95%)"), data: ColumnData::Text(cells) });
+        let unit = quantity::find(metric).map(|q| q.unit).filter(|u| !u.is_empty());
+        let name = unit.map_or(format!("{metric} (±95%)"), |unit| format!("{metric} ({unit}, ±95%)"));
+        columns.push(Column { name, data: ColumnData::Text(cells) });
     }
     Ok(SummaryTable { columns })
 }

@@ -6,12 +6,11 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::output::table::ColumnData;
-use crate::output::{SummaryRow, SummaryTable};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 use crate::physics::placement;
+use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text, set_path};
@@ -483,17 +482,12 @@ fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
     }
 }
 
-/// The summary columns a `[keep]` entry may name: the numeric per-run results.
+/// Per-run quantities that are costs or settings, not results a `[keep]` entry may hold.
+const NOT_KEPT: [&str; 5] = ["steps", "particle_steps", "simulated_time", "wall_time", "time_step"];
+
+/// The per-run quantities a `[keep]` entry may name: the declared results, costs and settings left out.
 pub fn keepable_metrics() -> Vec<String> {
-    let table = SummaryTable::from_rows(&[SummaryRow::failed(0, "r0", &[], "")]);
-    const NOT_PILE: [&str; 7] =
-        ["index", "wall_time", "warnings", "simulated_time", "steps", "particle_steps", "time_step"];
-    table
-        .columns
-        .iter()
-        .filter(|c| matches!(c.data, ColumnData::Float(_) | ColumnData::Int(_)) && !NOT_PILE.contains(&c.name.as_str()))
-        .map(|c| c.name.clone())
-        .collect()
+    quantity::per_run().filter(|q| !NOT_KEPT.contains(&q.name)).map(|q| q.name.to_string()).collect()
 }
 
 /// `[keep]`: `metric = relative tolerance`, or `metric = { relative = r }` / `{ absolute = a }`.
