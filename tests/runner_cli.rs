@@ -6,29 +6,14 @@ mod runner_common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
 
 use demsweep::output::summary;
 
-/// 80 runs of 30 disks (about 20 ms each): long enough to be stopped midway.
-const STUDY: &str = r#"name = "cli_sweep"
-[scene]
-particles.count = 30
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.2
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = { linear = [0.2, 0.8], steps = 4 }
-replicates = 20
-[output]
-frames = false
-"#;
 const RUNS: usize = 80;
 
 fn study(dir: &Path) -> PathBuf {
     let path = dir.join("cli_sweep.toml");
-    std::fs::write(&path, STUDY).unwrap();
+    std::fs::write(&path, runner_common::cli_study("cli_sweep")).unwrap();
     path
 }
 
@@ -49,16 +34,6 @@ fn spawn_run(study: &Path, out: &Path) -> Child {
         .stderr(Stdio::null())
         .spawn()
         .unwrap()
-}
-
-/// Waits until the results file holds at least one committed run.
-fn wait_for_first_commit(results: &Path, child: &mut Child) {
-    let started = Instant::now();
-    while !summary::read(results).is_ok_and(|t| !t.is_empty()) {
-        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
-        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
-        std::thread::sleep(Duration::from_millis(2));
-    }
 }
 
 /// The summary of an uninterrupted run of the study.
@@ -87,7 +62,7 @@ fn stopped_midway(test: &str, stop: impl FnOnce(&mut Child)) -> (PathBuf, PathBu
     let study = study(&dir);
     let out = dir.join("out");
     let mut child = spawn_run(&study, &out);
-    wait_for_first_commit(&out.join("cli_sweep.h5"), &mut child);
+    runner_common::wait_for_first_commit(&out.join("cli_sweep.h5"), &mut child);
     stop(&mut child);
     let code = child.wait().unwrap().code();
     let kept = summary::read(&out.join("cli_sweep.h5")).expect("the stopped sweep's file is valid").len();

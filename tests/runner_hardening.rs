@@ -8,21 +8,12 @@ use std::time::{Duration, Instant};
 
 use demsweep::output::summary;
 
-/// 80 runs of 30 disks (about 20 ms each on one worker): long enough to overlap another process.
-const STUDY: &str = r#"name = "shared"
-[scene]
-particles.count = 30
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.2
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = { linear = [0.2, 0.8], steps = 4 }
-replicates = 20
-[output]
-frames = false
-"#;
 const RUNS: usize = 80;
+
+/// The 80-run study of the CLI tests, named `shared`.
+fn study_text() -> String {
+    runner_common::cli_study("shared")
+}
 
 fn write_study(dir: &Path, text: &str) -> PathBuf {
     let path = dir.join("shared.toml");
@@ -49,25 +40,16 @@ fn spawn_run(study: &Path, out: &Path, extra: &[&str]) -> Child {
         .unwrap()
 }
 
-/// Waits (at most a minute) until `results` holds a committed run while `child` runs.
-fn wait_for_first_commit(results: &Path, child: &mut Child) {
-    let started = Instant::now();
-    while !summary::read(results).is_ok_and(|t| !t.is_empty()) {
-        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
-        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
-
 #[test]
 fn force_and_resume_are_refused_while_another_process_writes() {
     let dir = runner_common::scratch("hard_force");
-    let study = write_study(&dir, STUDY);
-    let other = write_study(&runner_common::scratch("hard_force_other"), &STUDY.replace("steps = 4", "steps = 2"));
+    let study = write_study(&dir, &study_text());
+    let other =
+        write_study(&runner_common::scratch("hard_force_other"), &study_text().replace("steps = 4", "steps = 2"));
     let out = dir.join("out");
     let results = out.join("shared.h5");
     let mut first = spawn_run(&study, &out, &[]);
-    wait_for_first_commit(&results, &mut first);
+    runner_common::wait_for_first_commit(&results, &mut first);
     for (study, flag) in [(&other, "--force"), (&study, "--resume"), (&study, "--force")] {
         let second = spawn_run(study, &out, &[flag]).wait_with_output().unwrap();
         assert_eq!(second.status.code(), Some(1), "{flag}: {}", stderr(&second));
@@ -86,7 +68,7 @@ fn force_and_resume_are_refused_while_another_process_writes() {
 #[test]
 fn of_two_fresh_starts_at_once_exactly_one_writes() {
     let dir = runner_common::scratch("hard_fresh");
-    let study = write_study(&dir, &STUDY.replace("replicates = 20", "replicates = 2"));
+    let study = write_study(&dir, &study_text().replace("replicates = 20", "replicates = 2"));
     for trial in 0..4 {
         let out = dir.join(format!("out{trial}"));
         let children = [spawn_run(&study, &out, &[]), spawn_run(&study, &out, &[])];
@@ -107,7 +89,7 @@ fn of_two_fresh_starts_at_once_exactly_one_writes() {
 #[test]
 fn jobs_are_capped_by_the_runs_to_do() {
     let dir = runner_common::scratch("hard_jobs");
-    let study = write_study(&dir, &STUDY.replace("replicates = 20", "").replace("steps = 4", "steps = 2"));
+    let study = write_study(&dir, &study_text().replace("replicates = 20", "").replace("steps = 4", "steps = 2"));
     let (s, out) = (study.to_str().unwrap(), dir.join("out"));
     let run = command(&["run", s, "--out", out.to_str().unwrap(), "--jobs", "100000"]).output().unwrap();
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
@@ -117,7 +99,7 @@ fn jobs_are_capped_by_the_runs_to_do() {
 #[test]
 fn a_killed_merge_leaves_nothing_under_the_final_name() {
     let dir = runner_common::scratch("hard_merge");
-    let study = write_study(&dir, STUDY);
+    let study = write_study(&dir, &study_text());
     let shards = dir.join("shards");
     for k in ["1/2", "2/2"] {
         let run = command(&["run", study.to_str().unwrap(), "--out", shards.to_str().unwrap(), "--shard", k])
@@ -188,7 +170,7 @@ fn damage_run_group(results: &Path, id: &str) {
 #[test]
 fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     let dir = runner_common::scratch("hard_damaged");
-    let study = write_study(&dir, &STUDY.replace("replicates = 20", "replicates = 2"));
+    let study = write_study(&dir, &study_text().replace("replicates = 20", "replicates = 2"));
     let out = dir.join("out");
     let (s, o) = (study.to_str().unwrap(), out.to_str().unwrap());
     let first = command(&["run", s, "--out", o]).output().unwrap();
