@@ -117,11 +117,11 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
 fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
     if message.contains("unit variant") {
         let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
-        if let Err(e) = probe.try_into::<T>() {
-            if let Some((_, choices)) = e.message().split_once("expected ").filter(|_| e.message().contains("variant"))
-            {
-                return format!("must be {choices} (a string in quotes)");
-            }
+        let choices = probe.try_into::<T>().err().map(|e| e.message().to_string());
+        if let Some((_, choices)) =
+            choices.as_deref().filter(|m| m.contains("variant")).and_then(|m| m.split_once("expected "))
+        {
+            return format!("must be {choices} (a string in quotes)");
         }
     }
     plain_types(message)
