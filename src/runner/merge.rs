@@ -77,8 +77,8 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
-    // Written under a temporary name and renamed when complete: a killed merge leaves no partial
-    // file under the final name (and an existing one stays until the new one replaces it).
+    // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
+    // leaves no partial file under the final name (and an existing one stays until replaced).
     let partial = results.with_extension("merging.h5");
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
     let mut writer = ResultsWriter::create(&partial, &header, OutputOptions::default())?;
@@ -97,7 +97,13 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     let rows: Vec<SummaryRow> = shards.iter().flat_map(|s| s.rows.iter().cloned()).collect();
     let tables = points::tables(&rows);
     ResultSink::finish(Box::new(writer), &tables)?;
-    std::fs::rename(&partial, &results).map_err(|e| OutputError::io(&results, e))?;
+    for (from, to) in [
+        (csv_path(&partial), csv_path(&results)),
+        (points_csv_path(&partial), points_csv_path(&results)),
+        (partial, results.clone()),
+    ] {
+        std::fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
+    }
     let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
     let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
     Ok(MergeReport {
