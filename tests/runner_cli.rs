@@ -123,7 +123,10 @@ fn summary_history_and_merge_commands() {
         assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
         let lines = String::from_utf8_lossy(&run.stdout).lines().filter(|l| l.contains(" not_settled ")).count();
         assert_eq!(lines, RUNS / 2, "one line per finished run");
+        let page = shards.join(format!("cli_sweep.shard-{}-of-2_report.html", &k[..1]));
+        assert!(String::from_utf8_lossy(&run.stdout).contains(&format!("report: {}", page.display())));
     }
+    assert!(!shards.join("cli_sweep_report.html").exists(), "each shard has its own page, none shared");
     let merged = dir.join("merged");
     let merge = demsweep(&["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]);
     assert_eq!(merge.status.code(), Some(0), "{}", stderr(&merge));

@@ -2,9 +2,8 @@
 //! group, dataset and attribute of the results file (`/points` included) is compared with a JSON
 //! description built here from the plan and from re-running each (deterministic) simulation.
 
+mod python_env;
 mod runner_common;
-
-use std::process::Command;
 
 use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
@@ -224,8 +223,8 @@ fn h5py_reads_exactly_what_was_written() {
     let json_path = dir.join("expected.json");
     std::fs::write(&json_path, serde_json::to_string(&expected(&plan, &report.summary)).unwrap()).unwrap();
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/interop/check_h5.py");
-    let out = Command::new("python3").arg(script).arg(&report.results).arg(&json_path).output().expect("run python3");
+    let out = python_env::python(script).arg(&report.results).arg(&json_path).output().expect("run the tests' Python");
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "h5py check failed (CI installs h5py: python3 -m pip install h5py numpy):\n{text}");
+    assert!(out.status.success(), "h5py check failed (scripts/test.sh installs h5py and numpy):\n{text}");
     assert!(text.contains("0 problems"), "{text}");
 }

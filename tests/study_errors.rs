@@ -120,6 +120,14 @@ fn malformed_axes() {
 }
 
 #[test]
+fn a_misspelt_sweep_keyword_is_named() {
+    let e = sweep("replicate", "replicate = 3");
+    assert!(e.reason.ends_with("did you mean `replicates`?"), "{e}");
+    assert!(sweep("zips", "zips = []").reason.ends_with("did you mean `zip`?"));
+    assert!(sweep("seed", "seed = [1, 2]").reason.ends_with("nor `replicates` or `zip`"));
+}
+
+#[test]
 fn sweeping_an_unknown_key_is_reported_on_the_axis_line() {
     let e = sweep("unknownaxis", "\"material.stiffness\" = [1.0, 2.0]");
     assert!(e.reason.starts_with("unknown field `stiffness`"), "{e}");

@@ -138,7 +138,7 @@ pub struct HistoryArgs {
 pub struct ReportArgs {
     /// A results file (.h5).
     results: PathBuf,
-    /// Where to write the page (default: <study name>_report.html next to the results file).
+    /// Where to write the page (default: <results file name without .h5>_report.html next to it).
     #[arg(long)]
     out: Option<PathBuf>,
 }

@@ -154,22 +154,28 @@ fn run_status(row: &SummaryRow) -> Option<RunStatus> {
     Some(row.status).filter(|s| *s != RunStatus::Error)
 }
 
-/// A run's id, swept parameters and status, for chart titles. Parameters go by the last part of
-/// their key path (`restitution = 0.3`) unless two of them share it.
+/// A run's id, swept parameters and status, for chart titles. Parameters go by their full key path
+/// (`damping.local = 0.2`: the last part alone would not say which setting it is).
 pub fn run_subject(row: &SummaryRow) -> String {
-    let short = |key: &str| key.rsplit('.').next().unwrap_or(key).to_string();
-    let mut names: Vec<String> = row.parameters.iter().map(|(k, _)| short(k)).collect();
-    let mut unique = names.clone();
-    unique.sort();
-    unique.dedup();
-    if unique.len() < names.len() {
-        names = row.parameters.iter().map(|(k, _)| k.clone()).collect();
+    subject_with(row, row.status.as_str())
+}
+
+/// The title subject of a snapshot at `time` (s): a frame taken before the run settled says when it
+/// settles rather than calling the pile in it settled.
+fn snapshot_subject(row: &SummaryRow, time: f64) -> String {
+    match row.settle_time {
+        Some(settle) if time < settle => {
+            subject_with(row, &format!("settles at t = {} s", super::style::short_number(settle)))
+        }
+        _ => run_subject(row),
     }
-    let parameters: Vec<String> =
-        names.iter().zip(&row.parameters).map(|(name, (_, v))| format!("{name} = {v}")).collect();
+}
+
+fn subject_with(row: &SummaryRow, status: &str) -> String {
+    let parameters: Vec<String> = row.parameters.iter().map(|(k, v)| format!("{k} = {v}")).collect();
     match parameters.is_empty() {
-        true => format!("{} ({})", row.id, row.status),
-        false => format!("{}: {} ({})", row.id, parameters.join(", "), row.status),
+        true => format!("{} ({status})", row.id),
+        false => format!("{}: {} ({status})", row.id, parameters.join(", ")),
     }
 }
 
@@ -268,17 +274,11 @@ pub fn run_charts(
         }
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }
-    snapshots(sink, row, &stored, &subject, (by, frames));
+    snapshots(sink, row, &stored, (by, frames));
 }
 
 /// A snapshot per stored frame and of the final state (unless the last frame shows it).
-fn snapshots(
-    sink: &mut impl ChartSink,
-    row: &SummaryRow,
-    stored: &StoredRun,
-    subject: &str,
-    (by, frames): (ColourBy, bool),
-) {
+fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, (by, frames): (ColourBy, bool)) {
     let pictures = match frames {
         true => snapshot_names(stored),
         false => stored.final_state.iter().map(|s| ("final".to_string(), s)).collect(),
@@ -294,7 +294,8 @@ fn snapshots(
             ColourBy::ContactForce => ColourScale::fitted(by, [snapshot]),
         };
         let name = format!("{}_{name}", row.id);
-        sink.chart(&name, subject, |o, c| run::snapshot(snapshot, box_size, &scale, o, c));
+        let subject = snapshot_subject(row, snapshot.time);
+        sink.chart(&name, &subject, |o, c| run::snapshot(snapshot, box_size, &scale, o, c));
     }
 }
 
@@ -401,6 +402,17 @@ mod tests {
         let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
         row.status = RunStatus::Settled;
         row
+    }
+
+    #[test]
+    fn titles_keep_full_key_paths_and_frames_before_settling_say_so() {
+        let mut settled =
+            row(0, &[("damping.local", ParamValue::Float(0.2)), ("material.friction", ParamValue::Float(0.5))]);
+        settled.settle_time = Some(0.42);
+        assert_eq!(run_subject(&settled), "r0000: damping.local = 0.2, material.friction = 0.5 (settled)");
+        let before = snapshot_subject(&settled, 0.15);
+        assert_eq!(before, "r0000: damping.local = 0.2, material.friction = 0.5 (settles at t = 0.42 s)");
+        assert_eq!(snapshot_subject(&settled, 0.42), run_subject(&settled), "the settled pile is called settled");
     }
 
     #[test]

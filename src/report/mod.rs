@@ -47,9 +47,11 @@ pub struct TuneSection {
     pub candidates: Vec<Vec<String>>,
 }
 
-/// `<results folder>/<study name>_report.html`.
-pub fn report_path(results: &Path, study_name: &str) -> PathBuf {
-    results.with_file_name(format!("{study_name}_report.html"))
+/// `<results file name without .h5>_report.html` beside it: `<study name>_report.html` for a study's
+/// results, `<study name>.shard-K-of-N_report.html` for a shard's, so that shards never share a page.
+pub fn report_path(results: &Path) -> PathBuf {
+    let stem = results.file_stem().unwrap_or_default().to_string_lossy();
+    results.with_file_name(format!("{stem}_report.html"))
 }
 
 /// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
@@ -130,7 +132,7 @@ pub fn write_report(
     }
     runs += "</div>";
     page.push(&runs);
-    let path = out.map_or_else(|| report_path(results, &header.study_name), Path::to_path_buf);
+    let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
     std::fs::write(&path, page.finish()).map_err(|e| OutputError::io(&path, e))?;
     Ok((path, damaged))
 }
