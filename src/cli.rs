@@ -61,8 +61,8 @@ enum Command {
                       OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
                       frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
-                      to a crash or kill: continue with --resume. Ctrl-C stops cleanly (exit 130); a second \
-                      Ctrl-C quits at once. Exit status 0 when every run finished (settled, not settled or \
+                      to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
+                      (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \
                       diverged), 1 when a run failed or is missing, 2 for an invalid study.",
         after_help = "Examples:\n  demsweep run studies/damping_sweep.toml\n  \
                       demsweep run studies/damping_sweep.toml --jobs 8 --out /scratch/damping\n  \
@@ -243,6 +243,13 @@ pub fn main() -> ExitCode {
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
 /// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+    if demsweep::tune::is_tune_file(path) {
+        eprintln!(
+            "error: {0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
+            path.display()
+        );
+        return Err(ExitCode::from(INVALID_STUDY));
+    }
     let plan = study::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());

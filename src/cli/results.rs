@@ -21,6 +21,18 @@ use demsweep::stats::points::{self, Points};
 const FAILED: u8 = 1;
 /// Exit status for bad input: an unknown point or metric.
 const BAD_INPUT: u8 = 2;
+/// Exit status of `summary`, `report` and `plot` on a results file with damaged run groups (what
+/// could be read is shown; `run --resume` runs the damaged runs again).
+pub(super) const DAMAGED: u8 = 3;
+
+/// Warns about the damaged run groups of `results`; the exit status that says so (success if none).
+pub(super) fn damage_status(results: &Path, damaged: &[output::reader::DamagedGroup]) -> ExitCode {
+    if damaged.is_empty() {
+        return ExitCode::SUCCESS;
+    }
+    eprintln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
+    ExitCode::from(DAMAGED)
+}
 
 /// Kinds of warnings printed in full at the end of a sweep.
 const WARNING_KINDS_SHOWN: usize = 5;
@@ -47,8 +59,8 @@ pub struct RunArgs {
     /// Progress display.
     #[arg(long, value_enum, default_value_t = Progress::Auto)]
     progress: Progress,
-    /// Commit finished runs to the file at least this often (seconds; also after every 100 runs, and
-    /// never so often that committing takes over 3 % of the time).
+    /// Commit finished runs to the file at least this often (seconds; also after every 500 runs):
+    /// `kill -9` loses at most the runs of this interval and one commit.
     #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
     commit_interval: Duration,
 }
@@ -83,10 +95,14 @@ pub struct SummaryArgs {
     /// mean, std, 95 % half-width, min, max of every numeric column.
     #[arg(long)]
     by_point: bool,
-    /// With --by-point, print these metrics (repeatable; default: settle time, the pile metrics
-    /// compared by default, cost and wall time). The CSV always has every metric.
-    #[arg(long, value_name = "NAME", requires = "by_point")]
+    /// Print these metrics (repeatable; default: settle time, the pile metrics compared by default,
+    /// cost and wall time), after the run's (or point's) identity, swept values and status. The
+    /// CSV always has every column.
+    #[arg(long, value_name = "NAME")]
     metric: Vec<String>,
+    /// Print every column (one row per run can then be several hundred characters wide).
+    #[arg(long, conflicts_with = "metric")]
+    all: bool,
 }
 
 #[derive(Args)]
@@ -268,30 +284,63 @@ fn print_warnings(report: &RunReport) {
 /// `demsweep summary`: the summary (or points) table, aligned on stdout or as a CSV file; exit 2 for
 /// an unknown --metric.
 pub fn summary(args: &SummaryArgs) -> ExitCode {
-    let read = if args.by_point { points::read } else { output::summary::read };
-    let table = match read(&args.results) {
-        Ok(table) => table,
+    let read =
+        output::reader::open(&args.results).and_then(|file| output::reader::checked_summary(&file, &args.results));
+    let (table, damaged) = match read {
+        Ok(read) => read,
         Err(e) => return report_error(Err(e)),
     };
-    if let Some(path) = &args.csv {
-        return report_error(output::summary::write_csv(path, &table));
-    }
-    let shown = if args.by_point {
-        let metrics = if args.metric.is_empty() { default_metrics(&table) } else { args.metric.clone() };
-        match points::view(&table, &metrics.iter().map(String::as_str).collect::<Vec<_>>()) {
-            Ok(view) => view,
-            Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
-        }
-    } else {
-        table
+    let table = match (args.by_point, damaged.is_empty()) {
+        (false, _) => table,
+        (true, false) => Points::new(&table).table(),
+        (true, true) => match points::read(&args.results) {
+            Ok(table) => table,
+            Err(e) => return report_error(Err(e)),
+        },
     };
-    report_error(print(&shown))
+    let status = damage_status(&args.results, &damaged);
+    if let Some(path) = &args.csv {
+        let written = output::summary::write_csv(path, &table);
+        return if written.is_ok() { status } else { report_error(written) };
+    }
+    let known = if args.by_point { points::table_metrics(&table) } else { run_metrics(&table) };
+    let metrics = if args.metric.is_empty() { default_metrics(&known) } else { args.metric.clone() };
+    let metrics: Vec<&str> = metrics.iter().map(String::as_str).collect();
+    let view = match (args.all, args.by_point) {
+        (true, _) => Ok(table),
+        (false, true) => points::view(&table, &metrics),
+        (false, false) => run_view(&table, &known, &metrics),
+    };
+    let shown = match view {
+        Ok(view) => view,
+        Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
+    };
+    let printed = print(&shown);
+    if printed.is_ok() { status } else { report_error(printed) }
+}
+
+/// The numeric columns of a per-run summary table after its status (the metrics a view may show).
+fn run_metrics(summary: &SummaryTable) -> Vec<&str> {
+    let after_status = summary.columns.iter().skip_while(|c| c.name != "status").skip(1);
+    after_status.filter(|c| !matches!(c.data, ColumnData::Text(_))).map(|c| c.name.as_str()).collect()
+}
+
+/// The per-run table cut to its identity, swept values and status, then `metrics` (each one of
+/// `known`), then the warning count.
+fn run_view(summary: &SummaryTable, known: &[&str], metrics: &[&str]) -> Result<SummaryTable, String> {
+    if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
+        return Err(format!("no metric `{unknown}` in the summary table; the metrics are: {}", known.join(", ")));
+    }
+    let column = |name: &str| summary.columns.iter().find(|c| c.name == name).cloned();
+    let status = summary.columns.iter().position(|c| c.name == "status").map_or(0, |k| k + 1);
+    let mut columns = summary.columns[..status].to_vec();
+    columns.extend(metrics.iter().chain(&["warnings"]).filter_map(|m| column(m)));
+    Ok(SummaryTable { columns })
 }
 
 /// The metrics `summary --by-point` prints by default: settle time, the default compare metrics
 /// present, cost and wall time.
-fn default_metrics(points_table: &SummaryTable) -> Vec<String> {
-    let known = points::table_metrics(points_table);
+fn default_metrics(known: &[&str]) -> Vec<String> {
     let pile = compare::DEFAULT_KEEP.iter().filter(|(m, _)| known.contains(m)).map(|(m, _)| *m).collect::<Vec<_>>();
     let pile = if pile.is_empty() { compare::FALLBACK_KEEP.iter().map(|(m, _)| *m).collect() } else { pile };
     let cost = ["particle_steps", "steps"].into_iter().find(|c| known.contains(c));
@@ -378,15 +427,23 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 
 /// `demsweep report`: the HTML report of a results file.
 pub fn report(args: &ReportArgs) -> ExitCode {
-    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default());
-    report_error(written.map(|path| println!("report: {}", path.display())))
+    match demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default()) {
+        Ok((path, damaged)) => {
+            println!("report: {}", path.display());
+            damage_status(&args.results, &damaged)
+        }
+        Err(e) => report_error(Err(e)),
+    }
 }
 
 /// Writes the report of a results file just written and prints where it went; a report that cannot
 /// be written is a warning (the results are safe).
 pub fn write_report(results: &Path, context: &ReportContext) {
     match demsweep::report::write_report(results, None, context) {
-        Ok(path) => println!("report: {}", path.display()),
+        Ok((path, damaged)) => {
+            println!("report: {}", path.display());
+            damage_status(results, &damaged);
+        }
         Err(e) => eprintln!("warning: no report: {e}"),
     }
 }

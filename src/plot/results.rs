@@ -12,8 +12,9 @@ use hdf5_pure::File;
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
 use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
+use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
-use crate::output::{OutputError, SummaryRow, reader};
+use crate::output::{OutputError, SummaryRow};
 use crate::physics::RunStatus;
 use crate::physics::record::Snapshot;
 use crate::study::ParamValue;
@@ -64,7 +65,7 @@ pub enum Event<'a> {
 }
 
 /// What a plot produced.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PlotReport {
     /// Image files written.
     pub written: usize,
@@ -74,6 +75,8 @@ pub struct PlotReport {
     pub runs_charted: usize,
     /// Runs in the file.
     pub runs_total: usize,
+    /// Run groups that could not be read (left out).
+    pub damaged: Vec<DamagedGroup>,
 }
 
 impl From<OutputError> for PlotError {
@@ -96,9 +99,9 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let path = &request.results;
     let file = reader::open(path)?;
     let study_name = reader::header(&file, path)?.study_name;
-    let rows = reader::rows(&file, path)?;
+    let (rows, damaged) = reader::scan(&file, path)?;
     let selected = select_runs(&rows, request)?;
-    let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), ..Default::default() };
+    let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), damaged, ..Default::default() };
     let mut drawer = Drawer { request, dir, report, on_event };
     study_charts(&mut drawer, &study_name, &rows);
     for row in selected {
