@@ -178,3 +178,16 @@ fn bad_tune_files_give_every_problem_and_write_nothing() {
     }
     assert!(!out.exists(), "a bad tune file writes nothing");
 }
+
+#[test]
+fn a_tolerance_the_reference_cannot_decide_stops_after_the_reference_with_its_own_exit_status() {
+    let dir = runner_common::scratch("tune_undecidable");
+    let file = write_tune(&dir, &TUNE.replace("pile_height = 0.25", "pile_height = 1e-6"));
+    let out = dir.join("out");
+    let run = tune(&file, &out, &["--jobs", "2"]);
+    assert_eq!(run.status.code(), Some(3), "{}", text(&run.stderr));
+    let stdout = text(&run.stdout);
+    let said = stdout.lines().find(|l| l.starts_with("Cannot decide")).unwrap_or_else(|| panic!("{stdout}"));
+    assert!(said.contains("pile_height") && said.contains("smallest decidable tolerance"), "{said}");
+    assert!(stdout.contains("4 runs (4 made now"), "only the 4 reference runs ran: {stdout}");
+}
