@@ -10,6 +10,7 @@
 #![deny(unsafe_code)]
 
 pub mod bench;
+pub mod export;
 pub mod output;
 pub mod physics;
 pub mod plot;
