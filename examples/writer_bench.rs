@@ -12,10 +12,11 @@ use std::time::Instant;
 
 use demsweep::output::header::utc_now;
 use demsweep::output::row::SummaryRow;
-use demsweep::output::{FileHeader, ResultsWriter, RunResult, ShardInfo, ShardSpec};
+use demsweep::output::{FileHeader, ResultSink, ResultsWriter, RunResult, ShardInfo, ShardSpec};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::record::{History, RunRecord, RunStatus, Snapshot};
 use demsweep::physics::stability::StabilityReport;
+use demsweep::stats::points;
 use demsweep::study::{OutputOptions, ParamValue};
 
 const SAMPLES: usize = 1500;
@@ -55,6 +56,7 @@ fn main() {
             ResultsWriter::create(path, header, output.clone()).expect("create results file")
         })
         .collect();
+    let mut rows: Vec<Vec<SummaryRow>> = vec![Vec::new(); shards];
     let mut commit_ms: Vec<f64> = Vec::new();
     let mut stage_s = 0.0;
     for index in 0..runs {
@@ -62,6 +64,7 @@ fn main() {
         let writer = &mut writers[index % shards];
         let t = Instant::now();
         writer.stage(&result).expect("stage run");
+        rows[index % shards].push(result.row);
         stage_s += t.elapsed().as_secs_f64();
         if writer.pending() >= batch || index + shards >= runs {
             let t = Instant::now();
@@ -73,7 +76,10 @@ fn main() {
         }
     }
     let t = Instant::now();
-    writers.into_iter().for_each(|w| drop(w.finish().expect("finish")));
+    for (writer, rows) in writers.into_iter().zip(&rows) {
+        let tables = points::tables(rows);
+        ResultSink::finish(Box::new(writer), &tables).expect("finish");
+    }
     let finish_s = t.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();
     let paths: Vec<&std::path::Path> = files.iter().map(|(p, _)| p.as_path()).collect();
@@ -170,7 +176,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         ("placement.seed".to_string(), ParamValue::Int(index as i64)),
     ];
     let id = format!("r{index:05}");
-    let mut row = SummaryRow::finished(index, &id, &parameters, &record, scene.domain.width);
+    let mut row = SummaryRow::finished(index, &id, &parameters, &record);
     row.wall_time = 3.0;
     RunResult { row, scene: scene.clone(), record: Some(record) }
 }

@@ -10,6 +10,7 @@ use std::process::{Command, Output};
 
 use demsweep::output::stored::{self, StoredRun};
 use demsweep::output::{SummaryRow, reader};
+use demsweep::physics::RunStatus;
 use plot_helpers::{number, out_dir, png_size, svg_elements};
 
 /// 40 disks of radius 1 cm in a 0.2 m x 0.3 m box, restitution 0.3, 0.6, 0.9 x time step 1e-5 s
@@ -81,9 +82,9 @@ fn file_names(dir: &Path) -> Vec<String> {
 fn plots_every_run_and_the_study_at_the_requested_size_diverged_runs_included() {
     let results = run_study("cli_png");
     let runs = stored_runs(&results);
-    let diverged = runs.iter().filter(|(row, _)| row.status == "diverged").count();
+    let diverged = runs.iter().filter(|(row, _)| row.status == RunStatus::Diverged).count();
     assert_eq!(diverged, 3, "the 1e-3 s time step diverges");
-    assert!(runs.iter().any(|(row, _)| row.status == "settled"));
+    assert!(runs.iter().any(|(row, _)| row.status == RunStatus::Settled));
 
     let plot = demsweep(&["plot", results.to_str().unwrap(), "--width", "800", "--height", "600"]);
     assert!(plot.status.success(), "{}", text(&plot));
@@ -116,7 +117,7 @@ fn svg_snapshot_has_one_circle_per_disk_at_its_recorded_position_to_scale() {
     let svg_dir = results.parent().unwrap().join("svg");
     let plot = demsweep(&["plot", results.to_str().unwrap(), "--format", "svg", "--out", svg_dir.to_str().unwrap()]);
     assert!(plot.status.success(), "{}", text(&plot));
-    let (row, run) = stored_runs(&results).into_iter().find(|(row, _)| row.status == "settled").unwrap();
+    let (row, run) = stored_runs(&results).into_iter().find(|(row, _)| row.status == RunStatus::Settled).unwrap();
     let snapshots = run.frames.iter().enumerate().map(|(k, s)| (format!("frame_{k}"), s));
     for (name, snapshot) in snapshots.chain([("final".to_string(), run.final_state.as_ref().unwrap())]) {
         let circles = svg_elements(&svg_dir.join(format!("{}_{name}.svg", row.id)), "circle");

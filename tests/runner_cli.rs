@@ -153,7 +153,7 @@ fn summary_history_and_merge_commands() {
 
     let history = demsweep(&["history", results.to_str().unwrap(), "r0005"]);
     let text = String::from_utf8_lossy(&history.stdout);
-    assert!(text.starts_with("t,kinetic_translational,"), "{text}");
+    assert!(text.starts_with("t (s),kinetic_translational (J),"), "{text}");
     assert_eq!(text.lines().count(), 1 + 101, "0.2 s sampled every 2 ms, both ends included");
 
     let missing = demsweep(&["history", results.to_str().unwrap(), "r9999"]);
@@ -179,7 +179,11 @@ fn summary_history_and_merge_commands() {
     assert!(decisions.iter().all(|d| ["equivalent", "different", "undecided"].contains(d)), "{text}");
     for (reference, keep, expected) in [
         ("restitution=0.3", "pile_height=0.05", "no point has restitution=0.3"),
-        ("restitution=0.4", "bogus=0.1", "`bogus` is not a numeric summary column; the metrics are: settle_time,"),
+        (
+            "restitution=0.4",
+            "bogus=0.1",
+            "`bogus`: not a per-run quantity or numeric summary column; the metrics of this file are: settle_time,",
+        ),
         ("placement.seed=1", "pile_height=0.05", "placement.seed is not a point coordinate"),
     ] {
         let refused = demsweep(&["compare", r, "--reference", reference, "--keep", keep]);

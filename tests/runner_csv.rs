@@ -55,36 +55,40 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "index",
         "integrator.time_step",
         "status",
-        "settle_time",
+        "settle_time (s)",
         "steps",
         "particle_steps",
-        "simulated_time",
-        "wall_time",
-        "time_step",
-        "final_kinetic",
-        "final_potential",
-        "final_elastic",
-        "final_dissipated",
-        "final_numerical_damping_dissipated",
-        "final_mechanical",
+        "simulated_time (s)",
+        "wall_time (s)",
+        "time_step (s)",
+        "final_kinetic (J)",
+        "final_potential (J)",
+        "final_elastic (J)",
+        "final_dissipated (J)",
+        "final_numerical_damping_dissipated (J)",
+        "final_mechanical (J)",
         "final_ubf",
-        "pile_height",
+        "pile_height (m)",
         "packing_fraction",
         "packing_fraction_interior",
         "coordination_number",
         "mechanical_coordination_number",
         "rattler_fraction",
         "floor_load_ratio",
+        "floor_mean_contact_force (N)",
         "fabric_anisotropy",
-        "fabric_direction",
+        "fabric_direction (rad)",
+        "normal_force_width",
         "sliding_fraction",
         "mean_overlap_ratio",
         "warnings",
         "message",
     ];
+    let col = |name: &str| {
+        expected.iter().position(|c| *c == name || c.strip_prefix(name).is_some_and(|u| u.starts_with(" ("))).unwrap()
+    };
     assert_eq!(records[0], expected);
     assert_eq!(records.len(), 4);
-    let col = |name: &str| expected.iter().position(|c| *c == name).unwrap();
     let statuses: Vec<&str> = records[1..].iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(statuses, ["not_settled", "diverged", "error"]);
     assert_eq!(records[2][col("integrator.time_step")], "0.002");
@@ -114,15 +118,24 @@ fn points_csv_and_the_points_group_agree() {
     let plan = runner_common::sweep("points", 8);
     let report = run_plan(&plan, &runner_common::options(&runner_common::scratch("points"), 2)).unwrap();
     assert!(report.points_csv.ends_with("points_points.csv"));
-    let stored = demsweep::output::summary::read_points(&report.results).unwrap();
+    let stored = demsweep::stats::points::read(&report.results).unwrap();
     assert_eq!(stored, report.points);
     assert_eq!(stored, demsweep::stats::points::Points::new(&report.summary).table());
     assert_eq!(stored.len(), 4);
 
     let records = parse_csv(&std::fs::read_to_string(&report.points_csv).unwrap());
-    let header: Vec<&str> = stored.columns.iter().map(|c| c.name.as_str()).collect();
-    assert_eq!(records[0], header);
-    assert_eq!(&header[..3], ["material.restitution", "n", "settled"]);
+    let names: Vec<&str> = stored.columns.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(records[0].len(), names.len());
+    for (written, name) in records[0].iter().zip(&names) {
+        // A statistic of a quantity with a unit is headed with that unit, e.g. `pile_height_mean (m)`.
+        assert!(written == name || written.starts_with(&format!("{name} (")), "{written} for {name}");
+    }
+    assert_eq!(records[0][..3], ["material.restitution", "n", "settled"]);
+    for (column, header) in [("settle_time_ci95", "settle_time_ci95 (s)"), ("pile_height_mean", "pile_height_mean (m)")]
+    {
+        assert!(records[0].contains(&header.to_string()), "{column}: {:?}", records[0]);
+    }
+    assert!(records[0].contains(&"settle_time_n".to_string()), "a count has no unit");
     assert_eq!(records.len(), 1 + 4);
     for (i, record) in records[1..].iter().enumerate() {
         let cells: Vec<String> = stored.columns.iter().map(|c| c.data.text(i)).collect();

@@ -9,7 +9,7 @@ use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;
 use demsweep::physics::material::{Elastic, Materials, restitution_from_beta};
-use demsweep::physics::pile::PILE_METRIC_NAMES;
+use demsweep::physics::quantity::{self, HISTORY_SERIES, PILE_METRICS};
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
 use demsweep::study::{ParamValue, Plan, PlannedRun};
@@ -56,15 +56,15 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         ("time_step", record.map_or(nan, |r| r.time_step)),
         ("final_mechanical", last(|r| &r.history.mechanical)),
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
-        ("pile_height", record.map_or(nan, |r| r.pile_height())),
-        ("packing_fraction", record.map_or(nan, |r| r.packing_fraction(run.scene.domain.width))),
+        ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
+        ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];
     for (name, value) in finals {
         a.insert(name.into(), json!(value));
     }
-    let pile = record.map_or([nan; PILE_METRIC_NAMES.len()], |r| r.pile.values());
-    for (name, value) in PILE_METRIC_NAMES.iter().zip(pile) {
-        a.insert(name.to_string(), json!(value));
+    // The other pile metrics, as the record has them.
+    for metric in PILE_METRICS.iter().filter(|m| !["pile_height", "packing_fraction"].contains(&m.name)) {
+        a.insert(metric.name.to_string(), json!(record.map_or(nan, |r| r.pile[metric.name])));
     }
     let s = &run.scene;
     let beta = Materials::from_scene(s).particle.beta;
@@ -90,6 +90,16 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         a.insert(format!("scene.{name}"), value);
     }
     a
+}
+
+/// The highest disk top (m).
+fn pile_height(s: &demsweep::physics::record::Snapshot) -> f64 {
+    s.y.iter().zip(&s.r).map(|(y, r)| y + r).fold(0.0, f64::max)
+}
+
+/// Disk area over width times pile height.
+fn packing_fraction(s: &demsweep::physics::record::Snapshot, width: f64) -> f64 {
+    s.r.iter().map(|r| std::f64::consts::PI * r * r).sum::<f64>() / (width * pile_height(s))
 }
 
 /// A compound table: fields as `[name, values]` pairs, in order.
@@ -151,7 +161,9 @@ fn history(r: &RunRecord) -> Value {
         ("contacts", json!(h.contacts)),
         ("max_overlap_ratio", json!(h.max_overlap_ratio)),
     ];
-    table(f, json!({}))
+    let units: Vec<&str> = HISTORY_SERIES.iter().map(|s| s.quantity.unit).collect();
+    assert_eq!(units[..2], ["s", "J"], "time in seconds, energies in joules");
+    table(f, json!({"units": units}))
 }
 
 /// The expected datasets of the group `/<group>` (`summary`, `points`): one per column, typed by its values.
@@ -163,7 +175,9 @@ fn column_datasets(group: &str, table: &SummaryTable, datasets: &mut Map<String,
             ColumnData::Bool(v) => json!(v),
             ColumnData::Text(v) => json!(v),
         };
-        datasets.insert(format!("/{group}/{}", c.name), json!({"attrs": {}, "values": values}));
+        let attrs = quantity::column_quantity(&c.name)
+            .map_or(json!({}), |q| json!({"unit": q.unit, "description": q.description}));
+        datasets.insert(format!("/{group}/{}", c.name), json!({"attrs": attrs, "values": values}));
     }
     json!({"columns": table.columns.iter().map(|c| &c.name).collect::<Vec<_>>()})
 }

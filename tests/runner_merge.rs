@@ -5,8 +5,8 @@ mod runner_common;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
-use demsweep::output::{ShardSpec, history, merge, summary};
-use demsweep::runner::run_plan;
+use demsweep::output::{ShardSpec, history, summary};
+use demsweep::runner::{merge, run_plan};
 use demsweep::study::Plan;
 
 fn run_shard(plan: &Plan, dir: &Path, k: usize, n: usize) -> PathBuf {
@@ -27,7 +27,7 @@ fn history_text(path: &Path, id: &str) -> String {
 fn csv_without_timing(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let wall = header.iter().position(|c| *c == "wall_time").unwrap();
+    let wall = header.iter().position(|c| *c == "wall_time (s)").unwrap();
     text.lines().map(|l| l.split(',').enumerate().filter(|(i, _)| *i != wall).map(|(_, f)| f).collect()).collect()
 }
 

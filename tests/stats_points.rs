@@ -3,8 +3,9 @@
 
 use demsweep::output::SummaryRow;
 use demsweep::output::SummaryTable;
-use demsweep::output::row::FINAL_VALUE_NAMES;
 use demsweep::output::table::ColumnData;
+use demsweep::physics::RunStatus;
+use demsweep::physics::quantity::{self, FINAL_VALUE_COUNT};
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::Points;
 use demsweep::stats::{Decision, equivalence, ratio_interval, student_t_quantile};
@@ -25,14 +26,15 @@ fn row(index: usize, e: f64, seed: i64, settle: Option<f64>, packing: f64, steps
         ("placement.seed".to_string(), ParamValue::Int(seed)),
     ];
     let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
-    row.status = if settle.is_some() { "settled" } else { "not_settled" }.to_string();
+    row.status = if settle.is_some() { RunStatus::Settled } else { RunStatus::NotSettled };
     row.message.clear();
     row.settle_time = settle;
     row.steps = steps;
     row.wall_time = steps as f64 * 1e-4;
     row.particle_steps = steps * 300;
-    row.final_values = [0.0; FINAL_VALUE_NAMES.len()];
-    row.final_values[FINAL_VALUE_NAMES.iter().position(|n| *n == "packing_fraction").unwrap()] = packing;
+    row.final_values = [0.0; FINAL_VALUE_COUNT];
+    row.final_values[quantity::final_value_declarations().position(|q| q.name == "packing_fraction").unwrap()] =
+        packing;
     row
 }
 
@@ -193,7 +195,7 @@ fn compare_finds_points_and_refuses_unknown_ones() {
 
     let keep = [Tolerance { metric: "bogus".into(), relative: 0.1 }];
     let err = compare::compare(&points, "r0000", &keep).unwrap_err();
-    assert!(err.starts_with("`bogus` is not a numeric summary column; the metrics are: settle_time, steps,"), "{err}");
+    assert!(err.starts_with("`bogus`: not a per-run quantity or numeric summary column; the metrics of this file are: settle_time, steps,"), "{err}");
     assert_eq!(
         "x=0".parse::<Tolerance>().unwrap_err(),
         "the tolerance of `x` must be a positive relative tolerance, got 0"

@@ -311,12 +311,12 @@ pub fn deposition_scene(options: &AccuracyOptions) -> SceneConfig {
 }
 
 /// The deposition's observables; all NaN when the run diverged.
-fn deposition_observables(rec: &RunRecord, width: f64) -> Observables {
+fn deposition_observables(rec: &RunRecord) -> Observables {
     let h = &rec.history;
     let observables = vec![
         ("settle_time", rec.settle_time.unwrap_or(f64::NAN)),
-        ("pile_height", rec.pile_height()),
-        ("packing_fraction", rec.packing_fraction(width)),
+        ("pile_height", rec.pile["pile_height"]),
+        ("packing_fraction", rec.pile["packing_fraction"]),
         ("final_potential_energy", RunRecord::last(&h.potential)),
         ("final_elastic_energy", RunRecord::last(&h.elastic)),
         ("final_dissipated_energy", RunRecord::last(&h.dissipated)),
@@ -334,10 +334,9 @@ fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Obser
     let mut scene = deposition_scene(options);
     let disks = placed_disks(&scene)?;
     let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
-    let width = scene.domain.width;
     let observe = |scene: &SceneConfig, disks: &[InitialDisk]| -> Result<(Observables, f64), String> {
         let (rec, seconds) = timed(|| super::run(scene, disks));
-        Ok((deposition_observables(&rec?, width), seconds))
+        Ok((deposition_observables(&rec?), seconds))
     };
     scene.integrator.time_step = Some(contact_time / options.deposition_reference_ratio);
     let (reference, _) = observe(&scene, &disks)?;

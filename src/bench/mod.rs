@@ -18,6 +18,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use crate::output::csv;
 use crate::physics::config::{IntegratorKind, SceneConfig};
 use crate::physics::particles::InitialDisk;
 use crate::physics::simulation::Control;
@@ -34,14 +35,14 @@ pub trait CsvRow {
     fn values(&self) -> Vec<String>;
 }
 
-/// Writes rows as CSV with a header line.
+/// Writes rows as CSV (RFC 4180, through [`csv::write_record`]) with a header line.
 pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
-    let mut text = R::HEADER.join(",") + "\n";
+    let mut text = Vec::new();
+    csv::write_record(&mut text, R::HEADER).expect("writing to memory");
     for row in rows {
-        text += &row.values().join(",");
-        text.push('\n');
+        csv::write_record(&mut text, &row.values()).expect("writing to memory");
     }
-    write_file(path, &text)
+    write_file(path, &String::from_utf8_lossy(&text))
 }
 
 /// Writes a text file, creating its folder; the error names the path.
@@ -50,11 +51,6 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
     }
     std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
-}
-
-/// A CSV field that may contain commas or quotes, quoted.
-pub fn quoted(text: &str) -> String {
-    format!("\"{}\"", text.replace('"', "\"\""))
 }
 
 /// Snake-case name of a scheme, as in scene files.

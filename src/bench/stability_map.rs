@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
-use super::{CsvRow, SCHEMES, markdown_table, placed_disks, quoted, ratio_grid, scheme_name, write_csv, write_file};
+use super::{CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, scheme_name, write_csv, write_file};
 use crate::physics::RunStatus;
 use crate::physics::config::{IntegratorKind, SceneConfig};
 use crate::physics::material::restitution_from_beta;
@@ -163,8 +163,8 @@ impl CsvRow for MapRow {
             self.status.as_str().into(),
             self.failure().into(),
             format!("{:.5}", self.simulated_time),
-            quoted(&self.message),
-            quoted(&self.warnings),
+            self.message.clone(),
+            self.warnings.clone(),
         ]
     }
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::skipping::friction_rows;
-use super::{CsvRow, markdown_table, placed_disks, quoted, timed, write_csv, write_file};
+use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::{PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
@@ -96,9 +96,9 @@ impl CsvRow for StressRow {
             self.outcome.as_str().into(),
             self.as_expected().to_string(),
             format!("{:.3}", self.run_time),
-            quoted(&self.message),
-            quoted(&self.warnings.join(" | ")),
-            quoted(&self.note),
+            self.message.clone(),
+            self.warnings.join(" | "),
+            self.note.clone(),
         ]
     }
 }

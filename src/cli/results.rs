@@ -268,7 +268,7 @@ fn print_warnings(report: &RunReport) {
 /// `demsweep summary`: the summary (or points) table, aligned on stdout or as a CSV file; exit 2 for
 /// an unknown --metric.
 pub fn summary(args: &SummaryArgs) -> ExitCode {
-    let read = if args.by_point { output::summary::read_points } else { output::summary::read };
+    let read = if args.by_point { points::read } else { output::summary::read };
     let table = match read(&args.results) {
         Ok(table) => table,
         Err(e) => return report_error(Err(e)),
@@ -394,7 +394,7 @@ pub fn write_report(results: &Path, context: &ReportContext) {
 /// `demsweep merge`: shard files into one results file; exit 1 when shards or runs are missing or
 /// failed (what there is is merged, and the commands that complete it are printed).
 pub fn merge(args: &MergeArgs) -> ExitCode {
-    let report = match output::merge(&args.out, &args.inputs, args.force) {
+    let report = match runner::merge(&args.out, &args.inputs, args.force) {
         Ok(report) => report,
         Err(e) => return report_error(Err(e)),
     };
@@ -422,7 +422,7 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
 
 /// The commands that run the shards of `report`'s problems again (each resumes its file: the runs it
 /// lacks and those that failed run again) and merge after them.
-fn rerun_commands(args: &MergeArgs, report: &output::MergeReport) -> String {
+fn rerun_commands(args: &MergeArgs, report: &runner::MergeReport) -> String {
     let shards = report.shards_to_rerun();
     let out = args.out.display();
     let first = &args.inputs[0];

@@ -3,6 +3,7 @@
 use std::io::{self, Write};
 
 use super::table::SummaryTable;
+use crate::physics::quantity;
 
 /// Quotes a field when RFC 4180 requires it.
 pub fn field(text: &str) -> String {
@@ -15,9 +16,10 @@ pub fn write_record<W: Write, S: AsRef<str>>(out: &mut W, fields: &[S]) -> io::R
     write!(out, "{}\r\n", line.join(","))
 }
 
-/// Writes the table with a header line; missing values are empty cells.
+/// Writes the table with a header line (names with their units, see [`quantity::with_unit`]);
+/// missing values are empty cells.
 pub fn write_table<W: Write>(out: &mut W, table: &SummaryTable) -> io::Result<()> {
-    let header: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
+    let header: Vec<String> = table.columns.iter().map(|c| quantity::with_unit(&c.name)).collect();
     write_record(out, &header)?;
     for i in 0..table.len() {
         let cells: Vec<String> = table.columns.iter().map(|c| c.data.text(i)).collect();

@@ -11,7 +11,7 @@
 //!                          `FRAME_DIGITS` digits (`00000`, `00001`, …), so names sort in time order
 //!     frame_contacts/<k>   the contact table of frame k, stored with `frames`
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
-//!                          `jobs`, `wall_time` of the last sweep: see `writer::SWEEP_JOBS`)
+//!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`])
 //! ```
 
 use std::collections::HashMap;
@@ -19,11 +19,12 @@ use std::collections::HashMap;
 use hdf5_pure::AttrValue;
 
 use super::compound::Field;
-use super::row::{FINAL_VALUE_NAMES, SummaryRow};
+use super::row::{OutcomeValue, SummaryRow};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::material::{Elastic, Materials, restitution_from_beta};
-use crate::physics::record::{History, Snapshot};
+use crate::physics::quantity::{self, FINAL_VALUE_COUNT, HISTORY_SERIES, OUTCOME, SeriesValues};
+use crate::physics::record::{History, RunStatus, Snapshot};
 use crate::study::ParamValue;
 
 /// Runs per bucket group under `/runs`.
@@ -36,37 +37,40 @@ pub const SUMMARY: &str = "summary";
 pub const POINTS: &str = "points";
 /// Attribute of `/summary` and `/points` listing the column names in order.
 pub const SUMMARY_COLUMNS: &str = "columns";
-/// History series names: the fields of the `history` table.
-pub const HISTORY_SERIES: [&str; 12] = [
-    "t",
-    "kinetic_translational",
-    "kinetic_rotational",
-    "potential",
-    "elastic",
-    "dissipated",
-    "numerical_damping_dissipated",
-    "total",
-    "mechanical",
-    "unbalanced_force_ratio",
-    "contacts",
-    "max_overlap_ratio",
-];
-/// The history table: one field per series, in the order of [`HISTORY_SERIES`].
-pub fn history_table(h: &History) -> [(&'static str, Field<'_>); 12] {
-    [
-        ("t", Field::F64(&h.time)),
-        ("kinetic_translational", Field::F64(&h.kinetic_translational)),
-        ("kinetic_rotational", Field::F64(&h.kinetic_rotational)),
-        ("potential", Field::F64(&h.potential)),
-        ("elastic", Field::F64(&h.elastic)),
-        ("dissipated", Field::F64(&h.dissipated)),
-        ("numerical_damping_dissipated", Field::F64(&h.numerical_damping_dissipated)),
-        ("total", Field::F64(&h.total)),
-        ("mechanical", Field::F64(&h.mechanical)),
-        ("unbalanced_force_ratio", Field::F64(&h.unbalanced_force_ratio)),
-        ("contacts", Field::U32(&h.contacts)),
-        ("max_overlap_ratio", Field::F64(&h.max_overlap_ratio)),
-    ]
+/// Attributes of `/summary` saying how the last sweep into the file ran: its worker threads and
+/// its wall time (s) from start to finish.
+pub const SWEEP_JOBS: &str = "jobs";
+/// See [`SWEEP_JOBS`].
+pub const SWEEP_WALL_TIME: &str = "wall_time";
+/// The attributes of a `/summary` or `/points` column dataset: `unit` and `description` of the
+/// per-run quantity it holds (or whose statistic it holds); none for other columns.
+pub fn column_attrs(column: &str) -> Vec<(&'static str, AttrValue)> {
+    quantity::column_quantity(column).map_or_else(Vec::new, |q| {
+        vec![(UNIT, AttrValue::String(q.unit.into())), (DESCRIPTION, AttrValue::String(q.description.into()))]
+    })
+}
+
+const UNIT: &str = "unit";
+const DESCRIPTION: &str = "description";
+
+/// The history table: one field per series of [`HISTORY_SERIES`], in its order.
+pub fn history_table(h: &History) -> [(&'static str, Field<'_>); HISTORY_SERIES.len()] {
+    HISTORY_SERIES.map(|series| {
+        let field = match (series.quantity.value)(h) {
+            SeriesValues::Real(v) => Field::F64(v),
+            SeriesValues::Count(v) => Field::U32(v),
+        };
+        (series.quantity.name, field)
+    })
+}
+
+/// Attribute of the `history` table listing the unit of each field, in field order (empty when
+/// dimensionless); each `/summary` dataset has attributes `unit` and `description`.
+pub const UNITS: &str = "units";
+
+/// The units of the history table's fields, in order.
+pub fn history_units() -> AttrValue {
+    AttrValue::StringArray(HISTORY_SERIES.iter().map(|s| s.quantity.unit.to_string()).collect())
 }
 
 /// The state table of a snapshot: one field per disk property, in the order of [`STATE_FIELDS`].
@@ -142,11 +146,6 @@ const STATUS: &str = "status";
 const MESSAGE: &str = "message";
 const WARNINGS: &str = "warnings";
 const WARNING_COUNT: &str = "warning_count";
-const SETTLE_TIME: &str = "settle_time";
-const STEPS: &str = "steps";
-const PARTICLE_STEPS: &str = "particle_steps";
-const SIMULATED_TIME: &str = "simulated_time";
-const WALL_TIME: &str = "wall_time";
 
 /// Name of the bucket group of a run.
 pub fn bucket_name(index: usize) -> String {
@@ -164,15 +163,11 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValu
     let mut attrs: Vec<(String, AttrValue)> = vec![
         (INDEX.into(), AttrValue::I64(row.index as i64)),
         (ID.into(), AttrValue::String(row.id.clone())),
-        (STATUS.into(), AttrValue::String(row.status.clone())),
+        (STATUS.into(), AttrValue::String(row.status.as_str().to_string())),
         (MESSAGE.into(), AttrValue::String(row.message.clone())),
         (WARNING_COUNT.into(), AttrValue::I64(row.warnings.len() as i64)),
-        (SETTLE_TIME.into(), AttrValue::F64(row.settle_time.unwrap_or(f64::NAN))),
-        (STEPS.into(), AttrValue::I64(row.steps as i64)),
-        (PARTICLE_STEPS.into(), AttrValue::I64(row.particle_steps as i64)),
-        (SIMULATED_TIME.into(), AttrValue::F64(row.simulated_time)),
-        (WALL_TIME.into(), AttrValue::F64(row.wall_time)),
     ];
+    attrs.extend(OUTCOME.iter().zip(row.outcome()).map(|(q, v)| (q.name.into(), outcome_attr(v))));
     if !row.warnings.is_empty() {
         attrs.push((WARNINGS.into(), AttrValue::StringArray(row.warnings.clone())));
     }
@@ -181,7 +176,8 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValu
         attrs.push((PARAMETERS.into(), AttrValue::StringArray(keys)));
     }
     attrs.extend(row.parameters.iter().map(|(k, v)| (k.clone(), param_attr(v))));
-    attrs.extend(FINAL_VALUE_NAMES.iter().zip(row.final_values).map(|(n, v)| (n.to_string(), AttrValue::F64(v))));
+    let finals = quantity::final_value_declarations().zip(row.final_values);
+    attrs.extend(finals.map(|(q, v)| (q.name.to_string(), AttrValue::F64(v))));
     attrs.extend(scene_values(scene).into_iter().map(|(k, v)| (format!("scene.{k}"), v)));
     attrs
 }
@@ -209,6 +205,13 @@ pub fn scene_values(scene: &SceneConfig) -> Vec<(&'static str, AttrValue)> {
         ("width", AttrValue::F64(scene.domain.width)),
         ("json", AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
     ]
+}
+
+fn outcome_attr(value: OutcomeValue) -> AttrValue {
+    match value {
+        OutcomeValue::Float(x) => AttrValue::F64(x),
+        OutcomeValue::Int(i) => AttrValue::I64(i as i64),
+    }
 }
 
 /// A serde unit enum's name as written in scene files (e.g. `adams_bashforth_moulton`).
@@ -252,30 +255,33 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
         })
         .collect::<Result<Vec<_>, _>>()?;
     // Files written before a final value existed lack its attribute: it reads as missing (NaN).
-    let mut final_values = [f64::NAN; FINAL_VALUE_NAMES.len()];
-    for (slot, name) in final_values.iter_mut().zip(FINAL_VALUE_NAMES) {
-        if attrs.contains_key(name) {
-            *slot = float(name)?;
+    let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
+    for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
+        if attrs.contains_key(declared.name) {
+            *slot = float(declared.name)?;
         }
     }
-    let steps = int(STEPS)? as u64;
-    let particle_steps = match attrs.get(PARTICLE_STEPS) {
-        Some(_) => int(PARTICLE_STEPS)? as u64,
+    let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
+    let steps = int(steps)? as u64;
+    let particle_steps = match attrs.get(particle_steps) {
+        Some(_) => int(particle_steps)? as u64,
         None => steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
     };
-    let settle = float(SETTLE_TIME)?;
+    let settle = float(settle_time)?;
+    let status = text(STATUS)?;
+    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
     Ok(SummaryRow {
         index: int(INDEX)? as usize,
         id: text(ID)?,
         parameters,
-        status: text(STATUS)?,
+        status,
         message: text(MESSAGE)?,
         warnings: attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default(),
         settle_time: (!settle.is_nan()).then_some(settle),
         steps,
         particle_steps,
-        simulated_time: float(SIMULATED_TIME)?,
-        wall_time: float(WALL_TIME)?,
+        simulated_time: float(simulated_time)?,
+        wall_time: float(wall_time)?,
         final_values,
     })
 }

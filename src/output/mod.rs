@@ -1,30 +1,30 @@
 //! Result files: one HDF5 file per study (or shard) and a CSV summary next to it.
 //!
-//! Data flows one way: runner → [`writer::ResultsWriter`] (run groups committed in batches) →
-//! [`writer::ResultsWriter::finish`] (`/summary`, and `/points` from [`crate::stats::points`]) →
-//! [`write_csv_files`]. The layout is in
-//! [`layout`] and README.md, "Result files".
+//! Data flows one way: runner → [`ResultSink`]s; the results file ([`ResultsWriter`])
+//! is one: run groups committed in batches, then `/summary`, `/points` and [`write_csv_files`] from
+//! the tables the runner computes. This layer reads and writes; it computes no statistics. The
+//! layout is in [`layout`] and README.md, "Result files".
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-pub mod compound;
-pub mod copy;
-pub mod csv;
+pub(crate) mod compound;
+pub(crate) mod copy;
+pub(crate) mod csv;
 pub mod header;
 pub mod history;
 pub mod layout;
-pub mod merge;
 pub mod reader;
 pub mod row;
+mod sink;
 pub mod stored;
 pub mod summary;
 pub mod table;
-pub mod writer;
+mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
-pub use merge::{MergeReport, ShardProblem, merge};
 pub use row::SummaryRow;
+pub use sink::ResultSink;
 pub use table::SummaryTable;
 pub use writer::{ResultsWriter, RunResult, Tables};
 

@@ -5,11 +5,10 @@ use std::path::Path;
 use hdf5_pure::{DType, Dataset, File};
 
 use super::header::FileHeader;
-use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error};
-use crate::stats::points::Points;
 
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
@@ -27,11 +26,11 @@ pub fn header(file: &File, path: &Path) -> Result<FileHeader, OutputError> {
 }
 
 /// How the last sweep into the file ran: worker threads and wall time (s), when it was recorded
-/// (`/summary` attributes, see [`super::writer::SWEEP_JOBS`]).
+/// (`/summary` attributes, see [`SWEEP_JOBS`]).
 pub fn sweep(file: &File) -> Option<(usize, f64)> {
     let attrs = file.group(SUMMARY).and_then(|g| g.attrs()).ok()?;
-    let jobs = attrs.get(super::writer::SWEEP_JOBS)?.as_i64()?;
-    let wall_time = attrs.get(super::writer::SWEEP_WALL_TIME)?.as_f64()?;
+    let jobs = attrs.get(SWEEP_JOBS)?.as_i64()?;
+    let wall_time = attrs.get(SWEEP_WALL_TIME)?.as_f64()?;
     Some((jobs as usize, wall_time))
 }
 
@@ -60,13 +59,10 @@ pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
     }
 }
 
-/// The per-point statistics: `/points` when the file has it, else computed from the summary (a file
-/// written before `/points` existed, or whose writer was killed).
-pub fn points(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
-    match columns(file, path, POINTS)? {
-        Some(table) => Ok(table),
-        None => Ok(Points::new(&summary(file, path)?).table()),
-    }
+/// The per-point statistics stored in `/points`; `None` for a file written before `/points` existed,
+/// or whose writer was killed (`crate::stats::points::read` computes them then).
+pub fn points(file: &File, path: &Path) -> Result<Option<SummaryTable>, OutputError> {
+    columns(file, path, POINTS)
 }
 
 /// The table stored as one dataset per column in the group `name`, if the file has that group.

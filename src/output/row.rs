@@ -1,12 +1,9 @@
 //! One summary row per run: what the writer stores on each run group and what `/summary` and the
 //! CSV summary are built from.
 
-use crate::physics::pile::PILE_METRIC_NAMES;
-use crate::physics::record::RunRecord;
+use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
+use crate::physics::record::{RunRecord, RunStatus};
 use crate::study::ParamValue;
-
-/// Status of a run that never produced a record (the scene could not be built, or the run panicked).
-pub const STATUS_ERROR: &str = "error";
 
 /// One run's summary: identity, swept parameters, outcome and final values.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,8 +14,8 @@ pub struct SummaryRow {
     pub id: String,
     /// Swept key paths and values, in axis order.
     pub parameters: Vec<(String, ParamValue)>,
-    /// `settled`, `not_settled`, `diverged` or `error`.
-    pub status: String,
+    /// How the run ended: one of [`RunStatus::RECORDED`].
+    pub status: RunStatus,
     /// Why the run diverged or failed; empty otherwise.
     pub message: String,
     /// Validity warnings.
@@ -33,71 +30,52 @@ pub struct SummaryRow {
     pub simulated_time: f64,
     /// Wall-clock time of the simulation (s).
     pub wall_time: f64,
-    /// Final values (NaN for failed runs), in the order of [`FINAL_VALUE_NAMES`].
-    pub final_values: [f64; FINAL_VALUE_NAMES.len()],
+    /// Final values (NaN for failed runs), in the order of [`quantity::final_value_declarations`].
+    pub final_values: [f64; FINAL_VALUE_COUNT],
 }
 
-/// Names of the final values of a row (columns of the summary, attributes of a run group): the
-/// time step, energies, the unbalanced force ratio and the pile metrics of [`PILE_METRIC_NAMES`].
-pub const FINAL_VALUE_NAMES: [&str; 19] = [
-    "time_step",
-    "final_kinetic",
-    "final_potential",
-    "final_elastic",
-    "final_dissipated",
-    "final_numerical_damping_dissipated",
-    "final_mechanical",
-    "final_ubf",
-    "pile_height",
-    "packing_fraction",
-    PILE_METRIC_NAMES[0],
-    PILE_METRIC_NAMES[1],
-    PILE_METRIC_NAMES[2],
-    PILE_METRIC_NAMES[3],
-    PILE_METRIC_NAMES[4],
-    PILE_METRIC_NAMES[5],
-    PILE_METRIC_NAMES[6],
-    PILE_METRIC_NAMES[7],
-    PILE_METRIC_NAMES[8],
-];
+/// A value of one of a row's [`OUTCOME`] fields.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OutcomeValue {
+    /// A float; NaN when missing.
+    Float(f64),
+    /// A count.
+    Int(u64),
+}
 
-/// Final values of a record, in the order of [`FINAL_VALUE_NAMES`]; `width` is the box width (m).
-pub fn final_values(record: &RunRecord, width: f64) -> [f64; FINAL_VALUE_NAMES.len()] {
-    let h = &record.history;
-    let last = RunRecord::last;
-    let head = [
-        record.time_step,
-        last(&h.kinetic_translational) + last(&h.kinetic_rotational),
-        last(&h.potential),
-        last(&h.elastic),
-        last(&h.dissipated),
-        last(&h.numerical_damping_dissipated),
-        last(&h.mechanical),
-        last(&h.unbalanced_force_ratio),
-        record.pile_height(),
-        record.packing_fraction(width),
-    ];
-    let mut values = [f64::NAN; FINAL_VALUE_NAMES.len()];
-    let pile = record.pile.values();
-    values[..head.len()].copy_from_slice(&head);
-    values[head.len()..].copy_from_slice(&pile);
-    values
+impl OutcomeValue {
+    /// As a float.
+    pub fn as_f64(self) -> f64 {
+        match self {
+            OutcomeValue::Float(x) => x,
+            OutcomeValue::Int(i) => i as f64,
+        }
+    }
+
+    /// As an integer (floats truncated).
+    pub fn as_i64(self) -> i64 {
+        match self {
+            OutcomeValue::Float(x) => x as i64,
+            OutcomeValue::Int(i) => i as i64,
+        }
+    }
 }
 
 impl SummaryRow {
+    /// The row's values of [`OUTCOME`], in order (a missing settle time is NaN).
+    pub fn outcome(&self) -> [OutcomeValue; OUTCOME.len()] {
+        use OutcomeValue::{Float, Int};
+        let settle = self.settle_time.unwrap_or(f64::NAN);
+        [Float(settle), Int(self.steps), Int(self.particle_steps), Float(self.simulated_time), Float(self.wall_time)]
+    }
+
     /// The row of a finished run.
-    pub fn finished(
-        index: usize,
-        id: &str,
-        parameters: &[(String, ParamValue)],
-        record: &RunRecord,
-        width: f64,
-    ) -> Self {
+    pub fn finished(index: usize, id: &str, parameters: &[(String, ParamValue)], record: &RunRecord) -> Self {
         Self {
             index,
             id: id.to_string(),
             parameters: parameters.to_vec(),
-            status: record.status.as_str().to_string(),
+            status: record.status,
             message: record.message.clone().unwrap_or_default(),
             warnings: record.warnings.clone(),
             settle_time: record.settle_time,
@@ -105,7 +83,7 @@ impl SummaryRow {
             particle_steps: record.steps * record.final_state.x.len() as u64,
             simulated_time: record.simulated_time,
             wall_time: 0.0,
-            final_values: final_values(record, width),
+            final_values: quantity::final_values(record),
         }
     }
 
@@ -115,7 +93,7 @@ impl SummaryRow {
             index,
             id: id.to_string(),
             parameters: parameters.to_vec(),
-            status: STATUS_ERROR.to_string(),
+            status: RunStatus::Error,
             message: message.to_string(),
             warnings: Vec::new(),
             settle_time: None,
@@ -123,12 +101,12 @@ impl SummaryRow {
             particle_steps: 0,
             simulated_time: 0.0,
             wall_time: 0.0,
-            final_values: [f64::NAN; FINAL_VALUE_NAMES.len()],
+            final_values: [f64::NAN; FINAL_VALUE_COUNT],
         }
     }
 
     /// Whether the run finished (settled, not settled or diverged), as opposed to failing.
     pub fn is_finished(&self) -> bool {
-        self.status != STATUS_ERROR
+        self.status != RunStatus::Error
     }
 }

@@ -5,14 +5,13 @@ use std::path::Path;
 
 use hdf5_pure::{Dataset, File};
 
-use super::layout::{
-    self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES, HISTORY_SERIES, STATE_FIELDS,
-};
+use super::layout::{self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES, STATE_FIELDS};
 use super::row::SummaryRow;
 use super::table::ColumnData;
 use super::{OutputError, compound, hdf5_error};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
+use crate::physics::quantity::HISTORY_SERIES;
 use crate::physics::record::{History, Snapshot};
 
 /// A run as stored: what was written for it (the parts the study's output options left out are
@@ -142,27 +141,19 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
     })
 }
 
-/// The history series from the columns of a `history` table.
+/// The history series of [`HISTORY_SERIES`] from the columns of a `history` table (a series the
+/// file predates takes its declared value at every sample).
 fn history(table: &HashMap<String, ColumnData>) -> Result<History, String> {
-    let [t, kt, kr, potential, elastic, dissipated, numerical, total, mechanical, ubf, contacts, overlap] =
-        HISTORY_SERIES.map(|name| floats(table, name));
-    let t = t?;
-    // Files written before numerical damping existed have no such series: nothing was dissipated by it.
-    let numerical = if table.contains_key("numerical_damping_dissipated") { numerical? } else { vec![0.0; t.len()] };
-    Ok(History {
-        time: t,
-        kinetic_translational: kt?,
-        kinetic_rotational: kr?,
-        potential: potential?,
-        elastic: elastic?,
-        dissipated: dissipated?,
-        numerical_damping_dissipated: numerical,
-        total: total?,
-        mechanical: mechanical?,
-        unbalanced_force_ratio: ubf?,
-        contacts: contacts?.into_iter().map(|c| c as u32).collect(),
-        max_overlap_ratio: overlap?,
-    })
+    let samples = floats(table, HISTORY_SERIES[0].quantity.name)?.len();
+    let mut history = History::default();
+    for series in &HISTORY_SERIES {
+        let values = match series.when_absent {
+            Some(value) if !table.contains_key(series.quantity.name) => vec![value; samples],
+            _ => floats(table, series.quantity.name)?,
+        };
+        (series.store)(&mut history, values);
+    }
+    Ok(history)
 }
 
 /// Column `name` of a table as floats (integer columns converted).

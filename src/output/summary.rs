@@ -6,17 +6,12 @@ use std::path::Path;
 
 use super::table::SummaryTable;
 use super::{OutputError, csv, reader};
+use crate::physics::quantity;
 
 /// Reads the summary of a results file (see [`reader::summary`]).
 pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
     let file = reader::open(path)?;
     reader::summary(&file, path)
-}
-
-/// Reads the per-point statistics of a results file (see [`reader::points`]).
-pub fn read_points(path: &Path) -> Result<SummaryTable, OutputError> {
-    let file = reader::open(path)?;
-    reader::points(&file, path)
 }
 
 /// Writes a table (the summary or the points) as a CSV file (header line, RFC 4180 quoting, missing values empty).
@@ -26,13 +21,15 @@ pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
     csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
 }
 
-/// Writes the summary as an aligned text table (columns separated by two spaces, floats to 6
+/// Writes the summary as an aligned text table (headers with units, columns separated by two spaces, floats to 6
 /// significant digits; the CSV has them exactly).
 pub fn print_aligned<W: Write>(out: &mut W, table: &SummaryTable) -> std::io::Result<()> {
     let cells: Vec<Vec<String>> = table
         .columns
         .iter()
-        .map(|c| std::iter::once(c.name.clone()).chain((0..table.len()).map(|i| c.data.display(i))).collect())
+        .map(|c| {
+            std::iter::once(quantity::with_unit(&c.name)).chain((0..table.len()).map(|i| c.data.display(i))).collect()
+        })
         .collect();
     let widths: Vec<usize> = cells.iter().map(|col| col.iter().map(|s| s.chars().count()).max().unwrap_or(0)).collect();
     for line in 0..=table.len() {

@@ -1,6 +1,7 @@
 //! The summary as a table of typed columns, shared by `/summary`, the CSV file and the printed table.
 
-use super::row::{FINAL_VALUE_NAMES, SummaryRow};
+use super::row::{OutcomeValue, SummaryRow};
+use crate::physics::quantity::{self, OUTCOME};
 use crate::study::ParamValue;
 
 /// The values of one column. Equality treats NaN as equal to NaN (a missing value equals a missing value).
@@ -141,16 +142,12 @@ impl SummaryTable {
         let ints = |f: &dyn Fn(&SummaryRow) -> i64| ColumnData::Int(rows.iter().map(|r| f(r)).collect());
         let mut columns = vec![column("run_id", texts(&|r| r.id.clone())), column("index", ints(&|r| r.index as i64))];
         columns.extend(parameter_columns(&rows));
-        columns.extend([
-            column("status", texts(&|r| r.status.clone())),
-            column("settle_time", floats(&|r| r.settle_time.unwrap_or(f64::NAN))),
-            column("steps", ints(&|r| r.steps as i64)),
-            column("particle_steps", ints(&|r| r.particle_steps as i64)),
-            column("simulated_time", floats(&|r| r.simulated_time)),
-            column("wall_time", floats(&|r| r.wall_time)),
-        ]);
-        for (k, name) in FINAL_VALUE_NAMES.iter().enumerate() {
-            columns.push(column(name, floats(&|r| r.final_values[k])));
+        columns.push(column("status", texts(&|r| r.status.as_str().to_string())));
+        for (k, declared) in OUTCOME.iter().enumerate() {
+            columns.push(column(declared.name, outcome_column(&rows, k)));
+        }
+        for (k, declared) in quantity::final_value_declarations().enumerate() {
+            columns.push(column(declared.name, floats(&|r| r.final_values[k])));
         }
         columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
         columns.push(column("message", texts(&|r| r.message.clone())));
@@ -191,6 +188,15 @@ impl SummaryTable {
         };
         let columns = self.columns.iter().filter(|c| !timing(&c.name)).cloned().collect();
         Self { columns }
+    }
+}
+
+/// The column of outcome `k` of the rows: integers or floats, as every row's outcome `k` is.
+fn outcome_column(rows: &[&SummaryRow], k: usize) -> ColumnData {
+    let values = rows.iter().map(|r| r.outcome()[k]);
+    match SummaryRow::failed(0, "", &[], "").outcome()[k] {
+        OutcomeValue::Int(_) => ColumnData::Int(values.map(OutcomeValue::as_i64).collect()),
+        OutcomeValue::Float(_) => ColumnData::Float(values.map(OutcomeValue::as_f64).collect()),
     }
 }
 

@@ -10,14 +10,14 @@ use hdf5_pure::{AttrValue, DatasetBuilder, File, FileBuilder, StagedGroup};
 use super::compound::{self, Field};
 use super::copy::GroupCopy;
 use super::header::FileHeader;
-use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS};
+use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::reader;
 use super::row::SummaryRow;
+use super::sink::ResultSink;
 use super::table::{ColumnData, SummaryTable};
-use super::{OutputError, hdf5_error};
+use super::{OutputError, hdf5_error, write_csv_files};
 use crate::physics::SceneConfig;
 use crate::physics::record::{RunRecord, Snapshot};
-use crate::stats::points::Points;
 use crate::study::OutputOptions;
 
 /// Tables with at least this many rows are chunked and compressed (shuffle + deflate).
@@ -44,20 +44,14 @@ pub struct ResultsWriter {
     path: PathBuf,
     output: OutputOptions,
     buckets: HashSet<String>,
-    committed: Vec<SummaryRow>,
-    pending: Vec<SummaryRow>,
+    existing: Vec<SummaryRow>,
+    pending: usize,
     sweep: Option<(usize, Instant)>,
 }
 
-/// Attributes of `/summary` saying how the last sweep into the file ran: its worker threads and
-/// its wall time (s) from start to finish.
-pub const SWEEP_JOBS: &str = "jobs";
-/// See [`SWEEP_JOBS`].
-pub const SWEEP_WALL_TIME: &str = "wall_time";
-
 impl ResultsWriter {
     /// Notes that a sweep on `jobs` worker threads started at `started`: [`Self::finish`] stores both
-    /// (see [`SWEEP_JOBS`]).
+    /// (see [`layout::SWEEP_JOBS`]).
     pub fn note_sweep(&mut self, jobs: usize, started: Instant) {
         self.sweep = Some((jobs, started));
     }
@@ -81,31 +75,32 @@ impl ResultsWriter {
     pub fn open(path: &Path, output: OutputOptions) -> Result<(Self, FileHeader), OutputError> {
         let file = File::open_rw(path).map_err(|e| hdf5_error(path, e))?;
         let header = reader::header(&file, path)?;
-        let committed = reader::rows(&file, path)?;
+        let existing = reader::rows(&file, path)?;
         let buckets = file.group(RUNS).and_then(|g| g.groups()).map_err(|e| hdf5_error(path, e))?;
         let writer = Self {
             file,
             path: path.to_path_buf(),
             output,
             buckets: buckets.into_iter().collect(),
-            committed,
-            pending: Vec::new(),
+            existing,
+            pending: 0,
             sweep: None,
         };
         Ok((writer, header))
     }
 
-    /// Rows of the runs already committed.
-    pub fn committed(&self) -> &[SummaryRow] {
-        &self.committed
+    /// Rows of the runs the file held when it was opened (sorted by index), which the writer
+    /// hands over: it keeps no rows (the runner, above it, keeps those of the sweep's statistics).
+    pub fn take_existing(&mut self) -> Vec<SummaryRow> {
+        std::mem::take(&mut self.existing)
     }
 
     /// Deletes the committed runs that failed with an error (in one commit), so that they can run
     /// again; returns how many there were.
     pub fn forget_failed(&mut self) -> Result<usize, OutputError> {
         let (failed, kept): (Vec<SummaryRow>, Vec<SummaryRow>) =
-            std::mem::take(&mut self.committed).into_iter().partition(|row| !row.is_finished());
-        self.committed = kept;
+            std::mem::take(&mut self.existing).into_iter().partition(|row| !row.is_finished());
+        self.existing = kept;
         for row in &failed {
             let bucket = format!("{RUNS}/{}", layout::bucket_name(row.index));
             self.file.group(&bucket).and_then(|g| g.delete(&row.id)).map_err(|e| hdf5_error(&self.path, e))?;
@@ -118,7 +113,7 @@ impl ResultsWriter {
 
     /// Number of runs staged and not yet committed.
     pub fn pending(&self) -> usize {
-        self.pending.len()
+        self.pending
     }
 
     /// Stages one run (its group, attributes and the outputs the study asks for).
@@ -136,7 +131,7 @@ impl ResultsWriter {
             }
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
-        self.pending.push(run.row.clone());
+        self.pending += 1;
         Ok(())
     }
 
@@ -153,7 +148,7 @@ impl ResultsWriter {
         let bytes = copy.data_bytes();
         self.stage_bucket(row.index)?;
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
-        self.pending.push(row.clone());
+        self.pending += 1;
         Ok(bytes)
     }
 
@@ -169,20 +164,17 @@ impl ResultsWriter {
 
     /// Commits the staged runs.
     pub fn commit(&mut self) -> Result<(), OutputError> {
-        if self.pending.is_empty() {
+        if self.pending == 0 {
             return Ok(());
         }
         self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
-        self.committed.append(&mut self.pending);
+        self.pending = 0;
         Ok(())
     }
 
-    /// Commits what is staged, rewrites `/summary` from every committed run and `/points` from the
-    /// summary, closes the file and returns both tables.
-    pub fn finish(mut self) -> Result<Tables, OutputError> {
+    /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file.
+    fn write_tables(mut self, tables: &Tables) -> Result<(), OutputError> {
         self.commit()?;
-        let summary = SummaryTable::from_rows(&self.committed);
-        let points = Points::new(&summary).table();
         let err = |e| hdf5_error(&self.path, e);
         let sweep: Vec<(&str, AttrValue)> = self
             .sweep
@@ -194,11 +186,28 @@ impl ResultsWriter {
                 ]
             })
             .collect();
-        write_columns(&self.file, SUMMARY, &summary, &sweep).map_err(err)?;
-        write_columns(&self.file, POINTS, &points, &[]).map_err(err)?;
+        write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
+        write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
         self.file.commit().map_err(err)?;
-        self.file.close().map_err(err)?;
-        Ok(Tables { summary, points })
+        self.file.close().map_err(err)
+    }
+}
+
+/// The results file as a sink: runs become run groups (committed in place), the tables `/summary`,
+/// `/points` and the CSV files next to the file.
+impl ResultSink for ResultsWriter {
+    fn accept(&mut self, run: &RunResult) -> Result<(), OutputError> {
+        self.stage(run)
+    }
+
+    fn commit(&mut self) -> Result<(), OutputError> {
+        ResultsWriter::commit(self)
+    }
+
+    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError> {
+        let path = self.path.clone();
+        self.write_tables(tables)?;
+        write_csv_files(&path, tables).map(drop)
     }
 }
 
@@ -236,6 +245,9 @@ pub fn write_columns(
                 if let Err(e) = column_data(b, &column.data) {
                     failure = Some(e);
                 }
+                for (key, value) in layout::column_attrs(&column.name) {
+                    b.set_attr(key, value);
+                }
             });
         }
     })?;
@@ -257,7 +269,10 @@ fn column_data(b: &mut DatasetBuilder, data: &ColumnData) -> Result<(), hdf5_pur
 
 fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOptions) {
     if output.histories {
-        g.create_dataset("history", |b| stage_table(b, &layout::history_table(&record.history)));
+        g.create_dataset("history", |b| {
+            stage_table(b, &layout::history_table(&record.history));
+            b.set_attr(layout::UNITS, layout::history_units());
+        });
     }
     if output.final_states {
         stage_snapshot(g, layout::FINAL, &record.final_state);

@@ -8,7 +8,8 @@
 //! `neighbors` (who touches whom) → `forces` (contact forces of a step, in blocks) →
 //! `contact_list` (the same, one contact at a time) → `integrator` (time stepping), `energy`
 //! (work and dissipation bookkeeping), `rolling` (rolling resistance) → [`simulation`] (the step
-//! loop) → [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out).
+//! loop) → [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out),
+//! with every per-run quantity's name, unit and computation declared once in [`quantity`].
 //! [`run_scene`], [`scene_time_step`] and [`predict_stability`] do their work with whichever law
 //! the scene names, through the law table's one dispatch ([`contact::registry`]).
 
@@ -27,6 +28,7 @@ mod neighbors;
 pub mod particles;
 pub mod pile;
 pub mod placement;
+pub mod quantity;
 pub mod record;
 pub mod rng;
 mod rolling;

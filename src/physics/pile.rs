@@ -1,20 +1,26 @@
 //! Structure of a pile: the measures that say whether two piles are "the same pile"
 //! (`shared/spec/deposition.md`), from the disks and the list of their contacts at one time.
 //!
-//! Only contacts that carry force (`F_n > 0`) count. Definitions:
+//! Only contacts that carry force (`F_n > 0`) count. The metrics, their names and units are declared
+//! in [`super::quantity::PILE_METRICS`]; the definitions:
+//! - pile height: the highest disk top; packing fraction: disk area over width times height;
 //! - interior packing fraction: disk area inside a window `2 d_max` away from the side walls and the
 //!   floor, up to `2 d_max` below the pile's surface (its highest disk top), over the window's area;
 //!   disks clipped to the window exactly;
 //! - coordination number `Z = 2 C_dd / N` over disk–disk contacts; the mechanical one after removing
 //!   rattlers, disks with fewer than 2 contacts (walls included), repeatedly until none is left;
 //! - floor load ratio: the floor's normal forces over the disks' total weight (Janssen: below 1 when
-//!   wall friction carries weight);
+//!   wall friction carries weight); floor mean contact force: their mean (N);
+//! - normal force width: population standard deviation over mean of the disk–disk normal forces
+//!   (0 when every contact carries the same force; broad, exponential-tailed force networks near 1);
 //! - fabric anisotropy `a = 2 (λ₁ − λ₂)` of `φ = (1/C) Σ n ⊗ n` over disk–disk contacts
 //!   (Rothenburg & Bathurst 1989), with the major principal direction (rad from +x, in [0, π));
 //! - sliding fraction: share of contacts with friction whose tangential force is at the Coulomb limit;
 //! - mean overlap ratio: overlap over the smaller radius, averaged over contacts.
 
 use serde::{Deserialize, Serialize};
+
+use super::quantity::PILE_METRICS;
 
 /// What a contact touches besides its first disk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,100 +77,149 @@ pub struct PileGeometry<'a> {
     pub width: f64,
 }
 
-/// The pile measures of one state (NaN where undefined, e.g. no contacts).
+/// The pile metrics of one state, in the order of [`PILE_METRICS`] (NaN where undefined, e.g. no
+/// contacts).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PileMetrics {
-    /// Area fraction of disks in the interior window.
-    pub packing_fraction_interior: f64,
-    /// `2 C_dd / N`.
-    pub coordination_number: f64,
-    /// `2 C_dd / N` without rattlers.
-    pub mechanical_coordination_number: f64,
-    /// Share of disks that are rattlers.
-    pub rattler_fraction: f64,
-    /// Floor normal forces over the total weight.
-    pub floor_load_ratio: f64,
-    /// `2 (λ₁ − λ₂)` of the contact-normal fabric tensor.
-    pub fabric_anisotropy: f64,
-    /// Major principal direction of the fabric tensor (rad from +x, in [0, π)).
-    pub fabric_direction: f64,
-    /// Share of frictional contacts at the Coulomb limit.
-    pub sliding_fraction: f64,
-    /// Mean overlap over the smaller radius.
-    pub mean_overlap_ratio: f64,
+    values: [f64; PILE_METRICS.len()],
 }
 
 impl Default for PileMetrics {
     fn default() -> Self {
-        Self {
-            packing_fraction_interior: f64::NAN,
-            coordination_number: f64::NAN,
-            mechanical_coordination_number: f64::NAN,
-            rattler_fraction: f64::NAN,
-            floor_load_ratio: f64::NAN,
-            fabric_anisotropy: f64::NAN,
-            fabric_direction: f64::NAN,
-            sliding_fraction: f64::NAN,
-            mean_overlap_ratio: f64::NAN,
-        }
+        Self { values: [f64::NAN; PILE_METRICS.len()] }
     }
 }
 
-/// Names of the metrics, in the order of [`PileMetrics::values`].
-pub const PILE_METRIC_NAMES: [&str; 9] = [
-    "packing_fraction_interior",
-    "coordination_number",
-    "mechanical_coordination_number",
-    "rattler_fraction",
-    "floor_load_ratio",
-    "fabric_anisotropy",
-    "fabric_direction",
-    "sliding_fraction",
-    "mean_overlap_ratio",
-];
-
 impl PileMetrics {
-    /// Measures a pile from its disks and contacts.
-    pub fn measure(pile: &PileGeometry, contacts: &[PileContact]) -> Self {
-        let carrying: Vec<PileContact> = contacts.iter().filter(|c| c.carries_force()).copied().collect();
-        let n = pile.x.len();
-        let rattlers = rattlers(n, &carrying);
-        let rattler_count = rattlers.iter().filter(|r| **r).count();
-        let kept: Vec<PileContact> = carrying
-            .iter()
-            .filter(|c| !rattlers[c.disk] && c.disks().is_none_or(|(_, j)| !rattlers[j]))
-            .copied()
-            .collect();
-        let (fabric_anisotropy, fabric_direction) = fabric(&carrying);
-        let frictional: Vec<&PileContact> = carrying.iter().filter(|c| c.friction > 0.0).collect();
-        let sliding =
-            frictional.iter().filter(|c| c.tangential_force.abs() >= c.friction * c.normal_force * (1.0 - 1e-9));
-        Self {
-            packing_fraction_interior: interior_packing_fraction(pile),
-            coordination_number: coordination(&carrying, n),
-            mechanical_coordination_number: coordination(&kept, n - rattler_count),
-            rattler_fraction: if n > 0 { rattler_count as f64 / n as f64 } else { f64::NAN },
-            floor_load_ratio: floor_load(&carrying) / pile.weight,
-            fabric_anisotropy,
-            fabric_direction,
-            sliding_fraction: ratio(sliding.count(), frictional.len()),
-            mean_overlap_ratio: mean(carrying.iter().map(|c| c.overlap_ratio)),
-        }
+    /// Measures a pile from its disks and contacts: every metric of [`PILE_METRICS`].
+    pub fn measure(geometry: &PileGeometry, contacts: &[PileContact]) -> Self {
+        let pile = Pile::new(geometry, contacts);
+        Self { values: PILE_METRICS.map(|metric| (metric.value)(&pile)) }
     }
 
-    /// The metrics in the order of [`PILE_METRIC_NAMES`].
-    pub fn values(&self) -> [f64; PILE_METRIC_NAMES.len()] {
-        [
-            self.packing_fraction_interior,
-            self.coordination_number,
-            self.mechanical_coordination_number,
-            self.rattler_fraction,
-            self.floor_load_ratio,
-            self.fabric_anisotropy,
-            self.fabric_direction,
-            self.sliding_fraction,
-            self.mean_overlap_ratio,
-        ]
+    /// The metrics in the order of [`PILE_METRICS`].
+    pub fn values(&self) -> &[f64; PILE_METRICS.len()] {
+        &self.values
+    }
+
+    /// The metric called `name`, `None` when there is no such metric.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        PILE_METRICS.iter().position(|m| m.name == name).map(|k| self.values[k])
+    }
+}
+
+impl std::ops::Index<&str> for PileMetrics {
+    type Output = f64;
+
+    /// The metric called `name`; panics naming it when there is no such metric.
+    fn index(&self, name: &str) -> &f64 {
+        let k = PILE_METRICS.iter().position(|m| m.name == name);
+        &self.values[k.unwrap_or_else(|| panic!("no pile metric `{name}`"))]
+    }
+}
+
+/// A pile prepared for measuring: its disks, the contacts that carry force and its rattlers.
+pub struct Pile<'a> {
+    geometry: &'a PileGeometry<'a>,
+    carrying: Vec<PileContact>,
+    rattlers: Vec<bool>,
+}
+
+impl<'a> Pile<'a> {
+    /// The pile of `geometry` with the contacts of `contacts` that carry force.
+    pub fn new(geometry: &'a PileGeometry<'a>, contacts: &[PileContact]) -> Self {
+        let carrying: Vec<PileContact> = contacts.iter().filter(|c| c.carries_force()).copied().collect();
+        let rattlers = rattlers(geometry.x.len(), &carrying);
+        Self { geometry, carrying, rattlers }
+    }
+
+    fn disk_count(&self) -> usize {
+        self.geometry.x.len()
+    }
+
+    fn rattler_count(&self) -> usize {
+        self.rattlers.iter().filter(|r| **r).count()
+    }
+
+    fn disk_pairs(&self) -> impl Iterator<Item = &PileContact> {
+        self.carrying.iter().filter(|c| c.disks().is_some())
+    }
+
+    fn floor(&self) -> impl Iterator<Item = &PileContact> {
+        self.carrying.iter().filter(|c| c.partner == Partner::Wall(0))
+    }
+
+    /// The highest disk top (m); 0 without disks.
+    pub fn height(&self) -> f64 {
+        surface(self.geometry)
+    }
+
+    /// Disk area over the box width times the pile height; NaN without height.
+    pub fn packing_fraction(&self) -> f64 {
+        let h = self.height();
+        let area: f64 = self.geometry.r.iter().map(|r| std::f64::consts::PI * r * r).sum();
+        if h > 0.0 { area / (self.geometry.width * h) } else { f64::NAN }
+    }
+
+    /// See [`interior_packing_fraction`].
+    pub fn interior_packing_fraction(&self) -> f64 {
+        interior_packing_fraction(self.geometry)
+    }
+
+    /// `2 C_dd / N`.
+    pub fn coordination_number(&self) -> f64 {
+        ratio(2 * self.disk_pairs().count(), self.disk_count())
+    }
+
+    /// `2 C_dd / N` without the rattlers and their contacts.
+    pub fn mechanical_coordination_number(&self) -> f64 {
+        let kept = self.disk_pairs().filter(|c| c.disks().is_some_and(|(i, j)| !self.rattlers[i] && !self.rattlers[j]));
+        ratio(2 * kept.count(), self.disk_count() - self.rattler_count())
+    }
+
+    /// Share of disks that are rattlers.
+    pub fn rattler_fraction(&self) -> f64 {
+        ratio(self.rattler_count(), self.disk_count())
+    }
+
+    /// The floor's normal forces over the total weight.
+    pub fn floor_load_ratio(&self) -> f64 {
+        self.floor().map(|c| c.normal_force).sum::<f64>() / self.geometry.weight
+    }
+
+    /// Mean normal force of the floor's contacts (N).
+    pub fn floor_mean_contact_force(&self) -> f64 {
+        mean(self.floor().map(|c| c.normal_force))
+    }
+
+    /// See [`fabric`].
+    pub fn fabric_anisotropy(&self) -> f64 {
+        fabric(&self.carrying).0
+    }
+
+    /// See [`fabric`].
+    pub fn fabric_direction(&self) -> f64 {
+        fabric(&self.carrying).1
+    }
+
+    /// Population standard deviation over mean of the disk–disk normal forces.
+    pub fn normal_force_width(&self) -> f64 {
+        let forces = || self.disk_pairs().map(|c| c.normal_force);
+        let average = mean(forces());
+        mean(forces().map(|f| (f - average) * (f - average))).sqrt() / average
+    }
+
+    /// Share of the frictional contacts at the Coulomb limit.
+    pub fn sliding_fraction(&self) -> f64 {
+        let frictional = || self.carrying.iter().filter(|c| c.friction > 0.0);
+        let sliding =
+            frictional().filter(|c| c.tangential_force.abs() >= c.friction * c.normal_force * (1.0 - 1e-9)).count();
+        ratio(sliding, frictional().count())
+    }
+
+    /// Mean overlap over the smaller radius.
+    pub fn mean_overlap_ratio(&self) -> f64 {
+        mean(self.carrying.iter().map(|c| c.overlap_ratio))
     }
 }
 
@@ -175,17 +230,6 @@ fn ratio(count: usize, of: usize) -> f64 {
 fn mean(values: impl Iterator<Item = f64>) -> f64 {
     let (sum, count) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
     if count > 0 { sum / count as f64 } else { f64::NAN }
-}
-
-/// `2 C_dd / n` over the disk–disk contacts of `contacts`; NaN without disks.
-fn coordination(contacts: &[PileContact], n: usize) -> f64 {
-    let pairs = contacts.iter().filter(|c| c.disks().is_some()).count();
-    ratio(2 * pairs, n)
-}
-
-/// Sum of the floor's normal forces (N).
-fn floor_load(contacts: &[PileContact]) -> f64 {
-    contacts.iter().filter(|c| c.partner == Partner::Wall(0)).map(|c| c.normal_force).sum()
 }
 
 /// Which of `n` disks are rattlers: fewer than 2 contacts, after removing rattlers repeatedly.
@@ -239,7 +283,7 @@ pub fn fabric(contacts: &[PileContact]) -> (f64, f64) {
 /// is too shallow or the box too narrow for a window.
 pub fn interior_packing_fraction(pile: &PileGeometry) -> f64 {
     let d_max = 2.0 * pile.r.iter().cloned().fold(0.0, f64::max);
-    let surface = pile.y.iter().zip(pile.r).map(|(y, r)| y + r).fold(0.0, f64::max);
+    let surface = surface(pile);
     let window = [2.0 * d_max, pile.width - 2.0 * d_max, 2.0 * d_max, surface - 2.0 * d_max];
     let area = (window[1] - window[0]) * (window[3] - window[2]);
     if !(window[1] > window[0] && window[3] > window[2]) {
@@ -247,6 +291,11 @@ pub fn interior_packing_fraction(pile: &PileGeometry) -> f64 {
     }
     let covered: f64 = (0..pile.x.len()).map(|i| disk_area_in_rectangle(pile.x[i], pile.y[i], pile.r[i], window)).sum();
     covered / area
+}
+
+/// The highest disk top (m); 0 without disks.
+fn surface(pile: &PileGeometry) -> f64 {
+    pile.y.iter().zip(pile.r).map(|(y, r)| y + r).fold(0.0, f64::max)
 }
 
 /// Exact area of the disk of radius `r` at `(cx, cy)` inside the rectangle `[x0, x1, y0, y1]` (m²).
@@ -358,10 +407,10 @@ mod tests {
             &PileGeometry { x: &[0.0; 7], y: &[0.0; 7], r: &[0.1; 7], weight: 2.0, width: 1.0 },
             &contacts,
         );
-        assert!((metrics.rattler_fraction - 4.0 / 7.0).abs() < 1e-12);
-        assert!((metrics.coordination_number - 2.0 * 5.0 / 7.0).abs() < 1e-12);
-        assert!((metrics.mechanical_coordination_number - 2.0 * 2.0 / 3.0).abs() < 1e-12);
-        assert!((metrics.floor_load_ratio - 1.0).abs() < 1e-12, "two floor contacts of 1 N carry 2 N");
+        assert!((metrics["rattler_fraction"] - 4.0 / 7.0).abs() < 1e-12);
+        assert!((metrics["coordination_number"] - 2.0 * 5.0 / 7.0).abs() < 1e-12);
+        assert!((metrics["mechanical_coordination_number"] - 2.0 * 2.0 / 3.0).abs() < 1e-12);
+        assert!((metrics["floor_load_ratio"] - 1.0).abs() < 1e-12, "two floor contacts of 1 N carry 2 N");
     }
 
     #[test]
@@ -373,7 +422,54 @@ mod tests {
             &PileGeometry { x: &[0.0; 3], y: &[0.0; 3], r: &[0.1; 3], weight: 1.0, width: 1.0 },
             &[idle, sliding, pair(0, 2, 0.0)],
         );
-        assert!((metrics.coordination_number - 4.0 / 3.0).abs() < 1e-12);
-        assert!((metrics.sliding_fraction - 0.5).abs() < 1e-12);
+        assert!((metrics["coordination_number"] - 4.0 / 3.0).abs() < 1e-12);
+        assert!((metrics["sliding_fraction"] - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn normal_force_width_is_the_relative_spread_of_disk_forces() {
+        // Disk-disk forces 1, 2, 3, 6 N (mean 3, population variance (4 + 1 + 0 + 9) / 4 = 3.5);
+        // the floor's 40 N and a force-free contact do not count.
+        let forces = [1.0, 2.0, 3.0, 6.0, 0.0];
+        let mut contacts: Vec<PileContact> =
+            forces.iter().enumerate().map(|(k, &f)| PileContact { normal_force: f, ..pair(k, k + 1, 0.0) }).collect();
+        contacts.push(PileContact { normal_force: 40.0, ..wall(0, 0) });
+        let geometry = PileGeometry { x: &[0.0; 6], y: &[0.0; 6], r: &[0.1; 6], weight: 1.0, width: 1.0 };
+        let metrics = PileMetrics::measure(&geometry, &contacts);
+        let expect = 3.5f64.sqrt() / 3.0;
+        assert!(
+            (metrics["normal_force_width"] - expect).abs() < 1e-15,
+            "{} vs {expect}",
+            metrics["normal_force_width"]
+        );
+        let uniform = PileMetrics::measure(&geometry, &[pair(0, 1, 0.0), pair(1, 2, 1.0), pair(2, 3, 2.0)]);
+        assert_eq!(uniform["normal_force_width"], 0.0);
+        assert!(PileMetrics::measure(&geometry, &[]).get("normal_force_width").unwrap().is_nan(), "no contacts");
+    }
+
+    #[test]
+    fn floor_mean_contact_force_averages_the_floor_contacts_only() {
+        // Floor forces 1, 2 and 6 N (mean 3 N); a side wall's 10 N and a disk pair's 5 N do not count.
+        let floor = |i: usize, f: f64| PileContact { normal_force: f, ..wall(i, 0) };
+        let contacts = [
+            floor(0, 1.0),
+            floor(1, 2.0),
+            floor(2, 6.0),
+            PileContact { normal_force: 10.0, ..wall(3, 1) },
+            PileContact { normal_force: 5.0, ..pair(0, 1, 0.0) },
+        ];
+        let geometry = PileGeometry { x: &[0.0; 4], y: &[0.0; 4], r: &[0.1; 4], weight: 9.0, width: 1.0 };
+        let metrics = PileMetrics::measure(&geometry, &contacts);
+        assert_eq!(metrics["floor_mean_contact_force"], 3.0);
+        assert_eq!(metrics["floor_load_ratio"], 1.0, "9 N on the floor carry 9 N");
+    }
+
+    #[test]
+    fn height_and_packing_fraction_of_two_stacked_disks() {
+        // Two disks of radius 0.1 stacked at x = 0.5 in a box 0.5 wide: top 0.4, area 2 π 0.01.
+        let geometry = PileGeometry { x: &[0.5, 0.5], y: &[0.1, 0.3], r: &[0.1, 0.1], weight: 1.0, width: 0.5 };
+        let metrics = PileMetrics::measure(&geometry, &[]);
+        assert!((metrics["pile_height"] - 0.4).abs() < 1e-15);
+        assert!((metrics["packing_fraction"] - 2.0 * PI * 0.01 / (0.5 * 0.4)).abs() < 1e-15);
     }
 }

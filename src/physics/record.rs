@@ -17,9 +17,17 @@ pub enum RunStatus {
     Diverged,
     /// The caller asked the run to stop early (e.g. Ctrl-C).
     Interrupted,
+    /// The run failed without a record (its scene could not be built, or it panicked): set by the
+    /// runner, never by the simulation.
+    Error,
 }
 
 impl RunStatus {
+    /// The statuses a results file holds, in the order of its per-status columns (interrupted runs
+    /// are not recorded).
+    pub const RECORDED: [RunStatus; 4] =
+        [RunStatus::Settled, RunStatus::NotSettled, RunStatus::Diverged, RunStatus::Error];
+
     /// The snake_case name used in files.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -27,7 +35,19 @@ impl RunStatus {
             RunStatus::NotSettled => "not_settled",
             RunStatus::Diverged => "diverged",
             RunStatus::Interrupted => "interrupted",
+            RunStatus::Error => "error",
         }
+    }
+
+    /// The status named `text` in a file ([`Self::as_str`]), if any.
+    pub fn parse(text: &str) -> Option<RunStatus> {
+        [RunStatus::Interrupted].into_iter().chain(RunStatus::RECORDED).find(|s| s.as_str() == text)
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
     }
 }
 
@@ -114,19 +134,6 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
-    /// Height of the pile at the end: the highest disk top (m).
-    pub fn pile_height(&self) -> f64 {
-        let s = &self.final_state;
-        s.y.iter().zip(&s.r).map(|(y, r)| y + r).fold(0.0, f64::max)
-    }
-
-    /// Area fraction of disks below the pile height in a box of the given width.
-    pub fn packing_fraction(&self, width: f64) -> f64 {
-        let h = self.pile_height();
-        let area: f64 = self.final_state.r.iter().map(|r| std::f64::consts::PI * r * r).sum();
-        if h > 0.0 { area / (width * h) } else { f64::NAN }
-    }
-
     /// Last sampled value of a history series, NaN when there is none.
     pub fn last(series: &[f64]) -> f64 {
         series.last().copied().unwrap_or(f64::NAN)

@@ -148,7 +148,7 @@ pub fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<
 
 /// How a run ended, or `None` for a run that failed with an error (no record).
 fn run_status(row: &SummaryRow) -> Option<RunStatus> {
-    serde_json::from_value(serde_json::Value::String(row.status.clone())).ok()
+    Some(row.status).filter(|s| *s != RunStatus::Error)
 }
 
 /// A run's id, swept parameters and status, for chart titles. Parameters go by the last part of
@@ -396,7 +396,7 @@ mod tests {
         let parameters: Vec<(String, ParamValue)> =
             parameters.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
         let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
-        row.status = "settled".into();
+        row.status = RunStatus::Settled;
         row
     }
 

@@ -3,30 +3,30 @@
 use serde_json::{Value, json};
 
 use crate::output::table::{ColumnData, significant};
+use crate::physics::RunStatus;
+use crate::physics::quantity;
 use crate::stats::points::Points;
 
-/// Summary columns shown per point (those the file has), with their units.
-const POINT_METRICS: [(&str, &str); 16] = [
-    ("settle_time", "s"),
-    ("particle_steps", ""),
-    ("wall_time", "s"),
-    ("time_step", "s"),
-    ("packing_fraction_interior", ""),
-    ("coordination_number", ""),
-    ("mechanical_coordination_number", ""),
-    ("rattler_fraction", ""),
-    ("floor_load_ratio", ""),
-    ("fabric_anisotropy", ""),
-    ("sliding_fraction", ""),
-    ("mean_overlap_ratio", ""),
-    ("packing_fraction", ""),
-    ("pile_height", "m"),
-    ("final_ubf", ""),
-    ("warnings", ""),
+/// Per-run quantities not shown per point (the energies, raw counts, a direction): every other
+/// declared quantity the file has is a column, with its unit, and then the warning count.
+const NOT_SHOWN: [&str; 9] = [
+    "steps",
+    "simulated_time",
+    "final_kinetic",
+    "final_potential",
+    "final_elastic",
+    "final_dissipated",
+    "final_numerical_damping_dissipated",
+    "final_mechanical",
+    "fabric_direction",
 ];
 
-/// Run statuses counted per point.
-const STATUSES: [&str; 4] = ["settled", "not_settled", "diverged", "error"];
+/// The columns shown per point, with their units: the declared quantities but [`NOT_SHOWN`], and
+/// the warning count.
+fn point_metrics() -> impl Iterator<Item = (&'static str, &'static str)> {
+    let shown = quantity::per_run().filter(|q| !NOT_SHOWN.contains(&q.name)).map(|q| (q.name, q.unit));
+    shown.chain([("warnings", "")])
+}
 
 /// A page being assembled: sections in order, then the closing script.
 pub struct Page {
@@ -93,15 +93,14 @@ impl PointsTable {
         let summary = points.summary();
         let status = summary.column("status").map(|c| &c.data);
         let ids = summary.column("run_id").map(|c| &c.data);
-        let metrics: Vec<(&str, &str)> =
-            POINT_METRICS.iter().copied().filter(|(m, _)| points.metric_names().contains(m)).collect();
+        let metrics: Vec<(&str, &str)> = point_metrics().filter(|(m, _)| points.metric_names().contains(m)).collect();
         let mut columns: Vec<Value> = points
             .coordinates()
             .iter()
             .map(|c| json!({"name": c.name, "kind": if c.data.is_numeric() { "number" } else { "text" }, "unit": ""}))
             .collect();
         columns.push(json!({"name": "n", "kind": "number", "unit": ""}));
-        columns.extend(STATUSES.iter().map(|s| json!({"name": s, "kind": "number", "unit": ""})));
+        columns.extend(RunStatus::RECORDED.iter().map(|s| json!({"name": s.as_str(), "kind": "number", "unit": ""})));
         columns.extend(metrics.iter().map(|(m, unit)| json!({"name": m, "kind": "number", "unit": unit})));
         columns.push(json!({"name": "runs", "kind": "run", "unit": ""}));
         let rows = (0..points.len())
@@ -118,7 +117,9 @@ impl PointsTable {
                     })
                     .collect();
                 cells.push(json!(runs.len()));
-                cells.extend(STATUSES.iter().map(|s| json!(statuses.iter().filter(|t| t == s).count())));
+                cells.extend(
+                    RunStatus::RECORDED.iter().map(|s| json!(statuses.iter().filter(|t| *t == s.as_str()).count())),
+                );
                 for (metric, _) in &metrics {
                     let d = points.describe(p, metric);
                     cells.push(if d.n == 0 { Value::Null } else { json!([short(d.mean), short(d.half_width_95)]) });

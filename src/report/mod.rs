@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable, reader};
+use crate::physics::RunStatus;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
@@ -200,12 +201,12 @@ fn outcomes(rows: &[SummaryRow]) -> String {
     let mut warnings: BTreeMap<&str, usize> = BTreeMap::new();
     let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     for row in rows {
-        *statuses.entry(&row.status).or_default() += 1;
+        *statuses.entry(row.status.as_str()).or_default() += 1;
         for warning in &row.warnings {
             *warnings.entry(warning).or_default() += 1;
         }
         if !row.message.is_empty() {
-            *messages.entry((&row.status, &row.message)).or_default() += 1;
+            *messages.entry((row.status.as_str(), &row.message)).or_default() += 1;
         }
     }
     let badges: String =
@@ -236,10 +237,8 @@ fn outcomes(rows: &[SummaryRow]) -> String {
 fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
     let points = Points::new(summary);
     let table = html::PointsTable::new(&points, charted);
-    let statuses: String = ["settled", "not_settled", "diverged", "error"]
-        .iter()
-        .map(|s| format!("<option value=\"{s}\">with {s} runs</option>"))
-        .collect();
+    let statuses: String =
+        RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
         "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs. Click a column header to sort; click again to reverse.</p>\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\

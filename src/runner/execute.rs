@@ -23,9 +23,7 @@ pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Pro
     let outcome = catch_unwind(AssertUnwindSafe(|| run_scene(&run.scene, initial, &mut observer)));
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
-        Ok(Ok(record)) => {
-            (SummaryRow::finished(run.index, &run.id, &run.parameters, &record, run.scene.domain.width), Some(record))
-        }
+        Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),
         Ok(Err(message)) => (SummaryRow::failed(run.index, &run.id, &run.parameters, &message), None),
         Err(panic) => {
             let message = format!("the simulation panicked: {}", panic_text(panic.as_ref()));

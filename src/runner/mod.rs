@@ -11,21 +11,23 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
-pub mod execute;
+mod execute;
 pub mod interrupt;
-pub mod progress;
+pub mod merge;
+mod progress;
 pub mod shard;
-pub mod sink;
-pub mod warnings;
+mod warnings;
+mod writer_thread;
 
+pub use merge::{MergeReport, ShardProblem, merge};
 pub use progress::ProgressMode;
-pub use sink::CommitPolicy;
 pub use warnings::WarningDigest;
+pub use writer_thread::CommitPolicy;
 
 use crate::output::header::utc_now;
-use crate::output::row::STATUS_ERROR;
 use crate::output::table::ColumnData;
 use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
+use crate::physics::RunStatus;
 use crate::study::{Plan, PlannedRun};
 use progress::ProgressView;
 
@@ -83,7 +85,7 @@ impl RunReport {
     /// Recorded runs whose status is `error`.
     pub fn failed(&self) -> usize {
         match self.summary.column("status").map(|c| &c.data) {
-            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == STATUS_ERROR).count(),
+            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == RunStatus::Error.as_str()).count(),
             _ => 0,
         }
     }
@@ -142,7 +144,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     };
     let path = results_path(plan, options);
     let mut writer = open_results(plan, options, &path, &selected)?;
-    let done: HashSet<usize> = writer.committed().iter().map(|r| r.index).collect();
+    let existing = writer.take_existing();
+    let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
     let mut todo: Vec<&PlannedRun> =
         selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
     todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
@@ -151,12 +154,13 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::channel();
-    let writer_thread = sink::spawn(writer, receiver, options.commit, options.stop.clone());
+    let sinks = writer_thread::Sinks { committed: existing, sinks: vec![Box::new(writer)] };
+    let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
     let warnings = view.finish();
     let (tables, writer_time) =
-        writer_thread.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
-    let (summary_csv, points_csv) = output::write_csv_files(&path, &tables)?;
+        writing.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
+    let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
     let ran = ran?;
     Ok(RunReport {
         results: path,

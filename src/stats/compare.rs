@@ -6,6 +6,7 @@ use std::str::FromStr;
 use super::points::{Points, SEED, plus_minus};
 use super::{Decision, Describe, Equivalence, Ratio, equivalence, ratio_interval};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
+use crate::physics::quantity;
 
 /// Pile metrics kept by default (relative tolerances), those of them a file has.
 pub const DEFAULT_KEEP: [(&str, f64); 4] = [
@@ -146,11 +147,11 @@ pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<C
 fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>, Vec<String>), String> {
     let available = points.metric_names();
     if let Some(unknown) = keep.iter().find(|t| !available.contains(&t.metric.as_str())) {
-        return Err(format!(
-            "`{}` is not a numeric summary column; the metrics are: {}",
-            unknown.metric,
-            available.join(", ")
-        ));
+        let why = match quantity::find(&unknown.metric) {
+            Some(_) => "this file was written before it existed",
+            None => "not a per-run quantity or numeric summary column",
+        };
+        return Err(format!("`{}`: {why}; the metrics of this file are: {}", unknown.metric, available.join(", ")));
     }
     if !keep.is_empty() {
         return Ok((keep.to_vec(), Vec::new()));
@@ -337,5 +338,18 @@ fn ratio(r: &Ratio) -> String {
     match interval(r.low, r.high, short_float) {
         unknown if unknown == "-" => value,
         known => format!("{value} {known}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_metrics_are_declared_quantities() {
+        for (metric, _) in DEFAULT_KEEP.iter().chain(&FALLBACK_KEEP) {
+            assert!(quantity::find(metric).is_some(), "{metric} is not declared in physics::quantity");
+        }
+        assert!(COST_COLUMNS.iter().chain([&WALL_TIME]).all(|c| quantity::find(c).is_some()));
     }
 }

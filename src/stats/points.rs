@@ -2,19 +2,34 @@
 //! (the `/points` group and `<name>_points.csv`).
 
 use std::collections::HashMap;
+use std::path::Path;
 
 use super::{Describe, describe};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
+use crate::output::{OutputError, SummaryRow, Tables, reader};
+use crate::physics::RunStatus;
+use crate::physics::quantity;
+
+/// The tables of a results file holding `rows`: the summary and its points table (what the runner
+/// hands its sinks at the end of a sweep).
+pub fn tables(rows: &[SummaryRow]) -> Tables {
+    let summary = SummaryTable::from_rows(rows);
+    let points = Points::new(&summary).table();
+    Tables { summary, points }
+}
+
+/// The points table of a results file: `/points` when the file has it, else computed from the
+/// summary (a file written before `/points` existed, or whose writer was killed).
+pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
+    let file = reader::open(path)?;
+    match reader::points(&file, path)? {
+        Some(points) => Ok(points),
+        None => Ok(Points::new(&reader::summary(&file, path)?).table()),
+    }
+}
 
 /// The swept parameter of replicate seeds: runs that differ only in it form one point.
 pub const SEED: &str = "placement.seed";
-
-/// Run statuses counted per point, in column order.
-const STATUSES: [&str; 4] = ["settled", "not_settled", "diverged", "error"];
-
-/// The status of runs that failed without a record: left out of the metrics (their values are
-/// placeholders).
-const FAILED: &str = "error";
 
 /// Column name suffixes of each metric's statistics in the points table, in order.
 const STATISTICS: [&str; 6] = ["n", "mean", "std", "ci95", "min", "max"];
@@ -91,7 +106,7 @@ impl<'a> Points<'a> {
     pub fn values(&self, point: usize, metric: &str) -> Vec<f64> {
         let Some(column) = self.metrics.iter().find(|c| c.name == metric) else { return Vec::new() };
         let status = self.summary.column("status").map(|c| &c.data);
-        let failed = |row: usize| matches!(status, Some(ColumnData::Text(s)) if s[row] == FAILED);
+        let failed = |row: usize| matches!(status, Some(ColumnData::Text(s)) if s[row] == RunStatus::Error.as_str());
         self.groups[point].iter().filter(|&&row| !failed(row)).filter_map(|&row| column.data.number(row)).collect()
     }
 
@@ -138,7 +153,7 @@ impl<'a> Points<'a> {
         let ints = |f: &dyn Fn(&[usize]) -> usize| ColumnData::Int(self.groups.iter().map(|g| f(g) as i64).collect());
         columns.push(column("n", ints(&|g| g.len())));
         let status = self.summary.column("status").map(|c| &c.data);
-        for name in STATUSES {
+        for name in RunStatus::RECORDED.map(RunStatus::as_str) {
             let count = |g: &[usize]| {
                 g.iter().filter(|&&r| matches!(status, Some(ColumnData::Text(s)) if s[r] == name)).count()
             };
@@ -186,9 +201,16 @@ pub fn table_metrics(points: &SummaryTable) -> Vec<&str> {
 pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, String> {
     let known = table_metrics(points);
     if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
-        return Err(format!("no metric `{unknown}` in the points table; the metrics are: {}", known.join(", ")));
+        let why = match quantity::find(unknown) {
+            Some(_) => "this file was written before it existed",
+            None => "not a per-run quantity or numeric summary column",
+        };
+        return Err(format!(
+            "no metric `{unknown}` in the points table ({why}); the metrics are: {}",
+            known.join(", ")
+        ));
     }
-    let end = points.columns.iter().position(|c| c.name == "n").map_or(0, |n| n + 1 + STATUSES.len());
+    let end = points.columns.iter().position(|c| c.name == "n").map_or(0, |n| n + 1 + RunStatus::RECORDED.len());
     let mut columns: Vec<Column> = points.columns[..end.min(points.columns.len())].to_vec();
     for metric in metrics {
         let (Some(mean), Some(half)) =
@@ -197,7 +219,9 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Str
             continue;
         };
         let cells = (0..points.len()).map(|i| plus_minus(mean.data.number(i), half.data.number(i))).collect();
-        columns.push(Column { name: format!("{metric} (±95%)"), data: ColumnData::Text(cells) });
+        let unit = quantity::find(metric).map(|q| q.unit).filter(|u| !u.is_empty());
+        let name = unit.map_or(format!("{metric} (±95%)"), |unit| format!("{metric} ({unit}, ±95%)"));
+        columns.push(Column { name, data: ColumnData::Text(cells) });
     }
     Ok(SummaryTable { columns })
 }

@@ -147,7 +147,7 @@ fn collect_axes(
     }
 }
 
-fn is_range_spec(table: &toml::Table) -> bool {
+pub(crate) fn is_range_spec(table: &toml::Table) -> bool {
     ["linear", "log", "steps"].iter().any(|k| table.contains_key(*k))
 }
 
@@ -206,17 +206,64 @@ pub(crate) fn scalar(value: &toml::Value) -> Result<ParamValue, String> {
     }
 }
 
+/// How a range table spaces its values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Spacing {
+    /// Evenly.
+    Linear,
+    /// Evenly in log scale (both ends > 0).
+    Log,
+}
+
+impl Spacing {
+    /// The key naming it in a range table.
+    pub(crate) fn key(self) -> &'static str {
+        match self {
+            Spacing::Linear => "linear",
+            Spacing::Log => "log",
+        }
+    }
+}
+
+/// The ends of a `{ linear = [a, b] }` or `{ log = [a, b] }` table: a study axis (with `steps`) or a
+/// tune lever.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RangeEnds {
+    /// How values are spaced between the ends.
+    pub spacing: Spacing,
+    /// The first end, as written.
+    pub a: f64,
+    /// The second end, as written.
+    pub b: f64,
+    /// Whether both ends are written as integers.
+    pub integer: bool,
+}
+
+/// Reads a range table whose keys are `linear` or `log` and those in `extra`; `shape` (what such
+/// a table looks like) ends the error messages.
+pub(crate) fn range_ends(table: &toml::Table, extra: &[&str], shape: &str) -> Result<RangeEnds, String> {
+    let known = |k: &str| ["linear", "log"].contains(&k) || extra.contains(&k);
+    if let Some(unknown) = table.keys().find(|k| !known(k)) {
+        return Err(format!("unknown key \"{unknown}\" ({shape})"));
+    }
+    let (spacing, ends) = match (table.get("linear"), table.get("log")) {
+        (Some(ends), None) => (Spacing::Linear, ends),
+        (None, Some(ends)) => (Spacing::Log, ends),
+        _ => return Err(format!("exactly one of linear = [a, b] or log = [a, b] ({shape})")),
+    };
+    let (a, b) = endpoints(ends).map_err(|e| format!("{}: {e}", spacing.key()))?;
+    if spacing == Spacing::Log && (a <= 0.0 || b <= 0.0) {
+        return Err(format!("log: the ends must be > 0, got [{a}, {b}]"));
+    }
+    let integer = ends.as_array().is_some_and(|ends| ends.iter().all(toml::Value::is_integer));
+    Ok(RangeEnds { spacing, a, b, integer })
+}
+
 /// Evenly spaced values of a `linear` or `log` range table.
 fn range_values(table: &toml::Table) -> Result<Vec<f64>, String> {
-    if let Some(unknown) = table.keys().find(|k| !["linear", "log", "steps"].contains(&k.as_str())) {
-        return Err(format!("unknown key \"{unknown}\" in an axis range (expected linear or log, and steps)"));
-    }
-    let (kind, ends) = match (table.get("linear"), table.get("log")) {
-        (Some(ends), None) => ("linear", ends),
-        (None, Some(ends)) => ("log", ends),
-        _ => return Err("an axis range needs exactly one of linear = [a, b] or log = [a, b]".into()),
-    };
-    let (a, b) = endpoints(ends).map_err(|e| format!("{kind}: {e}"))?;
+    const SHAPE: &str = "an axis range is { linear = [a, b], steps = n } or { log = [a, b], steps = n }";
+    let RangeEnds { spacing, a, b, .. } = range_ends(table, &["steps"], SHAPE)?;
+    let kind = spacing.key();
     let steps = match table.get("steps").map(|s| s.as_integer()) {
         Some(Some(n)) if n >= 1 => n as usize,
         Some(Some(n)) => return Err(format!("steps must be at least 1, got {n}")),
@@ -229,13 +276,10 @@ fn range_values(table: &toml::Table) -> Result<Vec<f64>, String> {
     if steps > MAX_RUNS {
         return Err(format!("steps must be at most {MAX_RUNS}, got {steps}"));
     }
-    if kind == "log" {
-        if a <= 0.0 || b <= 0.0 {
-            return Err(format!("log range ends must be > 0, got [{a}, {b}]"));
-        }
-        return Ok(log_range(a, b, steps));
-    }
-    Ok(linear_range(a, b, steps))
+    Ok(match spacing {
+        Spacing::Log => log_range(a, b, steps),
+        Spacing::Linear => linear_range(a, b, steps),
+    })
 }
 
 fn endpoints(value: &toml::Value) -> Result<(f64, f64), String> {
@@ -373,7 +417,7 @@ mod tests {
         assert!(values("[]").unwrap_err().contains("at least one value"));
         assert!(values("0.5").unwrap_err().contains("got a single float"));
         assert!(values("[[1, 2]]").unwrap_err().contains("found an array"));
-        assert!(values("{ log = [0, 1], steps = 3 }").unwrap_err().contains("log range ends must be > 0"));
+        assert!(values("{ log = [0, 1], steps = 3 }").unwrap_err().contains("log: the ends must be > 0"));
         assert!(values("{ log = [-1, 1], steps = 3 }").unwrap_err().contains("must be > 0"));
         assert!(values("{ linear = [0, 1], steps = 0 }").unwrap_err().contains("at least 1, got 0"));
         assert!(values("{ linear = [0, 1], steps = 1 }").unwrap_err().contains("ends 0 and 1 differ"));

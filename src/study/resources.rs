@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::{OutputOptions, Plan};
 use crate::physics::SceneConfig;
+use crate::physics::quantity;
 
 /// Memory one disk takes while it is simulated (bytes): its state and forces (14 arrays of `f64`),
 /// the integrator's previous accelerations (3), its initial state (6, held by the plan and the run),
@@ -17,16 +18,13 @@ pub const BYTES_PER_DISK: u64 = 800;
 /// Bytes of one disk in a recorded state (final state or frame): 7 `f64` columns.
 const SNAPSHOT_BYTES_PER_DISK: u64 = 7 * 8;
 
-/// Bytes of one history sample: 10 `f64` series and a `u32` contact count.
-const HISTORY_BYTES_PER_SAMPLE: u64 = 10 * 8 + 4;
-
 /// Estimated memory one run of `scene` needs (bytes): the disks' simulation state plus what it
 /// records (histories, final state and frames) until it is written.
 pub fn run_memory(scene: &SceneConfig) -> u64 {
     let disks = scene.particles.count as u64;
     let snapshots = 1 + frame_count(scene);
     let state = disks.saturating_mul(BYTES_PER_DISK.saturating_add(SNAPSHOT_BYTES_PER_DISK.saturating_mul(snapshots)));
-    state.saturating_add(samples(scene).saturating_mul(HISTORY_BYTES_PER_SAMPLE))
+    state.saturating_add(samples(scene).saturating_mul(quantity::history_bytes_per_sample()))
 }
 
 /// Why a run of `scene` cannot fit in this machine's memory, if it cannot (`None` also where the
@@ -50,7 +48,7 @@ pub fn memory_problem(scene: &SceneConfig) -> Option<String> {
 /// uncompressed (compression saves about a quarter).
 pub fn run_output(scene: &SceneConfig, output: &OutputOptions) -> u64 {
     let disks = scene.particles.count as u64;
-    let histories = if output.histories { samples(scene) * HISTORY_BYTES_PER_SAMPLE } else { 0 };
+    let histories = if output.histories { samples(scene) * quantity::history_bytes_per_sample() } else { 0 };
     let finals = if output.final_states { disks * SNAPSHOT_BYTES_PER_DISK } else { 0 };
     let frames = if output.frames { frame_count(scene) * disks * SNAPSHOT_BYTES_PER_DISK } else { 0 };
     histories + finals + frames
@@ -149,9 +147,10 @@ mod tests {
         scene.run.frame_times = vec![0.0, 1.0, 99.0];
         let all = OutputOptions::default();
         let samples = 1501;
-        assert_eq!(run_output(&scene, &all), samples * 84 + 3 * 300 * 56);
+        // A sample: 11 `f64` series and a `u32` contact count (92 bytes).
+        assert_eq!(run_output(&scene, &all), samples * 92 + 3 * 300 * 56);
         let none = OutputOptions { histories: false, final_states: false, frames: false };
         assert_eq!(run_output(&scene, &none), 0);
-        assert_eq!(run_memory(&scene), 300 * (800 + 3 * 56) + samples * 84);
+        assert_eq!(run_memory(&scene), 300 * (800 + 3 * 56) + samples * 92);
     }
 }

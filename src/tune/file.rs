@@ -6,12 +6,12 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::output::table::ColumnData;
-use crate::output::{SummaryRow, SummaryTable};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 use crate::physics::placement;
+use crate::physics::quantity;
+use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
 use crate::study::file::{Document, KeyPath, StudyFile, quoted_key, set_path};
 use crate::study::plan::{self, fingerprint, split_leaves};
@@ -457,7 +457,7 @@ fn collect<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Vec<(KeyP
     for (key, value) in table {
         prefix.push(key.clone());
         match value.as_table() {
-            Some(inner) if !["linear", "log"].iter().any(|k| inner.contains_key(*k)) => collect(inner, prefix, out),
+            Some(inner) if !axes::is_range_spec(inner) => collect(inner, prefix, out),
             _ => out.push((prefix.clone(), value)),
         }
         prefix.pop();
@@ -469,51 +469,28 @@ fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
     match value {
         toml::Value::Array(items) if items.is_empty() => Err("a list lever needs at least one value".into()),
         toml::Value::Array(items) => {
-            items.iter().map(crate::study::axes::scalar).collect::<Result<Vec<_>, _>>().map(LeverRange::List)
+            items.iter().map(axes::scalar).collect::<Result<Vec<_>, _>>().map(LeverRange::List)
         }
         toml::Value::Table(table) => {
-            if let Some(unknown) = table.keys().find(|k| !["linear", "log"].contains(&k.as_str())) {
-                return Err(format!("unknown key \"{unknown}\" ({SHAPE})"));
-            }
-            let (kind, ends) = match (table.get("linear"), table.get("log")) {
-                (Some(ends), None) => ("linear", ends),
-                (None, Some(ends)) => ("log", ends),
-                _ => return Err(format!("exactly one of linear or log ({SHAPE})")),
-            };
-            let pair = ends.as_array().filter(|a| a.len() == 2);
-            let integer = pair.is_some_and(|a| a.iter().all(|v| v.is_integer()));
-            let number = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
-            let (low, high) = match pair.map(|a| (number(&a[0]), number(&a[1]))) {
-                Some((Some(a), Some(b))) if a.is_finite() && b.is_finite() => (a, b),
-                _ => return Err(format!("{kind}: expected two finite numbers [a, b], got {ends}")),
-            };
+            let RangeEnds { spacing, a: low, b: high, integer } = axes::range_ends(table, &[], SHAPE)?;
             if low >= high {
-                return Err(format!("{kind}: the ends must increase, got [{low}, {high}]"));
+                return Err(format!("{}: the ends must increase, got [{low}, {high}]", spacing.key()));
             }
-            if kind == "log" {
-                if low <= 0.0 {
-                    return Err(format!("log: the ends must be > 0, got [{low}, {high}]"));
-                }
-                Ok(LeverRange::Log { low, high, integer })
-            } else {
-                Ok(LeverRange::Linear { low, high, integer })
-            }
+            Ok(match spacing {
+                Spacing::Log => LeverRange::Log { low, high, integer },
+                Spacing::Linear => LeverRange::Linear { low, high, integer },
+            })
         }
         other => Err(format!("{SHAPE}; got a single {}", other.type_str())),
     }
 }
 
-/// The summary columns a `[keep]` entry may name: the numeric per-run results.
+/// Per-run quantities that are costs or settings, not results a `[keep]` entry may hold.
+const NOT_KEPT: [&str; 5] = ["steps", "particle_steps", "simulated_time", "wall_time", "time_step"];
+
+/// The per-run quantities a `[keep]` entry may name: the declared results, costs and settings left out.
 pub fn keepable_metrics() -> Vec<String> {
-    let table = SummaryTable::from_rows(&[SummaryRow::failed(0, "r0", &[], "")]);
-    const NOT_PILE: [&str; 7] =
-        ["index", "wall_time", "warnings", "simulated_time", "steps", "particle_steps", "time_step"];
-    table
-        .columns
-        .iter()
-        .filter(|c| matches!(c.data, ColumnData::Float(_) | ColumnData::Int(_)) && !NOT_PILE.contains(&c.name.as_str()))
-        .map(|c| c.name.clone())
-        .collect()
+    quantity::per_run().filter(|q| !NOT_KEPT.contains(&q.name)).map(|q| q.name.to_string()).collect()
 }
 
 /// `[keep]`: `metric = relative tolerance`, or `metric = { relative = r }` / `{ absolute = a }`.

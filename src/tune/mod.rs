@@ -7,7 +7,7 @@
 //! and reads every outcome back from the file). [`report`] writes the recommendation, the best study,
 //! the candidates table and the charts.
 
-pub mod file;
+mod file;
 pub mod report;
 pub mod search;
 
@@ -21,7 +21,7 @@ pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load}
 pub use search::{Evaluator, Job, Outcome, Role, SearchConfig, SearchResult};
 
 use crate::output::table::{ColumnData, SummaryTable};
-use crate::physics::placement;
+use crate::physics::{RunStatus, placement};
 use crate::runner::{self, ProgressMode, RunOptions};
 use crate::study::{ParamValue, Plan, PlannedRun};
 
@@ -337,7 +337,7 @@ impl<'a> Rows<'a> {
             return None;
         }
         let status = self.text("status", row);
-        let failure = (status != "settled").then(|| {
+        let failure = (RunStatus::parse(&status) != Some(RunStatus::Settled)).then(|| {
             let message = self.text("message", row);
             let why = if message.is_empty() { String::new() } else { format!(": {message}") };
             format!("run {} {status}{why}", run.id)

@@ -28,6 +28,7 @@
 
 use std::collections::HashSet;
 
+use crate::physics::rng::Rng;
 use crate::stats::{self, Decision, Equivalence};
 
 /// Grid of the normalized coordinates: candidates closer than 1/QUANT are the same.
@@ -266,23 +267,6 @@ pub fn assess(reference: &[Outcome], runs: &[Outcome], margins: &[f64]) -> Asses
     Assessment { n: runs.len(), cost, tests, worst, state }
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): the search's only source of randomness.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The radical inverse of `index` in base `base` (van der Corput), the Halton sequence's coordinate.
 fn radical_inverse(mut index: u64, base: u64) -> f64 {
     let (mut result, mut f) = (0.0, 1.0 / base as f64);
@@ -312,8 +296,9 @@ struct Search<'a, E> {
 
 impl<'a, E: Evaluator> Search<'a, E> {
     fn new(config: &'a SearchConfig, evaluator: &'a mut E) -> Self {
-        let mut rng = SplitMix(config.seed ^ 0x7475_6e65);
-        let shift = (0..config.dims).map(|_| rng.uniform()).collect();
+        // The search's only randomness: the Halton sequence's random shift.
+        let mut rng = Rng::new(config.seed ^ 0x7475_6e65);
+        let shift = (0..config.dims).map(|_| rng.unit()).collect();
         let result = SearchResult {
             reference: Vec::new(),
             margins: Vec::new(),

@@ -3,10 +3,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::header::{FileHeader, utc_now};
-use super::row::SummaryRow;
-use super::writer::ResultsWriter;
-use super::{OutputError, reader, write_csv_files};
+use crate::output::header::{FileHeader, utc_now};
+use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
+use crate::stats::points;
 use crate::study::OutputOptions;
 
 /// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
@@ -92,8 +91,10 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         }
         runs += shard.rows.len();
     }
-    let tables = writer.finish()?;
-    let (summary_csv, points_csv) = write_csv_files(&results, &tables)?;
+    let rows: Vec<SummaryRow> = shards.iter().flat_map(|s| s.rows.iter().cloned()).collect();
+    let tables = points::tables(&rows);
+    ResultSink::finish(Box::new(writer), &tables)?;
+    let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
     let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
     Ok(MergeReport {
         results,

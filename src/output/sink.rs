@@ -1,0 +1,22 @@
+//! Where a sweep's results go. A [`ResultSink`] takes finished runs one at a time, makes them durable
+//! at each commit, and at the end receives the tables of the whole file (the summary and the
+//! per-point statistics, computed above the sink by the runner). The HDF5 + CSV results file
+//! ([`super::ResultsWriter`]) is one sink; another output format (VTK, LAMMPS dumps …) is another
+//! implementation, driven by the runner's writer thread the same way.
+
+use super::OutputError;
+use super::writer::{RunResult, Tables};
+
+/// A destination for the runs of a sweep, driven from one thread: [`Self::accept`] for each run,
+/// [`Self::commit`] now and then, [`Self::finish`] once.
+pub trait ResultSink: Send {
+    /// Takes one finished run; it need not be durable before the next [`Self::commit`].
+    fn accept(&mut self, run: &RunResult) -> Result<(), OutputError>;
+
+    /// Makes every accepted run durable: a crash after it loses none of them.
+    fn commit(&mut self) -> Result<(), OutputError>;
+
+    /// Receives the tables of every run the results hold (earlier sweeps' when resuming included),
+    /// writes what the sink keeps of them, and closes the sink.
+    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError>;
+}

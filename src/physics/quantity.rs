@@ -1,0 +1,382 @@
+//! Every per-run quantity, declared once: name, unit, description and how it is computed.
+//!
+//! The summary's columns (CSV and `/summary`), the run groups' attributes, their units in the HDF5
+//! attributes and in the CSV and report headers, the history tables, `compare --keep`, tune's
+//! `[keep]`, `summary --metric` and the README's column list all read these tables; nothing else
+//! lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
+//! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
+//! record is turned into a row, never in the step loop.
+//!
+//! Units are SI symbols; an empty unit means dimensionless (a ratio, a fraction, a count).
+
+use super::pile::Pile;
+use super::record::{History, RunRecord};
+
+/// One declared quantity; `value` says how it is computed (`()` where the runner measures it).
+#[derive(Clone, Copy, Debug)]
+pub struct Quantity<F> {
+    /// Name in files and on the command line (snake_case).
+    pub name: &'static str,
+    /// SI unit symbol; empty when dimensionless.
+    pub unit: &'static str,
+    /// What it is, in one sentence.
+    pub description: &'static str,
+    /// How it is computed.
+    pub value: F,
+}
+
+/// A name, unit and description, without the computation.
+pub type Declaration = Quantity<()>;
+
+impl<F> Quantity<F> {
+    /// The declaration alone.
+    pub fn declaration(&self) -> Declaration {
+        Quantity { name: self.name, unit: self.unit, description: self.description, value: () }
+    }
+}
+
+/// How a pile metric is computed from a measured pile.
+pub type PileValue = fn(&Pile) -> f64;
+/// How a final value is computed from a run's record.
+pub type RunValue = fn(&RunRecord) -> f64;
+
+/// What each run reports about how it went, in summary order; the summary row keeps them as typed
+/// fields (an optional settle time, integer step counts).
+pub const OUTCOME: [Declaration; 5] = [
+    declared("settle_time", "s", "Start of the stretch over which the settle criterion held; empty if never."),
+    declared("steps", "", "Time steps taken."),
+    declared("particle_steps", "", "Time steps times disks: the run's cost, independent of the machine."),
+    declared("simulated_time", "s", "Simulated time reached."),
+    declared("wall_time", "s", "Wall-clock time of the simulation, measured by the runner."),
+];
+
+const fn declared(name: &'static str, unit: &'static str, description: &'static str) -> Declaration {
+    Quantity { name, unit, description, value: () }
+}
+
+/// A final value that is the last sample of the history series in the `History` field `$field`.
+macro_rules! last_sample {
+    ($field:ident, $name:literal, $unit:literal, $description:literal) => {
+        Quantity { name: $name, unit: $unit, description: $description, value: |r| RunRecord::last(&r.history.$field) }
+    };
+}
+
+/// Final values of a run taken from its record (before the pile metrics in the summary).
+pub const FINAL_VALUES: [Quantity<RunValue>; 8] = [
+    Quantity {
+        name: "time_step",
+        unit: "s",
+        description: "Time step used: given, or resolved from the scene's time scales.",
+        value: |r| r.time_step,
+    },
+    Quantity {
+        name: "final_kinetic",
+        unit: "J",
+        description: "Kinetic energy, translational plus rotational, at the last sample.",
+        value: |r| RunRecord::last(&r.history.kinetic_translational) + RunRecord::last(&r.history.kinetic_rotational),
+    },
+    last_sample!(
+        potential,
+        "final_potential",
+        "J",
+        "Gravitational potential energy at the last sample (zero at the origin)."
+    ),
+    last_sample!(elastic, "final_elastic", "J", "Elastic energy stored in the contacts at the last sample."),
+    last_sample!(
+        dissipated,
+        "final_dissipated",
+        "J",
+        "Energy removed by damping and friction, numerical damping included."
+    ),
+    last_sample!(
+        numerical_damping_dissipated,
+        "final_numerical_damping_dissipated",
+        "J",
+        "The part of final_dissipated removed by numerical damping."
+    ),
+    last_sample!(mechanical, "final_mechanical", "J", "Kinetic plus potential plus elastic energy at the last sample."),
+    last_sample!(unbalanced_force_ratio, "final_ubf", "", "Unbalanced force ratio at the last sample."),
+];
+
+/// The pile metrics, measured once at the end of a run (see [`super::pile`] for the definitions;
+/// only contacts that carry force count).
+pub const PILE_METRICS: [Quantity<PileValue>; 13] = [
+    Quantity { name: "pile_height", unit: "m", description: "Highest disk top.", value: |pile| pile.height() },
+    Quantity {
+        name: "packing_fraction",
+        unit: "",
+        description: "Disk area over the box width times the pile height.",
+        value: |pile| pile.packing_fraction(),
+    },
+    Quantity {
+        name: "packing_fraction_interior",
+        unit: "",
+        description: "Disk area fraction in a window 2 d_max from the walls, floor and surface.",
+        value: |pile| pile.interior_packing_fraction(),
+    },
+    Quantity {
+        name: "coordination_number",
+        unit: "",
+        description: "2 C_dd / N over disk-disk contacts.",
+        value: |pile| pile.coordination_number(),
+    },
+    Quantity {
+        name: "mechanical_coordination_number",
+        unit: "",
+        description: "2 C_dd / N after removing rattlers (fewer than 2 contacts) repeatedly.",
+        value: |pile| pile.mechanical_coordination_number(),
+    },
+    Quantity {
+        name: "rattler_fraction",
+        unit: "",
+        description: "Share of disks that are rattlers.",
+        value: |pile| pile.rattler_fraction(),
+    },
+    Quantity {
+        name: "floor_load_ratio",
+        unit: "",
+        description: "Floor normal forces over the disks' weight (below 1 when wall friction carries weight).",
+        value: |pile| pile.floor_load_ratio(),
+    },
+    Quantity {
+        name: "floor_mean_contact_force",
+        unit: "N",
+        description: "Mean normal force of the floor's contacts.",
+        value: |pile| pile.floor_mean_contact_force(),
+    },
+    Quantity {
+        name: "fabric_anisotropy",
+        unit: "",
+        description: "2 (λ1 − λ2) of the disk-disk contact-normal fabric tensor.",
+        value: |pile| pile.fabric_anisotropy(),
+    },
+    Quantity {
+        name: "fabric_direction",
+        unit: "rad",
+        description: "Major principal direction of the fabric tensor, from +x, in [0, π).",
+        value: |pile| pile.fabric_direction(),
+    },
+    Quantity {
+        name: "normal_force_width",
+        unit: "",
+        description: "Standard deviation over mean of the disk-disk normal forces (0 when uniformly loaded).",
+        value: |pile| pile.normal_force_width(),
+    },
+    Quantity {
+        name: "sliding_fraction",
+        unit: "",
+        description: "Share of frictional contacts at the Coulomb limit.",
+        value: |pile| pile.sliding_fraction(),
+    },
+    Quantity {
+        name: "mean_overlap_ratio",
+        unit: "",
+        description: "Mean overlap over the smaller radius.",
+        value: |pile| pile.mean_overlap_ratio(),
+    },
+];
+
+/// Number of final values of a run: [`FINAL_VALUES`] then [`PILE_METRICS`].
+pub const FINAL_VALUE_COUNT: usize = FINAL_VALUES.len() + PILE_METRICS.len();
+
+/// The final values' declarations, in the order of [`final_values`].
+pub fn final_value_declarations() -> impl Iterator<Item = Declaration> {
+    FINAL_VALUES.iter().map(Quantity::declaration).chain(PILE_METRICS.iter().map(Quantity::declaration))
+}
+
+/// The final values of a record: [`FINAL_VALUES`] computed, then its pile metrics.
+pub fn final_values(record: &RunRecord) -> [f64; FINAL_VALUE_COUNT] {
+    let mut values = [f64::NAN; FINAL_VALUE_COUNT];
+    for (slot, quantity) in values.iter_mut().zip(&FINAL_VALUES) {
+        *slot = (quantity.value)(record);
+    }
+    values[FINAL_VALUES.len()..].copy_from_slice(record.pile.values());
+    values
+}
+
+/// Every per-run quantity in summary order: [`OUTCOME`], then the final values.
+pub fn per_run() -> impl Iterator<Item = Declaration> {
+    OUTCOME.into_iter().chain(final_value_declarations())
+}
+
+/// The per-run quantity called `name`.
+pub fn find(name: &str) -> Option<Declaration> {
+    per_run().find(|q| q.name == name)
+}
+
+/// The per-run quantity a summary or points column holds, directly or as a statistic over runs
+/// (`m_mean`, `m_std`, `m_ci95`, `m_min`, `m_max`, in the quantity's unit); `None` for other columns.
+pub fn column_quantity(column: &str) -> Option<Declaration> {
+    let statistic = |suffix: &str| column.strip_suffix(suffix);
+    find(column).or_else(|| ["_mean", "_std", "_ci95", "_min", "_max"].into_iter().find_map(statistic).and_then(find))
+}
+
+/// A column's name with its unit for headers, `name (unit)`; the name alone without a unit.
+pub fn with_unit(column: &str) -> String {
+    match column_quantity(column).map(|q| q.unit).filter(|u| !u.is_empty()) {
+        Some(unit) => format!("{column} ({unit})"),
+        None => column.to_string(),
+    }
+}
+
+/// A history series' name with its unit for headers, `name (unit)`; the name alone without one.
+pub fn series_with_unit(name: &str) -> String {
+    match HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.unit) {
+        Some(unit) if !unit.is_empty() => format!("{name} ({unit})"),
+        _ => name.to_string(),
+    }
+}
+
+/// The values of a history series.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SeriesValues<'a> {
+    /// Real numbers.
+    Real(&'a [f64]),
+    /// Counts.
+    Count(&'a [u32]),
+}
+
+/// A history series: one value per sample, a field of the `history` table.
+#[derive(Clone, Copy, Debug)]
+pub struct Series {
+    /// What it is, and its values in a [`History`].
+    pub quantity: Quantity<fn(&History) -> SeriesValues<'_>>,
+    /// Stores values read back from a file.
+    pub store: fn(&mut History, Vec<f64>),
+    /// The value of every sample when a file predates the series; `None` when it is required.
+    pub when_absent: Option<f64>,
+}
+
+impl Series {
+    /// Bytes one sample of the series takes (8 for a real, 4 for a count), in memory and in files.
+    pub fn bytes_per_sample(&self) -> u64 {
+        match (self.quantity.value)(&History::default()) {
+            SeriesValues::Real(_) => 8,
+            SeriesValues::Count(_) => 4,
+        }
+    }
+}
+
+/// Bytes one history sample takes: every series of [`HISTORY_SERIES`].
+pub fn history_bytes_per_sample() -> u64 {
+    HISTORY_SERIES.iter().map(Series::bytes_per_sample).sum()
+}
+
+/// A series of real numbers stored in the `History` field `$field`, required in files.
+macro_rules! real_series {
+    ($field:ident, $name:literal, $unit:literal, $description:literal) => {
+        Series {
+            quantity: Quantity {
+                name: $name,
+                unit: $unit,
+                description: $description,
+                value: |h| SeriesValues::Real(&h.$field),
+            },
+            store: |h, v| h.$field = v,
+            when_absent: None,
+        }
+    };
+}
+
+/// The history series, in the order of the `history` table's fields.
+pub const HISTORY_SERIES: [Series; 12] = [
+    real_series!(time, "t", "s", "Simulated time."),
+    real_series!(kinetic_translational, "kinetic_translational", "J", "Translational kinetic energy Σ ½ m v²."),
+    real_series!(kinetic_rotational, "kinetic_rotational", "J", "Rotational kinetic energy Σ ½ I ω²."),
+    real_series!(potential, "potential", "J", "Gravitational potential energy −Σ m g·x."),
+    real_series!(elastic, "elastic", "J", "Elastic energy stored in the contacts."),
+    real_series!(
+        dissipated,
+        "dissipated",
+        "J",
+        "Energy removed by damping and friction so far, numerical damping included."
+    ),
+    // Files written before numerical damping existed: nothing was dissipated by it.
+    Series {
+        when_absent: Some(0.0),
+        ..real_series!(
+            numerical_damping_dissipated,
+            "numerical_damping_dissipated",
+            "J",
+            "The part of dissipated removed by numerical damping."
+        )
+    },
+    real_series!(total, "total", "J", "The paper's total energy: kinetic plus potential."),
+    real_series!(mechanical, "mechanical", "J", "Kinetic plus potential plus elastic energy."),
+    real_series!(
+        unbalanced_force_ratio,
+        "unbalanced_force_ratio",
+        "",
+        "Mean net force over mean contact force (gravity included); NaN without contacts."
+    ),
+    Series {
+        quantity: Quantity {
+            name: "contacts",
+            unit: "",
+            description: "Number of contacts, disk-disk and disk-wall.",
+            value: |h| SeriesValues::Count(&h.contacts),
+        },
+        store: |h, v| h.contacts = v.into_iter().map(|c| c as u32).collect(),
+        when_absent: None,
+    },
+    real_series!(max_overlap_ratio, "max_overlap_ratio", "", "Largest overlap over the smaller radius of its pair."),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_snake_case() {
+        let names: Vec<&str> =
+            per_run().map(|q| q.name).chain(HISTORY_SERIES.iter().map(|s| s.quantity.name)).collect();
+        for name in &names {
+            assert!(name.chars().all(|c| c.is_ascii_lowercase() || c == '_'), "{name}");
+        }
+        let per_run: Vec<&str> = per_run().map(|q| q.name).collect();
+        let mut sorted = per_run.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), per_run.len(), "a per-run name declared twice: {per_run:?}");
+    }
+
+    #[test]
+    fn every_history_field_is_a_declared_series() {
+        // The serialised field names of a history, `time` stored as `t`.
+        let fields = serde_json::to_value(History::default()).unwrap();
+        let mut fields: Vec<String> = fields.as_object().unwrap().keys().map(|k| k.replace("time", "t")).collect();
+        let mut declared: Vec<String> = HISTORY_SERIES.iter().map(|s| s.quantity.name.to_string()).collect();
+        fields.sort();
+        declared.sort();
+        assert_eq!(fields, declared);
+    }
+
+    #[test]
+    fn series_store_what_they_read() {
+        let mut history = History::default();
+        for (k, series) in HISTORY_SERIES.iter().enumerate() {
+            (series.store)(&mut history, vec![k as f64, 2.0 * k as f64]);
+        }
+        for (k, series) in HISTORY_SERIES.iter().enumerate() {
+            let expected = [k as f64, 2.0 * k as f64];
+            match (series.quantity.value)(&history) {
+                SeriesValues::Real(v) => assert_eq!(v, expected, "{}", series.quantity.name),
+                SeriesValues::Count(v) => assert_eq!(v, [k as u32, 2 * k as u32], "{}", series.quantity.name),
+            }
+        }
+    }
+
+    #[test]
+    fn statistics_columns_carry_their_metric_unit() {
+        assert_eq!(with_unit("settle_time"), "settle_time (s)");
+        assert_eq!(with_unit("pile_height_ci95"), "pile_height_ci95 (m)");
+        assert_eq!(with_unit("floor_mean_contact_force_mean"), "floor_mean_contact_force_mean (N)");
+        assert_eq!(with_unit("wall_time_std"), "wall_time_std (s)");
+        assert_eq!(with_unit("settle_time_n"), "settle_time_n", "a count of values has no unit");
+        assert_eq!(with_unit("coordination_number_mean"), "coordination_number_mean", "dimensionless");
+        assert_eq!(column_quantity("coordination_number_mean").map(|q| q.unit), Some(""));
+        assert_eq!(with_unit("material.friction"), "material.friction");
+        assert_eq!(series_with_unit("t"), "t (s)");
+        assert_eq!(series_with_unit("contacts"), "contacts");
+    }
+}
