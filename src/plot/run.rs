@@ -365,6 +365,7 @@ impl Figure for SnapshotFigure<'_> {
         )])?;
         let frame = box_frame(&chart, self.box_size);
         chart.draw_series(self.disks(frame.pixels_per_metre.0))?;
+        chart.draw_series(self.force_chains(frame.pixels_per_metre.0))?;
         style::colour_bar(&bar_area, self.scale.range(), self.scale.by.label(), (MARGIN, MARGIN + X_LABEL_AREA))?;
         Ok(frame)
     }
@@ -383,6 +384,39 @@ impl SnapshotFigure<'_> {
                 let value = values.get(i).copied().unwrap_or(f64::NAN);
                 let colour = if value.is_finite() { style::viridis(value, &range) } else { style::NOT_SETTLED };
                 Circle::new((s.x[i], s.y[i]), (s.r[i] * pixels_per_metre).max(1.0), colour.filled())
+            })
+            .collect()
+    }
+}
+
+/// Widest force-chain line, as a fraction of the smallest disk's drawn diameter.
+const CHAIN_WIDTH: f64 = 0.6;
+/// Colour of the force-chain lines (dark red: apart from the black walls and the viridis disks).
+pub const CHAIN_COLOUR: RGBColor = RGBColor(160, 0, 0);
+
+impl SnapshotFigure<'_> {
+    /// The force chains: one [`CHAIN_COLOUR`] line per contact carrying compression, between the centres (to the
+    /// contact point for a wall), its width proportional to the normal force (the widest, the largest
+    /// force, [`CHAIN_WIDTH`] of the smallest disk's diameter; lines under a pixel are left out).
+    fn force_chains(&self, pixels_per_metre: f64) -> Vec<PathElement<(f64, f64)>> {
+        let s = self.snapshot;
+        let c = &s.contacts;
+        let largest = c.normal_force.iter().copied().filter(|f| f.is_finite()).fold(0.0, f64::max);
+        let smallest_radius = s.r.iter().copied().filter(|r| r.is_finite()).fold(f64::INFINITY, f64::min);
+        let widest = CHAIN_WIDTH * 2.0 * smallest_radius * pixels_per_metre;
+        if largest <= 0.0 || !widest.is_finite() {
+            return Vec::new();
+        }
+        (0..c.len())
+            .filter_map(|k| {
+                let width = (widest * c.normal_force[k] / largest).round();
+                let i = c.first[k] as usize;
+                let far = match usize::try_from(c.second[k]) {
+                    Ok(j) => (s.x[j], s.y[j]),
+                    Err(_) => (c.point_x[k], c.point_y[k]),
+                };
+                (width >= 1.0)
+                    .then(|| PathElement::new([(s.x[i], s.y[i]), far], CHAIN_COLOUR.stroke_width(width as u32)))
             })
             .collect()
     }
