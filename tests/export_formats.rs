@@ -99,7 +99,7 @@ fn lammps_reads_the_data_file_and_runs_from_it() {
     assert!(run.status.success(), "LAMMPS failed:\n{text}");
     assert!(!text.contains("Lost atoms"), "{text}");
     let n = state.x.len();
-    let last_thermo = text.lines().filter(|l| l.trim().starts_with("500 ")).last().expect("a thermo line at step 500");
+    let last_thermo = text.lines().rfind(|l| l.trim().starts_with("500 ")).expect("a thermo line at step 500");
     assert_eq!(last_thermo.split_whitespace().nth(1), Some(n.to_string().as_str()), "every atom kept:\n{text}");
     let dump = std::fs::read_to_string(out.join("read.dump")).unwrap();
     let atoms: Vec<Vec<f64>> = dump

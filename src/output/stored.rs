@@ -91,7 +91,7 @@ fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<Contact
     let mut table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
     let mut take = |name: &str| table.remove(name).ok_or(format!("no field `{name}`"));
     let [first, second, normal_x, normal_y, normal_force, tangential_force, overlap, point_x, point_y, sliding] =
-        CONTACT_FIELDS.map(|name| take(name));
+        CONTACT_FIELDS.map(&mut take);
     let ints = |c: Result<ColumnData, String>| match c? {
         ColumnData::Int(v) => Ok(v),
         _ => Err("an index field is not an integer".to_string()),
