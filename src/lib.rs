@@ -20,14 +20,14 @@
 //! A scene built in code and run (see `examples/library.rs`):
 //!
 //! ```no_run
-//! use demsweep::physics::simulation::run_scene;
+//! use demsweep::physics::run_scene;
 //! use demsweep::{Control, SceneConfig};
 //!
 //! let mut scene = SceneConfig::default();
 //! scene.particles.count = 60;
 //! scene.domain.width = 0.16;
 //! let record = run_scene(&scene, None, &mut |_| Control::Continue).unwrap();
-//! println!("{} at {:?} s, coordination {}", record.status, record.settle_time, record.pile.coordination_number);
+//! println!("{} at {:?} s, coordination {}", record.status, record.settle_time, record.pile["coordination_number"]);
 //! ```
 #![deny(unsafe_code)]
 
