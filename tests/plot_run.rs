@@ -123,6 +123,43 @@ fn force_chains_are_lines_between_centres_as_wide_as_the_normal_force() {
     }
 }
 
+/// The frames of an (A)PNG file as RGB pixels, and its animation's frame count (`None`: a still).
+fn png_frames(path: &std::path::Path) -> (Option<u32>, Vec<Vec<u8>>) {
+    let mut reader = png::Decoder::new(std::fs::File::open(path).unwrap()).read_info().unwrap();
+    let animated = reader.info().animation_control().map(|a| a.num_frames);
+    let mut frames = Vec::new();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    while reader.next_frame(&mut pixels).is_ok() {
+        frames.push(pixels.clone());
+    }
+    (animated, frames)
+}
+
+#[test]
+fn the_deposition_animation_plays_each_snapshot_as_drawn_alone() {
+    let scene = tiny_scene(0.5, 1e-5);
+    let record = run_tiny(&scene);
+    let dir = out_dir("animation");
+    let box_size = (scene.domain.width, scene.domain.height);
+    let mut snapshots: Vec<_> = record.frames.iter().collect();
+    snapshots.push(&record.final_state);
+    let scale = ColourScale::fitted(ColourBy::Speed, snapshots.iter().copied());
+    let scaled: Vec<_> = snapshots.iter().map(|s| (*s, scale)).collect();
+    let opts = options(640, 480, Format::Png);
+    let path = dir.join("deposition.png");
+    run::animation(&scaled, box_size, &opts, &path).unwrap();
+    let (animated, frames) = png_frames(&path);
+    assert_eq!(animated, Some(snapshots.len() as u32));
+    assert_eq!(frames.len(), snapshots.len());
+    for (k, snapshot) in snapshots.iter().enumerate() {
+        let still = dir.join(format!("still_{k}.png"));
+        run::snapshot(snapshot, box_size, &scale, &opts, &still).unwrap();
+        let (not_animated, still_frames) = png_frames(&still);
+        assert_eq!(not_animated, None);
+        assert!(frames[k] == still_frames[0], "frame {k} differs from its still picture");
+    }
+}
+
 #[test]
 fn disks_are_coloured_on_the_scale() {
     let scene = tiny_scene(0.5, 1e-5);

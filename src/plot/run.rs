@@ -1,6 +1,7 @@
 //! Charts of one run: energies and unbalanced force ratio against time, and pile snapshots.
 
 use std::ops::Range;
+use std::path::PathBuf;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
@@ -8,7 +9,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH};
-use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, Format, PlotError, render};
 use crate::physics::record::{History, Snapshot};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
@@ -44,6 +45,48 @@ pub fn snapshot<'c>(
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<BoxFrame, PlotError> {
     render(&SnapshotFigure { snapshot, box_size, scale }, options, canvas.into())
+}
+
+/// How long each frame of a deposition animation shows (ms).
+const ANIMATION_FRAME_MS: u16 = 500;
+
+/// Draws `snapshots` (in time order, each on its colour scale) as an animated PNG (APNG: every
+/// browser and most viewers play it; others show the first frame) onto a PNG file `canvas`, each
+/// frame as [`snapshot`] draws it. An SVG canvas cannot animate: it gets the last snapshot.
+pub fn animation<'c>(
+    snapshots: &[(&Snapshot, ColourScale)],
+    box_size: (f64, f64),
+    options: &ChartOptions,
+    canvas: impl Into<Canvas<'c>>,
+) -> Result<(), PlotError> {
+    let canvas = canvas.into();
+    let Some(&(last, last_scale)) = snapshots.last() else {
+        return Err(PlotError { path: PathBuf::from("(animation)"), reason: "no snapshots to animate".into() });
+    };
+    let path = match canvas {
+        Canvas::File(path) if options.format == Format::Png => path.to_path_buf(),
+        other => return snapshot(last, box_size, &last_scale, options, other).map(drop),
+    };
+    let fail = |reason: String| PlotError { path: path.clone(), reason };
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+    }
+    let frames = snapshots
+        .iter()
+        .map(|(s, scale)| super::render_rgb(&SnapshotFigure { snapshot: s, box_size, scale }, options, &path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let file = std::fs::File::create(&path).map_err(|e| fail(format!("cannot create: {e}")))?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), options.width, options.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let encoded = encoder
+        .set_animated(frames.len() as u32, 0)
+        .and_then(|()| encoder.set_frame_delay(ANIMATION_FRAME_MS, 1000))
+        .and_then(|()| encoder.write_header())
+        .and_then(|mut writer| {
+            frames.iter().try_for_each(|pixels| writer.write_image_data(pixels)).and_then(|()| writer.finish())
+        });
+    encoded.map_err(|e| fail(format!("cannot write the animation: {e}")))
 }
 
 /// What the disks of a snapshot are coloured by.
