@@ -1,7 +1,7 @@
 //! Engine speed: nanoseconds per particle-step, single thread.
 //!
 //! `cargo bench --bench engine` runs
-//! 1. the reference scene of `shared/reference/README.md` (300 disks, E 1e9 Pa, e 0.5, μ 0.5,
+//! 1. the reference scene of `docs/reference_scene.md` (300 disks, E 1e9 Pa, e 0.5, μ 0.5,
 //!    dt 1e-5 s, 1.5 s = 150 000 steps, to the end), median and best of 5 — LAMMPS: 120
 //!    ns/particle-step here;
 //! 2. the same deposition at N = 300, 3 000, 30 000 and 100 000 disks, the box widened with N so the
@@ -12,7 +12,9 @@
 //!    the best run is the one least slowed by other tenants); `DEMSWEEP_BENCH_DURATION=none` skips
 //!    them (the reference scene alone, e.g. to compare two builds side by side).
 //!
-//! Results are printed and written to `results/bench/engine.csv`.
+//! Results are printed and written to `results/bench_latest/engine.csv` (git ignores it);
+//! `cargo bench --bench engine -- --update-results` writes the committed `results/bench/engine.csv`
+//! instead.
 
 use std::time::Instant;
 
@@ -84,7 +86,14 @@ fn main() {
         );
         csv += &format!("scaling_{duration}s,{n},{steps},{ns:.2},{best:.2},{contacts}\n");
     }
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/results/bench");
-    std::fs::create_dir_all(dir).expect("results/bench");
-    std::fs::write(format!("{dir}/engine.csv"), csv).expect("write engine.csv");
+    let update = std::env::args().any(|a| a == "--update-results");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(if update {
+        demsweep::bench::COMMITTED_DIR
+    } else {
+        demsweep::bench::LATEST_DIR
+    });
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let path = dir.join("engine.csv");
+    std::fs::write(&path, csv).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    println!("wrote {}", path.display());
 }

@@ -1,5 +1,6 @@
 //! Engine cost in the settled state, where every disk has contacts: the reference deposition at N
-//! disks (box widened with N) is run to `settle` seconds once and its state cached under `target/`;
+//! disks (box widened with N) is run to `settle` seconds once and its state cached in the build
+//! folder this example was built into (`target/`, or `$CARGO_TARGET_DIR`);
 //! then `steps` steps are timed from that state, best of 7.
 //!
 //! `cargo run --release --example settled_pile -- N SETTLE STEPS`, e.g. `300 0.5 1000`. Under
@@ -23,9 +24,15 @@ fn scene(n: usize) -> SceneConfig {
     s
 }
 
+/// The build folder this example runs from: `<target>/release/examples/settled_pile`.
+fn build_folder() -> std::path::PathBuf {
+    let exe = std::env::current_exe().expect("this executable's path");
+    exe.ancestors().nth(3).expect("built in <target>/<profile>/examples/").to_path_buf()
+}
+
 /// The state after `settle` seconds, from the cache or computed (and cached, bit-exact).
 fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
-    let path = format!("{}/target/settled_pile_{}_{settle}.txt", env!("CARGO_MANIFEST_DIR"), s.particles.count);
+    let path = build_folder().join(format!("settled_pile_{}_{settle}.txt", s.particles.count));
     if let Ok(text) = std::fs::read_to_string(&path) {
         return text
             .lines()

@@ -62,8 +62,8 @@ enum Command {
                       OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
                       frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
-                      to a crash or kill: continue with --resume. Ctrl-C stops cleanly (exit 130); a second \
-                      Ctrl-C quits at once. Exit status 0 when every run finished (settled, not settled or \
+                      to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
+                      (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \
                       diverged), 1 when a run failed or is missing, 2 for an invalid study.",
         after_help = "Examples:\n  demsweep run studies/damping_sweep.toml\n  \
                       demsweep run studies/damping_sweep.toml --jobs 8 --out /scratch/damping\n  \
@@ -107,9 +107,10 @@ enum Command {
     Compare(results::CompareArgs),
     /// Print one run's histories (energies, UBF, contacts over time) as CSV.
     #[command(
-        long_about = "Print the sampled histories of one run as CSV on stdout: time t and the kinetic, \
-                      potential, elastic, dissipated, total and mechanical energies (J), the unbalanced \
-                      force ratio, the contact count and the largest overlap ratio, one line per sample.",
+        long_about = "Print the sampled histories of one run as CSV on stdout, one line per sample: time t \
+                      (s); the energies (J) kinetic_translational, kinetic_rotational, potential, elastic, \
+                      dissipated, numerical_damping_dissipated, total (kinetic + potential) and mechanical \
+                      (+ elastic); unbalanced_force_ratio, contacts and max_overlap_ratio (overlap / radius).",
         after_help = "Example:\n  demsweep history results/damping_sweep/damping_sweep.h5 r0007 > r0007.csv"
     )]
     History(results::HistoryArgs),
@@ -164,18 +165,21 @@ enum Command {
                       interval of settle time, cost and pile metrics; sortable by any column, filterable by \
                       status), the settle-time charts, and a section per charted run (energies, unbalanced \
                       force ratio, final pile) linked from its point's row. `run`, `merge` and `tune` write \
-                      it next to their results as <study name>_report.html.",
+                      it next to their results as <study name>_report.html (a shard's as \
+                      <study name>.shard-K-of-N_report.html).",
         after_help = "Examples:\n  demsweep report results/damping_sweep/damping_sweep.h5\n  \
                       demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
     )]
     Report(results::ReportArgs),
-    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings.
+    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a grid.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
-                      (default results/bench) and printing its Markdown summary: `accuracy` (work-precision of \
+                      (default results/bench_latest, which git ignores; --update-results writes the \
+                      committed results/bench instead) and printing its Markdown summary: `accuracy` (work-precision of \
                       both integrators), `stability` (where runs blow up against the predicted safe time step), \
                       `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
-                      settle, sparse diagnostics and frictionless shortcuts).",
+                      settle, sparse diagnostics and frictionless shortcuts), `tune` (tune against a \
+                      brute-force grid).",
         after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
     )]
     Bench(bench::BenchArgs),
@@ -255,6 +259,13 @@ pub fn main() -> ExitCode {
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
 /// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+    if demsweep::tune::is_tune_file(path) {
+        eprintln!(
+            "error: {0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
+            path.display()
+        );
+        return Err(ExitCode::from(INVALID_STUDY));
+    }
     let plan = study::load(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());

@@ -15,6 +15,8 @@ fn every_stress_scenario_ends_with_its_expected_status_and_a_message() {
         println!("{}: {} ({}) {} | {}", r.scenario, r.outcome.as_str(), r.expected.as_str(), r.message, r.note);
         assert!(r.as_expected(), "{}: expected {:?}, got {:?}: {}", r.scenario, r.expected, r.outcome, r.message);
         assert!(!r.message.is_empty());
+        let longest_number = r.message.split(|c: char| !c.is_ascii_digit()).map(str::len).max().unwrap_or(0);
+        assert!(longest_number <= 12, "{}: a number of {longest_number} digits in {}", r.scenario, r.message);
         assert_ne!(r.outcome, Outcome::Panic);
     }
     let row = |name: &str| rows.iter().find(|r| r.scenario == name).unwrap();

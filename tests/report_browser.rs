@@ -1,9 +1,11 @@
 //! The HTML report as a person sees it: `demsweep run` writes it, and headless Chromium (Debian's
-//! `chromium`, driven by Playwright; `.ci/run` installs both) opens it. It loads with no console
+//! `chromium`, driven by Playwright; `scripts/test.sh` installs both) opens it. It loads with no console
 //! error and no network request, its table has one row per grid point, a click on a header sorts
 //! the rows, every chart has a size, and a run's section is reachable from its row.
 
 use std::path::{Path, PathBuf};
+mod python_env;
+
 use std::process::Command;
 
 use serde_json::Value;
@@ -33,9 +35,9 @@ fn scratch(name: &str) -> PathBuf {
 /// What the browser saw (see tests/report/check_report.py).
 fn open_in_browser(report: &Path) -> Value {
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/report/check_report.py");
-    let out = Command::new("python3").arg(script).arg(report).output().expect("run python3");
+    let out = python_env::python(script).arg(report).output().expect("run the tests' Python");
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "browser check failed (CI installs chromium and playwright: see .ci/run):\n{text}");
+    assert!(out.status.success(), "browser check failed (scripts/test.sh installs chromium and playwright):\n{text}");
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
 

@@ -1,4 +1,4 @@
-//! `demsweep run` as a user runs it: killed with SIGKILL or stopped with Ctrl-C mid-sweep, then
+//! `demsweep run` as a user runs it: killed with SIGKILL or stopped with Ctrl-C, SIGTERM or SIGHUP mid-sweep, then
 //! continued with `--resume`, it ends with the summary of an uninterrupted run; `summary`, `history`
 //! and `merge` on its files.
 
@@ -6,29 +6,14 @@ mod runner_common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
 
 use demsweep::output::summary;
 
-/// 80 runs of 30 disks (about 20 ms each): long enough to be stopped midway.
-const STUDY: &str = r#"name = "cli_sweep"
-[scene]
-particles.count = 30
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.2
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = { linear = [0.2, 0.8], steps = 4 }
-replicates = 20
-[output]
-frames = false
-"#;
 const RUNS: usize = 80;
 
 fn study(dir: &Path) -> PathBuf {
     let path = dir.join("cli_sweep.toml");
-    std::fs::write(&path, STUDY).unwrap();
+    std::fs::write(&path, runner_common::cli_study("cli_sweep")).unwrap();
     path
 }
 
@@ -49,16 +34,6 @@ fn spawn_run(study: &Path, out: &Path) -> Child {
         .stderr(Stdio::null())
         .spawn()
         .unwrap()
-}
-
-/// Waits until the results file holds at least one committed run.
-fn wait_for_first_commit(results: &Path, child: &mut Child) {
-    let started = Instant::now();
-    while !summary::read(results).is_ok_and(|t| !t.is_empty()) {
-        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
-        assert!(started.elapsed() < Duration::from_secs(60), "no commit within a minute");
-        std::thread::sleep(Duration::from_millis(2));
-    }
 }
 
 /// The summary of an uninterrupted run of the study.
@@ -87,7 +62,7 @@ fn stopped_midway(test: &str, stop: impl FnOnce(&mut Child)) -> (PathBuf, PathBu
     let study = study(&dir);
     let out = dir.join("out");
     let mut child = spawn_run(&study, &out);
-    wait_for_first_commit(&out.join("cli_sweep.h5"), &mut child);
+    runner_common::wait_for_first_commit(&out.join("cli_sweep.h5"), &mut child);
     stop(&mut child);
     let code = child.wait().unwrap().code();
     let kept = summary::read(&out.join("cli_sweep.h5")).expect("the stopped sweep's file is valid").len();
@@ -123,6 +98,21 @@ fn ctrl_c_stops_cleanly_with_exit_130_and_resumes() {
 }
 
 #[test]
+fn sigterm_and_sighup_stop_cleanly_like_ctrl_c() {
+    for signal in ["TERM", "HUP"] {
+        let (_, out, code, kept) = stopped_midway(&format!("cli_sig{signal}"), |child| {
+            let sent = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+            assert!(sent.success());
+        });
+        assert_eq!(code, Some(130), "SIG{signal}");
+        let file = hdf5_pure::File::open(out.join("cli_sweep.h5")).unwrap();
+        assert!(file.group("summary").is_ok(), "SIG{signal}: a clean stop writes /summary");
+        let csv = std::fs::read_to_string(out.join("cli_sweep_summary.csv")).unwrap();
+        assert_eq!(csv.lines().count(), kept + 1, "SIG{signal}: every finished run is in the CSV");
+    }
+}
+
+#[test]
 fn summary_history_and_merge_commands() {
     let dir = runner_common::scratch("cli_commands");
     let study = study(&dir);
@@ -133,7 +123,10 @@ fn summary_history_and_merge_commands() {
         assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
         let lines = String::from_utf8_lossy(&run.stdout).lines().filter(|l| l.contains(" not_settled ")).count();
         assert_eq!(lines, RUNS / 2, "one line per finished run");
+        let page = shards.join(format!("cli_sweep.shard-{}-of-2_report.html", &k[..1]));
+        assert!(String::from_utf8_lossy(&run.stdout).contains(&format!("report: {}", page.display())));
     }
+    assert!(!shards.join("cli_sweep_report.html").exists(), "each shard has its own page, none shared");
     let merged = dir.join("merged");
     let merge = demsweep(&["merge", merged.to_str().unwrap(), shards.to_str().unwrap()]);
     assert_eq!(merge.status.code(), Some(0), "{}", stderr(&merge));

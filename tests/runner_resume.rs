@@ -26,7 +26,7 @@ fn a_stopped_sweep_resumes_to_the_uninterrupted_result() {
     let plan = longer_sweep("resume");
     let dir = runner_common::scratch("resume");
     let mut first = runner_common::options(&dir, 1);
-    first.commit = CommitPolicy { max_runs: 1, interval: Duration::ZERO, max_overhead: 1.0 };
+    first.commit = CommitPolicy { max_runs: 1, interval: Duration::ZERO };
     let results = dir.join("resume.h5");
     // Stop the sweep (as Ctrl-C does) as soon as the file holds two committed runs.
     let stop = first.stop.clone();

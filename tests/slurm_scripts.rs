@@ -66,3 +66,28 @@ fn submitting_without_sbatch_or_with_too_many_shards_is_refused() {
     assert_eq!(too_many.status.code(), Some(1));
     assert!(stderr.contains("--shards 9: the study has only 8 runs"), "{stderr}");
 }
+
+#[test]
+fn the_jobs_run_the_demsweep_that_wrote_them_and_a_build_folder_binary_is_warned_about() {
+    let dir = slurm_common::scratch("which_binary");
+    let study = slurm_common::write_study(&dir);
+    let (study, out) = (study.to_str().unwrap(), dir.join("out"));
+    let written = |demsweep: &Path| {
+        let args = ["slurm", study, "--shards", "2", "--out", out.to_str().unwrap()];
+        let out = Command::new(demsweep).args(args).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let script = std::fs::read_to_string(dir.join("out/slurm/array.sbatch")).unwrap();
+        (script, String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let build = Path::new(env!("CARGO_BIN_EXE_demsweep"));
+    let (script, stderr) = written(build);
+    assert!(script.contains(&format!("exec {} run", build.display())), "{script}");
+    assert!(stderr.contains("a cargo build folder's binary") && stderr.contains("cargo install --path ."), "{stderr}");
+
+    let installed = dir.join("bin/demsweep");
+    std::fs::create_dir_all(installed.parent().unwrap()).unwrap();
+    std::fs::copy(build, &installed).unwrap();
+    let (script, stderr) = written(&installed);
+    assert!(script.contains(&format!("exec {} run", installed.display())), "{script}");
+    assert!(stderr.is_empty(), "{stderr}");
+}

@@ -89,3 +89,14 @@ fn every_command_explains_itself_with_an_example() {
         assert!(help.contains("demsweep"), "{args:?}: {help}");
     }
 }
+
+#[test]
+fn run_on_a_tune_file_points_to_tune() {
+    let tune = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/tune_deposition.toml");
+    let out = demsweep(&["run", tune, "--out", std::env::temp_dir().join("demsweep-run-tune").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let expected = format!(
+        "error: {tune} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {tune}`"
+    );
+    assert_eq!(text(&out.stderr).trim_end(), expected);
+}

@@ -120,6 +120,14 @@ fn malformed_axes() {
 }
 
 #[test]
+fn a_misspelt_sweep_keyword_is_named() {
+    let e = sweep("replicate", "replicate = 3");
+    assert!(e.reason.ends_with("did you mean `replicates`?"), "{e}");
+    assert!(sweep("zips", "zips = []").reason.ends_with("did you mean `zip`?"));
+    assert!(sweep("seed", "seed = [1, 2]").reason.ends_with("nor `replicates` or `zip`"));
+}
+
+#[test]
 fn sweeping_an_unknown_key_is_reported_on_the_axis_line() {
     let e = sweep("unknownaxis", "\"material.stiffness\" = [1.0, 2.0]");
     assert!(e.reason.starts_with("unknown field `stiffness`"), "{e}");
@@ -128,9 +136,13 @@ fn sweeping_an_unknown_key_is_reported_on_the_axis_line() {
     let per_value = errors("axistype", &floats);
     let values: Vec<Option<&str>> = per_value.iter().map(|e| e.value.as_deref()).collect();
     assert_eq!(values, [Some("10.0"), Some("15.0"), Some("20.0")]);
-    assert!(per_value[1].reason.starts_with("invalid type: floating point `15.0`, expected usize"), "{}", per_value[1]);
+    assert!(
+        per_value[1].reason.starts_with("invalid type: floating point `15.0`, expected a whole number ≥ 0"),
+        "{}",
+        per_value[1]
+    );
     let into_value = sweep("intovalue", "\"material.friction.x\" = [1.0]");
-    assert_eq!(into_value.reason, "invalid type: map, expected f64");
+    assert_eq!(into_value.reason, "invalid type: map, expected a number");
     let set = format!("{SMALL_SCENE}material.friction = 0.5\n[sweep]\n\"material.friction.x\" = [1.0]\n");
     let e = single_error("intoset", &set, 7, "sweep.\"material.friction.x\"");
     assert_eq!(e.reason, "cannot sweep this key: scene.material.friction is a float, not a table");
@@ -243,4 +255,101 @@ fn initial_disks_overlapping_beyond_the_divergence_limit_are_errors() {
         "disk 1 (x = 0.1, y = 0.004, r = 0.01) crosses the floor by 0.600 radii, beyond limits.max_overlap_ratio = 0.5: \
          the run would end as diverged at t = 0; 2 overlaps beyond the limit in all"
     );
+}
+
+#[test]
+fn unsafe_study_names_are_refused_with_the_rule() {
+    for (name, problem) in [
+        ("../../x", "contains '/'"),
+        ("/abs/path", "contains '/'"),
+        (".", "starts with '.'"),
+        ("a\\u0000b", "contains '\\0'"),
+        ("bell\\u0007", "contains '\\u{7}'"),
+    ] {
+        let text = format!("name = \"{name}\"\n{SMALL_SCENE}");
+        let e = single_error("badname", &text, 1, "name");
+        assert!(e.reason.contains(problem), "{name}: {e}");
+        assert!(e.reason.contains(study::name::NAME_RULE), "{e}");
+    }
+    let long = format!("name = \"{}\"\n{SMALL_SCENE}", "n".repeat(560));
+    assert!(single_error("longname", &long, 1, "name").reason.contains("has 560 characters"));
+}
+
+#[test]
+fn an_unsafe_file_stem_asks_for_a_name() {
+    let dir = StudyDir::new("stem");
+    let errors = errors_at(&dir.write("my (draft).toml", SMALL_SCENE));
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(errors[0].key, "name");
+    assert!(errors[0].reason.contains("comes from the file name: set `name"), "{}", errors[0]);
+}
+
+#[test]
+fn a_duplicate_key_is_named_with_its_table() {
+    let e = single_error("dup", "[scene]\nparticles.count = 20\nparticles.count = 30\n", 3, "scene.particles.count");
+    assert_eq!(e.reason, "TOML syntax: `particles.count` is given twice in this table: keep one of them");
+}
+
+#[test]
+fn a_number_for_a_choice_lists_the_choices() {
+    let text = format!("{SMALL_SCENE}[sweep]\n\"integrator.scheme\" = [1, 2]\n");
+    let e = single_error("enum-axis", &text, SWEEP_LINE, "sweep.\"integrator.scheme\"");
+    assert_eq!(e.reason, "must be `adams_bashforth_moulton` or `velocity_verlet` (a string in quotes)");
+    let e = single_error(
+        "enum-key",
+        "[scene]\nparticles.count = 20\nintegrator.scheme = 1\n",
+        3,
+        "scene.integrator.scheme",
+    );
+    assert!(e.reason.starts_with("must be `adams_bashforth_moulton` or"), "{e}");
+}
+
+#[test]
+fn a_whole_number_toml_cannot_hold_names_its_key() {
+    let text = "[scene]\nparticles.count = 20\nplacement.seed = 18446744073709551616\n";
+    let e = single_error("seed", text, 3, "scene.placement.seed");
+    assert_eq!(
+        e.reason,
+        "18446744073709551616 is out of range: TOML whole numbers lie between -9223372036854775808 and 9223372036854775807"
+    );
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn too_many_frames_blame_the_frame_interval() {
+    let text = "[scene]\nparticles.count = 20\nrun.frame_interval = 1e-12\n";
+    let e = single_error("frames", text, 3, "scene.run.frame_interval");
+    assert!(e.reason.contains("frames need about") && e.reason.contains("raise run.frame_interval"), "{e}");
+}
+
+#[test]
+fn wrong_types_say_what_to_write_not_rust_types() {
+    let errors = errors("plain", "[scene]\nparticles.count = 1.5\nmaterial.density = \"x\"\n");
+    let reasons: Vec<&str> = errors.iter().map(|e| e.reason.as_str()).collect();
+    assert_eq!(
+        reasons,
+        [
+            "invalid type: floating point `1.5`, expected a whole number ≥ 0",
+            "invalid type: string \"x\", expected a number"
+        ]
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_accepted_in_studies_and_placement_files() {
+    let dir = StudyDir::new("bom");
+    dir.write("init.csv", "\u{feff}x,y,r\n0.05,0.05,0.002\n");
+    let text = "\u{feff}[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\n";
+    let plan = study::load(&dir.write("bom.toml", text)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plan.runs[0].scene.particles.count, 1);
+}
+
+#[test]
+#[cfg(unix)]
+fn an_endless_placement_file_is_refused_by_size() {
+    let text = "[scene]\nplacement.kind = \"file\"\nplacement.file = \"/dev/zero\"\n";
+    let e = single_error("devzero", text, 3, "scene.placement.file");
+    assert!(e.reason.ends_with("/dev/zero: cannot read: the file is larger than the 256 MiB allowed"), "{e}");
+    let errors = errors_at(Path::new("/dev/zero"));
+    assert!(errors[0].reason.ends_with("the file is larger than the 4 MiB allowed"), "{}", errors[0]);
 }

@@ -74,7 +74,7 @@ impl Default for AccuracyOptions {
             deposition_count: 300,
             deposition_duration: 2.0,
             deposition_reference_ratio: 1600.0,
-            out_dir: PathBuf::from("results/bench"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
 }
@@ -481,7 +481,7 @@ fn summary(options: &AccuracyOptions, rows: &[AccuracyRow], problems: &[Problem]
     let scene = deposition_scene(options);
     format!(
         "# Work-precision benchmark\n\n\
-         Regenerate: `cargo run --release -- bench accuracy` (writes this folder: `accuracy.csv`, `accuracy.md`, \
+         Regenerate: `demsweep bench accuracy --update-results` (writes this folder: `accuracy.csv`, `accuracy.md`, \
          `work_precision_*.png`).\n\n\
          Problems: a head-on impact of two disks (R = {IMPACT_RADIUS} m, E = {:e} Pa, ν = 0.3, {} m/s) undamped \
          against Hertz theory and with e = 0.5 against the same impact at t_c/{}; and a deposition of {} disks \

@@ -34,7 +34,7 @@ impl Default for SkippingOptions {
             scenes: vec![damping_sweep_scene()],
             window: 0.5,
             sample_every: vec![1, 10, 100, 1000],
-            out_dir: PathBuf::from("results/bench"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
 }
@@ -208,7 +208,7 @@ fn summary(options: &SkippingOptions, rows: &[SkippingRow]) -> String {
     let s = &options.scenes[0];
     format!(
         "# Skipping what a scene does not need\n\n\
-         Regenerate: `cargo run --release -- bench skipping` (the stop-at-settle rows run every run of \
+         Regenerate: `demsweep bench skipping --update-results` (the stop-at-settle rows run every run of \
          `studies/damping_sweep.toml`).\n\n\
          Scenes: {} ({} scenes; the first has {} disks, E = {:e} Pa, Δt = {:e} s). Stopping at settle: every \
          scene run to its full duration against stopped once settled, times summed. Sampling and friction: the \

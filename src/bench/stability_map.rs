@@ -60,7 +60,7 @@ impl Default for StabilityMapOptions {
             per_halving: 2,
             count: 24,
             duration: 0.4,
-            out_dir: PathBuf::from("results/bench"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
 }
@@ -401,7 +401,7 @@ fn summary(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundar
         .filter(|m| *m >= 1.0)
         .fold(f64::INFINITY, f64::min);
     format!(
-        "# Stability map\n\nRegenerate: `cargo run --release -- bench stability` (writes `stability_map.csv`, \
+        "# Stability map\n\nRegenerate: `demsweep bench stability --update-results` (writes `stability_map.csv`, \
          `stability_map.md`, `stability_map.png`).\n\n{} cases ({} disks poured into a 0.12 m box, up to {} s each), {blow_ups} blew up, \
          {unwarned} of them without a pre-run warning. Where a column blows up only above the predicted safe \
          step, the smallest blow-up is {margin:.2} times that step or more.\n\n\

@@ -33,7 +33,7 @@ impl Default for StressOptions {
             duration: 1.5,
             large_count: 100_000,
             large_steps: 200,
-            out_dir: PathBuf::from("results/bench"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
 }
@@ -331,7 +331,7 @@ fn summary(options: &StressOptions, rows: &[StressRow]) -> String {
     let unexpected = rows.iter().filter(|r| !r.as_expected()).count();
     format!(
         "# Stress scenarios\n\n\
-         Regenerate: `cargo run --release -- bench stress`.\n\n\
+         Regenerate: `demsweep bench stress --update-results`.\n\n\
          {} scenarios ({} disks in the depositions, up to {} s; large scene {} disks over {} steps), {unexpected} \
          ended otherwise than expected. Every warning is in `stress.csv`.\n\n{}",
         rows.len(),

@@ -34,8 +34,8 @@ impl Default for TuneBenchOptions {
             tunes: vec![PathBuf::from("studies/tune_deposition.toml"), PathBuf::from("studies/tune_polydisperse.toml")],
             levels: 3,
             jobs: 0,
-            out_dir: PathBuf::from("results/bench"),
-            work_dir: PathBuf::from("results/bench/tune_work"),
+            out_dir: PathBuf::from(super::LATEST_DIR),
+            work_dir: PathBuf::from(super::LATEST_DIR).join("tune_work"),
         }
     }
 }
@@ -301,7 +301,7 @@ fn markdown(rows: &[TuneBenchRow], options: &TuneBenchOptions) -> String {
     let mut text = String::from("# Tune against a brute-force grid\n\n");
     let _ = writeln!(
         text,
-        "Regenerate with `cargo run --release -- bench tune` ({} tune files, {} grid values per lever). \
+        "Regenerate with `demsweep bench tune --update-results` ({} tune files, {} grid values per lever). \
          Cost ratio: mean particle-steps per run over the reference's (tune: on its fresh verification \
          seeds; grid: its cheapest point equivalent on every kept metric with `search.seeds` seeds). \
          Total cost: particle-steps of every run, the reference included in both. The grid runs the same \

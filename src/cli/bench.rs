@@ -1,4 +1,4 @@
-//! `demsweep bench accuracy|stability|stress|skipping`: the benchmarks of `demsweep::bench`.
+//! `demsweep bench accuracy|stability|stress|skipping|tune`: the benchmarks of `demsweep::bench`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,9 +15,12 @@ use demsweep::study;
 pub struct BenchArgs {
     #[command(subcommand)]
     which: Which,
-    /// Folder for the CSV, Markdown and chart files.
-    #[arg(long, global = true, default_value = "results/bench")]
-    out: PathBuf,
+    /// Folder for the CSV, Markdown and chart files (default: results/bench_latest, which git ignores).
+    #[arg(long, global = true, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Write into results/bench, the committed figures the README quotes, instead.
+    #[arg(long, global = true, conflicts_with = "out")]
+    update_results: bool,
 }
 
 #[derive(Subcommand)]
@@ -31,7 +34,8 @@ enum Which {
     /// Stress scenarios: Table 1, too-large steps, 50 m/s impact, dense lattice, 0, 1 and 100 000 disks,
     /// β = 50, frictionless (about ten seconds).
     Stress,
-    /// Time saved by stopping at settle, sparse diagnostics and frictionless shortcuts (about two minutes).
+    /// Time saved by stopping at settle, sparse diagnostics and frictionless shortcuts (on the 80 runs of
+    /// the default study: about six minutes on one core).
     Skipping {
         /// Study whose runs the stop-at-settle saving is measured on (the first run also for sampling and
         /// friction).
@@ -55,7 +59,11 @@ enum Which {
 
 /// Runs one benchmark; prints its Markdown summary.
 pub fn bench(args: &BenchArgs) -> ExitCode {
-    let out = args.out.clone();
+    let out = match (&args.out, args.update_results) {
+        (_, true) => PathBuf::from(demsweep::bench::COMMITTED_DIR),
+        (Some(dir), false) => dir.clone(),
+        (None, false) => PathBuf::from(demsweep::bench::LATEST_DIR),
+    };
     let result = match &args.which {
         Which::Accuracy => {
             accuracy(&AccuracyOptions { out_dir: out.clone(), ..Default::default() }).map(|_| "accuracy.md")

@@ -85,7 +85,8 @@ fn say(line: std::fmt::Arguments<'_>) {
     let _ = writeln!(std::io::stdout(), "{line}");
 }
 
-/// `demsweep plot`: prints each file written; exit 1 when a chart could not be drawn.
+/// `demsweep plot`: prints each file written; exit 1 when a chart could not be drawn, 3 when run
+/// groups are damaged (left out).
 pub fn plot(args: &PlotArgs) -> ExitCode {
     let request = args.request();
     let outcome = plot_results(&request, &mut |event| match event {
@@ -112,5 +113,5 @@ pub fn plot(args: &PlotArgs) -> ExitCode {
         eprintln!("{} chart(s) or run(s) failed: see the errors above", report.failed);
         return ExitCode::FAILURE;
     }
-    ExitCode::SUCCESS
+    super::results::damage_status(&request.results, &report.damaged)
 }

@@ -21,6 +21,18 @@ use demsweep::stats::points::{self, Points};
 const FAILED: u8 = 1;
 /// Exit status for bad input: an unknown point or metric.
 const BAD_INPUT: u8 = 2;
+/// Exit status of `summary`, `report` and `plot` on a results file with damaged run groups (what
+/// could be read is shown; `run --resume` runs the damaged runs again).
+pub(super) const DAMAGED: u8 = 3;
+
+/// Warns about the damaged run groups of `results`; the exit status that says so (success if none).
+pub(super) fn damage_status(results: &Path, damaged: &[output::reader::DamagedGroup]) -> ExitCode {
+    if damaged.is_empty() {
+        return ExitCode::SUCCESS;
+    }
+    eprintln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
+    ExitCode::from(DAMAGED)
+}
 
 /// Kinds of warnings printed in full at the end of a sweep.
 const WARNING_KINDS_SHOWN: usize = 5;
@@ -47,8 +59,8 @@ pub struct RunArgs {
     /// Progress display.
     #[arg(long, value_enum, default_value_t = Progress::Auto)]
     progress: Progress,
-    /// Commit finished runs to the file at least this often (seconds; also after every 100 runs, and
-    /// never so often that committing takes over 3 % of the time).
+    /// Commit finished runs to the file at least this often (seconds; also after every 500 runs):
+    /// `kill -9` loses at most the runs of this interval and one commit.
     #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
     commit_interval: Duration,
 }
@@ -126,7 +138,7 @@ pub struct HistoryArgs {
 pub struct ReportArgs {
     /// A results file (.h5).
     results: PathBuf,
-    /// Where to write the page (default: <study name>_report.html next to the results file).
+    /// Where to write the page (default: <results file name without .h5>_report.html next to it).
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -268,13 +280,24 @@ fn print_warnings(report: &RunReport) {
 /// `demsweep summary`: the summary (or points) table, aligned on stdout or as a CSV file; exit 2 for
 /// an unknown --metric.
 pub fn summary(args: &SummaryArgs) -> ExitCode {
-    let read = if args.by_point { points::read } else { output::summary::read };
-    let table = match read(&args.results) {
-        Ok(table) => table,
+    let read =
+        output::reader::open(&args.results).and_then(|file| output::reader::checked_summary(&file, &args.results));
+    let (table, damaged) = match read {
+        Ok(read) => read,
         Err(e) => return report_error(Err(e)),
     };
+    let table = match (args.by_point, damaged.is_empty()) {
+        (false, _) => table,
+        (true, false) => Points::new(&table).table(),
+        (true, true) => match points::read(&args.results) {
+            Ok(table) => table,
+            Err(e) => return report_error(Err(e)),
+        },
+    };
+    let status = damage_status(&args.results, &damaged);
     if let Some(path) = &args.csv {
-        return report_error(output::summary::write_csv(path, &table));
+        let written = output::summary::write_csv(path, &table);
+        return if written.is_ok() { status } else { report_error(written) };
     }
     let shown = if args.by_point {
         let metrics = if args.metric.is_empty() { default_metrics(&table) } else { args.metric.clone() };
@@ -285,7 +308,8 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
     } else {
         table
     };
-    report_error(print(&shown))
+    let printed = print(&shown);
+    if printed.is_ok() { status } else { report_error(printed) }
 }
 
 /// The metrics `summary --by-point` prints by default: settle time, the default compare metrics
@@ -378,15 +402,23 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 
 /// `demsweep report`: the HTML report of a results file.
 pub fn report(args: &ReportArgs) -> ExitCode {
-    let written = demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default());
-    report_error(written.map(|path| println!("report: {}", path.display())))
+    match demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default()) {
+        Ok((path, damaged)) => {
+            println!("report: {}", path.display());
+            damage_status(&args.results, &damaged)
+        }
+        Err(e) => report_error(Err(e)),
+    }
 }
 
 /// Writes the report of a results file just written and prints where it went; a report that cannot
 /// be written is a warning (the results are safe).
 pub fn write_report(results: &Path, context: &ReportContext) {
     match demsweep::report::write_report(results, None, context) {
-        Ok(path) => println!("report: {}", path.display()),
+        Ok((path, damaged)) => {
+            println!("report: {}", path.display());
+            damage_status(results, &damaged);
+        }
         Err(e) => eprintln!("warning: no report: {e}"),
     }
 }

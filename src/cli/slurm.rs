@@ -29,7 +29,8 @@ pub struct SlurmArgs {
     /// Time limit of each task and of the merge, in a Slurm format such as 02:00:00 (default: the partition's).
     #[arg(long)]
     time: Option<String>,
-    /// The demsweep executable the jobs run (default: this one).
+    /// The demsweep executable the jobs run (default: this one, by its absolute path: the one
+    /// `cargo install --path .` put on the PATH; a cargo build folder's is warned about).
     #[arg(long, value_name = "PATH")]
     demsweep: Option<PathBuf>,
     /// Also print both scripts.
@@ -71,7 +72,12 @@ fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
     }
     let demsweep = match &args.demsweep {
         Some(path) => path.clone(),
-        None => std::env::current_exe().map_err(|e| format!("cannot find this executable (use --demsweep): {e}"))?,
+        None => {
+            let this =
+                std::env::current_exe().map_err(|e| format!("cannot find this executable (use --demsweep): {e}"))?;
+            warn_if_build_folder(&this);
+            this
+        }
     };
     let out = args.out.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
     Ok(ArrayJob {
@@ -84,6 +90,20 @@ fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
         time: args.time.clone(),
         demsweep: absolute(&demsweep)?,
     })
+}
+
+/// Warns when the jobs would run a cargo build folder's binary (`cargo run -- slurm ...`): the next
+/// `cargo build` replaces it under queued jobs.
+fn warn_if_build_folder(exe: &Path) {
+    // Cargo keeps its build state in `.fingerprint/` beside the binaries of a profile folder.
+    if exe.parent().is_some_and(|profile| profile.join(".fingerprint").is_dir()) {
+        eprintln!(
+            "warning: the jobs will run {}, a cargo build folder's binary, which the next cargo build replaces \
+             under queued jobs: install demsweep (cargo install --path .) and run `demsweep slurm` from the PATH, \
+             or pass --demsweep PATH",
+            exe.display()
+        );
+    }
 }
 
 fn absolute(path: &Path) -> Result<PathBuf, String> {

@@ -14,6 +14,7 @@ pub(crate) mod csv;
 pub mod header;
 pub mod history;
 pub mod layout;
+pub mod lock;
 pub mod reader;
 pub mod row;
 mod sink;
@@ -59,7 +60,13 @@ impl std::error::Error for OutputError {}
 
 /// An HDF5 error on `path`.
 pub(crate) fn hdf5_error(path: &Path, error: hdf5_pure::Error) -> OutputError {
-    OutputError::new(path, error.to_string())
+    match error {
+        hdf5_pure::Error::FileLocked(_) => OutputError::new(
+            path,
+            "is open for writing in another process: wait for it to finish or stop it, then try again",
+        ),
+        other => OutputError::new(path, other.to_string()),
+    }
 }
 
 /// The summary CSV path next to a results file: `<stem>_summary.csv`.

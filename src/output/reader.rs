@@ -34,20 +34,66 @@ pub fn sweep(file: &File) -> Option<(usize, f64)> {
     Some((jobs as usize, wall_time))
 }
 
-/// The rows of every committed run, sorted by run index.
-pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
-    let err = |e| hdf5_error(path, e);
-    let mut rows = Vec::new();
-    for (bucket, group) in file.group(RUNS).and_then(|g| g.iter_groups()).map_err(err)? {
-        for (name, run) in group.iter_groups().map_err(err)? {
-            let attrs = run.attrs().map_err(err)?;
-            let row = layout::row_from_attrs(&attrs)
-                .map_err(|reason| OutputError::new(path, format!("/{RUNS}/{bucket}/{name}: {reason}")))?;
-            rows.push(row);
+/// A run group that cannot be read (overwritten bytes, a failed disk): its path and the reason.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DamagedGroup {
+    /// The group, e.g. `/runs/b0000/r0012` (a whole bucket, `/runs/b0003`, when its index is damaged).
+    pub group: String,
+    /// What could not be read.
+    pub reason: String,
+}
+
+/// The rows of every readable committed run (sorted by run index) and the run groups that cannot
+/// be read.
+pub fn scan(file: &File, path: &Path) -> Result<(Vec<SummaryRow>, Vec<DamagedGroup>), OutputError> {
+    let (mut rows, mut damaged) = (Vec::new(), Vec::new());
+    let buckets = file.group(RUNS).and_then(|g| g.iter_groups()).map_err(|e| hdf5_error(path, e))?;
+    for (bucket, group) in buckets {
+        let runs = match group.iter_groups() {
+            Ok(runs) => runs,
+            Err(e) => {
+                damaged.push(DamagedGroup { group: format!("/{RUNS}/{bucket}"), reason: e.to_string() });
+                continue;
+            }
+        };
+        for (name, run) in runs {
+            let row = run.attrs().map_err(|e| e.to_string()).and_then(|attrs| layout::row_from_attrs(&attrs));
+            match row {
+                Ok(row) => rows.push(row),
+                Err(reason) => damaged.push(DamagedGroup { group: format!("/{RUNS}/{bucket}/{name}"), reason }),
+            }
         }
     }
     rows.sort_by_key(|r| r.index);
-    Ok(rows)
+    Ok((rows, damaged))
+}
+
+/// The rows of every committed run, sorted by run index; an error naming the damaged run groups if
+/// some cannot be read (see [`scan`]).
+pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
+    let (rows, damaged) = scan(file, path)?;
+    if damaged.is_empty() { Ok(rows) } else { Err(OutputError::new(path, damage_text(&damaged))) }
+}
+
+/// What is wrong with a file whose `damaged` run groups cannot be read, and what to do.
+pub fn damage_text(damaged: &[DamagedGroup]) -> String {
+    let named: Vec<String> = damaged.iter().take(10).map(|d| format!("{} ({})", d.group, d.reason)).collect();
+    let more = if damaged.len() > 10 { format!(" and {} more", damaged.len() - 10) } else { String::new() };
+    format!(
+        "damaged: {} run group(s) cannot be read: {}{more}; `demsweep run STUDY --resume` on this file runs them again",
+        damaged.len(),
+        named.join(", ")
+    )
+}
+
+/// The summary and the damaged run groups: `/summary` when every run group reads (see [`summary`]),
+/// else the summary of the readable runs.
+pub fn checked_summary(file: &File, path: &Path) -> Result<(SummaryTable, Vec<DamagedGroup>), OutputError> {
+    let (rows, damaged) = scan(file, path)?;
+    if damaged.is_empty() {
+        return Ok((summary(file, path)?, damaged));
+    }
+    Ok((SummaryTable::from_rows(&rows), damaged))
 }
 
 /// The summary: `/summary` when the file has it, else assembled from the run groups (a file whose

@@ -121,6 +121,9 @@ pub fn short_float(x: f64) -> String {
 /// A float to `digits` (≥ 1) significant digits: plain between 1e-3 and 1e6 (trailing zeros
 /// dropped), scientific otherwise.
 pub fn significant(x: f64, digits: usize) -> String {
+    if x == 0.0 {
+        return "0".to_string(); // -0.0 too: a zero energy is not negative
+    }
     let digits = digits.max(1) as i32;
     if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
         let decimals =
@@ -267,5 +270,12 @@ mod tests {
         assert_eq!(shown, ["0.396396", "1234.57", "2.50000e-7", "0", "-", "3", "1.50000e9"]);
         assert_eq!(column.text(0), "0.39639599999999997", "the CSV keeps every digit");
         assert_eq!(column.text(4), "", "a missing value is an empty CSV cell");
+    }
+
+    #[test]
+    fn a_negative_zero_shows_as_zero() {
+        assert_eq!(short_float(-0.0), "0");
+        assert_eq!(significant(-0.0, 3), "0");
+        assert_eq!(short_float(-2e-9), "-2.00000e-9", "a small negative value keeps its sign");
     }
 }

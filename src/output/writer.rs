@@ -11,7 +11,7 @@ use super::compound::{self, Field};
 use super::copy::GroupCopy;
 use super::header::FileHeader;
 use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
-use super::reader;
+use super::reader::{self, DamagedGroup};
 use super::row::SummaryRow;
 use super::sink::ResultSink;
 use super::table::{ColumnData, SummaryTable};
@@ -45,6 +45,7 @@ pub struct ResultsWriter {
     output: OutputOptions,
     buckets: HashSet<String>,
     existing: Vec<SummaryRow>,
+    damaged: Vec<DamagedGroup>,
     pending: usize,
     sweep: Option<(usize, Instant)>,
 }
@@ -75,7 +76,7 @@ impl ResultsWriter {
     pub fn open(path: &Path, output: OutputOptions) -> Result<(Self, FileHeader), OutputError> {
         let file = File::open_rw(path).map_err(|e| hdf5_error(path, e))?;
         let header = reader::header(&file, path)?;
-        let existing = reader::rows(&file, path)?;
+        let (existing, damaged) = reader::scan(&file, path)?;
         let buckets = file.group(RUNS).and_then(|g| g.groups()).map_err(|e| hdf5_error(path, e))?;
         let writer = Self {
             file,
@@ -83,6 +84,7 @@ impl ResultsWriter {
             output,
             buckets: buckets.into_iter().collect(),
             existing,
+            damaged,
             pending: 0,
             sweep: None,
         };
@@ -109,6 +111,21 @@ impl ResultsWriter {
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
         }
         Ok(failed.len())
+    }
+
+    /// Deletes the run groups that cannot be read (in one commit), so that their runs run again;
+    /// returns them. A damaged bucket goes whole: its runs are all missing then.
+    pub fn forget_damaged(&mut self) -> Result<Vec<DamagedGroup>, OutputError> {
+        let damaged = std::mem::take(&mut self.damaged);
+        for d in &damaged {
+            let (parent, name) = d.group.trim_start_matches('/').rsplit_once('/').unwrap_or((RUNS, &d.group));
+            self.file.group(parent).and_then(|g| g.delete(name)).map_err(|e| hdf5_error(&self.path, e))?;
+            self.buckets.remove(name);
+        }
+        if !damaged.is_empty() {
+            self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        Ok(damaged)
     }
 
     /// Number of runs staged and not yet committed.

@@ -94,9 +94,12 @@ impl Monitor {
         }
         let limit = limits.max_overlap_ratio;
         if s.max_overlap_ratio > limit {
+            // Plain while readable: a run that blew up can report overlaps of 1e120 radii.
+            let ratio = s.max_overlap_ratio;
+            let overlap = if ratio < 1e4 { format!("{ratio:.3}") } else { format!("{ratio:.3e}") };
             return Some(format!(
-                "overlap of {:.3} radii at t = {:.6} s exceeds limits.max_overlap_ratio = {limit}: contacts are not resolved (time step too large or material too soft)",
-                s.max_overlap_ratio, s.time
+                "overlap of {overlap} radii at t = {:.6} s exceeds limits.max_overlap_ratio = {limit}: contacts are not resolved (time step too large or material too soft)",
+                s.time
             ));
         }
         let growth = s.mechanical() - self.initial_mechanical.unwrap_or(s.mechanical());

@@ -1,5 +1,5 @@
 //! Structure of a pile: the measures that say whether two piles are "the same pile"
-//! (`shared/spec/deposition.md`), from the disks and the list of their contacts at one time.
+//! (`docs/deposition.md`), from the disks and the list of their contacts at one time.
 //!
 //! Only contacts that carry force (`F_n > 0`) count. The metrics, their names and units are declared
 //! in [`super::quantity::PILE_METRICS`]; the definitions:

@@ -12,8 +12,9 @@ use hdf5_pure::File;
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
 use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
+use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
-use crate::output::{OutputError, SummaryRow, reader};
+use crate::output::{OutputError, SummaryRow};
 use crate::physics::RunStatus;
 use crate::physics::record::Snapshot;
 use crate::study::ParamValue;
@@ -64,7 +65,7 @@ pub enum Event<'a> {
 }
 
 /// What a plot produced.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PlotReport {
     /// Image files written.
     pub written: usize,
@@ -74,6 +75,8 @@ pub struct PlotReport {
     pub runs_charted: usize,
     /// Runs in the file.
     pub runs_total: usize,
+    /// Run groups that could not be read (left out).
+    pub damaged: Vec<DamagedGroup>,
 }
 
 impl From<OutputError> for PlotError {
@@ -96,9 +99,9 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let path = &request.results;
     let file = reader::open(path)?;
     let study_name = reader::header(&file, path)?.study_name;
-    let rows = reader::rows(&file, path)?;
+    let (rows, damaged) = reader::scan(&file, path)?;
     let selected = select_runs(&rows, request)?;
-    let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), ..Default::default() };
+    let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), damaged, ..Default::default() };
     let mut drawer = Drawer { request, dir, report, on_event };
     study_charts(&mut drawer, &study_name, &rows);
     for row in selected {
@@ -151,22 +154,28 @@ fn run_status(row: &SummaryRow) -> Option<RunStatus> {
     Some(row.status).filter(|s| *s != RunStatus::Error)
 }
 
-/// A run's id, swept parameters and status, for chart titles. Parameters go by the last part of
-/// their key path (`restitution = 0.3`) unless two of them share it.
+/// A run's id, swept parameters and status, for chart titles. Parameters go by their full key path
+/// (`damping.local = 0.2`: the last part alone would not say which setting it is).
 pub fn run_subject(row: &SummaryRow) -> String {
-    let short = |key: &str| key.rsplit('.').next().unwrap_or(key).to_string();
-    let mut names: Vec<String> = row.parameters.iter().map(|(k, _)| short(k)).collect();
-    let mut unique = names.clone();
-    unique.sort();
-    unique.dedup();
-    if unique.len() < names.len() {
-        names = row.parameters.iter().map(|(k, _)| k.clone()).collect();
+    subject_with(row, row.status.as_str())
+}
+
+/// The title subject of a snapshot at `time` (s): a frame taken before the run settled says when it
+/// settles rather than calling the pile in it settled.
+fn snapshot_subject(row: &SummaryRow, time: f64) -> String {
+    match row.settle_time {
+        Some(settle) if time < settle => {
+            subject_with(row, &format!("settles at t = {} s", super::style::short_number(settle)))
+        }
+        _ => run_subject(row),
     }
-    let parameters: Vec<String> =
-        names.iter().zip(&row.parameters).map(|(name, (_, v))| format!("{name} = {v}")).collect();
+}
+
+fn subject_with(row: &SummaryRow, status: &str) -> String {
+    let parameters: Vec<String> = row.parameters.iter().map(|(k, v)| format!("{k} = {v}")).collect();
     match parameters.is_empty() {
-        true => format!("{} ({})", row.id, row.status),
-        false => format!("{}: {} ({})", row.id, parameters.join(", "), row.status),
+        true => format!("{} ({status})", row.id),
+        false => format!("{}: {} ({status})", row.id, parameters.join(", ")),
     }
 }
 
@@ -265,17 +274,11 @@ pub fn run_charts(
         }
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }
-    snapshots(sink, row, &stored, &subject, (by, frames));
+    snapshots(sink, row, &stored, (by, frames));
 }
 
 /// A snapshot per stored frame and of the final state (unless the last frame shows it).
-fn snapshots(
-    sink: &mut impl ChartSink,
-    row: &SummaryRow,
-    stored: &StoredRun,
-    subject: &str,
-    (by, frames): (ColourBy, bool),
-) {
+fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, (by, frames): (ColourBy, bool)) {
     let pictures = match frames {
         true => snapshot_names(stored),
         false => stored.final_state.iter().map(|s| ("final".to_string(), s)).collect(),
@@ -294,10 +297,12 @@ fn snapshots(
         .collect();
     for ((name, _), (snapshot, scale)) in pictures.iter().zip(&scaled) {
         let name = format!("{}_{name}", row.id);
-        sink.chart(&name, subject, |o, c| run::snapshot(snapshot, box_size, scale, o, c));
+        let subject = snapshot_subject(row, snapshot.time);
+        sink.chart(&name, &subject, |o, c| run::snapshot(snapshot, box_size, scale, o, c));
     }
     if scaled.len() > 1 {
-        sink.chart(&format!("{}_deposition", row.id), subject, |o, c| run::animation(&scaled, box_size, o, c));
+        let subject = run_subject(row);
+        sink.chart(&format!("{}_deposition", row.id), &subject, |o, c| run::animation(&scaled, box_size, o, c));
     }
 }
 
@@ -404,6 +409,17 @@ mod tests {
         let mut row = SummaryRow::failed(index, &format!("r{index:04}"), &parameters, "");
         row.status = RunStatus::Settled;
         row
+    }
+
+    #[test]
+    fn titles_keep_full_key_paths_and_frames_before_settling_say_so() {
+        let mut settled =
+            row(0, &[("damping.local", ParamValue::Float(0.2)), ("material.friction", ParamValue::Float(0.5))]);
+        settled.settle_time = Some(0.42);
+        assert_eq!(run_subject(&settled), "r0000: damping.local = 0.2, material.friction = 0.5 (settled)");
+        let before = snapshot_subject(&settled, 0.15);
+        assert_eq!(before, "r0000: damping.local = 0.2, material.friction = 0.5 (settles at t = 0.42 s)");
+        assert_eq!(snapshot_subject(&settled, 0.42), run_subject(&settled), "the settled pile is called settled");
     }
 
     #[test]

@@ -101,6 +101,15 @@ fn distinct_values<'a>(points: impl IntoIterator<Item = &'a StudyPoint>, name: &
     values
 }
 
+/// The points that have parameter `name` (not NaN), grouped by its value, in ascending order of the
+/// values (one sort: linear in the points but for it).
+fn group_by_value<'a>(points: impl IntoIterator<Item = &'a StudyPoint>, name: &str) -> Vec<(f64, Vec<&'a StudyPoint>)> {
+    let mut valued: Vec<(f64, &StudyPoint)> =
+        points.into_iter().filter_map(|p| Some((p.parameter(name).filter(|v| !v.is_nan())?, p))).collect();
+    valued.sort_by(|a, b| a.0.total_cmp(&b.0));
+    valued.chunk_by(|a, b| a.0 == b.0).map(|group| (group[0].0, group.iter().map(|&(_, p)| p).collect())).collect()
+}
+
 /// The settle times of the settled runs among `runs` described (mean, 95 % half-width, …).
 fn settle_times<'a>(runs: impl IntoIterator<Item = &'a StudyPoint>) -> Describe {
     describe(&runs.into_iter().filter_map(StudyPoint::settled_time).collect::<Vec<_>>())
@@ -122,20 +131,17 @@ impl LinesFigure<'_> {
         let Some(name) = self.series_param else {
             return vec![("settle time".to_string(), self.points.iter().collect())];
         };
-        distinct_values(self.points, name)
+        group_by_value(self.points, name)
             .into_iter()
-            .map(|value| {
-                let runs = self.points.iter().filter(|p| p.parameter(name) == Some(value)).collect();
-                (format!("{name} = {}", style::short_number(value)), runs)
-            })
+            .map(|(value, runs)| (format!("{name} = {}", style::short_number(value)), runs))
             .collect()
     }
 
     /// The line of one series: the settle times of its settled runs at each x where some settled.
     fn mean_line(&self, runs: &[&StudyPoint]) -> Vec<(f64, Describe)> {
-        distinct_values(runs.iter().copied(), self.x_param)
+        group_by_value(runs.iter().copied(), self.x_param)
             .into_iter()
-            .map(|x| (x, settle_times(runs.iter().copied().filter(|p| p.parameter(self.x_param) == Some(x)))))
+            .map(|(x, at_x)| (x, settle_times(at_x)))
             .filter(|(_, times)| times.n > 0)
             .collect()
     }
@@ -247,19 +253,14 @@ impl Grid {
         let xs = distinct_values(points, x_param);
         let ys = distinct_values(points, y_param);
         let mut cells = Vec::new();
-        for (i, &x) in xs.iter().enumerate() {
-            for (j, &y) in ys.iter().enumerate() {
-                let runs: Vec<&StudyPoint> = points
-                    .iter()
-                    .filter(|p| p.parameter(x_param) == Some(x) && p.parameter(y_param) == Some(y))
-                    .collect();
-                if !runs.is_empty() {
-                    let state = cell_state(&runs);
-                    let half_width = settle_times(runs.iter().copied()).half_width_95;
-                    let half_width =
-                        (matches!(state, CellState::Settled(_)) && half_width.is_finite()).then_some(half_width);
-                    cells.push((i, j, state, runs.len(), half_width));
-                }
+        for (i, (_, column)) in group_by_value(points, x_param).into_iter().enumerate() {
+            for (y, runs) in group_by_value(column, y_param) {
+                let j = ys.partition_point(|&v| v < y);
+                let state = cell_state(&runs);
+                let half_width = settle_times(runs.iter().copied()).half_width_95;
+                let half_width =
+                    (matches!(state, CellState::Settled(_)) && half_width.is_finite()).then_some(half_width);
+                cells.push((i, j, state, runs.len(), half_width));
             }
         }
         Self { xs, ys, cells }

@@ -14,7 +14,8 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable, reader};
+use crate::output::reader::{self, DamagedGroup};
+use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
 use crate::plot::run::ColourBy;
@@ -46,9 +47,11 @@ pub struct TuneSection {
     pub candidates: Vec<Vec<String>>,
 }
 
-/// `<results folder>/<study name>_report.html`.
-pub fn report_path(results: &Path, study_name: &str) -> PathBuf {
-    results.with_file_name(format!("{study_name}_report.html"))
+/// `<results file name without .h5>_report.html` beside it: `<study name>_report.html` for a study's
+/// results, `<study name>.shard-K-of-N_report.html` for a shard's, so that shards never share a page.
+pub fn report_path(results: &Path) -> PathBuf {
+    let stem = results.file_stem().unwrap_or_default().to_string_lossy();
+    results.with_file_name(format!("{stem}_report.html"))
 }
 
 /// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
@@ -71,12 +74,16 @@ fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSect
     Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display())))
 }
 
-/// Writes the report of the results file `results` to `out` (default: [`report_path`]); returns
-/// where it went.
-pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext) -> Result<PathBuf, OutputError> {
+/// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
+/// readable runs; returns where it went and the run groups that could not be read (left out).
+pub fn write_report(
+    results: &Path,
+    out: Option<&Path>,
+    context: &ReportContext,
+) -> Result<(PathBuf, Vec<DamagedGroup>), OutputError> {
     let file = reader::open(results)?;
     let header = reader::header(&file, results)?;
-    let rows = reader::rows(&file, results)?;
+    let (rows, damaged) = reader::scan(&file, results)?;
     let summary = SummaryTable::from_rows(&rows);
     let request = PlotRequest {
         results: results.to_path_buf(),
@@ -96,6 +103,9 @@ pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext)
     };
     let mut page = html::Page::new(&header.study_name);
     page.push(&overview(&header, &rows, &context));
+    if !damaged.is_empty() {
+        page.push(&format!("<p class=\"note\">{}</p>", escape(&reader::damage_text(&damaged))));
+    }
     page.push(&outcomes(&rows));
     let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
     page.push(&points_section(&summary, &charted_ids));
@@ -122,9 +132,9 @@ pub fn write_report(results: &Path, out: Option<&Path>, context: &ReportContext)
     }
     runs += "</div>";
     page.push(&runs);
-    let path = out.map_or_else(|| report_path(results, &header.study_name), Path::to_path_buf);
+    let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
     std::fs::write(&path, page.finish()).map_err(|e| OutputError::io(&path, e))?;
-    Ok(path)
+    Ok((path, damaged))
 }
 
 /// Charts drawn as SVG documents, in order, with what was noted on the way.

@@ -1,19 +1,23 @@
-//! Ctrl-C: the first press asks the sweep to stop cleanly (running simulations are interrupted,
-//! finished runs stay committed); a second press ends the process at once.
+//! Ctrl-C, SIGTERM and SIGHUP (a Slurm time limit, a closed terminal): the first signal asks the
+//! sweep to stop cleanly (running simulations are interrupted, finished runs are committed); a second
+//! one ends the process at once.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Exit code of a sweep stopped by Ctrl-C (128 + SIGINT).
+/// Exit code of a sweep stopped by Ctrl-C, SIGTERM or SIGHUP (128 + SIGINT, whichever signal it was).
 pub const EXIT_INTERRUPTED: i32 = 130;
 
-/// Installs the Ctrl-C handler that sets `stop`; call once per process.
+/// Installs the handler of Ctrl-C, SIGTERM and SIGHUP that sets `stop`; call once per process.
 pub fn install_ctrl_c(stop: Arc<AtomicBool>) -> Result<(), String> {
     ctrlc::set_handler(move || {
         if stop.swap(true, Ordering::SeqCst) {
             std::process::exit(EXIT_INTERRUPTED);
         }
-        eprintln!("\ninterrupt: stopping running simulations and saving finished runs (Ctrl-C again to quit now)");
+        eprintln!(
+            "\ninterrupt (Ctrl-C, SIGTERM or SIGHUP): stopping running simulations and saving finished runs \
+             (signal again to quit now)"
+        );
     })
-    .map_err(|e| format!("cannot install the Ctrl-C handler: {e}"))
+    .map_err(|e| format!("cannot install the Ctrl-C/SIGTERM/SIGHUP handler: {e}"))
 }

@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::output::header::{FileHeader, utc_now};
+use crate::output::lock::ResultsLock;
 use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
 use crate::stats::points;
 use crate::study::OutputOptions;
@@ -63,22 +64,24 @@ struct ShardFile {
 /// different studies and runs present in two shards. Missing shards, missing runs and runs that
 /// failed with an error do not stop it: it merges what there is and lists them in
 /// [`MergeReport::problems`].
-/// An existing merged file is only replaced with `force`.
+/// An existing merged file is only replaced with `force`; the merged file is written under a
+/// temporary name (`<name>.merging.h5`) and renamed when complete, holding the results file's lock.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
     let shards = read_shards(&shard_paths(inputs)?)?;
     let problems = check_complete(&shards)?;
     let first = &shards[0].header;
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
     let results = out_dir.join(format!("{}.h5", first.study_name));
+    let _lock = ResultsLock::acquire(&results)?;
     if results.exists() && !force {
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
-    if results.exists() {
-        std::fs::remove_file(&results).map_err(|e| OutputError::io(&results, e))?;
-    }
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
+    // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
+    // leaves no partial file under the final name (and an existing one stays until replaced).
+    let partial = results.with_extension("merging.h5");
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
-    let mut writer = ResultsWriter::create(&results, &header, OutputOptions::default())?;
+    let mut writer = ResultsWriter::create(&partial, &header, OutputOptions::default())?;
     let (mut runs, mut staged) = (0, 0);
     for shard in &shards {
         let source = reader::open(&shard.path)?;
@@ -94,6 +97,13 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     let rows: Vec<SummaryRow> = shards.iter().flat_map(|s| s.rows.iter().cloned()).collect();
     let tables = points::tables(&rows);
     ResultSink::finish(Box::new(writer), &tables)?;
+    for (from, to) in [
+        (csv_path(&partial), csv_path(&results)),
+        (points_csv_path(&partial), points_csv_path(&results)),
+        (partial, results.clone()),
+    ] {
+        std::fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
+    }
     let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
     let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
     Ok(MergeReport {

@@ -1,5 +1,5 @@
 //! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
-//! runs through a channel to one writer thread, progress, resume, shards and Ctrl-C.
+//! runs through a bounded channel to one writer thread, progress, resume, shards and Ctrl-C.
 //!
 //! Results do not depend on `jobs`: every simulation is single-threaded and deterministic, and the
 //! summary is sorted by run index whatever order runs finish in.
@@ -25,6 +25,7 @@ pub use warnings::WarningDigest;
 pub use writer_thread::CommitPolicy;
 
 use crate::output::header::utc_now;
+use crate::output::lock::ResultsLock;
 use crate::output::table::ColumnData;
 use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
 use crate::physics::RunStatus;
@@ -143,17 +144,20 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         None => (0..plan.runs.len()).collect(),
     };
     let path = results_path(plan, options);
-    let mut writer = open_results(plan, options, &path, &selected)?;
+    let (_lock, mut writer) = open_results(plan, options, &path, &selected)?;
     let existing = writer.take_existing();
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
     let mut todo: Vec<&PlannedRun> =
         selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
     todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
-    let jobs =
-        if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
+    if let (Some(note), false) = (capped, options.progress == ProgressMode::Quiet) {
+        eprintln!("note: {note}");
+    }
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
-    let (sender, receiver) = mpsc::channel();
+    let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
     let sinks = writer_thread::Sinks { committed: existing, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, sender);
@@ -178,6 +182,18 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     })
 }
 
+/// Worker threads for `todo` runs on `cores` cores when `requested` were asked for (0 = one per
+/// core): never more than the runs to do nor the cores, at least one; with a note when capped.
+fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<String>) {
+    let wanted = if requested == 0 { cores } else { requested };
+    let jobs = wanted.min(cores).min(todo).max(1);
+    let note = (requested > jobs).then(|| {
+        let why = if jobs == todo { format!("{todo} runs to do") } else { format!("{cores} cores") };
+        format!("--jobs {requested} capped to {jobs} worker threads ({why})")
+    });
+    (jobs, note)
+}
+
 /// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard.
 pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
     let dir = options.out_dir.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
@@ -188,23 +204,29 @@ pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
     dir.join(file)
 }
 
-/// Creates the results file, or opens it to resume after checking it holds this study (and shard).
+/// Takes the results file's lock, then creates the file, or opens it to resume after checking it
+/// holds this study (and shard). The lock is held until the returned guard is dropped.
 fn open_results(
     plan: &Plan,
     options: &RunOptions,
     path: &Path,
     selected: &[usize],
-) -> Result<ResultsWriter, RunnerError> {
+) -> Result<(ResultsLock, ResultsWriter), RunnerError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)
         .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
     check_writable(dir)?;
+    let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {
         let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
         check_same_study(path, &header, plan, options.shard)?;
         writer.forget_failed()?;
-        return Ok(writer);
+        let damaged = writer.forget_damaged()?;
+        if !damaged.is_empty() && options.progress != ProgressMode::Quiet {
+            eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
+        }
+        return Ok((lock, writer));
     }
     if exists && !options.force {
         return Err(OutputError::new(
@@ -225,7 +247,7 @@ fn open_results(
         planned_runs: plan.runs.len(),
         shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
     };
-    Ok(ResultsWriter::create(path, &header, plan.output.clone())?)
+    Ok((lock, ResultsWriter::create(path, &header, plan.output.clone())?))
 }
 
 /// Fails early, naming the directory, when files cannot be created in it.
@@ -269,7 +291,7 @@ fn run_all(
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
-    sender: mpsc::Sender<RunResult>,
+    sender: mpsc::SyncSender<RunResult>,
 ) -> Result<usize, RunnerError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
@@ -297,4 +319,21 @@ fn run_all(
         }
     });
     Ok(finished.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn workers_are_capped_by_runs_to_do_and_cores() {
+        assert_eq!(worker_count(0, 100, 8), (8, None));
+        assert_eq!(worker_count(0, 3, 8), (3, None), "no note when the default is capped");
+        assert_eq!(worker_count(4, 100, 8), (4, None));
+        assert_eq!(worker_count(1, 0, 8), (1, None), "at least one");
+        let (jobs, note) = worker_count(100_000, 2, 16);
+        assert_eq!((jobs, note.as_deref()), (2, Some("--jobs 100000 capped to 2 worker threads (2 runs to do)")));
+        let (jobs, note) = worker_count(64, 1000, 16);
+        assert_eq!((jobs, note.as_deref()), (16, Some("--jobs 64 capped to 16 worker threads (16 cores)")));
+    }
 }

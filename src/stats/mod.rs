@@ -3,7 +3,7 @@
 //!
 //! A *point* is the set of runs of a study that differ only by placement seed ([`points`]);
 //! [`compare`] sets every point against a reference point (`demsweep compare`). See
-//! `shared/spec/deposition.md`, "Statistics".
+//! `docs/deposition.md`, "Statistics".
 
 mod distribution;
 

@@ -94,6 +94,9 @@ pub(super) fn parse(doc: &Document, file: &StudyFile) -> (Sweep, Vec<StudyError>
                 Err(reason) => errors.push(file.error(span(&["sweep", key]), "sweep.replicates", reason)),
             },
             "zip" => zip = Some(value),
+            _ if !value.is_table() && !key.contains('.') => {
+                errors.push(file.error(span(&["sweep", key]), format!("sweep.{key}"), misplaced_key(key)))
+            }
             _ => collect_axes(
                 doc,
                 file,
@@ -145,6 +148,33 @@ fn collect_axes(
         Ok(values) => axes.push(Axis { path, span, values }),
         Err(reason) => errors.push(file.error(Some(span), label(&path), reason)),
     }
+}
+
+/// Why a plain `[sweep]` key that is neither `replicates`, `zip` nor a dotted scene path is wrong,
+/// naming the keyword it is a typo of (`replicate = 3`: did you mean `replicates`?).
+fn misplaced_key(key: &str) -> String {
+    let not_axis =
+        format!("`{key}` is not a sweep axis (axes are dotted scene key paths such as \"material.friction\")");
+    match ["replicates", "zip"].into_iter().find(|keyword| edit_distance(key, keyword) <= 2) {
+        Some(keyword) => format!("{not_axis}; did you mean `{keyword}`?"),
+        None => format!("{not_axis}, nor `replicates` or `zip`"),
+    }
+}
+
+/// Levenshtein distance between two short words.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let substitution = diagonal + usize::from(ca != *cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substitution.min(row[j] + 1).min(diagonal + 1);
+        }
+    }
+    row[b.len()]
 }
 
 pub(crate) fn is_range_spec(table: &toml::Table) -> bool {

@@ -129,6 +129,30 @@ impl From<StudyError> for StudyErrors {
     }
 }
 
+/// Rust type names in a deserializer's message, and what to write instead.
+const PLAIN_TYPES: [(&str, &str); 9] = [
+    ("usize", "a whole number ≥ 0"),
+    ("u64", "a whole number ≥ 0"),
+    ("u32", "a whole number ≥ 0"),
+    ("u16", "a whole number ≥ 0"),
+    ("u8", "a whole number ≥ 0"),
+    ("i64", "a whole number"),
+    ("i32", "a whole number"),
+    ("f64", "a number"),
+    ("f32", "a number"),
+];
+
+/// A deserializer's message in the study's words: `expected f64` becomes `expected a number`,
+/// `expected usize` `expected a whole number ≥ 0`.
+pub(crate) fn plain_types(message: &str) -> String {
+    let Some((head, tail)) = message.split_once("expected ") else { return message.to_string() };
+    let word_end = tail.find(|c: char| !c.is_ascii_alphanumeric()).unwrap_or(tail.len());
+    match PLAIN_TYPES.iter().find(|(rust, _)| *rust == &tail[..word_end]) {
+        Some((_, plain)) => format!("{head}expected {plain}{}", &tail[word_end..]),
+        None => message.to_string(),
+    }
+}
+
 /// The kind of a warning or problem: its text with every number replaced by `#`, so that the same
 /// warning about different values (an overlap of 0.81 or of 0.93 radii) is one kind.
 pub fn warning_kind(text: &str) -> String {
@@ -243,6 +267,24 @@ mod tests {
         assert_eq!(errors[0].runs_affected, 3);
         assert!(errors[0].to_string().contains("(run r0001 and 2 more runs)"));
         assert_eq!(errors[1].runs_affected, 1);
+    }
+
+    #[test]
+    fn rust_type_names_become_what_to_write() {
+        assert_eq!(
+            plain_types("invalid type: string \"x\", expected f64"),
+            "invalid type: string \"x\", expected a number"
+        );
+        assert_eq!(
+            plain_types("invalid type: floating point `1.5`, expected usize"),
+            "invalid type: floating point `1.5`, expected a whole number ≥ 0"
+        );
+        assert_eq!(
+            plain_types("invalid value: integer `-1`, expected u64 here"),
+            "invalid value: integer `-1`, expected a whole number ≥ 0 here"
+        );
+        assert_eq!(plain_types("expected f64s"), "expected f64s", "whole words only");
+        assert_eq!(plain_types("unknown field `x`, expected one of `a`"), "unknown field `x`, expected one of `a`");
     }
 
     #[test]

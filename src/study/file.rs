@@ -24,9 +24,9 @@ pub(crate) struct StudyFile {
 }
 
 impl StudyFile {
-    /// Reads the file; a failure is reported against the path.
+    /// Reads the file (at most [`MAX_STUDY_BYTES`]); a failure is reported against the path.
     pub fn read(path: &Path) -> Result<Self, StudyErrors> {
-        let text = std::fs::read_to_string(path)
+        let text = read_text(path, MAX_STUDY_BYTES)
             .map_err(|e| StudyError::new(path, None, "", format!("cannot read the study file: {e}")))?;
         Ok(Self::new(path, text))
     }
@@ -51,6 +51,24 @@ impl StudyFile {
     }
 }
 
+/// Largest study or tune file read (bytes): a study of a million runs takes a few kilobytes.
+pub const MAX_STUDY_BYTES: u64 = 4 << 20;
+
+/// The UTF-8 text of the file at `path`, refused past `max_bytes` (so `/dev/zero` or a wrong file is
+/// an error, not an exhausted memory) and without a leading byte-order mark (Excel's "CSV UTF-8",
+/// Windows editors). The error says what is wrong, without the path.
+pub fn read_text(path: &Path, max_bytes: u64) -> Result<String, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut bytes = Vec::new();
+    file.take(max_bytes + 1).read_to_end(&mut bytes).map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(format!("the file is larger than the {} MiB allowed", max_bytes >> 20));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| format!("not UTF-8 text ({e})"))?;
+    Ok(text.strip_prefix('\u{feff}').map(str::to_string).unwrap_or(text))
+}
+
 /// A parsed study: its values, and where each key (at any depth of tables) was written.
 pub(crate) struct Document {
     /// The document's values.
@@ -64,15 +82,16 @@ impl Document {
     pub fn parse(file: &StudyFile) -> Result<Self, Vec<StudyError>> {
         let (table, errors) = DeTable::parse_recoverable(&file.text);
         if !errors.is_empty() {
-            return Err(errors
-                .iter()
-                .map(|e| file.error(e.span(), "", format!("TOML syntax: {}", e.message())))
-                .collect());
+            return Err(errors.iter().map(|e| syntax_error(file, e.span(), e.message())).collect());
         }
         let mut key_spans = HashMap::new();
         collect_spans(table.get_ref(), &mut Vec::new(), &mut key_spans);
-        let root = toml::Table::deserialize(table.into_deserializer())
-            .map_err(|e| vec![file.error(e.span(), "", format!("TOML: {}", e.message()))])?;
+        let root = toml::Table::deserialize(table.into_deserializer()).map_err(|e| {
+            let span = e.span();
+            let key =
+                span.as_ref().and_then(|at| key_before(&key_spans, at.start)).map_or(String::new(), |k| dotted(&k));
+            vec![file.error(span, key, value_error(e.message()))]
+        })?;
         Ok(Self { root, key_spans })
     }
 
@@ -89,6 +108,39 @@ impl Document {
     /// The table at `key` of the root, if there is one.
     pub fn section(&self, key: &str) -> Option<&toml::Value> {
         self.root.get(key)
+    }
+}
+
+/// A TOML syntax error; a duplicate key is named, with its table.
+fn syntax_error(file: &StudyFile, span: Option<Range<usize>>, message: &str) -> StudyError {
+    let Some(at) = span.clone().filter(|_| message.starts_with("duplicate key")) else {
+        return file.error(span, "", format!("TOML syntax: {message}"));
+    };
+    let line_start = file.text[..at.start].rfind('\n').map_or(0, |i| i + 1);
+    let written = file.text[line_start..].split(['=', '\n']).next().unwrap_or("").trim();
+    let table = file.text[..line_start]
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))
+        .map(|header| header.trim_matches(|c| c == '[' || c == ']').trim());
+    let key = table.map_or(written.to_string(), |t| format!("{t}.{written}"));
+    let reason = format!("TOML syntax: `{written}` is given twice in this table: keep one of them");
+    file.error(span, key, reason)
+}
+
+/// The key path written last before byte `offset` (the key whose value starts there).
+fn key_before(spans: &HashMap<KeyPath, Range<usize>>, offset: usize) -> Option<KeyPath> {
+    spans.iter().filter(|(_, span)| span.start <= offset).max_by_key(|(_, span)| span.start).map(|(k, _)| k.clone())
+}
+
+/// A value TOML cannot hold, in words.
+fn value_error(message: &str) -> String {
+    match message.split('`').nth(1).filter(|_| message.contains("as i128")) {
+        Some(number) => {
+            format!("{number} is out of range: TOML whole numbers lie between {} and {}", i64::MIN, i64::MAX)
+        }
+        None => format!("TOML: {message}"),
     }
 }
 

@@ -10,9 +10,14 @@ use crate::physics::particles::InitialDisk;
 /// The columns a placement file may have: the disk state, then the ones that are not read.
 const COLUMNS: [&str; 8] = ["x", "y", "r", "vx", "vy", "omega", "id", "contact_force"];
 
-/// Reads the disks of a placement CSV; errors name the file, line and column.
+/// Largest placement file read (bytes): a million disks with every column take about 100 MB.
+pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
+
+/// Reads the disks of a placement CSV (at most [`MAX_PLACEMENT_BYTES`], a leading byte-order mark
+/// skipped); errors name the file, line and column.
 pub fn read(path: &Path, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let text = super::file::read_text(path, MAX_PLACEMENT_BYTES)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     parse(&text, default_radius).map_err(|e| format!("{}: {e}", path.display()))
 }
 

@@ -8,6 +8,7 @@ pub(crate) mod axes;
 pub(crate) mod errors;
 pub(crate) mod file;
 pub mod initial_csv;
+pub mod name;
 pub(crate) mod plan;
 pub mod resources;
 

@@ -8,9 +8,9 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
-use super::errors::{ErrorSink, StudyError, StudyErrors};
+use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, resources};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
@@ -70,7 +70,21 @@ pub(crate) fn check_top_level(file: &StudyFile, doc: &Document, (what, tables): 
             errors.push(file.error(span, dotted(std::slice::from_ref(key)), reason));
         }
     }
+    errors.extend(check_study_name(file, doc));
     errors
+}
+
+/// An unsafe study name (the `name` key, or the file stem when there is none).
+fn check_study_name(file: &StudyFile, doc: &Document) -> Option<StudyError> {
+    let written = doc.section("name");
+    if written.is_some_and(|n| !n.is_str()) {
+        return None;
+    }
+    let reason = name::check_name(&study_name(doc, &file.path)).err()?;
+    Some(match written {
+        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason),
+        None => file.error(None, "name", format!("{reason}; the name comes from the file name: set `name = \"…\"`")),
+    })
 }
 
 /// Deserializes every value of `[section]` on its own into `T`, so that each unknown key and
@@ -88,12 +102,29 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
         match toml::Value::Table(tree_with(&path, value.clone())).try_into::<T>() {
             Ok(_) => set_path(&mut valid, &path, value.clone()).expect("leaves of a table do not collide"),
             Err(e) => {
+                let reason = explain::<T>(&path, e.message());
                 let full: KeyPath = std::iter::once(section.to_string()).chain(path).collect();
-                errors.push(file.error(doc.span(&full), dotted(&full), e.message()));
+                errors.push(file.error(doc.span(&full), dotted(&full), reason));
             }
         }
     }
     (valid, errors)
+}
+
+/// A deserializer's message about the value at `path` of a `T` in the study's words: a value of
+/// the wrong type for a choice lists the choices, Rust type names become what to write
+/// ([`plain_types`]).
+fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
+    if message.contains("unit variant") {
+        let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
+        let choices = probe.try_into::<T>().err().map(|e| e.message().to_string());
+        if let Some((_, choices)) =
+            choices.as_deref().filter(|m| m.contains("variant")).and_then(|m| m.split_once("expected "))
+        {
+            return format!("must be {choices} (a string in quotes)");
+        }
+    }
+    plain_types(message)
 }
 
 /// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
@@ -120,7 +151,7 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
         .iter()
         .filter_map(|v| {
             let tree = toml::Value::Table(tree_with(&axis.path, v.to_toml()));
-            tree.try_into::<SceneConfig>().err().map(|e| (v, e.message().to_string()))
+            tree.try_into::<SceneConfig>().err().map(|e| (v, explain::<SceneConfig>(&axis.path, e.message())))
         })
         .collect();
     if failures.len() == axis.values.len() && failures.iter().all(|(_, m)| *m == failures[0].1) {
@@ -129,7 +160,8 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
     failures.into_iter().map(|(v, reason)| with(reason).with_value(v.to_string())).collect()
 }
 
-fn study_name(doc: &Document, path: &Path) -> String {
+/// The study's `name`, else the file stem.
+pub(crate) fn study_name(doc: &Document, path: &Path) -> String {
     match doc.section("name").and_then(|n| n.as_str()) {
         Some(name) => name.to_string(),
         None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
@@ -285,8 +317,8 @@ impl<'a> Planner<'a> {
         if let Err(issues) = scene.validate() {
             return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
         }
-        if let Some(reason) = resources::memory_problem(scene) {
-            return Err(vec![self.problem(point, "particles.count", reason)]);
+        if let Some((key, reason)) = resources::memory_problem(scene) {
+            return Err(vec![self.problem(point, key, reason)]);
         }
         for (key, reason) in sampling_warnings(scene) {
             let warning = self.problem(point, key, reason);

@@ -18,29 +18,45 @@ pub const BYTES_PER_DISK: u64 = 800;
 /// Bytes of one disk in a recorded state (final state or frame): 7 `f64` columns.
 const SNAPSHOT_BYTES_PER_DISK: u64 = 7 * 8;
 
+/// Estimated memory one run of `scene` needs (bytes), by what takes it: the disks' simulation state
+/// and final state, the recorded frames and the histories, each with the scene key that sets it.
+fn run_memory_parts(scene: &SceneConfig) -> [(&'static str, u64); 3] {
+    let disks = scene.particles.count as u64;
+    let frames = frame_count(scene).saturating_mul(disks).saturating_mul(SNAPSHOT_BYTES_PER_DISK);
+    [
+        ("particles.count", disks.saturating_mul(BYTES_PER_DISK + SNAPSHOT_BYTES_PER_DISK)),
+        (if scene.run.frame_interval.is_some() { "run.frame_interval" } else { "run.frame_times" }, frames),
+        ("run.sample_interval", samples(scene).saturating_mul(quantity::history_bytes_per_sample())),
+    ]
+}
+
 /// Estimated memory one run of `scene` needs (bytes): the disks' simulation state plus what it
 /// records (histories, final state and frames) until it is written.
 pub fn run_memory(scene: &SceneConfig) -> u64 {
-    let disks = scene.particles.count as u64;
-    let snapshots = 1 + frame_count(scene);
-    let state = disks.saturating_mul(BYTES_PER_DISK.saturating_add(SNAPSHOT_BYTES_PER_DISK.saturating_mul(snapshots)));
-    state.saturating_add(samples(scene).saturating_mul(quantity::history_bytes_per_sample()))
+    run_memory_parts(scene).iter().fold(0, |sum, (_, part)| sum.saturating_add(*part))
 }
 
-/// Why a run of `scene` cannot fit in this machine's memory, if it cannot (`None` also where the
-/// machine's memory is unknown).
-pub fn memory_problem(scene: &SceneConfig) -> Option<String> {
+/// Why a run of `scene` cannot fit in this machine's memory, if it cannot, with the scene key that
+/// takes most of it (`None` also where the machine's memory is unknown).
+pub fn memory_problem(scene: &SceneConfig) -> Option<(&'static str, String)> {
     let need = run_memory(scene);
     let total = memory_total()?;
+    let (key, _) = run_memory_parts(scene).into_iter().max_by_key(|(_, part)| *part)?;
     (need > total).then(|| {
-        format!(
-            "{} disks need about {} of memory to simulate (about {} bytes per disk), but this machine has {} \
-             (MemTotal in /proc/meminfo): lower particles.count or run it on a larger machine",
-            scene.particles.count,
+        let (what, fix) = match key {
+            "particles.count" => (format!("{} disks", scene.particles.count), "lower particles.count"),
+            "run.sample_interval" => (format!("{} history samples", samples(scene)), "raise run.sample_interval"),
+            "run.frame_interval" => (format!("{} frames", frame_count(scene)), "raise run.frame_interval"),
+            _ => (format!("{} frames", frame_count(scene)), "list fewer run.frame_times"),
+        };
+        let reason = format!(
+            "{what} need about {} of memory to simulate (about {} bytes per disk), but this machine has {} \
+             (MemTotal in /proc/meminfo): {fix} or run it on a larger machine",
             bytes(need),
             need / (scene.particles.count as u64).max(1),
             bytes(total)
-        )
+        );
+        (key, reason)
     })
 }
 

@@ -13,7 +13,7 @@ use crate::physics::placement;
 use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
-use crate::study::file::{Document, KeyPath, StudyFile, quoted_key, set_path};
+use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text, set_path};
 use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{OutputOptions, ParamValue, initial_csv};
 
@@ -272,7 +272,7 @@ impl TuneSpec {
 
 /// Whether the file at `path` looks like a tune file (it has `[levers]`, `[keep]` or `[search]`).
 pub fn is_tune_file(path: &Path) -> bool {
-    let Ok(text) = std::fs::read_to_string(path) else { return false };
+    let Ok(text) = read_text(path, MAX_STUDY_BYTES) else { return false };
     let Ok(table) = text.parse::<toml::Table>() else {
         return text.lines().any(|l| ["[levers", "[keep", "[search"].iter().any(|h| l.trim_start().starts_with(h)));
     };
@@ -304,10 +304,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     let mut spec = TuneSpec {
         path: file.path.clone(),
         text: file.text.clone(),
-        name: match doc.section("name").and_then(|n| n.as_str()) {
-            Some(name) => name.to_string(),
-            None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
-        },
+        name: plan::study_name(&doc, path),
         fingerprint: fingerprint(&file.text),
         base,
         reference: SceneConfig::default(),

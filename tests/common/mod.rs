@@ -69,7 +69,7 @@ pub fn contact_of(t: &[f64], overlap: &[f64]) -> (f64, f64) {
     (duration, refined_peak(&overlap[start - 1..=end]))
 }
 
-/// The reference scene's initial disks (shared/reference/deposition_300.csv, copied into tests/data).
+/// The reference scene's initial disks (tests/data/deposition_300.csv, see docs/reference_scene.md).
 pub fn reference_disks() -> Vec<InitialDisk> {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/deposition_300.csv")).unwrap();
     text.lines()
@@ -81,7 +81,7 @@ pub fn reference_disks() -> Vec<InitialDisk> {
         .collect()
 }
 
-/// The reference scene (shared/reference/README.md): E 1e9, ν 0.3, e 0.5, μ 0.5, dt 1e-5.
+/// The reference scene (docs/reference_scene.md): E 1e9, ν 0.3, e 0.5, μ 0.5, dt 1e-5.
 pub fn reference_scene() -> SceneConfig {
     let mut s = SceneConfig::default();
     s.material.restitution = Some(0.5);

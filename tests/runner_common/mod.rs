@@ -67,3 +67,33 @@ pub fn scratch(test: &str) -> PathBuf {
 pub fn options(dir: &std::path::Path, jobs: usize) -> RunOptions {
     RunOptions { jobs, out_dir: Some(dir.to_path_buf()), progress: ProgressMode::Quiet, ..RunOptions::default() }
 }
+
+/// A CLI test study named `name`: 80 runs of 30 disks (about 20 ms each on one worker), long
+/// enough to be stopped midway or overlapped by another process.
+pub fn cli_study(name: &str) -> String {
+    format!(
+        r#"name = "{name}"
+[scene]
+particles.count = 30
+domain.width = 0.16
+domain.height = 0.25
+run.duration = 0.2
+run.sample_interval = 2e-3
+[sweep]
+"material.restitution" = {{ linear = [0.2, 0.8], steps = 4 }}
+replicates = 20
+[output]
+frames = false
+"#
+    )
+}
+
+/// Waits (at most a minute) until `results` holds a committed run while `child` runs.
+pub fn wait_for_first_commit(results: &std::path::Path, child: &mut std::process::Child) {
+    let started = std::time::Instant::now();
+    while !demsweep::output::summary::read(results).is_ok_and(|t| !t.is_empty()) {
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before its first commit was seen");
+        assert!(started.elapsed() < std::time::Duration::from_secs(60), "no commit within a minute");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+}

@@ -1,0 +1,105 @@
+//! The writer's lock on a results file: one process at a time creates, overwrites, resumes or
+//! merges into `<results>.lock`'s results file. The lock is an OS advisory lock on the file
+//! `<results>.lock` (released by the kernel however the process ends, `kill -9` included); the
+//! file's text says who holds it. The file stays after the lock is released: removing it would let
+//! two processes lock two different files of the same name.
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io::{Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use super::OutputError;
+use super::header::utc_now;
+
+/// A held lock on a results file; released when dropped.
+#[derive(Debug)]
+pub struct ResultsLock {
+    file: File,
+}
+
+/// The lock file of a results file: `<results>.lock`.
+pub fn lock_path(results: &Path) -> PathBuf {
+    let mut name = results.file_name().unwrap_or_default().to_os_string();
+    name.push(".lock");
+    results.with_file_name(name)
+}
+
+impl ResultsLock {
+    /// Takes the lock of `results` without waiting; the refusal names who holds it and what to do.
+    pub fn acquire(results: &Path) -> Result<Self, OutputError> {
+        let path = lock_path(results);
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(|e| OutputError::new(&path, format!("cannot create the lock file: {e}")))?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
+                let mut holder = String::new();
+                let _ = file.read_to_string(&mut holder);
+                return Err(refusal(results, holder.trim()));
+            }
+            Err(TryLockError::Error(e)) => {
+                return Err(OutputError::new(
+                    &path,
+                    format!("cannot lock (does this file system support locks?): {e}"),
+                ));
+            }
+        }
+        let holder = format!("pid {} on {} since {}\n", std::process::id(), hostname(), utc_now());
+        let written = file.set_len(0).and_then(|()| file.rewind()).and_then(|()| file.write_all(holder.as_bytes()));
+        written.map_err(|e| OutputError::io(&path, e))?;
+        Ok(Self { file })
+    }
+}
+
+impl Drop for ResultsLock {
+    fn drop(&mut self) {
+        let _ = self.file.set_len(0);
+    }
+}
+
+/// The error of a lock held by `holder` (the lock file's text).
+fn refusal(results: &Path, holder: &str) -> OutputError {
+    let who = if holder.is_empty() { "another process".to_string() } else { format!("another process ({holder})") };
+    OutputError::new(
+        results,
+        format!(
+            "is being written by {who}: wait for it to finish or stop it (Ctrl-C), then use --resume; \
+             or write elsewhere with another --out"
+        ),
+    )
+}
+
+/// This machine's host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), or `?`.
+fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .map_or_else(|| "?".to_string(), |name| name.trim().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_second_lock_is_refused_naming_the_holder_until_the_first_is_dropped() {
+        let dir = std::env::temp_dir().join(format!("demsweep-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let results = dir.join("s.h5");
+        assert_eq!(lock_path(&results), dir.join("s.h5.lock"));
+        let first = ResultsLock::acquire(&results).unwrap();
+        let refused = ResultsLock::acquire(&results).unwrap_err();
+        assert_eq!(refused.path, results);
+        let pid = format!("pid {} on ", std::process::id());
+        assert!(refused.message.contains(&pid) && refused.message.contains("--resume"), "{refused}");
+        drop(first);
+        assert!(std::fs::read_to_string(lock_path(&results)).unwrap().is_empty(), "released: no holder named");
+        drop(ResultsLock::acquire(&results).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
