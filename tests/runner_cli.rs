@@ -138,6 +138,18 @@ fn summary_history_and_merge_commands() {
     assert_eq!(lines.len(), RUNS + 1);
     assert!(lines[0].starts_with("run_id  index  material.restitution  placement.seed  status"), "{}", lines[0]);
     assert!(lines[1].starts_with("r0000 "), "{}", lines[1]);
+    // By default the chosen metrics only (with units); --all every column; --metric picks them.
+    assert!(lines[0].contains("settle_time (s)") && !lines[0].contains("final_kinetic"), "{}", lines[0]);
+    assert!(lines.iter().all(|l| l.chars().count() < 250), "default lines stay readable: {}", lines[0]);
+    let all = demsweep(&["summary", results.to_str().unwrap(), "--all"]);
+    let all = String::from_utf8_lossy(&all.stdout);
+    assert!(all.lines().next().unwrap().contains("final_kinetic"), "{all}");
+    let picked = demsweep(&["summary", results.to_str().unwrap(), "--metric", "steps"]);
+    let picked = String::from_utf8_lossy(&picked.stdout);
+    assert!(picked.lines().next().unwrap().trim_end().ends_with("steps  warnings"), "{picked}");
+    let unknown = demsweep(&["summary", results.to_str().unwrap(), "--metric", "nonsense"]);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(stderr(&unknown).contains("no metric `nonsense`"), "{}", stderr(&unknown));
 
     let csv = dir.join("exported.csv");
     let export = demsweep(&["summary", results.to_str().unwrap(), "--csv", csv.to_str().unwrap()]);

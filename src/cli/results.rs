@@ -95,10 +95,14 @@ pub struct SummaryArgs {
     /// mean, std, 95 % half-width, min, max of every numeric column.
     #[arg(long)]
     by_point: bool,
-    /// With --by-point, print these metrics (repeatable; default: settle time, the pile metrics
-    /// compared by default, cost and wall time). The CSV always has every metric.
-    #[arg(long, value_name = "NAME", requires = "by_point")]
+    /// Print these metrics (repeatable; default: settle time, the pile metrics compared by default,
+    /// cost and wall time), after the run's (or point's) identity, swept values and status. The
+    /// CSV always has every column.
+    #[arg(long, value_name = "NAME")]
     metric: Vec<String>,
+    /// Print every column (one row per run can then be several hundred characters wide).
+    #[arg(long, conflicts_with = "metric")]
+    all: bool,
 }
 
 #[derive(Args)]
@@ -299,23 +303,44 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
         let written = output::summary::write_csv(path, &table);
         return if written.is_ok() { status } else { report_error(written) };
     }
-    let shown = if args.by_point {
-        let metrics = if args.metric.is_empty() { default_metrics(&table) } else { args.metric.clone() };
-        match points::view(&table, &metrics.iter().map(String::as_str).collect::<Vec<_>>()) {
-            Ok(view) => view,
-            Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
-        }
-    } else {
-        table
+    let known = if args.by_point { points::table_metrics(&table) } else { run_metrics(&table) };
+    let metrics = if args.metric.is_empty() { default_metrics(&known) } else { args.metric.clone() };
+    let metrics: Vec<&str> = metrics.iter().map(String::as_str).collect();
+    let view = match (args.all, args.by_point) {
+        (true, _) => Ok(table),
+        (false, true) => points::view(&table, &metrics),
+        (false, false) => run_view(&table, &known, &metrics),
+    };
+    let shown = match view {
+        Ok(view) => view,
+        Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
     };
     let printed = print(&shown);
     if printed.is_ok() { status } else { report_error(printed) }
 }
 
+/// The numeric columns of a per-run summary table after its status (the metrics a view may show).
+fn run_metrics(summary: &SummaryTable) -> Vec<&str> {
+    let after_status = summary.columns.iter().skip_while(|c| c.name != "status").skip(1);
+    after_status.filter(|c| !matches!(c.data, ColumnData::Text(_))).map(|c| c.name.as_str()).collect()
+}
+
+/// The per-run table cut to its identity, swept values and status, then `metrics` (each one of
+/// `known`), then the warning count.
+fn run_view(summary: &SummaryTable, known: &[&str], metrics: &[&str]) -> Result<SummaryTable, String> {
+    if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
+        return Err(format!("no metric `{unknown}` in the summary table; the metrics are: {}", known.join(", ")));
+    }
+    let column = |name: &str| summary.columns.iter().find(|c| c.name == name).cloned();
+    let status = summary.columns.iter().position(|c| c.name == "status").map_or(0, |k| k + 1);
+    let mut columns = summary.columns[..status].to_vec();
+    columns.extend(metrics.iter().chain(&["warnings"]).filter_map(|m| column(m)));
+    Ok(SummaryTable { columns })
+}
+
 /// The metrics `summary --by-point` prints by default: settle time, the default compare metrics
 /// present, cost and wall time.
-fn default_metrics(points_table: &SummaryTable) -> Vec<String> {
-    let known = points::table_metrics(points_table);
+fn default_metrics(known: &[&str]) -> Vec<String> {
     let pile = compare::DEFAULT_KEEP.iter().filter(|(m, _)| known.contains(m)).map(|(m, _)| *m).collect::<Vec<_>>();
     let pile = if pile.is_empty() { compare::FALLBACK_KEEP.iter().map(|(m, _)| *m).collect() } else { pile };
     let cost = ["particle_steps", "steps"].into_iter().find(|c| known.contains(c));
