@@ -12,7 +12,8 @@
 #     to the environment's python.
 #   - Debian packages via apt-get, when running as root: chromium (the browser the report test
 #     drives; Playwright downloads none), python3-venv (when the base Python lacks venv/ensurepip),
-#     slurm-wlm and munge (tests/slurm_cluster.rs starts a throw-away cluster, which needs root).
+#     slurm-wlm and munge (tests/slurm_cluster.rs starts a throw-away cluster, which needs root),
+#     lammps (tests/export_formats.rs reads an exported data file with LAMMPS itself).
 # Anything that cannot be installed here is listed in ONE message before any test runs, with how
 # to get it, and the script exits 1 without running the tests.
 # Repeated runs install nothing: the environment is rebuilt only when tests/requirements.txt changes.
@@ -64,6 +65,8 @@ elif ! have_venv; then
     need_package python3-venv "$PYTHON cannot make a virtual environment (no venv/ensurepip)"
 fi
 have_chromium || need_package chromium "no Chromium for the report's browser test (tests/report_browser.rs)"
+have_lammps() { command -v lmp >/dev/null || command -v lmp_serial >/dev/null; }
+have_lammps || need_package lammps "no LAMMPS for the LAMMPS export's test (tests/export_formats.rs)"
 if ! slurm_skipped; then
     if ! is_root; then
         missing+=("tests/slurm_cluster.rs starts a throw-away Slurm cluster, which needs root: run as root, or set DEMSWEEP_ALLOW_NO_SLURM=1 to skip that test knowingly")

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 mod bench;
+mod export;
 mod plot;
 use demsweep::study::{self, Plan};
 
@@ -125,6 +126,20 @@ enum Command {
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
     Merge(results::MergeArgs),
+    /// Export stored piles for ParaView (vtk), LAMMPS (lammps) or a restart (csv).
+    #[command(
+        long_about = "Export the final state (and with --frames every recorded frame) of runs of a results \
+                      file into --out. vtk: VTK XML PolyData files ParaView opens (disks as points with \
+                      radius, velocity, angular velocity and contact force; the contact network as lines with \
+                      normal and tangential force; the box walls as lines) and .pvd time collections. lammps: \
+                      data files for atom_style sphere (units si, dimension 2). csv: the placement files \
+                      that placement.kind = \"file\" reads back, velocities and spins included. The folder \
+                      is written under a temporary name and renamed when complete.",
+        after_help = "Examples:\n  demsweep export results/damping_sweep/damping_sweep.h5 --format vtk --out piles\n  \
+                      demsweep export results/damping_sweep/damping_sweep.h5 --format lammps --run r0003 --out lmp\n  \
+                      demsweep export results/damping_sweep/damping_sweep.h5 --format csv --run r0003 --out restart"
+    )]
+    Export(export::ExportArgs),
     /// Draw charts of a results file: energies, UBF and pile snapshots per run; settle time per study.
     #[command(
         long_about = "Draw PNG (or SVG) charts of a results file into --out (default: plots/ next to the \
@@ -229,6 +244,7 @@ pub fn main() -> ExitCode {
         Command::Compare(args) => results::compare(&args),
         Command::History(args) => results::history(&args),
         Command::Merge(args) => results::merge(&args),
+        Command::Export(args) => export::run(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Report(args) => results::report(&args),
         Command::Bench(args) => bench::bench(&args),

@@ -11,8 +11,9 @@
 //! - [`runner`] (running a plan in parallel, resume, shards and their merge), [`stats`] (statistics
 //!   over replicates, no I/O) and [`slurm`] (batch scripts running a study as an array job).
 //! - [`tune`] (searching for the cheapest settings that give the reference's answer), [`plot`] (PNG
-//!   and SVG charts), [`report`] (one HTML page per results file) and `bench` (the command's
-//!   accuracy, stability and edge-case benchmarks, not a library interface).
+//!   and SVG charts), [`report`] (one HTML page per results file), [`export`] (stored piles as
+//!   ParaView, LAMMPS and placement files) and `bench` (the command's accuracy, stability and
+//!   edge-case benchmarks, not a library interface).
 //!
 //! Above them all, the `demsweep` command (`src/cli`).
 //!
@@ -32,6 +33,7 @@
 
 #[doc(hidden)]
 pub mod bench;
+pub mod export;
 pub mod output;
 pub mod physics;
 pub mod plot;

@@ -97,8 +97,12 @@ fn plots_every_run_and_the_study_at_the_requested_size_diverged_runs_included() 
         expected.extend([format!("{}_energy.png", row.id), format!("{}_ubf.png", row.id)]);
         expected.extend((0..frames).map(|k| format!("{}_frame_{k}.png", row.id)));
         let final_time = run.final_state.as_ref().unwrap().time;
-        if run.frames.last().is_none_or(|frame| (frame.time - final_time).abs() > 1e-9) {
+        let with_final = run.frames.last().is_none_or(|frame| (frame.time - final_time).abs() > 1e-9);
+        if with_final {
             expected.push(format!("{}_final.png", row.id));
+        }
+        if frames + usize::from(with_final) > 1 {
+            expected.push(format!("{}_deposition.png", row.id)); // the animation of those pictures
         }
     }
     expected.sort();

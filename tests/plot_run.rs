@@ -65,8 +65,10 @@ fn svg_snapshot_has_one_circle_per_disk_at_its_recorded_position() {
         assert!((number(circle, "r") - frame.r[i] * per_x).abs() <= 1.0, "disk {i}: r {}", circle["r"]);
     }
 
-    // The box walls (the only 3-pixel-wide path) run through the frame's corners.
-    let walls: Vec<_> = svg_elements(&path, "polyline").into_iter().filter(|p| p["stroke-width"] == "3").collect();
+    // The box walls (the only black 3-pixel-wide path) run through the frame's corners.
+    let black_3px =
+        |p: &std::collections::HashMap<String, String>| p["stroke-width"] == "3" && p["stroke"] == "#000000";
+    let walls: Vec<_> = svg_elements(&path, "polyline").into_iter().filter(black_3px).collect();
     assert_eq!(walls.len(), 1);
     let corners: Vec<(f64, f64)> = walls[0]["points"]
         .split_whitespace()
@@ -77,6 +79,84 @@ fn svg_snapshot_has_one_circle_per_disk_at_its_recorded_position() {
     assert_eq!(corners.len(), 4);
     for (got, want) in corners.iter().zip(expected) {
         assert!((got.0 - want.0).abs() <= 1.0 && (got.1 - want.1).abs() <= 1.0, "wall corner {got:?} vs {want:?}");
+    }
+}
+
+#[test]
+fn force_chains_are_lines_between_centres_as_wide_as_the_normal_force() {
+    let scene = tiny_scene(0.3, 1e-5);
+    let record = run_tiny(&scene);
+    let pile = &record.final_state;
+    let dir = out_dir("force_chains");
+    let path = dir.join("pile.svg");
+    let scale = ColourScale::fitted(ColourBy::Speed, [pile]);
+    let box_size = (scene.domain.width, scene.domain.height);
+    let placed = run::snapshot(pile, box_size, &scale, &options(1000, 700, Format::Svg), &path).unwrap();
+    let red = format!("#{:02X}{:02X}{:02X}", run::CHAIN_COLOUR.0, run::CHAIN_COLOUR.1, run::CHAIN_COLOUR.2);
+    let chains: Vec<_> = svg_elements(&path, "polyline").into_iter().filter(|p| p["stroke"] == red).collect();
+    let c = &pile.contacts;
+    assert!(c.len() > 20 && !chains.is_empty(), "{} contacts, {} chain lines", c.len(), chains.len());
+    let largest = c.normal_force.iter().copied().fold(0.0, f64::max);
+    let mut widths = Vec::new();
+    for chain in &chains {
+        let ends: Vec<(f64, f64)> = chain["points"]
+            .split_whitespace()
+            .map(|p| p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap())
+            .collect();
+        let near = |at: (f64, f64), (x, y): (f64, f64)| {
+            let (px, py) = placed.to_pixel(x, y);
+            (px - at.0).abs() <= 1.0 && (py - at.1).abs() <= 1.0
+        };
+        let k = (0..c.len())
+            .find(|&k| {
+                let i = c.first[k] as usize;
+                let far = usize::try_from(c.second[k]).map_or((c.point_x[k], c.point_y[k]), |j| (pile.x[j], pile.y[j]));
+                near(ends[0], (pile.x[i], pile.y[i])) && near(ends[1], far)
+            })
+            .expect("a chain line joins the two bodies of a contact");
+        widths.push((c.normal_force[k], number(chain, "stroke-width")));
+    }
+    let widest = widths.iter().map(|w| w.1).fold(0.0, f64::max);
+    for (force, width) in &widths {
+        // width = round(W F / F_max), the widest round(W): within a pixel of widest · F / F_max.
+        assert!((width - widest * force / largest).abs() <= 1.0, "{force} N: {width} px of {widest}");
+    }
+}
+
+/// The frames of an (A)PNG file as RGB pixels, and its animation's frame count (`None`: a still).
+fn png_frames(path: &std::path::Path) -> (Option<u32>, Vec<Vec<u8>>) {
+    let mut reader = png::Decoder::new(std::fs::File::open(path).unwrap()).read_info().unwrap();
+    let animated = reader.info().animation_control().map(|a| a.num_frames);
+    let mut frames = Vec::new();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    while reader.next_frame(&mut pixels).is_ok() {
+        frames.push(pixels.clone());
+    }
+    (animated, frames)
+}
+
+#[test]
+fn the_deposition_animation_plays_each_snapshot_as_drawn_alone() {
+    let scene = tiny_scene(0.5, 1e-5);
+    let record = run_tiny(&scene);
+    let dir = out_dir("animation");
+    let box_size = (scene.domain.width, scene.domain.height);
+    let mut snapshots: Vec<_> = record.frames.iter().collect();
+    snapshots.push(&record.final_state);
+    let scale = ColourScale::fitted(ColourBy::Speed, snapshots.iter().copied());
+    let scaled: Vec<_> = snapshots.iter().map(|s| (*s, scale)).collect();
+    let opts = options(640, 480, Format::Png);
+    let path = dir.join("deposition.png");
+    run::animation(&scaled, box_size, &opts, &path).unwrap();
+    let (animated, frames) = png_frames(&path);
+    assert_eq!(animated, Some(snapshots.len() as u32));
+    assert_eq!(frames.len(), snapshots.len());
+    for (k, snapshot) in snapshots.iter().enumerate() {
+        let still = dir.join(format!("still_{k}.png"));
+        run::snapshot(snapshot, box_size, &scale, &opts, &still).unwrap();
+        let (not_animated, still_frames) = png_frames(&still);
+        assert_eq!(not_animated, None);
+        assert!(frames[k] == still_frames[0], "frame {k} differs from its still picture");
     }
 }
 

@@ -121,6 +121,30 @@ fn snapshot(s: &demsweep::physics::record::Snapshot) -> Value {
     table(f, json!({"time": s.time}))
 }
 
+fn contacts(s: &demsweep::physics::record::Snapshot) -> Value {
+    let c = &s.contacts;
+    let f = vec![
+        ("first", json!(c.first)),
+        ("second", json!(c.second)),
+        ("normal_x", json!(c.normal_x)),
+        ("normal_y", json!(c.normal_y)),
+        ("normal_force", json!(c.normal_force)),
+        ("tangential_force", json!(c.tangential_force)),
+        ("overlap", json!(c.overlap)),
+        ("point_x", json!(c.point_x)),
+        ("point_y", json!(c.point_y)),
+        ("sliding", json!(c.sliding)),
+    ];
+    table(f, json!({"time": s.time}))
+}
+
+/// Floats with infinities kept (`{"$float": "inf"}`; JSON has none, and NaN is `null`): the UBF is
+/// infinite while contacts carry no force.
+fn floats(values: &[f64]) -> Value {
+    let value = |&v: &f64| if v.is_infinite() { json!({"$float": v.to_string()}) } else { json!(v) };
+    Value::Array(values.iter().map(value).collect())
+}
+
 fn history(r: &RunRecord) -> Value {
     let h = &r.history;
     let f = vec![
@@ -133,7 +157,7 @@ fn history(r: &RunRecord) -> Value {
         ("numerical_damping_dissipated", json!(h.numerical_damping_dissipated)),
         ("total", json!(h.total)),
         ("mechanical", json!(h.mechanical)),
-        ("unbalanced_force_ratio", json!(h.unbalanced_force_ratio)),
+        ("unbalanced_force_ratio", floats(&h.unbalanced_force_ratio)),
         ("contacts", json!(h.contacts)),
         ("max_overlap_ratio", json!(h.max_overlap_ratio)),
     ];
@@ -175,6 +199,7 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
     );
     groups.insert("/runs".into(), json!({}));
     groups.insert("/runs/b0000".into(), json!({}));
+    let mut stored_contacts = 0;
     for run in &plan.runs {
         let base = format!("/runs/b0000/{}", run.id);
         let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
@@ -184,11 +209,17 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         let Some(record) = record else { continue };
         datasets.insert(format!("{base}/history"), history(record));
         datasets.insert(format!("{base}/final"), snapshot(&record.final_state));
+        stored_contacts += record.final_state.contacts.len();
+        datasets.insert(format!("{base}/final_contacts"), contacts(&record.final_state));
         groups.insert(format!("{base}/frames"), json!({}));
+        groups.insert(format!("{base}/frame_contacts"), json!({}));
+        // Frame names are zero-padded, so that h5py (which lists names in byte order) lists them in time order.
         for (k, frame) in record.frames.iter().enumerate() {
-            datasets.insert(format!("{base}/frames/{k}"), snapshot(frame));
+            datasets.insert(format!("{base}/frames/{k:05}"), snapshot(frame));
+            datasets.insert(format!("{base}/frame_contacts/{k:05}"), contacts(frame));
         }
     }
+    assert!(stored_contacts > 0, "the final states have contacts to check");
     let mut summary_attrs = column_datasets("summary", summary, &mut datasets);
     // How the sweep ran: 2 worker threads (runner_common::options), for some seconds.
     summary_attrs["jobs"] = json!(2);
@@ -209,6 +240,7 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
 fn h5py_reads_exactly_what_was_written() {
     let mut plan = runner_common::sweep("interop", 3);
     for run in &mut plan.runs {
+        run.scene.run.duration = 0.3; // long enough for the disks to land: contacts to store
         run.parameters.push(("contact.allow_tension".into(), ParamValue::Bool(false)));
         run.parameters.push(("label".into(), ParamValue::Text(format!("case \"{}\", μ", run.index))));
     }

@@ -12,6 +12,10 @@ pub enum Field<'a> {
     F64(&'a [f64]),
     /// 32-bit unsigned integers.
     U32(&'a [u32]),
+    /// 64-bit signed integers.
+    I64(&'a [i64]),
+    /// Booleans as 8-bit unsigned integers (0 or 1).
+    Bool(&'a [bool]),
 }
 
 impl Field<'_> {
@@ -19,6 +23,8 @@ impl Field<'_> {
         match self {
             Field::F64(v) => v.len(),
             Field::U32(v) => v.len(),
+            Field::I64(v) => v.len(),
+            Field::Bool(v) => v.len(),
         }
     }
 }
@@ -33,6 +39,8 @@ pub fn encode(fields: &[(&str, Field<'_>)]) -> (Datatype, Vec<u8>, u64) {
         builder = match field {
             Field::F64(_) => builder.f64_field(name),
             Field::U32(_) => builder.u32_field(name),
+            Field::I64(_) => builder.i64_field(name),
+            Field::Bool(_) => builder.u8_field(name),
         };
     }
     let datatype = builder.build().expect("a table has at least one column");
@@ -42,6 +50,8 @@ pub fn encode(fields: &[(&str, Field<'_>)]) -> (Datatype, Vec<u8>, u64) {
             match field {
                 Field::F64(v) => bytes.extend_from_slice(&v[row].to_le_bytes()),
                 Field::U32(v) => bytes.extend_from_slice(&v[row].to_le_bytes()),
+                Field::I64(v) => bytes.extend_from_slice(&v[row].to_le_bytes()),
+                Field::Bool(v) => bytes.push(u8::from(v[row])),
             }
         }
     }
@@ -69,6 +79,10 @@ pub fn decode(dataset: &Dataset) -> Result<Vec<(String, ColumnData)>, String> {
                         .map(|r| i64::from(u32::from_le_bytes(bytes(r, 4).try_into().expect("4 bytes"))))
                         .collect(),
                 ),
+                (Datatype::FixedPoint { .. }, 8) => ColumnData::Int(
+                    rows.iter().map(|r| i64::from_le_bytes(bytes(r, 8).try_into().expect("8 bytes"))).collect(),
+                ),
+                (Datatype::FixedPoint { .. }, 1) => ColumnData::Bool(rows.iter().map(|r| r[at] != 0).collect()),
                 _ => return Err(format!("field `{}` has an unsupported type", m.name)),
             };
             Ok((m.name.clone(), data))

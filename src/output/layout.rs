@@ -5,7 +5,11 @@
 //! /runs/b0000/r0007        one group per run (bucket `b<index / 100>`); attributes: summary row + scene
 //!     history              compound table, one field per series, one row per sample
 //!     final                compound table, one field per disk property, one row per disk (attr `time`)
-//!     frames/<k>           the same table for recorded frame k = 0, 1, … (attribute `time`)
+//!     final_contacts       compound table, one field per contact property, one row per contact
+//!                          (attr `time`; see `CONTACT_FIELDS`), stored with `final`
+//!     frames/<k>           the state table of recorded frame k (attribute `time`); k zero-padded to
+//!                          `FRAME_DIGITS` digits (`00000`, `00001`, …), so names sort in time order
+//!     frame_contacts/<k>   the contact table of frame k, stored with `frames`
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
 //!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`])
 //! ```
@@ -17,6 +21,7 @@ use hdf5_pure::AttrValue;
 use super::compound::Field;
 use super::row::{OutcomeValue, SummaryRow};
 use crate::physics::SceneConfig;
+use crate::physics::contact_network::ContactNetwork;
 use crate::physics::material::{Elastic, Materials, restitution_from_beta};
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, HISTORY_SERIES, OUTCOME, SeriesValues};
 use crate::physics::record::{History, RunStatus, Snapshot};
@@ -83,6 +88,56 @@ pub fn state_table(s: &Snapshot) -> [(&'static str, Field<'_>); 7] {
 
 /// State fields: the fields of the `final` and `frames/<k>` tables.
 pub const STATE_FIELDS: [&str; 7] = ["x", "y", "vx", "vy", "omega", "r", "contact_force"];
+
+/// Contact fields: the fields of the `final_contacts` and `frame_contacts/<k>` tables (see
+/// [`ContactNetwork`]): `first` disk index (`u32`), `second` disk index or wall `−1 − k` (`i64`; 0 floor,
+/// 1 left, 2 right, 3 lid), unit normal from first to second, normal force (N, repulsive positive),
+/// tangential force on `first` along `(−n_y, n_x)` (N), overlap (m), contact point (m), `sliding`
+/// (`u8`: 1 when the tangential force sits on the Coulomb limit).
+pub const CONTACT_FIELDS: [&str; 10] = [
+    "first",
+    "second",
+    "normal_x",
+    "normal_y",
+    "normal_force",
+    "tangential_force",
+    "overlap",
+    "point_x",
+    "point_y",
+    "sliding",
+];
+
+/// The contact table of a network: one field per contact property, in the order of [`CONTACT_FIELDS`].
+pub fn contact_table(c: &ContactNetwork) -> [(&'static str, Field<'_>); 10] {
+    [
+        ("first", Field::U32(&c.first)),
+        ("second", Field::I64(&c.second)),
+        ("normal_x", Field::F64(&c.normal_x)),
+        ("normal_y", Field::F64(&c.normal_y)),
+        ("normal_force", Field::F64(&c.normal_force)),
+        ("tangential_force", Field::F64(&c.tangential_force)),
+        ("overlap", Field::F64(&c.overlap)),
+        ("point_x", Field::F64(&c.point_x)),
+        ("point_y", Field::F64(&c.point_y)),
+        ("sliding", Field::Bool(&c.sliding)),
+    ]
+}
+
+/// The final state's table in a run group.
+pub const FINAL: &str = "final";
+/// The final state's contact table in a run group.
+pub const FINAL_CONTACTS: &str = "final_contacts";
+/// The group of frame state tables in a run group.
+pub const FRAMES: &str = "frames";
+/// The group of frame contact tables in a run group.
+pub const FRAME_CONTACTS: &str = "frame_contacts";
+/// Digits of a frame's name (zero-padded, so that names sort in time order).
+pub const FRAME_DIGITS: usize = 5;
+
+/// Name of frame `k` in [`FRAMES`] and [`FRAME_CONTACTS`].
+pub fn frame_name(k: usize) -> String {
+    format!("{k:0FRAME_DIGITS$}")
+}
 
 const INDEX: &str = "index";
 const ID: &str = "id";

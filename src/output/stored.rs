@@ -5,11 +5,12 @@ use std::path::Path;
 
 use hdf5_pure::{Dataset, File};
 
-use super::layout::{self, STATE_FIELDS};
+use super::layout::{self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES, STATE_FIELDS};
 use super::row::SummaryRow;
 use super::table::ColumnData;
 use super::{OutputError, compound, hdf5_error};
 use crate::physics::SceneConfig;
+use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::HISTORY_SERIES;
 use crate::physics::record::{History, Snapshot};
 
@@ -21,9 +22,11 @@ pub struct StoredRun {
     pub scene: SceneConfig,
     /// The sampled histories (`history`).
     pub history: Option<History>,
-    /// The state at the end of the run (`final`).
+    /// The state at the end of the run (`final`), with its contacts (`final_contacts`; empty in files
+    /// written before contacts were stored).
     pub final_state: Option<Snapshot>,
-    /// The recorded frames (`frames/0`, `frames/1`, …), in order.
+    /// The recorded frames (`frames/00000`, `frames/00001`, …), in order, with their contacts
+    /// (`frame_contacts/<k>`).
     pub frames: Vec<Snapshot>,
 }
 
@@ -41,26 +44,75 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
         .then(|| read_table(file, &group_path, "history", path).and_then(|t| history(&t)))
         .transpose()
         .map_err(|e| fail("history", e))?;
-    let final_state = has("final")
-        .then(|| read_snapshot(file, &format!("{group_path}/final"), path))
+    let final_state = has(FINAL)
+        .then(|| {
+            let mut state = read_snapshot(file, &format!("{group_path}/{FINAL}"), path)?;
+            if has(FINAL_CONTACTS) {
+                state.contacts = read_contacts(file, &format!("{group_path}/{FINAL_CONTACTS}"), path)?;
+            }
+            Ok(state)
+        })
         .transpose()
-        .map_err(|e| fail("final", e))?;
+        .map_err(|e| fail(FINAL, e))?;
     let frames = read_frames(file, &group_path, path).map_err(|e| fail("frames", e))?;
     Ok(StoredRun { scene, history, final_state, frames })
 }
 
-/// The frames of a run group, ordered by their number.
+/// The frames of a run group, ordered by their number, with their contacts where stored.
 fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, String> {
+    let mut frames: Vec<Snapshot> = numbered_datasets(file, group_path, FRAMES)?
+        .iter()
+        .map(|name| read_snapshot(file, &format!("{group_path}/{FRAMES}/{name}"), path))
+        .collect::<Result<_, _>>()?;
+    let contacts = numbered_datasets(file, group_path, FRAME_CONTACTS)?;
+    for (frame, name) in frames.iter_mut().zip(&contacts) {
+        frame.contacts = read_contacts(file, &format!("{group_path}/{FRAME_CONTACTS}/{name}"), path)?;
+    }
+    Ok(frames)
+}
+
+/// The datasets of the subgroup `name` of a run group named by numbers, in numeric order (none when
+/// there is no such subgroup).
+fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<String>, String> {
     let group = file.group(group_path).map_err(|e| e.to_string())?;
-    if !group.groups().map_err(|e| e.to_string())?.iter().any(|g| g == "frames") {
+    if !group.groups().map_err(|e| e.to_string())?.iter().any(|g| g == name) {
         return Ok(Vec::new());
     }
-    let frames_path = format!("{group_path}/frames");
-    let names = file.group(&frames_path).and_then(|g| g.datasets()).map_err(|e| e.to_string())?;
+    let names = file.group(&format!("{group_path}/{name}")).and_then(|g| g.datasets()).map_err(|e| e.to_string())?;
     let mut numbered: Vec<(usize, String)> =
         names.into_iter().filter_map(|name| Some((name.parse().ok()?, name))).collect();
     numbered.sort();
-    numbered.iter().map(|(_, name)| read_snapshot(file, &format!("{frames_path}/{name}"), path)).collect()
+    Ok(numbered.into_iter().map(|(_, name)| name).collect())
+}
+
+/// A contact table (see [`CONTACT_FIELDS`]) as a network.
+fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, String> {
+    let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
+    let mut table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
+    let mut take = |name: &str| table.remove(name).ok_or(format!("no field `{name}`"));
+    let [first, second, normal_x, normal_y, normal_force, tangential_force, overlap, point_x, point_y, sliding] =
+        CONTACT_FIELDS.map(&mut take);
+    let ints = |c: Result<ColumnData, String>| match c? {
+        ColumnData::Int(v) => Ok(v),
+        _ => Err("an index field is not an integer".to_string()),
+    };
+    let floats = |c: Result<ColumnData, String>| match c? {
+        ColumnData::Float(v) => Ok(v),
+        _ => Err("a force or geometry field is not a float".to_string()),
+    };
+    let ColumnData::Bool(sliding) = sliding? else { return Err("field `sliding` is not 0/1".into()) };
+    Ok(ContactNetwork {
+        first: ints(first)?.into_iter().map(|i| i as u32).collect(),
+        second: ints(second)?,
+        normal_x: floats(normal_x)?,
+        normal_y: floats(normal_y)?,
+        normal_force: floats(normal_force)?,
+        tangential_force: floats(tangential_force)?,
+        overlap: floats(overlap)?,
+        point_x: floats(point_x)?,
+        point_y: floats(point_y)?,
+        sliding,
+    })
 }
 
 /// A compound table of a run group as named columns.

@@ -292,12 +292,18 @@ fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOpti
         });
     }
     if output.final_states {
-        stage_snapshot(g, "final", &record.final_state);
+        stage_snapshot(g, layout::FINAL, &record.final_state);
+        stage_contacts(g, layout::FINAL_CONTACTS, &record.final_state);
     }
     if output.frames && !record.frames.is_empty() {
-        g.create_group_with("frames", |frames| {
+        g.create_group_with(layout::FRAMES, |frames| {
             for (k, frame) in record.frames.iter().enumerate() {
-                stage_snapshot(frames, &k.to_string(), frame);
+                stage_snapshot(frames, &layout::frame_name(k), frame);
+            }
+        });
+        g.create_group_with(layout::FRAME_CONTACTS, |frames| {
+            for (k, frame) in record.frames.iter().enumerate() {
+                stage_contacts(frames, &layout::frame_name(k), frame);
             }
         });
     }
@@ -307,6 +313,14 @@ fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOpti
 fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     g.create_dataset(name, |b| {
         stage_table(b, &layout::state_table(s));
+        b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
+    });
+}
+
+/// A snapshot's contact network as a contact table with attribute `time`.
+fn stage_contacts(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
+    g.create_dataset(name, |b| {
+        stage_table(b, &layout::contact_table(&s.contacts));
         b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
     });
 }

@@ -6,7 +6,8 @@
 //!   [`super::stability`]; for Hertz `t_c ≈ 2.87 (m*² / (R* E*² v))^(1/5)`), with the smallest disk.
 //!   The impact speed is bounded from the box for generated placements (a fall from the top of the box
 //!   to the floor), so that every placement seed of a scene gets the same step; from the disks
-//!   themselves for file placement.
+//!   themselves for file placement (each falls until it lands on the body below: a pile at rest
+//!   does not fall).
 //! - **Rayleigh time** `T_R = π R √(ρ/G) / (0.1631 ν + 0.8766)` of the smallest disk (EDEM's
 //!   convention; 20 % of it is common practice).
 //!
@@ -82,10 +83,9 @@ fn hardest_impact<L: ContactLaw>(
     let walls = BoxWalls::new(&scene.domain);
     let (radius, speed) = match disks {
         Some(disks) if scene.placement.kind == PlacementKind::File && !disks.is_empty() => {
-            let falls = disks.iter().map(|d| {
-                let drop = potential_drop(g, [d.x, d.y], walls.lowest_point(g, d.r));
-                d.vx.hypot(d.vy) + (2.0 * drop).sqrt()
-            });
+            let column = |f: fn(&InitialDisk) -> f64| disks.iter().map(f).collect::<Vec<f64>>();
+            let drops = stability::landing_drops(&column(|d| d.x), &column(|d| d.y), &column(|d| d.r), &walls, g);
+            let falls = disks.iter().zip(drops).map(|(d, drop)| d.vx.hypot(d.vy) + (2.0 * drop).sqrt());
             (smallest_radius(disks), falls.fold(0.0, f64::max))
         }
         _ => {

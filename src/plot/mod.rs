@@ -194,6 +194,16 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> 
     drawn.map_err(|e| fail(e.to_string()))
 }
 
+/// Draws `figure` in the options' size into 8-bit RGB pixels (rows top to bottom), e.g. for the
+/// frames of an animation.
+fn render_rgb<F: Figure>(figure: &F, options: &ChartOptions, label: &Path) -> Result<Vec<u8>, PlotError> {
+    let mut pixels = vec![0u8; options.width as usize * options.height as usize * 3];
+    style::register_font();
+    let root = BitMapBackend::with_buffer(&mut pixels, (options.width, options.height)).into_drawing_area();
+    paint(figure, options, root).map_err(|e| PlotError { path: label.to_path_buf(), reason: e.to_string() })?;
+    Ok(pixels)
+}
+
 /// Clears `root` to white, draws `figure` and writes the result.
 fn paint<F: Figure, DB: DrawingBackend>(
     figure: &F,

@@ -288,14 +288,21 @@ fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, (b
     }
     let box_size = (stored.scene.domain.width, stored.scene.domain.height);
     let shared = ColourScale::fitted(by, pictures.iter().map(|(_, s)| *s));
-    for (name, snapshot) in pictures {
-        let scale = match by {
-            ColourBy::Speed => shared,
-            ColourBy::ContactForce => ColourScale::fitted(by, [snapshot]),
-        };
+    let scaled: Vec<(&Snapshot, ColourScale)> = pictures
+        .iter()
+        .map(|(_, snapshot)| match by {
+            ColourBy::Speed => (*snapshot, shared),
+            ColourBy::ContactForce => (*snapshot, ColourScale::fitted(by, [*snapshot])),
+        })
+        .collect();
+    for ((name, _), (snapshot, scale)) in pictures.iter().zip(&scaled) {
         let name = format!("{}_{name}", row.id);
         let subject = snapshot_subject(row, snapshot.time);
-        sink.chart(&name, &subject, |o, c| run::snapshot(snapshot, box_size, &scale, o, c));
+        sink.chart(&name, &subject, |o, c| run::snapshot(snapshot, box_size, scale, o, c));
+    }
+    if scaled.len() > 1 {
+        let subject = run_subject(row);
+        sink.chart(&format!("{}_deposition", row.id), &subject, |o, c| run::animation(&scaled, box_size, o, c));
     }
 }
 

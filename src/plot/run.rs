@@ -1,6 +1,7 @@
 //! Charts of one run: energies and unbalanced force ratio against time, and pile snapshots.
 
 use std::ops::Range;
+use std::path::PathBuf;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
@@ -8,7 +9,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH};
-use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
+use super::{Canvas, ChartOptions, DrawResult, Figure, Format, PlotError, render};
 use crate::physics::record::{History, Snapshot};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
@@ -44,6 +45,48 @@ pub fn snapshot<'c>(
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<BoxFrame, PlotError> {
     render(&SnapshotFigure { snapshot, box_size, scale }, options, canvas.into())
+}
+
+/// How long each frame of a deposition animation shows (ms).
+const ANIMATION_FRAME_MS: u16 = 500;
+
+/// Draws `snapshots` (in time order, each on its colour scale) as an animated PNG (APNG: every
+/// browser and most viewers play it; others show the first frame) onto a PNG file `canvas`, each
+/// frame as [`snapshot`] draws it. An SVG canvas cannot animate: it gets the last snapshot.
+pub fn animation<'c>(
+    snapshots: &[(&Snapshot, ColourScale)],
+    box_size: (f64, f64),
+    options: &ChartOptions,
+    canvas: impl Into<Canvas<'c>>,
+) -> Result<(), PlotError> {
+    let canvas = canvas.into();
+    let Some(&(last, last_scale)) = snapshots.last() else {
+        return Err(PlotError { path: PathBuf::from("(animation)"), reason: "no snapshots to animate".into() });
+    };
+    let path = match canvas {
+        Canvas::File(path) if options.format == Format::Png => path.to_path_buf(),
+        other => return snapshot(last, box_size, &last_scale, options, other).map(drop),
+    };
+    let fail = |reason: String| PlotError { path: path.clone(), reason };
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+    }
+    let frames = snapshots
+        .iter()
+        .map(|(s, scale)| super::render_rgb(&SnapshotFigure { snapshot: s, box_size, scale }, options, &path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let file = std::fs::File::create(&path).map_err(|e| fail(format!("cannot create: {e}")))?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), options.width, options.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let encoded = encoder
+        .set_animated(frames.len() as u32, 0)
+        .and_then(|()| encoder.set_frame_delay(ANIMATION_FRAME_MS, 1000))
+        .and_then(|()| encoder.write_header())
+        .and_then(|mut writer| {
+            frames.iter().try_for_each(|pixels| writer.write_image_data(pixels)).and_then(|()| writer.finish())
+        });
+    encoded.map_err(|e| fail(format!("cannot write the animation: {e}")))
 }
 
 /// What the disks of a snapshot are coloured by.
@@ -365,6 +408,7 @@ impl Figure for SnapshotFigure<'_> {
         )])?;
         let frame = box_frame(&chart, self.box_size);
         chart.draw_series(self.disks(frame.pixels_per_metre.0))?;
+        chart.draw_series(self.force_chains(frame.pixels_per_metre.0))?;
         style::colour_bar(&bar_area, self.scale.range(), self.scale.by.label(), (MARGIN, MARGIN + X_LABEL_AREA))?;
         Ok(frame)
     }
@@ -383,6 +427,39 @@ impl SnapshotFigure<'_> {
                 let value = values.get(i).copied().unwrap_or(f64::NAN);
                 let colour = if value.is_finite() { style::viridis(value, &range) } else { style::NOT_SETTLED };
                 Circle::new((s.x[i], s.y[i]), (s.r[i] * pixels_per_metre).max(1.0), colour.filled())
+            })
+            .collect()
+    }
+}
+
+/// Widest force-chain line, as a fraction of the smallest disk's drawn diameter.
+const CHAIN_WIDTH: f64 = 0.6;
+/// Colour of the force-chain lines (dark red: apart from the black walls and the viridis disks).
+pub const CHAIN_COLOUR: RGBColor = RGBColor(160, 0, 0);
+
+impl SnapshotFigure<'_> {
+    /// The force chains: one [`CHAIN_COLOUR`] line per contact carrying compression, between the centres (to the
+    /// contact point for a wall), its width proportional to the normal force (the widest, the largest
+    /// force, [`CHAIN_WIDTH`] of the smallest disk's diameter; lines under a pixel are left out).
+    fn force_chains(&self, pixels_per_metre: f64) -> Vec<PathElement<(f64, f64)>> {
+        let s = self.snapshot;
+        let c = &s.contacts;
+        let largest = c.normal_force.iter().copied().filter(|f| f.is_finite()).fold(0.0, f64::max);
+        let smallest_radius = s.r.iter().copied().filter(|r| r.is_finite()).fold(f64::INFINITY, f64::min);
+        let widest = CHAIN_WIDTH * 2.0 * smallest_radius * pixels_per_metre;
+        if largest <= 0.0 || !widest.is_finite() {
+            return Vec::new();
+        }
+        (0..c.len())
+            .filter_map(|k| {
+                let width = (widest * c.normal_force[k] / largest).round();
+                let i = c.first[k] as usize;
+                let far = match usize::try_from(c.second[k]) {
+                    Ok(j) => (s.x[j], s.y[j]),
+                    Err(_) => (c.point_x[k], c.point_y[k]),
+                };
+                (width >= 1.0)
+                    .then(|| PathElement::new([(s.x[i], s.y[i]), far], CHAIN_COLOUR.stroke_width(width as u32)))
             })
             .collect()
     }

@@ -1,13 +1,14 @@
 //! Placement files: initial disk states as CSV with a header line. Columns `x,y` (m) are required;
-//! `r` (m), `vx,vy` (m/s) and `omega` (rad/s) are optional, in any order. Blank lines and lines
+//! `r` (m), `vx,vy` (m/s) and `omega` (rad/s) are optional, in any order; `id` and `contact_force`
+//! (written by `demsweep export --format csv`) are allowed and not read. Blank lines and lines
 //! starting with `#` are skipped.
 
 use std::path::Path;
 
 use crate::physics::particles::InitialDisk;
 
-/// The columns a placement file may have.
-const COLUMNS: [&str; 6] = ["x", "y", "r", "vx", "vy", "omega"];
+/// The columns a placement file may have: the disk state, then the ones that are not read.
+const COLUMNS: [&str; 8] = ["x", "y", "r", "vx", "vy", "omega", "id", "contact_force"];
 
 /// Largest placement file read (bytes): a million disks with every column take about 100 MB.
 pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
@@ -46,7 +47,9 @@ fn header_columns(header: &str) -> Result<Vec<usize>, String> {
     let mut columns = Vec::new();
     for name in header.split(',').map(str::trim) {
         let Some(k) = COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(name)) else {
-            return Err(format!("unknown column \"{name}\" (expected x, y and optionally r, vx, vy, omega)"));
+            return Err(format!(
+                "unknown column \"{name}\" (expected x, y and optionally r, vx, vy, omega, id, contact_force)"
+            ));
         };
         if columns.contains(&k) {
             return Err(format!("column \"{name}\" appears twice"));
@@ -67,7 +70,7 @@ fn parse_row(line: &str, columns: &[usize], default_radius: f64) -> Result<Initi
     if fields.len() != columns.len() {
         return Err(format!(": has {} fields but the header has {}", fields.len(), columns.len()));
     }
-    let mut values = [0.0, 0.0, default_radius, 0.0, 0.0, 0.0];
+    let mut values = [0.0, 0.0, default_radius, 0.0, 0.0, 0.0, 0.0, 0.0];
     for (position, (&column, field)) in columns.iter().zip(&fields).enumerate() {
         let at = || format!(", column {} ({})", position + 1, COLUMNS[column]);
         let value: f64 = field.parse().map_err(|_| format!("{}: \"{field}\" is not a number", at()))?;
@@ -79,7 +82,7 @@ fn parse_row(line: &str, columns: &[usize], default_radius: f64) -> Result<Initi
         }
         values[column] = value;
     }
-    let [x, y, r, vx, vy, omega] = values;
+    let [x, y, r, vx, vy, omega, _id, _contact_force] = values;
     Ok(InitialDisk { x, y, r, vx, vy, omega })
 }
 
@@ -95,6 +98,13 @@ mod tests {
         assert_eq!(disks[1].x, 0.3);
         let with_r = parse("x,y,r,vx,vy\n1,2,0.5,-1,3e-1\n", 0.01).unwrap();
         assert_eq!(with_r[0], InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 0.3, omega: 0.0 });
+    }
+
+    #[test]
+    fn reads_the_export_header_and_skips_id_and_contact_force() {
+        let text = "# exported\nid,x,y,r,vx,vy,omega,contact_force\n7,1,2,0.5,-1,3,4,9.5\n";
+        let disks = parse(text, 0.01).unwrap();
+        assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0 }]);
     }
 
     #[test]

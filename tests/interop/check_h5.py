@@ -5,7 +5,7 @@ Usage: check_h5.py RESULTS.h5 EXPECTED.json
 
 EXPECTED.json: {"groups": {path: {attr: value}}, "datasets": {path: {"attrs": {...}, "fields": [[name, [..]], ..]}
 or {"attrs": {...}, "values": [..]}}}. Every group, dataset and attribute in the file must be listed and
-equal (floats exactly; null means NaN; {"$regex": ...} matches a string, {"$range": [lo, hi]} a number). Exits 1 listing every difference,
+equal (floats exactly; null means NaN, {"$float": "inf"} an infinity; {"$regex": ...} matches a string, {"$range": [lo, hi]} a number). Exits 1 listing every difference,
 2 when h5py cannot be imported.
 """
 import json
@@ -35,6 +35,8 @@ def plain(value):
 
 
 def equal(found, expected):
+    if isinstance(expected, dict) and "$float" in expected:
+        return isinstance(found, float) and found == float(expected["$float"])
     if isinstance(expected, dict) and "$regex" in expected:
         return isinstance(found, str) and re.fullmatch(expected["$regex"], found) is not None
     if isinstance(expected, dict) and "$range" in expected:
@@ -73,6 +75,11 @@ def main(h5_path, json_path):
                 problems.append(f"{kind} {path} {'unexpected in the file' if path in found else 'missing from the file'}")
         for path in sorted(set(groups) & set(expected["groups"])):
             check_attrs(path, groups[path].attrs, expected["groups"][path], problems)
+        for path, group in groups.items():  # h5py lists names in byte order: frames must come out in time order
+            if path.endswith("/frames") or path.endswith("/frame_contacts"):
+                times = [float(group[name].attrs["time"]) for name in group]
+                if times != sorted(times):
+                    problems.append(f"{path}: h5py lists the frames out of time order: {list(group)}")
         for path in sorted(set(datasets) & set(expected["datasets"])):
             spec, ds = expected["datasets"][path], datasets[path]
             check_attrs(path, ds.attrs, spec["attrs"], problems)
