@@ -6,9 +6,6 @@ use serde::{Deserialize, Serialize};
 use super::particles::Particles;
 use super::pile::{Partner, PileContact};
 
-/// Relative tolerance of "at the Coulomb limit" for [`ContactNetwork::sliding`].
-const SLIDING_TOLERANCE: f64 = 1e-9;
-
 /// Every contact carrying force at one time: disk pairs first (ordered by first disk), then disk-wall
 /// contacts. Forces act on `first`; on `second` (a disk) they act the other way.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -32,7 +29,7 @@ pub struct ContactNetwork {
     pub point_x: Vec<f64>,
     /// Contact point y (m).
     pub point_y: Vec<f64>,
-    /// Whether the tangential force sits on the Coulomb limit `μ F_n`.
+    /// Whether the tangential force sits on the Coulomb limit `μ F_n` ([`PileContact::is_sliding`]).
     pub sliding: Vec<bool>,
 }
 
@@ -62,8 +59,7 @@ impl ContactNetwork {
             network.overlap.push(overlap);
             network.point_x.push(p.x[i] + reach * nx);
             network.point_y.push(p.y[i] + reach * ny);
-            let limit = c.friction * c.normal_force.max(0.0);
-            network.sliding.push(c.friction > 0.0 && c.tangential_force.abs() >= limit * (1.0 - SLIDING_TOLERANCE));
+            network.sliding.push(c.is_sliding());
         }
         network
     }

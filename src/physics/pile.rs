@@ -50,9 +50,18 @@ pub struct PileContact {
     pub overlap_ratio: f64,
 }
 
+/// Relative tolerance of "at the Coulomb limit" in [`PileContact::is_sliding`].
+const SLIDING_TOLERANCE: f64 = 1e-9;
+
 impl PileContact {
     fn carries_force(&self) -> bool {
         self.normal_force > 0.0
+    }
+
+    /// Whether the contact has friction and its tangential force sits on the Coulomb limit `μ F_n`.
+    pub fn is_sliding(&self) -> bool {
+        self.friction > 0.0
+            && self.tangential_force.abs() >= self.friction * self.normal_force * (1.0 - SLIDING_TOLERANCE)
     }
     fn disks(&self) -> Option<(usize, usize)> {
         match self.partner {
@@ -212,8 +221,7 @@ impl<'a> Pile<'a> {
     /// Share of the frictional contacts at the Coulomb limit.
     pub fn sliding_fraction(&self) -> f64 {
         let frictional = || self.carrying.iter().filter(|c| c.friction > 0.0);
-        let sliding =
-            frictional().filter(|c| c.tangential_force.abs() >= c.friction * c.normal_force * (1.0 - 1e-9)).count();
+        let sliding = frictional().filter(|c| c.is_sliding()).count();
         ratio(sliding, frictional().count())
     }
 

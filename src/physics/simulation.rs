@@ -409,7 +409,7 @@ mod tests {
         }
         sim.compute_forces::<true>();
         let p = &sim.particles;
-        let sliding = contacts.iter().filter(|c| c.tangential_force.abs() >= c.friction * c.normal_force).count();
+        let sliding = contacts.iter().filter(|c| c.is_sliding()).count();
         assert!(contacts.len() > n && sliding > 0, "{} contacts, {sliding} sliding", contacts.len());
         assert_eq!(sim.totals.contacts as usize, contacts.len());
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
