@@ -38,7 +38,7 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
             .lines()
             .map(|line| {
                 let v: Vec<f64> = line.split(' ').map(|b| f64::from_bits(b.parse().expect("cached bits"))).collect();
-                InitialDisk { x: v[0], y: v[1], r: v[2], vx: v[3], vy: v[4], omega: v[5] }
+                InitialDisk { x: v[0], y: v[1], r: v[2], vx: v[3], vy: v[4], omega: v[5], ..Default::default() }
             })
             .collect();
     }
@@ -49,7 +49,15 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
     }
     let p = sim.particles();
     let state: Vec<InitialDisk> = (0..p.len())
-        .map(|i| InitialDisk { x: p.x[i], y: p.y[i], r: p.r[i], vx: p.vx[i], vy: p.vy[i], omega: p.omega[i] })
+        .map(|i| InitialDisk {
+            x: p.x[i],
+            y: p.y[i],
+            r: p.r[i],
+            vx: p.vx[i],
+            vy: p.vy[i],
+            omega: p.omega[i],
+            ..Default::default()
+        })
         .collect();
     let text: String = state
         .iter()

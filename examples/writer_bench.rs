@@ -153,6 +153,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         vx: field(&mut noise, 1e-4),
         vy: field(&mut noise, 1e-4),
         omega: field(&mut noise, 1e-3),
+        angle: field(&mut noise, 6.0),
         r: vec![0.01; DISKS],
         contact_force: field(&mut noise, 5.0),
         ..Default::default()

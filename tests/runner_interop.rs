@@ -115,10 +115,12 @@ fn snapshot(s: &demsweep::physics::record::Snapshot) -> Value {
         ("vx", json!(s.vx)),
         ("vy", json!(s.vy)),
         ("omega", json!(s.omega)),
+        ("angle", json!(s.angle)),
         ("r", json!(s.r)),
         ("contact_force", json!(s.contact_force)),
     ];
-    table(f, json!({"time": s.time}))
+    let units = ["m", "m", "m/s", "m/s", "rad/s", "rad", "m", "N"];
+    table(f, json!({"time": s.time, "units": units}))
 }
 
 fn contacts(s: &demsweep::physics::record::Snapshot) -> Value {
@@ -134,6 +136,8 @@ fn contacts(s: &demsweep::physics::record::Snapshot) -> Value {
         ("point_x", json!(c.point_x)),
         ("point_y", json!(c.point_y)),
         ("sliding", json!(c.sliding)),
+        ("tangential_spring", json!(c.tangential_spring)),
+        ("law_state", json!(c.law_state)),
     ];
     table(f, json!({"time": s.time}))
 }

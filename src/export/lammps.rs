@@ -1,7 +1,8 @@
 //! LAMMPS data files for `atom_style sphere` (`units si`, `dimension 2`): one atom per disk with its
 //! diameter, a density giving the disk's mass, position (z = 0), velocity and angular velocity; the
 //! box is the scene's (x from the left to the right wall, y from the floor to the lid or the pile's
-//! top) with a thin z slab, as LAMMPS asks of 2D systems.
+//! top) with a thin z slab, as LAMMPS asks of 2D systems. `atom_style sphere` has no rotation angle
+//! (LAMMPS integrates none for spheres), so the disks' angles are not in the file.
 
 use std::f64::consts::PI;
 use std::io::Write;

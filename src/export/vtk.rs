@@ -2,7 +2,8 @@
 //! per run and part.
 //!
 //! - `<run>_<label>_disks.vtp`: one vertex per disk at its centre (z = 0); point data `id`, `radius`
-//!   (m), `velocity` (m/s), `angular_velocity` (rad/s, along z), `contact_force` (sum of |F|, N).
+//!   (m), `velocity` (m/s), `angular_velocity` (rad/s, along z), `angle` (rotation about z, rad,
+//!   counter-clockwise), `contact_force` (sum of |F|, N).
 //! - `<run>_<label>_contacts.vtp`: one line per contact, from the first disk's centre to the second's
 //!   (or to the contact point on a wall); cell data `first`, `second` (wall `−1 − k`), `normal`,
 //!   `normal_force`, `tangential_force` (N), `force` (the contact force on `first`, N), `overlap` (m),
@@ -123,6 +124,7 @@ fn disks(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
     array(out, "Float64", "radius", 1, s.r.iter())?;
     array(out, "Float64", "velocity", 3, (0..n).flat_map(|i| [s.vx[i], s.vy[i], 0.0]))?;
     array(out, "Float64", "angular_velocity", 3, s.omega.iter().flat_map(|&w| [0.0, 0.0, w]))?;
+    array(out, "Float64", "angle", 1, s.angle.iter())?;
     array(out, "Float64", "contact_force", 1, s.contact_force.iter())?;
     writeln!(out, "</PointData>")?;
     points(out, (0..n).map(|i| [s.x[i], s.y[i]]))?;

@@ -4,7 +4,8 @@
 //! /                        root attributes: see `header`
 //! /runs/b0000/r0007        one group per run (bucket `b<index / 100>`); attributes: summary row + scene
 //!     history              compound table, one field per series, one row per sample
-//!     final                compound table, one field per disk property, one row per disk (attr `time`)
+//!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
+//!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
 //!     final_contacts       compound table, one field per contact property, one row per contact
 //!                          (attr `time`; see `CONTACT_FIELDS`), stored with `final`
 //!     frames/<k>           the state table of recorded frame k (attribute `time`); k zero-padded to
@@ -24,7 +25,7 @@ use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::material::{Elastic, Materials, restitution_from_beta};
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, HISTORY_SERIES, OUTCOME, SeriesValues};
-use crate::physics::record::{History, RunStatus, Snapshot};
+use crate::physics::record::{DISK_FIELDS, History, RunStatus, Snapshot};
 use crate::study::ParamValue;
 
 /// Runs per bucket group under `/runs`.
@@ -64,8 +65,8 @@ pub fn history_table(h: &History) -> [(&'static str, Field<'_>); HISTORY_SERIES.
     })
 }
 
-/// Attribute of the `history` table listing the unit of each field, in field order (empty when
-/// dimensionless); each `/summary` dataset has attributes `unit` and `description`.
+/// Attribute of the `history` and state tables listing the unit of each field, in field order (empty
+/// when dimensionless); each `/summary` dataset has attributes `unit` and `description`.
 pub const UNITS: &str = "units";
 
 /// The units of the history table's fields, in order.
@@ -73,28 +74,23 @@ pub fn history_units() -> AttrValue {
     AttrValue::StringArray(HISTORY_SERIES.iter().map(|s| s.quantity.unit.to_string()).collect())
 }
 
-/// The state table of a snapshot: one field per disk property, in the order of [`STATE_FIELDS`].
-pub fn state_table(s: &Snapshot) -> [(&'static str, Field<'_>); 7] {
-    [
-        ("x", Field::F64(&s.x)),
-        ("y", Field::F64(&s.y)),
-        ("vx", Field::F64(&s.vx)),
-        ("vy", Field::F64(&s.vy)),
-        ("omega", Field::F64(&s.omega)),
-        ("r", Field::F64(&s.r)),
-        ("contact_force", Field::F64(&s.contact_force)),
-    ]
+/// The units of the state tables' fields ([`DISK_FIELDS`]), in order (attribute [`UNITS`]).
+pub fn state_units() -> AttrValue {
+    AttrValue::StringArray(DISK_FIELDS.iter().map(|f| f.unit.to_string()).collect())
 }
 
-/// State fields: the fields of the `final` and `frames/<k>` tables.
-pub const STATE_FIELDS: [&str; 7] = ["x", "y", "vx", "vy", "omega", "r", "contact_force"];
+/// The state table of a snapshot: one field per disk property of [`DISK_FIELDS`], in its order.
+pub fn state_table(s: &Snapshot) -> [(&'static str, Field<'_>); DISK_FIELDS.len()] {
+    DISK_FIELDS.map(|field| (field.name, Field::F64((field.values)(s))))
+}
 
 /// Contact fields: the fields of the `final_contacts` and `frame_contacts/<k>` tables (see
 /// [`ContactNetwork`]): `first` disk index (`u32`), `second` disk index or wall `−1 − k` (`i64`; 0 floor,
 /// 1 left, 2 right, 3 lid), unit normal from first to second, normal force (N, repulsive positive),
 /// tangential force on `first` along `(−n_y, n_x)` (N), overlap (m), contact point (m), `sliding`
-/// (`u8`: 1 when the tangential force sits on the Coulomb limit).
-pub const CONTACT_FIELDS: [&str; 10] = [
+/// (`u8`: 1 when the tangential force sits on the Coulomb limit), and the contact's history: the
+/// tangential spring (m) and the law's state (a number; the hysteretic law's largest overlap, m).
+pub const CONTACT_FIELDS: [&str; 12] = [
     "first",
     "second",
     "normal_x",
@@ -105,10 +101,12 @@ pub const CONTACT_FIELDS: [&str; 10] = [
     "point_x",
     "point_y",
     "sliding",
+    "tangential_spring",
+    "law_state",
 ];
 
 /// The contact table of a network: one field per contact property, in the order of [`CONTACT_FIELDS`].
-pub fn contact_table(c: &ContactNetwork) -> [(&'static str, Field<'_>); 10] {
+pub fn contact_table(c: &ContactNetwork) -> [(&'static str, Field<'_>); CONTACT_FIELDS.len()] {
     [
         ("first", Field::U32(&c.first)),
         ("second", Field::I64(&c.second)),
@@ -120,6 +118,8 @@ pub fn contact_table(c: &ContactNetwork) -> [(&'static str, Field<'_>); 10] {
         ("point_x", Field::F64(&c.point_x)),
         ("point_y", Field::F64(&c.point_y)),
         ("sliding", Field::Bool(&c.sliding)),
+        ("tangential_spring", Field::F64(&c.tangential_spring)),
+        ("law_state", Field::F64(&c.law_state)),
     ]
 }
 

@@ -5,14 +5,14 @@ use std::path::Path;
 
 use hdf5_pure::{Dataset, File};
 
-use super::layout::{self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES, STATE_FIELDS};
+use super::layout::{self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES};
 use super::row::SummaryRow;
 use super::table::ColumnData;
 use super::{OutputError, compound, hdf5_error};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::HISTORY_SERIES;
-use crate::physics::record::{History, Snapshot};
+use crate::physics::record::{DISK_FIELDS, History, Snapshot};
 
 /// A run as stored: what was written for it (the parts the study's output options left out are
 /// `None` or empty, as are all of them for a run that failed with an error).
@@ -89,9 +89,26 @@ fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<St
 fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, String> {
     let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
     let mut table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
+    let contacts = table.get(CONTACT_FIELDS[0]).map_or(0, ColumnData::len);
+    // The history fields are newer than the rest: a file without them has no history (zeros).
+    for name in ["tangential_spring", "law_state"] {
+        table.entry(name.to_string()).or_insert_with(|| ColumnData::Float(vec![0.0; contacts]));
+    }
     let mut take = |name: &str| table.remove(name).ok_or(format!("no field `{name}`"));
-    let [first, second, normal_x, normal_y, normal_force, tangential_force, overlap, point_x, point_y, sliding] =
-        CONTACT_FIELDS.map(&mut take);
+    let [
+        first,
+        second,
+        normal_x,
+        normal_y,
+        normal_force,
+        tangential_force,
+        overlap,
+        point_x,
+        point_y,
+        sliding,
+        tangential_spring,
+        law_state,
+    ] = CONTACT_FIELDS.map(&mut take);
     let ints = |c: Result<ColumnData, String>| match c? {
         ColumnData::Int(v) => Ok(v),
         _ => Err("an index field is not an integer".to_string()),
@@ -112,6 +129,8 @@ fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<Contact
         point_x: floats(point_x)?,
         point_y: floats(point_y)?,
         sliding,
+        tangential_spring: floats(tangential_spring)?,
+        law_state: floats(law_state)?,
     })
 }
 
@@ -127,18 +146,15 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
     let time = dataset.attrs().map_err(|e| e.to_string())?.get("time").and_then(|a| a.as_f64());
     let time = time.ok_or("no `time` attribute")?;
     let table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
-    let [x, y, vx, vy, omega, r, contact_force] = STATE_FIELDS.map(|name| floats(&table, name));
-    Ok(Snapshot {
-        time,
-        x: x?,
-        y: y?,
-        vx: vx?,
-        vy: vy?,
-        omega: omega?,
-        r: r?,
-        contact_force: contact_force?,
-        ..Default::default()
-    })
+    let mut snapshot = Snapshot { time, ..Default::default() };
+    let disks = table.get(DISK_FIELDS[0].name).map_or(0, ColumnData::len);
+    for field in &DISK_FIELDS {
+        *(field.values_mut)(&mut snapshot) = match field.when_absent {
+            Some(value) if !table.contains_key(field.name) => vec![value; disks],
+            _ => floats(&table, field.name)?,
+        };
+    }
+    Ok(snapshot)
 }
 
 /// The history series of [`HISTORY_SERIES`] from the columns of a `history` table (a series the

@@ -309,11 +309,12 @@ fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOpti
     }
 }
 
-/// A snapshot as a state table with attribute `time`.
+/// A snapshot as a state table with attributes `time` and `units`.
 fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     g.create_dataset(name, |b| {
         stage_table(b, &layout::state_table(s));
         b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
+        b.set_attr(layout::UNITS, layout::state_units());
     });
 }
 

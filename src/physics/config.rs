@@ -91,8 +91,12 @@ pub struct PlacementConfig {
     pub lattice_gap: f64,
     /// Lattice: hexagonal (true) or square (false) rows.
     pub lattice_hexagonal: bool,
-    /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega` columns (read by the caller).
+    /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega,angle` columns (read by
+    /// the caller).
     pub file: Option<String>,
+    /// File placement: path of a CSV with the contacts' history (tangential springs, law states) to
+    /// start from, as `demsweep export --format csv` writes it (read by the caller; a restart).
+    pub contacts: Option<String>,
     /// Random placement tries per disk before giving up.
     pub max_attempts: u32,
 }
@@ -309,6 +313,7 @@ impl Default for PlacementConfig {
             lattice_gap: 0.05,
             lattice_hexagonal: false,
             file: None,
+            contacts: None,
             max_attempts: 10_000,
         }
     }
@@ -480,6 +485,9 @@ impl SceneConfig {
         }
         if self.placement.kind == PlacementKind::File && self.placement.file.is_none() {
             c.fail("placement.file", "placement.kind = \"file\" needs placement.file (a CSV path)");
+        }
+        if self.placement.kind != PlacementKind::File && self.placement.contacts.is_some() {
+            c.fail("placement.contacts", "a contact history needs its disks: set placement.kind = \"file\"");
         }
         c.non_negative("placement.lattice_gap", self.placement.lattice_gap);
         if self.placement.max_attempts == 0 {

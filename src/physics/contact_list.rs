@@ -2,7 +2,7 @@
 //! It uses the same per-contact arithmetic as the step's block stages
 //! ([`forces`](super::forces)), so it gives the forces the next step would compute, to the bit.
 
-use super::contact::{ContactForce, ContactLaw};
+use super::contact::{ContactForce, ContactLaw, ContactState};
 use super::forces::{ContactParameters, relative_motion, unit_normal_and_overlap};
 use super::neighbors::NeighborList;
 use super::particles::Particles;
@@ -35,7 +35,7 @@ pub(super) fn contacts<L: ContactLaw>(
             let history = (pairs.springs[k], pairs.states[k]);
             let force = disk_kind.force_of(law, (pair.r_star, pair.m_star), &motion, history);
             let ratio = overlap / p.r[i].min(p.r[j]);
-            contacts.push(pile_contact(i, Partner::Disk(j), normal, force, disk_kind, ratio));
+            contacts.push(pile_contact(i, Partner::Disk(j), normal, (force, history), disk_kind, ratio));
         }
     }
     let candidates = &neighbors.walls;
@@ -47,17 +47,19 @@ pub(super) fn contacts<L: ContactLaw>(
             let motion = relative_motion(overlap, wall.normal, [p.vx[i], p.vy[i]], [p.omega[i] * p.r[i], 0.0]);
             let history = (candidates.springs[k], candidates.states[k]);
             let force = wall_kind.force_of(law, (p.r[i], candidate.m_star), &motion, history);
-            contacts.push(pile_contact(i, Partner::Wall(w), wall.normal, force, wall_kind, overlap / p.r[i]));
+            let resolved = (force, history);
+            contacts.push(pile_contact(i, Partner::Wall(w), wall.normal, resolved, wall_kind, overlap / p.r[i]));
         }
     }
     contacts
 }
 
-fn pile_contact(
+/// A contact with its force and the history it was computed from (tangential spring, law state).
+fn pile_contact<S: ContactState>(
     disk: usize,
     partner: Partner,
     normal: [f64; 2],
-    force: ContactForce,
+    (force, (spring, state)): (ContactForce, (f64, S)),
     kind: &ContactParameters,
     overlap_ratio: f64,
 ) -> PileContact {
@@ -69,5 +71,6 @@ fn pile_contact(
         tangential_force: force.tangential,
         friction: if kind.options.tangential { kind.options.friction } else { 0.0 },
         overlap_ratio,
+        history: (spring, state.to_number()),
     }
 }

@@ -31,6 +31,13 @@ pub struct ContactNetwork {
     pub point_y: Vec<f64>,
     /// Whether the tangential force sits on the Coulomb limit `μ F_n` ([`PileContact::is_sliding`]).
     pub sliding: Vec<bool>,
+    /// Tangential spring ξ (m), the contact's history as the next step starts from it.
+    #[serde(default)]
+    pub tangential_spring: Vec<f64>,
+    /// The contact law's own state as a number ([`super::contact::ContactState`]; `hysteretic_linear`:
+    /// the largest overlap so far, m; 0 for laws without).
+    #[serde(default)]
+    pub law_state: Vec<f64>,
 }
 
 impl ContactNetwork {
@@ -60,6 +67,8 @@ impl ContactNetwork {
             network.point_x.push(p.x[i] + reach * nx);
             network.point_y.push(p.y[i] + reach * ny);
             network.sliding.push(c.is_sliding());
+            network.tangential_spring.push(c.history.0);
+            network.law_state.push(c.history.1);
         }
         network
     }

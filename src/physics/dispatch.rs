@@ -5,7 +5,7 @@
 use super::config::SceneConfig;
 use super::contact::{LawVisitor, RegisteredLaw};
 use super::material::Materials;
-use super::particles::{InitialDisk, Particles};
+use super::particles::{InitialContact, InitialDisk, Particles};
 use super::record::RunRecord;
 use super::simulation::{Control, Progress, Simulation};
 use super::stability::{self, StabilityReport};
@@ -19,6 +19,18 @@ pub fn run_scene(
     disks: Option<Vec<InitialDisk>>,
     observer: &mut dyn FnMut(&Progress) -> Control,
 ) -> Result<RunRecord, String> {
+    run_scene_with_history(scene, disks, None, observer)
+}
+
+/// [`run_scene`] with the contacts starting from the history `contacts` (a restart from a pile, see
+/// [`Simulation::with_history`]): the history the scene's `placement.contacts` names, read by the
+/// caller (an error if the scene names one and none is given, or the other way round).
+pub fn run_scene_with_history(
+    scene: &SceneConfig,
+    disks: Option<Vec<InitialDisk>>,
+    contacts: Option<&[InitialContact]>,
+    observer: &mut dyn FnMut(&Progress) -> Control,
+) -> Result<RunRecord, String> {
     if let Err(issues) = scene.validate() {
         return Err(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "));
     }
@@ -29,18 +41,24 @@ pub fn run_scene(
     if disks.is_empty() {
         return Err("particles.count: a scene needs at least one disk, got 0".into());
     }
+    match (&scene.placement.contacts, contacts) {
+        (Some(file), None) => return Err(format!("placement.contacts: the contact history {file} was not read")),
+        (None, Some(_)) => return Err("placement.contacts: a contact history given to a scene that names none".into()),
+        _ => {}
+    }
     struct Run<'a> {
         scene: &'a SceneConfig,
         disks: &'a [InitialDisk],
+        contacts: &'a [InitialContact],
         observer: &'a mut dyn FnMut(&Progress) -> Control,
     }
     impl LawVisitor for Run<'_> {
         type Output = RunRecord;
         fn visit<L: RegisteredLaw>(self, law: &L) -> RunRecord {
-            Simulation::with_law(self.scene, self.disks, law.clone()).run(self.observer)
+            Simulation::with_history(self.scene, self.disks, self.contacts, law.clone()).run(self.observer)
         }
     }
-    Ok(scene.contact.dispatch(Run { scene, disks: &disks, observer }))
+    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts: contacts.unwrap_or_default(), observer }))
 }
 
 /// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.

@@ -590,6 +590,7 @@ mod tests {
                     vx: w,
                     vy: -0.5 * w,
                     omega: 3.0 * w,
+                    angle: 0.0,
                 }
             })
             .collect();
@@ -675,7 +676,7 @@ mod tests {
                 let off_wall = 0.01 + if k % 3 == 0 { 1e-3 } else { -1e-5 * (1.0 + w) };
                 let along = 0.05 + 0.02 * (k % 75) as f64;
                 let (x, y) = if k < 75 { (along, off_wall) } else { (off_wall, along) };
-                InitialDisk { x, y, r: 0.01, vx: w, vy: 0.3 * w - 0.1, omega: 20.0 * w }
+                InitialDisk { x, y, r: 0.01, vx: w, vy: 0.3 * w - 0.1, omega: 20.0 * w, angle: 0.0 }
             })
             .collect();
         let mut particles = Particles::new(&disks, 1000.0, 1.0);

@@ -33,12 +33,14 @@ pub struct Moved {
 #[derive(Clone, Debug)]
 pub enum Integrator {
     /// The paper's scheme (eqs 19-24): velocities by Adams-Bashforth 2 (Adams-Bashforth 1 on the first
-    /// step), positions by the trapezoid rule (Adams-Moulton 2) over the old and new velocities.
+    /// step), positions by the trapezoid rule (Adams-Moulton 2) over the old and new velocities, and
+    /// so the spins and rotation angles where rotation is computed.
     AdamsBashforthMoulton {
         /// Accelerations of the previous step, `None` before the first step.
         previous: Option<Accelerations>,
     },
     /// Velocity Verlet: half kick, drift, forces, half kick. Damping forces see the half-step velocity.
+    /// The rotation angle drifts with the half-step angular velocity, as the positions do.
     VelocityVerlet,
 }
 
@@ -57,7 +59,8 @@ pub struct StepContext {
     pub dt: f64,
     /// Gravitational acceleration (m/s²).
     pub gravity: [f64; 2],
-    /// Whether angular velocities can change (false when no torque can arise).
+    /// Whether angular velocities and rotation angles can change (false when no torque can arise and
+    /// nothing spins).
     pub rotation: bool,
     /// Numerical damping.
     pub damping: DampingConfig,
@@ -121,13 +124,16 @@ impl Integrator {
                 let (power, damping_power) = kick_either(p, c, true, disks.clone());
                 let n = disks.len();
                 let (x, y) = (&mut p.x[disks.clone()][..n], &mut p.y[disks.clone()][..n]);
-                let (vx, vy) = (&p.vx[disks.clone()][..n], &p.vy[disks][..n]);
+                let (vx, vy) = (&p.vx[disks.clone()][..n], &p.vy[disks.clone()][..n]);
                 let mut longest = vector::LargestSquare::default();
                 for i in 0..n {
                     let (step_x, step_y) = (vx[i] * c.dt, vy[i] * c.dt);
                     x[i] += step_x;
                     y[i] += step_y;
                     longest.add(step_x, step_y);
+                }
+                if c.rotation {
+                    turn(p, c.dt, disks);
                 }
                 Moved { power, longest, damping_power }
             }
@@ -207,7 +213,7 @@ fn adams_step<const DAMPED: bool>(
     }
     if c.rotation {
         let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
-        let prev_alpha = &mut prev.alpha[d()][..n];
+        let (angle, prev_alpha) = (&mut p.angle[d()][..n], &mut prev.alpha[d()][..n]);
         power += vector::lane_sum(n, |i| torque[i] * omega[i]);
         for i in 0..n {
             if DAMPED {
@@ -216,12 +222,24 @@ fn adams_step<const DAMPED: bool>(
                 torque[i] += damping;
             }
             let alpha = torque[i] * inv_inertia[i];
-            omega[i] += (3.0 * alpha - prev_alpha[i]) * h;
+            let new_omega = omega[i] + (3.0 * alpha - prev_alpha[i]) * h;
+            // The angle as the positions: trapezoid rule over the old and new angular velocities.
+            angle[i] += (omega[i] + new_omega) * h;
+            omega[i] = new_omega;
             prev_alpha[i] = alpha;
             torque[i] = 0.0;
         }
     }
     Moved { power, longest, damping_power }
+}
+
+/// The velocity Verlet drift of the angles of `disks`: `θ += ω Δt` with the half-step ω.
+fn turn(p: &mut Particles, dt: f64, disks: Range<usize>) {
+    let n = disks.len();
+    let (angle, omega) = (&mut p.angle[disks.clone()][..n], &p.omega[disks][..n]);
+    for i in 0..n {
+        angle[i] += omega[i] * dt;
+    }
 }
 
 /// [`kick`] with or without numerical damping, as the scene asks; returns the contact and damping powers.

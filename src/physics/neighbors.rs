@@ -8,8 +8,10 @@
 //! tangential springs over by a linear merge: no hashing, no allocation once buffers have grown.
 
 use super::config::BroadPhaseKind;
+use super::contact::ContactState;
 use super::material::{effective_mass, effective_radius};
-use super::particles::Particles;
+use super::particles::{InitialContact, Particles};
+use super::pile::Partner;
 use super::walls::BoxWalls;
 
 /// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per
@@ -120,6 +122,13 @@ impl<T: Keyed, S: Copy + Default> Candidates<T, S> {
         std::mem::swap(&mut self.states, &mut self.fresh_states);
         self.fresh.clear();
     }
+
+    /// Gives the entry of `key`, if there is one, the history `(spring, state)`.
+    fn seed(&mut self, key: Option<(u32, u32)>, (spring, state): (f64, S)) {
+        if let Some(k) = key.and_then(|key| self.entries.binary_search_by_key(&key, Keyed::key).ok()) {
+            (self.springs[k], self.states[k]) = (spring, state);
+        }
+    }
 }
 
 /// Verlet list with its build state; `S`: the contact law's per-contact state.
@@ -176,6 +185,22 @@ impl<S: Copy + Default> NeighborList<S> {
         }
         self.walls.swap_in_fresh();
         self.travel = 0.0;
+    }
+}
+
+impl<S: ContactState> NeighborList<S> {
+    /// Gives the candidates of `contacts` their tangential springs and law states (a restart's
+    /// contact history; call after a build). A contact whose bodies are no candidates (too far
+    /// apart to touch, or no such disk or wall) is dropped, as a step would drop it.
+    pub fn seed_histories(&mut self, contacts: &[InitialContact]) {
+        let key = |a: usize, b: usize| Some((u32::try_from(a).ok()?, u32::try_from(b).ok()?));
+        for c in contacts {
+            let history = (c.tangential_spring, S::from_number(c.law_state));
+            match c.partner {
+                Partner::Disk(j) => self.pairs.seed(key(c.disk.min(j), c.disk.max(j)), history),
+                Partner::Wall(w) => self.walls.seed(key(c.disk, w), history),
+            }
+        }
     }
 }
 

@@ -2,6 +2,8 @@
 
 use std::f64::consts::PI;
 
+use super::pile::Partner;
+
 /// Initial state of one disk (velocities default to rest).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct InitialDisk {
@@ -17,6 +19,22 @@ pub struct InitialDisk {
     pub vy: f64,
     /// Angular velocity (rad/s).
     pub omega: f64,
+    /// Rotation angle (rad), counter-clockwise positive.
+    pub angle: f64,
+}
+
+/// The history of one contact a simulation starts from (a restart): which bodies touch, the
+/// tangential spring and the law's own state (see [`super::contact::ContactState`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InitialContact {
+    /// The first disk.
+    pub disk: usize,
+    /// What it touches (for two disks, either order).
+    pub partner: Partner,
+    /// Tangential spring ξ (m).
+    pub tangential_spring: f64,
+    /// The contact law's state as a number (0 for laws without).
+    pub law_state: f64,
 }
 
 /// All disks, one array per quantity.
@@ -32,6 +50,9 @@ pub struct Particles {
     pub vy: Vec<f64>,
     /// Angular velocity (rad/s).
     pub omega: Vec<f64>,
+    /// Rotation angle (rad), counter-clockwise positive: integrated from ω where rotation is computed
+    /// (scenes with friction or an initial spin), else kept at its initial value.
+    pub angle: Vec<f64>,
     /// Radius (m).
     pub r: Vec<f64>,
     /// Mass m = ρ π R² h (kg).
@@ -62,6 +83,7 @@ impl Particles {
             vx: disks.iter().map(|d| d.vx).collect(),
             vy: disks.iter().map(|d| d.vy).collect(),
             omega: disks.iter().map(|d| d.omega).collect(),
+            angle: disks.iter().map(|d| d.angle).collect(),
             r: disks.iter().map(|d| d.r).collect(),
             mass: Vec::with_capacity(n),
             inv_mass: Vec::with_capacity(n),

@@ -48,6 +48,9 @@ pub struct PileContact {
     pub friction: f64,
     /// Overlap over the smaller radius.
     pub overlap_ratio: f64,
+    /// Tangential spring ξ (m) and the law's state as a number: the contact's history, as the
+    /// next step starts from it (what a restart needs).
+    pub history: (f64, f64),
 }
 
 /// Relative tolerance of "at the Coulomb limit" in [`PileContact::is_sliding`].
@@ -380,6 +383,7 @@ mod tests {
             tangential_force: 0.0,
             friction: 0.5,
             overlap_ratio: 1e-3,
+            history: (0.0, 0.0),
         }
     }
 

@@ -95,6 +95,9 @@ pub struct Snapshot {
     pub vy: Vec<f64>,
     /// Angular velocity (rad/s), counter-clockwise positive.
     pub omega: Vec<f64>,
+    /// Rotation angle (rad), counter-clockwise positive.
+    #[serde(default)]
+    pub angle: Vec<f64>,
     /// Radius (m).
     pub r: Vec<f64>,
     /// Sum of contact force magnitudes on each disk (N).
@@ -103,6 +106,46 @@ pub struct Snapshot {
     #[serde(default)]
     pub contacts: super::contact_network::ContactNetwork,
 }
+
+/// One per-disk column of a [`Snapshot`]: the one declaration the state tables of results files
+/// (their fields, in this order) and their read-back go by.
+pub struct DiskField {
+    /// Name in files.
+    pub name: &'static str,
+    /// SI unit symbol.
+    pub unit: &'static str,
+    /// The column of a snapshot.
+    pub values: fn(&Snapshot) -> &Vec<f64>,
+    /// The same, to fill it.
+    pub values_mut: fn(&mut Snapshot) -> &mut Vec<f64>,
+    /// The value of every disk in a file written before the field existed (`None`: required).
+    pub when_absent: Option<f64>,
+}
+
+/// A [`DiskField`] for the `Snapshot` field `$field`.
+macro_rules! disk_field {
+    ($field:ident, $unit:literal, $when_absent:expr) => {
+        DiskField {
+            name: stringify!($field),
+            unit: $unit,
+            values: |s| &s.$field,
+            values_mut: |s| &mut s.$field,
+            when_absent: $when_absent,
+        }
+    };
+}
+
+/// The per-disk columns of a snapshot, in file order.
+pub const DISK_FIELDS: [DiskField; 8] = [
+    disk_field!(x, "m", None),
+    disk_field!(y, "m", None),
+    disk_field!(vx, "m/s", None),
+    disk_field!(vy, "m/s", None),
+    disk_field!(omega, "rad/s", None),
+    disk_field!(angle, "rad", Some(0.0)),
+    disk_field!(r, "m", None),
+    disk_field!(contact_force, "N", None),
+];
 
 /// Everything one run produces.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -17,7 +17,7 @@ use super::integrator::{Integrator, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
-use super::particles::{InitialDisk, Particles};
+use super::particles::{InitialContact, InitialDisk, Particles};
 use super::pile::{PileContact, PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::rolling;
@@ -91,6 +91,14 @@ impl<L: ContactLaw> Simulation<L> {
     /// A simulation of `scene` with contact law `law` (whatever `scene.contact.law` says: for laws
     /// outside the registry), at time zero with forces evaluated at the initial state.
     pub fn with_law(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
+        Self::with_history(scene, disks, &[], law)
+    }
+
+    /// [`Self::with_law`], the contacts starting from the history `contacts` (a restart: the
+    /// tangential springs and law states a pile's contacts had) instead of from none. Contacts whose
+    /// bodies are too far apart to touch are dropped. The history is set once, at the first
+    /// neighbour-list build: the step loop does not know of it.
+    pub fn with_history(scene: &SceneConfig, disks: &[InitialDisk], contacts: &[InitialContact], law: L) -> Self {
         let resolved = time_step::resolve(&law, scene, Some(disks));
         let scene = &with_time_step(scene, resolved.dt);
         let materials = Materials::from_scene(scene);
@@ -125,6 +133,7 @@ impl<L: ContactLaw> Simulation<L> {
             totals: ContactTotals::default(),
         };
         sim.neighbors.rebuild(&sim.particles, &sim.walls);
+        sim.neighbors.seed_histories(contacts);
         sim.compute_forces::<true>();
         sim.energy.initial_elastic = sim.totals.elastic;
         sim
@@ -227,6 +236,7 @@ impl<L: ContactLaw> Simulation<L> {
             vx: p.vx.clone(),
             vy: p.vy.clone(),
             omega: p.omega.clone(),
+            angle: p.angle.clone(),
             r: p.r.clone(),
             contact_force: p.contact_force.clone(),
             contacts: ContactNetwork::new(contacts, p),

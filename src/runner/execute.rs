@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::output::{RunResult, SummaryRow};
 use crate::physics::RunStatus;
-use crate::physics::run_scene;
+use crate::physics::run_scene_with_history;
 use crate::physics::simulation::{Control, Progress};
 use crate::study::PlannedRun;
 
@@ -20,7 +20,9 @@ pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Pro
         observe(p);
         if stop.load(Ordering::Relaxed) { Control::Stop } else { Control::Continue }
     };
-    let outcome = catch_unwind(AssertUnwindSafe(|| run_scene(&run.scene, initial, &mut observer)));
+    let contacts = run.initial_contacts.as_deref().map(Vec::as_slice);
+    let outcome =
+        catch_unwind(AssertUnwindSafe(|| run_scene_with_history(&run.scene, initial, contacts, &mut observer)));
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
         Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),

@@ -1,89 +1,196 @@
 //! Placement files: initial disk states as CSV with a header line. Columns `x,y` (m) are required;
-//! `r` (m), `vx,vy` (m/s) and `omega` (rad/s) are optional, in any order; `id` and `contact_force`
-//! (written by `demsweep export --format csv`) are allowed and not read. Blank lines and lines
-//! starting with `#` are skipped.
+//! `r` (m), `vx,vy` (m/s), `omega` (rad/s) and `angle` (rad) are optional, in any order; `id` and
+//! `contact_force` (written by `demsweep export --format csv`) are allowed and not read. Blank lines
+//! and lines starting with `#` are skipped.
+//!
+//! Contact files (`placement.contacts`, written by the same export as `<run>_<state>_contacts.csv`):
+//! the contact history of a restart, one row per contact, columns `first` (a disk: its row in the
+//! placement file, from 0), `second` (a disk, or wall `−1 − k`: 0 floor, 1 left, 2 right, 3 lid),
+//! `tangential_spring` (m) and `law_state` (the contact law's state; optional, 0 by default), in
+//! any order, same rules (no rows: no contacts).
 
 use std::path::Path;
 
-use crate::physics::particles::InitialDisk;
+use crate::physics::particles::{InitialContact, InitialDisk};
+use crate::physics::pile::Partner;
 
 /// The columns a placement file may have: the disk state, then the ones that are not read.
-const COLUMNS: [&str; 8] = ["x", "y", "r", "vx", "vy", "omega", "id", "contact_force"];
+const COLUMNS: [&str; 9] = ["x", "y", "r", "vx", "vy", "omega", "angle", "id", "contact_force"];
+/// Of [`COLUMNS`], the required ones (x and y).
+const REQUIRED: usize = 2;
 
-/// Largest placement file read (bytes): a million disks with every column take about 100 MB.
+/// The columns of a contact file, the first three required.
+const CONTACT_COLUMNS: [&str; 4] = ["first", "second", "tangential_spring", "law_state"];
+
+/// Largest placement (or contact) file read (bytes): a million disks with every column take about 100 MB.
 pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
 
 /// Reads the disks of a placement CSV (at most [`MAX_PLACEMENT_BYTES`], a leading byte-order mark
 /// skipped); errors name the file, line and column.
 pub fn read(path: &Path, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
-    let text = super::file::read_text(path, MAX_PLACEMENT_BYTES)
-        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    parse(&text, default_radius).map_err(|e| format!("{}: {e}", path.display()))
+    parse(&read_text(path)?, default_radius).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Reads the contact history of a contact CSV for a placement of `disks` disks in a box of `walls`
+/// walls; errors name the file, line and column.
+pub fn read_contacts(path: &Path, disks: usize, walls: usize) -> Result<Vec<InitialContact>, String> {
+    parse_contacts(&read_text(path)?, disks, walls).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn read_text(path: &Path) -> Result<String, String> {
+    super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(|e| format!("{}: cannot read: {e}", path.display()))
 }
 
 /// Parses placement CSV text; disks without an `r` column get `default_radius`.
 /// Errors name the line (1-based) and, for a bad value, the column number and name.
 pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, line)| (i + 1, line.trim()))
-        .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'));
-    let Some((header_line, header)) = lines.next() else {
-        return Err("line 1: empty file: expected a header line like `x,y,r`".into());
-    };
-    let columns = header_columns(header).map_err(|e| format!("line {header_line}: {e}"))?;
-    let disks =
-        lines.map(|(number, line)| parse_row(line, &columns, default_radius).map_err(|e| format!("line {number}{e}")));
-    let disks = disks.collect::<Result<Vec<_>, _>>()?;
-    if disks.is_empty() {
-        return Err(format!("line {header_line}: the file has a header but no disks"));
+    let mut defaults = [0.0; COLUMNS.len()];
+    defaults[2] = default_radius;
+    let rows = Table::parse(text, &COLUMNS, REQUIRED)?;
+    if rows.rows.is_empty() {
+        return Err(format!("line {}: the file has a header but no disks", rows.header_line));
     }
-    Ok(disks)
+    let disks = rows.rows.iter().map(|(number, values)| {
+        let row = rows.values(values, &defaults);
+        if row[2] <= 0.0 {
+            return Err(format!("line {number}{}: a radius must be > 0, got {}", rows.at(2), row[2]));
+        }
+        let [x, y, r, vx, vy, omega, angle, _id, _contact_force] = row;
+        Ok(InitialDisk { x, y, r, vx, vy, omega, angle })
+    });
+    disks.collect()
 }
 
-/// Index into [`COLUMNS`] of each header field.
-fn header_columns(header: &str) -> Result<Vec<usize>, String> {
-    let mut columns = Vec::new();
+/// Parses contact CSV text for `disks` disks and `walls` walls; errors name the line and column.
+pub fn parse_contacts(text: &str, disks: usize, walls: usize) -> Result<Vec<InitialContact>, String> {
+    let rows = Table::parse(text, &CONTACT_COLUMNS, 3)?;
+    let contacts = rows.rows.iter().map(|(number, values)| {
+        let [first, second, tangential_spring, law_state] = rows.values(values, &[0.0; 4]);
+        let at = |column: usize, why: String| format!("line {number}{}: {why}", rows.at(column));
+        let index = |column: usize, value: f64| {
+            let whole = value.fract() == 0.0 && value.abs() < 1e15;
+            whole.then_some(value as i64).ok_or_else(|| at(column, format!("{value} is not a whole number")))
+        };
+        let (first, second) = (index(0, first)?, index(1, second)?);
+        let disk = |column: usize, i: i64| {
+            usize::try_from(i).ok().filter(|&i| i < disks).ok_or_else(|| {
+                at(
+                    column,
+                    format!("disk {i} is out of range: the placement file has {disks} disks (0 to {})", disks - 1),
+                )
+            })
+        };
+        let disk_first = disk(0, first)?;
+        let partner = if second >= 0 {
+            let j = disk(1, second)?;
+            if j == disk_first {
+                return Err(at(1, format!("a disk ({j}) cannot touch itself")));
+            }
+            Partner::Disk(j)
+        } else {
+            let wall = usize::try_from(-1 - second).ok().filter(|&w| w < walls).ok_or_else(|| {
+                at(
+                    1,
+                    format!(
+                        "wall {second} does not exist: the box has {walls} walls (-1 floor to {})",
+                        -(walls as i64)
+                    ),
+                )
+            })?;
+            Partner::Wall(wall)
+        };
+        Ok(InitialContact { disk: disk_first, partner, tangential_spring, law_state })
+    });
+    contacts.collect()
+}
+
+/// The data rows of a CSV text with a header naming some of `columns` (the first `required` of
+/// them required), each row's values in header order with its line number.
+struct Table<'a> {
+    columns: &'a [&'a str],
+    /// Index into `columns` of each header field.
+    header: Vec<usize>,
+    /// The header's line number.
+    header_line: usize,
+    rows: Vec<(usize, Vec<f64>)>,
+}
+
+impl<'a> Table<'a> {
+    /// Reads the header and the rows (every value a finite number).
+    fn parse(text: &str, columns: &'a [&'a str], required: usize) -> Result<Self, String> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, line)| (i + 1, line.trim()))
+            .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'));
+        let Some((header_line, header)) = lines.next() else {
+            let example = columns[..required].join(",");
+            return Err(format!("line 1: empty file: expected a header line like `{example}`"));
+        };
+        let header = header_columns(header, columns, required).map_err(|e| format!("line {header_line}: {e}"))?;
+        let mut table = Self { columns, header, header_line, rows: Vec::new() };
+        for (number, line) in lines {
+            let values = table.parse_row(line).map_err(|e| format!("line {number}{e}"))?;
+            table.rows.push((number, values));
+        }
+        Ok(table)
+    }
+
+    /// One data line's values; errors start with what follows the line number (", column ..." or ": ...").
+    fn parse_row(&self, line: &str) -> Result<Vec<f64>, String> {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != self.header.len() {
+            return Err(format!(": has {} fields but the header has {}", fields.len(), self.header.len()));
+        }
+        let values = fields.iter().enumerate().map(|(position, field)| {
+            let at = || format!(", column {} ({})", position + 1, self.columns[self.header[position]]);
+            let value: f64 = field.parse().map_err(|_| format!("{}: \"{field}\" is not a number", at()))?;
+            if !value.is_finite() {
+                return Err(format!("{}: must be finite, got {field}", at()));
+            }
+            Ok(value)
+        });
+        values.collect()
+    }
+
+    /// A row's values in the order of `columns`, `defaults` where the header lacks a column.
+    fn values<const N: usize>(&self, row: &[f64], defaults: &[f64; N]) -> [f64; N] {
+        let mut values = *defaults;
+        for (&column, &value) in self.header.iter().zip(row) {
+            values[column] = value;
+        }
+        values
+    }
+
+    /// ", column K (name)" for column `column` of `columns` as the header places it.
+    fn at(&self, column: usize) -> String {
+        let position = self.header.iter().position(|&c| c == column).unwrap_or(column);
+        format!(", column {} ({})", position + 1, self.columns[column])
+    }
+}
+
+/// Index into `columns` of each header field; the first `required` columns must be there.
+fn header_columns(header: &str, columns: &[&str], required: usize) -> Result<Vec<usize>, String> {
+    let mut found = Vec::new();
     for name in header.split(',').map(str::trim) {
-        let Some(k) = COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(name)) else {
+        let Some(k) = columns.iter().position(|c| c.eq_ignore_ascii_case(name)) else {
+            let (must, may) = columns.split_at(required);
             return Err(format!(
-                "unknown column \"{name}\" (expected x, y and optionally r, vx, vy, omega, id, contact_force)"
+                "unknown column \"{name}\" (expected {} and optionally {})",
+                must.join(", "),
+                may.join(", ")
             ));
         };
-        if columns.contains(&k) {
+        if found.contains(&k) {
             return Err(format!("column \"{name}\" appears twice"));
         }
-        columns.push(k);
+        found.push(k);
     }
-    for required in [0, 1] {
-        if !columns.contains(&required) {
-            return Err(format!("the header has no \"{}\" column (x and y are required)", COLUMNS[required]));
-        }
+    if let Some(missing) = columns[..required].iter().enumerate().find(|(k, _)| !found.contains(k)) {
+        let list = columns[..required].join(", ");
+        return Err(format!("the header has no \"{}\" column ({list} are required)", missing.1));
     }
-    Ok(columns)
-}
-
-/// One disk from a data line; errors start with what follows the line number (", column ..." or ": ...").
-fn parse_row(line: &str, columns: &[usize], default_radius: f64) -> Result<InitialDisk, String> {
-    let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-    if fields.len() != columns.len() {
-        return Err(format!(": has {} fields but the header has {}", fields.len(), columns.len()));
-    }
-    let mut values = [0.0, 0.0, default_radius, 0.0, 0.0, 0.0, 0.0, 0.0];
-    for (position, (&column, field)) in columns.iter().zip(&fields).enumerate() {
-        let at = || format!(", column {} ({})", position + 1, COLUMNS[column]);
-        let value: f64 = field.parse().map_err(|_| format!("{}: \"{field}\" is not a number", at()))?;
-        if !value.is_finite() {
-            return Err(format!("{}: must be finite, got {field}", at()));
-        }
-        if column == 2 && value <= 0.0 {
-            return Err(format!("{}: a radius must be > 0, got {field}", at()));
-        }
-        values[column] = value;
-    }
-    let [x, y, r, vx, vy, omega, _id, _contact_force] = values;
-    Ok(InitialDisk { x, y, r, vx, vy, omega })
+    Ok(found)
 }
 
 #[cfg(test)]
@@ -94,17 +201,61 @@ mod tests {
     fn optional_columns_in_any_order_and_default_radius() {
         let disks = parse("# initial state\ny, omega, x\n0.5,2,0.1\n\n0.25,0,0.3\n", 0.01).unwrap();
         assert_eq!(disks.len(), 2);
-        assert_eq!(disks[0], InitialDisk { x: 0.1, y: 0.5, r: 0.01, vx: 0.0, vy: 0.0, omega: 2.0 });
+        assert_eq!(disks[0], InitialDisk { x: 0.1, y: 0.5, r: 0.01, omega: 2.0, ..Default::default() });
         assert_eq!(disks[1].x, 0.3);
         let with_r = parse("x,y,r,vx,vy\n1,2,0.5,-1,3e-1\n", 0.01).unwrap();
-        assert_eq!(with_r[0], InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 0.3, omega: 0.0 });
+        assert_eq!(with_r[0], InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 0.3, ..Default::default() });
     }
 
     #[test]
     fn reads_the_export_header_and_skips_id_and_contact_force() {
-        let text = "# exported\nid,x,y,r,vx,vy,omega,contact_force\n7,1,2,0.5,-1,3,4,9.5\n";
+        let text = "# exported\nid,x,y,r,vx,vy,omega,angle,contact_force\n7,1,2,0.5,-1,3,4,-6.5,9.5\n";
         let disks = parse(text, 0.01).unwrap();
-        assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0 }]);
+        assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
+    }
+
+    #[test]
+    fn contact_rows_name_both_bodies_and_their_history() {
+        let text = "# exported\nfirst,second,tangential_spring,law_state\n0,2,1e-7,3e-5\n1,-1,-2e-7,0\n2,-4,0,0\n";
+        let contacts = parse_contacts(text, 3, 4).unwrap();
+        let contact = |disk, partner, tangential_spring, law_state| InitialContact {
+            disk,
+            partner,
+            tangential_spring,
+            law_state,
+        };
+        assert_eq!(
+            contacts,
+            [
+                contact(0, Partner::Disk(2), 1e-7, 3e-5),
+                contact(1, Partner::Wall(0), -2e-7, 0.0),
+                contact(2, Partner::Wall(3), 0.0, 0.0)
+            ]
+        );
+        let without_law_state = parse_contacts("second,first,tangential_spring\n1,0,5e-8\n", 2, 3).unwrap();
+        assert_eq!(without_law_state, [contact(0, Partner::Disk(1), 5e-8, 0.0)]);
+    }
+
+    #[test]
+    fn contact_errors_name_line_column_and_range() {
+        let header = "first,second,tangential_spring\n";
+        let err = |rows: &str, disks| parse_contacts(&format!("{header}{rows}"), disks, 3).unwrap_err();
+        assert_eq!(
+            err("0,1,0\n0,30,0\n", 30),
+            "line 3, column 2 (second): disk 30 is out of range: the placement file has 30 disks (0 to 29)"
+        );
+        assert_eq!(
+            err("-1,1,0\n", 30),
+            "line 2, column 1 (first): disk -1 is out of range: the placement file has 30 disks (0 to 29)"
+        );
+        assert_eq!(
+            err("0,-4,0\n", 30),
+            "line 2, column 2 (second): wall -4 does not exist: the box has 3 walls (-1 floor to -3)"
+        );
+        assert_eq!(err("0,1.5,0\n", 30), "line 2, column 2 (second): 1.5 is not a whole number");
+        assert_eq!(err("2,2,0\n", 30), "line 2, column 2 (second): a disk (2) cannot touch itself");
+        assert!(parse_contacts("first,second\n0,1\n", 2, 3).unwrap_err().contains("no \"tangential_spring\" column"));
+        assert_eq!(parse_contacts(header, 2, 3), Ok(vec![]), "a pile without contacts has no history");
     }
 
     #[test]

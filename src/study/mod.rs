@@ -22,7 +22,7 @@ pub use axes::MAX_RUNS;
 pub use errors::{Location, StudyError, StudyErrors, warning_kind};
 
 use crate::physics::SceneConfig;
-use crate::physics::particles::InitialDisk;
+use crate::physics::particles::{InitialContact, InitialDisk};
 
 /// Reads, checks and expands a study file into its plan.
 pub fn load(path: &Path) -> Result<Plan, StudyErrors> {
@@ -101,6 +101,8 @@ pub struct PlannedRun {
     pub scene: SceneConfig,
     /// Initial states read from the placement file, shared by runs that use the same file.
     pub initial: Option<Arc<Vec<InitialDisk>>>,
+    /// The contact history read from `placement.contacts` (a restart), shared like `initial`.
+    pub initial_contacts: Option<Arc<Vec<InitialContact>>>,
     /// The time step the run will use (s): given, or resolved from the scene (see
     /// [`crate::physics::time_step`]).
     pub time_step: f64,
@@ -110,7 +112,8 @@ pub struct PlannedRun {
 }
 
 impl PlannedRun {
-    /// A run of a (validated) scene, with its time step resolved and its cost estimated.
+    /// A run of a (validated) scene, with its time step resolved and its cost estimated (and no
+    /// contact history: set `initial_contacts` for a restart).
     pub fn new(
         id: String,
         index: usize,
@@ -120,7 +123,7 @@ impl PlannedRun {
     ) -> Self {
         let time_step = crate::physics::scene_time_step(&scene, initial.as_deref().map(Vec::as_slice)).dt;
         let estimated_cost = scene.particles.count as f64 * scene.total_steps(time_step) as f64;
-        Self { id, index, parameters, scene, initial, time_step, estimated_cost }
+        Self { id, index, parameters, scene, initial, initial_contacts: None, time_step, estimated_cost }
     }
 }
 

@@ -13,8 +13,9 @@ use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_w
 use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
-use crate::physics::particles::InitialDisk;
+use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
+use crate::physics::walls::BoxWalls;
 
 /// Keys allowed at the top of a study file.
 /// The tables of a study file (besides the strings `name` and `description`).
@@ -184,6 +185,9 @@ pub(super) fn run_id(index: usize, runs: usize) -> String {
 /// Disks read from a placement file, or why they could not be read.
 type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
 
+/// A restart's contact history, shared by the runs that use its file.
+type InitialContacts = Arc<Vec<InitialContact>>;
+
 /// Disks a generated placement gives, or its problem (key, reason).
 type Placed = Result<Arc<Vec<InitialDisk>>, (String, String)>;
 
@@ -196,6 +200,8 @@ struct Planner<'a> {
     study_dir: PathBuf,
     /// Placement files read so far, by path and default radius.
     initial_files: HashMap<(PathBuf, u64), InitialStates>,
+    /// Contact files read so far, by path and the disks and walls they were checked against.
+    contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, String>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
     failed_placements: HashMap<String, (String, String)>,
     /// The last placement that succeeded: its setup and disks.
@@ -215,7 +221,20 @@ impl<'a> Planner<'a> {
     fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
         let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
         let (initial_files, failed_placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
-        Self { file, doc, base, sweep, study_dir, initial_files, failed_placements, last_placement: None, warnings }
+        let contact_files = HashMap::new();
+        let last_placement = None;
+        Self {
+            file,
+            doc,
+            base,
+            sweep,
+            study_dir,
+            initial_files,
+            contact_files,
+            failed_placements,
+            last_placement,
+            warnings,
+        }
     }
 
     fn expand(&mut self, sink: &mut ErrorSink) -> Vec<PlannedRun> {
@@ -247,7 +266,10 @@ impl<'a> Planner<'a> {
         }
         let initial = self.initial_states(&point, &mut scene)?;
         self.check_scene(&point, &scene, initial.as_ref())?;
-        Ok(PlannedRun::new(point.id, index, parameters, scene, initial))
+        let initial_contacts = self.initial_contacts(&point, &scene)?;
+        let mut run = PlannedRun::new(point.id, index, parameters, scene, initial);
+        run.initial_contacts = initial_contacts;
+        Ok(run)
     }
 
     /// The base scene with this run's swept values set.
@@ -302,6 +324,27 @@ impl<'a> Planner<'a> {
             .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
         scene.particles.count = disks.len();
         Ok(Some(disks))
+    }
+
+    /// A restart's contact history: the contacts read from `placement.contacts` (relative to the
+    /// study's folder), checked against the placement file's disks and the box's walls.
+    fn initial_contacts(
+        &mut self,
+        point: &RunPoint,
+        scene: &SceneConfig,
+    ) -> Result<Option<InitialContacts>, Vec<StudyError>> {
+        let Some(name) = &scene.placement.contacts else {
+            return Ok(None);
+        };
+        let path = self.study_dir.join(name);
+        let (disks, walls) = (scene.particles.count, BoxWalls::new(&scene.domain).walls.len());
+        let contacts = self
+            .contact_files
+            .entry((path.clone(), disks, walls))
+            .or_insert_with(|| initial_csv::read_contacts(&path, disks, walls).map(Arc::new))
+            .clone()
+            .map_err(|reason| vec![self.problem(point, "placement.contacts", reason)])?;
+        Ok(Some(contacts))
     }
 
     /// Validation, then (for valid scenes) whether the state fits in memory and the disks in the box:

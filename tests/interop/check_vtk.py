@@ -5,7 +5,7 @@ the results file read by h5py.
 Usage: check_vtk.py EXPORT_DIR RESULTS.h5 RUN_GROUP RUN_ID
 
 For the run: the .pvd collections list the frames then the final state, with their times; each disks
-file has one point per disk, radius, velocity, angular velocity and contact force equal to the stored
+file has one point per disk, radius, velocity, angular velocity, angle and contact force equal to the stored
 state; each contacts file has one line cell per stored contact with its normal and tangential force;
 the walls file has the box's walls. Exits 1 listing every difference, 2 when vtk or h5py is missing.
 """
@@ -79,6 +79,8 @@ def main(folder, h5_path, group_path, run_id):
             spin = array(point_data, "angular_velocity", problems, disk_file)
             if spin is not None:
                 same(spin[:, 2], state["omega"], f"{disk_file} angular_velocity", problems)
+            angle = array(point_data, "angle", problems, disk_file)
+            same(angle, state["angle"], f"{disk_file} angle", problems)
             force = array(point_data, "contact_force", problems, disk_file)
             same(force, state["contact_force"], f"{disk_file} contact_force", problems)
             lines = read(f"{folder}/{contact_file}")

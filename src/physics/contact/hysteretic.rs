@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::linear::{stiffness_or_hertz_secant, stiffness_problems};
-use super::{Coefficients, ContactLaw, PairProperties};
+use super::{Coefficients, ContactLaw, ContactState, PairProperties};
 
 /// Loading along `F = k₁ δ`, unloading and reloading along `F = k₂ (δ − δ₀)` with
 /// `δ₀ = δ_max (1 − k₁/k₂)` and `δ_max` the largest overlap so far (the contact's own state):
@@ -31,6 +31,15 @@ impl Default for HystereticLinear {
 /// The contact's largest overlap so far, δ_max (m).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LargestOverlap(pub f64);
+
+impl ContactState for LargestOverlap {
+    fn to_number(self) -> f64 {
+        self.0
+    }
+    fn from_number(value: f64) -> Self {
+        Self(value)
+    }
+}
 
 impl HystereticLinear {
     /// The unloading branch's elastic force at `overlap` with `δ_max` = `largest` (N, may be < 0).

@@ -55,7 +55,7 @@ pub struct Coefficients {
 pub trait ContactLaw: Clone + Send + Sync + 'static {
     /// Per-contact history of the law's own besides the tangential spring (`()` for none): it
     /// starts as `Default` when two bodies first touch and is dropped when they part.
-    type State: Copy + Default + PartialEq + Send + Sync + std::fmt::Debug;
+    type State: ContactState;
     /// Stiffness and damping at overlap `overlap > 0` (m), updating the contact's `state`.
     fn coefficients(&self, pair: &PairProperties, overlap: f64, state: &mut Self::State) -> Coefficients;
     /// Elastic energy stored by the normal spring at overlap `overlap` in `state` (J).
@@ -71,6 +71,22 @@ pub trait ContactLaw: Clone + Send + Sync + 'static {
     fn loading_coefficients(&self, pair: &PairProperties, overlap: f64) -> Coefficients {
         self.coefficients(pair, overlap, &mut Self::State::default())
     }
+}
+
+/// A law's per-contact state ([`ContactLaw::State`]) as results and restart files hold it: one
+/// number per contact.
+pub trait ContactState: Copy + Default + PartialEq + Send + Sync + std::fmt::Debug {
+    /// The state as a number (0 for a law without state).
+    fn to_number(self) -> f64;
+    /// The state a number of [`Self::to_number`] stands for.
+    fn from_number(value: f64) -> Self;
+}
+
+impl ContactState for () {
+    fn to_number(self) -> f64 {
+        0.0
+    }
+    fn from_number(_: f64) -> Self {}
 }
 
 /// Contact options shared by all laws.
