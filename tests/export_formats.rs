@@ -215,6 +215,8 @@ fn a_pile_restarted_with_its_contacts_file_keeps_every_pile_metric() {
         scene.placement.file = Some(format!("{}_final.csv", row.id));
         let without = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap();
         scene.placement.contacts = Some(contacts_file.display().to_string());
+        let unread = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap_err();
+        assert!(unread.starts_with("placement.contacts: the contact history"), "{unread}");
         let observe = &mut |_: &_| Control::Continue;
         let restarted = run_scene_with_history(&scene, Some(disks), Some(&contacts), observe).unwrap();
         assert_eq!(restarted.status, RunStatus::Settled, "{law:?}: {:?}", restarted.message);

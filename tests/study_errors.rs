@@ -194,6 +194,34 @@ fn placement_file_problems_name_the_csv_line_and_column() {
 }
 
 #[test]
+fn contact_file_problems_name_the_csv_line_column_and_key() {
+    let dir = StudyDir::new("contacterr");
+    let text =
+        "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\nplacement.contacts = \"contacts.csv\"\n";
+    let study = dir.write("s.toml", text);
+    dir.write("init.csv", "x,y,r\n0.1,0.01,0.01\n0.12,0.01,0.01\n");
+    let missing = errors_at(&study);
+    assert_eq!((missing.len(), missing[0].key.as_str()), (1, "scene.placement.contacts"));
+    assert_eq!(missing[0].location.map(|l| l.line), Some(4));
+    assert!(missing[0].reason.contains("contacts.csv: cannot read"), "{}", missing[0]);
+    dir.write("contacts.csv", "first,second,tangential_spring\n0,1,1e-7\n0,2,0\n");
+    let out_of_range = &errors_at(&study)[0];
+    assert!(
+        out_of_range.reason.ends_with(
+            "contacts.csv: line 3, column 2 (second): disk 2 is out of range: the placement file has 2 disks (0 to 1)"
+        ),
+        "{out_of_range}"
+    );
+    dir.write("contacts.csv", "first,second,tangential_spring,law_state\n0,1,1e-7,0\n1,-1,-2e-7,0\n");
+    let plan = study::load(&study).unwrap_or_else(|e| panic!("{e}"));
+    let contacts = plan.runs[0].initial_contacts.as_deref().expect("the contact history is planned with the run");
+    assert_eq!(contacts.len(), 2);
+    let generated = "[scene]\nplacement.contacts = \"contacts.csv\"\n";
+    let e = single_error("contactsrandom", generated, 2, "scene.placement.contacts");
+    assert!(e.reason.contains("placement.kind = \"file\""), "{e}");
+}
+
+#[test]
 fn all_problems_at_once_sorted_by_line() {
     let text = "colour = \"red\"\n[scene]\nparticles.count = 20\nmaterial.density = -1.0\nmaterial.wobble = 1\n\
                 [sweep]\n\"material.friction\" = []\n\"run.duration\" = { log = [0, 1], steps = 2 }\n";
