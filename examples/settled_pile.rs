@@ -3,7 +3,8 @@
 //! folder this example was built into (`target/`, or `$CARGO_TARGET_DIR`);
 //! then `steps` steps are timed from that state, best of 7.
 //!
-//! `cargo run --release --example settled_pile -- N SETTLE STEPS`, e.g. `300 0.5 1000`. Under
+//! `cargo run --release --example settled_pile -- N SETTLE STEPS [FRICTION]`, e.g. `300 0.5 1000`
+//! (friction μ of disks and walls, default 0.5; 0: no tangential forces and no rotation). Under
 //! `valgrind --tool=callgrind` (after one plain run has cached the state) it gives an instruction
 //! count that, unlike a time, does not drift with what else the machine is doing.
 
@@ -14,10 +15,10 @@ use demsweep::physics::contact::HertzMindlin;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::simulation::Simulation;
 
-fn scene(n: usize) -> SceneConfig {
+fn scene(n: usize, friction: f64) -> SceneConfig {
     let mut s = SceneConfig::default();
     s.material.restitution = Some(0.5);
-    s.material.friction = 0.5;
+    s.material.friction = friction;
     s.integrator.time_step = Some(1e-5);
     s.particles.count = n;
     s.domain.width = 0.4 * n as f64 / 300.0;
@@ -32,7 +33,9 @@ fn build_folder() -> std::path::PathBuf {
 
 /// The state after `settle` seconds, from the cache or computed (and cached, bit-exact).
 fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
-    let path = build_folder().join(format!("settled_pile_{}_{settle}.txt", s.particles.count));
+    let (n, friction) = (s.particles.count, s.material.friction);
+    let name = if friction == 0.5 { format!("{n}_{settle}") } else { format!("{n}_{settle}_{friction}") };
+    let path = build_folder().join(format!("settled_pile_{name}.txt"));
     if let Ok(text) = std::fs::read_to_string(&path) {
         return text
             .lines()
@@ -78,9 +81,13 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
 }
 
 fn main() {
-    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("N SETTLE STEPS")).collect();
-    let [n, settle, steps] = args[..] else { panic!("usage: settled_pile N SETTLE STEPS") };
-    let s = scene(n as usize);
+    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("N SETTLE STEPS [FRICTION]")).collect();
+    let (n, settle, steps, friction) = match args[..] {
+        [n, settle, steps] => (n, settle, steps, 0.5),
+        [n, settle, steps, friction] => (n, settle, steps, friction),
+        _ => panic!("usage: settled_pile N SETTLE STEPS [FRICTION]"),
+    };
+    let s = scene(n as usize, friction);
     let mut sim = Simulation::<HertzMindlin>::new(&s, &settled(&s, settle));
     let mut best = f64::INFINITY;
     for _ in 0..7 {
@@ -90,5 +97,5 @@ fn main() {
         }
         best = best.min(start.elapsed().as_secs_f64() * 1e9 / (n * steps));
     }
-    println!("N = {n}, settled at {settle} s: {best:.1} ns/particle-step (best of 7 x {steps} steps)");
+    println!("N = {n}, μ = {friction}, at {settle} s: {best:.1} ns/particle-step (best of 7 x {steps} steps)");
 }
