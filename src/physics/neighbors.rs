@@ -300,6 +300,7 @@ fn min_max(v: &[f64]) -> (f64, f64) {
 mod tests {
     use super::*;
     use crate::physics::config::SceneConfig;
+    use crate::physics::particles::InitialDisk;
     use crate::physics::placement;
 
     #[test]
@@ -335,6 +336,31 @@ mod tests {
         assert_eq!(list.springs, [2.0, 0.0, 3.0]);
         assert_eq!(list.states, [20, 0, 30]);
         assert!(list.fresh.is_empty());
+    }
+
+    #[test]
+    fn seeded_histories_land_on_their_candidates_in_either_order_and_the_rest_are_dropped() {
+        let disks = [0.0, 0.02, 0.2].map(|x| InitialDisk { x: 0.1 + x, y: 0.01, r: 0.01, ..Default::default() });
+        let p = Particles::new(&disks, 1000.0, 1.0);
+        let walls = BoxWalls::new(&SceneConfig::default().domain);
+        type State = <crate::physics::contact::HystereticLinear as crate::physics::ContactLaw>::State;
+        let mut list = NeighborList::<State>::new(BroadPhaseKind::Grid, 0.002);
+        list.rebuild(&p, &walls);
+        let contact =
+            |disk, partner, tangential_spring| InitialContact { disk, partner, tangential_spring, law_state: 1e-4 };
+        list.seed_histories(&[
+            contact(1, Partner::Disk(0), 2e-7),
+            contact(2, Partner::Wall(0), -3e-7),
+            contact(0, Partner::Disk(2), 5.0),
+            contact(7, Partner::Wall(0), 5.0),
+            contact(0, Partner::Wall(9), 5.0),
+        ]);
+        assert_eq!(list.pairs.entries.iter().map(Keyed::key).collect::<Vec<_>>(), [(0, 1)]);
+        assert_eq!((list.pairs.springs[0], list.pairs.states[0].0), (2e-7, 1e-4));
+        let floor = |i| list.walls.entries.iter().position(|w| w.key() == (i, 0)).unwrap();
+        assert_eq!(list.walls.springs[floor(2)], -3e-7);
+        assert_eq!(list.walls.springs[floor(0)], 0.0);
+        assert!(list.walls.springs.iter().chain(&list.pairs.springs).all(|&s| s != 5.0), "no home: dropped");
     }
 
     #[test]
