@@ -67,41 +67,37 @@ pub fn parse_contacts(text: &str, disks: usize, walls: usize) -> Result<Vec<Init
     let contacts = rows.rows.iter().map(|(number, values)| {
         let [first, second, tangential_spring, law_state] = rows.values(values, &[0.0; 4]);
         let at = |column: usize, why: String| format!("line {number}{}: {why}", rows.at(column));
-        let index = |column: usize, value: f64| {
-            let whole = value.fract() == 0.0 && value.abs() < 1e15;
-            whole.then_some(value as i64).ok_or_else(|| at(column, format!("{value} is not a whole number")))
-        };
-        let (first, second) = (index(0, first)?, index(1, second)?);
-        let disk = |column: usize, i: i64| {
-            usize::try_from(i).ok().filter(|&i| i < disks).ok_or_else(|| {
-                at(
-                    column,
-                    format!("disk {i} is out of range: the placement file has {disks} disks (0 to {})", disks - 1),
-                )
-            })
-        };
-        let disk_first = disk(0, first)?;
-        let partner = if second >= 0 {
-            let j = disk(1, second)?;
-            if j == disk_first {
-                return Err(at(1, format!("a disk ({j}) cannot touch itself")));
-            }
-            Partner::Disk(j)
-        } else {
-            let wall = usize::try_from(-1 - second).ok().filter(|&w| w < walls).ok_or_else(|| {
-                at(
-                    1,
-                    format!(
-                        "wall {second} does not exist: the box has {walls} walls (-1 floor to {})",
-                        -(walls as i64)
-                    ),
-                )
-            })?;
-            Partner::Wall(wall)
-        };
-        Ok(InitialContact { disk: disk_first, partner, tangential_spring, law_state })
+        let disk = body(first, disks, walls).and_then(|body| match body {
+            Partner::Disk(i) => Ok(i),
+            Partner::Wall(_) => Err(format!("{first} is a wall: the first body is a disk (a wall goes in `second`)")),
+        });
+        let disk = disk.map_err(|why| at(0, why))?;
+        let partner = body(second, disks, walls).map_err(|why| at(1, why))?;
+        if partner == Partner::Disk(disk) {
+            return Err(at(1, format!("a disk ({disk}) cannot touch itself")));
+        }
+        Ok(InitialContact { disk, partner, tangential_spring, law_state })
     });
     contacts.collect()
+}
+
+/// The body a contact file's index names: disk `value ≥ 0` of `disks`, or wall `−1 − value` of `walls`.
+fn body(value: f64, disks: usize, walls: usize) -> Result<Partner, String> {
+    if value.fract() != 0.0 || value.abs() >= 1e15 {
+        return Err(format!("{value} is not a whole number"));
+    }
+    let index = value as i64;
+    if index >= 0 {
+        let last = disks as i64 - 1;
+        let disk = usize::try_from(index).ok().filter(|&i| i < disks);
+        disk.map(Partner::Disk)
+            .ok_or_else(|| format!("disk {index} is out of range: the placement file has {disks} disks (0 to {last})"))
+    } else {
+        let wall = usize::try_from(-1 - index).ok().filter(|&w| w < walls);
+        let last = -(walls as i64);
+        wall.map(Partner::Wall)
+            .ok_or_else(|| format!("wall {index} does not exist: the box has {walls} walls (-1 floor to {last})"))
+    }
 }
 
 /// The data rows of a CSV text with a header naming some of `columns` (the first `required` of
@@ -246,7 +242,7 @@ mod tests {
         );
         assert_eq!(
             err("-1,1,0\n", 30),
-            "line 2, column 1 (first): disk -1 is out of range: the placement file has 30 disks (0 to 29)"
+            "line 2, column 1 (first): -1 is a wall: the first body is a disk (a wall goes in `second`)"
         );
         assert_eq!(
             err("0,-4,0\n", 30),
