@@ -275,6 +275,30 @@ fn a_pile_restarted_with_its_contacts_file_keeps_every_pile_metric() {
 }
 
 #[test]
+fn a_study_restarts_from_the_exported_files_as_the_library_does() {
+    // The whole chain: `placement.contacts` read by the study, carried by the planned run and
+    // handed to the simulation by the runner.
+    let (results, csv) = settled_piles("export_study_restart", &[(ContactLawKind::HertzMindlin, 7)]);
+    let study = csv.join("restart.toml");
+    let text = "[scene]\ndomain.width = 0.12\ndomain.height = 0.2\nrun.duration = 3.0\nrun.sample_interval = 2e-3\n\
+                placement.kind = \"file\"\nplacement.file = \"r000_final.csv\"\n\
+                placement.contacts = \"r000_final_contacts.csv\"\n";
+    std::fs::write(&study, text).unwrap();
+    let plan = demsweep::study::load(&study).unwrap_or_else(|e| panic!("{e}"));
+    let run = &plan.runs[0];
+    let contacts = run.initial_contacts.as_deref().expect("the contacts file is read");
+    assert_eq!(contacts.len(), final_state(&results, "r000").contacts.len());
+    let report = demsweep::runner::run_plan(&plan, &runner_common::options(&csv.join("out"), 1)).unwrap();
+    let file = reader::open(&report.results).unwrap();
+    let row = &reader::rows(&file, &report.results).unwrap()[0];
+    assert_eq!(row.status, RunStatus::Settled, "{:?}", row.message);
+    let disks = run.initial.as_deref().unwrap().clone();
+    let direct = run_scene_with_history(&run.scene, Some(disks), Some(contacts), &mut |_| Control::Continue).unwrap();
+    let stored = stored::read_run(&file, &report.results, row).unwrap().final_state.unwrap();
+    assert_eq!(stored, direct.final_state, "the study's run is the library's restart, to the bit");
+}
+
+#[test]
 fn bad_requests_name_the_run_and_the_option_and_leave_nothing_behind() {
     let (results, dir) = results("export_errors", 0.5);
     let out = dir.join("out");
