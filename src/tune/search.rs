@@ -159,18 +159,36 @@ pub trait Evaluator {
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize>;
 }
 
+/// A point of the lever space predicted (from its time step) to cost more than this times the cheapest
+/// candidate still in the running is not run: levers that shorten settling (damping, fill height)
+/// rarely take a third off the reference's settle time.
+pub const FAR_TOO_DEAR: f64 = 1.5;
+
 /// What a stepped-down time step aims at: the measured excess (see [`Outcome::excess`]) brought to
 /// this share of its limit, leaving room for seeds not yet run.
 pub const STEP_DOWN_SAFETY: f64 = 0.8;
 
 /// The factor a time step is multiplied by when its runs' largest measured excess over a validity
-/// limit is `excess`: `STEP_DOWN_SAFETY / excess`, i.e. the error taken as proportional to the time
-/// step. A fixed-step integrator's energy error falls at least that fast as the step shrinks (first
-/// order; Verlet's is second order for smooth forces, contact onsets lower it), so the rule never
-/// steps down too little for an error that follows a power of the time step.
-pub fn step_down_factor(excess: f64) -> Option<f64> {
-    let factor = STEP_DOWN_SAFETY / excess;
-    (excess.is_finite() && factor < 1.0 && factor > 0.0).then_some(factor)
+/// limit is `excess` and a run of it is predicted to cost `relative_cost` of a reference run (the
+/// reference's time step over its own).
+///
+/// The error of a fixed-step integrator follows a power of the time step, `e ∝ dt^p`. Two points
+/// bound p: the rung's runs (`excess` times the limit) and the reference's, which passed (at most the
+/// limit) with a time step `relative_cost` times the rung's; so `p ≥ ln(excess) / ln(1 /
+/// relative_cost)`, and p ≥ 1 for any consistent integrator. With the smallest p these allow, the
+/// step is the largest that can still miss the limit, scaled so that the excess lands on
+/// [`STEP_DOWN_SAFETY`]: `(STEP_DOWN_SAFETY / excess)^(1/p)`. A larger true p only leaves more margin.
+/// None when there is no excess to cure or the stepped rung would cost the reference's or more.
+pub fn step_down_factor(excess: f64, relative_cost: Option<f64>) -> Option<f64> {
+    if !(excess.is_finite() && excess > STEP_DOWN_SAFETY) {
+        return None;
+    }
+    let order = match relative_cost.filter(|r| *r > 0.0 && *r < 1.0) {
+        Some(r) => (excess.ln() / (1.0 / r).ln()).max(1.0),
+        None => 1.0,
+    };
+    let factor = (STEP_DOWN_SAFETY / excess).powf(1.0 / order);
+    relative_cost.is_none_or(|r| r / factor < 1.0).then_some(factor)
 }
 
 /// Where a candidate came from.
@@ -341,10 +359,12 @@ impl SearchResult {
     }
 
     /// The cheapest candidate feasible in the search among those `keep` accepts, and its mean cost
-    /// (infinite when there is none); one dearer than the reference itself never counts.
+    /// (infinite when there is none); one dearer than the reference itself, or one that failed its
+    /// verification, never counts.
     pub fn cheapest_feasible(&self, keep: impl Fn(&Candidate) -> bool) -> (Option<usize>, f64) {
         let mut best = (None, stats::describe(&self.reference_costs()).mean);
-        for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c)) {
+        let failed = |c: &Candidate| self.assess_verification(c).is_some_and(|a| a.state != State::Feasible);
+        for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c) && !failed(c)) {
             let a = self.assess(cand);
             if a.state == State::Feasible && a.cost < best.1 {
                 best = (Some(k), a.cost);
@@ -465,6 +485,8 @@ struct Search<'a, E> {
     halton_index: u64,
     /// Cost of every run so far.
     spent: f64,
+    /// The next fresh seed of a verification.
+    next_seed: u64,
 }
 
 impl<'a, E: Evaluator> Search<'a, E> {
@@ -481,7 +503,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             budget: config.budget,
             undecidable: Vec::new(),
         };
-        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0 }
+        let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
+        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0, next_seed }
     }
 
     fn run(mut self) -> Result<SearchResult, String> {
@@ -502,6 +525,10 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 self.step_down(index, false)?;
             }
         }
+        // The best standard setting is settled and verified first: it is the answer unless the
+        // search verifies a cheaper one.
+        while self.extra_seeds(search_end)? {}
+        self.verify(|c| c.standard.is_some())?;
         let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         let fresh = self.explore(initial.max(2), Origin::Initial);
@@ -558,7 +585,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 break;
             }
         }
-        self.verify()?;
+        self.verify(|_| true)?;
         Ok(self.result)
     }
 
@@ -605,13 +632,33 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping two
-    /// verification rounds; a run is priced at [`Self::likely_cost`].
+    /// verification rounds. A candidate's run is priced at the cheapest candidate still in the running
+    /// (feasible, or undecided with every run valid), a verification run at the dearest of them, the
+    /// one that may have to be verified (without any: both at the mean of the runs so far, else the
+    /// reference's).
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = stats::describe(&self.result.reference_costs()).mean;
-        let unit = self.likely_cost();
-        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * unit;
+        let running = self.running_costs();
+        let tried: Vec<f64> = self.result.candidates.iter().flat_map(|c| &c.runs).map(|o| o.cost).collect();
+        let fallback = if tried.is_empty() { reference } else { stats::describe(&tried).mean };
+        let unit = running.iter().copied().reduce(f64::min).unwrap_or(fallback);
+        let verification = running.iter().copied().reduce(f64::max).unwrap_or(fallback);
+        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * verification;
         if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
+    }
+
+    /// The mean costs of the candidates still in the running (feasible, or undecided with every run
+    /// settled and valid) that are cheaper than the reference.
+    fn running_costs(&self) -> Vec<f64> {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        self.result
+            .candidates
+            .iter()
+            .map(|cand| self.result.assess(cand))
+            .filter(|a| matches!(a.state, State::Feasible | State::Undecided) && a.cost < reference)
+            .map(|a| a.cost)
+            .collect()
     }
 
     /// The point snapped to the grid (list levers to bin centres).
@@ -688,7 +735,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let point: Vec<f64> =
                 (0..self.config.dims).map(|d| (radical_inverse(i, PRIMES[d]) + self.shift[d]).fract()).collect();
             if self.promising(&self.snap(&point)) {
-                fresh.extend(self.propose(&point, origin));
+                fresh.extend(self.propose(&point, origin).filter(|&k| !self.far_too_dear(k)));
             }
         }
         fresh
@@ -715,7 +762,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut fresh = Vec::new();
         for p in moves {
             if self.promising(&self.snap(&p)) {
-                fresh.extend(self.propose(&p, Origin::Refine));
+                fresh.extend(self.propose(&p, Origin::Refine).filter(|&k| !self.far_too_dear(k)));
             }
         }
         fresh
@@ -835,7 +882,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         let warned = runs.iter().filter(|o| o.failure.is_some() || !o.warnings.is_empty());
         let excess = warned.map(|o| o.excess.filter(|_| o.failure.is_none())).collect::<Option<Vec<f64>>>();
-        let Some(factor) = excess.and_then(|e| e.into_iter().reduce(f64::max)).and_then(step_down_factor) else {
+        let largest = excess.and_then(|e| e.into_iter().reduce(f64::max));
+        let Some(factor) = largest.and_then(|e| step_down_factor(e, cand.relative_cost)) else {
             return Ok(None);
         };
         let Some(stepped) = self.evaluator.step_down(standard, factor) else { return Ok(None) };
@@ -849,6 +897,15 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         self.run_more(&[(index, c.seeds)])?;
         Ok(Some(index))
+    }
+
+    /// Whether candidate `k` is predicted ([`Candidate::relative_cost`]) to cost more than
+    /// [`FAR_TOO_DEAR`] times the cheapest candidate still in the running: it would have to settle in
+    /// a third less time than the reference to win, so it is recorded and not run.
+    fn far_too_dear(&self, k: usize) -> bool {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        let cand = &self.result.candidates[k];
+        cand.relative_cost.is_some_and(|r| r * reference > FAR_TOO_DEAR * self.likely_cost())
     }
 
     /// Whether `cand` is predicted dearer than the cheapest candidate still in the running.
@@ -910,13 +967,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// run settled and valid), the reference's when none is cheaper: what the answer will likely cost.
     fn likely_cost(&self) -> f64 {
         let reference = stats::describe(&self.result.reference_costs()).mean;
-        self.result
-            .candidates
-            .iter()
-            .map(|cand| self.result.assess(cand))
-            .filter(|a| matches!(a.state, State::Feasible | State::Undecided))
-            .map(|a| a.cost)
-            .fold(reference, f64::min)
+        self.running_costs().into_iter().fold(reference, f64::min)
     }
 
     /// The cheapest feasible candidate, standard settings included, and its cost (infinite when
@@ -947,19 +998,21 @@ impl<'a, E: Evaluator> Search<'a, E> {
         })
     }
 
-    /// Verifies the cheapest feasible candidates on fresh seeds until one passes or the budget ends.
-    /// After a failure, only candidates that stood further inside the tolerances during the search
-    /// (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the failure says the
-    /// edge of the acceptable region is nearer than the search runs showed. A standard setting whose
-    /// fresh runs broke a limit that a smaller time step cures is stepped down ([`Self::step_down`])
-    /// and the stepped setting joins the queue.
-    fn verify(&mut self) -> Result<(), String> {
-        let mut next_seed = self.config.reference_seeds.max(self.config.max_seeds) as u64;
+    /// Verifies the cheapest feasible candidates among those `keep` accepts (and cheaper than the
+    /// recommendation so far) on fresh seeds until one passes (it becomes the recommendation) or the
+    /// budget ends. After a failure, only candidates that stood further inside the tolerances during
+    /// the search (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the failure
+    /// says the edge of the acceptable region is nearer than the search runs showed. A standard
+    /// setting whose fresh runs broke a limit that a smaller time step cures is stepped down
+    /// ([`Self::step_down`]) and the stepped setting joins the queue.
+    fn verify(&mut self, keep: impl Fn(&Candidate) -> bool) -> Result<(), String> {
         let mut tried = HashSet::new();
         let mut limit = f64::INFINITY;
-        while let Some(k) = self.next_to_verify(&tried, limit) {
+        let bound =
+            self.result.recommended.map_or(f64::INFINITY, |k| self.result.assess(&self.result.candidates[k]).cost);
+        while let Some(k) = self.next_to_verify(&tried, limit, |c| keep(c) && self.result.assess(c).cost < bound) {
             tried.insert(k);
-            match self.verify_candidate(k, &mut next_seed)? {
+            match self.verify_candidate(k)? {
                 Some(true) => {
                     self.result.recommended = Some(k);
                     return Ok(());
@@ -977,13 +1030,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The next candidate to verify: feasible in the search, cheaper than the reference, not tried,
     /// standing inside `limit`; those whose difference leaves room for the verification's interval
     /// first, then the cheapest.
-    fn next_to_verify(&self, tried: &HashSet<usize>, limit: f64) -> Option<usize> {
+    fn next_to_verify(&self, tried: &HashSet<usize>, limit: f64, keep: impl Fn(&Candidate) -> bool) -> Option<usize> {
         let result = &self.result;
         result
             .candidates
             .iter()
             .enumerate()
-            .filter(|(k, cand)| !tried.contains(k) && cand.verification.is_empty())
+            .filter(|(k, cand)| !tried.contains(k) && cand.verification.is_empty() && keep(cand))
             .filter_map(|(k, cand)| {
                 let a = result.assess(cand);
                 let cheaper = result.cheapest_feasible(|c| c.id == cand.id).0.is_some();
@@ -995,7 +1048,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// Runs candidate `k` on fresh seeds (once more when undecided): Some(true) when it passes,
     /// Some(false) when it fails, None when the budget or the spend limit leaves no room.
-    fn verify_candidate(&mut self, k: usize, next_seed: &mut u64) -> Result<Option<bool>, String> {
+    fn verify_candidate(&mut self, k: usize) -> Result<Option<bool>, String> {
         let c = self.config;
         for round in 0..2 {
             let reference = stats::describe(&self.result.reference_costs()).mean;
@@ -1006,8 +1059,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 return Ok(None);
             }
             let cand = &self.result.candidates[k];
-            let seeds: Vec<u64> = (*next_seed..*next_seed + c.verify_seeds as u64).collect();
-            *next_seed += c.verify_seeds as u64;
+            let seeds: Vec<u64> = (self.next_seed..self.next_seed + c.verify_seeds as u64).collect();
+            self.next_seed += c.verify_seeds as u64;
             let jobs: Vec<Job> = seeds
                 .iter()
                 .map(|&seed| Job {
