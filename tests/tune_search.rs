@@ -27,6 +27,8 @@ struct StandIn {
     offset: f64,
     standards: Vec<(f64, f64)>,
     energy: f64,
+    /// The energy coefficient of verification runs, when it differs (fresh seeds that err more).
+    verify_energy: Option<f64>,
 }
 
 impl StandIn {
@@ -40,6 +42,7 @@ impl StandIn {
             offset: 0.0,
             standards: Vec::new(),
             energy: 0.0,
+            verify_energy: None,
         }
     }
 
@@ -113,7 +116,9 @@ impl Evaluator for StandIn {
                 if b > 0.9 {
                     outcome.warnings.push("energy balance off by 7 %".into());
                 }
-                let excess = self.energy * a * (1.0 + 0.02 * normal(key ^ 0xe4e7));
+                let energy =
+                    if job.role == Role::Verify { self.verify_energy.unwrap_or(self.energy) } else { self.energy };
+                let excess = energy * a * (1.0 + 0.02 * normal(key ^ 0xe4e7));
                 if job.standard.is_some() && excess > 1.0 {
                     outcome.warnings.push(format!("energy balance off by {excess} of its tolerance"));
                     outcome.excess = Some(excess);
@@ -344,4 +349,39 @@ fn a_rung_predicted_dearer_than_the_incumbent_is_cut_at_the_incumbents_cost() {
     let caps: Vec<f64> = stand_in.jobs.iter().filter(|j| j.standard == Some(1)).filter_map(|j| j.cap).collect();
     assert_eq!(caps, vec![incumbent], "one run, capped at the incumbent's mean cost");
     assert_eq!(result.best_standard(), Some(0));
+}
+
+#[test]
+fn the_best_standard_is_verified_before_the_search_and_bounds_the_answer() {
+    // Standard 0 (cost 5.5) is equivalent; the lever space holds cheaper equivalent points.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    let first_verify = stand_in.jobs.iter().position(|j| j.role == Role::Verify).expect("a verification");
+    let first_point = stand_in.jobs.iter().position(|j| j.standard.is_none() && j.role == Role::Search).unwrap();
+    assert!(first_verify < first_point, "the standard is verified before any point of the lever space runs");
+    assert_eq!(stand_in.jobs[first_verify].standard, Some(0));
+    assert_eq!(result.assess_verification(&result.candidates[0]).unwrap().state, State::Feasible);
+    let best = &result.candidates[result.recommended.expect("a recommendation")];
+    let cost = |c: &demsweep::tune::search::Candidate| result.assess(c).cost;
+    assert!(cost(best) <= cost(&result.candidates[0]), "the answer never costs more than the verified standard");
+    // Only candidates cheaper than the verified standard were verified after it.
+    for c in result.candidates.iter().skip(1).filter(|c| !c.verification.is_empty()) {
+        assert!(cost(c) < cost(&result.candidates[0]), "candidate {} verified at {}", c.id, cost(c));
+    }
+}
+
+#[test]
+fn a_rung_that_breaks_the_energy_limit_on_fresh_seeds_is_stepped_down_and_verified() {
+    // Standard 0 passes its search seeds but its fresh verification seeds err by about 1.08x the
+    // tolerance: the rung is stepped down by that excess and the stepped rung is the verified answer.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], verify_energy: Some(1.2), offset: 0.05, ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    let failed = &result.candidates[0];
+    assert_eq!(result.assess(failed).state, State::Feasible, "valid during the search");
+    assert!(matches!(result.assess_verification(failed).unwrap().state, State::Infeasible(_)));
+    let stepped = result.candidates.iter().position(|c| c.stepped_from == Some(0)).expect("a stepped rung");
+    let largest = failed.verification.iter().filter_map(|o| o.excess).fold(0.0, f64::max);
+    assert!((stand_in.standards[1].0 - 0.9 * 0.8 / largest).abs() < 1e-12);
+    assert_eq!(result.recommended, Some(stepped));
+    assert_eq!(result.best_standard(), Some(stepped), "a rung that failed verification is not the best standard");
 }

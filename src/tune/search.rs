@@ -7,20 +7,26 @@
 //!
 //! 1. The reference runs on `reference_seeds` seeds; each metric's margin is its tolerance times the
 //!    reference mean (or the absolute tolerance).
-//! 2. An initial design: a randomly shifted Halton sequence (Cranley-Patterson rotation seeded by the
+//! 2. The ladder of standard settings the evaluator knows runs first, each judged like any candidate.
+//!    A rung whose runs break only limits a smaller time step cures is stepped down once
+//!    ([`step_down_factor`]); the best valid rung gets its extra seeds and is verified on fresh seeds
+//!    before the search (step 6), so that the answer never costs more than it. A new candidate
+//!    predicted dearer than the cheapest one still in the running runs one seed first, cut at that
+//!    cost; points predicted [`FAR_TOO_DEAR`] are not run.
+//! 3. An initial design: a randomly shifted Halton sequence (Cranley-Patterson rotation seeded by the
 //!    search seed), quantized to a 1/64 grid; points the evaluator predicts invalid (e.g. an impact
 //!    overlap past the divergence limit) are recorded and never run.
-//! 3. Every candidate starts with `seeds` runs. It is feasible when every run settled and every kept
+//! 4. Every candidate starts with `seeds` runs. It is feasible when every run settled and every kept
 //!    metric is equivalent by the two one-sided tests (Schuirmann 1987: the 90 % Welch interval of
 //!    the difference inside ±margin); infeasible when a run diverged or did not settle, or a metric is
 //!    different (interval wholly outside). An undecided candidate that could still beat the incumbent
 //!    (the cheapest feasible one) gets `seeds` more runs, up to `max_seeds`.
-//! 4. Refinement: a pattern search (compass search, Kolda, Lewis & Torczon 2003) around the incumbent
+//! 5. Refinement: a pattern search (compass search, Kolda, Lewis & Torczon 2003) around the incumbent
 //!    (or, while none is feasible, around the candidate closest to equivalence): ±step along every lever
 //!    plus the last successful move repeated, leaving out moves that a log-linear fit of the costs so far
 //!    predicts dearer than the incumbent; the step halves when a round brings no improvement. Once the
 //!    step is below the grid, further Halton points explore, until the budget is spent.
-//! 5. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
+//! 6. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
 //!    those whose difference so far leaves room for the verification's interval, first) runs on
 //!    `verify_seeds` fresh seeds never used in the search (once more when undecided), and is judged on
 //!    those runs alone; when it fails, the next cheapest that stood further inside the tolerances is
