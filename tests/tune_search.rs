@@ -3,7 +3,9 @@
 //! are never the answer (and the predicted-invalid one is never run); runs with validity warnings make
 //! a candidate infeasible; settings that resolve to the same runs are one candidate; a reference too
 //! noisy for its tolerance stops the search before it proposes anything; the standard ladder runs
-//! first and is the answer when nothing beats it; runs that can no longer win are cut.
+//! first and is the answer when nothing beats it; a rung whose runs break the energy balance is stepped
+//! down to a valid time step by the measured excess; a rung predicted dearer than the incumbent is cut
+//! at the incumbent's cost; runs that can no longer win are cut.
 
 use demsweep::tune::search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, State, search};
 
@@ -13,7 +15,9 @@ use demsweep::tune::search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig
 /// 0.97 resolves to 0.97 (like a capped time step), so those points make the same runs. Standard
 /// setting k sits at `standards[k]`. Runs at b < 0.1 never settle and cost 50 unless cut; the metric
 /// of runs at points of the lever space (not the reference's, not a standard setting's) is shifted by
-/// `offset`.
+/// `offset`. A standard setting's runs carry an energy-balance error of `energy · a` times its
+/// tolerance (a plays the time step; 2 % noise per seed), a warning past 1; `step_down` adds the
+/// setting with `a` scaled. Screens predict a setting's cost over the reference's.
 struct StandIn {
     runs: usize,
     jobs: Vec<Job>,
@@ -22,6 +26,9 @@ struct StandIn {
     noise: f64,
     offset: f64,
     standards: Vec<(f64, f64)>,
+    energy: f64,
+    /// The energy coefficient of verification runs, when it differs (fresh seeds that err more).
+    verify_energy: Option<f64>,
 }
 
 impl StandIn {
@@ -34,6 +41,8 @@ impl StandIn {
             noise: 0.005,
             offset: 0.0,
             standards: Vec::new(),
+            energy: 0.0,
+            verify_energy: None,
         }
     }
 
@@ -45,6 +54,11 @@ impl StandIn {
         };
         (a.min(0.97), b)
     }
+}
+
+/// The cost of a run at (a, b) that settles.
+fn cost(a: f64, b: f64) -> f64 {
+    10.0 - 4.0 * a - 3.0 * b
 }
 
 fn hash(mut x: u64) -> u64 {
@@ -67,7 +81,14 @@ impl Evaluator for StandIn {
         self.screened.push(format!("{a} {b}"));
         let invalid = (a < 0.25).then(|| "predicted to overlap too much".to_string());
         let resolved = if standard.is_some() { Vec::new() } else { vec![a, b] };
-        Screen { identity: format!("{a} {b}"), invalid, resolved }
+        let relative_cost = Some(cost(a, b) / cost(0.3, 0.2));
+        Screen { identity: format!("{a} {b}"), invalid, resolved, relative_cost }
+    }
+
+    fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
+        let (a, b) = self.standards[standard];
+        self.standards.push((a * factor, b));
+        Some(self.standards.len() - 1)
     }
 
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
@@ -83,7 +104,7 @@ impl Evaluator for StandIn {
                 let shift = if job.role == Role::Reference || job.standard.is_some() { 0.0 } else { self.offset };
                 let metric = 1.0 + 0.1 * (a + b - 1.2).max(0.0) + self.noise * normal(key) + shift;
                 let stuck = job.role != Role::Reference && b < 0.1;
-                let cost = if stuck { 50.0 } else { 10.0 - 4.0 * a - 3.0 * b };
+                let cost = if stuck { 50.0 } else { cost(a, b) };
                 let mut outcome = Outcome::settled(cost, vec![metric]);
                 outcome.failure = (a > 0.95).then(|| "diverged".to_string());
                 if stuck {
@@ -94,6 +115,13 @@ impl Evaluator for StandIn {
                 }
                 if b > 0.9 {
                     outcome.warnings.push("energy balance off by 7 %".into());
+                }
+                let energy =
+                    if job.role == Role::Verify { self.verify_energy.unwrap_or(self.energy) } else { self.energy };
+                let excess = energy * a * (1.0 + 0.02 * normal(key ^ 0xe4e7));
+                if job.standard.is_some() && excess > 1.0 {
+                    outcome.warnings.push(format!("energy balance off by {excess} of its tolerance"));
+                    outcome.excess = Some(excess);
                 }
                 outcome
             })
@@ -281,4 +309,79 @@ fn the_spend_limit_bounds_the_whole_tune() {
     assert!(total <= 30.0 * reference_cost, "{total} > 30 reference runs of {reference_cost}");
     let (unlimited, _) = run(&config());
     assert!(unlimited.runs > result.runs, "the limit stopped the search early");
+}
+
+#[test]
+fn a_rung_past_the_energy_limit_steps_down_to_a_valid_time_step_and_is_the_answer() {
+    // Standard 0 (a = 0.9) breaks the energy balance by about 1.08x its tolerance; nothing in the lever
+    // space is equivalent, so the answer can only be the ladder's.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], energy: 1.2, offset: 0.05, ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    let warned = &result.candidates[0];
+    assert!(matches!(result.assess(warned).state, State::Infeasible(ref why) if why.contains("validity warning")));
+    let largest = warned.runs.iter().filter_map(|o| o.excess).fold(0.0, f64::max);
+    assert!(largest > 1.0, "the rung broke the limit: {largest}");
+    let stepped = &result.candidates[1];
+    assert_eq!((stepped.stepped_from, stepped.standard), (Some(0), Some(1)), "the rung was stepped down once");
+    let (a, _) = stand_in.standards[1];
+    assert!((a - 0.9 * 0.8 / largest).abs() < 1e-12, "a = {a}: the step follows the measured excess");
+    let ladder_jobs: Vec<Option<usize>> =
+        stand_in.jobs.iter().filter(|j| j.role != Role::Reference).take(6).map(|j| j.standard).collect();
+    assert_eq!(ladder_jobs, [Some(0), Some(0), Some(0), Some(1), Some(1), Some(1)], "stepped before the design");
+    assert_eq!(result.candidates.iter().filter(|c| c.stepped_from.is_some()).count(), 1, "once");
+    assert_eq!(result.recommended, Some(1), "the stepped rung is the answer");
+    assert!(stepped.runs.iter().chain(&stepped.verification).all(|o| o.warnings.is_empty()));
+    assert_eq!(result.assess_verification(stepped).unwrap().state, State::Feasible);
+}
+
+#[test]
+fn a_rung_predicted_dearer_than_the_incumbent_is_cut_at_the_incumbents_cost() {
+    // Standard 0 costs 5.5 and is equivalent; standard 1 (a = 0.26, b = 0.12) is predicted at 8.6 / 8.2
+    // of the reference, dearer than the incumbent: its first run goes alone and stops as soon as it
+    // costs an incumbent run, and no other runs follow.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3), (0.26, 0.12)], ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 2, cut_runs: true, ..config() }, stand_in);
+    let incumbent = result.assess(&result.candidates[0]).cost;
+    assert_eq!(result.assess(&result.candidates[0]).state, State::Feasible);
+    let dear = &result.candidates[1];
+    assert!(dear.relative_cost.unwrap() > 1.0);
+    assert!(dear.runs.iter().all(|o| o.cut && o.cost <= incumbent), "{:?}", dear.runs);
+    let caps: Vec<f64> = stand_in.jobs.iter().filter(|j| j.standard == Some(1)).filter_map(|j| j.cap).collect();
+    assert_eq!(caps, vec![incumbent], "one run, capped at the incumbent's mean cost");
+    assert_eq!(result.best_standard(), Some(0));
+}
+
+#[test]
+fn the_best_standard_is_verified_before_the_search_and_bounds_the_answer() {
+    // Standard 0 (cost 5.5) is equivalent; the lever space holds cheaper equivalent points.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    let first_verify = stand_in.jobs.iter().position(|j| j.role == Role::Verify).expect("a verification");
+    let first_point = stand_in.jobs.iter().position(|j| j.standard.is_none() && j.role == Role::Search).unwrap();
+    assert!(first_verify < first_point, "the standard is verified before any point of the lever space runs");
+    assert_eq!(stand_in.jobs[first_verify].standard, Some(0));
+    assert_eq!(result.assess_verification(&result.candidates[0]).unwrap().state, State::Feasible);
+    let best = &result.candidates[result.recommended.expect("a recommendation")];
+    let cost = |c: &demsweep::tune::search::Candidate| result.assess(c).cost;
+    assert!(cost(best) <= cost(&result.candidates[0]), "the answer never costs more than the verified standard");
+    // Only candidates cheaper than the verified standard were verified after it.
+    for c in result.candidates.iter().skip(1).filter(|c| !c.verification.is_empty()) {
+        assert!(cost(c) < cost(&result.candidates[0]), "candidate {} verified at {}", c.id, cost(c));
+    }
+}
+
+#[test]
+fn a_rung_that_breaks_the_energy_limit_on_fresh_seeds_is_stepped_down_and_verified() {
+    // Standard 0 passes its search seeds but its fresh verification seeds err by about 1.08x the
+    // tolerance: the rung is stepped down by that excess and the stepped rung is the verified answer.
+    let stand_in = StandIn { standards: vec![(0.9, 0.3)], verify_energy: Some(1.2), offset: 0.05, ..StandIn::new() };
+    let (result, stand_in) = run_on(&SearchConfig { standards: 1, ..config() }, stand_in);
+    let failed = &result.candidates[0];
+    assert_eq!(result.assess(failed).state, State::Feasible, "valid during the search");
+    assert!(matches!(result.assess_verification(failed).unwrap().state, State::Infeasible(_)));
+    let stepped = result.candidates.iter().position(|c| c.stepped_from == Some(0)).expect("a stepped rung");
+    let largest = failed.verification.iter().filter_map(|o| o.excess).fold(0.0, f64::max);
+    assert!((stand_in.standards[1].0 - 0.9 * 0.8 / largest).abs() < 1e-12);
+    assert_eq!(result.recommended, Some(stepped));
+    assert_eq!(result.best_standard(), Some(stepped), "a rung that failed verification is not the best standard");
 }

@@ -132,7 +132,7 @@ impl CsvRow for TuneBenchRow {
 pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, String> {
     let mut rows = Vec::new();
     for path in &options.tunes {
-        let spec = tune::load(path).map_err(|e| e.to_string())?;
+        let mut spec = tune::load(path).map_err(|e| e.to_string())?;
         eprintln!("bench tune: {} — tune", spec.name);
         let tune_options = TuneOptions {
             jobs: options.jobs,
@@ -140,7 +140,7 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
             force: true,
             ..Default::default()
         };
-        let report = tune::tune(&spec, &tune_options).map_err(|e| e.to_string())?;
+        let report = tune::tune(&mut spec, &tune_options).map_err(|e| e.to_string())?;
         let result = &report.result;
         let paragraph = crate::tune::report::paragraph(&spec, result);
         eprintln!("{paragraph}");
@@ -227,6 +227,8 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
             runs: Vec::new(),
             verification: Vec::new(),
             verify_seeds: Vec::new(),
+            relative_cost: None,
+            stepped_from: None,
         };
         let recommended = result.recommended.map(|k| &result.candidates[k]);
         // The grid's best on the fresh seeds tune verified on (or on fresh seeds of its own).

@@ -151,7 +151,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
 
 /// `demsweep tune FILE`.
 pub fn run(args: &TuneArgs) -> ExitCode {
-    let spec = match load_or_report(&args.file) {
+    let mut spec = match load_or_report(&args.file) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
@@ -168,7 +168,7 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         stop,
     };
     let started = std::time::Instant::now();
-    let outcome = match tune::tune(&spec, &options) {
+    let outcome = match tune::tune(&mut spec, &options) {
         Ok(outcome) => outcome,
         Err(TuneError::Interrupted) => {
             eprintln!("tune: {}", TuneError::Interrupted);

@@ -102,20 +102,25 @@ pub fn write_report(
         elapsed: context.elapsed.or(recorded.map(|(_, wall)| wall)),
     };
     let mut page = html::Page::new(&header.study_name);
-    page.push(&overview(&header, &rows, &context));
+    // A tune's page shows its answer first, its warnings grouped by kind, and no study charts: a
+    // tune's runs are not a grid, so averages over the levers mean nothing.
+    let tune = read_tune_section(results, &header.study_name);
+    page.push(&overview(&header, &rows, &context, tune.is_some()));
+    match &tune {
+        Some(Ok(tune)) => page.push(&tune_section(tune)),
+        Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(reason))),
+        None => {}
+    }
     if !damaged.is_empty() {
         page.push(&format!("<p class=\"note\">{}</p>", escape(&reader::damage_text(&damaged))));
     }
-    page.push(&outcomes(&rows));
-    let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
-    page.push(&points_section(&summary, &charted_ids));
-    let mut study = Svgs::default();
-    results::study_charts(&mut study, &header.study_name, &rows);
-    page.push(&charts_section(&study));
-    match read_tune_section(results, &header.study_name) {
-        Some(Ok(tune)) => page.push(&tune_section(&tune)),
-        Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(&reason))),
-        None => {}
+    page.push(&outcomes(&rows, tune.is_some()));
+    if tune.is_none() {
+        let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
+        page.push(&points_section(&summary, &charted_ids));
+        let mut study = Svgs::default();
+        results::study_charts(&mut study, &header.study_name, &rows);
+        page.push(&charts_section(&study));
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {
@@ -176,7 +181,7 @@ impl ChartSink for Svgs {
 }
 
 /// What was run: study, fingerprint, version, dates, wall time, cores, and the study file itself.
-fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext) -> String {
+fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, tune: bool) -> String {
     let description = toml::from_str::<toml::Table>(&header.study_text)
         .ok()
         .and_then(|t| t.get("description").and_then(|d| d.as_str().map(str::to_string)));
@@ -187,8 +192,14 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext) -
         ("demsweep", escape(&header.demsweep_version)),
         ("results file created", escape(&header.created)),
         ("report written", escape(&crate::output::header::utc_now())),
-        ("runs", format!("{} of {} planned", rows.len(), header.planned_runs)),
-        ("simulation time", format!("{} s over all runs", number(run_seconds))),
+        (
+            "runs",
+            match tune {
+                true => format!("{} (a tune decides its runs as it goes: see below how they add up)", rows.len()),
+                false => format!("{} of {} planned", rows.len(), header.planned_runs),
+            },
+        ),
+        ("computing time", format!("{} s summed over all runs", number(run_seconds))),
     ];
     if let Some(elapsed) = context.elapsed {
         facts.push(("wall time", format!("{} s (the last sweep into the file)", number(elapsed))));
@@ -205,8 +216,9 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext) -
     )
 }
 
-/// How the runs ended (counts by status) and their warnings and failure messages, grouped.
-fn outcomes(rows: &[SummaryRow]) -> String {
+/// How the runs ended (counts by status) and their warnings and failure messages, grouped (by kind,
+/// numbers left out, when `by_kind`).
+fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
     let mut statuses: BTreeMap<&str, usize> = BTreeMap::new();
     let mut warnings: BTreeMap<&str, usize> = BTreeMap::new();
     let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
@@ -238,7 +250,11 @@ fn outcomes(rows: &[SummaryRow]) -> String {
     if warnings.is_empty() {
         out += "<p class=\"note\">No run has a warning.</p>";
     } else {
-        out += &grouped("Warnings", warnings.into_iter().map(|(m, n)| (m.to_string(), n)).collect());
+        let mut groups: BTreeMap<String, usize> = BTreeMap::new();
+        for (m, n) in warnings {
+            *groups.entry(if by_kind { warning_kind(m) } else { m.to_string() }).or_default() += n;
+        }
+        out += &grouped("Warnings", groups.into_iter().collect());
     }
     out
 }
@@ -271,11 +287,50 @@ fn charts_section(svgs: &Svgs) -> String {
     out
 }
 
-/// The tune's recommendation, chart and candidate table.
+/// A warning's kind: its text with every number replaced by `…`.
+fn warning_kind(warning: &str) -> String {
+    let mut kind = String::new();
+    let mut in_number = false;
+    for (i, c) in warning.char_indices() {
+        let starts = c.is_ascii_digit() && !warning[..i].ends_with(|p: char| p.is_ascii_alphabetic() || p == '_');
+        let continues = in_number && (c.is_ascii_digit() || ".eE+-".contains(c));
+        if starts || continues {
+            if !in_number {
+                kind.push('…');
+            }
+            in_number = true;
+        } else {
+            in_number = false;
+            kind.push(c);
+        }
+    }
+    kind
+}
+
+/// The tune's answer (its lines: indented ones, the pile metrics, as a list with those beyond 2σ
+/// marked), chart and candidate table.
 fn tune_section(tune: &TuneSection) -> String {
+    let mut answer = String::new();
+    let mut list = String::new();
+    for line in tune.recommendation.lines() {
+        match line.strip_prefix("  ") {
+            Some(item) => {
+                let class = if item.contains("beyond 2σ") { " class=\"flag\"" } else { "" };
+                list += &format!("<li{class}>{}</li>", escape(item));
+            }
+            None => {
+                if !list.is_empty() {
+                    answer += &format!("<ul class=\"metrics\">{}</ul>", std::mem::take(&mut list));
+                }
+                answer += &format!("<p class=\"recommendation\">{}</p>", escape(line));
+            }
+        }
+    }
+    if !list.is_empty() {
+        answer += &format!("<ul class=\"metrics\">{list}</ul>");
+    }
     format!(
-        "<h2 id=\"tune\">Tune</h2><p class=\"recommendation\">{}</p><div class=\"chart\">{}</div><h3>Candidates</h3><div class=\"scroll\">{}</div>",
-        escape(&tune.recommendation),
+        "<h2 id=\"tune\">Tune: the answer</h2>{answer}<div class=\"chart\">{}</div><h3>Candidates</h3><div class=\"scroll\">{}</div>",
         tune.chart_svg,
         html::static_table(&tune.candidates)
     )

@@ -238,9 +238,8 @@ impl TuneSpec {
         self.edited_scene(values, &[])
     }
 
-    /// The scene of standard setting `k`.
-    pub fn standard_scene(&self, k: usize) -> Result<SceneConfig, String> {
-        let standard = &self.standards[k];
+    /// The scene of a standard setting.
+    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, String> {
         self.edited_scene(&standard.values, &standard.removed)
     }
 

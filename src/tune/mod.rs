@@ -20,6 +20,7 @@ use std::sync::atomic::AtomicBool;
 
 pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load};
 pub use search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult};
+pub use validity::StandardSetting;
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
@@ -114,26 +115,31 @@ pub fn results_path(spec: &TuneSpec, out_dir: Option<&Path>) -> PathBuf {
 }
 
 /// Runs a tune: the search with real runs, into `OUT/<name>.h5`.
-pub fn tune(spec: &TuneSpec, options: &TuneOptions) -> Result<TuneReport, TuneError> {
+///
+/// The search may add standard settings (a rung stepped down to a valid time step); `spec.standards`
+/// holds the ladder as it ran afterwards, so that the candidates' `standard` indices name them.
+pub fn tune(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneReport, TuneError> {
     let mut evaluator = RunEvaluator::new(spec, options);
-    let result = match search::search(&search_config(spec), &mut evaluator) {
-        Ok(result) => result,
-        Err(e) => return Err(evaluator.error.take().unwrap_or(TuneError::Search(e))),
-    };
+    let searched = search::search(&search_config(spec), &mut evaluator);
+    let (reused, ran, total_particle_steps) = (evaluator.reused, evaluator.ran, evaluator.particle_steps);
+    let (standards, error) = (evaluator.standards, evaluator.error);
+    spec.standards = standards;
+    let result = searched.map_err(|e| error.unwrap_or(TuneError::Search(e)))?;
     Ok(TuneReport {
         result,
         results: results_path(spec, options.out_dir.as_deref()),
-        reused: evaluator.reused,
-        ran: evaluator.ran,
-        total_particle_steps: evaluator.particle_steps,
+        reused,
+        ran,
+        total_particle_steps,
     })
 }
 
-/// The parameters of a job's run: the lever values, then the placement seed and the candidate.
-pub fn job_parameters(spec: &TuneSpec, job: &Job) -> Vec<(String, ParamValue)> {
+/// The parameters of a job's run: the lever values (a standard setting's keys, from `ladder`), then
+/// the placement seed and the candidate.
+fn job_parameters(spec: &TuneSpec, ladder: &[StandardSetting], job: &Job) -> Vec<(String, ParamValue)> {
     let mut values: Vec<(String, ParamValue)> = match (job.role, job.standard) {
         (Role::Reference, _) => spec.reference_values().into_iter().map(|(k, v, _)| (k, v)).collect(),
-        (_, Some(k)) => spec.standards[k].values.clone(),
+        (_, Some(k)) => ladder[k].values.clone(),
         _ => spec.values(&job.point),
     };
     let seed = spec.reference.placement.seed.wrapping_add(job.seed);
@@ -153,18 +159,19 @@ pub fn job_parameters(spec: &TuneSpec, job: &Job) -> Vec<(String, ParamValue)> {
 
 /// The scene of a candidate's first seed.
 pub fn candidate_scene(spec: &TuneSpec, candidate: &search::Candidate) -> Result<crate::physics::SceneConfig, String> {
-    setting_scene(spec, &candidate.point, candidate.standard, 0)
+    setting_scene(spec, &spec.standards, &candidate.point, candidate.standard, 0)
 }
 
-/// The scene of a job or a candidate: standard setting `standard`, or the levers at `point`.
+/// The scene of a job or a candidate: standard setting `standard` of `ladder`, or the levers at `point`.
 fn setting_scene(
     spec: &TuneSpec,
+    ladder: &[StandardSetting],
     point: &[f64],
     standard: Option<usize>,
     seed: u64,
 ) -> Result<crate::physics::SceneConfig, String> {
     let mut scene = match standard {
-        Some(k) => spec.standard_scene(k)?,
+        Some(k) => spec.standard_scene(&ladder[k])?,
         None => spec.scene(&spec.values(point))?,
     };
     scene.placement.seed = spec.reference.placement.seed.wrapping_add(seed);
@@ -190,6 +197,10 @@ pub struct RunEvaluator<'a> {
     options: &'a TuneOptions,
     plan: Plan,
     batches: usize,
+    /// The reference's time step (s), the yardstick of predicted costs.
+    reference_dt: f64,
+    /// The ladder: the spec's standard settings and those the search stepped down.
+    pub standards: Vec<StandardSetting>,
     /// Runs found in the results file.
     pub reused: usize,
     /// Runs made.
@@ -212,18 +223,31 @@ impl<'a> RunEvaluator<'a> {
             runs: Vec::new(),
             warnings: Vec::new(),
         };
-        Self { spec, options, plan, batches: 0, reused: 0, ran: 0, particle_steps: 0.0, error: None }
+        let reference_dt =
+            crate::physics::scene_time_step(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)).dt;
+        Self {
+            spec,
+            options,
+            plan,
+            batches: 0,
+            reference_dt,
+            standards: spec.standards.clone(),
+            reused: 0,
+            ran: 0,
+            particle_steps: 0.0,
+            error: None,
+        }
     }
 
     fn planned_run(&self, job: &Job, index: usize) -> PlannedRun {
-        let parameters = job_parameters(self.spec, job);
+        let parameters = job_parameters(self.spec, &self.standards, job);
         let scene = match job.role {
             Role::Reference => {
                 let mut scene = self.spec.reference.clone();
                 scene.placement.seed = self.spec.reference.placement.seed.wrapping_add(job.seed);
                 Ok(scene)
             }
-            _ => setting_scene(self.spec, &job.point, job.standard, job.seed),
+            _ => setting_scene(self.spec, &self.standards, &job.point, job.standard, job.seed),
         };
         // An invalid scene becomes a run that fails with the reason (status error): the runner
         // records it like any failed run.
@@ -250,18 +274,22 @@ impl<'a> RunEvaluator<'a> {
 
 impl Evaluator for RunEvaluator<'_> {
     fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
-        let scene = match setting_scene(self.spec, point, standard, 0) {
+        let scene = match setting_scene(self.spec, &self.standards, point, standard, 0) {
             Ok(scene) => scene,
             Err(reason) => {
                 return Screen {
                     identity: format!("{point:?} {standard:?}"),
                     invalid: Some(reason),
                     resolved: Vec::new(),
+                    relative_cost: None,
                 };
             }
         };
         let disks = self.spec.initial.as_deref().map(Vec::as_slice);
         let identity = validity::identity(&scene, disks);
+        let dt = crate::physics::scene_time_step(&scene, disks).dt;
+        let disks_ratio = scene.particles.count as f64 / self.spec.reference.particles.count.max(1) as f64;
+        let relative_cost = Some(self.reference_dt / dt * disks_ratio).filter(|r| r.is_finite() && *r > 0.0);
         let invalid = match validity::predicted_warnings(&scene, disks) {
             Ok(warnings) => warnings.into_iter().next().map(|w| format!("predicted: {w}")),
             Err(reason) => Some(reason),
@@ -277,7 +305,13 @@ impl Evaluator for RunEvaluator<'_> {
                 .map(|(lever, &u)| lever.coordinate(&lever.value(u)).unwrap_or(u))
                 .collect(),
         };
-        Screen { identity, invalid, resolved }
+        Screen { identity, invalid, resolved, relative_cost }
+    }
+
+    fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
+        let stepped = validity::stepped_down(&self.standards[standard], factor)?;
+        self.standards.push(stepped);
+        Some(self.standards.len() - 1)
     }
 
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
@@ -432,6 +466,7 @@ impl<'a> Rows<'a> {
         } else {
             Vec::new()
         };
-        Some((Outcome { failure, cost, metrics, warnings, cut, pile }, particle_steps))
+        let excess = if failure.is_none() { validity::time_step_excess(&warnings) } else { None };
+        Some((Outcome { failure, cost, metrics, warnings, cut, pile, excess }, particle_steps))
     }
 }

@@ -216,6 +216,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
 /// The recommendation's cost against the best valid standard setting's, with its interval.
 fn against_standard(spec: &TuneSpec, result: &SearchResult, costs: &[f64]) -> String {
     match result.best_standard() {
+        Some(s) if result.recommended == Some(s) => "it is the best valid standard setting".into(),
         Some(s) => {
             let standard = &result.candidates[s];
             let runs: Vec<f64> = standard.runs.iter().chain(&standard.verification).map(|o| o.cost).collect();
@@ -238,6 +239,9 @@ fn payback(result: &SearchResult, ratio: f64, spent: f64) -> String {
     let reference = stats::describe(&result.reference_costs()).mean;
     let standard = result.best_standard().map(|s| result.assess(&result.candidates[s]).cost / reference);
     let against = match standard {
+        _ if result.recommended.is_some() && result.recommended == result.best_standard() => {
+            " (it is the best standard setting: no search was needed to find it)".to_string()
+        }
         Some(s) => format!(", {} against the best standard setting", count(s - ratio)),
         None => String::new(),
     };
@@ -262,17 +266,18 @@ fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> Strin
         }
         let spread = stats::describe(&reference).std;
         let t = stats::equivalence(&reference, &runs, f64::INFINITY);
-        let sigmas = if spread > 0.0 { t.difference / spread } else { 0.0 };
+        let sigmas = if spread > 0.0 { t.difference / spread } else { t.difference * f64::INFINITY };
         let kept = spec.keep.iter().position(|keep| keep.metric == *name);
         let tolerance = kept.map(|i| format!(", kept within ±{}", num(result.margins[i]))).unwrap_or_default();
         let flag = if sigmas.abs() > 2.0 { " — beyond 2σ" } else { "" };
+        let in_sigmas =
+            if sigmas.is_finite() { format!("{}σ", num(sigmas)) } else { "the reference does not vary".into() };
         let _ = writeln!(
             text,
-            "  {name}: {} ({} to {}), {}σ{tolerance}{flag}",
+            "  {name}: {} ({} to {}), {in_sigmas}{tolerance}{flag}",
             num(t.difference),
             num(t.low),
             num(t.high),
-            num(sigmas)
         );
     }
     text

@@ -7,20 +7,26 @@
 //!
 //! 1. The reference runs on `reference_seeds` seeds; each metric's margin is its tolerance times the
 //!    reference mean (or the absolute tolerance).
-//! 2. An initial design: a randomly shifted Halton sequence (Cranley-Patterson rotation seeded by the
+//! 2. The ladder of standard settings the evaluator knows runs first, each judged like any candidate.
+//!    A rung whose runs break only limits a smaller time step cures is stepped down once
+//!    ([`step_down_factor`]); the best valid rung gets its extra seeds and is verified on fresh seeds
+//!    before the search (step 6), so that the answer never costs more than it. A new candidate
+//!    predicted dearer than the cheapest one still in the running runs one seed first, cut at that
+//!    cost; points predicted [`FAR_TOO_DEAR`] are not run.
+//! 3. An initial design: a randomly shifted Halton sequence (Cranley-Patterson rotation seeded by the
 //!    search seed), quantized to a 1/64 grid; points the evaluator predicts invalid (e.g. an impact
 //!    overlap past the divergence limit) are recorded and never run.
-//! 3. Every candidate starts with `seeds` runs. It is feasible when every run settled and every kept
+//! 4. Every candidate starts with `seeds` runs. It is feasible when every run settled and every kept
 //!    metric is equivalent by the two one-sided tests (Schuirmann 1987: the 90 % Welch interval of
 //!    the difference inside ±margin); infeasible when a run diverged or did not settle, or a metric is
 //!    different (interval wholly outside). An undecided candidate that could still beat the incumbent
 //!    (the cheapest feasible one) gets `seeds` more runs, up to `max_seeds`.
-//! 4. Refinement: a pattern search (compass search, Kolda, Lewis & Torczon 2003) around the incumbent
+//! 5. Refinement: a pattern search (compass search, Kolda, Lewis & Torczon 2003) around the incumbent
 //!    (or, while none is feasible, around the candidate closest to equivalence): ±step along every lever
 //!    plus the last successful move repeated, leaving out moves that a log-linear fit of the costs so far
 //!    predicts dearer than the incumbent; the step halves when a round brings no improvement. Once the
 //!    step is below the grid, further Halton points explore, until the budget is spent.
-//! 5. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
+//! 6. Verification (`3 × verify_seeds` runs are kept for it): the cheapest feasible candidate (among
 //!    those whose difference so far leaves room for the verification's interval, first) runs on
 //!    `verify_seeds` fresh seeds never used in the search (once more when undecided), and is judged on
 //!    those runs alone; when it fails, the next cheapest that stood further inside the tolerances is
@@ -111,12 +117,16 @@ pub struct Outcome {
     pub cut: bool,
     /// Every pile metric of the summary (the evaluator's list), kept or not, for the answer sheet.
     pub pile: Vec<f64>,
+    /// When every warning of the run is one a smaller time step cures (energy balance, overlap): the
+    /// largest measured value over its limit (e.g. 1.08 for an energy-balance error of 1.08 % against
+    /// a 1 % tolerance). None when the run has no warning or another kind of problem.
+    pub excess: Option<f64>,
 }
 
 impl Outcome {
     /// A settled run without warnings.
     pub fn settled(cost: f64, metrics: Vec<f64>) -> Self {
-        Self { failure: None, cost, metrics, warnings: Vec::new(), cut: false, pile: Vec::new() }
+        Self { failure: None, cost, metrics, warnings: Vec::new(), cut: false, pile: Vec::new(), excess: None }
     }
 
     /// Why the run cannot count: its failure, else its first validity warning.
@@ -136,6 +146,10 @@ pub struct Screen {
     /// The normalized point of the values that actually run (empty: the point as asked, or a
     /// standard setting); the candidate records this one.
     pub resolved: Vec<f64>,
+    /// Predicted cost of a run relative to a reference run's, from the time step that runs (the
+    /// settle time taken from the reference): the reference's time step over this one, times the
+    /// disk count over the reference's. None when it cannot be predicted.
+    pub relative_cost: Option<f64>,
 }
 
 /// Runs batches of jobs and screens settings.
@@ -145,6 +159,42 @@ pub trait Evaluator {
     fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen;
     /// Runs `jobs` (as one parallel batch); outcomes in job order.
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String>;
+    /// A new standard setting: standard `standard` with the fraction of the time scale that sets its
+    /// time step multiplied by at most `factor` (< 1; the evaluator rounds the new fraction down).
+    /// Returns its index in the ladder, or None when the setting's time step is not set by a fraction.
+    fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize>;
+}
+
+/// A point of the lever space predicted (from its time step) to cost more than this times the cheapest
+/// candidate still in the running is not run: levers that shorten settling (damping, fill height)
+/// rarely take a third off the reference's settle time.
+pub const FAR_TOO_DEAR: f64 = 1.5;
+
+/// What a stepped-down time step aims at: the measured excess (see [`Outcome::excess`]) brought to
+/// this share of its limit, leaving room for seeds not yet run.
+pub const STEP_DOWN_SAFETY: f64 = 0.8;
+
+/// The factor a time step is multiplied by when its runs' largest measured excess over a validity
+/// limit is `excess` and a run of it is predicted to cost `relative_cost` of a reference run (the
+/// reference's time step over its own).
+///
+/// The error of a fixed-step integrator follows a power of the time step, `e ∝ dt^p`. Two points
+/// bound p: the rung's runs (`excess` times the limit) and the reference's, which passed (at most the
+/// limit) with a time step `relative_cost` times the rung's; so `p ≥ ln(excess) / ln(1 /
+/// relative_cost)`, and p ≥ 1 for any consistent integrator. With the smallest p these allow, the
+/// step is the largest that can still miss the limit, scaled so that the excess lands on
+/// [`STEP_DOWN_SAFETY`]: `(STEP_DOWN_SAFETY / excess)^(1/p)`. A larger true p only leaves more margin.
+/// None when there is no excess to cure or the stepped rung would cost the reference's or more.
+pub fn step_down_factor(excess: f64, relative_cost: Option<f64>) -> Option<f64> {
+    if !(excess.is_finite() && excess > STEP_DOWN_SAFETY) {
+        return None;
+    }
+    let order = match relative_cost.filter(|r| *r > 0.0 && *r < 1.0) {
+        Some(r) => (excess.ln() / (1.0 / r).ln()).max(1.0),
+        None => 1.0,
+    };
+    let factor = (STEP_DOWN_SAFETY / excess).powf(1.0 / order);
+    relative_cost.is_none_or(|r| r / factor < 1.0).then_some(factor)
 }
 
 /// Where a candidate came from.
@@ -233,6 +283,11 @@ pub struct Candidate {
     pub verification: Vec<Outcome>,
     /// Seeds of the verification runs.
     pub verify_seeds: Vec<u64>,
+    /// Predicted cost relative to the reference's (see [`Screen::relative_cost`]).
+    pub relative_cost: Option<f64>,
+    /// The candidate (index) whose runs broke a validity limit that a smaller time step cures, when
+    /// this one is that setting with its time step stepped down.
+    pub stepped_from: Option<usize>,
 }
 
 /// What the search found.
@@ -310,10 +365,12 @@ impl SearchResult {
     }
 
     /// The cheapest candidate feasible in the search among those `keep` accepts, and its mean cost
-    /// (infinite when there is none); one dearer than the reference itself never counts.
+    /// (infinite when there is none); one dearer than the reference itself, or one that failed its
+    /// verification, never counts.
     pub fn cheapest_feasible(&self, keep: impl Fn(&Candidate) -> bool) -> (Option<usize>, f64) {
         let mut best = (None, stats::describe(&self.reference_costs()).mean);
-        for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c)) {
+        let failed = |c: &Candidate| self.assess_verification(c).is_some_and(|a| a.state != State::Feasible);
+        for (k, cand) in self.candidates.iter().enumerate().filter(|(_, c)| keep(c) && !failed(c)) {
             let a = self.assess(cand);
             if a.state == State::Feasible && a.cost < best.1 {
                 best = (Some(k), a.cost);
@@ -434,6 +491,8 @@ struct Search<'a, E> {
     halton_index: u64,
     /// Cost of every run so far.
     spent: f64,
+    /// The next fresh seed of a verification.
+    next_seed: u64,
 }
 
 impl<'a, E: Evaluator> Search<'a, E> {
@@ -450,7 +509,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             budget: config.budget,
             undecidable: Vec::new(),
         };
-        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0 }
+        let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
+        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0, next_seed }
     }
 
     fn run(mut self) -> Result<SearchResult, String> {
@@ -468,8 +528,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
         for k in 0..c.standards {
             if let Some(index) = self.propose_standard(k) {
                 self.run_more(&[(index, c.seeds)])?;
+                self.step_down(index, false)?;
             }
         }
+        // The best standard setting is settled and verified first: it is the answer unless the
+        // search verifies a cheaper one.
+        while self.extra_seeds(search_end)? {}
+        self.verify(|c| c.standard.is_some())?;
         let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         let fresh = self.explore(initial.max(2), Origin::Initial);
@@ -526,7 +591,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 break;
             }
         }
-        self.verify()?;
+        self.verify(|_| true)?;
         Ok(self.result)
     }
 
@@ -573,20 +638,33 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping two
-    /// verification rounds; a run is priced at the incumbent's mean cost (without one: the mean of the
-    /// candidates' runs so far, else the reference's).
+    /// verification rounds. A candidate's run is priced at the cheapest candidate still in the running
+    /// (feasible, or undecided with every run valid), a verification run at the dearest of them, the
+    /// one that may have to be verified (without any: both at the mean of the runs so far, else the
+    /// reference's).
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = stats::describe(&self.result.reference_costs()).mean;
-        let (best, incumbent) = self.incumbent();
+        let running = self.running_costs();
         let tried: Vec<f64> = self.result.candidates.iter().flat_map(|c| &c.runs).map(|o| o.cost).collect();
-        let unit = match (best.is_some(), tried.is_empty()) {
-            (true, _) => incumbent,
-            (false, false) => stats::describe(&tried).mean,
-            (false, true) => reference,
-        };
-        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * unit;
+        let fallback = if tried.is_empty() { reference } else { stats::describe(&tried).mean };
+        let unit = running.iter().copied().reduce(f64::min).unwrap_or(fallback);
+        let verification = running.iter().copied().reduce(f64::max).unwrap_or(fallback);
+        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * verification;
         if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
+    }
+
+    /// The mean costs of the candidates still in the running (feasible, or undecided with every run
+    /// settled and valid) that are cheaper than the reference.
+    fn running_costs(&self) -> Vec<f64> {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        self.result
+            .candidates
+            .iter()
+            .map(|cand| self.result.assess(cand))
+            .filter(|a| matches!(a.state, State::Feasible | State::Undecided) && a.cost < reference)
+            .map(|a| a.cost)
+            .collect()
     }
 
     /// The point snapped to the grid (list levers to bin centres).
@@ -627,6 +705,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             runs: Vec::new(),
             verification: Vec::new(),
             verify_seeds: Vec::new(),
+            relative_cost: screen.relative_cost,
+            stepped_from: None,
         });
         valid.then_some(id - 1)
     }
@@ -661,7 +741,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let point: Vec<f64> =
                 (0..self.config.dims).map(|d| (radical_inverse(i, PRIMES[d]) + self.shift[d]).fract()).collect();
             if self.promising(&self.snap(&point)) {
-                fresh.extend(self.propose(&point, origin));
+                fresh.extend(self.propose(&point, origin).filter(|&k| !self.far_too_dear(k)));
             }
         }
         fresh
@@ -688,7 +768,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut fresh = Vec::new();
         for p in moves {
             if self.promising(&self.snap(&p)) {
-                fresh.extend(self.propose(&p, Origin::Refine));
+                fresh.extend(self.propose(&p, Origin::Refine).filter(|&k| !self.far_too_dear(k)));
             }
         }
         fresh
@@ -778,14 +858,93 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The cost past which a further run of `cand` (which will then have `more` further runs) proves
     /// that it cannot beat the incumbent (the reference itself while there is none): with every other
     /// run costing nothing, its mean would still reach the incumbent's.
+    ///
+    /// A new candidate predicted dearer (see [`Candidate::relative_cost`]) than the cheapest one still
+    /// in the running ([`Self::likely_cost`]: the incumbent, a valid undecided candidate or the
+    /// reference) is expected to lose: its first run is stopped as soon as it alone costs that much,
+    /// the point where the prediction is confirmed (a run that settles sooner than the reference's,
+    /// e.g. with more damping, still ends below it and counts).
     fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
+        if cand.runs.is_empty() && self.predicted_dear(cand) {
+            return self.config.cut_runs.then_some(self.likely_cost());
+        }
         let incumbent = self.incumbent().1;
         let spent: f64 = cand.runs.iter().map(|o| o.cost).sum();
         self.config.cut_runs.then(|| (cand.runs.len() + more) as f64 * incumbent - spent)
     }
 
-    /// Runs `more` further search seeds of each candidate, as one batch.
+    /// When every problem of candidate `k`'s runs (its verification runs when `verified`) is a
+    /// validity warning that a smaller time step cures, and `k` is a standard setting not itself
+    /// stepped down: the same setting with its time step multiplied by [`step_down_factor`] of the
+    /// largest measured excess becomes a new standard setting and runs its search seeds (when the
+    /// budget and the spend limit leave room for them and a verification). Returns its index.
+    fn step_down(&mut self, k: usize, verified: bool) -> Result<Option<usize>, String> {
+        let c = self.config;
+        let cand = &self.result.candidates[k];
+        let runs = if verified { &cand.verification } else { &cand.runs };
+        let (Some(standard), None) = (cand.standard, cand.stepped_from) else { return Ok(None) };
+        if self.result.candidates.iter().any(|other| other.stepped_from == Some(k)) {
+            return Ok(None);
+        }
+        let warned = runs.iter().filter(|o| o.failure.is_some() || !o.warnings.is_empty());
+        let excess = warned.map(|o| o.excess.filter(|_| o.failure.is_none())).collect::<Option<Vec<f64>>>();
+        let largest = excess.and_then(|e| e.into_iter().reduce(f64::max));
+        let Some(factor) = largest.and_then(|e| step_down_factor(e, cand.relative_cost)) else {
+            return Ok(None);
+        };
+        let Some(stepped) = self.evaluator.step_down(standard, factor) else { return Ok(None) };
+        let Some(index) = self.propose_standard(stepped) else { return Ok(None) };
+        self.result.candidates[index].stepped_from = Some(k);
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        let unit = self.result.candidates[index].relative_cost.map_or(reference, |r| r * reference);
+        let price = (c.seeds + c.verify_seeds) as f64 * unit;
+        if self.result.runs + c.seeds + c.verify_seeds > c.budget || self.spent + price > c.max_spend * reference {
+            return Ok(None);
+        }
+        self.run_more(&[(index, c.seeds)])?;
+        Ok(Some(index))
+    }
+
+    /// Whether candidate `k` is predicted ([`Candidate::relative_cost`]) to cost more than
+    /// [`FAR_TOO_DEAR`] times the cheapest candidate still in the running: it would have to settle in
+    /// a third less time than the reference to win, so it is recorded and not run.
+    fn far_too_dear(&self, k: usize) -> bool {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        let cand = &self.result.candidates[k];
+        cand.relative_cost.is_some_and(|r| r * reference > FAR_TOO_DEAR * self.likely_cost())
+    }
+
+    /// Whether `cand` is predicted dearer than the cheapest candidate still in the running.
+    fn predicted_dear(&self, cand: &Candidate) -> bool {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        self.config.cut_runs && cand.relative_cost.is_some_and(|r| r * reference > self.likely_cost())
+    }
+
+    /// Runs `more` further search seeds of each candidate, as one batch; a new candidate predicted
+    /// dearer than the cheapest one in the running ([`Self::predicted_dear`]) first runs one seed
+    /// alone, and the rest only when that run ended below its cap and valid.
     fn run_more(&mut self, chosen: &[(usize, usize)]) -> Result<(), String> {
+        let probe =
+            |s: &Self, k: usize| s.result.candidates[k].runs.is_empty() && s.predicted_dear(&s.result.candidates[k]);
+        let probes: Vec<(usize, usize)> =
+            chosen.iter().filter(|&&(k, more)| more > 1 && probe(self, k)).map(|&(k, _)| (k, 1)).collect();
+        if probes.is_empty() {
+            return self.run_batch(chosen);
+        }
+        self.run_batch(&probes)?;
+        let rest: Vec<(usize, usize)> = chosen
+            .iter()
+            .filter_map(|&(k, more)| match probes.iter().any(|&(p, _)| p == k) {
+                true if self.result.candidates[k].runs.iter().any(|o| o.problem().is_some()) => None,
+                true => Some((k, more - 1)),
+                false => Some((k, more)),
+            })
+            .collect();
+        self.run_batch(&rest)
+    }
+
+    /// Runs `more` further search seeds of each candidate, as one batch.
+    fn run_batch(&mut self, chosen: &[(usize, usize)]) -> Result<(), String> {
         let mut jobs = Vec::new();
         for &(k, more) in chosen {
             let cand = &self.result.candidates[k];
@@ -808,6 +967,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
             self.result.candidates[job.candidate - 1].runs.push(outcome);
         }
         Ok(())
+    }
+
+    /// The mean cost of the cheapest candidate still in the running (feasible, or undecided with every
+    /// run settled and valid), the reference's when none is cheaper: what the answer will likely cost.
+    fn likely_cost(&self) -> f64 {
+        let reference = stats::describe(&self.result.reference_costs()).mean;
+        self.running_costs().into_iter().fold(reference, f64::min)
     }
 
     /// The cheapest feasible candidate, standard settings included, and its cost (infinite when
@@ -838,70 +1004,91 @@ impl<'a, E: Evaluator> Search<'a, E> {
         })
     }
 
-    /// Verifies the cheapest feasible candidates on fresh seeds until one passes or the budget ends.
-    /// After a failure, only candidates that stood further inside the tolerances during the search
-    /// (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the failure says the
-    /// edge of the acceptable region is nearer than the search runs showed.
-    fn verify(&mut self) -> Result<(), String> {
-        let c = self.config;
-        let mut order: Vec<(usize, f64, f64, bool)> = self
-            .result
+    /// Verifies the cheapest feasible candidates among those `keep` accepts (and cheaper than the
+    /// recommendation so far) on fresh seeds until one passes (it becomes the recommendation) or the
+    /// budget ends. After a failure, only candidates that stood further inside the tolerances during
+    /// the search (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the failure
+    /// says the edge of the acceptable region is nearer than the search runs showed. A standard
+    /// setting whose fresh runs broke a limit that a smaller time step cures is stepped down
+    /// ([`Self::step_down`]) and the stepped setting joins the queue.
+    fn verify(&mut self, keep: impl Fn(&Candidate) -> bool) -> Result<(), String> {
+        let mut tried = HashSet::new();
+        let mut limit = f64::INFINITY;
+        let bound =
+            self.result.recommended.map_or(f64::INFINITY, |k| self.result.assess(&self.result.candidates[k]).cost);
+        while let Some(k) = self.next_to_verify(&tried, limit, |c| keep(c) && self.result.assess(c).cost < bound) {
+            tried.insert(k);
+            match self.verify_candidate(k)? {
+                Some(true) => {
+                    self.result.recommended = Some(k);
+                    return Ok(());
+                }
+                Some(false) => {}
+                None => return Ok(()),
+            }
+            if self.step_down(k, true)?.is_none() {
+                limit = 0.9 * self.result.assess(&self.result.candidates[k]).worst;
+            }
+        }
+        Ok(())
+    }
+
+    /// The next candidate to verify: feasible in the search, cheaper than the reference, not tried,
+    /// standing inside `limit`; those whose difference leaves room for the verification's interval
+    /// first, then the cheapest.
+    fn next_to_verify(&self, tried: &HashSet<usize>, limit: f64, keep: impl Fn(&Candidate) -> bool) -> Option<usize> {
+        let result = &self.result;
+        result
             .candidates
             .iter()
             .enumerate()
+            .filter(|(k, cand)| !tried.contains(k) && cand.verification.is_empty() && keep(cand))
             .filter_map(|(k, cand)| {
-                let a = self.result.assess(cand);
-                let cheaper = self.result.cheapest_feasible(|c| c.id == cand.id).0.is_some();
-                (cheaper && a.state == State::Feasible).then(|| (k, a.cost, a.worst, self.verifiable(cand)))
+                let a = result.assess(cand);
+                let cheaper = result.cheapest_feasible(|c| c.id == cand.id).0.is_some();
+                (cheaper && a.state == State::Feasible && a.worst < limit).then(|| (k, a.cost, self.verifiable(cand)))
             })
-            .collect();
-        order.sort_by(|a, b| b.3.cmp(&a.3).then(a.1.total_cmp(&b.1)).then(a.0.cmp(&b.0)));
-        let mut next_seed = c.reference_seeds.max(c.max_seeds) as u64;
-        let mut limit = f64::INFINITY;
-        for (k, _, worst, _) in order {
-            if worst >= limit {
-                continue;
+            .min_by(|a, b| b.2.cmp(&a.2).then(a.1.total_cmp(&b.1)).then(a.0.cmp(&b.0)))
+            .map(|(k, _, _)| k)
+    }
+
+    /// Runs candidate `k` on fresh seeds (once more when undecided): Some(true) when it passes,
+    /// Some(false) when it fails, None when the budget or the spend limit leaves no room.
+    fn verify_candidate(&mut self, k: usize) -> Result<Option<bool>, String> {
+        let c = self.config;
+        for round in 0..2 {
+            let reference = stats::describe(&self.result.reference_costs()).mean;
+            let price = c.verify_seeds as f64 * self.result.assess(&self.result.candidates[k]).cost;
+            let first = self.result.candidates.iter().all(|c| c.verification.is_empty());
+            if self.result.runs + c.verify_seeds > c.budget || (!first && self.spent + price > c.max_spend * reference)
+            {
+                return Ok(None);
             }
-            for round in 0..2 {
-                let reference = stats::describe(&self.result.reference_costs()).mean;
-                let price = c.verify_seeds as f64 * self.result.assess(&self.result.candidates[k]).cost;
-                let first = self.result.candidates.iter().all(|c| c.verification.is_empty());
-                if self.result.runs + c.verify_seeds > c.budget
-                    || (!first && self.spent + price > c.max_spend * reference)
-                {
-                    return Ok(());
-                }
-                let cand = &self.result.candidates[k];
-                let seeds: Vec<u64> = (next_seed..next_seed + c.verify_seeds as u64).collect();
-                next_seed += c.verify_seeds as u64;
-                let jobs: Vec<Job> = seeds
-                    .iter()
-                    .map(|&seed| Job {
-                        candidate: cand.id,
-                        point: cand.point.clone(),
-                        role: Role::Verify,
-                        seed,
-                        standard: cand.standard,
-                        cap: None,
-                    })
-                    .collect();
-                let outcomes = self.evaluate(&jobs)?;
-                let cand = &mut self.result.candidates[k];
-                cand.verification.extend(outcomes);
-                cand.verify_seeds.extend(seeds);
-                let state = assess(&self.result.reference, &cand.verification, &self.result.margins).state;
-                match state {
-                    State::Feasible => {
-                        self.result.recommended = Some(k);
-                        return Ok(());
-                    }
-                    State::Undecided if round == 0 => continue,
-                    _ => break,
-                }
+            let cand = &self.result.candidates[k];
+            let seeds: Vec<u64> = (self.next_seed..self.next_seed + c.verify_seeds as u64).collect();
+            self.next_seed += c.verify_seeds as u64;
+            let jobs: Vec<Job> = seeds
+                .iter()
+                .map(|&seed| Job {
+                    candidate: cand.id,
+                    point: cand.point.clone(),
+                    role: Role::Verify,
+                    seed,
+                    standard: cand.standard,
+                    cap: None,
+                })
+                .collect();
+            let outcomes = self.evaluate(&jobs)?;
+            let cand = &mut self.result.candidates[k];
+            cand.verification.extend(outcomes);
+            cand.verify_seeds.extend(seeds);
+            match assess(&self.result.reference, &cand.verification, &self.result.margins).state {
+                State::Feasible => return Ok(Some(true)),
+                State::Undecided if round == 0 => continue,
+                _ => return Ok(Some(false)),
             }
-            limit = 0.9 * worst;
         }
-        Ok(())
+        Ok(Some(false))
     }
 }
 

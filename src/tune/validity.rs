@@ -1,7 +1,8 @@
 //! Valid physics as a constraint: what a setting resolves to and whether the scene's own `limits`
 //! predict it invalid ([`screen`]), lever ranges clipped where they reach past a limit
 //! ([`clip_levers`]), and the ladder of standard settings tune tries before searching
-//! ([`standard_settings`]).
+//! ([`standard_settings`]), and a rung stepped down when its runs break a limit that a smaller time
+//! step cures ([`stepped_down`], [`time_step_excess`]).
 
 use super::file::{LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
@@ -54,6 +55,59 @@ pub fn standard_settings(reference: &SceneConfig) -> Vec<StandardSetting> {
             removed: vec!["integrator.time_step".to_string(), "integrator.contact_time_fraction".to_string()],
         },
     ]
+}
+
+/// The keys of the fractions of a time scale that set a time step.
+const TIME_STEP_FRACTIONS: [&str; 2] = ["integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
+
+/// Standard setting `setting` with the fraction of the time scale that sets its time step multiplied
+/// by `factor` and rounded down to two significant digits; None when no fraction sets it (or the
+/// product rounds to zero).
+pub fn stepped_down(setting: &StandardSetting, factor: f64) -> Option<StandardSetting> {
+    let position = setting.values.iter().position(|(key, _)| TIME_STEP_FRACTIONS.contains(&key.as_str()))?;
+    let ParamValue::Float(fraction) = setting.values[position].1 else { return None };
+    let scaled = fraction * factor;
+    let scale = 10f64.powi(1 - scaled.log10().floor() as i32);
+    let stepped: f64 = format!("{:.6e}", (scaled * scale).floor() / scale).parse().ok()?;
+    if !(stepped > 0.0 && stepped < fraction) {
+        return None;
+    }
+    let mut values = setting.values.clone();
+    values[position].1 = ParamValue::Float(stepped);
+    Some(StandardSetting {
+        name: format!(
+            "{}, stepped down to {stepped} (x {factor:.3}: its runs broke a validity limit that a smaller step cures)",
+            setting.name
+        ),
+        values,
+        removed: setting.removed.clone(),
+    })
+}
+
+/// How far past their limits the measured values of a run's warnings went, when every warning is
+/// one a smaller time step cures: the largest of the energy-balance error over
+/// `limits.energy_balance_tolerance` and the overlap over `limits.overlap_warning_ratio`, read from
+/// the warnings' texts. None when there is no warning, or one of another kind.
+pub fn time_step_excess(warnings: &[String]) -> Option<f64> {
+    warnings.iter().map(|w| warning_excess(w)).reduce(|a, b| Some(a?.max(b?)))?
+}
+
+/// The measured value over its limit of one energy-balance or overlap warning.
+fn warning_excess(warning: &str) -> Option<f64> {
+    let number_after = |marker: &str| -> Option<f64> {
+        let rest = &warning[warning.find(marker)? + marker.len()..];
+        let end = rest.find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c))).unwrap_or(rest.len());
+        rest[..end].parse().ok()
+    };
+    if warning.contains("limits.energy_balance_tolerance") {
+        let (imbalance, available) = (number_after("is off by ")?, number_after("% of the ")?);
+        let tolerance = number_after("limits.energy_balance_tolerance = ")?;
+        Some(imbalance / available / tolerance)
+    } else if warning.contains("limits.overlap_warning_ratio") && warning.contains("largest overlap") {
+        Some(number_after("largest overlap ")? / number_after("Hertz validity limit ")?)
+    } else {
+        None
+    }
 }
 
 /// What a scene resolves to: its JSON with the time step that actually runs in place of the fractions
@@ -158,4 +212,32 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         ));
     }
     warnings
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn excess_is_read_from_energy_and_overlap_warnings_only() {
+        let energy = "energy balance (mechanical + dissipated = initial) is off by 2.1600e-1 J at t = 0.5000 s, 1.08 % \
+                      of the 2.0000e1 J available: the integration is inaccurate (time step too large for the contact \
+                      stiffness or damping; limit limits.energy_balance_tolerance = 0.01)";
+        let overlap = "largest overlap 0.150 radii at t = 0.1000 s is beyond the Hertz validity limit 0.1 \
+                       (limits.overlap_warning_ratio)";
+        let excess = time_step_excess(&[energy.to_string()]).unwrap();
+        assert!((excess - 1.08).abs() < 1e-12, "{excess}");
+        assert!((time_step_excess(&[energy.into(), overlap.into()]).unwrap() - 1.5).abs() < 1e-12);
+        assert_eq!(time_step_excess(&[energy.into(), "time step capped by the damping rate".into()]), None);
+        assert_eq!(time_step_excess(&[]), None);
+    }
+
+    #[test]
+    fn a_stepped_down_rung_rounds_its_fraction_down() {
+        let ladder = standard_settings(&SceneConfig::default());
+        let stepped = stepped_down(&ladder[0], 0.8 / 1.08).unwrap();
+        assert_eq!(stepped.values[0].1, ParamValue::Float(0.074));
+        assert_eq!(stepped.removed, ladder[0].removed);
+        assert!(stepped_down(&StandardSetting { values: Vec::new(), ..ladder[0].clone() }, 0.5).is_none());
+    }
 }
