@@ -9,14 +9,17 @@ use std::path::{Path, PathBuf};
 
 use hdf5_pure::File;
 
+use super::compare;
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
 use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
-use crate::output::{OutputError, SummaryRow};
+use crate::output::{OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::quantity;
 use crate::physics::record::Snapshot;
+use crate::stats::points::Points;
 use crate::study::ParamValue;
 
 /// Per-run charts are drawn for at most this many runs unless runs are named or all are asked for.
@@ -104,6 +107,7 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), damaged, ..Default::default() };
     let mut drawer = Drawer { request, dir, report, on_event };
     study_charts(&mut drawer, &study_name, &rows);
+    pile_metric_charts(&mut drawer, &study_name, &rows);
     for row in selected {
         run_charts(&mut drawer, (&file, path), row, (request.colour_by, true));
     }
@@ -124,6 +128,10 @@ pub trait ChartSink {
     fn note(&mut self, text: &str);
     /// A chart that could not be drawn, or a run that could not be read.
     fn fail(&mut self, error: &PlotError);
+    /// The deposition of run `row` in a box of `box_size` (m): its frames (and its final state when
+    /// taken after the last frame), named as its snapshot charts are; only for runs with frames. A
+    /// sink that shows frames its own way (the report's player) takes them here; by default nothing.
+    fn deposition(&mut self, _row: &SummaryRow, _box_size: (f64, f64), _pictures: &[(String, &Snapshot)]) {}
 }
 
 /// The runs to draw per-run charts for: the named ones (in the order named), else all runs or at
@@ -142,11 +150,19 @@ pub fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<
         }
         return Ok(selected);
     }
-    if request.all_runs || rows.len() <= DEFAULT_RUN_LIMIT {
+    if request.all_runs {
         return Ok(rows.iter().collect());
     }
-    let last = rows.len() - 1;
-    Ok((0..DEFAULT_RUN_LIMIT).map(|i| &rows[i * last / (DEFAULT_RUN_LIMIT - 1)]).collect())
+    Ok(spread(rows.len(), DEFAULT_RUN_LIMIT).into_iter().map(|i| &rows[i]).collect())
+}
+
+/// At most `limit` (two or more) indices of `0..len`, spread evenly with the first and the last
+/// included; all of them when there are no more than `limit`.
+pub fn spread(len: usize, limit: usize) -> Vec<usize> {
+    if len <= limit {
+        return (0..len).collect();
+    }
+    (0..limit).map(|i| i * (len - 1) / (limit - 1)).collect()
 }
 
 /// How a run ended, or `None` for a run that failed with an error (no record).
@@ -246,6 +262,40 @@ pub fn study_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[Summary
     }
 }
 
+/// The per-point quantities charted against each swept axis by [`pile_metric_charts`]: the pile
+/// metrics a deposition is run for, then settle time.
+pub const CHARTED_METRICS: [&str; 5] = [
+    "packing_fraction_interior",
+    "mechanical_coordination_number",
+    "floor_load_ratio",
+    "mean_overlap_ratio",
+    "settle_time",
+];
+
+/// The pile-metric charts of `rows`: each of [`CHARTED_METRICS`] per grid point (mean and 95 %
+/// interval over its runs, the `/points` statistics) against each chart axis, coloured by the other
+/// axis of a two-parameter grid; named `<metric>_vs_<axis>`. Settle time against the first axis is
+/// the settle-time chart's, and is not drawn again.
+pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[SummaryRow]) {
+    let axes = StudyAxes::choose(rows);
+    let Some(x) = axes.x.as_deref() else { return };
+    let summary = SummaryTable::from_rows(rows);
+    let points = Points::new(&summary);
+    let along = [(x, axes.series.as_deref())].into_iter().chain(axes.series.as_deref().map(|y| (y, Some(x))));
+    for (axis, colour) in along {
+        for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
+            if metric == "settle_time" && axis == x {
+                continue;
+            }
+            let unit = quantity::find(metric).map_or("", |q| q.unit);
+            let estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
+            sink.chart(&format!("{metric}_vs_{axis}"), study_name, |o, c| {
+                compare::metric_chart((metric, unit), &estimates, (axis, colour), None, o, c)
+            });
+        }
+    }
+}
+
 /// The charts of one run of the results `file` (at `path`): energies and UBF (when histories are
 /// stored) and its snapshots (the final state, and with `frames` every recorded frame), disks
 /// coloured `by`.
@@ -275,6 +325,9 @@ pub fn run_charts(
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }
     snapshots(sink, row, &stored, (by, frames));
+    if !stored.frames.is_empty() {
+        sink.deposition(row, (stored.scene.domain.width, stored.scene.domain.height), &snapshot_names(&stored));
+    }
 }
 
 /// A snapshot per stored frame and of the final state (unless the last frame shows it).

@@ -8,6 +8,7 @@
 //! chooses, each linked from its point's row.
 
 mod html;
+mod player;
 
 use std::collections::BTreeMap;
 
@@ -17,6 +18,7 @@ use std::path::{Path, PathBuf};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::record::Snapshot;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
@@ -112,6 +114,9 @@ pub fn write_report(
     let mut study = Svgs::default();
     results::study_charts(&mut study, &header.study_name, &rows);
     page.push(&charts_section(&study));
+    let mut pile = Svgs::default();
+    results::pile_metric_charts(&mut pile, &header.study_name, &rows);
+    page.push(&pile_charts_section(&pile));
     match read_tune_section(results, &header.study_name) {
         Some(Ok(tune)) => page.push(&tune_section(&tune)),
         Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(&reason))),
@@ -137,11 +142,12 @@ pub fn write_report(
     Ok((path, damaged))
 }
 
-/// Charts drawn as SVG documents, in order, with what was noted on the way.
+/// Charts drawn as SVG documents, in order, with what was noted on the way and a run's frame player.
 #[derive(Default)]
 struct Svgs {
     charts: Vec<(String, String)>,
     notes: Vec<String>,
+    player: Option<String>,
 }
 
 impl ChartSink for Svgs {
@@ -172,6 +178,10 @@ impl ChartSink for Svgs {
 
     fn fail(&mut self, error: &PlotError) {
         self.notes.push(format!("chart not drawn: {}", error.reason));
+    }
+
+    fn deposition(&mut self, row: &SummaryRow, box_size: (f64, f64), pictures: &[(String, &Snapshot)]) {
+        self.player = Some(player::player(row, box_size, pictures));
     }
 }
 
@@ -250,11 +260,11 @@ fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs. Click a column header to sort; click again to reverse.</p>\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
-         <div class=\"scroll\"><table id=\"points\"><thead><tr>{}</tr></thead><tbody></tbody></table></div>\
+         <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
          <script type=\"application/json\" id=\"points-data\">{}</script>",
-        table.header_cells(),
+        table.header(),
         table.json()
     )
 }
@@ -271,6 +281,17 @@ fn charts_section(svgs: &Svgs) -> String {
     out
 }
 
+/// The pile-metric charts (per-point means with 95 % intervals against each swept axis), two abreast.
+fn pile_charts_section(svgs: &Svgs) -> String {
+    if svgs.charts.is_empty() {
+        return String::new();
+    }
+    let charts: String = svgs.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
+    format!(
+        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over each grid point's runs with its 95 % interval, against each swept parameter; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
+    )
+}
+
 /// The tune's recommendation, chart and candidate table.
 fn tune_section(tune: &TuneSection) -> String {
     format!(
@@ -281,17 +302,18 @@ fn tune_section(tune: &TuneSection) -> String {
     )
 }
 
-/// A charted run: its energies, unbalanced force ratio and pile.
+/// A charted run: its energies, unbalanced force ratio and pile, and its deposition's player.
 fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
     let charts: String = svgs.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
     let notes: String = svgs.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
     let settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
     format!(
-        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}</div>{notes}</section>",
+        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}</div>{}{notes}</section>",
         escape(&results::run_subject(row)),
         row.steps,
         number(row.wall_time),
         row.warnings.len(),
+        svgs.player.as_deref().unwrap_or(""),
         id = escape(&row.id),
     )
 }
