@@ -93,3 +93,57 @@ fn frame(name: &str, snapshot: &Snapshot, unit: f64) -> serde_json::Value {
     }
     json!({"name": name, "t": snapshot.time, "xy": xy, "pairs": pairs, "walls": walls})
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A snapshot at `time` of two disks, one resting on the floor and pressing on the other.
+    fn snapshot(time: f64) -> Snapshot {
+        let mut s =
+            Snapshot { time, x: vec![0.05, 0.05], y: vec![0.01, 0.03], r: vec![0.01, 0.01], ..Default::default() };
+        s.contacts.first = vec![0, 0];
+        s.contacts.second = vec![1, -1];
+        s.contacts.normal_force = vec![2.0, 4.0];
+        s.contacts.point_x = vec![0.05, 0.05];
+        s.contacts.point_y = vec![0.02, 0.0];
+        s
+    }
+
+    /// The player's data, parsed back.
+    fn data(html: &str) -> serde_json::Value {
+        let start = html.find("player-data\">").unwrap() + "player-data\">".len();
+        serde_json::from_str(&html[start..html[start..].find("</script>").unwrap() + start]).unwrap()
+    }
+
+    #[test]
+    fn frames_keep_positions_to_a_twenty_thousandth_and_chains_in_thousandths_of_the_largest_force() {
+        let row = SummaryRow::failed(7, "r0007", &[], "");
+        let frames = [snapshot(0.0), snapshot(0.5)];
+        let pictures: Vec<(String, &Snapshot)> = vec![("frame_0".into(), &frames[0]), ("final".into(), &frames[1])];
+        let html = player(&row, (0.1, 0.2), &pictures);
+        assert!(html.contains("data-group=\"runs/") && html.contains("/r0007\""), "{html}");
+        assert!(!html.contains("frames shown"), "no frame left out");
+        let data = data(&html);
+        let unit = data["unit"].as_f64().unwrap();
+        assert_eq!(unit, 0.2 / 20_000.0);
+        assert_eq!(data["r"], json!([1000, 1000]));
+        assert_eq!(data["frames"][1]["name"], "final");
+        assert_eq!(data["frames"][1]["xy"], json!([5000, 1000, 5000, 3000]));
+        assert_eq!(data["frames"][1]["pairs"], json!([0, 1, 500]), "half the largest force");
+        assert_eq!(data["frames"][1]["walls"], json!([0, 5000, 0, 1000]), "to the contact point on the floor");
+    }
+
+    #[test]
+    fn a_long_run_shows_at_most_max_frames_spread_over_it_and_says_so() {
+        let row = SummaryRow::failed(0, "r0000", &[], "");
+        let frames: Vec<Snapshot> = (0..250).map(|k| snapshot(k as f64 * 0.01)).collect();
+        let pictures: Vec<(String, &Snapshot)> = frames.iter().map(|s| ("frame".to_string(), s)).collect();
+        let html = player(&row, (0.1, 0.2), &pictures);
+        let data = data(&html);
+        let times: Vec<f64> = data["frames"].as_array().unwrap().iter().map(|f| f["t"].as_f64().unwrap()).collect();
+        assert_eq!(times.len(), MAX_FRAMES);
+        assert_eq!((times[0], times[MAX_FRAMES - 1]), (0.0, 2.49), "the first and the last kept");
+        assert!(html.contains(&format!("{MAX_FRAMES} of 250 frames shown")), "{html}");
+    }
+}
