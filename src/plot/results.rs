@@ -272,9 +272,13 @@ pub const CHARTED_METRICS: [&str; 5] = [
     "settle_time",
 ];
 
+/// Lines a pile-metric chart draws at most (one colour each): more values of the colour axis are
+/// thinned to this many, spread over them.
+pub const MAX_METRIC_LINES: usize = 8;
+
 /// The pile-metric charts of `rows`: each of [`CHARTED_METRICS`] per grid point (mean and 95 %
-/// interval over its runs, the `/points` statistics) against each chart axis, coloured by the other
-/// axis of a two-parameter grid; named `<metric>_vs_<axis>`. Settle time against the first axis is
+/// interval over its runs, the `/points` statistics) against each chart axis, a line per value of
+/// the other axis of a two-parameter grid (at most [`MAX_METRIC_LINES`]); named `<metric>_vs_<axis>`. Settle time against the first axis is
 /// the settle-time chart's, and is not drawn again.
 pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[SummaryRow]) {
     let axes = StudyAxes::choose(rows);
@@ -282,13 +286,28 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
     let summary = SummaryTable::from_rows(rows);
     let points = Points::new(&summary);
     let along = [(x, axes.series.as_deref())].into_iter().chain(axes.series.as_deref().map(|y| (y, Some(x))));
+    let mut lines = Vec::new(); // (axis, value of the other axis drawn as a line) of each chart
+    for (axis, colour) in along.clone() {
+        let Some(colour) = colour else { continue };
+        let values = distinct_values(rows, colour);
+        let kept = spread(values.len(), MAX_METRIC_LINES);
+        if kept.len() < values.len() {
+            sink.note(&format!(
+                "pile-metric charts against {axis}: lines for {} of the {} values of {colour}, spread over them",
+                kept.len(),
+                values.len()
+            ));
+        }
+        lines.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
+    }
     for (axis, colour) in along {
         for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
             if metric == "settle_time" && axis == x {
                 continue;
             }
             let unit = quantity::find(metric).map_or("", |q| q.unit);
-            let estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
+            let mut estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
+            estimates.retain(|e| e.series.is_none_or(|v| lines.contains(&(axis, v.to_bits()))));
             sink.chart(&format!("{metric}_vs_{axis}"), study_name, |o, c| {
                 compare::metric_chart((metric, unit), &estimates, (axis, colour), None, o, c)
             });
@@ -498,6 +517,61 @@ mod tests {
         assert_eq!(axes.notes.len(), 2, "{:?}", axes.notes);
         assert!(axes.notes[0].contains("integrator.scheme"));
         assert!(axes.notes[1].ends_with("material.rolling_friction, placement.seed"), "{:?}", axes.notes);
+    }
+
+    /// Records the charts drawn as SVG documents and the notes.
+    #[derive(Default)]
+    struct Recorder {
+        charts: Vec<(String, String)>,
+        notes: Vec<String>,
+    }
+
+    impl ChartSink for Recorder {
+        fn chart<T>(
+            &mut self,
+            name: &str,
+            subject: &str,
+            draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
+        ) -> Option<T> {
+            let options = ChartOptions { format: Format::Svg, subject: Some(subject.into()), ..Default::default() };
+            let mut svg = String::new();
+            let drawn = draw(&options, Canvas::Svg(&mut svg)).ok();
+            self.charts.push((name.to_string(), svg));
+            drawn
+        }
+
+        fn note(&mut self, text: &str) {
+            self.notes.push(text.to_string());
+        }
+
+        fn fail(&mut self, error: &PlotError) {
+            panic!("{error}");
+        }
+    }
+
+    #[test]
+    fn pile_metric_charts_draw_at_most_eight_lines_spread_over_the_other_axis() {
+        use ParamValue::Float;
+        let metric = quantity::final_value_declarations().position(|q| q.name == "floor_load_ratio").unwrap();
+        let mut rows = Vec::new();
+        for e in [0.1, 0.5, 0.9] {
+            for k in 0..12 {
+                let mut run =
+                    row(rows.len(), &[("material.restitution", Float(e)), ("material.friction", Float(k.into()))]);
+                run.final_values[metric] = e + f64::from(k);
+                rows.push(run);
+            }
+        }
+        let mut sink = Recorder::default();
+        pile_metric_charts(&mut sink, "study", &rows);
+        let chart = |name: &str| &sink.charts.iter().find(|(n, _)| n == name).unwrap().1;
+        // A marker per drawn point: 8 of the 12 frictions (the first and last kept) at 3 restitutions.
+        let markers = |svg: &str| svg.matches("r=\"4\"").count();
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.restitution")), 8 * 3);
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.friction")), 12 * 3);
+        assert!(chart("floor_load_ratio_vs_material.restitution").contains("material.friction = 11"));
+        let note = "pile-metric charts against material.restitution: lines for 8 of the 12 values of material.friction";
+        assert!(sink.notes.iter().any(|n| n.starts_with(note)), "{:?}", sink.notes);
     }
 
     #[test]
