@@ -195,6 +195,55 @@ fn subject_with(row: &SummaryRow, status: &str) -> String {
     }
 }
 
+/// Charts drawn as SVG documents of one size, in order, with what was noted on the way (charts that
+/// could not be drawn among the notes): the sink of a page that embeds its charts.
+pub struct SvgCharts {
+    /// Size of every chart (pixels): width, height.
+    pub size: (u32, u32),
+    /// Name and SVG document of each chart drawn.
+    pub charts: Vec<(String, String)>,
+    /// What was noted.
+    pub notes: Vec<String>,
+}
+
+impl SvgCharts {
+    /// No chart yet; charts of `size` (pixels).
+    pub fn new(size: (u32, u32)) -> Self {
+        Self { size, charts: Vec::new(), notes: Vec::new() }
+    }
+}
+
+impl ChartSink for SvgCharts {
+    fn chart<T>(
+        &mut self,
+        name: &str,
+        subject: &str,
+        draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
+    ) -> Option<T> {
+        let (width, height) = self.size;
+        let options = ChartOptions { width, height, format: Format::Svg, subject: Some(subject.to_string()) };
+        let mut svg = String::new();
+        match draw(&options, Canvas::Svg(&mut svg)) {
+            Ok(value) => {
+                self.charts.push((name.to_string(), svg));
+                Some(value)
+            }
+            Err(error) => {
+                self.fail(&error);
+                None
+            }
+        }
+    }
+
+    fn note(&mut self, text: &str) {
+        self.notes.push(text.to_string());
+    }
+
+    fn fail(&mut self, error: &PlotError) {
+        self.notes.push(format!("chart not drawn: {}", error.reason));
+    }
+}
+
 /// Draws charts into the image folder and keeps count.
 struct Drawer<'a> {
     request: &'a PlotRequest,
@@ -519,36 +568,6 @@ mod tests {
         assert!(axes.notes[1].ends_with("material.rolling_friction, placement.seed"), "{:?}", axes.notes);
     }
 
-    /// Records the charts drawn as SVG documents and the notes.
-    #[derive(Default)]
-    struct Recorder {
-        charts: Vec<(String, String)>,
-        notes: Vec<String>,
-    }
-
-    impl ChartSink for Recorder {
-        fn chart<T>(
-            &mut self,
-            name: &str,
-            subject: &str,
-            draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
-        ) -> Option<T> {
-            let options = ChartOptions { format: Format::Svg, subject: Some(subject.into()), ..Default::default() };
-            let mut svg = String::new();
-            let drawn = draw(&options, Canvas::Svg(&mut svg)).ok();
-            self.charts.push((name.to_string(), svg));
-            drawn
-        }
-
-        fn note(&mut self, text: &str) {
-            self.notes.push(text.to_string());
-        }
-
-        fn fail(&mut self, error: &PlotError) {
-            panic!("{error}");
-        }
-    }
-
     #[test]
     fn pile_metric_charts_draw_at_most_eight_lines_spread_over_the_other_axis() {
         use ParamValue::Float;
@@ -562,7 +581,7 @@ mod tests {
                 rows.push(run);
             }
         }
-        let mut sink = Recorder::default();
+        let mut sink = SvgCharts::new((1000, 700));
         pile_metric_charts(&mut sink, "study", &rows);
         let chart = |name: &str| &sink.charts.iter().find(|(n, _)| n == name).unwrap().1;
         // A marker per drawn point: 8 of the 12 frictions (the first and last kept) at 3 restitutions.
