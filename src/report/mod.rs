@@ -301,7 +301,7 @@ fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
     let notes: String = svgs.drawn.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
     let settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
     format!(
-        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}</div>{}{notes}</section>",
+        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}{}</div>{notes}</section>",
         escape(&results::run_subject(row)),
         row.steps,
         number(row.wall_time),
