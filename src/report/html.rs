@@ -218,3 +218,23 @@ pub fn static_table(records: &[Vec<String>]) -> String {
         rows.iter().map(|row| format!("<tr>{}</tr>", row.iter().map(cell).collect::<String>())).collect();
     format!("<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn header_groups_start_at_declared_quantities_and_hold_neighbouring_columns() {
+        for (first, group) in QUANTITY_GROUPS {
+            assert!(quantity::find(first).is_some(), "{group} starts at {first}, a declared quantity");
+        }
+        let mut groups: Vec<&str> = point_metrics().map(|(.., group)| group).collect();
+        assert!(!groups.contains(&""), "every shown quantity has a group");
+        groups.dedup();
+        let mut distinct = groups.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(groups.len(), distinct.len(), "each group's columns side by side: {groups:?}");
+        assert_eq!(groups.len(), QUANTITY_GROUPS.len() + 1, "{groups:?}");
+    }
+}

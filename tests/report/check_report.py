@@ -1,7 +1,8 @@
 """Opens a demsweep HTML report in headless Chromium (driven by Playwright) and reports, as JSON on
 stdout, what a person would see: console errors, network requests, table rows, whether a click on a
-column header sorts the rows, every chart's rendered size, whether each run link leads to a visible
-section, first-paint and sort timings, and (with --screenshot FILE) a full-page screenshot.
+column header sorts the rows, the point table's header groups and the columns under them, every
+chart's rendered size, whether each run link leads to a visible section, first-paint and sort
+timings, and (with --screenshot FILE) a screenshot of the top of the page.
 
 With --results FILE (the results the report was written from), each run's frame player is also
 checked: stepping forward and back changes the frame and its time label, playing advances it, and
