@@ -185,3 +185,111 @@ fn plotting_against_an_unswept_parameter_names_it() {
     let err = study::settle_time_heatmap(&points, RESTITUTION, "seed", &ChartOptions::default(), &path).unwrap_err();
     assert!(err.to_string().contains("'seed'"), "{err}");
 }
+
+/// 2 restitutions x 2 frictions x 3 placement seeds of 120 disks of radius 5 mm, run until settled:
+/// a grid whose points have intervals and piles deep enough for an interior.
+const REPLICATED_STUDY: &str = r#"name = "replicated"
+[scene]
+particles.count = 120
+particles.radius = 0.005
+domain.width = 0.16
+domain.height = 0.2
+run.duration = 1.5
+run.stop_at_settle = true
+settle.ubf_threshold = 0.05
+settle.hold_time = 0.02
+[sweep]
+"material.restitution" = [0.2, 0.8]
+"material.friction" = [0.2, 0.6]
+replicates = 3
+"#;
+
+/// Series colours of the charts, in order of the series values.
+const SERIES_COLOURS: [&str; 2] = ["#1F77B4", "#FF7F0E"];
+
+/// The ends of an SVG polyline.
+fn polyline_ends(line: &std::collections::HashMap<String, String>) -> Vec<(f64, f64)> {
+    let xy = |p: &str| p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap();
+    line["points"].split_whitespace().map(xy).collect()
+}
+
+#[test]
+fn pile_metric_charts_put_each_point_and_its_interval_where_the_points_table_says() {
+    let dir = out_dir("pile_metrics");
+    let study = dir.join("replicated.toml");
+    std::fs::write(&study, REPLICATED_STUDY).unwrap();
+    let demsweep =
+        |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap();
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", dir.to_str().unwrap(), "--progress", "quiet"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let results = dir.join("replicated.h5");
+    let plots = dir.join("svg");
+    let plot = demsweep(&["plot", results.to_str().unwrap(), "--format", "svg", "--out", plots.to_str().unwrap()]);
+    assert!(plot.status.success(), "{}", String::from_utf8_lossy(&plot.stderr));
+    let table = demsweep::stats::points::read(&results).unwrap();
+    let column = |name: &str| {
+        let data = &table.column(name).unwrap_or_else(|| panic!("/points has {name}")).data;
+        (0..table.len()).map(|row| data.number(row).unwrap_or(f64::NAN)).collect::<Vec<f64>>()
+    };
+    const FRICTION: &str = "material.friction";
+    let mut checked = 0;
+    for (axis, colour_axis) in [(RESTITUTION, FRICTION), (FRICTION, RESTITUTION)] {
+        for metric in demsweep::plot::results::CHARTED_METRICS {
+            let path = plots.join(format!("{metric}_vs_{axis}.svg"));
+            if metric == "settle_time" && axis == RESTITUTION {
+                assert!(!path.exists(), "settle time against the first axis is the settle-time chart");
+                continue;
+            }
+            let (x, series) = (column(axis), column(colour_axis));
+            let (mean, half) = (column(&format!("{metric}_mean")), column(&format!("{metric}_ci95")));
+            let circles = svg_elements(&path, "circle");
+            let lines = svg_elements(&path, "polyline");
+            // Markers: rings of radius 4 in the series colour, left to right; each with its error bar.
+            let mut drawn = Vec::new(); // (pixel row of mean, low end, high end) against (mean, low, high)
+            let mut steps = Vec::new(); // pixel distance between the two x values, per series
+            for (colour, value) in SERIES_COLOURS.iter().zip([0.2, if colour_axis == FRICTION { 0.6 } else { 0.8 }]) {
+                let mut expected: Vec<usize> =
+                    (0..table.len()).filter(|&p| series[p] == value && mean[p].is_finite()).collect();
+                assert_eq!(expected.len(), 2, "{metric}: finite means at both {axis} values of {colour}");
+                expected.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
+                let mut markers: Vec<(f64, f64)> = circles
+                    .iter()
+                    .filter(|c| c.get("stroke").map(String::as_str) == Some(colour) && c["r"] == "4")
+                    .map(|c| (number(c, "cx"), number(c, "cy")))
+                    .collect();
+                markers.sort_by(|a, b| a.0.total_cmp(&b.0));
+                assert_eq!(markers.len(), expected.len(), "{metric} vs {axis}: a marker per point of {colour}");
+                steps.push(markers[1].0 - markers[0].0);
+                for (&(cx, cy), &p) in markers.iter().zip(&expected) {
+                    let bar = lines
+                        .iter()
+                        .filter(|l| l["stroke"] == *colour)
+                        .map(polyline_ends)
+                        .find(|e| e.len() == 2 && e[0].0 == e[1].0 && (e[0].0 - cx).abs() <= 1.0)
+                        .unwrap_or_else(|| panic!("{metric} vs {axis}: an interval at column {cx}"));
+                    let (top, bottom) = (bar[0].1.min(bar[1].1), bar[0].1.max(bar[1].1));
+                    drawn.push(([cy, bottom, top], [mean[p], mean[p] - half[p], mean[p] + half[p]]));
+                }
+            }
+            assert!(steps[1] > 0.0 && (steps[0] - steps[1]).abs() <= 1.5, "one x scale for all series: {steps:?}");
+            // One linear map from value to pixel row takes every mean and interval end where it was drawn.
+            let pairs: Vec<(f64, f64)> =
+                drawn.iter().flat_map(|(px, v)| v.iter().copied().zip(px.iter().copied())).collect();
+            let (low, high) = (
+                pairs.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap(),
+                pairs.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap(),
+            );
+            let slope = (high.1 - low.1) / (high.0 - low.0);
+            assert!(slope < 0.0, "{metric} vs {axis}: larger values higher up");
+            for (value, row) in pairs {
+                let expected = low.1 + (value - low.0) * slope;
+                assert!(
+                    (row - expected).abs() <= 1.5,
+                    "{metric} vs {axis}: {value} drawn at row {row}, not {expected}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 2 * demsweep::plot::results::CHARTED_METRICS.len() - 1);
+}

@@ -1,13 +1,17 @@
 //! The HTML report as a person sees it: `demsweep run` writes it, and headless Chromium (Debian's
 //! `chromium`, driven by Playwright; `scripts/test.sh` installs both) opens it. It loads with no console
 //! error and no network request, its table has one row per grid point, a click on a header sorts
-//! the rows, every chart has a size, and a run's section is reachable from its row.
+//! the rows, every chart has a size, and a run's section is reachable from its row. The point table's
+//! columns sit under header groups with their units; a run with frames gets a player whose frames
+//! are drawn where the results file has the disks.
 
 use std::path::{Path, PathBuf};
 mod python_env;
 
 use std::process::Command;
 
+use demsweep::physics::quantity;
+use demsweep::plot::results::CHARTED_METRICS;
 use serde_json::Value;
 
 /// 3 restitution values x 3 seeds of 25 disks.
@@ -32,10 +36,15 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// What the browser saw (see tests/report/check_report.py).
-fn open_in_browser(report: &Path) -> Value {
+/// What the browser saw (see tests/report/check_report.py); with `results`, the players checked against it.
+fn open_in_browser(report: &Path, results: Option<&Path>) -> Value {
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/report/check_report.py");
-    let out = python_env::python(script).arg(report).output().expect("run the tests' Python");
+    let mut command = python_env::python(script);
+    command.arg(report);
+    if let Some(results) = results {
+        command.arg("--results").arg(results);
+    }
+    let out = command.output().expect("run the tests' Python");
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success(), "browser check failed (scripts/test.sh installs chromium and playwright):\n{text}");
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {text}"))
@@ -60,18 +69,92 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
         html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "").replace("\"http://www.w3.org/1999/xlink\"", "");
     assert!(!names.contains("http://") && !names.contains("https://"), "no address in the page");
 
-    let seen = open_in_browser(&report);
+    let seen = open_in_browser(&report, None);
     println!("{seen}");
     assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
     assert_eq!(seen["requests"], Value::Array(Vec::new()), "no network request: {seen}");
     assert_eq!((&seen["rows"], &seen["rows_in_page"]), (&Value::from(3), &Value::from(3)), "one row per grid point");
     assert_eq!(seen["sorted_column"], "material.restitution");
     assert_eq!((seen["sorted_ascending"].as_bool(), seen["sorted_descending"].as_bool()), (Some(true), Some(true)));
-    assert_eq!(seen["charts"], 1 + 9 * 3, "the settle-time chart and 3 charts per run: {seen}");
+    let pile_charts = CHARTED_METRICS.len() - 1; // settle time against restitution is the settle-time chart
+    assert_eq!(seen["charts"], 1 + pile_charts + 9 * 3, "settle time, pile metrics and 3 charts per run: {seen}");
     assert_eq!(seen["charts_without_size"], 0);
     assert_eq!(seen["bottom_reached"], true);
     assert_eq!(seen["run_links"], 3, "each point links to a run section");
     assert_eq!(seen["run_links_reached"], 3);
+    header_groups_hold_their_columns(&seen);
+}
+
+/// The point table's header groups span every column, in the quantity table's order, each column
+/// with its unit from the quantity table.
+fn header_groups_hold_their_columns(seen: &Value) {
+    let columns: Vec<&str> = seen["columns"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+    let mut under: Vec<(&str, Vec<&str>)> = Vec::new();
+    let mut next = 0;
+    for group in seen["header_groups"].as_array().unwrap() {
+        let span = group[1].as_u64().unwrap() as usize;
+        under.push((group[0].as_str().unwrap(), columns[next..next + span].to_vec()));
+        next += span;
+    }
+    assert_eq!(next, columns.len(), "the groups span every column: {seen}");
+    let names: Vec<&str> = under.iter().map(|(g, _)| *g).collect();
+    let expected = ["grid point", "runs", "settle time & cost", "time step & final state", "pile geometry"];
+    assert_eq!(names[..5], expected, "{names:?}");
+    assert_eq!(names[5..], ["contacts & forces", "warnings & run ids"], "{names:?}");
+    let group_of = |column: &str| under.iter().find(|(_, c)| c.contains(&column)).map(|(g, _)| *g);
+    let header = |name: &str| quantity::with_unit(name);
+    assert_eq!(group_of("material.restitution"), Some("grid point"));
+    assert_eq!(group_of(&header("settle_time")), Some("settle time & cost"));
+    assert_eq!(group_of(&header("pile_height")), Some("pile geometry"));
+    assert_eq!(group_of(&header("packing_fraction_interior")), Some("pile geometry"));
+    assert_eq!(group_of(&header("mechanical_coordination_number")), Some("contacts & forces"));
+    assert_eq!(group_of(&header("floor_mean_contact_force")), Some("contacts & forces"));
+    for (name, unit) in [("settle_time", "s"), ("pile_height", "m"), ("floor_mean_contact_force", "N")] {
+        assert_eq!(quantity::find(name).unwrap().unit, unit);
+        assert!(columns.contains(&format!("{name} ({unit})").as_str()), "{name} with its unit: {columns:?}");
+    }
+}
+
+#[test]
+fn each_run_with_frames_has_a_player_that_draws_the_stored_frames() {
+    let dir = scratch("report_player");
+    let study = dir.join("report_study.toml");
+    let with_frames = STUDY
+        .replace("run.duration = 0.3", "run.duration = 0.3\nrun.frame_interval = 0.05")
+        .replace("frames = false", "frames = true")
+        .replace("replicates = 3", "replicates = 1");
+    std::fs::write(&study, with_frames).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["run", study.to_str().unwrap(), "--out", dir.to_str().unwrap(), "--progress", "quiet"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let seen = open_in_browser(&dir.join("report_study_report.html"), Some(&dir.join("report_study.h5")));
+    println!("{seen}");
+    assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
+    assert_eq!(seen["requests"], Value::Array(Vec::new()), "no network request: {seen}");
+    assert_eq!(seen["player_count"], 3, "a player per run");
+    for player in seen["players"].as_array().unwrap() {
+        // Frames at 0, 0.05, …, 0.3 s (the last is the final state's step).
+        assert_eq!(player["frames"], 7, "{player}");
+        assert_eq!(player["disks"], 25, "{player}");
+        assert_eq!(
+            (&player["first_frame"], &player["after_step"], &player["after_back"]),
+            (&0.into(), &1.into(), &0.into())
+        );
+        let labels = player["labels"].as_array().unwrap();
+        assert_eq!(labels[0], "frame 1 of 7, t = 0 s");
+        assert_eq!(labels[1], "frame 2 of 7, t = 0.05 s");
+        assert_eq!(labels[2], labels[0]);
+        assert!(player["after_play"].as_u64().unwrap() >= 1, "playing advances: {player}");
+        for (error, painted) in
+            player["max_error_px"].as_array().unwrap().iter().zip(player["painted_centres"].as_array().unwrap())
+        {
+            let error = error.as_f64().expect("as many disks drawn as stored");
+            assert!(error < 0.1, "drawn within 0.1 px of the stored disks: {player}");
+            assert_eq!(painted.as_f64(), Some(1.0), "the canvas is painted at every disk's centre: {player}");
+        }
+    }
 }
 
 #[test]

@@ -6,10 +6,12 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH, NOT_SETTLED};
 use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, render};
+use crate::physics::quantity;
 use crate::stats::Ratio;
 use crate::stats::compare::Comparison;
 use crate::stats::points::Points;
@@ -36,17 +38,52 @@ pub struct MetricPoint {
     pub reference: bool,
 }
 
-/// Draws `metric` against `x_param` (a line per value of `series_param`), every point with its 95 %
-/// interval, and the reference's tolerance band `band` shaded, onto `canvas`.
+/// Where a point of a metric chart was drawn (pixels): its marker's centre and the rows of its 95 %
+/// interval's ends (`None` without an interval).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawnPoint {
+    /// The marker's centre (column, row).
+    pub marker: (i32, i32),
+    /// Rows of the interval's lower and upper end.
+    pub interval: Option<(i32, i32)>,
+}
+
+/// Draws `metric` (with its unit, `""` when dimensionless) against `x_param` (a line per value of
+/// `series_param`, each series shifted a little along x so that intervals at one x stay apart),
+/// every point with its 95 % interval, and the reference's tolerance band `band` shaded when given,
+/// onto `canvas`; returns where each point of `points` was drawn (`None`: no finite mean).
 pub fn metric_chart<'c>(
-    metric: &str,
+    (metric, unit): (&str, &str),
     points: &[MetricPoint],
     (x_param, series_param): (&str, Option<&str>),
-    band: Range<f64>,
+    band: Option<Range<f64>>,
     options: &ChartOptions,
     canvas: impl Into<Canvas<'c>>,
-) -> Result<(), PlotError> {
-    render(&MetricFigure { metric, points, x_param, series_param, band }, options, canvas.into())
+) -> Result<Vec<Option<DrawnPoint>>, PlotError> {
+    render(&MetricFigure { metric, unit, points, x_param, series_param, band }, options, canvas.into())
+}
+
+/// The points of `metric` over a grid: x is the value of `x_param` (the point number without one),
+/// the series the value of `series_param`; mean and 95 % half-width over each point's runs (the
+/// `/points` statistics); `reference` marks one point.
+pub fn metric_points(
+    points: &Points,
+    metric: &str,
+    (x_param, series_param): (Option<&str>, Option<&str>),
+    reference: Option<usize>,
+) -> Vec<MetricPoint> {
+    (0..points.len())
+        .map(|p| {
+            let described = points.describe(p, metric);
+            MetricPoint {
+                x: x_param.map_or(p as f64, |name| points.coordinate(p, name).unwrap_or(f64::NAN)),
+                series: series_param.and_then(|name| points.coordinate(p, name)),
+                mean: described.mean,
+                half_width_95: described.half_width_95,
+                reference: Some(p) == reference,
+            }
+        })
+        .collect()
 }
 
 /// One point of the cost chart.
@@ -96,30 +133,20 @@ pub fn draw_all(
         })
         .take(2)
         .collect();
-    let x_param = axes.first().copied().unwrap_or("point");
     let series_param = axes.get(1).copied();
-    let x_of = |p: usize| axes.first().map_or(p as f64, |name| points.coordinate(p, name).unwrap_or(f64::NAN));
     let options =
         ChartOptions { subject: Some(format!("reference {}", points.label(comparison.reference))), ..options.clone() };
     let mut written = Vec::new();
     for kept in &comparison.kept {
         let metric = kept.tolerance.metric.as_str();
-        let chart_points: Vec<MetricPoint> = (0..points.len())
-            .map(|p| {
-                let described = points.describe(p, metric);
-                MetricPoint {
-                    x: x_of(p),
-                    series: series_param.and_then(|name| points.coordinate(p, name)),
-                    mean: described.mean,
-                    half_width_95: described.half_width_95,
-                    reference: p == comparison.reference,
-                }
-            })
-            .collect();
+        let chart_points =
+            metric_points(points, metric, (axes.first().copied(), series_param), Some(comparison.reference));
         let centre = kept.reference.mean;
         let path = dir.join(format!("compare_{metric}.png"));
-        let band = centre - kept.margin..centre + kept.margin;
-        metric_chart(metric, &chart_points, (x_param, series_param), band, &options, &path)?;
+        let band = Some(centre - kept.margin..centre + kept.margin);
+        let unit = quantity::column_quantity(metric).map_or("", |q| q.unit);
+        let x_param = axes.first().copied().unwrap_or("point");
+        metric_chart((metric, unit), &chart_points, (x_param, series_param), band, &options, &path)?;
         written.push(path);
     }
     let cost_points: Vec<CostPoint> = comparison
@@ -138,31 +165,51 @@ pub fn draw_all(
     Ok(written)
 }
 
-/// A kept metric against the first swept parameter.
+/// Shift along x between neighbouring series of a metric chart, as a fraction of the x range.
+const SERIES_SHIFT: f64 = 0.012;
+
+/// A metric against a swept parameter.
 struct MetricFigure<'a> {
     metric: &'a str,
+    unit: &'a str,
     points: &'a [MetricPoint],
     x_param: &'a str,
     series_param: Option<&'a str>,
-    band: Range<f64>,
+    band: Option<Range<f64>>,
+}
+
+impl MetricFigure<'_> {
+    /// The distinct series values, in order (`None` alone without a series parameter).
+    fn series(&self) -> Vec<Option<f64>> {
+        let mut series: Vec<Option<f64>> = self.points.iter().map(|p| p.series).collect();
+        series.sort_by(|a, b| a.unwrap_or(f64::NAN).total_cmp(&b.unwrap_or(f64::NAN)));
+        series.dedup();
+        series
+    }
+
+    /// The metric with its unit, for the title and the axis.
+    fn quantity(&self) -> String {
+        if self.unit.is_empty() { self.metric.to_string() } else { format!("{} ({})", self.metric, self.unit) }
+    }
 }
 
 impl Figure for MetricFigure<'_> {
-    type Layout = ();
+    type Layout = Vec<Option<DrawnPoint>>;
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, options: &ChartOptions) -> DrawResult<()>
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        options: &ChartOptions,
+    ) -> DrawResult<Vec<Option<DrawnPoint>>>
     where
         DB::ErrorType: 'static,
     {
         let x_range = style::padded(style::finite_bounds(self.points.iter().map(|p| p.x)), 0.05);
         let spread = |p: &MetricPoint| p.half_width_95.max(0.0);
-        let ys = self
-            .points
-            .iter()
-            .flat_map(|p| [p.mean - spread(p), p.mean + spread(p)])
-            .chain([self.band.start, self.band.end]);
+        let band_ends = self.band.iter().flat_map(|band| [band.start, band.end]);
+        let ys = self.points.iter().flat_map(|p| [p.mean - spread(p), p.mean + spread(p)]).chain(band_ends);
         let y_range = style::padded(style::finite_bounds(ys), 0.08);
-        let title = options.title(self.metric);
+        let title = options.title(&self.quantity());
         let mut chart = ChartBuilder::on(root)
             .caption(&title, style::title_text(root, &title, style::TITLE_SIZE))
             .margin(15)
@@ -171,48 +218,72 @@ impl Figure for MetricFigure<'_> {
             .build_cartesian_2d(x_range.clone(), y_range)?;
         style::numbered_mesh(&mut chart.configure_mesh())
             .x_desc(self.x_param)
-            .y_desc(format!("{} (mean ± 95%)", self.metric))
+            .y_desc(format!("{} (mean ± 95%)", self.quantity()))
             .draw()?;
-        let band = [(x_range.start, self.band.start), (x_range.end, self.band.end)];
-        chart
-            .draw_series([Rectangle::new(band, BAND.filled())])?
-            .label("reference ± tolerance")
-            .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], BAND.filled()));
-        let centre = (self.band.start + self.band.end) / 2.0;
-        let centre_line = [(x_range.start, centre), (x_range.end, centre)];
-        chart.draw_series(DashedLineSeries::new(centre_line, 6, 4, ACCEPTABLE.stroke_width(1)))?;
-        let mut series: Vec<Option<f64>> = self.points.iter().map(|p| p.series).collect();
-        series.sort_by(|a, b| a.unwrap_or(f64::NAN).total_cmp(&b.unwrap_or(f64::NAN)));
-        series.dedup();
+        if let Some(band) = &self.band {
+            let corners = [(x_range.start, band.start), (x_range.end, band.end)];
+            chart
+                .draw_series([Rectangle::new(corners, BAND.filled())])?
+                .label("reference ± tolerance")
+                .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], BAND.filled()));
+            let centre = (band.start + band.end) / 2.0;
+            let centre_line = [(x_range.start, centre), (x_range.end, centre)];
+            chart.draw_series(DashedLineSeries::new(centre_line, 6, 4, ACCEPTABLE.stroke_width(1)))?;
+        }
+        let series = self.series();
+        let mut drawn = vec![None; self.points.len()];
+        let mut reference = None;
         for (index, value) in series.iter().enumerate() {
             let colour = style::series_colour(index);
-            let mut line: Vec<&MetricPoint> = self.points.iter().filter(|p| p.series == *value).collect();
-            line.sort_by(|a, b| a.x.total_cmp(&b.x));
+            let centred = index as f64 - (series.len() - 1) as f64 / 2.0;
+            let shift = centred * SERIES_SHIFT * (x_range.end - x_range.start);
+            let mut line: Vec<usize> = (0..self.points.len()).filter(|&k| self.points[k].series == *value).collect();
+            line.sort_by(|&a, &b| self.points[a].x.total_cmp(&self.points[b].x));
             let line_style = colour.stroke_width(LINE_WIDTH);
             let label = match (self.series_param, value) {
                 (Some(name), Some(v)) => format!("{name} = {}", style::short_number(*v)),
                 _ => self.metric.to_string(),
             };
-            let means = line.iter().filter(|p| p.mean.is_finite()).map(|p| (p.x, p.mean));
+            let at = |k: &usize| (self.points[*k].x + shift, self.points[*k].mean);
+            let means: Vec<(f64, f64)> = line.iter().map(at).filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
             chart
                 .draw_series(LineSeries::new(means, line_style).point_size(4))?
                 .label(label)
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], line_style));
-            style::error_bars(
-                &mut chart,
-                line.iter().map(|p| (p.x, p.mean - p.half_width_95, p.mean + p.half_width_95)),
-                colour,
-            )?;
+            let bar = |k: &usize| {
+                let p = &self.points[*k];
+                (p.x + shift, p.mean - p.half_width_95, p.mean + p.half_width_95)
+            };
+            style::error_bars(&mut chart, line.iter().map(bar), colour)?;
+            for k in line {
+                drawn[k] = drawn_point(&chart, at(&k), bar(&k));
+                reference = reference.or(self.points[k].reference.then(|| at(&k)));
+            }
         }
-        if let Some(reference) = self.points.iter().find(|p| p.reference) {
+        if let Some(reference) = reference {
             let ring = BLACK.stroke_width(2);
             chart
-                .draw_series([Circle::new((reference.x, reference.mean), 9, ring)])?
+                .draw_series([Circle::new(reference, 9, ring)])?
                 .label("reference")
                 .legend(move |(x, y)| Circle::new((x + 12, y), 7, ring));
         }
-        style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+        style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        Ok(drawn)
     }
+}
+
+/// Where a point at `(x, mean)` with the interval `(x, low, high)` lands on `chart` (`None`
+/// without a finite mean; no interval unless both ends are finite).
+fn drawn_point<DB: DrawingBackend>(
+    chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    (x, mean): (f64, f64),
+    (_, low, high): (f64, f64, f64),
+) -> Option<DrawnPoint> {
+    (x.is_finite() && mean.is_finite()).then(|| DrawnPoint {
+        marker: chart.backend_coord(&(x, mean)),
+        interval: (low.is_finite() && high.is_finite())
+            .then(|| (chart.backend_coord(&(x, low)).1, chart.backend_coord(&(x, high)).1)),
+    })
 }
 
 /// Cost ratio against deviation.

@@ -9,14 +9,17 @@ use std::path::{Path, PathBuf};
 
 use hdf5_pure::File;
 
+use super::compare;
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
 use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
-use crate::output::{OutputError, SummaryRow};
+use crate::output::{OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::quantity;
 use crate::physics::record::Snapshot;
+use crate::stats::points::Points;
 use crate::study::ParamValue;
 
 /// Per-run charts are drawn for at most this many runs unless runs are named or all are asked for.
@@ -104,6 +107,7 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
     let report = PlotReport { runs_charted: selected.len(), runs_total: rows.len(), damaged, ..Default::default() };
     let mut drawer = Drawer { request, dir, report, on_event };
     study_charts(&mut drawer, &study_name, &rows);
+    pile_metric_charts(&mut drawer, &study_name, &rows);
     for row in selected {
         run_charts(&mut drawer, (&file, path), row, (request.colour_by, true));
     }
@@ -124,6 +128,10 @@ pub trait ChartSink {
     fn note(&mut self, text: &str);
     /// A chart that could not be drawn, or a run that could not be read.
     fn fail(&mut self, error: &PlotError);
+    /// The deposition of run `row` in a box of `box_size` (m): its frames (and its final state when
+    /// taken after the last frame), named as its snapshot charts are; only for runs with frames. A
+    /// sink that shows frames its own way (the report's player) takes them here; by default nothing.
+    fn deposition(&mut self, _row: &SummaryRow, _box_size: (f64, f64), _pictures: &[(String, &Snapshot)]) {}
 }
 
 /// The runs to draw per-run charts for: the named ones (in the order named), else all runs or at
@@ -142,11 +150,19 @@ pub fn select_runs<'r>(rows: &'r [SummaryRow], request: &PlotRequest) -> Result<
         }
         return Ok(selected);
     }
-    if request.all_runs || rows.len() <= DEFAULT_RUN_LIMIT {
+    if request.all_runs {
         return Ok(rows.iter().collect());
     }
-    let last = rows.len() - 1;
-    Ok((0..DEFAULT_RUN_LIMIT).map(|i| &rows[i * last / (DEFAULT_RUN_LIMIT - 1)]).collect())
+    Ok(spread(rows.len(), DEFAULT_RUN_LIMIT).into_iter().map(|i| &rows[i]).collect())
+}
+
+/// At most `limit` (two or more) indices of `0..len`, spread evenly with the first and the last
+/// included; all of them when there are no more than `limit`.
+pub fn spread(len: usize, limit: usize) -> Vec<usize> {
+    if len <= limit {
+        return (0..len).collect();
+    }
+    (0..limit).map(|i| i * (len - 1) / (limit - 1)).collect()
 }
 
 /// How a run ended, or `None` for a run that failed with an error (no record).
@@ -176,6 +192,55 @@ fn subject_with(row: &SummaryRow, status: &str) -> String {
     match parameters.is_empty() {
         true => format!("{} ({status})", row.id),
         false => format!("{}: {} ({status})", row.id, parameters.join(", ")),
+    }
+}
+
+/// Charts drawn as SVG documents of one size, in order, with what was noted on the way (charts that
+/// could not be drawn among the notes): the sink of a page that embeds its charts.
+pub struct SvgCharts {
+    /// Size of every chart (pixels): width, height.
+    pub size: (u32, u32),
+    /// Name and SVG document of each chart drawn.
+    pub charts: Vec<(String, String)>,
+    /// What was noted.
+    pub notes: Vec<String>,
+}
+
+impl SvgCharts {
+    /// No chart yet; charts of `size` (pixels).
+    pub fn new(size: (u32, u32)) -> Self {
+        Self { size, charts: Vec::new(), notes: Vec::new() }
+    }
+}
+
+impl ChartSink for SvgCharts {
+    fn chart<T>(
+        &mut self,
+        name: &str,
+        subject: &str,
+        draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
+    ) -> Option<T> {
+        let (width, height) = self.size;
+        let options = ChartOptions { width, height, format: Format::Svg, subject: Some(subject.to_string()) };
+        let mut svg = String::new();
+        match draw(&options, Canvas::Svg(&mut svg)) {
+            Ok(value) => {
+                self.charts.push((name.to_string(), svg));
+                Some(value)
+            }
+            Err(error) => {
+                self.fail(&error);
+                None
+            }
+        }
+    }
+
+    fn note(&mut self, text: &str) {
+        self.notes.push(text.to_string());
+    }
+
+    fn fail(&mut self, error: &PlotError) {
+        self.notes.push(format!("chart not drawn: {}", error.reason));
     }
 }
 
@@ -246,6 +311,59 @@ pub fn study_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[Summary
     }
 }
 
+/// The per-point quantities charted against each swept axis by [`pile_metric_charts`]: the pile
+/// metrics a deposition is run for, then settle time.
+pub const CHARTED_METRICS: [&str; 5] = [
+    "packing_fraction_interior",
+    "mechanical_coordination_number",
+    "floor_load_ratio",
+    "mean_overlap_ratio",
+    "settle_time",
+];
+
+/// Lines a pile-metric chart draws at most (one colour each): more values of the colour axis are
+/// thinned to this many, spread over them.
+pub const MAX_METRIC_LINES: usize = 8;
+
+/// The pile-metric charts of `rows`: each of [`CHARTED_METRICS`] per grid point (mean and 95 %
+/// interval over its runs, the `/points` statistics) against each chart axis, a line per value of
+/// the other axis of a two-parameter grid (at most [`MAX_METRIC_LINES`]); named `<metric>_vs_<axis>`. Settle time against the first axis is
+/// the settle-time chart's, and is not drawn again.
+pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[SummaryRow]) {
+    let axes = StudyAxes::choose(rows);
+    let Some(x) = axes.x.as_deref() else { return };
+    let summary = SummaryTable::from_rows(rows);
+    let points = Points::new(&summary);
+    let along = [(x, axes.series.as_deref())].into_iter().chain(axes.series.as_deref().map(|y| (y, Some(x))));
+    let mut lines = Vec::new(); // (axis, value of the other axis drawn as a line) of each chart
+    for (axis, colour) in along.clone() {
+        let Some(colour) = colour else { continue };
+        let values = distinct_values(rows, colour);
+        let kept = spread(values.len(), MAX_METRIC_LINES);
+        if kept.len() < values.len() {
+            sink.note(&format!(
+                "pile-metric charts against {axis}: lines for {} of the {} values of {colour}, spread over them",
+                kept.len(),
+                values.len()
+            ));
+        }
+        lines.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
+    }
+    for (axis, colour) in along {
+        for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
+            if metric == "settle_time" && axis == x {
+                continue;
+            }
+            let unit = quantity::find(metric).map_or("", |q| q.unit);
+            let mut estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
+            estimates.retain(|e| e.series.is_none_or(|v| lines.contains(&(axis, v.to_bits()))));
+            sink.chart(&format!("{metric}_vs_{axis}"), study_name, |o, c| {
+                compare::metric_chart((metric, unit), &estimates, (axis, colour), None, o, c)
+            });
+        }
+    }
+}
+
 /// The charts of one run of the results `file` (at `path`): energies and UBF (when histories are
 /// stored) and its snapshots (the final state, and with `frames` every recorded frame), disks
 /// coloured `by`.
@@ -275,6 +393,9 @@ pub fn run_charts(
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }
     snapshots(sink, row, &stored, (by, frames));
+    if !stored.frames.is_empty() {
+        sink.deposition(row, (stored.scene.domain.width, stored.scene.domain.height), &snapshot_names(&stored));
+    }
 }
 
 /// A snapshot per stored frame and of the final state (unless the last frame shows it).
@@ -445,6 +566,31 @@ mod tests {
         assert_eq!(axes.notes.len(), 2, "{:?}", axes.notes);
         assert!(axes.notes[0].contains("integrator.scheme"));
         assert!(axes.notes[1].ends_with("material.rolling_friction, placement.seed"), "{:?}", axes.notes);
+    }
+
+    #[test]
+    fn pile_metric_charts_draw_at_most_eight_lines_spread_over_the_other_axis() {
+        use ParamValue::Float;
+        let metric = quantity::final_value_declarations().position(|q| q.name == "floor_load_ratio").unwrap();
+        let mut rows = Vec::new();
+        for e in [0.1, 0.5, 0.9] {
+            for k in 0..12 {
+                let mut run =
+                    row(rows.len(), &[("material.restitution", Float(e)), ("material.friction", Float(k.into()))]);
+                run.final_values[metric] = e + f64::from(k);
+                rows.push(run);
+            }
+        }
+        let mut sink = SvgCharts::new((1000, 700));
+        pile_metric_charts(&mut sink, "study", &rows);
+        let chart = |name: &str| &sink.charts.iter().find(|(n, _)| n == name).unwrap().1;
+        // A marker per drawn point: 8 of the 12 frictions (the first and last kept) at 3 restitutions.
+        let markers = |svg: &str| svg.matches("r=\"4\"").count();
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.restitution")), 8 * 3);
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.friction")), 12 * 3);
+        assert!(chart("floor_load_ratio_vs_material.restitution").contains("material.friction = 11"));
+        let note = "pile-metric charts against material.restitution: lines for 8 of the 12 values of material.friction";
+        assert!(sink.notes.iter().any(|n| n.starts_with(note)), "{:?}", sink.notes);
     }
 
     #[test]

@@ -21,11 +21,31 @@ const NOT_SHOWN: [&str; 9] = [
     "fabric_direction",
 ];
 
-/// The columns shown per point, with their units: the declared quantities but [`NOT_SHOWN`], and
-/// the warning count.
-fn point_metrics() -> impl Iterator<Item = (&'static str, &'static str)> {
-    let shown = quantity::per_run().filter(|q| !NOT_SHOWN.contains(&q.name)).map(|q| (q.name, q.unit));
-    shown.chain([("warnings", "")])
+/// The header groups of the per-quantity columns, each from its first quantity on, in the order of
+/// the quantity table ([`quantity::per_run`]): a quantity declared later joins the group it is
+/// declared in.
+const QUANTITY_GROUPS: [(&str, &str); 4] = [
+    ("settle_time", "settle time & cost"),
+    ("time_step", "time step & final state"),
+    ("pile_height", "pile geometry"),
+    ("coordination_number", "contacts & forces"),
+];
+/// Header group of the swept values.
+const POINT_GROUP: &str = "grid point";
+/// Header group of the run counts (all, and by status).
+const RUNS_GROUP: &str = "runs";
+/// Header group of the warning count and the run ids.
+const LAST_GROUP: &str = "warnings & run ids";
+
+/// The columns shown per point, with their units, descriptions and header groups: the declared
+/// quantities but [`NOT_SHOWN`], and the warning count.
+fn point_metrics() -> impl Iterator<Item = (&'static str, &'static str, &'static str, &'static str)> {
+    let mut group = "";
+    let shown = quantity::per_run().filter_map(move |q| {
+        group = QUANTITY_GROUPS.iter().find(|(first, _)| *first == q.name).map_or(group, |(_, name)| name);
+        (!NOT_SHOWN.contains(&q.name)).then_some((q.name, q.unit, q.description, group))
+    });
+    shown.chain([("warnings", "", "Validity warnings of the point's runs.", LAST_GROUP)])
 }
 
 /// A page being assembled: sections in order, then the closing script.
@@ -93,16 +113,27 @@ impl PointsTable {
         let summary = points.summary();
         let status = summary.column("status").map(|c| &c.data);
         let ids = summary.column("run_id").map(|c| &c.data);
-        let metrics: Vec<(&str, &str)> = point_metrics().filter(|(m, _)| points.metric_names().contains(m)).collect();
+        let metrics: Vec<_> = point_metrics().filter(|(m, ..)| points.metric_names().contains(m)).collect();
+        let column = |name: &str, kind: &str, (unit, description): (&str, &str), group: &str| json!({"name": name, "kind": kind, "unit": unit, "description": description, "group": group});
+        let swept = "Swept value of the grid point.";
         let mut columns: Vec<Value> = points
             .coordinates()
             .iter()
-            .map(|c| json!({"name": c.name, "kind": if c.data.is_numeric() { "number" } else { "text" }, "unit": ""}))
+            .map(|c| column(&c.name, if c.data.is_numeric() { "number" } else { "text" }, ("", swept), POINT_GROUP))
             .collect();
-        columns.push(json!({"name": "n", "kind": "number", "unit": ""}));
-        columns.extend(RunStatus::RECORDED.iter().map(|s| json!({"name": s.as_str(), "kind": "number", "unit": ""})));
-        columns.extend(metrics.iter().map(|(m, unit)| json!({"name": m, "kind": "number", "unit": unit})));
-        columns.push(json!({"name": "runs", "kind": "run", "unit": ""}));
+        columns.push(column("n", "number", ("", "Runs at the grid point (placement seeds)."), RUNS_GROUP));
+        columns.extend(
+            RunStatus::RECORDED.iter().map(|s| column(s.as_str(), "number", ("", "Runs that ended so."), RUNS_GROUP)),
+        );
+        columns.extend(
+            metrics.iter().map(|&(m, unit, description, group)| column(m, "number", (unit, description), group)),
+        );
+        columns.push(column(
+            "runs",
+            "run",
+            ("", "The point's run ids; a link to the run's section when it has one."),
+            LAST_GROUP,
+        ));
         let rows = (0..points.len())
             .map(|p| {
                 let runs = points.rows(p);
@@ -120,7 +151,7 @@ impl PointsTable {
                 cells.extend(
                     RunStatus::RECORDED.iter().map(|s| json!(statuses.iter().filter(|t| *t == s.as_str()).count())),
                 );
-                for (metric, _) in &metrics {
+                for (metric, ..) in &metrics {
                     let d = points.describe(p, metric);
                     cells.push(if d.n == 0 { Value::Null } else { json!([short(d.mean), short(d.half_width_95)]) });
                 }
@@ -136,21 +167,37 @@ impl PointsTable {
         Self { columns, rows }
     }
 
-    /// The header cells, with each column's kind and unit.
-    pub fn header_cells(&self) -> String {
-        self.columns
+    /// The table's column groups (one `<colgroup>` per header group, so that a rule can part them)
+    /// and its header: a row of header groups over a row of columns, each column with its kind,
+    /// unit and description.
+    pub fn header(&self) -> String {
+        let text = |c: &Value, key: &str| c[key].as_str().unwrap_or("").to_string();
+        let mut spans: Vec<(String, usize)> = Vec::new();
+        for c in &self.columns {
+            match spans.last_mut() {
+                Some((group, span)) if *group == text(c, "group") => *span += 1,
+                _ => spans.push((text(c, "group"), 1)),
+            }
+        }
+        let colgroups: String =
+            spans.iter().map(|(_, span)| format!("<colgroup span=\"{span}\"></colgroup>")).collect();
+        let groups: String =
+            spans.iter().map(|(group, span)| format!("<th colspan=\"{span}\">{}</th>", escape(group))).collect();
+        let columns: String = self
+            .columns
             .iter()
             .map(|c| {
-                let (name, kind, unit) = (c["name"].as_str(), c["kind"].as_str(), c["unit"].as_str());
-                let unit = unit.filter(|u| !u.is_empty()).map(|u| format!(" ({u})")).unwrap_or_default();
+                let (name, unit) = (escape(&text(c, "name")), text(c, "unit"));
+                let unit = if unit.is_empty() { String::new() } else { format!(" ({})", escape(&unit)) };
                 format!(
-                    "<th data-kind=\"{}\" title=\"sort by {name}\">{}{unit}</th>",
-                    kind.unwrap_or("text"),
-                    escape(name.unwrap_or("")),
-                    name = escape(name.unwrap_or(""))
+                    "<th data-kind=\"{}\" title=\"{} Click to sort by {name}.\">{}{unit}</th>",
+                    escape(&text(c, "kind")),
+                    escape(&text(c, "description")),
+                    name.replace('_', "_<wbr>").replace('.', ".<wbr>"),
                 )
             })
-            .collect()
+            .collect();
+        format!("{colgroups}<thead><tr class=\"groups\">{groups}</tr><tr class=\"columns\">{columns}</tr></thead>")
     }
 
     /// The data the page's script renders, as JSON safe inside a `<script>` element.
@@ -170,4 +217,24 @@ pub fn static_table(records: &[Vec<String>]) -> String {
     let body: String =
         rows.iter().map(|row| format!("<tr>{}</tr>", row.iter().map(cell).collect::<String>())).collect();
     format!("<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn header_groups_start_at_declared_quantities_and_hold_neighbouring_columns() {
+        for (first, group) in QUANTITY_GROUPS {
+            assert!(quantity::find(first).is_some(), "{group} starts at {first}, a declared quantity");
+        }
+        let mut groups: Vec<&str> = point_metrics().map(|(.., group)| group).collect();
+        assert!(!groups.contains(&""), "every shown quantity has a group");
+        groups.dedup();
+        let mut distinct = groups.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(groups.len(), distinct.len(), "each group's columns side by side: {groups:?}");
+        assert_eq!(groups.len(), QUANTITY_GROUPS.len() + 1, "{groups:?}");
+    }
 }

@@ -2,12 +2,14 @@
 //! charts, a little inline JavaScript, no network request of any kind).
 //!
 //! Top to bottom: what was run; how the runs ended and their warnings grouped by message; the
-//! per-point table (sortable by any column, filterable by status; [`crate::stats::points`]); the
-//! study charts (settle time with 95 % intervals, heatmap); the tune, when the file holds one; a
-//! section per charted run (energies, unbalanced force ratio, final pile), the runs `demsweep plot`
-//! chooses, each linked from its point's row.
+//! per-point table (columns under header groups with their units, sortable by any column,
+//! filterable by status; [`crate::stats::points`]); the study charts (settle time with 95 %
+//! intervals, heatmap) and the pile-metric charts; the tune, when the file holds one; a section per
+//! charted run (energies, unbalanced force ratio, final pile, and a player of its frames when it has
+//! some), the runs `demsweep plot` chooses, each linked from its point's row.
 
 mod html;
+mod player;
 
 use std::collections::BTreeMap;
 
@@ -17,7 +19,8 @@ use std::path::{Path, PathBuf};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
-use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest};
+use crate::physics::record::Snapshot;
+use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
 use crate::stats::points::Points;
@@ -118,9 +121,12 @@ pub fn write_report(
     if tune.is_none() {
         let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
         page.push(&points_section(&summary, &charted_ids));
-        let mut study = Svgs::default();
+        let mut study = Svgs::new();
         results::study_charts(&mut study, &header.study_name, &rows);
         page.push(&charts_section(&study));
+        let mut pile = Svgs::new();
+        results::pile_metric_charts(&mut pile, &header.study_name, &rows);
+        page.push(&pile_charts_section(&pile));
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {
@@ -131,7 +137,7 @@ pub fn write_report(
         );
     }
     for row in &charted {
-        let mut svgs = Svgs::default();
+        let mut svgs = Svgs::new();
         results::run_charts(&mut svgs, (&file, results), row, (ColourBy::Speed, false));
         runs += &run_section(row, &svgs);
     }
@@ -142,11 +148,16 @@ pub fn write_report(
     Ok((path, damaged))
 }
 
-/// Charts drawn as SVG documents, in order, with what was noted on the way.
-#[derive(Default)]
+/// Charts drawn as SVG documents with what was noted on the way, and a run's frame player.
 struct Svgs {
-    charts: Vec<(String, String)>,
-    notes: Vec<String>,
+    drawn: SvgCharts,
+    player: Option<String>,
+}
+
+impl Svgs {
+    fn new() -> Self {
+        Self { drawn: SvgCharts::new(CHART_SIZE), player: None }
+    }
 }
 
 impl ChartSink for Svgs {
@@ -156,27 +167,19 @@ impl ChartSink for Svgs {
         subject: &str,
         draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
     ) -> Option<T> {
-        let (width, height) = CHART_SIZE;
-        let options = ChartOptions { width, height, format: Format::Svg, subject: Some(subject.to_string()) };
-        let mut svg = String::new();
-        match draw(&options, Canvas::Svg(&mut svg)) {
-            Ok(value) => {
-                self.charts.push((name.to_string(), svg));
-                Some(value)
-            }
-            Err(error) => {
-                self.fail(&error);
-                None
-            }
-        }
+        self.drawn.chart(name, subject, draw)
     }
 
     fn note(&mut self, text: &str) {
-        self.notes.push(text.to_string());
+        self.drawn.note(text);
     }
 
     fn fail(&mut self, error: &PlotError) {
-        self.notes.push(format!("chart not drawn: {}", error.reason));
+        self.drawn.fail(error);
+    }
+
+    fn deposition(&mut self, row: &SummaryRow, box_size: (f64, f64), pictures: &[(String, &Snapshot)]) {
+        self.player = Some(player::player(row, box_size, pictures));
     }
 }
 
@@ -266,11 +269,11 @@ fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs. Click a column header to sort; click again to reverse.</p>\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
-         <div class=\"scroll\"><table id=\"points\"><thead><tr>{}</tr></thead><tbody></tbody></table></div>\
+         <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
          <script type=\"application/json\" id=\"points-data\">{}</script>",
-        table.header_cells(),
+        table.header(),
         table.json()
     )
 }
@@ -278,13 +281,24 @@ fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
 /// The study charts, each as inline SVG.
 fn charts_section(svgs: &Svgs) -> String {
     let mut out = String::from("<h2 id=\"charts\">Settle time</h2>");
-    for (_, svg) in &svgs.charts {
+    for (_, svg) in &svgs.drawn.charts {
         out += &format!("<div class=\"chart\">{svg}</div>");
     }
-    for note in &svgs.notes {
+    for note in &svgs.drawn.notes {
         out += &format!("<p class=\"note\">{}</p>", escape(note));
     }
     out
+}
+
+/// The pile-metric charts (per-point means with 95 % intervals against each swept axis), two abreast.
+fn pile_charts_section(svgs: &Svgs) -> String {
+    if svgs.drawn.charts.is_empty() {
+        return String::new();
+    }
+    let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
+    format!(
+        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over each grid point's runs with its 95 % interval, against each swept parameter; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
+    )
 }
 
 /// A warning's kind: its text with every number replaced by `…`.
@@ -336,17 +350,18 @@ fn tune_section(tune: &TuneSection) -> String {
     )
 }
 
-/// A charted run: its energies, unbalanced force ratio and pile.
+/// A charted run: its energies, unbalanced force ratio and pile, and its deposition's player.
 fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
-    let charts: String = svgs.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
-    let notes: String = svgs.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
+    let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
+    let notes: String = svgs.drawn.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
     let settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
     format!(
-        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}</div>{notes}</section>",
+        "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}{}</div>{notes}</section>",
         escape(&results::run_subject(row)),
         row.steps,
         number(row.wall_time),
         row.warnings.len(),
+        svgs.player.as_deref().unwrap_or(""),
         id = escape(&row.id),
     )
 }

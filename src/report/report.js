@@ -3,7 +3,8 @@
 // Up to WINDOW rows are in the page at once: a longer table renders the rows scrolled into view
 // (between two spacer rows of the height of the others), so that sorting 10 000 points stays fast.
 //
-// Data: { columns: [{ name, kind: "text" | "number" | "run", unit }], rows: [{ statuses, cells }] };
+// Data: { columns: [{ name, kind: "text" | "number" | "run", unit, description, group }],
+// rows: [{ statuses, cells }] } (units and groups are in the header, not repeated in the cells);
 // a number cell is a value or [mean, 95 % half-width], a text cell a string, a run cell
 // [id of a run with a section of its own or null, the point's run ids], a missing value null.
 (function () {
@@ -11,7 +12,7 @@
   var data = JSON.parse(document.getElementById("points-data").textContent);
   var table = document.getElementById("points");
   var body = table.tBodies[0];
-  var headers = table.tHead.rows[0].cells;
+  var headers = table.tHead.rows[table.tHead.rows.length - 1].cells;
   var filter = document.getElementById("status-filter");
   var scroller = table.parentElement;
   var order = data.rows.map(function (_, i) { return i; });
@@ -43,7 +44,7 @@
     }
     if (column.kind === "text") return "<td>" + escape(value) + "</td>";
     var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1 " + number(value[1])) : number(value);
-    return "<td class=\"num\">" + text + (column.unit ? " " + escape(column.unit) : "") + "</td>";
+    return "<td class=\"num\">" + text + "</td>";
   }
 
   function spacer(rows) {
@@ -114,4 +115,105 @@
   if (filter) filter.addEventListener("change", render);
   scroller.addEventListener("scroll", function () { draw(false); }, { passive: true });
   render();
+})();
+
+// Frame players: a charted run's deposition from its stored frames (see src/report/player.rs for the
+// data). The disks are drawn to scale in the box, the force chains over them (width proportional to
+// the normal force); play/pause, step back and forth, or drag the slider. After each drawing the
+// canvas keeps what it drew (`drawnDisks`: [x, y, radius] in canvas pixels) and `data-frame`.
+(function () {
+  "use strict";
+  var DISK = "#8fb3d9", OUTLINE = "#3b5b80", CHAIN = "rgb(160, 0, 0)", WALL = "#000";
+  var FRAME_MS = 250, CHAIN_WIDTH = 0.6;
+
+  function setUp(player) {
+    var data = JSON.parse(player.querySelector(".player-data").textContent);
+    var canvas = player.querySelector("canvas");
+    var context = canvas.getContext("2d");
+    var play = player.querySelector(".play"), scrub = player.querySelector(".scrub");
+    var label = player.querySelector(".time");
+    var u = data.unit, ppm = data.ppm, m = data.margin;
+    var px = function (x) { return m + x * u * ppm; };
+    var py = function (y) { return canvas.height - m - y * u * ppm; };
+    var smallest = Math.min.apply(null, data.r.length ? data.r : [0]) * u * ppm;
+    var current = 0, timer = null;
+
+    function draw(k) {
+      var frame = data.frames[k], xy = frame.xy, drawn = [];
+      context.fillStyle = "#fff";
+      context.fillRect(0, 0, canvas.width, canvas.height);
+      context.strokeStyle = WALL;
+      context.lineWidth = 3;
+      context.beginPath();
+      context.moveTo(px(0), py(data.box[1] / u));
+      context.lineTo(px(0), py(0));
+      context.lineTo(px(data.box[0] / u), py(0));
+      context.lineTo(px(data.box[0] / u), py(data.box[1] / u));
+      context.stroke();
+      context.fillStyle = DISK;
+      context.strokeStyle = OUTLINE;
+      context.lineWidth = 1;
+      for (var i = 0; i < data.r.length; i++) {
+        var disk = [px(xy[2 * i]), py(xy[2 * i + 1]), data.r[i] * u * ppm];
+        context.beginPath();
+        context.arc(disk[0], disk[1], Math.max(disk[2] - 0.5, 0.5), 0, 2 * Math.PI);
+        context.fill();
+        context.stroke();
+        drawn.push(disk);
+      }
+      context.strokeStyle = CHAIN;
+      context.lineCap = "round";
+      var chain = function (x0, y0, x1, y1, steps) {
+        var width = Math.round(CHAIN_WIDTH * 2 * smallest * steps / 1000);
+        if (width < 1) return;
+        context.lineWidth = width;
+        context.beginPath();
+        context.moveTo(x0, y0);
+        context.lineTo(x1, y1);
+        context.stroke();
+      };
+      for (var p = 0; p + 2 < frame.pairs.length; p += 3) {
+        var a = frame.pairs[p], b = frame.pairs[p + 1];
+        chain(px(xy[2 * a]), py(xy[2 * a + 1]), px(xy[2 * b]), py(xy[2 * b + 1]), frame.pairs[p + 2]);
+      }
+      for (var w = 0; w + 3 < frame.walls.length; w += 4) {
+        var d = frame.walls[w];
+        chain(px(xy[2 * d]), py(xy[2 * d + 1]), px(frame.walls[w + 1]), py(frame.walls[w + 2]), frame.walls[w + 3]);
+      }
+      current = k;
+      scrub.value = String(k);
+      label.textContent = "frame " + (k + 1) + " of " + data.frames.length + ", t = " +
+        Number(frame.t.toPrecision(4)) + " s" + (frame.name === "final" ? " (final state)" : "");
+      canvas.drawnDisks = drawn;
+      canvas.dataset.frame = String(k);
+    }
+
+    function pause() {
+      if (timer !== null) clearInterval(timer);
+      timer = null;
+      play.textContent = "play";
+    }
+
+    function step(by) {
+      pause();
+      draw((current + by + data.frames.length) % data.frames.length);
+    }
+
+    play.addEventListener("click", function () {
+      if (timer !== null) return pause();
+      play.textContent = "pause";
+      if (current === data.frames.length - 1) draw(0);
+      timer = setInterval(function () {
+        if (current === data.frames.length - 1) return pause();
+        draw(current + 1);
+      }, FRAME_MS);
+    });
+    player.querySelector(".back").addEventListener("click", function () { step(-1); });
+    player.querySelector(".step").addEventListener("click", function () { step(1); });
+    scrub.addEventListener("input", function () { pause(); draw(Number(scrub.value)); });
+    draw(0);
+  }
+
+  var players = document.querySelectorAll(".player");
+  for (var k = 0; k < players.length; k++) setUp(players[k]);
 })();

@@ -1,9 +1,14 @@
 """Opens a demsweep HTML report in headless Chromium (driven by Playwright) and reports, as JSON on
 stdout, what a person would see: console errors, network requests, table rows, whether a click on a
-column header sorts the rows, every chart's rendered size, whether each run link leads to a visible
-section, first-paint and sort timings, and (with --screenshot FILE) a full-page screenshot.
+column header sorts the rows, the point table's header groups and the columns under them, every
+chart's rendered size, whether each run link leads to a visible section, first-paint and sort
+timings, and (with --screenshot FILE) a screenshot of the top of the page.
 
-Usage: check_report.py REPORT.html [--screenshot FILE]
+With --results FILE (the results the report was written from), each run's frame player is also
+checked: stepping forward and back changes the frame and its time label, playing advances it, and
+the disks drawn for a frame sit where h5py reads that frame's positions and radii in the file.
+
+Usage: check_report.py REPORT.html [--results RESULTS.h5] [--screenshot FILE]
 """
 
 import json
@@ -29,9 +34,68 @@ def numeric(text):
         return None
 
 
+def option(name):
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else None
+
+
+def stored_disks(results, group, name):
+    """x, y and r of a player frame (`frame_<k>` or `final`) as h5py reads them from the file."""
+    import h5py
+
+    with h5py.File(results, "r") as f:
+        run = f[group]
+        table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
+        return table["x"][:], table["y"][:], table["r"][:]
+
+
+def check_player(page, player, results):
+    """What a player shows and whether its frames match the stored ones (see the module doc)."""
+    canvas = player.locator("canvas")
+    label = player.locator(".time")
+    frame = lambda: int(canvas.get_attribute("data-frame"))
+    data = player.evaluate("p => JSON.parse(p.querySelector('.player-data').textContent)")
+    seen = {"run": player.get_attribute("data-run"), "frames": len(data["frames"]), "first_frame": frame()}
+    labels = [label.inner_text()]
+    player.locator(".step").click()
+    seen["after_step"] = frame()
+    labels.append(label.inner_text())
+    player.locator(".back").click()
+    seen["after_back"] = frame()
+    labels.append(label.inner_text())
+    seen["labels"] = labels
+    player.locator(".play").click()
+    page.wait_for_timeout(700)
+    seen["after_play"] = frame()
+    player.locator(".play").click()
+    errors, painted, disks = [], [], 0
+    last = len(data["frames"]) - 1
+    for k in sorted({0, 1, last // 2, last}):
+        player.locator(".scrub").evaluate(f"s => {{ s.value = '{k}'; s.dispatchEvent(new Event('input')); }}")
+        drawn = canvas.evaluate("c => c.drawnDisks")
+        x, y, r = stored_disks(results, player.get_attribute("data-group"), data["frames"][k]["name"])
+        height, ppm, margin = canvas.evaluate("c => c.height"), data["ppm"], data["margin"]
+        expected = [(margin + xi * ppm, height - margin - yi * ppm, ri * ppm) for xi, yi, ri in zip(x, y, r)]
+        disks = len(expected)
+        errors.append(
+            max(abs(a - b) for d, e in zip(drawn, expected) for a, b in zip(d, e)) if len(drawn) == disks else None
+        )
+        # The canvas itself: the pixel at each disk's centre is painted (a disk or a force chain on it).
+        painted.append(
+            canvas.evaluate(
+                """(c, disks) => { const g = c.getContext('2d'); return disks.filter(d => {
+                    const p = g.getImageData(Math.round(d[0]), Math.round(d[1]), 1, 1).data;
+                    return !(p[0] === 255 && p[1] === 255 && p[2] === 255); }).length / disks.length; }""",
+                drawn,
+            )
+        )
+    seen.update({"disks": disks, "max_error_px": errors, "painted_centres": painted})
+    return seen
+
+
 def main():
     report = sys.argv[1]
-    screenshot = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
+    screenshot = option("--screenshot")
+    results = option("--results")
     out = {"console_errors": [], "requests": []}
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium_path(), args=["--no-sandbox"])
@@ -51,7 +115,7 @@ def main():
         table = page.locator("table#points")
         out["rows"] = int(table.get_attribute("data-rows"))
         out["rows_in_page"] = table.locator("tbody tr:not(.spacer)").count()
-        headers = table.locator("thead th")
+        headers = table.locator("thead tr.columns th")
         out["columns"] = [headers.nth(k).inner_text().strip() for k in range(headers.count())]
         # Sort by the first numeric column (after the swept values): click, read it back.
         column = next(
@@ -102,6 +166,15 @@ def main():
         if status.count():
             options = status.locator("option").all_inner_texts()
             out["status_options"] = options
+        headers = page.locator("table#points thead tr.groups th")
+        out["header_groups"] = [
+            [headers.nth(k).inner_text().strip(), int(headers.nth(k).get_attribute("colspan") or 1)]
+            for k in range(headers.count())
+        ]
+        if results:
+            players = page.locator(".player")
+            out["players"] = [check_player(page, players.nth(k), results) for k in range(min(players.count(), 3))]
+            out["player_count"] = players.count()
         if screenshot:
             page.set_viewport_size({"width": 1280, "height": 2200})
             page.goto(url, wait_until="load")
