@@ -1,8 +1,8 @@
 //! Reads results files back: header, run rows, the summary table, one run's history.
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hdf5_pure::{DType, Dataset, File};
 
@@ -56,14 +56,16 @@ pub struct CommittedRuns {
     pub damaged: Vec<DamagedGroup>,
 }
 
-/// Run-group attribute sets read by this process: each costs a read of every attribute of a run
-/// group, which readers do only for runs `/summary` does not describe (and for the warning texts of
-/// runs that have warnings). Tests count them to check that reading a finished file does not.
-static ATTRIBUTE_SETS_READ: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Run-group attribute sets read by this thread: each costs a read of every attribute of a run
+    /// group, which readers do only for runs `/summary` does not describe (and for the warning texts
+    /// of runs that have warnings). Tests count them to check that reading a finished file does not.
+    static ATTRIBUTE_SETS_READ: Cell<usize> = const { Cell::new(0) };
+}
 
-/// How many run groups' attribute sets this process has read (see [`committed_runs`]).
+/// How many run groups' attribute sets this thread has read (see [`committed_runs`]).
 pub fn attribute_sets_read() -> usize {
-    ATTRIBUTE_SETS_READ.load(Ordering::Relaxed)
+    ATTRIBUTE_SETS_READ.get()
 }
 
 /// Every committed run: its row and its group, and the groups that cannot be read. The rows come
@@ -185,7 +187,7 @@ fn group_row(file: &File, group: &str) -> Result<SummaryRow, String> {
 
 /// Every attribute of a run group (counted: see [`attribute_sets_read`]).
 fn attributes(group: &hdf5_pure::Group) -> Result<HashMap<String, hdf5_pure::AttrValue>, String> {
-    ATTRIBUTE_SETS_READ.fetch_add(1, Ordering::Relaxed);
+    ATTRIBUTE_SETS_READ.set(ATTRIBUTE_SETS_READ.get() + 1);
     group.attrs().map_err(|e| e.to_string())
 }
 

@@ -1,0 +1,137 @@
+//! Costs that must not grow faster than the number of runs, checked by counted quantities (never
+//! wall time): a commit onto a file of 4N runs reads no more than onto one of N; reading a finished
+//! file reads no run group's attribute set; and `demsweep … | head` ends quietly.
+
+mod runner_common;
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use demsweep::output::{ResultsWriter, RunResult, SummaryRow, SummaryTable, reader};
+use demsweep::physics::SceneConfig;
+use demsweep::study::OutputOptions;
+
+/// `runs` runs of one disk for 10 steps (well under a millisecond each).
+fn tiny_study(dir: &Path, runs: usize) -> PathBuf {
+    let path = dir.join("scale.toml");
+    let text = format!(
+        "name = \"scale\"\n[scene]\nparticles.count = 1\nrun.duration = 1e-3\nintegrator.time_step = 1e-4\n\
+         [sweep]\n\"material.friction\" = {{ linear = [0.0, 1.0], steps = {runs} }}\n"
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn demsweep() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_demsweep"))
+}
+
+/// A results file of `runs` tiny runs, written by `demsweep run`.
+fn results(test: &str, runs: usize) -> PathBuf {
+    let dir = runner_common::scratch(test);
+    let study = tiny_study(&dir, runs);
+    let out = demsweep()
+        .args(["run", study.to_str().unwrap(), "--out", dir.to_str().unwrap(), "--progress", "quiet"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    dir.join("scale.h5")
+}
+
+/// Read system calls made by this thread so far (Linux `/proc/thread-self/io`, `syscr`).
+fn reads_so_far() -> u64 {
+    let io = std::fs::read_to_string("/proc/thread-self/io").unwrap();
+    let line = io.lines().find_map(|l| l.strip_prefix("syscr: ")).unwrap();
+    line.trim().parse().unwrap()
+}
+
+/// Read system calls of the second of two one-run commits onto the file (the first one of a session
+/// proves the file free of object references, once).
+fn reads_of_a_commit(results: &Path) -> u64 {
+    let (mut writer, _) = ResultsWriter::open(results, OutputOptions::default()).unwrap();
+    let mut commit_one = |index: usize| {
+        let row = SummaryRow::failed(index, &format!("extra{index}"), &[], "added by the test");
+        writer.stage(&RunResult { row, scene: SceneConfig::default(), record: None }).unwrap();
+        let before = reads_so_far();
+        writer.commit().unwrap();
+        reads_so_far() - before
+    };
+    commit_one(1_000_000);
+    commit_one(1_000_001)
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_commit_reads_as_much_on_a_file_four_times_larger() {
+    let small = reads_of_a_commit(&results("scale_commit_small", 250));
+    let large = reads_of_a_commit(&results("scale_commit_large", 1000));
+    // hdf5-pure walked every object of the file on each commit (a count of hard links, a search
+    // for object references): 4x the reads on 4x the runs.
+    assert!(large <= small + small / 4, "a commit read {small} times on 250 runs, {large} times on 1000");
+}
+
+#[test]
+fn a_finished_file_is_read_from_its_summary_and_a_killed_one_from_its_run_groups() {
+    let path = results("scale_reads", 300);
+    let file = reader::open(&path).unwrap();
+    let before = reader::attribute_sets_read();
+    let runs = reader::committed_runs(&file, &path).unwrap();
+    assert_eq!((runs.rows.len(), runs.damaged.len()), (300, 0));
+    assert_eq!(reader::attribute_sets_read(), before, "no run group's attributes for a finished file");
+    let from_summary = runs.rows;
+
+    // Without /summary (a writer killed before the end), every row comes from its run group: once.
+    std::fs::remove_file(path.with_file_name("scale_summary.csv")).unwrap();
+    let file = hdf5_pure::File::open_rw(&path).unwrap();
+    file.root().delete("summary").unwrap();
+    file.commit().unwrap();
+    drop(file);
+    let file = reader::open(&path).unwrap();
+    let before = reader::attribute_sets_read();
+    let runs = reader::committed_runs(&file, &path).unwrap();
+    assert_eq!(reader::attribute_sets_read() - before, 300, "one attribute set per run");
+    let same = SummaryTable::from_rows(&runs.rows) == SummaryTable::from_rows(&from_summary);
+    assert!(same, "the rows read from the run groups differ from those of /summary");
+}
+
+/// Runs `args`, reads one line of its output and closes the pipe; returns its stderr.
+fn read_one_line_of(args: &[&str]) -> String {
+    let mut child = demsweep().args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    assert!(!first.is_empty(), "{args:?} printed nothing");
+    let out = child.wait_with_output().unwrap();
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn output_piped_into_head_ends_quietly() {
+    let dir = runner_common::scratch("scale_pipe");
+    let study = tiny_study(&dir, 3000);
+    let (s, o) = (study.to_str().unwrap(), dir.to_str().unwrap());
+    let run = read_one_line_of(&["run", s, "--out", o, "--progress", "lines", "--jobs", "1"]);
+    assert!(!run.contains("panicked"), "run: {run}");
+    let resumed = demsweep().args(["run", s, "--out", o, "--resume", "--progress", "quiet"]).output().unwrap();
+    assert!(resumed.status.success(), "the file of a sweep ended by its reader resumes");
+    let results = dir.join("scale.h5");
+    let summary = read_one_line_of(&["summary", results.to_str().unwrap()]);
+    assert!(!summary.contains("panicked"), "summary: {summary}");
+    // One run sampled 10 000 times: a history longer than a pipe holds.
+    let long = dir.join("long.toml");
+    let text = std::fs::read_to_string(&study)
+        .unwrap()
+        .replace("run.duration = 1e-3", "run.duration = 1.0\nrun.sample_interval = 1e-4");
+    let text = text.replace("name = \"scale\"", "name = \"long\"");
+    std::fs::write(
+        &long,
+        text.replace("\"material.friction\" = { linear = [0.0, 1.0], steps = 3000 }", "replicates = 1"),
+    )
+    .unwrap();
+    let made = demsweep().args(["run", long.to_str().unwrap(), "--out", o, "--progress", "quiet"]).output().unwrap();
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let long = dir.join("long.h5");
+    let id = demsweep::output::summary::read(&long).unwrap().column("run_id").unwrap().data.text(0);
+    let history = read_one_line_of(&["history", long.to_str().unwrap(), &id]);
+    assert!(!history.contains("panicked"), "history: {history}");
+}
