@@ -135,3 +135,17 @@ fn output_piped_into_head_ends_quietly() {
     let history = read_one_line_of(&["history", long.to_str().unwrap(), &id]);
     assert!(!history.contains("panicked"), "history: {history}");
 }
+
+#[test]
+fn resuming_a_finished_file_rewrites_nothing() {
+    // Rewriting /summary deletes the old one, and hdf5-pure walks the whole file to free it.
+    let path = results("scale_resume", 50);
+    let before = std::fs::read(&path).unwrap();
+    let study = path.with_file_name("scale.toml");
+    let out = demsweep()
+        .args(["run", study.to_str().unwrap(), "--out", path.parent().unwrap().to_str().unwrap(), "--resume"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).contains("0 run now, 50 already done"), "{out:?}");
+    assert!(std::fs::read(&path).unwrap() == before, "the file changed");
+}

@@ -166,7 +166,7 @@ fn containers(file: &File) -> Result<Vec<String>, hdf5_pure::Error> {
 /// The rows `/summary` describes, by run id, with their warning counts; none when the file has no
 /// `/summary` or one that does not describe runs completely (an older layout).
 fn summary_rows(file: &File, path: &Path) -> Result<HashMap<String, (SummaryRow, usize)>, OutputError> {
-    let Some(table) = columns(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
+    let Some(table) = stored_table(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
     Ok(table.rows().unwrap_or_default().into_iter().map(|(row, warnings)| (row.id.clone(), (row, warnings))).collect())
 }
 
@@ -213,7 +213,7 @@ pub fn damage_text(damaged: &[DamagedGroup]) -> String {
 /// them all (see [`summary`]), else the summary of the readable runs.
 pub fn checked_summary(file: &File, path: &Path) -> Result<(SummaryTable, Vec<DamagedGroup>), OutputError> {
     let (rows, damaged) = scan(file, path)?;
-    match columns(file, path, SUMMARY)? {
+    match stored_table(file, path, SUMMARY)? {
         Some(table) if damaged.is_empty() && table.len() == rows.len() => Ok((table, damaged)),
         _ => Ok((SummaryTable::from_rows(&rows), damaged)),
     }
@@ -222,7 +222,7 @@ pub fn checked_summary(file: &File, path: &Path) -> Result<(SummaryTable, Vec<Da
 /// The summary: `/summary` when the file has it, else assembled from the run groups (a file whose
 /// writer was killed before finishing).
 pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
-    match columns(file, path, SUMMARY)? {
+    match stored_table(file, path, SUMMARY)? {
         Some(table) => Ok(table),
         None => Ok(SummaryTable::from_rows(&rows(file, path)?)),
     }
@@ -231,11 +231,12 @@ pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
 /// The per-point statistics stored in `/points`; `None` for a file written before `/points` existed,
 /// or whose writer was killed (`crate::stats::points::read` computes them then).
 pub fn points(file: &File, path: &Path) -> Result<Option<SummaryTable>, OutputError> {
-    columns(file, path, POINTS)
+    stored_table(file, path, POINTS)
 }
 
-/// The table stored as one dataset per column in the group `name`, if the file has that group.
-fn columns(file: &File, path: &Path, name: &str) -> Result<Option<SummaryTable>, OutputError> {
+/// The table stored as one dataset per column in the group `name` (`/summary`, `/points`), if the
+/// file has that group.
+pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<SummaryTable>, OutputError> {
     let err = |e| hdf5_error(path, e);
     if !file.root().groups().map_err(err)?.iter().any(|g| g == name) {
         return Ok(None);

@@ -52,6 +52,9 @@ pub struct ResultsWriter {
     existing: Vec<SummaryRow>,
     damaged: Vec<DamagedGroup>,
     pending: usize,
+    /// Whether this session changed no run (added, copied or deleted none): `/summary` and `/points`
+    /// then stay unless they differ from the tables (rewriting them walks the whole file).
+    unchanged: bool,
     sweep: Option<(usize, Instant)>,
 }
 
@@ -92,6 +95,7 @@ impl ResultsWriter {
             existing: runs.rows,
             damaged: runs.damaged,
             pending: 0,
+            unchanged: true,
             sweep: None,
         };
         Ok((writer, header))
@@ -115,6 +119,7 @@ impl ResultsWriter {
             }
         }
         if !failed.is_empty() {
+            self.unchanged = false;
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
         }
         Ok(failed.len())
@@ -142,6 +147,7 @@ impl ResultsWriter {
             self.file.root().delete(batch).map_err(|e| hdf5_error(&self.path, e))?;
         }
         if !damaged.is_empty() {
+            self.unchanged = false;
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
             self.end_batch();
         }
@@ -175,6 +181,7 @@ impl ResultsWriter {
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
         self.pending += 1;
+        self.unchanged = false;
         Ok(())
     }
 
@@ -192,6 +199,7 @@ impl ResultsWriter {
         let path = format!("{}/{id}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.pending += 1;
+        self.unchanged = false;
         Ok(bytes)
     }
 
@@ -239,9 +247,15 @@ impl ResultsWriter {
                 ]
             })
             .collect();
-        write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
-        write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
-        self.file.commit().map_err(err)?;
+        let stored = |name| reader::stored_table(&self.file, &self.path, name);
+        let kept = self.unchanged
+            && stored(SUMMARY)?.as_ref() == Some(&tables.summary)
+            && stored(POINTS)?.as_ref() == Some(&tables.points);
+        if !kept {
+            write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
+            write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
+            self.file.commit().map_err(err)?;
+        }
         self.file.close().map_err(err)
     }
 }
