@@ -149,3 +149,71 @@ fn resuming_a_finished_file_rewrites_nothing() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("0 run now, 50 already done"), "{out:?}");
     assert!(std::fs::read(&path).unwrap() == before, "the file changed");
 }
+
+/// The attributes a run group had before batch groups: one per value.
+fn legacy_attrs(row: &SummaryRow) -> Vec<(String, hdf5_pure::AttrValue)> {
+    use hdf5_pure::AttrValue::{F64, I64, String as Text, StringArray};
+    let mut attrs = vec![
+        ("index".to_string(), I64(row.index as i64)),
+        ("id".into(), Text(row.id.clone())),
+        ("status".into(), Text(row.status.as_str().into())),
+        ("message".into(), Text(row.message.clone())),
+        ("warning_count".into(), I64(0)),
+        ("settle_time".into(), F64(row.settle_time.unwrap_or(f64::NAN))),
+        ("steps".into(), I64(row.steps as i64)),
+        ("particle_steps".into(), I64(row.particle_steps as i64)),
+        ("simulated_time".into(), F64(row.simulated_time)),
+        ("wall_time".into(), F64(row.wall_time)),
+        ("parameters".into(), StringArray(row.parameters.iter().map(|(k, _)| k.clone()).collect())),
+    ];
+    for (key, value) in &row.parameters {
+        let demsweep::study::ParamValue::Float(x) = value else { panic!("{key} is not a float") };
+        attrs.push((key.clone(), F64(*x)));
+    }
+    let finals = demsweep::physics::quantity::final_value_declarations().zip(row.final_values);
+    attrs.extend(finals.map(|(q, v)| (q.name.to_string(), F64(v))));
+    attrs
+}
+
+#[test]
+fn a_file_of_the_older_layout_reads_and_resumes() {
+    // Rewrite a results file of 20 runs in the layout before batch groups (runs in /runs/b0000, one
+    // attribute per value, no datasets), leaving out run 7 and /summary (as a killed writer would).
+    let path = results("scale_legacy", 20);
+    let file = reader::open(&path).unwrap();
+    let (header, rows) = (reader::header(&file, &path).unwrap(), reader::rows(&file, &path).unwrap());
+    drop(file);
+    let mut builder = hdf5_pure::FileBuilder::new();
+    for (name, value) in header.to_attrs() {
+        builder.set_attr(name, value);
+    }
+    builder.write(&path).unwrap();
+    let file = hdf5_pure::File::open_rw(&path).unwrap();
+    file.root().create_group("runs").unwrap();
+    file.root().create_group("runs/b0000").unwrap();
+    for row in rows.iter().filter(|r| r.index != 7) {
+        file.root()
+            .create_group_with(&format!("runs/b0000/{}", row.id), |g| {
+                for (name, value) in legacy_attrs(row) {
+                    g.set_attr(&name, value);
+                }
+            })
+            .unwrap();
+    }
+    file.commit().unwrap();
+    drop(file);
+
+    let file = reader::open(&path).unwrap();
+    let read = reader::rows(&file, &path).unwrap();
+    drop(file);
+    let without_7: Vec<SummaryRow> = rows.iter().filter(|r| r.index != 7).cloned().collect();
+    assert!(SummaryTable::from_rows(&read) == SummaryTable::from_rows(&without_7), "the older layout reads");
+    let study = path.with_file_name("scale.toml");
+    let out = demsweep()
+        .args(["run", study.to_str().unwrap(), "--out", path.parent().unwrap().to_str().unwrap(), "--resume"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).contains("1 run now, 19 already done"), "{out:?}");
+    let resumed = demsweep::output::summary::read(&path).unwrap();
+    assert!(resumed.without_timing() == SummaryTable::from_rows(&rows).without_timing(), "the run left out ran");
+}
