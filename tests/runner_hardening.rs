@@ -158,11 +158,15 @@ fn kill_9_loses_at_most_the_commit_interval_even_when_runs_are_tiny() {
     assert!(committed >= finished, "{committed} of the {finished} runs finished 4 s before kill -9 were committed");
 }
 
-/// Overwrites 64 bytes around the first place the run id `id` is written in `results` (its group's
-/// `id` attribute), damaging that run group only.
+/// Overwrites 64 bytes around the value of the `id` attribute of the run group of `id` in `results`
+/// (the run id written just after the attribute's name, not the link to the group in its batch),
+/// damaging that run group only.
 fn damage_run_group(results: &Path, id: &str) {
     let mut bytes = std::fs::read(results).unwrap();
-    let at = bytes.windows(id.len()).position(|w| w == id.as_bytes()).expect("the run id is in the file");
+    let after_id_name = |at: usize| bytes[at.saturating_sub(48)..at].windows(3).any(|w| w == b"id\0");
+    let at = (0..bytes.len() - id.len())
+        .find(|&at| bytes[at..at + id.len()] == *id.as_bytes() && after_id_name(at))
+        .expect("the run id attribute is in the file");
     bytes[at - 32..at + 32].fill(0xff);
     std::fs::write(results, bytes).unwrap();
 }
@@ -182,7 +186,7 @@ fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     for args in [vec!["summary", r], vec!["report", r], vec!["plot", r, "--format", "svg"]] {
         let seen = command(&args).output().unwrap();
         assert_eq!(seen.status.code(), Some(3), "{args:?}: {}", stderr(&seen));
-        let expected = "damaged: 1 run group(s) cannot be read: /runs/b0000/r0005 (";
+        let expected = "damaged: 1 run group(s) cannot be read: /runs_00000/r0005 (";
         assert!(stderr(&seen).contains(expected), "{args:?}: {}", stderr(&seen));
     }
     let listed = String::from_utf8(command(&["summary", r]).output().unwrap().stdout).unwrap();
@@ -191,7 +195,7 @@ fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     let resumed = command(&["run", s, "--out", o, "--resume"]).output().unwrap();
     assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
     assert!(String::from_utf8_lossy(&resumed.stdout).contains("1 run now, 7 already done"), "{resumed:?}");
-    assert!(stderr(&resumed).contains("/runs/b0000/r0005"), "the resume names what it runs again");
+    assert!(stderr(&resumed).contains("/runs_00000/r0005"), "the resume names what it runs again");
     assert_eq!(summary::read(&results).unwrap().without_timing(), intact);
     let clean = command(&["summary", r]).output().unwrap();
     assert_eq!(clean.status.code(), Some(0), "{}", stderr(&clean));

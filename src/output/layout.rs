@@ -1,8 +1,9 @@
-//! Where things live in a results file, and how a run's summary row maps to run-group attributes.
+//! Where things live in a results file (a run group's attributes: see [`super::run_attrs`]).
 //!
 //! ```text
 //! /                        root attributes: see `header`
-//! /runs/b0000/r0007        one group per run (bucket `b<index / 100>`); attributes: summary row + scene
+//! /runs_00000/r0007        one group per run, in the batch group of the commit that wrote it (batches
+//!                          `runs_00000`, `runs_00001`, … in commit order); attributes: see `run_attrs`
 //!     history              compound table, one field per series, one row per sample
 //!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
 //!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
@@ -14,24 +15,26 @@
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
 //!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`])
 //! ```
-
-use std::collections::HashMap;
+//!
+//! Each commit adds one new batch group under the root and changes no other group but the root:
+//! hdf5-pure walks every object of the file when a commit rebuilds an existing group below the root
+//! (to check it has one hard link), which made each commit cost grow with the file. Files written
+//! before batches keep their runs in `/runs/b<index / 100>/<id>` ([`LEGACY_RUNS`]); readers read both.
 
 use hdf5_pure::AttrValue;
 
 use super::compound::Field;
-use super::row::{OutcomeValue, SummaryRow};
-use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
-use crate::physics::material::{Elastic, Materials, restitution_from_beta};
-use crate::physics::quantity::{self, FINAL_VALUE_COUNT, HISTORY_SERIES, OUTCOME, SeriesValues};
-use crate::physics::record::{DISK_FIELDS, History, RunStatus, Snapshot};
-use crate::study::ParamValue;
+use crate::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
+use crate::physics::record::{DISK_FIELDS, History, Snapshot};
 
-/// Runs per bucket group under `/runs`.
-pub const BUCKET_SIZE: usize = 100;
-/// The group holding the run buckets.
-pub const RUNS: &str = "runs";
+/// The prefix of a batch group's name: the run groups one commit wrote are in `/runs_<k>`, `k` the
+/// commit's number (zero-padded to [`BATCH_DIGITS`] digits, more past 99 999).
+pub const BATCH_PREFIX: &str = "runs_";
+/// Digits of a batch group's number.
+pub const BATCH_DIGITS: usize = 5;
+/// The group holding the run buckets `b<index / 100>` in files written before batch groups.
+pub const LEGACY_RUNS: &str = "runs";
 /// The group holding the summary columns.
 pub const SUMMARY: &str = "summary";
 /// The group holding the per-point statistics (one dataset per column, like `/summary`).
@@ -139,149 +142,12 @@ pub fn frame_name(k: usize) -> String {
     format!("{k:0FRAME_DIGITS$}")
 }
 
-const INDEX: &str = "index";
-const ID: &str = "id";
-const PARAMETERS: &str = "parameters";
-const STATUS: &str = "status";
-const MESSAGE: &str = "message";
-const WARNINGS: &str = "warnings";
-const WARNING_COUNT: &str = "warning_count";
-
-/// Name of the bucket group of a run.
-pub fn bucket_name(index: usize) -> String {
-    format!("b{:04}", index / BUCKET_SIZE)
+/// Name of the batch group of commit `k`.
+pub fn batch_name(k: usize) -> String {
+    format!("{BATCH_PREFIX}{k:0BATCH_DIGITS$}")
 }
 
-/// Path of a run's group (without a leading `/`).
-pub fn run_path(index: usize, id: &str) -> String {
-    format!("{RUNS}/{}/{id}", bucket_name(index))
-}
-
-/// The attributes of a run group: its summary row (swept parameters under their key paths, listed in
-/// `parameters`) and key scene values (`scene.*`).
-pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(String, AttrValue)> {
-    let mut attrs: Vec<(String, AttrValue)> = vec![
-        (INDEX.into(), AttrValue::I64(row.index as i64)),
-        (ID.into(), AttrValue::String(row.id.clone())),
-        (STATUS.into(), AttrValue::String(row.status.as_str().to_string())),
-        (MESSAGE.into(), AttrValue::String(row.message.clone())),
-        (WARNING_COUNT.into(), AttrValue::I64(row.warnings.len() as i64)),
-    ];
-    attrs.extend(OUTCOME.iter().zip(row.outcome()).map(|(q, v)| (q.name.into(), outcome_attr(v))));
-    if !row.warnings.is_empty() {
-        attrs.push((WARNINGS.into(), AttrValue::StringArray(row.warnings.clone())));
-    }
-    if !row.parameters.is_empty() {
-        let keys = row.parameters.iter().map(|(k, _)| k.clone()).collect();
-        attrs.push((PARAMETERS.into(), AttrValue::StringArray(keys)));
-    }
-    attrs.extend(row.parameters.iter().map(|(k, v)| (k.clone(), param_attr(v))));
-    let finals = quantity::final_value_declarations().zip(row.final_values);
-    attrs.extend(finals.map(|(q, v)| (q.name.to_string(), AttrValue::F64(v))));
-    attrs.extend(scene_values(scene).into_iter().map(|(k, v)| (format!("scene.{k}"), v)));
-    attrs
-}
-
-/// Key scene values of a run, resolved as the simulation uses them (e.g. ν = 0.3 when not given).
-pub fn scene_values(scene: &SceneConfig) -> Vec<(&'static str, AttrValue)> {
-    let m = Materials::from_scene(scene);
-    let nu = Elastic::new(scene.material.youngs_modulus, scene.material.poisson_ratio, scene.material.shear_modulus)
-        .poisson_ratio;
-    vec![
-        ("youngs_modulus", AttrValue::F64(scene.material.youngs_modulus)),
-        ("poisson_ratio", AttrValue::F64(nu)),
-        ("beta", AttrValue::F64(m.particle.beta)),
-        ("restitution", AttrValue::F64(restitution_from_beta(m.particle.beta))),
-        ("friction", AttrValue::F64(m.particle.friction)),
-        ("rolling_friction", AttrValue::F64(m.particle.rolling_friction)),
-        ("density", AttrValue::F64(scene.material.density)),
-        ("time_step", AttrValue::F64(scene.integrator.time_step.unwrap_or(f64::NAN))),
-        ("integrator", serde_name(&scene.integrator.scheme)),
-        ("contact_law", serde_name(&scene.contact.law)),
-        ("count", AttrValue::I64(scene.particles.count as i64)),
-        ("radius", AttrValue::F64(scene.particles.radius)),
-        ("seed", AttrValue::I64(scene.placement.seed as i64)),
-        ("duration", AttrValue::F64(scene.run.duration)),
-        ("width", AttrValue::F64(scene.domain.width)),
-        ("json", AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
-    ]
-}
-
-fn outcome_attr(value: OutcomeValue) -> AttrValue {
-    match value {
-        OutcomeValue::Float(x) => AttrValue::F64(x),
-        OutcomeValue::Int(i) => AttrValue::I64(i as i64),
-    }
-}
-
-/// A serde unit enum's name as written in scene files (e.g. `adams_bashforth_moulton`).
-fn serde_name<T: serde::Serialize>(value: &T) -> AttrValue {
-    let name = serde_json::to_value(value).ok().and_then(|v| v.as_str().map(str::to_string));
-    AttrValue::String(name.unwrap_or_default())
-}
-
-/// A parameter value as an attribute: floats `f64`, integers `i64`, booleans `u8`, text strings.
-pub fn param_attr(v: &ParamValue) -> AttrValue {
-    match v {
-        ParamValue::Float(x) => AttrValue::F64(*x),
-        ParamValue::Int(i) => AttrValue::I64(*i),
-        ParamValue::Bool(b) => AttrValue::U8(u8::from(*b)),
-        ParamValue::Text(s) => AttrValue::String(s.clone()),
-    }
-}
-
-fn attr_param(v: &AttrValue) -> Option<ParamValue> {
-    match v {
-        AttrValue::U8(b) => Some(ParamValue::Bool(*b != 0)),
-        AttrValue::F64(x) => Some(ParamValue::Float(*x)),
-        other => {
-            other.as_i64().map(ParamValue::Int).or_else(|| other.as_str().map(|s| ParamValue::Text(s.to_string())))
-        }
-    }
-}
-
-/// Reads a summary row back from a run group's attributes; the error names what is missing.
-pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
-    let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
-    let float = |name: &str| get(name).and_then(|v| v.as_f64().ok_or(format!("`{name}` is not a float")));
-    let int = |name: &str| get(name).and_then(|v| v.as_i64().ok_or(format!("`{name}` is not an integer")));
-    let text =
-        |name: &str| get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(format!("`{name}` is not text")));
-    let keys = attrs.get(PARAMETERS).and_then(AttrValue::as_strings).unwrap_or(&[]);
-    let parameters = keys
-        .iter()
-        .map(|k| {
-            get(k).and_then(|v| attr_param(v).ok_or(format!("`{k}` has an unsupported type"))).map(|v| (k.clone(), v))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    // Files written before a final value existed lack its attribute: it reads as missing (NaN).
-    let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
-    for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
-        if attrs.contains_key(declared.name) {
-            *slot = float(declared.name)?;
-        }
-    }
-    let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
-    let steps = int(steps)? as u64;
-    let particle_steps = match attrs.get(particle_steps) {
-        Some(_) => int(particle_steps)? as u64,
-        None => steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
-    };
-    let settle = float(settle_time)?;
-    let status = text(STATUS)?;
-    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
-    Ok(SummaryRow {
-        index: int(INDEX)? as usize,
-        id: text(ID)?,
-        parameters,
-        status,
-        message: text(MESSAGE)?,
-        warnings: attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default(),
-        settle_time: (!settle.is_nan()).then_some(settle),
-        steps,
-        particle_steps,
-        simulated_time: float(simulated_time)?,
-        wall_time: float(wall_time)?,
-        final_values,
-    })
+/// The commit number of a batch group's name; `None` for any other name.
+pub fn batch_number(name: &str) -> Option<usize> {
+    name.strip_prefix(BATCH_PREFIX).filter(|k| k.bytes().all(|b| b.is_ascii_digit())).and_then(|k| k.parse().ok())
 }

@@ -17,6 +17,7 @@ pub mod layout;
 pub mod lock;
 pub mod reader;
 pub mod row;
+pub mod run_attrs;
 mod sink;
 pub mod stored;
 pub mod summary;

@@ -1,14 +1,16 @@
 //! Reads results files back: header, run rows, the summary table, one run's history.
 
+use std::cell::Cell;
+use std::collections::HashMap;
 use std::path::Path;
 
 use hdf5_pure::{DType, Dataset, File};
 
 use super::header::FileHeader;
-use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
+use super::layout::{self, LEGACY_RUNS, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
-use super::{OutputError, hdf5_error};
+use super::{OutputError, hdf5_error, run_attrs};
 
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
@@ -37,35 +39,156 @@ pub fn sweep(file: &File) -> Option<(usize, f64)> {
 /// A run group that cannot be read (overwritten bytes, a failed disk): its path and the reason.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DamagedGroup {
-    /// The group, e.g. `/runs/b0000/r0012` (a whole bucket, `/runs/b0003`, when its index is damaged).
+    /// The group, e.g. `/runs_00000/r0012` (a whole batch, `/runs_00003`, when its index is damaged).
     pub group: String,
     /// What could not be read.
     pub reason: String,
 }
 
-/// The rows of every readable committed run (sorted by run index) and the run groups that cannot
-/// be read.
-pub fn scan(file: &File, path: &Path) -> Result<(Vec<SummaryRow>, Vec<DamagedGroup>), OutputError> {
-    let (mut rows, mut damaged) = (Vec::new(), Vec::new());
-    let buckets = file.group(RUNS).and_then(|g| g.iter_groups()).map_err(|e| hdf5_error(path, e))?;
-    for (bucket, group) in buckets {
-        let runs = match group.iter_groups() {
-            Ok(runs) => runs,
-            Err(e) => {
-                damaged.push(DamagedGroup { group: format!("/{RUNS}/{bucket}"), reason: e.to_string() });
-                continue;
-            }
+/// The committed runs of a results file.
+#[derive(Clone, Debug, Default)]
+pub struct CommittedRuns {
+    /// The rows of the readable runs, sorted by run index.
+    pub rows: Vec<SummaryRow>,
+    /// Where each readable run's group is: run id → group path (without a leading `/`).
+    pub groups: HashMap<String, String>,
+    /// The run groups (or batch groups) that cannot be read.
+    pub damaged: Vec<DamagedGroup>,
+}
+
+thread_local! {
+    /// Run-group attribute sets read by this thread: each costs a read of every attribute of a run
+    /// group, which readers do only for runs `/summary` does not describe (and for the warning texts
+    /// of runs that have warnings). Tests count them to check that reading a finished file does not.
+    static ATTRIBUTE_SETS_READ: Cell<usize> = const { Cell::new(0) };
+}
+
+/// How many run groups' attribute sets this thread has read (see [`committed_runs`]).
+pub fn attribute_sets_read() -> usize {
+    ATTRIBUTE_SETS_READ.get()
+}
+
+/// Every committed run: its row and its group, and the groups that cannot be read. The rows come
+/// from `/summary` for the runs it describes (reading the warning texts of runs with warnings from
+/// their group), from the run group's attributes for the others (a file whose writer was killed
+/// before writing `/summary`), so that reading a finished file costs a header per run (listing a
+/// batch opens each run group's header, which finds damaged ones), not an attribute set.
+pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputError> {
+    let mut described = summary_rows(file, path)?;
+    let (located, mut damaged) = run_groups(file, path, &described)?;
+    let mut runs = CommittedRuns::default();
+    for (id, group) in located {
+        let row = match described.remove(&id) {
+            Some((row, warnings)) => with_warnings(file, &group, row, warnings),
+            None => group_row(file, &group),
         };
-        for (name, run) in runs {
-            let row = run.attrs().map_err(|e| e.to_string()).and_then(|attrs| layout::row_from_attrs(&attrs));
-            match row {
-                Ok(row) => rows.push(row),
-                Err(reason) => damaged.push(DamagedGroup { group: format!("/{RUNS}/{bucket}/{name}"), reason }),
+        match row {
+            Ok(row) => {
+                runs.rows.push(row);
+                runs.groups.insert(id, group);
+            }
+            Err(reason) => damaged.push(DamagedGroup { group: format!("/{group}"), reason }),
+        }
+    }
+    runs.rows.sort_by_key(|r| r.index);
+    runs.damaged = damaged;
+    Ok(runs)
+}
+
+/// The rows of every readable committed run (sorted by run index) and the run groups that cannot
+/// be read (see [`committed_runs`]).
+pub fn scan(file: &File, path: &Path) -> Result<(Vec<SummaryRow>, Vec<DamagedGroup>), OutputError> {
+    let runs = committed_runs(file, path)?;
+    Ok((runs.rows, runs.damaged))
+}
+
+/// The run groups of a file, by id (without a leading `/`), in storage order, from the names in the
+/// batch groups (and the buckets of files written before batches). Listing a batch opens each of its
+/// run groups' headers, so a damaged run group fails its batch's listing: the runs `described` by
+/// `/summary` are then looked up in that batch one by one, and a batch none of them is found in is
+/// damaged as a whole.
+fn run_groups(
+    file: &File,
+    path: &Path,
+    described: &HashMap<String, (SummaryRow, usize)>,
+) -> Result<(Vec<RunGroup>, Vec<DamagedGroup>), OutputError> {
+    let (mut located, mut damaged) = (Vec::new(), Vec::new());
+    for parent in containers(file).map_err(|e| hdf5_error(path, e))? {
+        match file.group(&parent).and_then(|g| g.groups()) {
+            Ok(names) => located.extend(names.into_iter().map(|id| (id.clone(), format!("{parent}/{id}")))),
+            Err(e) => {
+                let (found, unreadable) = look_up(file, &parent, described.keys());
+                if found.is_empty() && unreadable.is_empty() {
+                    damaged.push(DamagedGroup { group: format!("/{parent}"), reason: e.to_string() });
+                }
+                located.extend(found);
+                damaged.extend(unreadable);
             }
         }
     }
-    rows.sort_by_key(|r| r.index);
-    Ok((rows, damaged))
+    Ok((located, damaged))
+}
+
+/// A run id and the path of its group.
+type RunGroup = (String, String);
+
+/// The runs of `ids` in the group `parent`, each opened and its attributes read: those found, and
+/// those whose group is there but cannot be read.
+fn look_up<'a>(file: &File, parent: &str, ids: impl Iterator<Item = &'a String>) -> (Vec<RunGroup>, Vec<DamagedGroup>) {
+    let (mut found, mut unreadable) = (Vec::new(), Vec::new());
+    for id in ids {
+        let group = format!("{parent}/{id}");
+        match file.group(&group) {
+            Err(hdf5_pure::Error::Format(hdf5_pure::FormatError::PathNotFound(_))) => {}
+            opened => match opened.map_err(|e| e.to_string()).and_then(|g| attributes(&g)) {
+                Ok(_) => found.push((id.clone(), group)),
+                Err(reason) => unreadable.push(DamagedGroup { group: format!("/{group}"), reason }),
+            },
+        }
+    }
+    (found, unreadable)
+}
+
+/// The groups holding run groups: the batch groups in commit order, then the buckets of a file
+/// written before batches.
+fn containers(file: &File) -> Result<Vec<String>, hdf5_pure::Error> {
+    let root = file.root().groups()?;
+    let mut batches: Vec<(usize, String)> =
+        root.iter().filter_map(|name| Some((layout::batch_number(name)?, name.clone()))).collect();
+    batches.sort();
+    let mut parents: Vec<String> = batches.into_iter().map(|(_, name)| name).collect();
+    if root.iter().any(|g| g == LEGACY_RUNS) {
+        parents.extend(file.group(LEGACY_RUNS)?.groups()?.into_iter().map(|b| format!("{LEGACY_RUNS}/{b}")));
+    }
+    Ok(parents)
+}
+
+/// The rows `/summary` describes, by run id, with their warning counts; none when the file has no
+/// `/summary` or one that does not describe runs completely (an older layout).
+fn summary_rows(file: &File, path: &Path) -> Result<HashMap<String, (SummaryRow, usize)>, OutputError> {
+    let Some(table) = stored_table(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
+    Ok(table.rows().unwrap_or_default().into_iter().map(|(row, warnings)| (row.id.clone(), (row, warnings))).collect())
+}
+
+/// A row `/summary` describes; a run with warnings gets their texts from its group's attributes.
+fn with_warnings(file: &File, group: &str, mut row: SummaryRow, warnings: usize) -> Result<SummaryRow, String> {
+    if warnings > 0 {
+        let opened = file.group(group).map_err(|e| e.to_string())?;
+        row.warnings = run_attrs::row_from_attrs(&attributes(&opened)?)?.warnings;
+    }
+    Ok(row)
+}
+
+/// A run's row read from its group's attributes.
+fn group_row(file: &File, group: &str) -> Result<SummaryRow, String> {
+    let opened = file.group(group).map_err(|e| e.to_string())?;
+    run_attrs::row_from_attrs(&attributes(&opened)?)
+}
+
+/// Every attribute of a run group (counted: see [`attribute_sets_read`]).
+fn attributes(group: &hdf5_pure::Group) -> Result<HashMap<String, hdf5_pure::AttrValue>, String> {
+    ATTRIBUTE_SETS_READ.set(ATTRIBUTE_SETS_READ.get() + 1);
+    group.attrs().map_err(|e| e.to_string())
 }
 
 /// The rows of every committed run, sorted by run index; an error naming the damaged run groups if
@@ -86,20 +209,20 @@ pub fn damage_text(damaged: &[DamagedGroup]) -> String {
     )
 }
 
-/// The summary and the damaged run groups: `/summary` when every run group reads (see [`summary`]),
-/// else the summary of the readable runs.
+/// The summary and the damaged run groups: `/summary` when every run group reads and it describes
+/// them all (see [`summary`]), else the summary of the readable runs.
 pub fn checked_summary(file: &File, path: &Path) -> Result<(SummaryTable, Vec<DamagedGroup>), OutputError> {
     let (rows, damaged) = scan(file, path)?;
-    if damaged.is_empty() {
-        return Ok((summary(file, path)?, damaged));
+    match stored_table(file, path, SUMMARY)? {
+        Some(table) if damaged.is_empty() && table.len() == rows.len() => Ok((table, damaged)),
+        _ => Ok((SummaryTable::from_rows(&rows), damaged)),
     }
-    Ok((SummaryTable::from_rows(&rows), damaged))
 }
 
 /// The summary: `/summary` when the file has it, else assembled from the run groups (a file whose
 /// writer was killed before finishing).
 pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
-    match columns(file, path, SUMMARY)? {
+    match stored_table(file, path, SUMMARY)? {
         Some(table) => Ok(table),
         None => Ok(SummaryTable::from_rows(&rows(file, path)?)),
     }
@@ -108,11 +231,12 @@ pub fn summary(file: &File, path: &Path) -> Result<SummaryTable, OutputError> {
 /// The per-point statistics stored in `/points`; `None` for a file written before `/points` existed,
 /// or whose writer was killed (`crate::stats::points::read` computes them then).
 pub fn points(file: &File, path: &Path) -> Result<Option<SummaryTable>, OutputError> {
-    columns(file, path, POINTS)
+    stored_table(file, path, POINTS)
 }
 
-/// The table stored as one dataset per column in the group `name`, if the file has that group.
-fn columns(file: &File, path: &Path, name: &str) -> Result<Option<SummaryTable>, OutputError> {
+/// The table stored as one dataset per column in the group `name` (`/summary`, `/points`), if the
+/// file has that group.
+pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<SummaryTable>, OutputError> {
     let err = |e| hdf5_error(path, e);
     if !file.root().groups().map_err(err)?.iter().any(|g| g == name) {
         return Ok(None);
@@ -140,13 +264,11 @@ fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
     })
 }
 
-/// Path of the group of the run with this id (searched in every bucket).
+/// Path of the group of the run with this id (without a leading `/`), looked up in each batch (and
+/// bucket): a lookup per batch, not a read of every run's name.
 pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, OutputError> {
-    let err = |e| hdf5_error(path, e);
-    for (bucket, group) in file.group(RUNS).and_then(|g| g.iter_groups()).map_err(err)? {
-        if group.groups().map_err(err)?.iter().any(|g| g == run_id) {
-            return Ok(format!("{RUNS}/{bucket}/{run_id}"));
-        }
-    }
-    Err(OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)")))
+    let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
+    parents.iter().rev().map(|parent| format!("{parent}/{run_id}")).find(|group| file.group(group).is_ok()).ok_or_else(
+        || OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)")),
+    )
 }

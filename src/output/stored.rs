@@ -5,10 +5,10 @@ use std::path::Path;
 
 use hdf5_pure::{Dataset, File};
 
-use super::layout::{self, CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES};
+use super::layout::{CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES};
 use super::row::SummaryRow;
 use super::table::ColumnData;
-use super::{OutputError, compound, hdf5_error};
+use super::{OutputError, compound, hdf5_error, reader};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::HISTORY_SERIES;
@@ -32,7 +32,7 @@ pub struct StoredRun {
 
 /// Reads the stored data of the run of `row` from `file` (at `path`).
 pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun, OutputError> {
-    let group_path = layout::run_path(row.index, &row.id);
+    let group_path = reader::find_run(file, path, &row.id)?;
     let fail = |what: &str, reason: String| OutputError::new(path, format!("/{group_path}/{what}: {reason}"));
     let group = file.group(&group_path).map_err(|e| hdf5_error(path, e))?;
     let attrs = group.attrs().map_err(|e| hdf5_error(path, e))?;

@@ -1,7 +1,8 @@
 //! The summary as a table of typed columns, shared by `/summary`, the CSV file and the printed table.
 
 use super::row::{OutcomeValue, SummaryRow};
-use crate::physics::quantity::{self, OUTCOME};
+use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
+use crate::physics::record::RunStatus;
 use crate::study::ParamValue;
 
 /// The values of one column. Equality treats NaN as equal to NaN (a missing value equals a missing value).
@@ -103,6 +104,18 @@ impl ColumnData {
         }
     }
 
+    /// The value of row `i` as a swept parameter's value (see [`parameter_data`]); `None` where missing.
+    pub fn param(&self, i: usize) -> Option<ParamValue> {
+        match self {
+            ColumnData::Float(v) if v[i].is_nan() => None,
+            ColumnData::Float(v) => Some(ParamValue::Float(v[i])),
+            ColumnData::Int(v) => Some(ParamValue::Int(v[i])),
+            ColumnData::Bool(v) => Some(ParamValue::Bool(v[i])),
+            ColumnData::Text(v) if v[i].is_empty() => None,
+            ColumnData::Text(v) => Some(ParamValue::Text(v[i].clone())),
+        }
+    }
+
     /// The value of row `i` for reading on screen: floats to 6 significant digits, missing values `-`.
     pub fn display(&self, i: usize) -> String {
         match self {
@@ -179,6 +192,52 @@ impl SummaryTable {
             (Some(first), Some(end)) if first < end => &self.columns[first + 1..end],
             _ => &[],
         }
+    }
+
+    /// The rows of a summary, each with its number of warnings (whose texts the table does not
+    /// hold: the rows' `warnings` are empty); `None` when a column a row needs is missing or of
+    /// another type (a file of an older layout).
+    pub fn rows(&self) -> Option<Vec<(SummaryRow, usize)>> {
+        let texts = |name: &str| match &self.column(name)?.data {
+            ColumnData::Text(v) => Some(v),
+            _ => None,
+        };
+        let ints = |name: &str| match &self.column(name)?.data {
+            ColumnData::Int(v) => Some(v),
+            _ => None,
+        };
+        let number = |name: &str, i: usize| self.column(name)?.data.number(i);
+        let (ids, indices, statuses, messages, warnings) =
+            (texts("run_id")?, ints("index")?, texts("status")?, texts("message")?, ints("warnings")?);
+        let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
+        (0..self.len())
+            .map(|i| {
+                let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
+                for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
+                    *slot = number(declared.name, i).unwrap_or(f64::NAN);
+                }
+                let settle = number(settle_time, i)?;
+                let row = SummaryRow {
+                    index: usize::try_from(indices[i]).ok()?,
+                    id: ids[i].clone(),
+                    parameters: self
+                        .parameters()
+                        .iter()
+                        .filter_map(|c| Some((c.name.clone(), c.data.param(i)?)))
+                        .collect(),
+                    status: RunStatus::parse(&statuses[i])?,
+                    message: messages[i].clone(),
+                    warnings: Vec::new(),
+                    settle_time: (!settle.is_nan()).then_some(settle),
+                    steps: ints(steps)?[i] as u64,
+                    particle_steps: ints(particle_steps)?[i] as u64,
+                    simulated_time: number(simulated_time, i)?,
+                    wall_time: number(wall_time, i)?,
+                    final_values,
+                };
+                Some((row, usize::try_from(warnings[i]).ok()?))
+            })
+            .collect()
     }
 
     /// The same table without the timing columns (for comparing runs made at different times):

@@ -1,7 +1,8 @@
-//! Writes runs into a results file in place: each commit appends the staged run groups and repoints
-//! the superblock last (hdf5-pure's crash-safe commit), so the file is valid after every commit.
+//! Writes runs into a results file in place: each commit appends the staged run groups, in a new
+//! batch group under the root (see [`layout`]), and repoints the superblock last (hdf5-pure's
+//! crash-safe commit), so the file is valid after every commit.
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -10,12 +11,12 @@ use hdf5_pure::{AttrValue, DatasetBuilder, File, FileBuilder, StagedGroup};
 use super::compound::{self, Field};
 use super::copy::GroupCopy;
 use super::header::FileHeader;
-use super::layout::{self, POINTS, RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
+use super::layout::{self, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::reader::{self, DamagedGroup};
 use super::row::SummaryRow;
 use super::sink::ResultSink;
 use super::table::{ColumnData, SummaryTable};
-use super::{OutputError, hdf5_error, write_csv_files};
+use super::{OutputError, hdf5_error, run_attrs, write_csv_files};
 use crate::physics::SceneConfig;
 use crate::physics::record::{RunRecord, Snapshot};
 use crate::study::OutputOptions;
@@ -43,10 +44,17 @@ pub struct ResultsWriter {
     file: File,
     path: PathBuf,
     output: OutputOptions,
-    buckets: HashSet<String>,
+    /// The number of the next batch group, and the batch group being staged (if any).
+    next_batch: usize,
+    batch: Option<String>,
+    /// Where the committed runs' groups are, by run id.
+    groups: HashMap<String, String>,
     existing: Vec<SummaryRow>,
     damaged: Vec<DamagedGroup>,
     pending: usize,
+    /// Whether this session changed no run (added, copied or deleted none): `/summary` and `/points`
+    /// then stay unless they differ from the tables (rewriting them walks the whole file).
+    unchanged: bool,
     sweep: Option<(usize, Instant)>,
 }
 
@@ -57,15 +65,13 @@ impl ResultsWriter {
         self.sweep = Some((jobs, started));
     }
 
-    /// Creates a new file with the header and an empty `/runs` group (written under a temporary
-    /// name and renamed, so a crash never leaves a half-written file at `path`).
+    /// Creates a new file with the header (written under a temporary name and renamed, so a crash
+    /// never leaves a half-written file at `path`).
     pub fn create(path: &Path, header: &FileHeader, output: OutputOptions) -> Result<Self, OutputError> {
         let mut builder = FileBuilder::new();
         for (name, value) in header.to_attrs() {
             builder.set_attr(name, value);
         }
-        let runs = builder.create_group(RUNS);
-        builder.add_group(runs.finish());
         let partial = path.with_extension("h5.partial");
         builder.write(&partial).map_err(|e| hdf5_error(&partial, e))?;
         std::fs::rename(&partial, path).map_err(|e| OutputError::io(path, e))?;
@@ -76,16 +82,20 @@ impl ResultsWriter {
     pub fn open(path: &Path, output: OutputOptions) -> Result<(Self, FileHeader), OutputError> {
         let file = File::open_rw(path).map_err(|e| hdf5_error(path, e))?;
         let header = reader::header(&file, path)?;
-        let (existing, damaged) = reader::scan(&file, path)?;
-        let buckets = file.group(RUNS).and_then(|g| g.groups()).map_err(|e| hdf5_error(path, e))?;
+        let runs = reader::committed_runs(&file, path)?;
+        let root = file.root().groups().map_err(|e| hdf5_error(path, e))?;
+        let next_batch = root.iter().filter_map(|name| layout::batch_number(name)).max().map_or(0, |k| k + 1);
         let writer = Self {
             file,
             path: path.to_path_buf(),
             output,
-            buckets: buckets.into_iter().collect(),
-            existing,
-            damaged,
+            next_batch,
+            batch: None,
+            groups: runs.groups,
+            existing: runs.rows,
+            damaged: runs.damaged,
             pending: 0,
+            unchanged: true,
             sweep: None,
         };
         Ok((writer, header))
@@ -104,28 +114,50 @@ impl ResultsWriter {
             std::mem::take(&mut self.existing).into_iter().partition(|row| !row.is_finished());
         self.existing = kept;
         for row in &failed {
-            let bucket = format!("{RUNS}/{}", layout::bucket_name(row.index));
-            self.file.group(&bucket).and_then(|g| g.delete(&row.id)).map_err(|e| hdf5_error(&self.path, e))?;
+            if let Some(group) = self.groups.remove(&row.id) {
+                self.delete_run(&group)?;
+            }
         }
         if !failed.is_empty() {
+            self.unchanged = false;
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
         }
         Ok(failed.len())
     }
 
     /// Deletes the run groups that cannot be read (in one commit), so that their runs run again;
-    /// returns them. A damaged bucket goes whole: its runs are all missing then.
+    /// returns them. A batch holding a damaged run group cannot be rebuilt without it (hdf5-pure
+    /// must read every header to rebuild a group), so its readable runs are copied to a new batch and
+    /// the damaged batch deleted whole; a batch whose index is damaged loses all its runs.
     pub fn forget_damaged(&mut self) -> Result<Vec<DamagedGroup>, OutputError> {
         let damaged = std::mem::take(&mut self.damaged);
-        for d in &damaged {
-            let (parent, name) = d.group.trim_start_matches('/').rsplit_once('/').unwrap_or((RUNS, &d.group));
-            self.file.group(parent).and_then(|g| g.delete(name)).map_err(|e| hdf5_error(&self.path, e))?;
-            self.buckets.remove(name);
+        let mut batches: Vec<&str> =
+            damaged.iter().map(|d| d.group.trim_start_matches('/').split('/').next().unwrap_or_default()).collect();
+        batches.sort_unstable();
+        batches.dedup();
+        for batch in batches {
+            let prefix = format!("{batch}/");
+            let kept: Vec<String> =
+                self.groups.keys().filter(|id| self.groups[*id].starts_with(&prefix)).cloned().collect();
+            for id in kept {
+                let to = format!("{}/{id}", self.stage_batch()?);
+                self.file.copy(&self.groups[&id], &to).map_err(|e| hdf5_error(&self.path, e))?;
+                self.groups.insert(id, to);
+            }
+            self.file.root().delete(batch).map_err(|e| hdf5_error(&self.path, e))?;
         }
         if !damaged.is_empty() {
+            self.unchanged = false;
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+            self.end_batch();
         }
         Ok(damaged)
+    }
+
+    /// Stages the deletion of the run group at `group` (its path from the root).
+    fn delete_run(&self, group: &str) -> Result<(), OutputError> {
+        let (parent, name) = group.rsplit_once('/').unwrap_or(("", group));
+        self.file.group(parent).and_then(|g| g.delete(name)).map_err(|e| hdf5_error(&self.path, e))
     }
 
     /// Number of runs staged and not yet committed.
@@ -135,13 +167,13 @@ impl ResultsWriter {
 
     /// Stages one run (its group, attributes and the outputs the study asks for).
     pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
-        self.stage_bucket(run.row.index)?;
+        let group = format!("{}/{}", self.stage_batch()?, run.row.id);
         let root = self.file.root();
-        let attrs = layout::run_attrs(&run.row, &run.scene);
+        let attrs = run_attrs::run_attrs(&run.row, &run.scene);
         let output = &self.output;
-        root.create_group_with(&layout::run_path(run.row.index, &run.row.id), |g| {
+        root.create_group_with(&group, |g| {
             for (name, value) in attrs {
-                g.set_attr(&name, value);
+                g.set_attr(name, value);
             }
             if let Some(record) = &run.record {
                 stage_record(g, record, output);
@@ -149,34 +181,38 @@ impl ResultsWriter {
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
         self.pending += 1;
+        self.unchanged = false;
         Ok(())
     }
 
-    /// Stages a copy of a committed run group of another results file (for merging shards), read
-    /// from `source` run by run (open it streaming: only this run is held); returns the bytes of
-    /// dataset data staged.
-    pub fn stage_copy(&mut self, source: &File, source_path: &Path, row: &SummaryRow) -> Result<usize, OutputError> {
-        let path = layout::run_path(row.index, &row.id);
+    /// Stages a copy of the committed run group `group` (of run `id`) of another results file (for
+    /// merging shards), read from `source` run by run (open it streaming: only this run is held);
+    /// returns the bytes of dataset data staged.
+    pub fn stage_copy(&mut self, source: (&File, &Path), group: &str, id: &str) -> Result<usize, OutputError> {
+        let (source, source_path) = source;
         let copy = source
-            .group(&path)
+            .group(group)
             .map_err(|e| e.to_string())
             .and_then(|group| GroupCopy::read(&group))
-            .map_err(|reason| OutputError::new(source_path, format!("/{path}: {reason}")))?;
+            .map_err(|reason| OutputError::new(source_path, format!("/{group}: {reason}")))?;
         let bytes = copy.data_bytes();
-        self.stage_bucket(row.index)?;
+        let path = format!("{}/{id}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.pending += 1;
+        self.unchanged = false;
         Ok(bytes)
     }
 
-    /// Stages the bucket group of a run unless the file has it.
-    fn stage_bucket(&mut self, index: usize) -> Result<(), OutputError> {
-        let bucket = layout::bucket_name(index);
-        if !self.buckets.contains(&bucket) {
-            self.file.root().create_group(&format!("{RUNS}/{bucket}")).map_err(|e| hdf5_error(&self.path, e))?;
-            self.buckets.insert(bucket);
+    /// The batch group of the commit being staged: a new group under the root, staged with its
+    /// first run.
+    fn stage_batch(&mut self) -> Result<String, OutputError> {
+        if let Some(batch) = &self.batch {
+            return Ok(batch.clone());
         }
-        Ok(())
+        let batch = layout::batch_name(self.next_batch);
+        self.file.root().create_group(&batch).map_err(|e| hdf5_error(&self.path, e))?;
+        self.batch = Some(batch.clone());
+        Ok(batch)
     }
 
     /// Commits the staged runs.
@@ -186,7 +222,15 @@ impl ResultsWriter {
         }
         self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
         self.pending = 0;
+        self.end_batch();
         Ok(())
+    }
+
+    /// After a commit: the next run staged starts a new batch.
+    fn end_batch(&mut self) {
+        if self.batch.take().is_some() {
+            self.next_batch += 1;
+        }
     }
 
     /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file.
@@ -203,9 +247,15 @@ impl ResultsWriter {
                 ]
             })
             .collect();
-        write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
-        write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
-        self.file.commit().map_err(err)?;
+        let stored = |name| reader::stored_table(&self.file, &self.path, name);
+        let kept = self.unchanged
+            && stored(SUMMARY)?.as_ref() == Some(&tables.summary)
+            && stored(POINTS)?.as_ref() == Some(&tables.points);
+        if !kept {
+            write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
+            write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
+            self.file.commit().map_err(err)?;
+        }
         self.file.close().map_err(err)
     }
 }

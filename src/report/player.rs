@@ -13,7 +13,6 @@ use serde_json::json;
 
 use super::html::escape;
 use crate::output::SummaryRow;
-use crate::output::layout;
 use crate::physics::record::Snapshot;
 use crate::plot::results::spread;
 
@@ -52,7 +51,7 @@ pub fn player(row: &SummaryRow, box_size: (f64, f64), pictures: &[(String, &Snap
         false => String::new(),
     };
     format!(
-        "<div class=\"player\" data-run=\"{id}\" data-group=\"{group}\"><h4>Deposition</h4>\
+        "<div class=\"player\" data-run=\"{id}\"><h4>Deposition</h4>\
          <canvas width=\"{:.0}\" height=\"{:.0}\"></canvas><div class=\"player-controls\">\
          <button type=\"button\" class=\"play\">play</button><button type=\"button\" class=\"back\" title=\"previous frame\">&#9664;</button>\
          <button type=\"button\" class=\"step\" title=\"next frame\">&#9654;</button>\
@@ -64,7 +63,6 @@ pub fn player(row: &SummaryRow, box_size: (f64, f64), pictures: &[(String, &Snap
         frames.len().saturating_sub(1),
         data.to_string().replace("</", "<\\/"),
         id = escape(&row.id),
-        group = escape(&layout::run_path(row.index, &row.id)),
     )
 }
 
@@ -122,7 +120,7 @@ mod tests {
         let frames = [snapshot(0.0), snapshot(0.5)];
         let pictures: Vec<(String, &Snapshot)> = vec![("frame_0".into(), &frames[0]), ("final".into(), &frames[1])];
         let html = player(&row, (0.1, 0.2), &pictures);
-        assert!(html.contains("data-group=\"runs/") && html.contains("/r0007\""), "{html}");
+        assert!(html.contains("data-run=\"r0007\""), "{html}");
         assert!(!html.contains("frames shown"), "no frame left out");
         let data = data(&html);
         let unit = data["unit"].as_f64().unwrap();

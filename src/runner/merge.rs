@@ -1,6 +1,6 @@
 //! Merging shard files into the results file a one-machine run gives.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 use crate::output::header::{FileHeader, utc_now};
@@ -57,6 +57,8 @@ struct ShardFile {
     path: PathBuf,
     header: FileHeader,
     rows: Vec<SummaryRow>,
+    /// Where each run's group is in the file, by run id.
+    groups: HashMap<String, String>,
 }
 
 /// Merges the shard files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`) into
@@ -86,7 +88,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     for shard in &shards {
         let source = reader::open(&shard.path)?;
         for row in &shard.rows {
-            staged += writer.stage_copy(&source, &shard.path, row)?;
+            staged += writer.stage_copy((&source, &shard.path), &shard.groups[&row.id], &row.id)?;
             if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
                 staged = 0;
@@ -157,8 +159,11 @@ fn read_shards(paths: &[PathBuf]) -> Result<Vec<ShardFile>, OutputError> {
             if header.shard.is_none() {
                 return Err(OutputError::new(path, "is not a shard file (it has no `shard` attribute)"));
             }
-            let rows = reader::rows(&file, path)?;
-            Ok(ShardFile { path: path.clone(), header, rows })
+            let runs = reader::committed_runs(&file, path)?;
+            if !runs.damaged.is_empty() {
+                return Err(OutputError::new(path, reader::damage_text(&runs.damaged)));
+            }
+            Ok(ShardFile { path: path.clone(), header, rows: runs.rows, groups: runs.groups })
         })
         .collect::<Result<Vec<_>, _>>()?;
     check_same_study(&shards)?;

@@ -221,8 +221,9 @@ fn open_results(
     if exists && options.resume {
         let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
         check_same_study(path, &header, plan, options.shard)?;
-        writer.forget_failed()?;
+        // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
         let damaged = writer.forget_damaged()?;
+        writer.forget_failed()?;
         if !damaged.is_empty() && options.progress != ProgressMode::Quiet {
             eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
         }

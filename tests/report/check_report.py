@@ -38,12 +38,13 @@ def option(name):
     return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else None
 
 
-def stored_disks(results, group, name):
-    """x, y and r of a player frame (`frame_<k>` or `final`) as h5py reads them from the file."""
+def stored_disks(results, run_id, name):
+    """x, y and r of a player frame (`frame_<k>` or `final`) of run `run_id` as h5py reads them from
+    the file (the run's group is in one of the batch groups `/runs_<k>`)."""
     import h5py
 
     with h5py.File(results, "r") as f:
-        run = f[group]
+        run = next(f[batch][run_id] for batch in f if batch.startswith("runs_") and run_id in f[batch])
         table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
         return table["x"][:], table["y"][:], table["r"][:]
 
@@ -72,7 +73,7 @@ def check_player(page, player, results):
     for k in sorted({0, 1, last // 2, last}):
         player.locator(".scrub").evaluate(f"s => {{ s.value = '{k}'; s.dispatchEvent(new Event('input')); }}")
         drawn = canvas.evaluate("c => c.drawnDisks")
-        x, y, r = stored_disks(results, player.get_attribute("data-group"), data["frames"][k]["name"])
+        x, y, r = stored_disks(results, player.get_attribute("data-run"), data["frames"][k]["name"])
         height, ppm, margin = canvas.evaluate("c => c.height"), data["ppm"], data["margin"]
         expected = [(margin + xi * ppm, height - margin - yi * ppm, ri * ppm) for xi, yi, ri in zip(x, y, r)]
         disks = len(expected)
