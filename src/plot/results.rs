@@ -325,6 +325,11 @@ pub const CHARTED_METRICS: [&str; 5] = [
 /// thinned to this many, spread over them.
 pub const MAX_METRIC_LINES: usize = 8;
 
+/// Values of the x axis a pile-metric chart draws at most: more are thinned to this many, spread
+/// over them (an 800-pixel chart cannot part more, and 160 000 markers with their intervals would be
+/// tens of megabytes of SVG).
+pub const MAX_METRIC_X_VALUES: usize = 200;
+
 /// The pile-metric charts of `rows`: each of [`CHARTED_METRICS`] per grid point (mean and 95 %
 /// interval over its runs, the `/points` statistics) against each chart axis, a line per value of
 /// the other axis of a two-parameter grid (at most [`MAX_METRIC_LINES`]); named `<metric>_vs_<axis>`. Settle time against the first axis is
@@ -349,6 +354,19 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
         }
         lines.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
     }
+    let mut shown = std::collections::HashSet::new(); // (axis, value) of each x value drawn
+    for (axis, _) in along.clone() {
+        let values = distinct_values(rows, axis);
+        let kept = spread(values.len(), MAX_METRIC_X_VALUES);
+        if kept.len() < values.len() {
+            sink.note(&format!(
+                "pile-metric charts against {axis}: {} of its {} values, spread over them",
+                kept.len(),
+                values.len()
+            ));
+        }
+        shown.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
+    }
     for (axis, colour) in along {
         for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
             if metric == "settle_time" && axis == x {
@@ -356,7 +374,9 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
             }
             let unit = quantity::find(metric).map_or("", |q| q.unit);
             let mut estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
-            estimates.retain(|e| e.series.is_none_or(|v| lines.contains(&(axis, v.to_bits()))));
+            estimates.retain(|e| {
+                e.series.is_none_or(|v| lines.contains(&(axis, v.to_bits()))) && shown.contains(&(axis, e.x.to_bits()))
+            });
             sink.chart(&format!("{metric}_vs_{axis}"), study_name, |o, c| {
                 compare::metric_chart((metric, unit), &estimates, (axis, colour), None, o, c)
             });

@@ -5,6 +5,7 @@ use serde_json::{Value, json};
 use crate::output::table::{ColumnData, significant};
 use crate::physics::RunStatus;
 use crate::physics::quantity;
+use crate::plot::results::spread;
 use crate::stats::points::Points;
 
 /// Per-run quantities not shown per point (the energies, raw counts, a direction): every other
@@ -36,6 +37,11 @@ const POINT_GROUP: &str = "grid point";
 const RUNS_GROUP: &str = "runs";
 /// Header group of the warning count and the run ids.
 const LAST_GROUP: &str = "warnings & run ids";
+/// Grid points the page's table holds at most, spread evenly over the grid (the first and the last
+/// kept): this bounds the page's size, memory and time whatever the grid (a 160 000-point table
+/// would be half a gigabyte of rows to build and nobody's overview); every point stays in the
+/// points CSV and `demsweep summary --by-point`.
+pub const MAX_POINT_ROWS: usize = 5000;
 
 /// The columns shown per point, with their units, descriptions and header groups: the declared
 /// quantities but [`NOT_SHOWN`], and the warning count.
@@ -105,10 +111,13 @@ fn short(x: f64) -> Value {
 pub struct PointsTable {
     columns: Vec<Value>,
     rows: Vec<Value>,
+    /// Grid points in all, shown or not.
+    total: usize,
 }
 
 impl PointsTable {
-    /// The table of `points`; `charted`: runs that have a section of their own.
+    /// The table of `points` (at most [`MAX_POINT_ROWS`] of them, spread over the grid); `charted`:
+    /// runs that have a section of their own.
     pub fn new(points: &Points, charted: &[&str]) -> Self {
         let summary = points.summary();
         let status = summary.column("status").map(|c| &c.data);
@@ -134,7 +143,8 @@ impl PointsTable {
             ("", "The point's run ids; a link to the run's section when it has one."),
             LAST_GROUP,
         ));
-        let rows = (0..points.len())
+        let rows = spread(points.len(), MAX_POINT_ROWS)
+            .into_iter()
             .map(|p| {
                 let runs = points.rows(p);
                 let text = |row: usize, data: Option<&ColumnData>| data.map(|d| d.text(row)).unwrap_or_default();
@@ -164,7 +174,12 @@ impl PointsTable {
                 json!({"statuses": present, "cells": cells})
             })
             .collect();
-        Self { columns, rows }
+        Self { columns, rows, total: points.len() }
+    }
+
+    /// `(shown, total)`: grid points in the table and in the results.
+    pub fn shown(&self) -> (usize, usize) {
+        (self.rows.len(), self.total)
     }
 
     /// The table's column groups (one `<colgroup>` per header group, so that a rule can part them)
@@ -222,6 +237,30 @@ pub fn static_table(records: &[Vec<String>]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::{SummaryRow, SummaryTable};
+    use crate::study::ParamValue;
+
+    #[test]
+    fn a_grid_larger_than_the_table_shows_its_points_spread_with_the_first_and_the_last() {
+        let total = MAX_POINT_ROWS + 1234;
+        let rows: Vec<SummaryRow> = (0..total)
+            .map(|i| {
+                let friction = vec![("material.friction".to_string(), ParamValue::Float(i as f64))];
+                SummaryRow::failed(i, &format!("r{i:05}"), &friction, "")
+            })
+            .collect();
+        let summary = SummaryTable::from_rows(&rows);
+        let points = Points::new(&summary);
+        assert_eq!(points.len(), total, "one point per run");
+        let table = PointsTable::new(&points, &[]);
+        assert_eq!(table.shown(), (MAX_POINT_ROWS, total));
+        let first_cells: Vec<f64> = table.rows.iter().map(|r| r["cells"][0].as_f64().unwrap()).collect();
+        assert_eq!(first_cells.first(), Some(&0.0));
+        assert_eq!(first_cells.last(), Some(&((total - 1) as f64)));
+        assert!(first_cells.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] <= 2.0), "evenly spread, in grid order");
+        let small = SummaryTable::from_rows(&rows[..10]);
+        assert_eq!(PointsTable::new(&Points::new(&small), &[]).shown(), (10, 10), "a small grid whole");
+    }
 
     #[test]
     fn header_groups_start_at_declared_quantities_and_hold_neighbouring_columns() {

@@ -120,7 +120,7 @@ pub fn write_report(
     page.push(&outcomes(&rows, tune.is_some()));
     if tune.is_none() {
         let charted_ids: Vec<&str> = charted.iter().map(|r| r.id.as_str()).collect();
-        page.push(&points_section(&summary, &charted_ids));
+        page.push(&points_section(&summary, &charted_ids, &crate::output::points_csv_path(results)));
         let mut study = Svgs::new();
         results::study_charts(&mut study, &header.study_name, &rows);
         page.push(&charts_section(&study));
@@ -262,14 +262,23 @@ fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
     out
 }
 
-/// The per-point table: rows built in the browser from embedded JSON.
-fn points_section(summary: &SummaryTable, charted: &[&str]) -> String {
+/// The per-point table: rows built in the browser from embedded JSON; a note names the points CSV
+/// when the grid has more points than the table holds.
+fn points_section(summary: &SummaryTable, charted: &[&str], points_csv: &Path) -> String {
     let points = Points::new(summary);
     let table = html::PointsTable::new(&points, charted);
+    let left_out = match table.shown() {
+        (shown, total) if shown < total => format!(
+            "<p class=\"note\" id=\"points-left-out\">{shown} of {total} grid points shown ({} at most, spread evenly over the grid); every point is in {} and in `demsweep summary --by-point`.</p>",
+            html::MAX_POINT_ROWS,
+            escape(&points_csv.file_name().unwrap_or_default().to_string_lossy())
+        ),
+        _ => String::new(),
+    };
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>{left_out}\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
          <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
          <script type=\"application/json\" id=\"points-data\">{}</script>",
