@@ -335,7 +335,7 @@ fn a_number_for_a_choice_lists_the_choices() {
 #[test]
 fn a_whole_number_toml_cannot_hold_names_its_key() {
     let text = "[scene]\nparticles.count = 20\nplacement.seed = 18446744073709551616\n";
-    let e = single_error("seed", text, 3, "scene.placement.seed");
+    let e = single_error("seed_out_of_range", text, 3, "scene.placement.seed");
     assert_eq!(
         e.reason,
         "18446744073709551616 is out of range: TOML whole numbers lie between -9223372036854775808 and 9223372036854775807"

@@ -13,9 +13,12 @@ pub struct StudyDir {
 }
 
 impl StudyDir {
-    /// A fresh, empty folder unique to this test (`name`) and process.
+    /// A fresh, empty folder unique to this call (`name`, process and a count: two tests that pick
+    /// the same name must not share a folder, as they run at the same time).
     pub fn new(name: &str) -> Self {
-        let path = std::env::temp_dir().join(format!("demsweep-study-{name}-{}", std::process::id()));
+        static MADE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let count = MADE.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let path = std::env::temp_dir().join(format!("demsweep-study-{name}-{}-{count}", std::process::id()));
         let _ = std::fs::remove_dir_all(&path);
         std::fs::create_dir_all(&path).unwrap();
         Self { path }
