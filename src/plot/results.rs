@@ -614,6 +614,27 @@ mod tests {
     }
 
     #[test]
+    fn pile_metric_charts_draw_at_most_their_x_value_limit_spread_over_the_axis() {
+        use ParamValue::Float;
+        let metric = quantity::final_value_declarations().position(|q| q.name == "floor_load_ratio").unwrap();
+        let values = MAX_METRIC_X_VALUES + 101;
+        let rows: Vec<SummaryRow> = (0..values)
+            .map(|k| {
+                let mut run = row(k, &[("material.friction", Float(k as f64))]);
+                run.final_values[metric] = k as f64;
+                run
+            })
+            .collect();
+        let mut sink = SvgCharts::new((1000, 700));
+        pile_metric_charts(&mut sink, "study", &rows);
+        let svg = &sink.charts.iter().find(|(n, _)| n == "floor_load_ratio_vs_material.friction").unwrap().1;
+        assert_eq!(svg.matches("r=\"4\"").count(), MAX_METRIC_X_VALUES, "one marker per kept value");
+        let note =
+            format!("pile-metric charts against material.friction: {MAX_METRIC_X_VALUES} of its {values} values");
+        assert!(sink.notes.iter().any(|n| n.starts_with(&note)), "{:?}", sink.notes);
+    }
+
+    #[test]
     fn default_selection_spreads_the_run_limit_over_a_large_study() {
         let rows: Vec<SummaryRow> = (0..1000).map(|i| row(i, &[])).collect();
         let request = PlotRequest {
