@@ -5,6 +5,7 @@
 //! second (if any), and a heatmap over the first two. Per run: energies, unbalanced force ratio,
 //! and a pile snapshot per recorded frame plus the final state.
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use hdf5_pure::File;
@@ -340,32 +341,14 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
     let summary = SummaryTable::from_rows(rows);
     let points = Points::new(&summary);
     let along = [(x, axes.series.as_deref())].into_iter().chain(axes.series.as_deref().map(|y| (y, Some(x))));
-    let mut lines = Vec::new(); // (axis, value of the other axis drawn as a line) of each chart
+    let mut lines = HashSet::new(); // (axis, value of the other axis drawn as a line) of each chart
+    let mut shown = HashSet::new(); // (axis, value along it drawn) of each chart
     for (axis, colour) in along.clone() {
-        let Some(colour) = colour else { continue };
-        let values = distinct_values(rows, colour);
-        let kept = spread(values.len(), MAX_METRIC_LINES);
-        if kept.len() < values.len() {
-            sink.note(&format!(
-                "pile-metric charts against {axis}: lines for {} of the {} values of {colour}, spread over them",
-                kept.len(),
-                values.len()
-            ));
+        if let Some(colour) = colour {
+            let what = format!("lines for {{kept}} of the {{all}} values of {colour}");
+            lines.extend(thinned(sink, rows, (axis, colour), MAX_METRIC_LINES, &what));
         }
-        lines.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
-    }
-    let mut shown = std::collections::HashSet::new(); // (axis, value) of each x value drawn
-    for (axis, _) in along.clone() {
-        let values = distinct_values(rows, axis);
-        let kept = spread(values.len(), MAX_METRIC_X_VALUES);
-        if kept.len() < values.len() {
-            sink.note(&format!(
-                "pile-metric charts against {axis}: {} of its {} values, spread over them",
-                kept.len(),
-                values.len()
-            ));
-        }
-        shown.extend(kept.into_iter().map(|k| (axis, values[k].to_bits())));
+        shown.extend(thinned(sink, rows, (axis, axis), MAX_METRIC_X_VALUES, "{kept} of its {all} values"));
     }
     for (axis, colour) in along {
         for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
@@ -382,6 +365,25 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
             });
         }
     }
+}
+
+/// The values of parameter `of` kept on the pile-metric charts against `axis`: at most `limit`,
+/// spread over them, as `(axis, value bits)`; a note says `what` (`{kept}` and `{all}` filled in)
+/// when values were left out.
+fn thinned<'a>(
+    sink: &mut impl ChartSink,
+    rows: &[SummaryRow],
+    (axis, of): (&'a str, &str),
+    limit: usize,
+    what: &str,
+) -> Vec<(&'a str, u64)> {
+    let values = distinct_values(rows, of);
+    let kept = spread(values.len(), limit);
+    if kept.len() < values.len() {
+        let what = what.replace("{kept}", &kept.len().to_string()).replace("{all}", &values.len().to_string());
+        sink.note(&format!("pile-metric charts against {axis}: {what}, spread over them"));
+    }
+    kept.into_iter().map(|k| (axis, values[k].to_bits())).collect()
 }
 
 /// The charts of one run of the results `file` (at `path`): energies and UBF (when histories are
