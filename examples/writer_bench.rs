@@ -166,6 +166,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         steps: 150_000,
         time_step: 1e-5,
         simulated_time: 1.5,
+        energy_balance_error: 1e-3,
         pile: Default::default(),
         stability: StabilityReport::default(),
         history,

@@ -33,7 +33,7 @@ fn undamped_deposition(scheme: IntegratorKind, dt: f64) -> RunRecord {
 #[test]
 fn undamped_frictionless_deposition_conserves_energy_at_second_order() {
     for scheme in SCHEMES {
-        let drifts: Vec<f64> = [4e-5, 2e-5, 1e-5]
+        let (drifts, balance_errors): (Vec<f64>, Vec<f64>) = [4e-5, 2e-5, 1e-5]
             .iter()
             .map(|dt| {
                 let rec = undamped_deposition(scheme, *dt);
@@ -41,13 +41,19 @@ fn undamped_frictionless_deposition_conserves_energy_at_second_order() {
                 let e = &rec.history.mechanical;
                 let contacts: u32 = rec.history.contacts.iter().sum();
                 assert!(contacts > 100, "the disks must collide");
-                e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / e[0]
+                (e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / e[0], rec.energy_balance_error)
             })
-            .collect();
+            .unzip();
         let ratios: Vec<f64> = drifts.windows(2).map(|w| w[0] / w[1]).collect();
         println!("{scheme:?}: largest relative energy drift {drifts:?}, ratios per halving {ratios:?}");
         assert!(drifts[0] < 1e-3, "{drifts:?}");
         assert!(ratios.iter().all(|r| *r > 3.0), "{scheme:?}: drift ratios {ratios:?}");
+        // The run's energy-balance error (what tune fits the order of its error in dt from) falls
+        // at second order too.
+        let balance_ratios: Vec<f64> = balance_errors.windows(2).map(|w| w[0] / w[1]).collect();
+        println!("{scheme:?}: energy_balance_error {balance_errors:?}, ratios per halving {balance_ratios:?}");
+        assert!(balance_errors[0] > 0.0 && balance_errors[0] < 1e-2, "{balance_errors:?}");
+        assert!(balance_ratios.iter().all(|r| *r > 3.0), "{scheme:?}: balance error ratios {balance_ratios:?}");
     }
 }
 

@@ -68,6 +68,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "final_numerical_damping_dissipated (J)",
         "final_mechanical (J)",
         "final_ubf",
+        "energy_balance_error",
         "pile_height (m)",
         "packing_fraction",
         "packing_fraction_interior",

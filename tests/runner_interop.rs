@@ -52,6 +52,7 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         ("time_step", record.map_or(nan, |r| r.time_step)),
         ("final_mechanical", last(|r| &r.history.mechanical)),
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
+        ("energy_balance_error", record.map_or(nan, |r| r.energy_balance_error)),
         ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];

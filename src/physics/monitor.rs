@@ -74,6 +74,12 @@ impl Monitor {
         }
     }
 
+    /// The largest energy-balance error seen, `|mechanical + dissipated − initial|` over the energy
+    /// available (the ratio `limits.energy_balance_tolerance` bounds).
+    pub(super) fn energy_balance_error(&self) -> f64 {
+        self.worst_imbalance.0 / self.energy_scale
+    }
+
     /// Why the run must end now, if it must: non-finite state, overlap or energy growth beyond limits.
     pub(super) fn divergence(
         &self,

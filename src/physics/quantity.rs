@@ -62,7 +62,7 @@ macro_rules! last_sample {
 }
 
 /// Final values of a run taken from its record (before the pile metrics in the summary).
-pub const FINAL_VALUES: [Quantity<RunValue>; 8] = [
+pub const FINAL_VALUES: [Quantity<RunValue>; 9] = [
     Quantity {
         name: "time_step",
         unit: "s",
@@ -96,6 +96,12 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 8] = [
     ),
     last_sample!(mechanical, "final_mechanical", "J", "Kinetic plus potential plus elastic energy at the last sample."),
     last_sample!(unbalanced_force_ratio, "final_ubf", "", "Unbalanced force ratio at the last sample."),
+    Quantity {
+        name: "energy_balance_error",
+        unit: "",
+        description: "Largest absolute error of the energy balance (mechanical + dissipated = initial) over the sampled steps, as a share of the energy available.",
+        value: |r| r.energy_balance_error,
+    },
 ];
 
 /// The pile metrics, measured once at the end of a run (see [`super::pile`] for the definitions;

@@ -164,6 +164,8 @@ pub struct RunRecord {
     pub time_step: f64,
     /// Simulated time reached (s).
     pub simulated_time: f64,
+    /// Largest energy-balance error over the sampled steps, as a share of the energy available.
+    pub energy_balance_error: f64,
     /// Structure of the pile at the end of the run.
     pub pile: PileMetrics,
     /// Pre-run stability estimate.

@@ -372,6 +372,7 @@ impl<L: ContactLaw> Simulation<L> {
             steps: self.step,
             time_step: self.context.dt,
             simulated_time: self.time(),
+            energy_balance_error: monitor.energy_balance_error(),
             pile: self.pile_metrics_of(&contacts),
             stability,
             history,
