@@ -37,6 +37,7 @@ pub mod stability;
 pub mod time_step;
 mod vector;
 pub mod walls;
+pub mod warning;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};

@@ -8,6 +8,7 @@
 mod distribution;
 
 pub mod compare;
+pub mod fit;
 pub mod points;
 
 /// n, mean, sample std, 95% Student-t half-width, min, max of the finite values (NaN skipped).
