@@ -464,6 +464,9 @@ pub enum PathEnd {
     NothingCheaper,
     /// The spend limit or the run budget stopped it.
     OutOfBudget,
+    /// This rung's verification stayed undecided on a kept metric, and deciding it would take more
+    /// fresh runs than the spend limit leaves (candidate index).
+    Undecided(usize),
 }
 
 /// What the search found.

@@ -407,6 +407,16 @@ fn path_line(spec: &TuneSpec, result: &SearchResult) -> String {
             )
         }
         PathEnd::OutOfBudget => format!("The spend limit or the run budget stopped the time-step path{tried}."),
+        PathEnd::Undecided(k) => {
+            let cand = &result.candidates[*k];
+            let why = result.assess_verification(cand).map(|a| failure_reason(spec, result, &a)).unwrap_or_default();
+            format!(
+                "The time-step path stopped at candidate {}: on {} fresh seeds {why}, more than the spend limit \
+                 leaves{tried}.",
+                cand.id,
+                cand.verification.len()
+            )
+        }
     }
 }
 

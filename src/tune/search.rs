@@ -164,8 +164,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// Whether `runs` more runs predicted at `relative_cost` of a reference run each fit the run budget
     /// and the spend limit.
     fn fits(&self, runs: usize, relative_cost: Option<f64>) -> bool {
+        self.fits_price(runs, runs as f64 * relative_cost.unwrap_or(1.0))
+    }
+
+    /// Whether `runs` more runs costing `price` reference runs in all fit the run budget and the spend
+    /// limit (priced [`PRICE_MARGIN`] above).
+    fn fits_price(&self, runs: usize, price: f64) -> bool {
         let reference = self.result.reference_cost();
-        let price = PRICE_MARGIN * runs as f64 * relative_cost.unwrap_or(1.0) * reference;
+        let price = PRICE_MARGIN * price * reference;
         self.result.runs + runs <= self.config.budget && self.spent + price <= self.config.max_spend * reference
     }
 
@@ -261,33 +267,59 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// The path's next step after judging `last` (a rung run or verified), from every rung so far
     /// (factor, candidate): a rung is good when valid and equivalent in the search and not failed on
-    /// fresh seeds, bad otherwise. The best good rung is verified first (a verified answer before any
-    /// refinement); then, while the smallest bad rung above it is more than [`PATH_RESOLUTION`] away
-    /// (and the path is not `exhausted`: out of rungs, or a rung rounded to one it has), the next rung
-    /// is the one a measured check's cure gives (for a rung that broke one), or the geometric mean of
-    /// the best good rung (or the reference) and the smallest bad one.
+    /// fresh seeds, bad otherwise. While the smallest bad rung is more than [`PATH_RESOLUTION`] above
+    /// the best good one (or the reference) and the spend limit leaves room for one more rung and a
+    /// verification, the next rung is the one a measured check's cure gives (for a rung that broke
+    /// one), or their geometric mean; else the best good rung is verified (the path's answer). A rung
+    /// whose verification stays undecided beyond what the spend limit can decide ends the path, naming
+    /// it. `exhausted`: out of rungs, or a rung rounded to one the path has.
     fn path_next(&self, rungs: &[(f64, usize)], last: Option<usize>, exhausted: bool) -> PathStep {
         let result = &self.result;
         let failed =
             |k: usize| result.assess_verification(&result.candidates[k]).is_some_and(|a| a.state != State::Feasible);
         let good = |k: usize| result.assess(&result.candidates[k]).state == State::Feasible && !failed(k);
-        let best_good = rungs.iter().filter(|r| good(r.1)).max_by(|a, b| a.0.total_cmp(&b.0)).copied();
-        if let Some((_, k)) = best_good.filter(|g| result.candidates[g.1].verification.is_empty()) {
-            return PathStep::Verify(k);
+        if let Some(k) = last.filter(|&k| self.undecidable_verification(k)) {
+            return PathStep::End(PathEnd::Undecided(k));
         }
-        let done = PathStep::End(best_good.map_or(PathEnd::NothingCheaper, |g| PathEnd::Verified(g.1)));
+        let best_good = rungs.iter().filter(|r| good(r.1)).max_by(|a, b| a.0.total_cmp(&b.0)).copied();
+        let verify_best = || match best_good {
+            Some((_, k)) if result.candidates[k].verification.is_empty() => PathStep::Verify(k),
+            Some((_, k)) => PathStep::End(PathEnd::Verified(k)),
+            None => PathStep::End(PathEnd::NothingCheaper),
+        };
         let (top, first) = rungs[0];
         let low = best_good.map_or(top * result.candidates[first].relative_cost.unwrap_or(1.0), |g| g.0);
         let smallest_bad = rungs.iter().filter(|r| !good(r.1)).map(|r| r.0).fold(f64::INFINITY, f64::min);
         if exhausted || smallest_bad.is_infinite() || smallest_bad / low < PATH_RESOLUTION {
-            return done;
+            return verify_best();
         }
         let cured =
             last.and_then(|k| self.cure(k)).map(|(cure, k)| (cure * rungs.iter().find(|r| r.1 == k).unwrap().0, k));
-        match cured {
-            Some((f, k)) if f > low * PATH_RESOLUTION.sqrt() => PathStep::Rung(f, Some(k)),
-            _ => PathStep::Rung((low * smallest_bad).sqrt(), None),
+        let (next, from) = match cured {
+            Some((f, k)) if f > low * PATH_RESOLUTION.sqrt() => (f, Some(k)),
+            _ => ((low * smallest_bad).sqrt(), None),
+        };
+        // Room for the next rung's seeds and then a verification (of it, or of the best good rung).
+        let rung_cost = result.candidates[first].relative_cost.map(|r| r * top / next);
+        let best_cost = best_good.and_then(|g| result.candidates[g.1].relative_cost);
+        let (rung_cost, best_cost) = (rung_cost.unwrap_or(1.0), best_cost.unwrap_or(0.0));
+        let (seeds, verify) = (self.config.seeds, self.config.verify_seeds);
+        let price = seeds as f64 * rung_cost + verify as f64 * rung_cost.max(best_cost);
+        match self.fits_price(seeds + verify, price) {
+            true => PathStep::Rung(next, from),
+            false => verify_best(),
         }
+    }
+
+    /// Whether candidate `k`'s verification stayed undecided (not different) and more fresh runs than
+    /// the spend limit leaves would be needed to decide it ([`runs_to_decide`]).
+    fn undecidable_verification(&self, k: usize) -> bool {
+        let result = &self.result;
+        let cand = &result.candidates[k];
+        let undecided = result.assess_verification(cand).is_some_and(|a| a.state == State::Undecided);
+        let needed = runs_to_decide(&result.reference, &cand.verification, &result.margins);
+        let more = needed.map(|n| n.saturating_sub(cand.verification.len()));
+        undecided && more.is_none_or(|more| !self.fits(more, cand.relative_cost))
     }
 
     /// The factor that cures the measured check candidate `k`'s runs (its verification runs, when it
