@@ -289,7 +289,7 @@ impl CellGrid {
 
     /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted.
     fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
-        if p.len() == 0 {
+        if p.is_empty() {
             return;
         }
         self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
