@@ -237,7 +237,10 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
         Command::Run(args) => match load_or_report(args.study(), args.out()) {
-            Ok(plan) => results::run(&args, &plan),
+            Ok(plan) => {
+                note_long_cost(&plan, args.jobs().unwrap_or(usize::MAX).min(machine_cores()));
+                results::run(&args, &plan)
+            }
             Err(code) => code,
         },
         Command::Summary(args) => results::summary(&args),
@@ -287,6 +290,7 @@ fn check(args: &CheckArgs) -> ExitCode {
     }
     match load_or_report(&args.study, None) {
         Ok(plan) => {
+            note_long_cost(&plan, machine_cores());
             let warnings = match plan.warnings.len() {
                 0 => String::new(),
                 1 => " (1 warning above)".into(),
@@ -301,14 +305,14 @@ fn check(args: &CheckArgs) -> ExitCode {
 
 fn plan(args: &PlanArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
-        let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        let cores = args.cores.unwrap_or_else(machine_cores).max(1);
         return tune::plan(&args.study, cores);
     }
     let plan = match load_or_report(&args.study, None) {
         Ok(plan) => plan,
         Err(code) => return code,
     };
-    let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    let cores = args.cores.unwrap_or_else(machine_cores).max(1);
     println!(
         "study {} ({}), fingerprint {}, {} runs",
         plan.name,
@@ -325,6 +329,28 @@ fn plan(args: &PlanArgs) -> ExitCode {
         duration(seconds / cores as f64),
     );
     ExitCode::SUCCESS
+}
+
+/// Estimated wall time past which `check` and `run` print it (s): an hour.
+const LONG_SWEEP: f64 = 3600.0;
+
+/// This machine's cores (at least 1).
+fn machine_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Prints the wall-time estimate of `plan` on `cores` (the figure `plan` gives) when it is long.
+fn note_long_cost(plan: &Plan, cores: usize) {
+    let seconds = plan.total_cost() * SECONDS_PER_PARTICLE_STEP / cores.max(1) as f64;
+    if seconds > LONG_SWEEP {
+        eprintln!(
+            "note: {}: about {} on {cores} cores ({:.4e} particle-steps; runs that settle stop sooner): see `demsweep plan {}`",
+            plan.study_path.display(),
+            duration(seconds),
+            plan.total_cost(),
+            plan.study_path.display()
+        );
+    }
 }
 
 /// One aligned line per run: id, swept parameters, disks, steps, particle-steps.

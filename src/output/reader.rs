@@ -82,7 +82,7 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
             Some((row, warnings)) => with_warnings(file, &group, row, warnings),
             None => group_row(file, &group),
         };
-        match row {
+        match row.and_then(|row| checked_id(row, &id)) {
             Ok(row) => {
                 runs.rows.push(row);
                 runs.groups.insert(id, group);
@@ -93,6 +93,20 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     runs.rows.sort_by_key(|r| r.index);
     runs.damaged = damaged;
     Ok(runs)
+}
+
+/// The row if its run id is its group's name and can name files (plots and exports are named by
+/// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
+fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
+    if row.id != group_name {
+        return Err(format!("its run id `{}` is not its group's name `{group_name}`", row.id.escape_debug()));
+    }
+    let unsafe_name =
+        matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
+    if unsafe_name {
+        return Err(format!("its run id `{}` cannot name a file", row.id.escape_debug()));
+    }
+    Ok(row)
 }
 
 /// The rows of every readable committed run (sorted by run index) and the run groups that cannot
@@ -251,8 +265,11 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
             let data = column_data(&dataset).map_err(err)?;
             Ok(Column { name: name.clone(), data })
         })
-        .collect::<Result<_, OutputError>>()?;
-    Ok(Some(SummaryTable { columns }))
+        .collect::<Result<Vec<Column>, OutputError>>()?;
+    // Columns of different lengths (a damaged or crafted file): the table is not used, as if the
+    // file had none (`/summary` is then rebuilt from the run groups, `/points` from the summary).
+    let rows = columns.first().map_or(0, |c| c.data.len());
+    Ok(columns.iter().all(|c| c.data.len() == rows).then_some(SummaryTable { columns }))
 }
 
 fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
