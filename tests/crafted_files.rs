@@ -44,6 +44,16 @@ fn add_run(
     writer.commit().unwrap();
     rows.push(run.row.clone());
     Box::new(writer).finish(&tables(&rows)).unwrap();
+    keep_a_copy(results);
+}
+
+/// Copies the crafted file to `<target tmp>/crafted/<test folder>.h5`, where
+/// `scripts/safety_counts.sh` finds it.
+fn keep_a_copy(results: &Path) {
+    let test = results.parent().and_then(Path::parent).and_then(Path::file_name).unwrap();
+    let kept = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("crafted");
+    std::fs::create_dir_all(&kept).unwrap();
+    std::fs::copy(results, kept.join(test).with_extension("h5")).unwrap();
 }
 
 fn demsweep(cwd: &Path, args: &[&str]) -> Output {
