@@ -26,9 +26,9 @@ mod writer;
 
 pub use header::{FileHeader, ShardInfo, ShardSpec};
 pub use row::SummaryRow;
-pub use sink::ResultSink;
+pub use sink::{ResultSink, RunResult, Tables};
 pub use table::SummaryTable;
-pub use writer::{ResultsWriter, RunResult, Tables};
+pub use writer::ResultsWriter;
 
 /// A results-file problem, naming the file.
 #[derive(Debug, Clone, PartialEq)]
