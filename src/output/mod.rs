@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 pub(crate) mod compound;
 pub(crate) mod copy;
 pub(crate) mod csv;
+pub mod guard;
 pub mod header;
 pub mod history;
 pub mod layout;
