@@ -42,5 +42,6 @@ pub mod walls;
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
 pub use dispatch::{predict_stability, run_scene, run_scene_with_history, scene_time_step};
+pub use neighbors::CellGrid;
 pub use record::{RunRecord, RunStatus};
 pub use simulation::{Control, Progress, Simulation};
