@@ -55,7 +55,7 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
     }
-    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    crate::output::guard::write(path, text.as_bytes(), &[]).map_err(|e| e.to_string())
 }
 
 /// Snake-case name of a scheme, as in scene files.

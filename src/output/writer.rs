@@ -14,10 +14,9 @@ use super::header::FileHeader;
 use super::layout::{self, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::reader::{self, DamagedGroup};
 use super::row::SummaryRow;
-use super::sink::ResultSink;
+use super::sink::{ResultSink, RunResult, Tables};
 use super::table::{ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs, write_csv_files};
-use crate::physics::SceneConfig;
 use crate::physics::record::{RunRecord, Snapshot};
 use crate::study::OutputOptions;
 
@@ -27,17 +26,6 @@ const COMPRESS_MIN_ROWS: usize = 64;
 const MAX_CHUNK_ROWS: u64 = 1 << 14;
 /// Deflate level: fast, and most of the gain for smooth float series comes from the shuffle.
 const DEFLATE_LEVEL: u32 = 1;
-
-/// One run as the writer stores it.
-#[derive(Clone, Debug)]
-pub struct RunResult {
-    /// Its summary row.
-    pub row: SummaryRow,
-    /// The run's complete scene (key values are stored as `scene.*` attributes).
-    pub scene: SceneConfig,
-    /// The simulation record; `None` when the run failed before producing one.
-    pub record: Option<RunRecord>,
-}
 
 /// A results file open for writing.
 pub struct ResultsWriter {
@@ -73,6 +61,8 @@ impl ResultsWriter {
             builder.set_attr(name, value);
         }
         let partial = path.with_extension("h5.partial");
+        super::guard::refuse_symlink(&partial).map_err(|e| OutputError::new(&partial, e.refusal_text()))?;
+        super::guard::refuse_symlink(path).map_err(|e| OutputError::new(path, e.refusal_text()))?;
         builder.write(&partial).map_err(|e| hdf5_error(&partial, e))?;
         std::fs::rename(&partial, path).map_err(|e| OutputError::io(path, e))?;
         Self::open(path, output).map(|(writer, _)| writer)
@@ -276,15 +266,6 @@ impl ResultSink for ResultsWriter {
         self.write_tables(tables)?;
         write_csv_files(&path, tables).map(drop)
     }
-}
-
-/// The tables a finished results file holds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Tables {
-    /// One row per run (`/summary`).
-    pub summary: SummaryTable,
-    /// One row per grid point (`/points`).
-    pub points: SummaryTable,
 }
 
 /// Replaces the group `name` (`/summary`, `/points`) with one dataset per column of `table`, listed

@@ -17,6 +17,7 @@ pub mod config;
 pub mod contact;
 mod contact_list;
 pub mod contact_network;
+pub mod contact_record;
 pub mod diagnostics;
 mod dispatch;
 mod energy;

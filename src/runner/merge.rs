@@ -3,6 +3,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
+use crate::output::guard;
 use crate::output::header::{FileHeader, utc_now};
 use crate::output::lock::ResultsLock;
 use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
@@ -78,6 +79,9 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     if results.exists() && !force {
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
+    let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
+    guard::check_results_replaceable(&results, &shard_files)
+        .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
     let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
     // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
     // leaves no partial file under the final name (and an existing one stays until replaced).
