@@ -23,6 +23,7 @@ mod dispatch;
 mod energy;
 mod forces;
 mod integrator;
+pub mod keys;
 pub mod material;
 mod monitor;
 mod neighbors;

@@ -367,6 +367,10 @@ impl<'a> Planner<'a> {
             let warning = self.problem(point, key, reason);
             self.warnings.push(warning);
         }
+        for implausible in crate::physics::keys::implausible_values(scene) {
+            let warning = self.problem(point, &implausible.key, implausible.to_string());
+            self.warnings.push(warning);
+        }
         let disks = match initial {
             Some(disks) => {
                 let overlaps = Overlaps::find(scene, disks);
