@@ -47,9 +47,15 @@ pub struct RunArgs {
     /// Output directory (default: results/<study name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Continue existing results: run only the runs the file lacks or that failed with an error.
+    /// Continue existing results, of this study or an edited one: stored runs are matched to the
+    /// study's runs by identity (settings, input files, physics version), and only the runs the file
+    /// lacks, that failed with an error or that lack an asked-for output run.
     #[arg(long, conflicts_with = "force")]
     resume: bool,
+    /// With --resume: delete the stored runs the (edited) study no longer plans (else they stay in
+    /// the file, out of the summary, points and report).
+    #[arg(long, requires = "resume")]
+    drop_unplanned: bool,
     /// Replace existing results.
     #[arg(long)]
     force: bool,
@@ -186,6 +192,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         out_dir: args.out.clone(),
         resume: args.resume,
         force: args.force,
+        drop_unplanned: args.drop_unplanned,
         shard: args.shard,
         progress: match args.progress {
             Progress::Auto => ProgressMode::Auto,
@@ -455,12 +462,14 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
         Ok(report) => report,
         Err(e) => return report_error(Err(e)),
     };
+    let merged = match report.shard_count {
+        0 => format!("merged {} runs from {} results files", report.runs, report.shards),
+        count => {
+            format!("merged {} of {} runs from {} of {count} shards", report.runs, report.planned_runs, report.shards)
+        }
+    };
     println!(
-        "merged {} of {} runs from {} of {} shards\nresults: {}\nsummary: {}\npoints: {}",
-        report.runs,
-        report.planned_runs,
-        report.shards,
-        report.shard_count,
+        "{merged}\nresults: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
         report.points_csv.display()
