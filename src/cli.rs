@@ -27,7 +27,7 @@ const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;
     about = "Batch parameter sweeps of 2D DEM simulations of granular deposition",
     long_about = "Batch parameter sweeps of 2D DEM simulations of granular deposition (the BMEDEM2D model).\n\n\
                   A study file (TOML) holds a base [scene] and [sweep] axes; demsweep expands it into runs. \
-                  The study file format is described in README.md, section \"Study files\".",
+                  The study file format is described in docs/studies.md.",
     after_help = "Examples:\n  demsweep check studies/damping_sweep.toml\n  demsweep plan studies/damping_sweep.toml\n  \
                   demsweep run studies/damping_sweep.toml\n  demsweep plot results/damping_sweep/damping_sweep.h5"
 )]
@@ -60,7 +60,7 @@ enum Command {
     #[command(
         long_about = "Run every run of a study in parallel (one simulation per worker thread) and write \
                       OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
-                      frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
+                      frames; layout in docs/results.md) and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
                       to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
                       (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \

@@ -1,4 +1,4 @@
-//! The library's layers (README.md, "Development"; `src/lib.rs`): every `crate::<module>` path in
+//! The library's layers (docs/development.md; `src/lib.rs`): every `crate::<module>` path in
 //! the code of `src/` goes down the layers, or sideways within a layer without a cycle.
 //!
 //! cli → tune / bench / report / plot → runner / stats / slurm → output → study → physics

@@ -3,7 +3,8 @@
 //! (what `placement.kind = "file"` reads back, velocities and spins included).
 //!
 //! Everything is written into a temporary sibling of the output folder, which is renamed to its
-//! final name only once complete: a failed export leaves nothing under that name.
+//! final name only once complete: a failed export leaves nothing under that name. Export folders
+//! hold a `.demsweep-export` marker: `--force` replaces only such a folder (see [`crate::output::guard`]).
 
 pub mod csv;
 pub mod lammps;
@@ -11,6 +12,7 @@ pub mod vtk;
 
 use std::path::{Path, PathBuf};
 
+use crate::output::guard::{self, ReplacedFolder};
 use crate::output::reader;
 use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
@@ -68,29 +70,29 @@ pub struct State<'a> {
 /// Exports the requested runs; errors name the run, file or option at fault.
 pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
     let out = &request.out;
-    if out.exists() && !request.force {
-        return Err(format!("{}: already exists: pass --force to replace it, or choose another --out", out.display()));
+    if exists_unforced(out, request.force) {
+        return Err(guard::GuardError { path: out.clone(), refusal: guard::Refusal::Exists }.to_string());
     }
     let file = reader::open(&request.results).map_err(|e| e.to_string())?;
     let rows = reader::rows(&file, &request.results).map_err(|e| e.to_string())?;
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;
-    let partial = partial_folder(out);
-    if partial.exists() {
-        std::fs::remove_dir_all(&partial).map_err(|e| format!("{}: cannot remove: {e}", partial.display()))?;
-    }
-    std::fs::create_dir_all(&partial).map_err(|e| format!("{}: cannot create: {e}", partial.display()))?;
-    let written = write_runs(request, &file, &chosen, &partial);
-    if let Err(e) = written {
-        let _ = std::fs::remove_dir_all(&partial);
+    let folder =
+        ReplacedFolder::prepare(out, MARKER_KIND, &[&request.results], request.force).map_err(|e| e.to_string())?;
+    if let Err(e) = write_runs(request, &file, &chosen, folder.partial()) {
+        folder.abandon();
         return Err(e);
     }
-    if out.exists() {
-        std::fs::remove_dir_all(out).map_err(|e| format!("{}: cannot replace: {e}", out.display()))?;
-    }
-    std::fs::rename(&partial, out)
-        .map_err(|e| format!("{}: cannot rename to {}: {e}", partial.display(), out.display()))?;
+    folder.finish().map_err(|e| e.to_string())?;
     let (files, bytes) = folder_size(out)?;
     Ok(ExportSummary { runs: chosen.len(), files, bytes })
+}
+
+/// The kind of the marker file in an export folder (`.demsweep-export`): `--force` replaces only such folders.
+pub const MARKER_KIND: &str = "export";
+
+/// Whether something is at `out` and `--force` was not given.
+fn exists_unforced(out: &Path, force: bool) -> bool {
+    !force && std::fs::symlink_metadata(out).is_ok()
 }
 
 /// The rows to export: the named ones (each must exist), else every run that finished.
@@ -162,19 +164,13 @@ fn states<'a>(request: &ExportRequest, row: &'a SummaryRow, run: &'a StoredRun) 
     Ok(states)
 }
 
-/// The temporary sibling an export is written into: `<out>.partial`.
-fn partial_folder(out: &Path) -> PathBuf {
-    let mut name = out.file_name().map(|n| n.to_os_string()).unwrap_or_else(|| "export".into());
-    name.push(".partial");
-    out.with_file_name(name)
-}
-
 /// Files and bytes in a folder (not recursive: exports are flat).
 fn folder_size(folder: &Path) -> Result<(usize, u64), String> {
     let entries = std::fs::read_dir(folder).map_err(|e| format!("{}: cannot list: {e}", folder.display()))?;
     let mut files = 0;
     let mut bytes = 0;
-    for entry in entries.flatten() {
+    let marker = guard::marker_name(MARKER_KIND);
+    for entry in entries.flatten().filter(|e| e.file_name() != marker.as_str()) {
         files += 1;
         bytes += entry.metadata().map_or(0, |m| m.len());
     }
@@ -189,7 +185,7 @@ pub(crate) fn write_file(
 ) -> Result<(), String> {
     let path = folder.join(name);
     let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-    let file = std::fs::File::create(&path).map_err(fail)?;
+    let file = guard::create_file(&path, &[]).map_err(|e| e.to_string())?;
     let mut buffer = std::io::BufWriter::new(file);
     body(&mut buffer).and_then(|()| std::io::Write::flush(&mut buffer)).map_err(fail)
 }

@@ -62,6 +62,8 @@ impl ResultsWriter {
             builder.set_attr(name, value);
         }
         let partial = path.with_extension("h5.partial");
+        super::guard::refuse_symlink(&partial).map_err(|e| OutputError::new(&partial, e.refusal_text()))?;
+        super::guard::refuse_symlink(path).map_err(|e| OutputError::new(path, e.refusal_text()))?;
         builder.write(&partial).map_err(|e| hdf5_error(&partial, e))?;
         std::fs::rename(&partial, path).map_err(|e| OutputError::io(path, e))?;
         Self::open(path, output).map(|(writer, _)| writer)

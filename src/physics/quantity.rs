@@ -2,7 +2,7 @@
 //!
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units in the HDF5
 //! attributes and in the CSV and report headers, the history tables, `compare --keep`, tune's
-//! `[keep]`, `summary --metric` and the README's column list all read these tables; nothing else
+//! `[keep]`, `summary --metric` and the column table of docs/results.md all read these tables; nothing else
 //! lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
 //! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
 //! record is turned into a row, never in the step loop.

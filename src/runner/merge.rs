@@ -5,6 +5,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
+use crate::output::guard;
 use crate::output::header::{FileHeader, utc_now};
 use crate::output::lock::ResultsLock;
 use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
@@ -87,6 +88,9 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     if results.exists() && !force {
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
+    let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
+    guard::check_results_replaceable(&results, &shard_files)
+        .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
     let header = if studies {
         combined_header(&shards)
     } else {

@@ -261,6 +261,8 @@ fn open_results(
         .into());
     }
     if exists {
+        output::guard::check_results_replaceable(path, &[&plan.study_path])
+            .map_err(|e| OutputError::new(path, e.refusal_text()))?;
         std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
     }
     let header = FileHeader {

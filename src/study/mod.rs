@@ -1,7 +1,7 @@
 //! Study files: a base scene plus sweep axes, expanded into a plan (the list of runs).
 //!
 //! Data flows one way: study file → [`Plan`] → runner → simulation → records → writers.
-//! [`load`] reads a study file (format: README.md, "Study files") and checks everything a run
+//! [`load`] reads a study file (format: docs/studies.md) and checks everything a run
 //! could fail on at its start: every problem of the whole study is reported at once.
 
 pub(crate) mod axes;
