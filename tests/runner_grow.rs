@@ -158,3 +158,29 @@ fn files_of_different_studies_merge_run_by_run() {
         assert_eq!(history_text(&merged.results, &id), history_text(&fresh.results, &id), "{id}");
     }
 }
+
+#[test]
+fn summary_report_plot_and_export_accept_a_folder_holding_one_results_file() {
+    let dir = runner_common::scratch("grow_folder");
+    let out = dir.join("out");
+    run(&write(&dir, "a.toml", &study("0.2", 1, "")), &out, false);
+    let demsweep =
+        |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap();
+    let o = out.to_str().unwrap();
+    let exported = dir.join("exported");
+    let plots = dir.join("plots");
+    for args in [
+        vec!["summary", o],
+        vec!["report", o],
+        vec!["plot", o, "--format", "svg", "--out", plots.to_str().unwrap()],
+        vec!["export", o, "--format", "csv", "--out", exported.to_str().unwrap()],
+    ] {
+        let done = demsweep(&args);
+        assert!(done.status.success(), "{args:?}: {}", String::from_utf8_lossy(&done.stderr));
+    }
+    assert!(dir.join("out/grow_report.html").is_file() && plots.join("r0000_frame_00001.svg").is_file());
+    std::fs::copy(out.join("grow.h5"), out.join("other.h5")).unwrap();
+    let refused = demsweep(&["summary", o]);
+    let text = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success() && text.contains("2 results files (grow.h5, other.h5)"), "{text}");
+}

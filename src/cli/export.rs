@@ -9,7 +9,8 @@ use demsweep::export::{ExportRequest, Format, export};
 
 #[derive(Args)]
 pub struct ExportArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = super::results::results_file)]
     results: PathBuf,
     /// File format.
     #[arg(long, value_enum)]

@@ -90,9 +90,15 @@ enum Progress {
     Quiet,
 }
 
+/// A results file argument: the file, or the one results file in a folder.
+pub fn results_file(arg: &str) -> Result<PathBuf, String> {
+    demsweep::output::reader::locate(std::path::Path::new(arg)).map_err(|e| e.to_string())
+}
+
 #[derive(Args)]
 pub struct SummaryArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// Write the table to this CSV file instead of printing it.
     #[arg(long, value_name = "FILE")]
@@ -113,7 +119,8 @@ pub struct SummaryArgs {
 
 #[derive(Args)]
 pub struct CompareArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// The reference point: its swept values (KEY=VALUE,KEY=VALUE; a key may be shortened to its last
     /// part) or the id of one of its runs.
@@ -138,7 +145,8 @@ pub struct CompareArgs {
 
 #[derive(Args)]
 pub struct HistoryArgs {
-    /// A results file (.h5).
+    /// A results file (.h5), or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// The run id (first column of `demsweep summary`), e.g. r0007.
     run_id: String,
@@ -146,7 +154,8 @@ pub struct HistoryArgs {
 
 #[derive(Args)]
 pub struct ReportArgs {
-    /// A results file (.h5).
+    /// A results file (.h5), or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// Where to write the page (default: <results file name without .h5>_report.html next to it).
     #[arg(long)]

@@ -12,6 +12,34 @@ use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs};
 
+/// The results file `path` names: the file itself, or the one results file (`*.h5`, not a temporary
+/// `*.partial` or `*.merging.h5`) in the folder `path`; an error naming the folder when it holds none
+/// or several (listed).
+pub fn locate(path: &Path) -> Result<std::path::PathBuf, OutputError> {
+    if !path.is_dir() {
+        return Ok(path.to_path_buf());
+    }
+    let entries = std::fs::read_dir(path).map_err(|e| OutputError::io(path, e))?;
+    let mut found: Vec<std::path::PathBuf> = entries
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "h5"))
+        .filter(|p| !p.to_string_lossy().ends_with(".merging.h5"))
+        .collect();
+    found.sort();
+    match found.len() {
+        1 => Ok(found.remove(0)),
+        0 => Err(OutputError::new(path, "no results file (*.h5) in this folder")),
+        _ => {
+            let names: Vec<String> =
+                found.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+            Err(OutputError::new(
+                path,
+                format!("holds {} results files ({}): name one of them", names.len(), names.join(", ")),
+            ))
+        }
+    }
+}
+
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
     if !path.is_file() {
