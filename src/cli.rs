@@ -123,14 +123,17 @@ enum Command {
         after_help = "Example:\n  demsweep history results/damping_sweep/damping_sweep.h5 r0007 > r0007.csv"
     )]
     History(results::HistoryArgs),
-    /// Merge shard files (from `run --shard K/N`) into one results file.
+    /// Merge shard files (from `run --shard K/N`), or results files of different studies, into one.
     #[command(
         long_about = "Merge the shard files of one study (written by `demsweep run --shard K/N`) into \
                       OUT/<study name>.h5 and its CSV summary, the same files a one-machine run writes \
                       (but for the creation time and wall times), copying one run at a time. Refuses shards \
-                      of different studies and runs present in two files. Missing shards, missing runs and \
+                      of one study whose input files or demsweep version differ, and runs present in two shards. Missing shards, missing runs and \
                       runs that failed with an error do not stop it: it merges what there is, lists them, \
-                      prints the commands that run those shards again and merge again, and exits 1.",
+                      prints the commands that run those shards again and merge again, and exits 1. Results files \
+                      of different studies merge run by run: each run identity (settings, input files, physics \
+                      version) once, renumbered r0000, ... in the order given; files written before run \
+                      identities and files of different physics versions are refused.",
         after_help = "Examples:\n  demsweep merge results/damping_sweep results/shards\n  \
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]

@@ -108,7 +108,7 @@ fn smallest_radius(disks: &[InitialDisk]) -> f64 {
 }
 
 /// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
-pub(super) fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
+pub fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
     let mut scene = scene.clone();
     scene.integrator.time_step = Some(dt);
     (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
