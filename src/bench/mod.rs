@@ -26,7 +26,7 @@ use crate::physics::{RunRecord, placement, run_scene};
 
 /// Where benchmarks write by default: a folder git ignores, so that running one changes no tracked file.
 pub const LATEST_DIR: &str = "results/bench_latest";
-/// The committed figures the README quotes; written only when asked (`demsweep bench KIND --update-results`).
+/// The committed figures the docs quote; written only when asked (`demsweep bench KIND --update-results`).
 pub const COMMITTED_DIR: &str = "results/bench";
 
 /// Both integrators, the paper's first.

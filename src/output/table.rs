@@ -34,6 +34,9 @@ pub struct SummaryTable {
     pub columns: Vec<Column>,
 }
 
+/// The column of each run's identity (the name of its group in its batch group).
+pub const IDENTITY: &str = "identity";
+
 /// Names of the columns that depend on the machine and the moment, not on the study.
 pub const TIMING_COLUMNS: [&str; 1] = ["wall_time"];
 
@@ -167,6 +170,7 @@ impl SummaryTable {
         }
         columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
         columns.push(column("message", texts(&|r| r.message.clone())));
+        columns.push(column(IDENTITY, texts(&|r| r.identity.clone())));
         Self { columns }
     }
 
@@ -234,6 +238,7 @@ impl SummaryTable {
                     simulated_time: number(simulated_time, i)?,
                     wall_time: number(wall_time, i)?,
                     final_values,
+                    identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
                 };
                 Some((row, usize::try_from(warnings[i]).ok()?))
             })

@@ -17,11 +17,13 @@ pub mod config;
 pub mod contact;
 mod contact_list;
 pub mod contact_network;
+pub mod contact_record;
 pub mod diagnostics;
 mod dispatch;
 mod energy;
 mod forces;
 mod integrator;
+pub mod keys;
 pub mod material;
 mod monitor;
 mod neighbors;
@@ -37,6 +39,10 @@ pub mod stability;
 pub mod time_step;
 mod vector;
 pub mod walls;
+
+/// The version of the physics: bumped by every change that changes a run's results, so that runs
+/// stored by another version are not reused as if this one had made them (see `study::identity`).
+pub const PHYSICS_VERSION: u32 = 1;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};

@@ -9,9 +9,9 @@
 
 use super::config::BroadPhaseKind;
 use super::contact::ContactState;
+use super::contact_record::Partner;
 use super::material::{effective_mass, effective_radius};
 use super::particles::{InitialContact, Particles};
-use super::pile::Partner;
 use super::walls::BoxWalls;
 
 /// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per

@@ -10,7 +10,7 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, resources};
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
@@ -42,7 +42,7 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
         study_path: file.path.clone(),
         study_text: file.text.clone(),
         name: study_name(doc, &file.path),
-        fingerprint: fingerprint(&file.text),
+        fingerprint: fingerprint_with_inputs(&file.text, &runs),
         output: toml::Value::Table(output).try_into().unwrap_or_default(),
         runs,
         warnings: planner.warnings.into_errors().0,
@@ -172,12 +172,21 @@ pub(crate) fn study_name(doc: &Document, path: &Path) -> String {
 /// FNV-1a 64 of the study text and the demsweep version, as 16 hex digits.
 pub(crate) fn fingerprint(text: &str) -> String {
     let bytes = text.bytes().chain(std::iter::once(0)).chain(env!("CARGO_PKG_VERSION").bytes());
-    let hash = bytes.fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
-    format!("{hash:016x}")
+    format!("{:016x}", super::identity::fnv(bytes))
+}
+
+/// The fingerprint of a study text whose runs are `runs`: of its text, the demsweep version and
+/// the content of its input files, so that shards or a resume whose placement file changed differ.
+fn fingerprint_with_inputs(text: &str, runs: &[PlannedRun]) -> String {
+    let mut inputs: Vec<u64> = RunIdentity::all(runs).iter().map(|identity| identity.inputs).collect();
+    inputs.sort_unstable();
+    inputs.dedup();
+    let digests: String = inputs.iter().map(|d| format!("{d:016x}")).collect();
+    fingerprint(&format!("{text}\0{digests}"))
 }
 
 /// Run ids `r0000`, `r0001`, ... zero-padded to the plan's size (at least 4 digits).
-pub(super) fn run_id(index: usize, runs: usize) -> String {
+pub(crate) fn run_id(index: usize, runs: usize) -> String {
     let width = runs.saturating_sub(1).to_string().len().max(4);
     format!("r{index:0width$}")
 }
@@ -365,6 +374,10 @@ impl<'a> Planner<'a> {
         }
         for (key, reason) in sampling_warnings(scene) {
             let warning = self.problem(point, key, reason);
+            self.warnings.push(warning);
+        }
+        for implausible in crate::physics::keys::implausible_values(scene) {
+            let warning = self.problem(point, &implausible.key, implausible.to_string());
             self.warnings.push(warning);
         }
         let disks = match initial {
