@@ -23,6 +23,7 @@ mod dispatch;
 mod energy;
 mod forces;
 mod integrator;
+pub mod key_spec;
 pub mod keys;
 pub mod material;
 mod monitor;
