@@ -8,7 +8,8 @@ use clap::{Args, Parser, Subcommand};
 mod bench;
 mod export;
 mod plot;
-use demsweep::study::{self, Plan};
+use demsweep::study::Plan;
+use demsweep::workflow::{self, LoadError};
 
 mod results;
 mod slurm;
@@ -262,23 +263,17 @@ pub fn main() -> ExitCode {
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
 /// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
-    if demsweep::tune::is_tune_file(path) {
-        eprintln!(
-            "error: {0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
-            path.display()
-        );
-        return Err(ExitCode::from(INVALID_STUDY));
-    }
-    let plan = study::load(path).map_err(|errors| {
-        eprintln!("{errors}");
-        eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+    let (plan, space) = workflow::load_study(path, out).map_err(|e| {
+        match e {
+            LoadError::TuneFile(_) => eprintln!("error: {e}"),
+            LoadError::Invalid(errors) => {
+                eprintln!("{errors}");
+                eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+            }
+        }
         ExitCode::from(INVALID_STUDY)
     })?;
-    for warning in &plan.warnings {
-        eprintln!("warning: {warning}");
-    }
-    let out = out.map_or_else(|| Path::new("results").join(&plan.name), Path::to_path_buf);
-    if let Some(warning) = study::resources::output_space_warning(&plan, &out) {
+    for warning in plan.warnings.iter().map(ToString::to_string).chain(space) {
         eprintln!("warning: {warning}");
     }
     Ok(plan)

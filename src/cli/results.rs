@@ -212,10 +212,12 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         commit: CommitPolicy { interval: args.commit_interval, ..CommitPolicy::default() },
         stop,
     };
-    match runner::run_plan(plan, &options) {
-        Ok(report) => {
-            print_report(&report, args);
-            ExitCode::from(report.exit_code() as u8)
+    match demsweep::workflow::run_study(plan, &options) {
+        Ok(run) => {
+            print_report(&run.report);
+            page_written(&run.report.results, run.page);
+            print_missing(&run.report, args);
+            ExitCode::from(run.report.exit_code() as u8)
         }
         Err(e) => {
             eprintln!("error: {e}");
@@ -224,7 +226,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
     }
 }
 
-fn print_report(report: &RunReport, args: &RunArgs) {
+fn print_report(report: &RunReport) {
     let mut counts: Vec<(String, usize)> = Vec::new();
     if let Some(ColumnData::Text(statuses)) = report.summary.column("status").map(|c| &c.data) {
         for status in statuses {
@@ -255,7 +257,10 @@ fn print_report(report: &RunReport, args: &RunArgs) {
         report.points_csv.display()
     );
     print_warnings(report);
-    write_report(&report.results, &ReportContext::default());
+}
+
+/// What to do about runs not recorded or failed.
+fn print_missing(report: &RunReport, args: &RunArgs) {
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
@@ -455,7 +460,12 @@ pub fn report(args: &ReportArgs) -> ExitCode {
 /// Writes the report of a results file just written and prints where it went; a report that cannot
 /// be written is a warning (the results are safe).
 pub fn write_report(results: &Path, context: &ReportContext) {
-    match demsweep::report::write_report(results, None, context) {
+    page_written(results, demsweep::report::write_report(results, None, context));
+}
+
+/// Says where the report page of `results` went (and which run groups it left out), or why there is none.
+pub fn page_written(results: &Path, page: demsweep::workflow::Page) {
+    match page {
         Ok((path, damaged)) => {
             println!("report: {}", path.display());
             damage_status(results, &damaged);

@@ -25,6 +25,7 @@ pub mod summary;
 pub mod table;
 mod writer;
 
+pub use compound::Field;
 pub use header::{FileHeader, ShardInfo, ShardSpec};
 pub use row::SummaryRow;
 pub use sink::{ResultSink, RunResult, Tables};

@@ -313,11 +313,12 @@ pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, Output
         Some(name) => name,
         None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
     };
+    find_group(file, path, &name)?.ok_or_else(missing)
+}
+
+/// Path of the run group called `name` (see [`SummaryRow::group_name`]), looked up in each batch
+/// (and bucket), newest first; `None` when no batch holds it.
+pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>, OutputError> {
     let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
-    parents
-        .iter()
-        .rev()
-        .map(|parent| format!("{parent}/{name}"))
-        .find(|group| file.group(group).is_ok())
-        .ok_or_else(missing)
+    Ok(parents.iter().rev().map(|parent| format!("{parent}/{name}")).find(|group| file.group(group).is_ok()))
 }

@@ -7,9 +7,9 @@
 use std::collections::HashSet;
 use std::fmt;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
 
 mod execute;
 pub mod interrupt;
@@ -28,7 +28,9 @@ pub use writer_thread::CommitPolicy;
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
 use crate::output::table::ColumnData;
-use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
+use crate::output::{
+    self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
+};
 use crate::physics::RunStatus;
 use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
@@ -162,9 +164,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     }
     let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<(&PlannedRun, &str)> =
-        reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str())).collect();
-    todo.sort_by(|(a, _), (b, _)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
+    let mut todo: Vec<&PlannedRun> = reuse.todo.iter().map(|&i| &plan.runs[i]).collect();
+    todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     if let (Some(note), false) = (capped, options.progress == ProgressMode::Quiet) {
@@ -175,7 +176,11 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
     let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
-    let ran = run_all(&todo, jobs, &options.stop, &view, sender);
+    let ran = run_all(&todo, jobs, &options.stop, &view, &|_, mut result| {
+        result.row.identity.clone_from(&identities[result.row.index]);
+        sender.send(result).is_ok()
+    });
+    drop(sender); // the writer thread finishes once the channel closes
     let warnings = view.finish();
     let (tables, writer_time) =
         writing.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
@@ -314,13 +319,32 @@ fn check_same_study(
     Ok(())
 }
 
-/// Runs `todo` in this order on `jobs` workers; returns how many finished (and were sent).
+/// Runs `runs` on `jobs` worker threads (0 = one per core, as `run`) and writes nothing: the summary
+/// row of each run, in the order given (`None` for a run that `stop` interrupted). The rows do not
+/// depend on `jobs`, but for their wall times.
+pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
+    let mut order: Vec<usize> = (0..runs.len()).collect();
+    order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
+    let todo: Vec<&PlannedRun> = order.iter().map(|&k| runs[k]).collect();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (jobs, _) = worker_count(jobs, todo.len(), cores);
+    let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
+    let rows = Mutex::new(vec![None; runs.len()]);
+    run_all(&todo, jobs, stop, &view, &|position, result| {
+        rows.lock().expect("no worker panics holding the rows")[order[position]] = Some(result.row);
+        true
+    })?;
+    Ok(rows.into_inner().expect("no worker panicked holding the rows"))
+}
+
+/// Runs `todo` in this order on `jobs` workers, handing each result and its position in `todo` to
+/// `deliver` (which says whether it was taken); returns how many were taken.
 fn run_all(
-    todo: &[(&PlannedRun, &str)],
+    todo: &[&PlannedRun],
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
-    sender: mpsc::SyncSender<RunResult>,
+    deliver: &(dyn Fn(usize, RunResult) -> bool + Sync),
 ) -> Result<usize, RunnerError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
@@ -331,16 +355,15 @@ fn run_all(
     let finished = AtomicUsize::new(0);
     pool.scope(|scope| {
         for worker in 0..jobs {
-            let sender = sender.clone();
             let (next, finished) = (&next, &finished);
             scope.spawn(move |_| {
                 while !stop.load(Ordering::SeqCst) {
-                    let Some(&(run, identity)) = todo.get(next.fetch_add(1, Ordering::SeqCst)) else { break };
+                    let position = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(run) = todo.get(position) else { break };
                     let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
-                    if let Some(mut result) = result {
-                        result.row.identity = identity.to_string();
+                    if let Some(result) = result {
                         view.finished(worker, &result.row);
-                        if sender.send(result).is_ok() {
+                        if deliver(position, result) {
                             finished.fetch_add(1, Ordering::SeqCst);
                         }
                     }
@@ -354,6 +377,26 @@ fn run_all(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_run_in_memory_come_in_the_order_given_whatever_the_workers() {
+        let scene = "particles.count = 12\nparticles.radius = 0.005\ndomain.width = 0.06\ndomain.height = 0.1\n\
+                     material.youngs_modulus = 5e10\nintegrator.time_step = 7e-6\nrun.duration = 0.4\n";
+        let table = crate::study::parse_table(Path::new("s"), scene.into()).unwrap();
+        let text = crate::study::scene_study(table, &crate::study::Seeds::List(vec![5, 1, 3]));
+        let plan = crate::study::load_text(Path::new("s"), text).unwrap();
+        let runs: Vec<&PlannedRun> = plan.runs.iter().rev().collect();
+        let stop = AtomicBool::new(false);
+        let timeless = |rows: Vec<Option<SummaryRow>>| -> Vec<SummaryRow> {
+            rows.into_iter().map(|r| SummaryRow { wall_time: 0.0, ..r.expect("not interrupted") }).collect()
+        };
+        let one = timeless(run_rows(&runs, 1, &stop).unwrap());
+        let two = timeless(run_rows(&runs, 2, &stop).unwrap());
+        assert_eq!(format!("{one:?}"), format!("{two:?}"), "bit for bit (NaN for NaN)");
+        let ids: Vec<&str> = one.iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(ids, ["r0002", "r0001", "r0000"]);
+        assert_ne!(one[0].final_values, one[1].final_values, "different seeds, different piles");
+    }
 
     #[test]
     fn workers_are_capped_by_runs_to_do_and_cores() {
