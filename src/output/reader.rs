@@ -111,7 +111,7 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
             Some((row, warnings)) => with_warnings(file, &group, row, warnings),
             None => group_row(file, &group),
         };
-        match row.and_then(|row| checked_id(row, &id)) {
+        match row.and_then(|row| checked_id(row, &name)) {
             Ok(row) => {
                 runs.rows.push(row);
                 runs.groups.insert(name, group);
@@ -127,8 +127,12 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
 /// The row if its run id is its group's name and can name files (plots and exports are named by
 /// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
 fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
-    if row.id != group_name {
-        return Err(format!("its run id `{}` is not its group's name `{group_name}`", row.id.escape_debug()));
+    if row.group_name() != group_name {
+        let named = if row.identity.is_empty() { "run id" } else { "identity" };
+        return Err(format!(
+            "its {named} `{}` is not its group's name `{group_name}`",
+            row.group_name().escape_debug()
+        ));
     }
     let unsafe_name =
         matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
@@ -330,11 +334,12 @@ pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, Output
         Some(name) => name,
         None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
     };
+    find_group(file, path, &name)?.ok_or_else(missing)
+}
+
+/// Path of the run group called `name` (see [`SummaryRow::group_name`]), looked up in each batch
+/// (and bucket), newest first; `None` when no batch holds it.
+pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>, OutputError> {
     let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
-    parents
-        .iter()
-        .rev()
-        .map(|parent| format!("{parent}/{name}"))
-        .find(|group| file.group(group).is_ok())
-        .ok_or_else(missing)
+    Ok(parents.iter().rev().map(|parent| format!("{parent}/{name}")).find(|group| file.group(group).is_ok()))
 }
