@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# The README's test command: installs what the tests need, then runs `cargo test --release`.
+# The README's test command: installs what the tests need, runs `cargo test --release`, then builds
+# the Python module (python/, pyproject.toml) into the tests' environment and runs its tests with
+# pytest (tests/python/: the module, docs/python.md's snippets, examples/calibrate.py). Both run;
+# the script fails when either fails.
 #
-#   scripts/test.sh [CARGO TEST ARGS...]      e.g. scripts/test.sh --test runner_interop
+#   scripts/test.sh                           everything: cargo test, then the Python module's tests
+#   scripts/test.sh [CARGO TEST ARGS...]      only cargo test, e.g. scripts/test.sh --test runner_interop
+#   scripts/test.sh --python [PYTEST ARGS...] only the Python module: build, install, pytest
 #
 # What the tests need beyond Rust, and where it comes from:
 #   - Python packages (tests/requirements.txt: h5py and numpy for the HDF5 interop test, Playwright
@@ -110,4 +115,47 @@ if ! cmp -s "$REQUIREMENTS" "$VENV/requirements.txt"; then
 fi
 
 export DEMSWEEP_PYTHON=$VENV/bin/python
-exec cargo test --release --no-fail-fast "$@"
+
+# The Python module, built against the same build folder (the library's dependencies compile once)
+# with the environment's maturin, and installed into the environment; its tests run the module and
+# the `demsweep` command of the same build ($DEMSWEEP_BIN).
+python_tests() {
+    local started=$SECONDS
+    # PYO3_PYTHON: the base Python, as .ci/run's clippy uses (the same one: PyO3 is not rebuilt).
+    if ! PATH=$VENV/bin:$PATH PYO3_PYTHON=$PYTHON CARGO_TARGET_DIR=$TARGET \
+         "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-deps \
+         --force-reinstall . ; then
+        echo "scripts/test.sh: the Python module did not build (pip install . above); its tests were not run" >&2
+        return 1
+    fi
+    cargo build --release --quiet --bin demsweep || return 1
+    echo "scripts/test.sh: Python module built and installed in $((SECONDS - started)) s; pytest tests/python"
+    local status=0
+    DEMSWEEP_BIN=$TARGET/release/demsweep "$VENV/bin/python" -m pytest -q tests/python "$@" || status=$?
+    # pytest: 0 passed, 1 some failed, 2 interrupted, 3 internal error, 4 usage error, 5 no tests ran.
+    case $status in
+        0) ;;
+        5) echo "scripts/test.sh: pytest found no Python tests to run" >&2 ;;
+        *) echo "scripts/test.sh: the Python tests failed (pytest exit status $status)" >&2 ;;
+    esac
+    echo "scripts/test.sh: Python module and tests took $((SECONDS - started)) s"
+    return $((status != 0))
+}
+
+if [[ ${1:-} == --python ]]; then
+    shift
+    python_tests "$@"
+    exit
+fi
+if (($#)); then
+    echo "scripts/test.sh: cargo test $*; the Python module's tests run without arguments, or with --python"
+    exec cargo test --release --no-fail-fast "$@"
+fi
+cargo_status=0
+cargo test --release --no-fail-fast || cargo_status=$?
+python_status=0
+python_tests || python_status=$?
+if ((cargo_status || python_status)); then
+    echo "scripts/test.sh: failed:$( ((cargo_status)) && echo " cargo test (exit status $cargo_status)")$( ((python_status)) && echo " the Python module's tests")" >&2
+    exit 1
+fi

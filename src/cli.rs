@@ -8,7 +8,8 @@ use clap::{Args, Parser, Subcommand};
 mod bench;
 mod export;
 mod plot;
-use demsweep::study::{self, Plan};
+use demsweep::study::Plan;
+use demsweep::workflow::{self, LoadError};
 
 mod results;
 mod slurm;
@@ -27,7 +28,7 @@ const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;
     about = "Batch parameter sweeps of 2D DEM simulations of granular deposition",
     long_about = "Batch parameter sweeps of 2D DEM simulations of granular deposition (the BMEDEM2D model).\n\n\
                   A study file (TOML) holds a base [scene] and [sweep] axes; demsweep expands it into runs. \
-                  The study file format is described in README.md, section \"Study files\".",
+                  The study file format is described in docs/studies.md.",
     after_help = "Examples:\n  demsweep check studies/damping_sweep.toml\n  demsweep plan studies/damping_sweep.toml\n  \
                   demsweep run studies/damping_sweep.toml\n  demsweep plot results/damping_sweep/damping_sweep.h5"
 )]
@@ -38,29 +39,37 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// List the runs a study expands to (id and swept parameters) and estimate their cost.
+    /// List the runs a study expands to (id and swept parameters) and estimate their cost; or a tune file's levers and budget.
     #[command(
         long_about = "List the runs a study expands to, in run order: each run's id, its swept parameters, \
                       disk count and time steps, then the total cost in particle-steps and a rough wall-time \
                       estimate (50 ns per particle-step on one core, divided by the cores; runs that settle \
-                      early finish sooner). The study is checked first, as by `demsweep check`.",
-        after_help = "Example:\n  demsweep plan studies/damping_sweep.toml --cores 8"
+                      early finish sooner). The study is checked first, as by `demsweep check`. Given a tune \
+                      file ([levers], [keep], [search]; see `demsweep tune`), it prints the levers, the \
+                      reference scene's predicted warnings and the cost bound of the budget.",
+        after_help = "Examples:\n  demsweep plan studies/damping_sweep.toml --cores 8\n  \
+                      demsweep plan studies/tune_deposition.toml"
     )]
     Plan(PlanArgs),
-    /// Check a study file without running anything: prints "ok: N runs" or every problem.
+    /// Check a study or tune file without running anything: prints "ok: N runs" or every problem.
     #[command(
-        long_about = "Check a study file without running anything. Every problem of the whole study is \
-                      reported at once, each with file, line, key and reason (unknown keys, wrong types, \
-                      impossible values, malformed sweep axes, disks that do not fit, unreadable placement \
-                      files). Prints \"ok: N runs\" and exits 0 when the study is valid, else exits 2.",
-        after_help = "Example:\n  demsweep check studies/damping_sweep.toml && echo valid"
+        long_about = "Check a study file (or a tune file: [levers], [keep], [search]) without running \
+                      anything. Every problem of the whole file is reported at once, each with file, line, key \
+                      and reason (unknown keys, wrong types, impossible values, malformed sweep axes or \
+                      levers, disks that do not fit, unreadable placement files). Warnings do not fail the \
+                      check: what the pre-run validity estimate predicts, and values implausible in their SI \
+                      unit (units are SI: `material.youngs_modulus = 10` is 10 Pa; the warning says what it \
+                      would be in GPa). Prints \"ok: N runs\" and exits 0 when the file is valid, else exits 2. \
+                      Every scene key with its default, unit and range: `demsweep keys`.",
+        after_help = "Examples:\n  demsweep check studies/damping_sweep.toml && echo valid\n  \
+                      demsweep check studies/tune_deposition.toml"
     )]
     Check(CheckArgs),
     /// Run a study: all runs in parallel, results in one HDF5 file and a CSV summary.
     #[command(
         long_about = "Run every run of a study in parallel (one simulation per worker thread) and write \
                       OUT/<study name>.h5 (HDF5: every run's parameters, status, histories, final state and \
-                      frames; layout in README.md, \"Result files\") and OUT/<study name>_summary.csv (one \
+                      frames; layout in docs/results.md) and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
                       to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
                       (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \
@@ -114,27 +123,26 @@ enum Command {
         after_help = "Example:\n  demsweep history results/damping_sweep/damping_sweep.h5 r0007 > r0007.csv"
     )]
     History(results::HistoryArgs),
-    /// Merge shard files (from `run --shard K/N`) into one results file.
+    /// Merge shard files (from `run --shard K/N`), or results files of different studies, into one.
     #[command(
         long_about = "Merge the shard files of one study (written by `demsweep run --shard K/N`) into \
                       OUT/<study name>.h5 and its CSV summary, the same files a one-machine run writes \
                       (but for the creation time and wall times), copying one run at a time. Refuses shards \
-                      of different studies and runs present in two files. Missing shards, missing runs and \
+                      of one study whose input files or demsweep version differ, and runs present in two shards. Missing shards, missing runs and \
                       runs that failed with an error do not stop it: it merges what there is, lists them, \
-                      prints the commands that run those shards again and merge again, and exits 1.",
+                      prints the commands that run those shards again and merge again, and exits 1. Results files \
+                      of different studies merge run by run: each run identity (settings, input files, physics \
+                      version) once, renumbered r0000, ... in the order given; files written before run \
+                      identities and files of different physics versions are refused.",
         after_help = "Examples:\n  demsweep merge results/damping_sweep results/shards\n  \
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
     Merge(results::MergeArgs),
-    /// Export stored piles for ParaView (vtk), LAMMPS (lammps) or a restart (csv).
+    /// Export stored piles for ParaView, LAMMPS or a restart (the formats: --format below).
     #[command(
         long_about = "Export the final state (and with --frames every recorded frame) of runs of a results \
-                      file into --out. vtk: VTK XML PolyData files ParaView opens (disks as points with \
-                      radius, velocity, angular velocity and contact force; the contact network as lines with \
-                      normal and tangential force; the box walls as lines) and .pvd time collections. lammps: \
-                      data files for atom_style sphere (units si, dimension 2). csv: the placement files \
-                      that placement.kind = \"file\" reads back, velocities and spins included. The folder \
-                      is written under a temporary name and renamed when complete.",
+                      file into --out, in one of the formats listed under --format (the export table of \
+                      docs/export.md). The folder is written under a temporary name and renamed when complete.",
         after_help = "Examples:\n  demsweep export results/damping_sweep/damping_sweep.h5 --format vtk --out piles\n  \
                       demsweep export results/damping_sweep/damping_sweep.h5 --format lammps --run r0003 --out lmp\n  \
                       demsweep export results/damping_sweep/damping_sweep.h5 --format csv --run r0003 --out restart"
@@ -171,6 +179,15 @@ enum Command {
                       demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
     )]
     Report(results::ReportArgs),
+    /// List every scene key with its default, SI unit, allowed values and description.
+    #[command(
+        long_about = "List every key of a scene (the [scene] table of a study or tune file) with its default, \
+                      its SI unit, the values it allows and what it is, from the same declaration the \
+                      configuration is read with (src/physics/config.rs). A PREFIX shows only the keys that \
+                      start with it; --markdown prints the table the docs hold (docs/studies.md).",
+        after_help = "Examples:\n  demsweep keys\n  demsweep keys material\n  demsweep keys --markdown"
+    )]
+    Keys(KeysArgs),
     /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a ladder.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
@@ -233,6 +250,15 @@ struct PlanArgs {
 }
 
 #[derive(Args)]
+struct KeysArgs {
+    /// Only the keys that start with this (e.g. `material`, `contact.linear`).
+    prefix: Option<String>,
+    /// Print a Markdown table (as in docs/studies.md).
+    #[arg(long)]
+    markdown: bool,
+}
+
+#[derive(Args)]
 struct CheckArgs {
     /// The study file (TOML).
     study: PathBuf,
@@ -244,7 +270,10 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
         Command::Run(args) => match load_or_report(args.study(), args.out()) {
-            Ok(plan) => results::run(&args, &plan),
+            Ok(plan) => {
+                note_long_cost(&plan, args.jobs().unwrap_or(usize::MAX).min(machine_cores()));
+                results::run(&args, &plan)
+            }
             Err(code) => code,
         },
         Command::Summary(args) => results::summary(&args),
@@ -254,6 +283,7 @@ pub fn main() -> ExitCode {
         Command::Export(args) => export::run(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Report(args) => results::report(&args),
+        Command::Keys(args) => keys(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Slurm(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => slurm::slurm(&args, &plan),
@@ -266,23 +296,17 @@ pub fn main() -> ExitCode {
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
 /// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
-    if demsweep::tune::is_tune_file(path) {
-        eprintln!(
-            "error: {0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
-            path.display()
-        );
-        return Err(ExitCode::from(INVALID_STUDY));
-    }
-    let plan = study::load(path).map_err(|errors| {
-        eprintln!("{errors}");
-        eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+    let (plan, space) = workflow::load_study(path, out).map_err(|e| {
+        match e {
+            LoadError::TuneFile(_) => eprintln!("error: {e}"),
+            LoadError::Invalid(errors) => {
+                eprintln!("{errors}");
+                eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+            }
+        }
         ExitCode::from(INVALID_STUDY)
     })?;
-    for warning in &plan.warnings {
-        eprintln!("warning: {warning}");
-    }
-    let out = out.map_or_else(|| Path::new("results").join(&plan.name), Path::to_path_buf);
-    if let Some(warning) = study::resources::output_space_warning(&plan, &out) {
+    for warning in plan.warnings.iter().map(ToString::to_string).chain(space) {
         eprintln!("warning: {warning}");
     }
     Ok(plan)
@@ -294,6 +318,7 @@ fn check(args: &CheckArgs) -> ExitCode {
     }
     match load_or_report(&args.study, None) {
         Ok(plan) => {
+            note_long_cost(&plan, machine_cores());
             let warnings = match plan.warnings.len() {
                 0 => String::new(),
                 1 => " (1 warning above)".into(),
@@ -308,14 +333,14 @@ fn check(args: &CheckArgs) -> ExitCode {
 
 fn plan(args: &PlanArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
-        let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        let cores = args.cores.unwrap_or_else(machine_cores).max(1);
         return tune::plan(&args.study, cores);
     }
     let plan = match load_or_report(&args.study, None) {
         Ok(plan) => plan,
         Err(code) => return code,
     };
-    let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    let cores = args.cores.unwrap_or_else(machine_cores).max(1);
     println!(
         "study {} ({}), fingerprint {}, {} runs",
         plan.name,
@@ -332,6 +357,28 @@ fn plan(args: &PlanArgs) -> ExitCode {
         duration(seconds / cores as f64),
     );
     ExitCode::SUCCESS
+}
+
+/// Estimated wall time past which `check` and `run` print it (s): an hour.
+const LONG_SWEEP: f64 = 3600.0;
+
+/// This machine's cores (at least 1).
+fn machine_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Prints the wall-time estimate of `plan` on `cores` (the figure `plan` gives) when it is long.
+fn note_long_cost(plan: &Plan, cores: usize) {
+    let seconds = plan.total_cost() * SECONDS_PER_PARTICLE_STEP / cores.max(1) as f64;
+    if seconds > LONG_SWEEP {
+        eprintln!(
+            "note: {}: about {} on {cores} cores ({:.4e} particle-steps; runs that settle stop sooner): see `demsweep plan {}`",
+            plan.study_path.display(),
+            duration(seconds),
+            plan.total_cost(),
+            plan.study_path.display()
+        );
+    }
 }
 
 /// One aligned line per run: id, swept parameters, disks, steps, particle-steps.
@@ -363,6 +410,28 @@ fn run_table(plan: &Plan) -> String {
             format!("{}\n", cells.join("  ").trim_end())
         })
         .collect()
+}
+
+fn keys(args: &KeysArgs) -> ExitCode {
+    let prefix = args.prefix.as_deref().unwrap_or("");
+    let keys: Vec<_> =
+        demsweep::physics::keys::scene_keys().into_iter().filter(|k| k.path.starts_with(prefix)).collect();
+    if keys.is_empty() {
+        eprintln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
+        return ExitCode::FAILURE;
+    }
+    if args.markdown {
+        print!("{}", demsweep::physics::keys::markdown_table(&keys));
+        return ExitCode::SUCCESS;
+    }
+    let width = keys.iter().map(|k| k.path.len() + k.default.len() + 3).max().unwrap_or(0);
+    for k in &keys {
+        let setting = format!("{} = {}", k.path, k.default);
+        let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
+        let range = if k.range.is_empty() { String::new() } else { format!(" ({})", k.range) };
+        println!("{setting:<width$}  {}{unit}{range}", k.description);
+    }
+    ExitCode::SUCCESS
 }
 
 /// `1 run`, `18 runs`.

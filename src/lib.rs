@@ -15,7 +15,9 @@
 //!   ParaView, LAMMPS and placement files) and `bench` (the command's accuracy, stability and
 //!   edge-case benchmarks, not a library interface).
 //!
-//! Above them all, the `demsweep` command (`src/cli`).
+//! - [`workflow`]: a study run and a tune as the command does them, for every front end.
+//!
+//! Above them all, the `demsweep` command (`src/cli`) and the Python module (`python/`).
 //!
 //! A scene built in code and run (see `examples/library.rs`):
 //!
@@ -43,5 +45,6 @@ pub mod slurm;
 pub mod stats;
 pub mod study;
 pub mod tune;
+pub mod workflow;
 
 pub use physics::{Control, RunRecord, RunStatus, SceneConfig, Simulation};

@@ -87,7 +87,7 @@ impl ArrayJob {
         }
         let scripts = self.script_paths();
         for (path, text) in [(&scripts.array, array), (&scripts.merge, merge)] {
-            std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+            crate::output::guard::write(path, text.as_bytes(), &[&self.study]).map_err(|e| e.to_string())?;
         }
         Ok(scripts)
     }

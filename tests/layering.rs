@@ -1,19 +1,20 @@
-//! The library's layers (README.md, "Development"; `src/lib.rs`): every `crate::<module>` path in
+//! The library's layers (docs/development.md; `src/lib.rs`): every `crate::<module>` path in
 //! the code of `src/` goes down the layers, or sideways within a layer without a cycle.
 //!
-//! cli → tune / bench / report / plot → runner / stats / slurm → output → study → physics
+//! cli → workflow → tune / bench / report / plot → runner / stats / slurm → output → study → physics
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Top-level modules by layer, lowest first. The command-line front end (`src/cli*`, `src/main.rs`)
 /// sits above them all and is not listed.
-const LAYERS: [&[&str]; 5] = [
+const LAYERS: [&[&str]; 6] = [
     &["physics"],
     &["study"],
     &["output"],
     &["runner", "stats", "slurm"],
     &["tune", "bench", "report", "plot", "export"],
+    &["workflow"],
 ];
 
 /// Imports that break the rule and are being removed. The test fails once one of them is gone, so
@@ -131,4 +132,226 @@ fn the_scan_sees_an_upward_import_and_a_cycle() {
     assert_eq!(graph["output"], BTreeSet::from(["stats".to_string()]));
     assert!(layer("output") < layer("stats"), "output → stats runs up");
     assert!(reaches(&graph, "stats", "output") && reaches(&graph, "output", "stats"));
+}
+
+/// A module path from the crate root (`["output", "writer"]` for `src/output/writer.rs`).
+type ModulePath = Vec<String>;
+
+/// Every file of `src/` by its module path (`src/lib.rs` is the root, `mod.rs` its folder's module).
+fn module_files() -> BTreeMap<ModulePath, PathBuf> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    files
+        .into_iter()
+        .filter(|f| !f.ends_with("main.rs"))
+        .map(|file| {
+            let mut path: ModulePath = file
+                .strip_prefix(&src)
+                .unwrap()
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy().trim_end_matches(".rs").to_string())
+                .collect();
+            if path.last().is_some_and(|last| last == "mod" || last == "lib") {
+                path.pop();
+            }
+            (path, file)
+        })
+        .collect()
+}
+
+/// The code of a file: comments and the `#[cfg(test)]` module at its end left out (tests may
+/// reach anything they test).
+fn code(text: &str) -> String {
+    let text = text.split("#[cfg(test)]\nmod tests").next().unwrap_or(text);
+    text.lines().map(|line| line.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
+}
+
+/// The paths of a use tree or path expression starting at `text` (`a::{b, c::D}` → `a::b`, `a::c::D`).
+fn paths_at(text: &str) -> Vec<Vec<String>> {
+    let mut prefix = Vec::new();
+    let mut rest = text;
+    loop {
+        let name: String = rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        if name.is_empty() {
+            break;
+        }
+        prefix.push(name.clone());
+        rest = &rest[name.len()..];
+        let Some(after) = rest.strip_prefix("::") else { break };
+        rest = after;
+        if let Some(group) = rest.strip_prefix('{') {
+            let (mut depth, mut start, mut paths) = (0, 0, Vec::new());
+            for (at, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => {
+                        paths.extend(paths_at(group[start..at].trim()));
+                        break;
+                    }
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        paths.extend(paths_at(group[start..at].trim()));
+                        start = at + 1;
+                    }
+                    _ => {}
+                }
+            }
+            return paths.into_iter().map(|p: Vec<String>| [prefix.clone(), p].concat()).collect();
+        }
+    }
+    vec![prefix]
+}
+
+/// The module paths named in `code` of module `module`: `crate::…`, `super::…`, `self::…`, and
+/// `use child::…` of its own child modules; `pub use` re-exports left out (a facade, not a use).
+fn named_paths(code: &str, module: &[String], files: &BTreeMap<ModulePath, PathBuf>) -> Vec<ModulePath> {
+    let mut found = Vec::new();
+    for statement in code.split(';') {
+        let statement = statement.trim_start();
+        if statement.starts_with("pub use") || statement.starts_with("pub(crate) use") {
+            continue;
+        }
+        if let Some(tree) = statement.strip_prefix("use ") {
+            let first: String = tree.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+            if files.contains_key(&[module, &[first]].concat()) {
+                found.extend(paths_at(tree).into_iter().map(|p| [module.to_vec(), p].concat()));
+            }
+        }
+        for start in ["crate::", "super::", "self::"] {
+            for (at, _) in statement.match_indices(start) {
+                let boundary = statement[..at].chars().last().is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_'));
+                if !boundary {
+                    continue;
+                }
+                let base: ModulePath = match start {
+                    "crate::" => Vec::new(),
+                    "super::" => module[..module.len().saturating_sub(1)].to_vec(),
+                    _ => module.to_vec(),
+                };
+                let tree = &statement[at + start.len()..];
+                found.extend(paths_at(tree).into_iter().map(|p| [base.clone(), p].concat()));
+            }
+        }
+    }
+    found
+}
+
+/// The file an item path lands in: the longest prefix that is a file, following that file's
+/// `pub use` re-exports of the next name.
+fn resolve(path: &[String], files: &BTreeMap<ModulePath, PathBuf>, exports: &Exports) -> Option<ModulePath> {
+    let module = (0..=path.len()).rev().map(|n| path[..n].to_vec()).find(|p| files.contains_key(p))?;
+    match path.get(module.len()).and_then(|name| exports.get(&(module.clone(), name.clone()))) {
+        Some(target) if target != path => resolve(target, files, exports),
+        _ => Some(module),
+    }
+}
+
+/// `(module, name)` → the path a `pub use` of that module re-exports as `name`.
+type Exports = BTreeMap<(ModulePath, String), Vec<String>>;
+
+fn exports(files: &BTreeMap<ModulePath, PathBuf>) -> Exports {
+    let mut exports = Exports::new();
+    for (module, file) in files {
+        let code = code(&std::fs::read_to_string(file).unwrap());
+        for statement in code.split(';').map(str::trim_start) {
+            let Some(tree) = statement.strip_prefix("pub use ").or_else(|| statement.strip_prefix("pub(crate) use "))
+            else {
+                continue;
+            };
+            let (base, tree) = match tree.split_once("::") {
+                Some(("crate", rest)) => (Vec::new(), rest),
+                Some(("super", rest)) => (module[..module.len().saturating_sub(1)].to_vec(), rest),
+                Some(("self", rest)) => (module.clone(), rest),
+                _ => (module.clone(), tree),
+            };
+            for path in paths_at(tree) {
+                if let Some(name) = path.last().filter(|n| *n != "self") {
+                    exports.insert((module.clone(), name.clone()), [base.clone(), path].concat());
+                }
+            }
+        }
+    }
+    exports
+}
+
+/// File → the other files it uses.
+fn file_graph() -> BTreeMap<String, BTreeSet<String>> {
+    let files = module_files();
+    let exports = exports(&files);
+    let label = |m: &ModulePath| if m.is_empty() { "lib".to_string() } else { m.join("/") };
+    let mut graph = BTreeMap::new();
+    for (module, file) in &files {
+        let code = code(&std::fs::read_to_string(file).unwrap());
+        let targets: BTreeSet<String> = named_paths(&code, module, &files)
+            .iter()
+            .filter_map(|path| resolve(path, &files, &exports))
+            .filter(|target| target != module)
+            .map(|target| label(&target))
+            .collect();
+        graph.insert(label(module), targets);
+    }
+    graph
+}
+
+/// The groups of files that reach each other (strongly connected, more than one file).
+fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> {
+    let mut groups: Vec<BTreeSet<String>> = Vec::new();
+    for file in graph.keys() {
+        if groups.iter().any(|g| g.contains(file)) {
+            continue;
+        }
+        let group: BTreeSet<String> =
+            graph.keys().filter(|other| reaches(graph, file, other) && reaches(graph, other, file)).cloned().collect();
+        if group.len() > 1 {
+            groups.push(group);
+        }
+    }
+    groups
+}
+
+/// File cycles being removed (by another change): the test fails once one is gone, so that the entry
+/// is deleted with it (none now: `tune/file ↔ tune/validity` went with #29's `tune/spec`).
+const CYCLES_BEING_REMOVED: [&[&str]; 0] = [];
+
+#[test]
+fn no_import_cycle_between_files() {
+    let mut found = cycles(&file_graph());
+    let mut problems = Vec::new();
+    for expected in CYCLES_BEING_REMOVED {
+        let expected: BTreeSet<String> = expected.iter().map(|f| f.to_string()).collect();
+        match found.iter().position(|g| *g == expected) {
+            Some(at) => drop(found.remove(at)),
+            None => problems.push(format!("{expected:?} is gone: delete it from CYCLES_BEING_REMOVED")),
+        }
+    }
+    problems.extend(found.iter().map(|g| g.iter().cloned().collect::<Vec<_>>().join(" ↔ ")));
+    assert!(problems.is_empty(), "files that import each other:\n  {}", problems.join("\n  "));
+}
+
+#[test]
+fn the_file_scan_sees_use_trees_and_re_exports() {
+    assert_eq!(
+        paths_at("output::{self, header::{FileHeader, utc_now}, OutputError};"),
+        [
+            vec!["output", "self"],
+            vec!["output", "header", "FileHeader"],
+            vec!["output", "header", "utc_now"],
+            vec!["output", "OutputError"]
+        ]
+    );
+    let module = |p: &str| p.split('/').map(str::to_string).collect::<ModulePath>();
+    let files: BTreeMap<ModulePath, PathBuf> =
+        ["output", "output/writer", "output/sink"].map(|m| (module(m), PathBuf::from(m))).into_iter().collect();
+    let exports = Exports::from([((module("output"), "ResultsWriter".into()), module("output/writer/ResultsWriter"))]);
+    let named = named_paths(
+        "use super::writer::RunResult; let w = crate::output::ResultsWriter::new();",
+        &module("output/sink"),
+        &files,
+    );
+    let resolved: Vec<ModulePath> = named.iter().filter_map(|p| resolve(p, &files, &exports)).collect();
+    assert_eq!(resolved, [module("output/writer"), module("output/writer")]);
+    let graph: BTreeMap<String, BTreeSet<String>> =
+        [("a", ["b"]), ("b", ["c"]), ("c", ["a"])].map(|(f, t)| (f.into(), t.map(String::from).into())).into();
+    assert_eq!(cycles(&graph), [BTreeSet::from(["a".to_string(), "b".to_string(), "c".to_string()])]);
 }

@@ -5,8 +5,9 @@ mod common;
 
 use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::contact_record::Partner;
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::pile::{Partner, fabric};
+use demsweep::physics::pile::fabric;
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::{Control, Simulation};
 

@@ -155,7 +155,9 @@ fn cargo_problems(words: &[&str]) -> Vec<String> {
         }
     }
     if words.first() == Some(&"run") && !words.contains(&"--example") {
-        problems.push("write `demsweep ...` (installed by `cargo install --path .`), not `cargo run -- ...`".into());
+        problems.push(
+            "write `demsweep ...` (installed by `cargo install --locked --path .`), not `cargo run -- ...`".into(),
+        );
     }
     problems
 }
@@ -169,6 +171,22 @@ fn missing_files(words: &[&str], folders: &[&str]) -> Vec<String> {
         .filter(|w| !Path::new(ROOT).join(w).exists())
         .map(|w| format!("no file {w}"))
         .collect()
+}
+
+/// The README is a front page; the guide is the chapters of docs/.
+#[test]
+fn the_readme_is_a_front_page_and_the_guide_is_in_docs() {
+    let readme = std::fs::read_to_string(Path::new(ROOT).join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= 300, "README.md has {lines} lines: move guide text into a chapter of docs/");
+    let chapters = documents().into_iter().filter(|(path, _)| path.parent() == Some(&Path::new(ROOT).join("docs")));
+    let unlinked: Vec<PathBuf> = chapters
+        .map(|(path, _)| path)
+        .filter(|path| path.file_name().is_some_and(|n| n != "README.md"))
+        .filter(|path| !readme.contains(&format!("(docs/{})", path.file_name().unwrap().to_string_lossy())))
+        .collect();
+    assert!(unlinked.is_empty(), "chapters the README does not link to: {unlinked:?}");
+    assert!(readme.contains("cargo install --locked --path ."), "install with the tested Cargo.lock");
 }
 
 #[test]

@@ -6,7 +6,7 @@
 //! - [`stability_map`]: where runs blow up over time step × stiffness × damping, against the prediction;
 //! - [`stress`]: edge-case scenes, each ending with a clear status and message;
 //! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts;
-//! - [`tune`]: `demsweep tune` against a brute-force grid over the same levers.
+//! - [`tune`]: `demsweep tune` against a brute-force ladder of time steps on the reference's seeds.
 
 pub mod accuracy;
 pub mod skipping;
@@ -26,7 +26,7 @@ use crate::physics::{RunRecord, placement, run_scene};
 
 /// Where benchmarks write by default: a folder git ignores, so that running one changes no tracked file.
 pub const LATEST_DIR: &str = "results/bench_latest";
-/// The committed figures the README quotes; written only when asked (`demsweep bench KIND --update-results`).
+/// The committed figures the docs quote; written only when asked (`demsweep bench KIND --update-results`).
 pub const COMMITTED_DIR: &str = "results/bench";
 
 /// Both integrators, the paper's first.
@@ -55,7 +55,7 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
     }
-    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    crate::output::guard::write(path, text.as_bytes(), &[]).map_err(|e| e.to_string())
 }
 
 /// Snake-case name of a scheme, as in scene files.

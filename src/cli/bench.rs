@@ -18,7 +18,7 @@ pub struct BenchArgs {
     /// Folder for the CSV, Markdown and chart files (default: results/bench_latest, which git ignores).
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Write into results/bench, the committed figures the README quotes, instead.
+    /// Write into results/bench, the committed figures the docs quote, instead.
     #[arg(long, global = true, conflicts_with = "out")]
     update_results: bool,
 }

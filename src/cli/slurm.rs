@@ -135,7 +135,7 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
     );
     println!("watch: squeue -j {},{}; logs in {}", ids.array_id, ids.merge_id, job.log_dir().display());
     println!(
-        "results: {}; if a task fails, see README.md, \"Running on a cluster (Slurm)\"",
+        "results: {}; if a task fails, see docs/cluster.md",
         job.out_dir.join(format!("{}.h5", job.study_name)).display()
     );
     Ok(())

@@ -7,9 +7,9 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use clap::Args;
-use demsweep::report::ReportContext;
 use demsweep::runner::interrupt;
-use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec, report};
+use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec};
+use demsweep::workflow::{self, TuneRunError};
 
 use super::INVALID_STUDY;
 
@@ -41,22 +41,11 @@ pub struct TuneArgs {
 /// The warnings of a valid file (clipped lever ranges, the reference scene's predicted validity
 /// warnings) go to stderr; returns them with the spec.
 pub fn load_or_report(path: &Path) -> Result<(TuneSpec, usize), ExitCode> {
-    let spec = tune::load(path).map_err(|errors| {
+    let (spec, warnings) = workflow::load_tune(path).map_err(|errors| {
         eprintln!("{errors}");
         eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
         ExitCode::from(INVALID_STUDY)
     })?;
-    let mut warnings = spec.warnings.clone();
-    match tune::validity::predicted_warnings(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) {
-        Ok(predicted) => warnings.extend(predicted.iter().map(|w| {
-            format!(
-                "scene (the reference): predicted: {w}. The reference itself breaks {}: tune holds every candidate \
-                 to no worse than the reference on it",
-                w.kind.limit_key()
-            )
-        })),
-        Err(reason) => warnings.push(format!("scene (the reference): {reason}")),
-    }
     for warning in &warnings {
         eprintln!("warning: {}: {warning}", path.display());
     }
@@ -174,9 +163,9 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         stop,
     };
     let started = std::time::Instant::now();
-    let outcome = match tune::tune(&mut spec, &options) {
-        Ok(outcome) => outcome,
-        Err(TuneError::Interrupted) => {
+    let run = match workflow::tune_file(&mut spec, &options) {
+        Ok(run) => run,
+        Err(TuneRunError::Tune(TuneError::Interrupted)) => {
             eprintln!("tune: {}", TuneError::Interrupted);
             return ExitCode::from(interrupt::EXIT_INTERRUPTED as u8);
         }
@@ -185,33 +174,19 @@ pub fn run(args: &TuneArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let text = report::paragraph(&spec, &outcome.result);
+    let (outcome, written) = (&run.report, &run.written);
     println!();
-    println!("{text}");
+    println!("{}", run.recommendation);
     println!();
-    let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let written = match report::write_all(&spec, &outcome.result, &dir, &text) {
-        Ok(written) => written,
-        Err(e) => {
-            eprintln!("tune: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
     println!("wrote {}", outcome.results.display());
     for file in &written.files {
         println!("wrote {}", file.display());
     }
-    let section = report::report_section(&spec, &outcome.result, &text).and_then(|s| {
-        demsweep::report::write_tune_section(&outcome.results, &spec.name, &s).map_err(|e| e.to_string())
-    });
-    match section {
+    match &run.section {
         Ok(path) => println!("wrote {}", path.display()),
         Err(e) => eprintln!("warning: no tune section for the report: {e}"),
     }
-    let jobs =
-        if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
-    let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };
-    super::results::write_report(&outcome.results, &context);
+    super::results::page_written(&outcome.results, run.page);
     for e in &written.chart_errors {
         eprintln!("chart not drawn: {e}");
     }

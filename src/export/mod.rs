@@ -1,9 +1,10 @@
-//! Exports of stored runs to other codes' formats, read from a results file: ParaView (VTK XML
-//! PolyData + a `.pvd` time collection), LAMMPS (`atom_style sphere` data file) and placement CSV
-//! (what `placement.kind = "file"` reads back, velocities and spins included).
+//! Exports of stored runs to other codes' formats, read from a results file. Every format is one
+//! file of this module and one row of [`FORMATS`] (its `--format` name, what it writes, its writer);
+//! `demsweep export --format` offers the table's names.
 //!
 //! Everything is written into a temporary sibling of the output folder, which is renamed to its
-//! final name only once complete: a failed export leaves nothing under that name.
+//! final name only once complete: a failed export leaves nothing under that name. Export folders
+//! hold a `.demsweep-export` marker: `--force` replaces only such a folder (see [`crate::output::guard`]).
 
 pub mod csv;
 pub mod lammps;
@@ -11,20 +12,42 @@ pub mod vtk;
 
 use std::path::{Path, PathBuf};
 
-use crate::output::reader;
+use crate::output::guard::{self, ReplacedFolder};
+use crate::output::reader::{self, DamagedGroup};
 use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
 use crate::physics::record::Snapshot;
 
-/// File formats of an export.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// VTK XML PolyData (`.vtp`: disks, contacts, walls) per state and a `.pvd` collection per run.
-    Vtk,
-    /// A LAMMPS data file (`.data`) per state.
-    Lammps,
-    /// A placement CSV (`.csv`) per state.
-    Csv,
+/// One export format: a row of [`FORMATS`].
+pub struct Format {
+    /// Its `--format` name.
+    pub name: &'static str,
+    /// What it writes, in a line (the CLI's help).
+    pub description: &'static str,
+    /// Writes the states of one run into a folder.
+    pub write_run: fn(&Path, &RunToExport, &[State]) -> Result<(), String>,
+}
+
+impl std::fmt::Debug for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Format({})", self.name)
+    }
+}
+
+/// Every export format. A new one is a file of this module and a row here.
+pub const FORMATS: &[&Format] = &[&vtk::FORMAT, &lammps::FORMAT, &csv::FORMAT];
+
+/// The format called `name`.
+pub fn format(name: &str) -> Option<&'static Format> {
+    FORMATS.iter().copied().find(|f| f.name == name)
+}
+
+/// A run being exported: its summary row and its stored data.
+pub struct RunToExport<'a> {
+    /// The run's summary row (id, status, per-run quantities).
+    pub row: &'a SummaryRow,
+    /// The run's stored scene and states.
+    pub run: &'a StoredRun,
 }
 
 /// What to export.
@@ -32,8 +55,8 @@ pub enum Format {
 pub struct ExportRequest {
     /// The results file.
     pub results: PathBuf,
-    /// The format.
-    pub format: Format,
+    /// The format (a row of [`FORMATS`]).
+    pub format: &'static Format,
     /// Run ids to export; empty: every run with a stored final state.
     pub runs: Vec<String>,
     /// Also export each run's recorded frames.
@@ -53,6 +76,8 @@ pub struct ExportSummary {
     pub files: usize,
     /// Bytes written.
     pub bytes: u64,
+    /// Run groups of the file that cannot be read (left out of an export of every run).
+    pub damaged: Vec<DamagedGroup>,
 }
 
 /// One state to write: the run it belongs to, its name in file names and the snapshot.
@@ -68,29 +93,32 @@ pub struct State<'a> {
 /// Exports the requested runs; errors name the run, file or option at fault.
 pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
     let out = &request.out;
-    if out.exists() && !request.force {
-        return Err(format!("{}: already exists: pass --force to replace it, or choose another --out", out.display()));
+    if exists_unforced(out, request.force) {
+        return Err(guard::GuardError { path: out.clone(), refusal: guard::Refusal::Exists }.to_string());
     }
     let file = reader::open(&request.results).map_err(|e| e.to_string())?;
-    let rows = reader::rows(&file, &request.results).map_err(|e| e.to_string())?;
-    let chosen = choose_runs(&rows, &request.runs, &request.results)?;
-    let partial = partial_folder(out);
-    if partial.exists() {
-        std::fs::remove_dir_all(&partial).map_err(|e| format!("{}: cannot remove: {e}", partial.display()))?;
+    let (rows, damaged) = reader::scan(&file, &request.results).map_err(|e| e.to_string())?;
+    if let Some(d) = damaged.iter().find(|d| request.runs.iter().any(|id| d.group.ends_with(&format!("/{id}")))) {
+        return Err(format!("{}: run group {} cannot be read ({})", request.results.display(), d.group, d.reason));
     }
-    std::fs::create_dir_all(&partial).map_err(|e| format!("{}: cannot create: {e}", partial.display()))?;
-    let written = write_runs(request, &file, &chosen, &partial);
-    if let Err(e) = written {
-        let _ = std::fs::remove_dir_all(&partial);
+    let chosen = choose_runs(&rows, &request.runs, &request.results)?;
+    let folder =
+        ReplacedFolder::prepare(out, MARKER_KIND, &[&request.results], request.force).map_err(|e| e.to_string())?;
+    if let Err(e) = write_runs(request, &file, &chosen, folder.partial()) {
+        folder.abandon();
         return Err(e);
     }
-    if out.exists() {
-        std::fs::remove_dir_all(out).map_err(|e| format!("{}: cannot replace: {e}", out.display()))?;
-    }
-    std::fs::rename(&partial, out)
-        .map_err(|e| format!("{}: cannot rename to {}: {e}", partial.display(), out.display()))?;
+    folder.finish().map_err(|e| e.to_string())?;
     let (files, bytes) = folder_size(out)?;
-    Ok(ExportSummary { runs: chosen.len(), files, bytes })
+    Ok(ExportSummary { runs: chosen.len(), files, bytes, damaged })
+}
+
+/// The kind of the marker file in an export folder (`.demsweep-export`): `--force` replaces only such folders.
+pub const MARKER_KIND: &str = "export";
+
+/// Whether something is at `out` and `--force` was not given.
+fn exists_unforced(out: &Path, force: bool) -> bool {
+    !force && std::fs::symlink_metadata(out).is_ok()
 }
 
 /// The rows to export: the named ones (each must exist), else every run that finished.
@@ -121,11 +149,7 @@ fn write_runs(
     for row in rows {
         let run = stored::read_run(file, &request.results, row).map_err(|e| e.to_string())?;
         let states = states(request, row, &run)?;
-        let written = match request.format {
-            Format::Vtk => vtk::write_run(folder, &run, &states),
-            Format::Lammps => states.iter().try_for_each(|s| lammps::write(folder, &run.scene, s)),
-            Format::Csv => states.iter().try_for_each(|s| csv::write(folder, s)),
-        };
+        let written = (request.format.write_run)(folder, &RunToExport { row, run: &run }, &states);
         written.map_err(|e| format!("{}: run {}: {e}", folder.display(), row.id))?;
     }
     Ok(())
@@ -162,19 +186,13 @@ fn states<'a>(request: &ExportRequest, row: &'a SummaryRow, run: &'a StoredRun) 
     Ok(states)
 }
 
-/// The temporary sibling an export is written into: `<out>.partial`.
-fn partial_folder(out: &Path) -> PathBuf {
-    let mut name = out.file_name().map(|n| n.to_os_string()).unwrap_or_else(|| "export".into());
-    name.push(".partial");
-    out.with_file_name(name)
-}
-
 /// Files and bytes in a folder (not recursive: exports are flat).
 fn folder_size(folder: &Path) -> Result<(usize, u64), String> {
     let entries = std::fs::read_dir(folder).map_err(|e| format!("{}: cannot list: {e}", folder.display()))?;
     let mut files = 0;
     let mut bytes = 0;
-    for entry in entries.flatten() {
+    let marker = guard::marker_name(MARKER_KIND);
+    for entry in entries.flatten().filter(|e| e.file_name() != marker.as_str()) {
         files += 1;
         bytes += entry.metadata().map_or(0, |m| m.len());
     }
@@ -189,7 +207,7 @@ pub(crate) fn write_file(
 ) -> Result<(), String> {
     let path = folder.join(name);
     let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-    let file = std::fs::File::create(&path).map_err(fail)?;
+    let file = guard::create_file(&path, &[]).map_err(|e| e.to_string())?;
     let mut buffer = std::io::BufWriter::new(file);
     body(&mut buffer).and_then(|()| std::io::Write::flush(&mut buffer)).map_err(fail)
 }

@@ -4,7 +4,7 @@
 //! file's text says who holds it. The file stays after the lock is released: removing it would let
 //! two processes lock two different files of the same name.
 
-use std::fs::{File, OpenOptions, TryLockError};
+use std::fs::{File, TryLockError};
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
@@ -28,12 +28,8 @@ impl ResultsLock {
     /// Takes the lock of `results` without waiting; the refusal names who holds it and what to do.
     pub fn acquire(results: &Path) -> Result<Self, OutputError> {
         let path = lock_path(results);
-        let mut file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(&path)
+        super::guard::refuse_symlink(&path).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
+        let mut file = super::guard::open_no_follow(&path, false)
             .map_err(|e| OutputError::new(&path, format!("cannot create the lock file: {e}")))?;
         match file.try_lock() {
             Ok(()) => {}

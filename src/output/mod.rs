@@ -3,7 +3,7 @@
 //! Data flows one way: runner → [`ResultSink`]s; the results file ([`ResultsWriter`])
 //! is one: run groups committed in batches, then `/summary`, `/points` and [`write_csv_files`] from
 //! the tables the runner computes. This layer reads and writes; it computes no statistics. The
-//! layout is in [`layout`] and README.md, "Result files".
+//! layout is in [`layout`] and docs/results.md.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 pub(crate) mod compound;
 pub(crate) mod copy;
 pub(crate) mod csv;
+pub mod guard;
 pub mod header;
 pub mod history;
 pub mod layout;
@@ -24,11 +25,12 @@ pub mod summary;
 pub mod table;
 mod writer;
 
+pub use compound::Field;
 pub use header::{FileHeader, ShardInfo, ShardSpec};
 pub use row::SummaryRow;
-pub use sink::ResultSink;
+pub use sink::{ResultSink, RunResult, Tables};
 pub use table::SummaryTable;
-pub use writer::{ResultsWriter, RunResult, Tables};
+pub use writer::ResultsWriter;
 
 /// A results-file problem, naming the file.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,4 +1,4 @@
-//! The attributes of a run group: its summary row and key scene values, in at most eight attributes.
+//! The attributes of a run group: its summary row, identity and scene, in at most eight attributes.
 //!
 //! ```text
 //! index, id, status, message   the run's identity and how it ended (int64, strings)
@@ -7,7 +7,8 @@
 //!                              [`ValidityWarning`]), then each per-run quantity by name
 //!                              (settle_time, steps, …, pile metrics); a missing value is null,
 //!                              an infinite one "inf" / "-inf"}
-//! scene                        JSON: key scene values as the simulation used them (see [`scene_values`])
+//! identity                     what the run's results depend on (`crate::study::RunIdentity`), the
+//!                              group's name; absent in files written before identities
 //! scene.json                   the complete scene
 //! ```
 //!
@@ -24,7 +25,6 @@ use serde_json::{Map, Value, json};
 
 use super::row::{OutcomeValue, SummaryRow};
 use crate::physics::SceneConfig;
-use crate::physics::material::{Elastic, Materials, restitution_from_beta};
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::RunStatus;
 use crate::study::ParamValue;
@@ -34,7 +34,7 @@ const ID: &str = "id";
 const STATUS: &str = "status";
 const MESSAGE: &str = "message";
 const ROW: &str = "row";
-const SCENE: &str = "scene";
+const IDENTITY: &str = "identity";
 const SCENE_JSON: &str = "scene.json";
 const PARAMETERS: &str = "parameters";
 const WARNINGS: &str = "warnings";
@@ -47,7 +47,7 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(&'static str, At
         (STATUS, AttrValue::String(row.status.as_str().to_string())),
         (MESSAGE, AttrValue::String(row.message.clone())),
         (ROW, AttrValue::String(row_json(row).to_string())),
-        (SCENE, AttrValue::String(Value::Object(scene_values(scene)).to_string())),
+        (IDENTITY, AttrValue::String(row.identity.clone())),
         (SCENE_JSON, AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
     ]
 }
@@ -108,31 +108,6 @@ fn json_param(value: &Value) -> Option<ParamValue> {
     }
 }
 
-/// Key scene values of a run, resolved as the simulation uses them (e.g. ν = 0.3 when not given).
-pub fn scene_values(scene: &SceneConfig) -> Map<String, Value> {
-    let m = Materials::from_scene(scene);
-    let nu = Elastic::new(scene.material.youngs_modulus, scene.material.poisson_ratio, scene.material.shear_modulus)
-        .poisson_ratio;
-    let values = [
-        ("youngs_modulus", float_json(scene.material.youngs_modulus)),
-        ("poisson_ratio", float_json(nu)),
-        ("beta", float_json(m.particle.beta)),
-        ("restitution", float_json(restitution_from_beta(m.particle.beta))),
-        ("friction", float_json(m.particle.friction)),
-        ("rolling_friction", float_json(m.particle.rolling_friction)),
-        ("density", float_json(scene.material.density)),
-        ("time_step", float_json(scene.integrator.time_step.unwrap_or(f64::NAN))),
-        ("integrator", serde_json::to_value(scene.integrator.scheme).unwrap_or_default()),
-        ("contact_law", serde_json::to_value(scene.contact.law).unwrap_or_default()),
-        ("count", json!(scene.particles.count)),
-        ("radius", float_json(scene.particles.radius)),
-        ("seed", json!(scene.placement.seed)),
-        ("duration", float_json(scene.run.duration)),
-        ("width", float_json(scene.domain.width)),
-    ];
-    values.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
-}
-
 /// Reads a summary row back from a run group's attributes (either layout); the error names what is
 /// missing.
 pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
@@ -144,6 +119,7 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
     let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
     let mut row = SummaryRow::failed(index, &text(ID)?, &[], &text(MESSAGE)?);
     row.status = status;
+    row.identity = attrs.get(IDENTITY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
     match attrs.get(ROW) {
         Some(json) => {
             let json = json.as_str().ok_or(format!("`{ROW}` is not text"))?;

@@ -1,6 +1,5 @@
 //! The summary of a results file: read it, print it aligned, export it as CSV.
 
-use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -16,7 +15,7 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
 
 /// Writes a table (the summary or the points) as a CSV file (header line, RFC 4180 quoting, missing values empty).
 pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
-    let file = fs::File::create(path).map_err(|e| OutputError::io(path, e))?;
+    let file = super::guard::create_file(path, &[]).map_err(|e| OutputError::new(path, e.refusal_text()))?;
     let mut out = BufWriter::new(file);
     csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
 }

@@ -3,10 +3,10 @@
 //! ([`forces`](super::forces)), so it gives the forces the next step would compute, to the bit.
 
 use super::contact::{ContactForce, ContactLaw, ContactState};
+use super::contact_record::{Partner, PileContact};
 use super::forces::{ContactParameters, relative_motion, unit_normal_and_overlap};
 use super::neighbors::NeighborList;
 use super::particles::Particles;
-use super::pile::{Partner, PileContact};
 use super::walls::BoxWalls;
 
 /// Every touching disk pair (in neighbour-list order), then every disk-wall contact, with the

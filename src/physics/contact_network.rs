@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::contact_record::{Partner, PileContact};
 use super::particles::Particles;
-use super::pile::{Partner, PileContact};
 
 /// Every contact carrying force at one time: disk pairs first (ordered by first disk), then disk-wall
 /// contacts. Forces act on `first`; on `second` (a disk) they act the other way.

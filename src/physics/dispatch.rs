@@ -9,7 +9,7 @@ use super::particles::{InitialContact, InitialDisk, Particles};
 use super::record::RunRecord;
 use super::simulation::{Control, Progress, Simulation};
 use super::stability::{self, StabilityReport};
-use super::time_step::{self, ResolvedTimeStep};
+use super::time_step::{self, ResolvedTimeStep, with_time_step};
 use super::walls::BoxWalls;
 
 /// Builds and runs one scene with the contact law it names. `disks`: explicit initial states
@@ -71,14 +71,6 @@ pub fn scene_time_step(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> Re
         }
     }
     scene.contact.dispatch(Resolve(scene, disks))
-}
-
-/// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
-pub(super) fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
-    let mut scene = scene.clone();
-    scene.integrator.time_step = Some(dt);
-    (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
-    scene
 }
 
 /// The pre-run stability estimate of a scene starting from `disks` with its own contact law,

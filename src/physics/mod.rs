@@ -17,11 +17,14 @@ pub mod config;
 pub mod contact;
 mod contact_list;
 pub mod contact_network;
+pub mod contact_record;
 pub mod diagnostics;
 mod dispatch;
 mod energy;
 mod forces;
 mod integrator;
+pub mod key_spec;
+pub mod keys;
 pub mod material;
 mod monitor;
 mod neighbors;
@@ -39,8 +42,13 @@ mod vector;
 pub mod walls;
 pub mod warning;
 
+/// The version of the physics: bumped by every change that changes a run's results, so that runs
+/// stored by another version are not reused as if this one had made them (see `study::identity`).
+pub const PHYSICS_VERSION: u32 = 1;
+
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
 pub use dispatch::{predict_stability, run_scene, run_scene_with_history, scene_time_step};
+pub use neighbors::CellGrid;
 pub use record::{RunRecord, RunStatus};
 pub use simulation::{Control, Progress, Simulation};

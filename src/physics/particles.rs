@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use super::pile::Partner;
+use super::contact_record::Partner;
 
 /// Initial state of one disk (velocities default to rest).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -20,59 +20,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::quantity::PILE_METRICS;
-
-/// What a contact touches besides its first disk.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Partner {
-    /// Another disk (index).
-    Disk(usize),
-    /// A wall (index in the box's walls; 0 is the floor).
-    Wall(usize),
-}
-
-/// One contact of a state.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PileContact {
-    /// The first disk.
-    pub disk: usize,
-    /// What it touches.
-    pub partner: Partner,
-    /// Unit normal from the disk towards its partner.
-    pub normal: [f64; 2],
-    /// Normal force (N), repulsive when positive.
-    pub normal_force: f64,
-    /// Tangential force (N).
-    pub tangential_force: f64,
-    /// Sliding friction coefficient of the contact.
-    pub friction: f64,
-    /// Overlap over the smaller radius.
-    pub overlap_ratio: f64,
-    /// Tangential spring ξ (m) and the law's state as a number: the contact's history, as the
-    /// next step starts from it (what a restart needs).
-    pub history: (f64, f64),
-}
-
-/// Relative tolerance of "at the Coulomb limit" in [`PileContact::is_sliding`].
-const SLIDING_TOLERANCE: f64 = 1e-9;
-
-impl PileContact {
-    fn carries_force(&self) -> bool {
-        self.normal_force > 0.0
-    }
-
-    /// Whether the contact has friction and its tangential force sits on the Coulomb limit `μ F_n`.
-    pub fn is_sliding(&self) -> bool {
-        self.friction > 0.0
-            && self.tangential_force.abs() >= self.friction * self.normal_force * (1.0 - SLIDING_TOLERANCE)
-    }
-    fn disks(&self) -> Option<(usize, usize)> {
-        match self.partner {
-            Partner::Disk(j) => Some((self.disk, j)),
-            Partner::Wall(_) => None,
-        }
-    }
-}
+use super::contact_record::{Partner, PileContact};
 
 /// The disks of a pile and its box.
 #[derive(Clone, Copy, Debug)]
@@ -89,44 +37,26 @@ pub struct PileGeometry<'a> {
     pub width: f64,
 }
 
-/// The pile metrics of one state, in the order of [`PILE_METRICS`] (NaN where undefined, e.g. no
-/// contacts).
+/// Number of pile metrics (the length of [`super::quantity::PILE_METRICS`], which checks it).
+pub const PILE_METRIC_COUNT: usize = 13;
+
+/// The pile metrics of one state, in the order of `quantity::PILE_METRICS` (NaN where undefined, e.g.
+/// no contacts); measured and looked up by name in `quantity`, which declares them.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PileMetrics {
-    values: [f64; PILE_METRICS.len()],
+    pub(super) values: [f64; PILE_METRIC_COUNT],
 }
 
 impl Default for PileMetrics {
     fn default() -> Self {
-        Self { values: [f64::NAN; PILE_METRICS.len()] }
+        Self { values: [f64::NAN; PILE_METRIC_COUNT] }
     }
 }
 
 impl PileMetrics {
-    /// Measures a pile from its disks and contacts: every metric of [`PILE_METRICS`].
-    pub fn measure(geometry: &PileGeometry, contacts: &[PileContact]) -> Self {
-        let pile = Pile::new(geometry, contacts);
-        Self { values: PILE_METRICS.map(|metric| (metric.value)(&pile)) }
-    }
-
-    /// The metrics in the order of [`PILE_METRICS`].
-    pub fn values(&self) -> &[f64; PILE_METRICS.len()] {
+    /// The metrics in the order of `quantity::PILE_METRICS`.
+    pub fn values(&self) -> &[f64; PILE_METRIC_COUNT] {
         &self.values
-    }
-
-    /// The metric called `name`, `None` when there is no such metric.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        PILE_METRICS.iter().position(|m| m.name == name).map(|k| self.values[k])
-    }
-}
-
-impl std::ops::Index<&str> for PileMetrics {
-    type Output = f64;
-
-    /// The metric called `name`; panics naming it when there is no such metric.
-    fn index(&self, name: &str) -> &f64 {
-        let k = PILE_METRICS.iter().position(|m| m.name == name);
-        &self.values[k.unwrap_or_else(|| panic!("no pile metric `{name}`"))]
     }
 }
 

@@ -2,14 +2,15 @@
 //!
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units in the HDF5
 //! attributes and in the CSV and report headers, the history tables, `compare --keep`, tune's
-//! `[keep]`, `summary --metric` and the README's column list all read these tables; nothing else
+//! `[keep]`, `summary --metric` and the column table of docs/results.md all read these tables; nothing else
 //! lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
 //! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
 //! record is turned into a row, never in the step loop.
 //!
 //! Units are SI symbols; an empty unit means dimensionless (a ratio, a fraction, a count).
 
-use super::pile::Pile;
+use super::contact_record::PileContact;
+use super::pile::{PILE_METRIC_COUNT, Pile, PileGeometry, PileMetrics};
 use super::record::{History, RunRecord};
 
 /// One declared quantity; `value` says how it is computed (`()` where the runner measures it).
@@ -112,7 +113,7 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 10] = [
 
 /// The pile metrics, measured once at the end of a run (see [`super::pile`] for the definitions;
 /// only contacts that carry force count).
-pub const PILE_METRICS: [Quantity<PileValue>; 13] = [
+pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
     Quantity { name: "pile_height", unit: "m", description: "Highest disk top.", value: |pile| pile.height() },
     Quantity {
         name: "packing_fraction",
@@ -187,6 +188,29 @@ pub const PILE_METRICS: [Quantity<PileValue>; 13] = [
         value: |pile| pile.mean_overlap_ratio(),
     },
 ];
+
+impl PileMetrics {
+    /// Measures a pile from its disks and contacts: every metric of [`PILE_METRICS`].
+    pub fn measure(geometry: &PileGeometry, contacts: &[PileContact]) -> Self {
+        let pile = Pile::new(geometry, contacts);
+        Self { values: PILE_METRICS.map(|metric| (metric.value)(&pile)) }
+    }
+
+    /// The metric called `name`, `None` when there is no such metric.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        PILE_METRICS.iter().position(|m| m.name == name).map(|k| self.values[k])
+    }
+}
+
+impl std::ops::Index<&str> for PileMetrics {
+    type Output = f64;
+
+    /// The metric called `name`; panics naming it when there is no such metric.
+    fn index(&self, name: &str) -> &f64 {
+        let k = PILE_METRICS.iter().position(|m| m.name == name);
+        &self.values[k.unwrap_or_else(|| panic!("no pile metric `{name}`"))]
+    }
+}
 
 /// Number of final values of a run: [`FINAL_VALUES`] then [`PILE_METRICS`].
 pub const FINAL_VALUE_COUNT: usize = FINAL_VALUES.len() + PILE_METRICS.len();

@@ -9,8 +9,8 @@ use super::config::SceneConfig;
 use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
 use super::contact_list;
 use super::contact_network::ContactNetwork;
+use super::contact_record::PileContact;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
-use super::dispatch::with_time_step;
 use super::energy::EnergyLedger;
 use super::forces::{ContactParameters, TouchingPairs};
 use super::integrator::{Integrator, StepContext};
@@ -18,11 +18,11 @@ use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
 use super::particles::{InitialContact, InitialDisk, Particles};
-use super::pile::{PileContact, PileGeometry, PileMetrics};
+use super::pile::{PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
 use super::rolling;
 use super::stability::{self, StabilityReport};
-use super::time_step;
+use super::time_step::{self, with_time_step};
 use super::vector;
 use super::walls::BoxWalls;
 use super::warning::ValidityWarning;
@@ -388,7 +388,7 @@ impl<L: ContactLaw> Simulation<L> {
 mod tests {
     use super::*;
     use crate::physics::contact::{ContactForce, ContactLawKind, LawVisitor};
-    use crate::physics::pile::Partner;
+    use crate::physics::contact_record::Partner;
 
     /// Settles a small frictional pile with law `L`, then compares at that state the one-contact
     /// evaluation with the block stages: per-disk force, torque and force-magnitude sums, each

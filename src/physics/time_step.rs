@@ -100,6 +100,14 @@ fn smallest_radius(disks: &[InitialDisk]) -> f64 {
     disks.iter().map(|d| d.r).fold(f64::INFINITY, f64::min)
 }
 
+/// The scene with its time step fixed at `dt` (s), the fractions that chose it removed.
+pub fn with_time_step(scene: &SceneConfig, dt: f64) -> SceneConfig {
+    let mut scene = scene.clone();
+    scene.integrator.time_step = Some(dt);
+    (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) = (None, None);
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -179,10 +179,11 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> 
             options.width, options.height
         )));
     }
-    if let Canvas::File(path) = &canvas
-        && let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty())
-    {
-        std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+    if let Canvas::File(path) = &canvas {
+        if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+        }
+        crate::output::guard::check_file(path, &[]).map_err(|e| fail(e.refusal_text()))?;
     }
     style::register_font();
     let size = (options.width, options.height);

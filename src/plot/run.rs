@@ -75,7 +75,7 @@ pub fn animation<'c>(
         .iter()
         .map(|(s, scale)| super::render_rgb(&SnapshotFigure { snapshot: s, box_size, scale }, options, &path))
         .collect::<Result<Vec<_>, _>>()?;
-    let file = std::fs::File::create(&path).map_err(|e| fail(format!("cannot create: {e}")))?;
+    let file = crate::output::guard::create_file(&path, &[]).map_err(|e| fail(e.refusal_text()))?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), options.width, options.height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);

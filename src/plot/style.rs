@@ -215,10 +215,12 @@ fn trim_zeros(text: &str) -> &str {
     if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.') } else { text }
 }
 
-/// Viridis colour of `value` on the scale `range` (values outside are clamped).
+/// Viridis colour of `value` on the scale `range` (values outside are clamped). The fraction along
+/// the scale is computed in f64: a scale up to 1e200 (a diverged run's speeds) overflows f32.
 pub(super) fn viridis(value: f64, range: &Range<f64>) -> RGBColor {
-    let clamped = value.clamp(range.start, range.end);
-    ViridisRGB.get_color_normalized(clamped as f32, range.start as f32, range.end as f32)
+    let fraction = (value - range.start) / (range.end - range.start);
+    let fraction = if fraction.is_finite() { fraction.clamp(0.0, 1.0) } else { 0.0 };
+    ViridisRGB.get_color_normalized(fraction as f32, 0.0, 1.0)
 }
 
 /// Number of colour steps drawn in a colour bar.
@@ -264,4 +266,19 @@ where
         Rectangle::new([(0.0, lo), (1.0, lo + step)], viridis(lo + step / 2.0, &range).filled())
     }))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn viridis_takes_scales_beyond_f32_and_values_that_are_not_finite() {
+        let huge = 0.0..1e200;
+        assert_eq!(viridis(1e200, &huge), viridis(1.0, &(0.0..1.0)), "the top of the scale");
+        assert_eq!(viridis(0.0, &huge), viridis(0.0, &(0.0..1.0)), "the bottom of the scale");
+        assert_eq!(viridis(f64::NAN, &huge), viridis(0.0, &huge));
+        assert_eq!(viridis(f64::INFINITY, &(0.0..f64::INFINITY)), viridis(0.0, &huge));
+        assert_eq!(viridis(2e300, &huge), viridis(1e200, &huge), "clamped");
+    }
 }

@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+use crate::output::guard;
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
@@ -67,7 +68,7 @@ pub fn tune_section_path(results: &Path, study_name: &str) -> PathBuf {
 pub fn write_tune_section(results: &Path, study_name: &str, section: &TuneSection) -> Result<PathBuf, OutputError> {
     let path = tune_section_path(results, study_name);
     let json = serde_json::to_string(section).map_err(|e| OutputError::new(&path, e.to_string()))?;
-    std::fs::write(&path, json).map_err(|e| OutputError::io(&path, e))?;
+    guard::write(&path, json.as_bytes(), &[results]).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
     Ok(path)
 }
 
@@ -145,7 +146,7 @@ pub fn write_report(
     runs += "</div>";
     page.push(&runs);
     let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
-    std::fs::write(&path, page.finish()).map_err(|e| OutputError::io(&path, e))?;
+    guard::write(&path, page.finish().as_bytes(), &[results]).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
     Ok((path, damaged))
 }
 

@@ -7,14 +7,15 @@
 use std::collections::HashSet;
 use std::fmt;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
 
 mod execute;
 pub mod interrupt;
 pub mod merge;
 mod progress;
+mod reuse;
 pub mod shard;
 mod warnings;
 mod writer_thread;
@@ -27,9 +28,11 @@ pub use writer_thread::CommitPolicy;
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
 use crate::output::table::ColumnData;
-use crate::output::{self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryTable};
+use crate::output::{
+    self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
+};
 use crate::physics::RunStatus;
-use crate::study::{Plan, PlannedRun};
+use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
 
 /// How to run a plan.
@@ -43,6 +46,9 @@ pub struct RunOptions {
     pub resume: bool,
     /// Overwrite an existing results file.
     pub force: bool,
+    /// With `resume`: delete the stored runs the study no longer plans (else they stay in the file,
+    /// out of the summary).
+    pub drop_unplanned: bool,
     /// Run only this shard of the plan.
     pub shard: Option<ShardSpec>,
     /// How progress is shown.
@@ -145,10 +151,20 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     };
     let path = results_path(plan, options);
     let (_lock, mut writer) = open_results(plan, options, &path, &selected)?;
-    let existing = writer.take_existing();
+    let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
+    let stored = writer.take_existing();
+    let reuse = reuse::Reuse::new(plan, &identities, &selected, stored, &mut writer)?;
+    if options.drop_unplanned {
+        writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
+    }
+    if options.progress != ProgressMode::Quiet {
+        for note in reuse.notes(&path, options.drop_unplanned) {
+            eprintln!("note: {note}");
+        }
+    }
+    let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<&PlannedRun> =
-        selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
+    let mut todo: Vec<&PlannedRun> = reuse.todo.iter().map(|&i| &plan.runs[i]).collect();
     todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
@@ -158,9 +174,13 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
-    let sinks = writer_thread::Sinks { committed: existing, sinks: vec![Box::new(writer)] };
+    let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
-    let ran = run_all(&todo, jobs, &options.stop, &view, sender);
+    let ran = run_all(&todo, jobs, &options.stop, &view, &|_, mut result| {
+        result.row.identity.clone_from(&identities[result.row.index]);
+        sender.send(result).is_ok()
+    });
+    drop(sender); // the writer thread finishes once the channel closes
     let warnings = view.finish();
     let (tables, writer_time) =
         writing.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
@@ -173,7 +193,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         selected: selected.len(),
         already_done: done.len(),
         ran,
-        interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
+        interrupted: options.stop.load(Ordering::SeqCst) && tables.summary.len() < selected.len(),
         summary: tables.summary,
         points: tables.points,
         wall_time: started.elapsed(),
@@ -216,11 +236,24 @@ fn open_results(
     std::fs::create_dir_all(dir)
         .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
     check_writable(dir)?;
+    // The CSV files are written last: a link there is refused before anything is replaced.
+    for written in [output::csv_path(path), output::points_csv_path(path)] {
+        output::guard::refuse_symlink(&written).map_err(|e| OutputError::new(&written, e.refusal_text()))?;
+    }
     let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {
         let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
-        check_same_study(path, &header, plan, options.shard)?;
+        check_same_study(path, &header, plan, options.shard, writer.has_identities())?;
+        if header.fingerprint != plan.fingerprint {
+            writer.set_header(&FileHeader {
+                study_text: plan.study_text.clone(),
+                fingerprint: plan.fingerprint.clone(),
+                planned_runs: plan.runs.len(),
+                shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
+                ..header
+            })?;
+        }
         // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
         let damaged = writer.forget_damaged()?;
         writer.forget_failed()?;
@@ -237,6 +270,8 @@ fn open_results(
         .into());
     }
     if exists {
+        output::guard::check_results_replaceable(path, &[&plan.study_path])
+            .map_err(|e| OutputError::new(path, e.refusal_text()))?;
         std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
     }
     let header = FileHeader {
@@ -264,12 +299,14 @@ fn check_same_study(
     header: &FileHeader,
     plan: &Plan,
     shard: Option<ShardSpec>,
+    identities: bool,
 ) -> Result<(), OutputError> {
-    if header.fingerprint != plan.fingerprint {
+    if header.fingerprint != plan.fingerprint && !identities {
         return Err(OutputError::new(
             path,
             format!(
-                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}): \
+                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}) \
+                 written before runs had identities, so its runs cannot be matched to this study's: \
                  use another --out directory, or --force to overwrite",
                 header.study_name, header.fingerprint, plan.fingerprint
             ),
@@ -286,13 +323,32 @@ fn check_same_study(
     Ok(())
 }
 
-/// Runs `todo` in this order on `jobs` workers; returns how many finished (and were sent).
+/// Runs `runs` on `jobs` worker threads (0 = one per core, as `run`) and writes nothing: the summary
+/// row of each run, in the order given (`None` for a run that `stop` interrupted). The rows do not
+/// depend on `jobs`, but for their wall times.
+pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
+    let mut order: Vec<usize> = (0..runs.len()).collect();
+    order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
+    let todo: Vec<&PlannedRun> = order.iter().map(|&k| runs[k]).collect();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (jobs, _) = worker_count(jobs, todo.len(), cores);
+    let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
+    let rows = Mutex::new(vec![None; runs.len()]);
+    run_all(&todo, jobs, stop, &view, &|position, result| {
+        rows.lock().expect("no worker panics holding the rows")[order[position]] = Some(result.row);
+        true
+    })?;
+    Ok(rows.into_inner().expect("no worker panicked holding the rows"))
+}
+
+/// Runs `todo` in this order on `jobs` workers, handing each result and its position in `todo` to
+/// `deliver` (which says whether it was taken); returns how many were taken.
 fn run_all(
     todo: &[&PlannedRun],
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
-    sender: mpsc::SyncSender<RunResult>,
+    deliver: &(dyn Fn(usize, RunResult) -> bool + Sync),
 ) -> Result<usize, RunnerError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
@@ -303,15 +359,15 @@ fn run_all(
     let finished = AtomicUsize::new(0);
     pool.scope(|scope| {
         for worker in 0..jobs {
-            let sender = sender.clone();
             let (next, finished) = (&next, &finished);
             scope.spawn(move |_| {
                 while !stop.load(Ordering::SeqCst) {
-                    let Some(run) = todo.get(next.fetch_add(1, Ordering::SeqCst)) else { break };
+                    let position = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(run) = todo.get(position) else { break };
                     let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
                     if let Some(result) = result {
                         view.finished(worker, &result.row);
-                        if sender.send(result).is_ok() {
+                        if deliver(position, result) {
                             finished.fetch_add(1, Ordering::SeqCst);
                         }
                     }
@@ -325,6 +381,26 @@ fn run_all(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_run_in_memory_come_in_the_order_given_whatever_the_workers() {
+        let scene = "particles.count = 12\nparticles.radius = 0.005\ndomain.width = 0.06\ndomain.height = 0.1\n\
+                     material.youngs_modulus = 5e10\nintegrator.time_step = 7e-6\nrun.duration = 0.4\n";
+        let table = crate::study::parse_table(Path::new("s"), scene.into()).unwrap();
+        let text = crate::study::scene_study(table, &crate::study::Seeds::List(vec![5, 1, 3]));
+        let plan = crate::study::load_text(Path::new("s"), text).unwrap();
+        let runs: Vec<&PlannedRun> = plan.runs.iter().rev().collect();
+        let stop = AtomicBool::new(false);
+        let timeless = |rows: Vec<Option<SummaryRow>>| -> Vec<SummaryRow> {
+            rows.into_iter().map(|r| SummaryRow { wall_time: 0.0, ..r.expect("not interrupted") }).collect()
+        };
+        let one = timeless(run_rows(&runs, 1, &stop).unwrap());
+        let two = timeless(run_rows(&runs, 2, &stop).unwrap());
+        assert_eq!(format!("{one:?}"), format!("{two:?}"), "bit for bit (NaN for NaN)");
+        let ids: Vec<&str> = one.iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(ids, ["r0002", "r0001", "r0000"]);
+        assert_ne!(one[0].final_values, one[1].final_values, "different seeds, different piles");
+    }
 
     #[test]
     fn workers_are_capped_by_runs_to_do_and_cores() {

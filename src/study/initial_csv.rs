@@ -11,8 +11,8 @@
 
 use std::path::Path;
 
+use crate::physics::contact_record::Partner;
 use crate::physics::particles::{InitialContact, InitialDisk};
-use crate::physics::pile::Partner;
 
 /// The columns a placement file may have: the disk state, then the ones that are not read.
 const COLUMNS: [&str; 9] = ["x", "y", "r", "vx", "vy", "omega", "angle", "id", "contact_force"];

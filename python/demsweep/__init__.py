@@ -1,0 +1,156 @@
+"""demsweep from Python: the engine, studies and results of the demsweep library, in-process.
+
+Everything runs in the compiled library (``demsweep._native``); this package only wraps its tables
+as pandas DataFrames and its arrays as NumPy arrays. Guide: docs/python.md of the repository.
+
+- ``run(scene, seeds=None, jobs=0)``: the runs of one scene (a dict, or TOML text, of the keys of a
+  study's ``[scene]``), one summary row per run as a DataFrame.
+- ``run_batch(scenes, seeds=None, jobs=0)``: many scenes on one pool of worker threads (the
+  interpreter released), a DataFrame per scene; the values do not depend on ``jobs``.
+- ``run_study(path, ...)`` and ``tune(path, ...)``: ``demsweep run`` and ``demsweep tune``.
+- ``open(path)``: a results file: ``.summary``, ``.points``, ``.history(run)``, ``.final(run)``,
+  ``.frames(run)``, ``.scene(run)``.
+
+Units are SI, one per quantity: ``UNITS`` maps every summary column, history series and disk field
+to its unit (also in each DataFrame's ``attrs["units"]``). Refused studies and scenes raise
+``StudyError`` with the text ``demsweep check`` prints; unreadable results raise ``ResultsError``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+
+import numpy as np
+import pandas as pd
+
+from . import _native
+from ._native import DemsweepError, ResultsError, StudyError, scene_study
+
+__all__ = [
+    "DemsweepError",
+    "Results",
+    "ResultsError",
+    "StudyError",
+    "UNITS",
+    "open",
+    "run",
+    "run_batch",
+    "run_study",
+    "scene_study",
+    "tune",
+]
+
+#: The SI unit of every summary column, history series and disk field ("" when dimensionless).
+UNITS: dict[str, str] = _native.units()
+
+_STATISTICS = ("_mean", "_std", "_ci95", "_min", "_max")
+
+
+def _unit(column: str) -> str | None:
+    if column in UNITS:
+        return UNITS[column]
+    base = next((column[: -len(s)] for s in _STATISTICS if column.endswith(s)), None)
+    return UNITS.get(base) if base else None
+
+
+def _frame(columns: dict) -> pd.DataFrame:
+    frame = pd.DataFrame(columns)
+    frame.attrs["units"] = {c: u for c in frame.columns if (u := _unit(c)) is not None}
+    return frame
+
+
+def run(scene, seeds=None, jobs: int = 0) -> pd.DataFrame:
+    """Runs one scene; one row per run (columns as in ``demsweep summary``).
+
+    ``seeds``: None for one run with the scene's ``placement.seed``; a number n for n replicates
+    (seeds ``placement.seed``, +1, ...); a list for one run per placement seed.
+    """
+    return _frame(_native.run(scene, seeds, jobs))
+
+
+def run_batch(scenes, seeds=None, jobs: int = 0) -> list[pd.DataFrame]:
+    """Runs many scenes together on ``jobs`` worker threads (0: one per core); a DataFrame per scene."""
+    return [_frame(table) for table in _native.run_batch(list(scenes), seeds, jobs)]
+
+
+def _warn(answer: dict) -> dict:
+    for text in answer["warnings"]:
+        warnings.warn(text, stacklevel=3)
+    return answer
+
+
+def run_study(path, out=None, resume: bool = False, force: bool = False, jobs: int = 0,
+              progress: str = "quiet") -> dict:
+    """``demsweep run PATH``: the results file, CSV files and report page; returns what it did.
+
+    Keys: ``results`` (the HDF5 file, for ``open``), ``summary_csv``, ``points_csv``, ``report``,
+    ``selected``, ``already_done``, ``ran``, ``failed``, ``missing``, ``exit_code`` (the command's),
+    ``warnings`` (the study's, also issued as Python warnings) and ``run_warnings``.
+    """
+    return _warn(_native.run_study(os.fspath(path), _path(out), resume, force, jobs, progress))
+
+
+def tune(path, out=None, resume: bool = False, force: bool = False, jobs: int = 0,
+         verbose: bool = False) -> dict:
+    """``demsweep tune PATH``; returns ``results``, ``recommendation`` (the paragraph),
+    ``recommended`` (its settings, or None), ``files``, ``report``, ``ran``, ``reused``,
+    ``particle_steps`` and ``warnings``."""
+    return _warn(_native.tune(os.fspath(path), _path(out), resume, force, jobs, verbose))
+
+
+def _path(path):
+    return None if path is None else os.fspath(path)
+
+
+def _arrays(state: dict | None) -> dict | None:
+    if state is None:
+        return None
+    return {k: _arrays(v) if isinstance(v, dict) else v if k == "time" else np.asarray(v)
+            for k, v in state.items()}
+
+
+class Results:
+    """A results file read through the library's readers; ``run`` is a run id or a run index."""
+
+    def __init__(self, path):
+        self._file = _native.Results(os.fspath(path))
+
+    @property
+    def path(self) -> str:
+        return self._file.path
+
+    @property
+    def summary(self) -> pd.DataFrame:
+        """One row per run: identity, swept parameters, status, outcome and final values."""
+        return _frame(self._file.summary())
+
+    @property
+    def points(self) -> pd.DataFrame:
+        """One row per grid point: n, status counts and each metric's mean, std, ci95, min, max."""
+        return _frame(self._file.points())
+
+    def history(self, run) -> dict | None:
+        """The run's sampled series (``t`` and the rest, see ``UNITS``) as arrays, or None."""
+        return _arrays(self._file.history(run))
+
+    def final(self, run) -> dict | None:
+        """The run's final state: ``time``, one array per disk field, ``contacts`` (arrays)."""
+        return _arrays(self._file.final_state(run))
+
+    def frames(self, run) -> list[dict]:
+        """The run's recorded frames, in time order, each like ``final``."""
+        return [_arrays(frame) for frame in self._file.frames(run)]
+
+    def scene(self, run) -> dict:
+        """The run's complete scene, every key of a study's ``[scene]``."""
+        return json.loads(self._file.scene_json(run))
+
+    def __repr__(self) -> str:
+        return f"demsweep.Results({self.path!r})"
+
+
+def open(path) -> Results:  # noqa: A001 - the module's reader, like io.open
+    """Opens a results file (``.h5``) written by ``run_study``, ``tune`` or the command line."""
+    return Results(path)

@@ -1,0 +1,498 @@
+//! `demsweep._native`: the demsweep library bound to Python (PyO3). Each function converts its
+//! arguments, calls the library (scenes become studies through `study::scene_study`, runs go through
+//! the runner, files through `workflow` and the output readers) and converts the answer; the thin
+//! `demsweep` package (`python/demsweep/__init__.py`) wraps tables as pandas DataFrames.
+//!
+//! Long calls run with the interpreter released (other Python threads go on) on a helper thread,
+//! while this one checks for Ctrl-C: an interrupt stops the runs (finished runs of a study stay in
+//! its file) and raises `KeyboardInterrupt`.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use demsweep::output::table::ColumnData;
+use demsweep::output::{self, Field, OutputError, SummaryTable, layout, reader, stored};
+use demsweep::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
+use demsweep::physics::record::{DISK_FIELDS, Snapshot};
+use demsweep::runner::{self, ProgressMode, RunOptions};
+use demsweep::study::{self, PlannedRun, Seeds, StudyErrors};
+use demsweep::tune::TuneOptions;
+use demsweep::workflow::{self, LoadError};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
+
+create_exception!(_native, DemsweepError, PyException, "Any error the demsweep library reports.");
+create_exception!(
+    _native,
+    StudyError,
+    DemsweepError,
+    "A study, scene or tune file the library refuses: the message is what `demsweep check` prints; \
+     `problems` lists each problem (file, line, column, key, value, reason) and `study_text` is the \
+     study that was checked, when it was made from a scene."
+);
+create_exception!(
+    _native,
+    ResultsError,
+    DemsweepError,
+    "A results file that cannot be read or written (the message names it and says why)."
+);
+
+/// The scene's name in errors: `<scene>`, or `<scenes[k]>` in a batch.
+fn scene_label(batch: Option<usize>) -> PathBuf {
+    PathBuf::from(batch.map_or("<scene>".to_string(), |k| format!("<scenes[{k}]>")))
+}
+
+/// A `StudyError` with the library's text of `errors`, its problems and the study text checked.
+fn study_error(py: Python<'_>, errors: &StudyErrors, study_text: Option<&str>) -> PyErr {
+    let error = StudyError::new_err(errors.to_string());
+    let attach = || -> PyResult<()> {
+        let value = error.value(py);
+        let problems = PyList::empty(py);
+        for e in &errors.0 {
+            let problem = PyDict::new(py);
+            problem.set_item("file", e.file.display().to_string())?;
+            problem.set_item("line", e.location.map(|l| l.line))?;
+            problem.set_item("column", e.location.map(|l| l.column))?;
+            problem.set_item("key", &e.key)?;
+            problem.set_item("value", &e.value)?;
+            problem.set_item("reason", &e.reason)?;
+            problems.append(problem)?;
+        }
+        value.setattr("problems", problems)?;
+        value.setattr("study_text", study_text)
+    };
+    attach().err().unwrap_or(error)
+}
+
+fn results_error(error: impl std::fmt::Display) -> PyErr {
+    ResultsError::new_err(error.to_string())
+}
+
+/// A Python value as TOML; `Err((key path, reason))` for one TOML cannot hold.
+fn to_toml(value: &Bound<'_, PyAny>, key: &mut Vec<String>) -> Result<toml::Value, (String, String)> {
+    let fail = |key: &[String], what: String| Err((key.join("."), what));
+    if let Ok(b) = value.cast::<PyBool>() {
+        return Ok(toml::Value::Boolean(b.is_true()));
+    }
+    if let Ok(s) = value.cast::<PyString>() {
+        return Ok(toml::Value::String(s.to_string()));
+    }
+    if let Ok(dict) = value.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in dict.iter() {
+            let Ok(name) = k.cast::<PyString>().map(|s| s.to_string()) else {
+                return fail(key, format!("keys must be strings, not {}", type_name(&k)));
+            };
+            key.push(name.clone());
+            let item = to_toml(&v, key);
+            key.pop();
+            table.insert(name, item?);
+        }
+        return Ok(toml::Value::Table(table));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> =
+            value.try_iter().and_then(|i| i.collect()).map_err(|e| (key.join("."), e.to_string()))?;
+        return items.iter().map(|item| to_toml(item, key)).collect::<Result<_, _>>().map(toml::Value::Array);
+    }
+    if value.is_instance_of::<PyInt>() || value.hasattr("__index__").unwrap_or(false) {
+        return value
+            .extract::<i64>()
+            .map(toml::Value::Integer)
+            .or_else(|_| fail(key, "is out of range of a 64-bit integer".into()));
+    }
+    if let Ok(x) = value.extract::<f64>() {
+        return Ok(toml::Value::Float(x)); // a float, or anything with __float__ (NumPy's floats)
+    }
+    fail(
+        key,
+        format!(
+            "a Python {} cannot be a study value (numbers, strings, booleans, lists and dicts can)",
+            type_name(value)
+        ),
+    )
+}
+
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value.get_type().name().map_or_else(|_| "object".into(), |n| n.to_string())
+}
+
+/// A scene (a dict, or TOML text, of the keys of a study's `[scene]`) as a table.
+fn scene_table(py: Python<'_>, scene: &Bound<'_, PyAny>, label: &Path) -> PyResult<toml::Table> {
+    if let Ok(text) = scene.cast::<PyString>() {
+        return study::parse_table(label, text.to_string()).map_err(|e| study_error(py, &e, None));
+    }
+    if !scene.is_instance_of::<PyDict>() {
+        return Err(PyTypeError::new_err(format!(
+            "a scene is a dict or TOML text of the keys of a study's [scene], not a {}",
+            type_name(scene)
+        )));
+    }
+    match to_toml(scene, &mut vec!["scene".into()]) {
+        Ok(toml::Value::Table(table)) => Ok(table),
+        Ok(_) => unreachable!("a dict becomes a table"),
+        Err((key, reason)) => {
+            Err(study_error(py, &StudyErrors(vec![study::StudyError::new(label, None, key, reason)]), None))
+        }
+    }
+}
+
+/// `seeds`: None (the scene's own seed), a count of replicates, or a list of seeds.
+fn seeds_of(seeds: Option<&Bound<'_, PyAny>>) -> PyResult<Seeds> {
+    let Some(seeds) = seeds.filter(|s| !s.is_none()) else { return Ok(Seeds::Scene) };
+    if let Ok(n) = seeds.extract::<usize>() {
+        return Ok(Seeds::Replicates(n));
+    }
+    seeds.extract::<Vec<i64>>().map(Seeds::List).map_err(|_| {
+        PyTypeError::new_err("seeds is a number of replicate seeds or a list of placement seeds (integers)")
+    })
+}
+
+/// The plan of each scene: every scene checked, every problem of all of them in one error.
+fn plans(py: Python<'_>, scenes: &[Bound<'_, PyAny>], seeds: &Seeds, batch: bool) -> PyResult<Vec<study::Plan>> {
+    let (mut plans, mut problems, mut texts) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, scene) in scenes.iter().enumerate() {
+        let label = scene_label(batch.then_some(k));
+        let text = study::scene_study(scene_table(py, scene, &label)?, seeds);
+        match study::load_text(&label, text.clone()) {
+            Ok(plan) => plans.push(plan),
+            Err(errors) => {
+                problems.extend(errors.0);
+                texts.push(text);
+            }
+        }
+    }
+    match problems.is_empty() {
+        true => Ok(plans),
+        false => Err(study_error(py, &StudyErrors(problems), Some(&texts.join("\n")))),
+    }
+}
+
+/// Runs `work` on a helper thread with the interpreter released, checking for Ctrl-C meanwhile:
+/// then `stop` is set, the work is waited for and `KeyboardInterrupt` raised.
+fn detached<T: Send>(py: Python<'_>, stop: &AtomicBool, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(work);
+        let mut interrupt = None;
+        loop {
+            let finished = py.detach(|| {
+                for _ in 0..10 {
+                    if handle.is_finished() {
+                        return true;
+                    }
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                false
+            });
+            if finished {
+                break;
+            }
+            if let Err(e) = py.check_signals() {
+                stop.store(true, Ordering::SeqCst);
+                interrupt = Some(e);
+                py.detach(|| {
+                    while !handle.is_finished() {
+                        std::thread::sleep(Duration::from_millis(5))
+                    }
+                });
+                break;
+            }
+        }
+        let done = handle.join().map_err(|_| PyRuntimeError::new_err("the demsweep library panicked"));
+        match interrupt {
+            Some(e) => Err(e),
+            None => done,
+        }
+    })
+}
+
+/// A table as a dict of columns (name → list), in column order.
+fn columns<'py>(py: Python<'py>, table: &SummaryTable) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for column in &table.columns {
+        match &column.data {
+            ColumnData::Float(v) => dict.set_item(&column.name, v)?,
+            ColumnData::Int(v) => dict.set_item(&column.name, v)?,
+            ColumnData::Bool(v) => dict.set_item(&column.name, v)?,
+            ColumnData::Text(v) => dict.set_item(&column.name, v)?,
+        }
+    }
+    Ok(dict)
+}
+
+/// `run_batch(scenes, seeds=None, jobs=0)`: every run of every scene on `jobs` worker threads (0 =
+/// one per core); one summary table (a dict of columns) per scene, in order.
+#[pyfunction]
+#[pyo3(signature = (scenes, seeds=None, jobs=0))]
+fn run_batch<'py>(
+    py: Python<'py>,
+    scenes: Vec<Bound<'py, PyAny>>,
+    seeds: Option<&Bound<'py, PyAny>>,
+    jobs: usize,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let plans = plans(py, &scenes, &seeds_of(seeds)?, true)?;
+    let runs: Vec<&PlannedRun> = plans.iter().flat_map(|p| &p.runs).collect();
+    let stop = AtomicBool::new(false);
+    let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
+    let mut rows = rows.into_iter();
+    plans
+        .iter()
+        .map(|plan| {
+            let taken: Option<Vec<_>> = rows.by_ref().take(plan.runs.len()).collect();
+            let taken = taken.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
+            columns(py, &SummaryTable::from_rows(&taken))
+        })
+        .collect()
+}
+
+/// `scene_study(scene, seeds=None)`: the study text a scene runs as (what `demsweep check` checks).
+#[pyfunction]
+#[pyo3(signature = (scene, seeds=None))]
+fn scene_study(py: Python<'_>, scene: &Bound<'_, PyAny>, seeds: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
+    Ok(study::scene_study(scene_table(py, scene, &scene_label(None))?, &seeds_of(seeds)?))
+}
+
+/// `run(scene, seeds=None, jobs=0)`: the runs of one scene; its summary table (a dict of columns).
+#[pyfunction]
+#[pyo3(signature = (scene, seeds=None, jobs=0))]
+fn run<'py>(
+    py: Python<'py>,
+    scene: Bound<'py, PyAny>,
+    seeds: Option<&Bound<'py, PyAny>>,
+    jobs: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let plans = plans(py, std::slice::from_ref(&scene), &seeds_of(seeds)?, false)?;
+    let runs: Vec<&PlannedRun> = plans[0].runs.iter().collect();
+    let stop = AtomicBool::new(false);
+    let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
+    let rows: Option<Vec<_>> = rows.into_iter().collect();
+    columns(py, &SummaryTable::from_rows(&rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?))
+}
+
+fn progress_mode(name: &str) -> PyResult<ProgressMode> {
+    match name {
+        "auto" => Ok(ProgressMode::Auto),
+        "bars" => Ok(ProgressMode::Bars),
+        "lines" => Ok(ProgressMode::Lines),
+        "quiet" => Ok(ProgressMode::Quiet),
+        other => Err(PyTypeError::new_err(format!("progress is auto, bars, lines or quiet, not {other:?}"))),
+    }
+}
+
+/// `run_study(path, out=None, resume=False, force=False, jobs=0, progress="quiet")`: `demsweep run`.
+#[pyfunction]
+#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, progress="quiet"))]
+fn run_study<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    out: Option<PathBuf>,
+    resume: bool,
+    force: bool,
+    jobs: usize,
+    progress: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (plan, space) = workflow::load_study(&path, out.as_deref()).map_err(|e| match e {
+        LoadError::Invalid(errors) => study_error(py, &errors, None),
+        tune_file => StudyError::new_err(tune_file.to_string()),
+    })?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = RunOptions {
+        jobs,
+        out_dir: out,
+        resume,
+        force,
+        progress: progress_mode(progress)?,
+        stop: stop.clone(),
+        ..RunOptions::default()
+    };
+    let run = detached(py, &stop, || workflow::run_study(&plan, &options))?.map_err(results_error)?;
+    let report = &run.report;
+    let warnings: Vec<String> = plan.warnings.iter().map(ToString::to_string).chain(space).collect();
+    let answer = PyDict::new(py);
+    answer.set_item("results", &report.results)?;
+    answer.set_item("summary_csv", &report.summary_csv)?;
+    answer.set_item("points_csv", &report.points_csv)?;
+    answer.set_item("report", run.page.as_ref().ok().map(|(page, _)| page))?;
+    answer.set_item("selected", report.selected)?;
+    answer.set_item("already_done", report.already_done)?;
+    answer.set_item("ran", report.ran)?;
+    answer.set_item("failed", report.failed())?;
+    answer.set_item("missing", report.missing())?;
+    answer.set_item("exit_code", report.exit_code())?;
+    answer.set_item("warnings", warnings)?;
+    answer
+        .set_item("run_warnings", report.warnings.groups.iter().map(|g| g.example.to_string()).collect::<Vec<_>>())?;
+    Ok(answer)
+}
+
+/// `tune(path, out=None, resume=False, force=False, jobs=0, verbose=False)`: `demsweep tune`.
+#[pyfunction]
+#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, verbose=false))]
+fn tune<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    out: Option<PathBuf>,
+    resume: bool,
+    force: bool,
+    jobs: usize,
+    verbose: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (mut spec, warnings) = workflow::load_tune(&path).map_err(|e| study_error(py, &e, None))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = TuneOptions { jobs, out_dir: out, resume, force, verbose, stop: stop.clone() };
+    let run = detached(py, &stop, || workflow::tune_file(&mut spec, &options))?.map_err(results_error)?;
+    let result = &run.report.result;
+    let answer = PyDict::new(py);
+    answer.set_item("results", &run.report.results)?;
+    answer.set_item("recommendation", &run.recommendation)?;
+    let best = result.recommended.map(|k| demsweep::tune::report::settings(&spec, &result.candidates[k]));
+    answer.set_item("recommended", best)?;
+    answer.set_item("files", &run.written.files)?;
+    answer.set_item("report", run.page.as_ref().ok().map(|(page, _)| page))?;
+    answer.set_item("ran", run.report.ran)?;
+    answer.set_item("reused", run.report.reused)?;
+    answer.set_item("particle_steps", run.report.total_particle_steps)?;
+    answer.set_item("warnings", warnings.iter().map(|w| format!("{}: {w}", path.display())).collect::<Vec<_>>())?;
+    Ok(answer)
+}
+
+/// `units()`: the SI unit of every summary column, history series and disk field (empty: none).
+#[pyfunction]
+fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let dict = PyDict::new(py);
+    for q in quantity::per_run() {
+        dict.set_item(q.name, q.unit)?;
+    }
+    for series in &HISTORY_SERIES {
+        dict.set_item(series.quantity.name, series.quantity.unit)?;
+    }
+    for field in &DISK_FIELDS {
+        dict.set_item(field.name, field.unit)?;
+    }
+    Ok(dict)
+}
+
+/// A results file written by `run`, `merge` or `tune`, read through the library's readers.
+#[pyclass(frozen, module = "demsweep._native")]
+struct Results {
+    path: PathBuf,
+}
+
+/// A field of a library table as a list.
+fn field_list<'py>(py: Python<'py>, field: Field<'_>) -> PyResult<Bound<'py, PyAny>> {
+    match field {
+        Field::F64(v) => v.into_pyobject(py),
+        Field::U32(v) => v.into_pyobject(py),
+        Field::I64(v) => v.into_pyobject(py),
+        Field::Bool(v) => v.into_pyobject(py),
+    }
+}
+
+/// A state (final or frame): `time`, one list per disk field and `contacts` (one list per field).
+fn snapshot<'py>(py: Python<'py>, state: &Snapshot) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("time", state.time)?;
+    for (name, field) in layout::state_table(state) {
+        dict.set_item(name, field_list(py, field)?)?;
+    }
+    let contacts = PyDict::new(py);
+    for (name, field) in layout::contact_table(&state.contacts) {
+        contacts.set_item(name, field_list(py, field)?)?;
+    }
+    dict.set_item("contacts", contacts)?;
+    Ok(dict)
+}
+
+impl Results {
+    /// The stored run `run` (an id such as `r0007`, or a run index).
+    fn stored(&self, run: &Bound<'_, PyAny>) -> PyResult<stored::StoredRun> {
+        let path = &self.path;
+        let file = reader::open(path).map_err(results_error)?;
+        let rows = reader::rows(&file, path).map_err(results_error)?;
+        let wanted = |row: &&output::SummaryRow| match run.extract::<usize>() {
+            Ok(index) => row.index == index,
+            Err(_) => run.extract::<String>().is_ok_and(|id| row.id == id),
+        };
+        let row = rows.iter().find(wanted).ok_or_else(|| {
+            results_error(OutputError::new(
+                path,
+                format!("no run `{run}` in this file (see its summary for the run ids)"),
+            ))
+        })?;
+        stored::read_run(&file, path, row).map_err(results_error)
+    }
+}
+
+#[pymethods]
+impl Results {
+    #[new]
+    fn new(path: PathBuf) -> PyResult<Self> {
+        let file = reader::open(&path).map_err(results_error)?;
+        reader::header(&file, &path).map_err(results_error)?;
+        Ok(Self { path })
+    }
+
+    /// The results file.
+    #[getter]
+    fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The summary: one row per run (a dict of columns).
+    fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        columns(py, &output::summary::read(&self.path).map_err(results_error)?)
+    }
+
+    /// The statistics of every grid point (a dict of columns).
+    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        columns(py, &demsweep::stats::points::read(&self.path).map_err(results_error)?)
+    }
+
+    /// The run's histories: one list per series; `None` when the file has none for it.
+    fn history<'py>(&self, py: Python<'py>, run: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(history) = self.stored(run)?.history else { return Ok(None) };
+        let dict = PyDict::new(py);
+        for series in &HISTORY_SERIES {
+            match (series.quantity.value)(&history) {
+                SeriesValues::Real(v) => dict.set_item(series.quantity.name, v)?,
+                SeriesValues::Count(v) => dict.set_item(series.quantity.name, v)?,
+            }
+        }
+        Ok(Some(dict))
+    }
+
+    /// The run's final state (see `snapshot`); `None` when the file has none for it.
+    fn final_state<'py>(&self, py: Python<'py>, run: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.stored(run)?.final_state.map(|s| snapshot(py, &s)).transpose()
+    }
+
+    /// The run's recorded frames, in time order.
+    fn frames<'py>(&self, py: Python<'py>, run: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.stored(run)?.frames.iter().map(|s| snapshot(py, s)).collect()
+    }
+
+    /// The run's complete scene, as JSON text.
+    fn scene_json(&self, run: &Bound<'_, PyAny>) -> PyResult<String> {
+        serde_json::to_string(&self.stored(run)?.scene).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    }
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("DemsweepError", py.get_type::<DemsweepError>())?;
+    m.add("StudyError", py.get_type::<StudyError>())?;
+    m.add("ResultsError", py.get_type::<ResultsError>())?;
+    m.add_class::<Results>()?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(run_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_study, m)?)?;
+    m.add_function(wrap_pyfunction!(run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(tune, m)?)?;
+    m.add_function(wrap_pyfunction!(units, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,138 @@
+//! The commands' workflows as library calls, one implementation for every front end (the `demsweep`
+//! command prints what they return, the Python module returns it): a study file checked and run as
+//! `demsweep run` does it, a tune file checked and tuned as `demsweep tune` does it, each ending with
+//! the results' report page.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::output::OutputError;
+use crate::output::reader::DamagedGroup;
+use crate::report::{self, ReportContext};
+use crate::runner::{self, RunOptions, RunReport, RunnerError};
+use crate::study::{self, Plan, StudyErrors};
+use crate::tune::{self, TuneError, TuneOptions, TuneReport, TuneSpec, report::Written};
+
+/// Why a study file cannot be run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LoadError {
+    /// The file is a tune file, which `demsweep tune` runs.
+    TuneFile(PathBuf),
+    /// The study's problems, each naming file, line, key and reason.
+    Invalid(StudyErrors),
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LoadError::TuneFile(path) => write!(
+                f,
+                "{0} is a tune file ([levers], [keep], [search]), not a study: run it with `demsweep tune {0}`",
+                path.display()
+            ),
+            LoadError::Invalid(errors) => write!(f, "{errors}"),
+        }
+    }
+}
+
+/// A study file's plan (its warnings in `plan.warnings`), and a warning when its results would not
+/// fit in `out` (default `results/<name>/`).
+pub fn load_study(path: &Path, out: Option<&Path>) -> Result<(Plan, Option<String>), LoadError> {
+    if tune::is_tune_file(path) {
+        return Err(LoadError::TuneFile(path.to_path_buf()));
+    }
+    let plan = study::load(path).map_err(LoadError::Invalid)?;
+    let out = out.map_or_else(|| Path::new("results").join(&plan.name), Path::to_path_buf);
+    let space = study::resources::output_space_warning(&plan, &out);
+    Ok((plan, space))
+}
+
+/// The report page written after a sweep or tune: where it went and the run groups left out of it,
+/// or why there is none.
+pub type Page = Result<(PathBuf, Vec<DamagedGroup>), OutputError>;
+
+/// What `demsweep run` did: the sweep and its report page.
+#[derive(Clone, Debug)]
+pub struct StudyRun {
+    /// The sweep: results file, summary, counts, warnings.
+    pub report: RunReport,
+    /// The report page next to the results.
+    pub page: Page,
+}
+
+/// Runs a plan as `demsweep run` does: the runs into the results file and its CSV files, then the
+/// report page.
+pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerError> {
+    let report = runner::run_plan(plan, options)?;
+    let page = report::write_report(&report.results, None, &ReportContext::default());
+    Ok(StudyRun { report, page })
+}
+
+/// A tune file's spec and its warnings (clipped lever ranges, the reference scene's predicted
+/// validity warnings), each as printed after the file's path.
+pub fn load_tune(path: &Path) -> Result<(TuneSpec, Vec<String>), StudyErrors> {
+    let spec = tune::load(path)?;
+    let mut warnings = spec.warnings.clone();
+    match tune::validity::predicted_warnings(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) {
+        Ok(predicted) => warnings.extend(predicted.iter().map(|w| {
+            format!(
+                "scene (the reference): predicted: {w}. The reference itself breaks {}: tune holds every candidate \
+                 to no worse than the reference on it",
+                w.kind.limit_key()
+            )
+        })),
+        Err(reason) => warnings.push(format!("scene (the reference): {reason}")),
+    }
+    Ok((spec, warnings))
+}
+
+/// What `demsweep tune` did.
+#[derive(Clone, Debug)]
+pub struct TuneRun {
+    /// The search and its results file.
+    pub report: TuneReport,
+    /// The recommendation, one paragraph.
+    pub recommendation: String,
+    /// The files written next to the results (candidates, best study, recommendation, charts).
+    pub written: Written,
+    /// The tune's section of the report page (`<name>_tune.json`), or why it was not written.
+    pub section: Result<PathBuf, String>,
+    /// The report page.
+    pub page: Page,
+}
+
+/// Why a tune did not finish.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TuneRunError {
+    /// The search stopped (interrupted, a runner or results-file failure, no reference).
+    Tune(TuneError),
+    /// Its files could not be written next to the results.
+    Write(String),
+}
+
+impl fmt::Display for TuneRunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TuneRunError::Tune(e) => write!(f, "{e}"),
+            TuneRunError::Write(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// Tunes as `demsweep tune` does: the search into the results file, the recommendation and its files,
+/// the tune's report section and the report page.
+pub fn tune_file(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneRun, TuneRunError> {
+    let started = Instant::now();
+    let outcome = tune::tune(spec, options).map_err(TuneRunError::Tune)?;
+    let text = tune::report::paragraph(spec, &outcome.result);
+    let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let written = tune::report::write_all(spec, &outcome.result, &dir, &text).map_err(TuneRunError::Write)?;
+    let section = tune::report::report_section(spec, &outcome.result, &text)
+        .and_then(|s| report::write_tune_section(&outcome.results, &spec.name, &s).map_err(|e| e.to_string()));
+    let jobs =
+        if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
+    let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };
+    let page = report::write_report(&outcome.results, None, &context);
+    Ok(TuneRun { report: outcome, recommendation: text, written, section, page })
+}
