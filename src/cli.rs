@@ -39,22 +39,30 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// List the runs a study expands to (id and swept parameters) and estimate their cost.
+    /// List the runs a study expands to (id and swept parameters) and estimate their cost; or a tune file's levers and budget.
     #[command(
         long_about = "List the runs a study expands to, in run order: each run's id, its swept parameters, \
                       disk count and time steps, then the total cost in particle-steps and a rough wall-time \
                       estimate (50 ns per particle-step on one core, divided by the cores; runs that settle \
-                      early finish sooner). The study is checked first, as by `demsweep check`.",
-        after_help = "Example:\n  demsweep plan studies/damping_sweep.toml --cores 8"
+                      early finish sooner). The study is checked first, as by `demsweep check`. Given a tune \
+                      file ([levers], [keep], [search]; see `demsweep tune`), it prints the levers, the \
+                      reference scene's predicted warnings and the cost bound of the budget.",
+        after_help = "Examples:\n  demsweep plan studies/damping_sweep.toml --cores 8\n  \
+                      demsweep plan studies/tune_deposition.toml"
     )]
     Plan(PlanArgs),
-    /// Check a study file without running anything: prints "ok: N runs" or every problem.
+    /// Check a study or tune file without running anything: prints "ok: N runs" or every problem.
     #[command(
-        long_about = "Check a study file without running anything. Every problem of the whole study is \
-                      reported at once, each with file, line, key and reason (unknown keys, wrong types, \
-                      impossible values, malformed sweep axes, disks that do not fit, unreadable placement \
-                      files). Prints \"ok: N runs\" and exits 0 when the study is valid, else exits 2.",
-        after_help = "Example:\n  demsweep check studies/damping_sweep.toml && echo valid"
+        long_about = "Check a study file (or a tune file: [levers], [keep], [search]) without running \
+                      anything. Every problem of the whole file is reported at once, each with file, line, key \
+                      and reason (unknown keys, wrong types, impossible values, malformed sweep axes or \
+                      levers, disks that do not fit, unreadable placement files). Warnings do not fail the \
+                      check: what the pre-run validity estimate predicts, and values implausible in their SI \
+                      unit (units are SI: `material.youngs_modulus = 10` is 10 Pa; the warning says what it \
+                      would be in GPa). Prints \"ok: N runs\" and exits 0 when the file is valid, else exits 2. \
+                      Every scene key with its default, unit and range: `demsweep keys`.",
+        after_help = "Examples:\n  demsweep check studies/damping_sweep.toml && echo valid\n  \
+                      demsweep check studies/tune_deposition.toml"
     )]
     Check(CheckArgs),
     /// Run a study: all runs in parallel, results in one HDF5 file and a CSV summary.
@@ -130,15 +138,11 @@ enum Command {
                       demsweep merge merged damping_sweep.shard-1-of-2.h5 damping_sweep.shard-2-of-2.h5"
     )]
     Merge(results::MergeArgs),
-    /// Export stored piles for ParaView (vtk), LAMMPS (lammps) or a restart (csv).
+    /// Export stored piles for ParaView, LAMMPS or a restart (the formats: --format below).
     #[command(
         long_about = "Export the final state (and with --frames every recorded frame) of runs of a results \
-                      file into --out. vtk: VTK XML PolyData files ParaView opens (disks as points with \
-                      radius, velocity, angular velocity and contact force; the contact network as lines with \
-                      normal and tangential force; the box walls as lines) and .pvd time collections. lammps: \
-                      data files for atom_style sphere (units si, dimension 2). csv: the placement files \
-                      that placement.kind = \"file\" reads back, velocities and spins included. The folder \
-                      is written under a temporary name and renamed when complete.",
+                      file into --out, in one of the formats listed under --format (the export table of \
+                      docs/export.md). The folder is written under a temporary name and renamed when complete.",
         after_help = "Examples:\n  demsweep export results/damping_sweep/damping_sweep.h5 --format vtk --out piles\n  \
                       demsweep export results/damping_sweep/damping_sweep.h5 --format lammps --run r0003 --out lmp\n  \
                       demsweep export results/damping_sweep/damping_sweep.h5 --format csv --run r0003 --out restart"
@@ -175,6 +179,15 @@ enum Command {
                       demsweep report results/damping_sweep/damping_sweep.h5 --out ~/damping.html"
     )]
     Report(results::ReportArgs),
+    /// List every scene key with its default, SI unit, allowed values and description.
+    #[command(
+        long_about = "List every key of a scene (the [scene] table of a study or tune file) with its default, \
+                      its SI unit, the values it allows and what it is, from the same declaration the \
+                      configuration is read with (src/physics/config.rs). A PREFIX shows only the keys that \
+                      start with it; --markdown prints the table the docs hold (docs/studies.md).",
+        after_help = "Examples:\n  demsweep keys\n  demsweep keys material\n  demsweep keys --markdown"
+    )]
+    Keys(KeysArgs),
     /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a grid.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
@@ -230,6 +243,15 @@ struct PlanArgs {
 }
 
 #[derive(Args)]
+struct KeysArgs {
+    /// Only the keys that start with this (e.g. `material`, `contact.linear`).
+    prefix: Option<String>,
+    /// Print a Markdown table (as in docs/studies.md).
+    #[arg(long)]
+    markdown: bool,
+}
+
+#[derive(Args)]
 struct CheckArgs {
     /// The study file (TOML).
     study: PathBuf,
@@ -251,6 +273,7 @@ pub fn main() -> ExitCode {
         Command::Export(args) => export::run(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Report(args) => results::report(&args),
+        Command::Keys(args) => keys(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Slurm(args) => match load_or_report(args.study(), args.out()) {
             Ok(plan) => slurm::slurm(&args, &plan),
@@ -354,6 +377,28 @@ fn run_table(plan: &Plan) -> String {
             format!("{}\n", cells.join("  ").trim_end())
         })
         .collect()
+}
+
+fn keys(args: &KeysArgs) -> ExitCode {
+    let prefix = args.prefix.as_deref().unwrap_or("");
+    let keys: Vec<_> =
+        demsweep::physics::keys::scene_keys().into_iter().filter(|k| k.path.starts_with(prefix)).collect();
+    if keys.is_empty() {
+        eprintln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
+        return ExitCode::FAILURE;
+    }
+    if args.markdown {
+        print!("{}", demsweep::physics::keys::markdown_table(&keys));
+        return ExitCode::SUCCESS;
+    }
+    let width = keys.iter().map(|k| k.path.len() + k.default.len() + 3).max().unwrap_or(0);
+    for k in &keys {
+        let setting = format!("{} = {}", k.path, k.default);
+        let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
+        let range = if k.range.is_empty() { String::new() } else { format!(" ({})", k.range) };
+        println!("{setting:<width$}  {}{unit}{range}", k.description);
+    }
+    ExitCode::SUCCESS
 }
 
 /// `1 run`, `18 runs`.

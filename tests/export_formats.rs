@@ -7,7 +7,7 @@ mod runner_common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use demsweep::export::{ExportRequest, Format, export};
+use demsweep::export::{ExportRequest, Format, export, format};
 use demsweep::output::{reader, stored};
 use demsweep::physics::config::ContactLawKind;
 use demsweep::physics::config::PlacementKind;
@@ -34,7 +34,19 @@ fn results(test: &str, duration: f64) -> (PathBuf, PathBuf) {
     (report.results, dir)
 }
 
-fn request(results: &Path, format: Format, runs: &[&str], out: PathBuf) -> ExportRequest {
+fn vtk() -> &'static Format {
+    format("vtk").unwrap()
+}
+
+fn lammps_format() -> &'static Format {
+    format("lammps").unwrap()
+}
+
+fn csv() -> &'static Format {
+    format("csv").unwrap()
+}
+
+fn request(results: &Path, format: &'static Format, runs: &[&str], out: PathBuf) -> ExportRequest {
     ExportRequest {
         results: results.to_path_buf(),
         format,
@@ -57,7 +69,7 @@ fn final_state(results: &Path, id: &str) -> Snapshot {
 fn vtk_files_read_by_vtk_equal_the_results_file() {
     let (results, dir) = results("export_vtk", 0.5);
     let out = dir.join("vtk");
-    let mut vtk = request(&results, Format::Vtk, &["r000"], out.clone());
+    let mut vtk = request(&results, vtk(), &["r000"], out.clone());
     vtk.frames = true;
     let summary = export(&vtk).unwrap();
     assert_eq!(summary.runs, 1);
@@ -81,7 +93,7 @@ fn lammps() -> Command {
 fn lammps_reads_the_data_file_and_runs_from_it() {
     let (results, dir) = results("export_lammps", 0.5);
     let out = dir.join("lammps");
-    export(&request(&results, Format::Lammps, &["r001"], out.clone())).unwrap();
+    export(&request(&results, lammps_format(), &["r001"], out.clone())).unwrap();
     let state = final_state(&results, "r001");
     let scene = runner_common::tiny_scene(30, 0.5);
     let input = format!(
@@ -121,16 +133,109 @@ fn lammps_reads_the_data_file_and_runs_from_it() {
     }
 }
 
+/// Runs LAMMPS on `input` in `folder` for `steps` steps; its output, after checking it ran without error.
+fn run_lammps(folder: &Path, input: &str, steps: u64) -> String {
+    let run = lammps()
+        .args(["-var", "steps", &steps.to_string(), "-in", input, "-log", "none"])
+        .current_dir(folder)
+        .output()
+        .unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(run.status.success() && !text.contains("ERROR"), "LAMMPS failed on {input}:\n{text}");
+    assert!(!text.contains("Lost atoms"), "{text}");
+    text
+}
+
+/// The thermo rows (step, time, atoms, kinetic energy, pile height) of a LAMMPS output.
+fn thermo(text: &str) -> Vec<[f64; 5]> {
+    let rows = text.lines().skip_while(|l| !l.trim_start().starts_with("Step Time Atoms KinEng c_pile_height")).skip(1);
+    rows.map_while(|l| {
+        let values: Vec<f64> = l.split_whitespace().filter_map(|v| v.parse().ok()).collect();
+        <[f64; 5]>::try_from(values).ok()
+    })
+    .collect()
+}
+
 #[test]
-fn a_settled_pile_restarts_from_its_csv_settled_with_its_metrics() {
+fn the_lammps_script_continues_a_settled_pile_of_every_law() {
+    let cases: Vec<_> = ContactLawKind::ALL.iter().map(|&law| (law, 7)).collect();
+    let (results, _) = settled_piles("export_lammps_laws", &cases);
+    let out = results.parent().unwrap().join("lammps");
+    export(&request(&results, lammps_format(), &[], out.clone())).unwrap();
+    let file = reader::open(&results).unwrap();
+    for (row, (law, _)) in reader::rows(&file, &results).unwrap().iter().zip(&cases) {
+        assert_eq!(row.status, RunStatus::Settled, "{law:?}");
+        let n = final_state(&results, &row.id).x.len() as f64;
+        let input = format!("{}_final.in", row.id);
+        let script = std::fs::read_to_string(out.join(&input)).unwrap();
+        let header: String = script.lines().take_while(|l| l.starts_with('#')).collect::<Vec<_>>().join("\n");
+        assert!(header.contains("Adams-Bashforth/Adams-Moulton"), "{law:?}: the integrator named:\n{header}");
+        let name = toml::Value::try_from(law).unwrap().as_str().unwrap().to_string();
+        let expressed = ["hertz_mindlin", "linear"].contains(&name.as_str());
+        assert_eq!(header.contains(&format!("LAMMPS has no `{name}` law")), !expressed, "{law:?}:\n{header}");
+        let rows = thermo(&run_lammps(&out, &input, 5000));
+        assert_eq!(rows.len(), 6, "thermo every 1000 steps of 5000");
+        assert!(rows.iter().all(|r| r[2] == n), "{law:?}: every atom kept: {rows:?}");
+        let first = rows[0][4];
+        let drift = rows.iter().map(|r| (r[4] / first - 1.0).abs()).fold(0.0, f64::max);
+        println!("{law:?}: pile height {first} m, drift over 5000 steps {drift:.2e}");
+        assert!(drift < 0.01, "{law:?}: the pile's height moved by {drift} of {first} m: {rows:?}");
+    }
+}
+
+#[test]
+fn the_lammps_script_has_the_runs_stiffness_against_disks_and_floor() {
+    // Two disks in a column (a box 2.5 radii wide) settle on the floor; in LAMMPS, continued with the
+    // exported script, each overlap (floor and disk-disk) is the one demsweep's material gives.
+    let dir = runner_common::scratch("export_lammps_column");
+    let mut scene = runner_common::tiny_scene(2, 3.0);
+    scene.domain.width = 0.025;
+    scene.material.youngs_modulus = 1e7;
+    scene.material.poisson_ratio = Some(0.25);
+    scene.integrator.contact_time_fraction = Some(0.02);
+    let plan = runner_common::plan("export_lammps_column", vec![(Vec::new(), scene)]);
+    let results = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 1)).unwrap().results;
+    let out = dir.join("lammps");
+    export(&request(&results, lammps_format(), &["r000"], out.clone())).unwrap();
+    let state = final_state(&results, "r000");
+    let dump =
+        "include r000_final.in\nwrite_dump all custom column.dump id y radius modify sort id format float %.17g\n";
+    std::fs::write(out.join("column.in"), dump).unwrap();
+    run_lammps(&out, "column.in", 20_000);
+    let atoms: Vec<Vec<f64>> = std::fs::read_to_string(out.join("column.dump"))
+        .unwrap()
+        .lines()
+        .skip_while(|l| !l.starts_with("ITEM: ATOMS"))
+        .skip(1)
+        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let (low, high) = if state.y[0] < state.y[1] { (0, 1) } else { (1, 0) };
+    let overlaps = |y: [f64; 2], r: [f64; 2]| [r[0] - y[0], r[0] + r[1] - (y[1] - y[0])];
+    let demsweep = overlaps([state.y[low], state.y[high]], [state.r[low], state.r[high]]);
+    let lammps = overlaps([atoms[low][1], atoms[high][1]], [atoms[low][2], atoms[high][2]]);
+    for (what, (d, l)) in ["floor", "disk-disk"].iter().zip(demsweep.iter().zip(&lammps)) {
+        println!("{what} overlap: demsweep {d:e} m, LAMMPS {l:e} m");
+        assert!((l / d - 1.0).abs() < 0.02, "{what} overlap: demsweep {d} m, LAMMPS {l} m");
+    }
+}
+
+#[test]
+fn a_settled_pile_opens_in_pandas_and_restarts_from_its_csv_settled_with_its_metrics() {
     let (results, dir) = results("export_restart", 3.0);
     let out = dir.join("csv");
-    export(&request(&results, Format::Csv, &["r000"], out.clone())).unwrap();
+    export(&request(&results, csv(), &["r000"], out.clone())).unwrap();
     let file = reader::open(&results).unwrap();
     let rows = reader::rows(&file, &results).unwrap();
     let first = stored::read_run(&file, &results, &rows[0]).unwrap();
     assert_eq!(rows[0].status, RunStatus::Settled);
     let csv = out.join("r000_final.csv");
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/interop/check_csv.py");
+    let group = reader::find_run(&file, &results, "r000").unwrap();
+    let check = python_env::python(script).arg(&out).arg(&results).arg(group).arg("r000").output();
+    let check = check.expect("run the tests' Python");
+    let text = format!("{}{}", String::from_utf8_lossy(&check.stdout), String::from_utf8_lossy(&check.stderr));
+    assert!(check.status.success(), "pandas check failed (scripts/test.sh installs pandas and h5py):\n{text}");
+    assert!(text.contains("r000: 30 disks and") && text.contains(", 0 problems"), "{text}");
     let disks = demsweep::study::initial_csv::read(&csv, 1.0).unwrap();
     let state = first.final_state.unwrap();
     assert_eq!(disks.len(), state.x.len());
@@ -192,7 +297,7 @@ fn settled_piles(test: &str, cases: &[(ContactLawKind, u64)]) -> (PathBuf, PathB
         .collect();
     let plan = runner_common::plan(test, runs);
     let report = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
-    export(&request(&report.results, Format::Csv, &[], dir.join("csv"))).unwrap();
+    export(&request(&report.results, csv(), &[], dir.join("csv"))).unwrap();
     (report.results, dir.join("csv"))
 }
 
@@ -303,20 +408,24 @@ fn a_study_restarts_from_the_exported_files_as_the_library_does() {
 fn bad_requests_name_the_run_and_the_option_and_leave_nothing_behind() {
     let (results, dir) = results("export_errors", 0.5);
     let out = dir.join("out");
-    let unknown = export(&request(&results, Format::Csv, &["r000", "r077"], out.clone())).unwrap_err();
+    let unknown = export(&request(&results, csv(), &["r000", "r077"], out.clone())).unwrap_err();
     assert!(unknown.contains("no run `r077` (--run)"), "{unknown}");
-    let failed = export(&request(&results, Format::Vtk, &["r002"], out.clone())).unwrap_err();
+    let failed = export(&request(&results, vtk(), &["r002"], out.clone())).unwrap_err();
     assert!(failed.contains("run r002 has no stored final state") && failed.contains("--run"), "{failed}");
     assert!(!out.exists() && !dir.join("out.partial").exists(), "nothing half-written");
-    let mut frames = request(&results, Format::Csv, &[], out.clone());
+    let mut frames = request(&results, csv(), &[], out.clone());
     frames.frames = true;
     let every = export(&frames).unwrap();
     assert_eq!(every.runs, 2, "every run that finished (r002 failed)");
-    let again = export(&request(&results, Format::Csv, &[], out.clone())).unwrap_err();
+    let again = export(&request(&results, csv(), &[], out.clone())).unwrap_err();
     assert!(again.contains("already exists: pass --force"), "{again}");
-    let mut forced = request(&results, Format::Lammps, &["r000"], out.clone());
+    let mut forced = request(&results, lammps_format(), &["r000"], out.clone());
     forced.force = true;
-    assert_eq!(export(&forced).unwrap().files, 1, "the folder replaced, not added to");
+    assert_eq!(
+        export(&forced).unwrap().files,
+        2,
+        "the folder replaced (a data file and its input script), not added to"
+    );
     let cli = Command::new(env!("CARGO_BIN_EXE_demsweep"))
         .args(["export", results.to_str().unwrap(), "--format", "vtk", "--run", "r009", "--out"])
         .arg(dir.join("cli"))

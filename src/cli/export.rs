@@ -4,17 +4,18 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use clap::{Args, ValueEnum};
-use demsweep::export::{ExportRequest, Format, export};
+use clap::Args;
+use clap::builder::PossibleValuesParser;
+use demsweep::export::{ExportRequest, FORMATS, export, format};
 
 #[derive(Args)]
 pub struct ExportArgs {
     /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
     #[arg(value_parser = super::results::results_file)]
     results: PathBuf,
-    /// File format.
-    #[arg(long, value_enum)]
-    format: FormatArg,
+    /// File format (see below).
+    #[arg(long, value_parser = PossibleValuesParser::new(FORMATS.iter().map(|f| f.name)), long_help = format_help())]
+    format: String,
     /// Export this run (repeatable), e.g. --run r0007; default: every run that finished.
     #[arg(long = "run", value_name = "ID")]
     runs: Vec<String>,
@@ -29,27 +30,17 @@ pub struct ExportArgs {
     force: bool,
 }
 
-/// Export formats.
-#[derive(Clone, Copy, ValueEnum)]
-enum FormatArg {
-    /// ParaView: VTK XML PolyData (.vtp) for disks, contacts and walls, .pvd time collections.
-    Vtk,
-    /// LAMMPS data file for atom_style sphere (units si, dimension 2).
-    Lammps,
-    /// CSV that placement.kind = "file" reads back (velocities and spins included).
-    Csv,
+/// The `--format` help: one line per format of the table.
+fn format_help() -> String {
+    let lines: Vec<String> = FORMATS.iter().map(|f| format!("  {}: {}", f.name, f.description)).collect();
+    format!("File format, one of:\n{}", lines.join("\n"))
 }
 
 /// Runs the export and prints what it wrote.
 pub fn run(args: &ExportArgs) -> ExitCode {
-    let format = match args.format {
-        FormatArg::Vtk => Format::Vtk,
-        FormatArg::Lammps => Format::Lammps,
-        FormatArg::Csv => Format::Csv,
-    };
     let request = ExportRequest {
         results: args.results.clone(),
-        format,
+        format: format(&args.format).expect("clap checked the name against the table"),
         runs: args.runs.clone(),
         frames: args.frames,
         out: args.out.clone(),

@@ -1,29 +1,63 @@
 //! Placement CSV: one row per disk, `id,x,y,r,vx,vy,omega,angle,contact_force` (SI units), the
 //! columns `placement.kind = "file"` reads (it skips `id` and `contact_force`, which are there for the
-//! reader); and beside it the contacts' history, one row per contact,
-//! `first,second,tangential_spring,law_state`, which `placement.contacts` reads.
+//! reader); beside it the contacts' history, one row per contact,
+//! `first,second,tangential_spring,law_state`, which `placement.contacts` reads. Both files are plain
+//! CSV (a header line, then values: `pandas.read_csv` opens them as they are); what they are — the
+//! run, the time, each column's unit and meaning — is in a JSON file beside them.
 
 use std::io::Write;
 use std::path::Path;
 
-use super::State;
+use super::{Format, RunToExport, State};
 
-/// The header line of the disks' file.
-pub const HEADER: &str = "id,x,y,r,vx,vy,omega,angle,contact_force";
+/// The format's row of [`super::FORMATS`].
+pub const FORMAT: Format = Format {
+    name: "csv",
+    description: "placement CSV that placement.kind = \"file\" reads back (velocities, spins, contacts' history), \
+                  with a JSON file of units beside it",
+    write_run,
+};
 
-/// The header line of the contacts' file.
-pub const CONTACTS_HEADER: &str = "first,second,tangential_spring,law_state";
+/// A column of an exported CSV: name, unit (empty when dimensionless), meaning.
+type Column = (&'static str, &'static str, &'static str);
 
-/// Writes `<run>_<label>.csv` (the disks) and `<run>_<label>_contacts.csv` into `folder`.
-pub fn write(folder: &Path, state: &State) -> Result<(), String> {
+/// The disks' file's columns.
+pub const DISK_COLUMNS: [Column; 9] = [
+    ("id", "", "disk index, from 0 (the row order)"),
+    ("x", "m", "centre x"),
+    ("y", "m", "centre y"),
+    ("r", "m", "radius"),
+    ("vx", "m/s", "velocity x"),
+    ("vy", "m/s", "velocity y"),
+    ("omega", "rad/s", "angular velocity, counter-clockwise"),
+    ("angle", "rad", "rotation angle, counter-clockwise"),
+    ("contact_force", "N", "sum of the magnitudes of the contact forces on the disk"),
+];
+
+/// The contacts' file's columns.
+pub const CONTACT_COLUMNS: [Column; 4] = [
+    ("first", "", "a disk, by its id"),
+    ("second", "", "a disk by its id, or a wall: -1 floor, -2 left, -3 right, -4 lid"),
+    ("tangential_spring", "m", "the tangential spring's elongation"),
+    ("law_state", "", "the contact law's state (hysteretic_linear: the largest overlap, m; 0 for other laws)"),
+];
+
+/// A header line: the column names, comma separated.
+pub fn header(columns: &[Column]) -> String {
+    columns.iter().map(|c| c.0).collect::<Vec<_>>().join(",")
+}
+
+/// Writes each state's `<run>_<label>.csv` (the disks), `<run>_<label>_contacts.csv` and
+/// `<run>_<label>.json` (what they hold) into `folder`.
+fn write_run(folder: &Path, _: &RunToExport, states: &[State]) -> Result<(), String> {
+    states.iter().try_for_each(|state| write_state(folder, state))
+}
+
+fn write_state(folder: &Path, state: &State) -> Result<(), String> {
     let s = state.snapshot;
-    super::write_file(folder, &format!("{}_{}.csv", state.run, state.label), |out: &mut dyn Write| {
-        writeln!(
-            out,
-            "# demsweep: run {} at t = {} s; m, m/s, rad/s, rad, N (contact_force: sum of |F| on the disk)",
-            state.run, s.time
-        )?;
-        writeln!(out, "{HEADER}")?;
+    let stem = format!("{}_{}", state.run, state.label);
+    super::write_file(folder, &format!("{stem}.csv"), |out: &mut dyn Write| {
+        writeln!(out, "{}", header(&DISK_COLUMNS))?;
         for i in 0..s.x.len() {
             let (x, y, r, vx, vy) = (s.x[i], s.y[i], s.r[i], s.vx[i], s.vy[i]);
             writeln!(out, "{i},{x},{y},{r},{vx},{vy},{},{},{}", s.omega[i], s.angle[i], s.contact_force[i])?;
@@ -31,18 +65,33 @@ pub fn write(folder: &Path, state: &State) -> Result<(), String> {
         Ok(())
     })?;
     let c = &s.contacts;
-    super::write_file(folder, &format!("{}_{}_contacts.csv", state.run, state.label), |out: &mut dyn Write| {
-        writeln!(
-            out,
-            "# demsweep: contacts of run {} at t = {} s; first, second: disk ids (second < 0: wall -1 floor, -2 left, \
-             -3 right, -4 lid); tangential_spring: m; law_state: the contact law's state (hysteretic_linear: \
-             largest overlap, m)",
-            state.run, s.time
-        )?;
-        writeln!(out, "{CONTACTS_HEADER}")?;
+    super::write_file(folder, &format!("{stem}_contacts.csv"), |out: &mut dyn Write| {
+        writeln!(out, "{}", header(&CONTACT_COLUMNS))?;
         for k in 0..c.len() {
             writeln!(out, "{},{},{},{}", c.first[k], c.second[k], c.tangential_spring[k], c.law_state[k])?;
         }
         Ok(())
+    })?;
+    let table = |file: String, rows: usize, columns: &[Column]| {
+        let columns: Vec<_> = columns
+            .iter()
+            .map(
+                |(name, unit, description)| serde_json::json!({"name": name, "unit": unit, "description": description}),
+            )
+            .collect();
+        serde_json::json!({"file": file, "rows": rows, "columns": columns})
+    };
+    let sidecar = serde_json::json!({
+        "written_by": "demsweep export --format csv",
+        "run": state.run,
+        "state": state.label,
+        "time": s.time,
+        "time_unit": "s",
+        "disks": table(format!("{stem}.csv"), s.x.len(), &DISK_COLUMNS),
+        "contacts": table(format!("{stem}_contacts.csv"), c.len(), &CONTACT_COLUMNS),
+    });
+    super::write_file(folder, &format!("{stem}.json"), |out: &mut dyn Write| {
+        serde_json::to_writer_pretty(&mut *out, &sidecar).map_err(std::io::Error::other)?;
+        writeln!(out)
     })
 }

@@ -1,6 +1,6 @@
-//! Exports of stored runs to other codes' formats, read from a results file: ParaView (VTK XML
-//! PolyData + a `.pvd` time collection), LAMMPS (`atom_style sphere` data file) and placement CSV
-//! (what `placement.kind = "file"` reads back, velocities and spins included).
+//! Exports of stored runs to other codes' formats, read from a results file. Every format is one
+//! file of this module and one row of [`FORMATS`] (its `--format` name, what it writes, its writer);
+//! `demsweep export --format` offers the table's names.
 //!
 //! Everything is written into a temporary sibling of the output folder, which is renamed to its
 //! final name only once complete: a failed export leaves nothing under that name. Export folders
@@ -18,15 +18,36 @@ use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
 use crate::physics::record::Snapshot;
 
-/// File formats of an export.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// VTK XML PolyData (`.vtp`: disks, contacts, walls) per state and a `.pvd` collection per run.
-    Vtk,
-    /// A LAMMPS data file (`.data`) per state.
-    Lammps,
-    /// A placement CSV (`.csv`) per state.
-    Csv,
+/// One export format: a row of [`FORMATS`].
+pub struct Format {
+    /// Its `--format` name.
+    pub name: &'static str,
+    /// What it writes, in a line (the CLI's help).
+    pub description: &'static str,
+    /// Writes the states of one run into a folder.
+    pub write_run: fn(&Path, &RunToExport, &[State]) -> Result<(), String>,
+}
+
+impl std::fmt::Debug for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Format({})", self.name)
+    }
+}
+
+/// Every export format. A new one is a file of this module and a row here.
+pub const FORMATS: &[&Format] = &[&vtk::FORMAT, &lammps::FORMAT, &csv::FORMAT];
+
+/// The format called `name`.
+pub fn format(name: &str) -> Option<&'static Format> {
+    FORMATS.iter().copied().find(|f| f.name == name)
+}
+
+/// A run being exported: its summary row and its stored data.
+pub struct RunToExport<'a> {
+    /// The run's summary row (id, status, per-run quantities).
+    pub row: &'a SummaryRow,
+    /// The run's stored scene and states.
+    pub run: &'a StoredRun,
 }
 
 /// What to export.
@@ -34,8 +55,8 @@ pub enum Format {
 pub struct ExportRequest {
     /// The results file.
     pub results: PathBuf,
-    /// The format.
-    pub format: Format,
+    /// The format (a row of [`FORMATS`]).
+    pub format: &'static Format,
     /// Run ids to export; empty: every run with a stored final state.
     pub runs: Vec<String>,
     /// Also export each run's recorded frames.
@@ -123,11 +144,7 @@ fn write_runs(
     for row in rows {
         let run = stored::read_run(file, &request.results, row).map_err(|e| e.to_string())?;
         let states = states(request, row, &run)?;
-        let written = match request.format {
-            Format::Vtk => vtk::write_run(folder, &run, &states),
-            Format::Lammps => states.iter().try_for_each(|s| lammps::write(folder, &run.scene, s)),
-            Format::Csv => states.iter().try_for_each(|s| csv::write(folder, s)),
-        };
+        let written = (request.format.write_run)(folder, &RunToExport { row, run: &run }, &states);
         written.map_err(|e| format!("{}: run {}: {e}", folder.display(), row.id))?;
     }
     Ok(())

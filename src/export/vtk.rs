@@ -2,7 +2,7 @@
 //! per run and part.
 //!
 //! - `<run>_<label>_disks.vtp`: one vertex per disk at its centre (z = 0); point data `id`, `radius`
-//!   (m), `velocity` (m/s), `angular_velocity` (rad/s, along z), `angle` (rotation about z, rad,
+//!   (m), `diameter` (m: the scale array of ParaView's 2D circle glyph, which is one unit across), `velocity` (m/s), `angular_velocity` (rad/s, along z), `angle` (rotation about z, rad,
 //!   counter-clockwise), `contact_force` (sum of |F|, N).
 //! - `<run>_<label>_contacts.vtp`: one line per contact, from the first disk's centre to the second's
 //!   (or to the contact point on a wall); cell data `first`, `second` (wall `−1 − k`), `normal`,
@@ -10,17 +10,29 @@
 //!   `contact_point` (m), `sliding` (0/1).
 //! - `<run>_walls.vtp`: the box walls as lines (cell data `wall`: 0 floor, 1 left, 2 right, 3 lid).
 //! - `<run>_disks.pvd`, `<run>_contacts.pvd`: the states in time order (ParaView's time steps).
+//! - `paraview_pile.py`: a ready ParaView view of the folder's runs (`pvpython paraview_pile.py RUN_ID
+//!   --state FILE.pvsm`): true-size disks coloured by contact force, force chains as tubes.
 
 use std::io::Write;
 use std::path::Path;
 
-use super::State;
-use crate::output::stored::StoredRun;
+use super::{Format, RunToExport, State};
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::record::Snapshot;
 
+/// The format's row of [`super::FORMATS`].
+pub const FORMAT: Format = Format {
+    name: "vtk",
+    description: "ParaView: VTK XML PolyData (.vtp) for disks, contacts and walls, .pvd time collections",
+    write_run,
+};
+
+/// The ParaView script written beside the files (`scripts/paraview_pile.py`).
+const PARAVIEW_SCRIPT: &str = include_str!("../../scripts/paraview_pile.py");
+
 /// Writes the files of one run (see the module doc).
-pub fn write_run(folder: &Path, run: &StoredRun, states: &[State]) -> Result<(), String> {
+fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), String> {
+    let run = export.run;
     let Some(first) = states.first() else { return Ok(()) };
     for state in states {
         let name = |part: &str| format!("{}_{}_{part}.vtp", state.run, state.label);
@@ -34,7 +46,7 @@ pub fn write_run(folder: &Path, run: &StoredRun, states: &[State]) -> Result<(),
     for part in ["disks", "contacts"] {
         super::write_file(folder, &format!("{}_{part}.pvd", first.run), |out| collection(out, states, part))?;
     }
-    Ok(())
+    super::write_file(folder, "paraview_pile.py", |out| out.write_all(PARAVIEW_SCRIPT.as_bytes()))
 }
 
 /// The top of each disk.
@@ -122,6 +134,7 @@ fn disks(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
     writeln!(out, "<PointData Scalars=\"radius\" Vectors=\"velocity\">")?;
     array(out, "Int64", "id", 1, 0..n)?;
     array(out, "Float64", "radius", 1, s.r.iter())?;
+    array(out, "Float64", "diameter", 1, s.r.iter().map(|r| 2.0 * r))?;
     array(out, "Float64", "velocity", 3, (0..n).flat_map(|i| [s.vx[i], s.vy[i], 0.0]))?;
     array(out, "Float64", "angular_velocity", 3, s.omega.iter().flat_map(|&w| [0.0, 0.0, w]))?;
     array(out, "Float64", "angle", 1, s.angle.iter())?;

@@ -5,66 +5,95 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::key_decl::scene_section;
+
 pub use super::contact::{ContactConfig, ContactLawKind};
 
+scene_section! {
 /// One simulation's complete input. Every field has a default (see [`Default`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SceneConfig {
     /// The box the disks live in.
+    #[key(table: Some(DomainConfig::KEYS))]
     pub domain: DomainConfig,
     /// Number, size and thickness of the disks.
+    #[key(table: Some(ParticlesConfig::KEYS))]
     pub particles: ParticlesConfig,
     /// Where the disks start.
+    #[key(table: Some(PlacementConfig::KEYS))]
     pub placement: PlacementConfig,
     /// Particle material, damping and friction.
+    #[key(table: Some(MaterialConfig::KEYS))]
     pub material: MaterialConfig,
     /// Wall material; every missing field inherits the particle material's value.
+    #[key(table: Some(WallMaterialConfig::KEYS))]
     pub wall_material: WallMaterialConfig,
     /// Which contact law and its options.
+    #[key(table: Some(ContactConfig::KEYS))]
     pub contact: ContactConfig,
     /// Gravitational acceleration vector (m/s²); the paper's default points down.
+    #[key(unit: "m/s²", range: "finite")]
     pub gravity: [f64; 2],
     /// Time stepping scheme and step.
+    #[key(table: Some(IntegratorConfig::KEYS))]
     pub integrator: IntegratorConfig,
     /// Numerical (non-physical) damping: Cundall local damping and global viscous damping.
+    #[key(table: Some(DampingConfig::KEYS))]
     pub damping: DampingConfig,
     /// Duration, sampling and frames.
+    #[key(table: Some(RunConfig::KEYS))]
     pub run: RunConfig,
     /// When the pile counts as settled.
+    #[key(table: Some(SettleConfig::KEYS))]
     pub settle: SettleConfig,
     /// Validity and divergence limits.
+    #[key(table: Some(LimitsConfig::KEYS))]
     pub limits: LimitsConfig,
     /// How contacts are found.
+    #[key(table: Some(NeighborConfig::KEYS))]
     pub neighbors: NeighborConfig,
 }
+}
 
+scene_section! {
 /// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width`, optional lid `y = height`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainConfig {
     /// Box width (m).
+    #[key(unit: "m", range: "> 0", plausible: Some((1e-5, 100.0)))]
     pub width: f64,
     /// Box height (m): the lid's position, and the top of the region random placement fills.
+    #[key(unit: "m", range: "> 0", plausible: Some((1e-5, 100.0)))]
     pub height: f64,
     /// Whether a lid wall closes the box at `y = height`.
+    #[key(range: "true or false")]
     pub lid: bool,
 }
+}
 
+scene_section! {
 /// Disk count and radii. Radii: all `radius`; or uniform in `[radius, radius_max]`; or the list `radii`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ParticlesConfig {
     /// Number of disks (ignored when placement reads a file: the file's rows count).
+    #[key(range: ">= 1")]
     pub count: usize,
     /// Radius (m), or the smallest radius of a uniform distribution.
+    #[key(unit: "m", range: "> 0", plausible: Some((1e-7, 1.0)))]
     pub radius: f64,
     /// Largest radius (m) of a uniform radius distribution, drawn with the placement seed.
+    #[key(unit: "m", range: ">= particles.radius", plausible: Some((1e-7, 1.0)))]
     pub radius_max: Option<f64>,
     /// Explicit radius per disk (m); its length must equal `count`.
+    #[key(unit: "m", range: "each > 0")]
     pub radii: Option<Vec<f64>>,
     /// Disk thickness `h` (m): mass = density·π·R²·h (paper eq 4 with unit height).
+    #[key(unit: "m", range: "> 0", plausible: Some((1e-7, 100.0)))]
     pub thickness: f64,
+}
 }
 
 /// How initial positions are made.
@@ -79,68 +108,96 @@ pub enum PlacementKind {
     File,
 }
 
+scene_section! {
 /// Initial placement of the disks.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PlacementConfig {
     /// Which generator.
+    #[key(one_of: &["random", "lattice", "file"])]
     pub kind: PlacementKind,
     /// Seed for random placement and random radii; same seed, same positions on every platform.
+    #[key(range: ">= 0")]
     pub seed: u64,
     /// Lattice: gap between neighbouring disk surfaces, as a fraction of the largest diameter.
+    #[key(range: ">= 0")]
     pub lattice_gap: f64,
     /// Lattice: hexagonal (true) or square (false) rows.
+    #[key(range: "true or false")]
     pub lattice_hexagonal: bool,
     /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega,angle` columns (read by
     /// the caller).
+    #[key(range: "a CSV path")]
     pub file: Option<String>,
     /// File placement: path of a CSV with the contacts' history (tangential springs, law states) to
     /// start from, as `demsweep export --format csv` writes it (read by the caller; a restart).
+    #[key(range: "a CSV path")]
     pub contacts: Option<String>,
     /// Random placement tries per disk before giving up.
+    #[key(range: ">= 1")]
     pub max_attempts: u32,
 }
+}
 
+scene_section! {
 /// Particle material. Give `poisson_ratio` or `shear_modulus` (not both), `beta` or `restitution` (not both).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MaterialConfig {
     /// Density (kg/m³).
+    #[key(unit: "kg/m³", range: "> 0", plausible: Some((50.0, 25_000.0)))]
     pub density: f64,
     /// Young's modulus E (Pa).
+    #[key(unit: "Pa", range: "> 0", plausible: Some((1e5, 1e13)))]
     pub youngs_modulus: f64,
     /// Poisson's ratio ν in (-1, 0.5]; 0.3 when neither it nor `shear_modulus` is given.
+    #[key(range: "(-1, 0.5]")]
     pub poisson_ratio: Option<f64>,
     /// Shear modulus G (Pa); then ν = E/(2G) − 1 (paper eq 2).
+    #[key(unit: "Pa", range: "> 0", plausible: Some((1e5, 1e13)))]
     pub shear_modulus: Option<f64>,
     /// The paper's damping factor β (≥ 0).
+    #[key(range: ">= 0")]
     pub beta: Option<f64>,
     /// Coefficient of restitution e in (0, 1], mapped to β by EDEM's relation; 0.5 when neither is given.
+    #[key(range: "(0, 1]")]
     pub restitution: Option<f64>,
     /// Sliding friction coefficient μ (≥ 0).
+    #[key(range: ">= 0")]
     pub friction: f64,
     /// Rolling friction coefficient μ0 (≥ 0): constant directional torque μ0·Fn·R.
+    #[key(range: ">= 0")]
     pub rolling_friction: f64,
 }
+}
 
+scene_section! {
 /// Wall material; `None` fields take the particle material's value.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WallMaterialConfig {
     /// Young's modulus of the walls (Pa).
+    #[key(unit: "Pa", range: "> 0", plausible: Some((1e5, 1e13)))]
     pub youngs_modulus: Option<f64>,
     /// Poisson's ratio of the walls.
+    #[key(range: "(-1, 0.5]")]
     pub poisson_ratio: Option<f64>,
     /// Shear modulus of the walls (Pa).
+    #[key(unit: "Pa", range: "> 0", plausible: Some((1e5, 1e13)))]
     pub shear_modulus: Option<f64>,
     /// Damping factor β of disk-wall contacts.
+    #[key(range: ">= 0")]
     pub beta: Option<f64>,
     /// Restitution of disk-wall contacts.
+    #[key(range: "(0, 1]")]
     pub restitution: Option<f64>,
     /// Sliding friction of disk-wall contacts.
+    #[key(range: ">= 0")]
     pub friction: Option<f64>,
     /// Rolling friction of disk-wall contacts.
+    #[key(range: ">= 0")]
     pub rolling_friction: Option<f64>,
+}
 }
 
 /// Time integration scheme.
@@ -156,6 +213,7 @@ pub enum IntegratorKind {
 /// Time step used when none of `time_step`, `contact_time_fraction` and `rayleigh_fraction` is given (s).
 pub const DEFAULT_TIME_STEP: f64 = 1e-5;
 
+scene_section! {
 /// Integrator choice and time step. The step is given as at most one of `time_step` (absolute),
 /// `contact_time_fraction` or `rayleigh_fraction` (relative to a time scale of the scene, resolved
 /// before the run by [`super::time_step`]); [`DEFAULT_TIME_STEP`] when none is given.
@@ -163,13 +221,18 @@ pub const DEFAULT_TIME_STEP: f64 = 1e-5;
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorConfig {
     /// The scheme.
+    #[key(one_of: &["adams_bashforth_moulton", "velocity_verlet"])]
     pub scheme: IntegratorKind,
     /// Time step Δt (s).
+    #[key(unit: "s", range: "> 0", plausible: Some((1e-12, 0.1)))]
     pub time_step: Option<f64>,
     /// Δt as this fraction of the Hertz contact time of the scene's hardest impact.
+    #[key(range: "(0, 1]")]
     pub contact_time_fraction: Option<f64>,
     /// Δt as this fraction of the Rayleigh time of the smallest disk (EDEM's convention).
+    #[key(range: "(0, 1]")]
     pub rayleigh_fraction: Option<f64>,
+}
 }
 
 impl IntegratorConfig {
@@ -183,6 +246,7 @@ impl IntegratorConfig {
     }
 }
 
+scene_section! {
 /// Numerical damping, applied by the integrator to every disk's net force and torque (its forces:
 /// `super::integrator`); its work is dissipated energy. Both off by default.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -190,11 +254,15 @@ impl IntegratorConfig {
 pub struct DampingConfig {
     /// Cundall local (non-viscous) damping α in [0, 1): every component of the net force and the
     /// torque is reduced against the velocity, `F_k ← F_k − α |F_k| sign(v_k)` (Cundall 1987).
+    #[key(range: "[0, 1)")]
     pub local: f64,
     /// Whether gravity is part of the force that local damping reduces (Yade's convention).
+    #[key(range: "true or false")]
     pub local_gravity: bool,
     /// Global viscous damping rate c (1/s): `F ← F − c m v`, `M ← M − c I ω`.
+    #[key(unit: "1/s", range: ">= 0")]
     pub viscous: f64,
+}
 }
 
 impl DampingConfig {
@@ -204,52 +272,72 @@ impl DampingConfig {
     }
 }
 
+scene_section! {
 /// Run length, sampling and recorded frames.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RunConfig {
     /// Simulated time (s): the run ends here unless it settles or diverges first.
+    #[key(unit: "s", range: "> 0", plausible: Some((1e-9, 1e6)))]
     pub duration: f64,
     /// Interval between diagnostic samples (s), rounded to whole steps (at least one).
+    #[key(unit: "s", range: "> 0")]
     pub sample_interval: f64,
     /// Stop as soon as the settle criterion holds.
+    #[key(range: "true or false")]
     pub stop_at_settle: bool,
     /// Times (s) at which full states are recorded as frames.
+    #[key(unit: "s", range: "each >= 0")]
     pub frame_times: Vec<f64>,
     /// Record a frame every this many seconds (in addition to `frame_times`).
+    #[key(unit: "s", range: "> 0")]
     pub frame_interval: Option<f64>,
 }
+}
 
+scene_section! {
 /// Settle criterion: UBF below `ubf_threshold` (and kinetic energy below its threshold, if given),
 /// held continuously for `hold_time`. The settle time is when that stretch began.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SettleConfig {
     /// Unbalanced force ratio threshold.
+    #[key(range: "> 0")]
     pub ubf_threshold: f64,
     /// How long (s) the criterion must hold.
+    #[key(unit: "s", range: ">= 0")]
     pub hold_time: f64,
     /// Optional total kinetic energy threshold (J).
+    #[key(unit: "J", range: "> 0")]
     pub kinetic_energy_threshold: Option<f64>,
 }
+}
 
+scene_section! {
 /// Validity warnings and divergence limits.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LimitsConfig {
     /// A run diverges when any overlap exceeds this fraction of the smaller radius.
+    #[key(range: "> 0")]
     pub max_overlap_ratio: f64,
     /// Overlaps beyond this fraction of the radius are reported as outside Hertz validity.
+    #[key(range: "> 0")]
     pub overlap_warning_ratio: f64,
     /// A run diverges when mechanical energy grows by more than this fraction of the energy available.
+    #[key(range: "> 0")]
     pub energy_growth_ratio: f64,
     /// Warn when the energy balance (mechanical + dissipated = initial) is off by more than this
     /// fraction of the energy available (default 0.01).
+    #[key(range: "> 0")]
     pub energy_balance_tolerance: f64,
     /// Warn when Δt exceeds this fraction of the predicted Hertz contact time.
+    #[key(range: "> 0")]
     pub contact_time_fraction: f64,
     /// Warn when Δt times the largest contact damping rate exceeds this (per integrator stability).
+    #[key(range: "> 0")]
     pub damping_rate_fraction: f64,
+}
 }
 
 /// Broad phase selection.
@@ -262,15 +350,19 @@ pub enum BroadPhaseKind {
     AllPairs,
 }
 
+scene_section! {
 /// Neighbour list options.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NeighborConfig {
     /// Broad phase used to build the neighbour list.
+    #[key(one_of: &["grid", "all_pairs"])]
     pub broad_phase: BroadPhaseKind,
     /// Verlet skin as a fraction of the largest radius: the list is rebuilt when any disk moved
     /// more than half the skin.
+    #[key(range: "> 0")]
     pub skin_ratio: f64,
+}
 }
 
 impl Default for SceneConfig {

@@ -5,9 +5,11 @@ the results file read by h5py.
 Usage: check_vtk.py EXPORT_DIR RESULTS.h5 RUN_GROUP RUN_ID
 
 For the run: the .pvd collections list the frames then the final state, with their times; each disks
-file has one point per disk, radius, velocity, angular velocity, angle and contact force equal to the stored
+file has one point per disk, radius, diameter, velocity, angular velocity, angle and contact force equal to the stored
 state; each contacts file has one line cell per stored contact with its normal and tangential force;
-the walls file has the box's walls. Exits 1 listing every difference, 2 when vtk or h5py is missing.
+the walls file has the box's walls. The docs' ParaView recipe — ParaView's 2D Glyph (VTK's
+vtkGlyphSource2D), Circle, scale array `diameter`, scale factor 1 — draws every disk at its true size
+(its glyph spans 2R in x and y). Exits 1 listing every difference, 2 when vtk or h5py is missing.
 """
 import sys
 import xml.etree.ElementTree as ElementTree
@@ -16,6 +18,8 @@ try:
     import h5py
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersCore import vtkGlyph3D
+    from vtkmodules.vtkFiltersSources import vtkGlyphSource2D
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 except ImportError as error:  # scripts/test.sh installs them; a missing reader must fail the test
     print(f"vtk and h5py are required: {error}", file=sys.stderr)
@@ -46,6 +50,25 @@ def same(found, expected, what, problems):
         problems.append(f"{what}: differs from the results file ({found.shape} vs {np.shape(expected)})")
 
 
+def recipe_glyph_sizes(polydata):
+    """Each disk's glyph as the docs' ParaView recipe makes it: (width, height) per disk."""
+    circle = vtkGlyphSource2D()  # ParaView's "2D Glyph"
+    circle.SetGlyphTypeToCircle()
+    circle.FilledOn()
+    circle.Update()
+    per_glyph = circle.GetOutput().GetNumberOfPoints()
+    polydata.GetPointData().SetActiveScalars("diameter")
+    glyphs = vtkGlyph3D()
+    glyphs.SetInputData(polydata)
+    glyphs.SetSourceConnection(circle.GetOutputPort())
+    glyphs.SetScaleModeToScaleByScalar()
+    glyphs.OrientOff()
+    glyphs.SetScaleFactor(1.0)
+    glyphs.Update()
+    points = vtk_to_numpy(glyphs.GetOutput().GetPoints().GetData()).reshape(-1, per_glyph, 3)
+    return points.max(axis=1)[:, :2] - points.min(axis=1)[:, :2]
+
+
 def collection(path):
     root = ElementTree.parse(path).getroot()
     return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
@@ -73,6 +96,14 @@ def main(folder, h5_path, group_path, run_id):
             same(points[:, 1], state["y"], f"{disk_file} y", problems)
             point_data = polydata.GetPointData()
             same(array(point_data, "radius", problems, disk_file), state["r"], f"{disk_file} radius", problems)
+            diameter = array(point_data, "diameter", problems, disk_file)
+            same(diameter, 2 * state["r"], f"{disk_file} diameter", problems)
+            if diameter is not None:
+                sizes = recipe_glyph_sizes(polydata)
+                expected = np.stack([2 * state["r"], 2 * state["r"]], axis=1)
+                if sizes.shape != expected.shape or not np.allclose(sizes, expected, rtol=1e-6, atol=0):
+                    worst = np.max(np.abs(sizes / expected - 1)) if sizes.shape == expected.shape else "shape"
+                    problems.append(f"{disk_file}: the recipe's glyphs are not the disks' size (worst {worst})")
             velocity = array(point_data, "velocity", problems, disk_file)
             if velocity is not None:
                 same(velocity[:, :2], np.stack([state["vx"], state["vy"]], axis=1), f"{disk_file} velocity", problems)

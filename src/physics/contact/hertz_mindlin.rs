@@ -2,11 +2,14 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::physics::key_decl::scene_section;
+
 use super::{Coefficients, ContactLaw, PairProperties};
 
 /// `2·√(5/6)`: the paper's damping prefactor (eqs 7 and 12).
 const DAMPING_PREFACTOR: f64 = 1.825_741_858_350_553_8;
 
+scene_section! {
 /// Hertz normal force `F_ne = 4/3 E* √R* δ^{3/2}` (eq 6), normal stiffness `S_n = 2 E* √(R* δ)` (eq 8),
 /// Mindlin tangential stiffness `S_t = 8 G* √(R* δ)` (eq 11, **fix**: the normal overlap under the
 /// root, not the tangential one), damping `2√(5/6) β √(S m*)` (eqs 7, 12). Its constants are
@@ -14,6 +17,7 @@ const DAMPING_PREFACTOR: f64 = 1.825_741_858_350_553_8;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HertzMindlin {}
+}
 
 impl ContactLaw for HertzMindlin {
     type State = ();

@@ -3,9 +3,12 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::physics::key_decl::scene_section;
+
 use super::linear::{stiffness_or_hertz_secant, stiffness_problems};
 use super::{Coefficients, ContactLaw, ContactState, PairProperties};
 
+scene_section! {
 /// Loading along `F = k₁ δ`, unloading and reloading along `F = k₂ (δ − δ₀)` with
 /// `δ₀ = δ_max (1 − k₁/k₂)` and `δ_max` the largest overlap so far (the contact's own state):
 /// `F = max(0, min(k₁ δ, k₂ (δ − δ₀)))`. A head-on impact without dashpot rebounds with
@@ -15,11 +18,15 @@ use super::{Coefficients, ContactLaw, ContactState, PairProperties};
 #[serde(deny_unknown_fields, default)]
 pub struct HystereticLinear {
     /// Loading stiffness k₁ (N/m); `None`: the Hertz secant stiffness at an overlap of 1 % of R*.
+    #[key(unit: "N/m", range: "> 0", plausible: Some((1e-3, 1e13)))]
     pub loading_stiffness: Option<f64>,
     /// Unloading stiffness over loading stiffness, `k₂/k₁ ≥ 1` (1: elastic).
+    #[key(range: ">= 1")]
     pub unloading_stiffness_ratio: f64,
     /// Tangential stiffness as a fraction of the loading stiffness.
+    #[key(range: ">= 0")]
     pub tangential_stiffness_ratio: f64,
+}
 }
 
 impl Default for HystereticLinear {

@@ -2,17 +2,23 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::physics::key_decl::scene_section;
+
 use super::{Coefficients, ContactLaw, PairProperties};
 
+scene_section! {
 /// `F_ne = k_n δ`, damping `2 β √(k m*)` (β is the damping ratio, so EDEM's e-β relation is exact
 /// here), tangential stiffness `k_t = ratio · k_n`. Parameters: `[contact.linear]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LinearSpringDashpot {
     /// Normal stiffness (N/m); `None`: the Hertz secant stiffness at an overlap of 1 % of R*.
+    #[key(unit: "N/m", range: "> 0", plausible: Some((1e-3, 1e13)))]
     pub normal_stiffness: Option<f64>,
     /// Tangential stiffness as a fraction of the normal stiffness.
+    #[key(range: ">= 0")]
     pub tangential_stiffness_ratio: f64,
+}
 }
 
 impl Default for LinearSpringDashpot {

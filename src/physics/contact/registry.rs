@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{ContactLaw, HertzMindlin, HystereticLinear, LinearSpringDashpot};
+use crate::physics::key_decl::{KeyDoc, KeySpec};
 
 /// Work done with the scene's law, whichever it is (a generic closure).
 pub trait LawVisitor {
@@ -25,12 +26,12 @@ pub trait RegisteredLaw: ContactLaw {
 }
 
 macro_rules! contact_laws {
-    ($($(#[$doc:meta])* $variant:ident($field:ident): $law:ty,)+) => {
+    ($($(#[doc = $doc:literal])* $variant:ident($field:ident): $law:ty,)+) => {
         /// Which contact force law (`contact.law`).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
         #[serde(rename_all = "snake_case")]
         pub enum ContactLawKind {
-            $($(#[$doc])* $variant,)+
+            $($(#[doc = $doc])* $variant,)+
         }
 
         /// `[contact]`: the law, the options every law shares, and each law's parameters in a table
@@ -42,7 +43,20 @@ macro_rules! contact_laws {
             pub law: ContactLawKind,
             /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
             pub allow_tension: bool,
-            $($(#[$doc])* pub $field: $law,)+
+            $($(#[doc = $doc])* pub $field: $law,)+
+        }
+
+        impl ContactConfig {
+            /// The `[contact]` keys (`physics::keys`): the law, the shared options, each law's table.
+            pub const KEYS: &'static [KeyDoc] = &[
+                KeyDoc { name: "law", doc: &["The force law."], spec: KeySpec { one_of: &[$(stringify!($field)),+], ..KeySpec::NONE } },
+                KeyDoc {
+                    name: "allow_tension",
+                    doc: &["Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`."],
+                    spec: KeySpec { range: "true or false", ..KeySpec::NONE },
+                },
+                $(KeyDoc { name: stringify!($field), doc: &[$($doc),*], spec: KeySpec { table: Some(<$law>::KEYS), ..KeySpec::NONE } },)+
+            ];
         }
 
         impl Default for ContactConfig {
