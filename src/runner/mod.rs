@@ -164,8 +164,9 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     }
     let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<&PlannedRun> = reuse.todo.iter().map(|&i| &plan.runs[i]).collect();
-    todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
+    let mut todo: Vec<(&PlannedRun, &str)> =
+        reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str())).collect();
+    todo.sort_by(|(a, _), (b, _)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     if let (Some(note), false) = (capped, options.progress == ProgressMode::Quiet) {
@@ -176,10 +177,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
     let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
-    let ran = run_all(&todo, jobs, &options.stop, &view, &|_, mut result| {
-        result.row.identity.clone_from(&identities[result.row.index]);
-        sender.send(result).is_ok()
-    });
+    let ran = run_all(&todo, jobs, &options.stop, &view, &|_, result| sender.send(result).is_ok());
     drop(sender); // the writer thread finishes once the channel closes
     let warnings = view.finish();
     let (tables, writer_time) =
@@ -236,10 +234,6 @@ fn open_results(
     std::fs::create_dir_all(dir)
         .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
     check_writable(dir)?;
-    // The CSV files are written last: a link there is refused before anything is replaced.
-    for written in [output::csv_path(path), output::points_csv_path(path)] {
-        output::guard::refuse_symlink(&written).map_err(|e| OutputError::new(&written, e.refusal_text()))?;
-    }
     let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {
@@ -329,7 +323,8 @@ fn check_same_study(
 pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
     order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
-    let todo: Vec<&PlannedRun> = order.iter().map(|&k| runs[k]).collect();
+    let identities: Vec<String> = runs.iter().map(|run| RunIdentity::of(run).to_string()).collect();
+    let todo: Vec<(&PlannedRun, &str)> = order.iter().map(|&k| (runs[k], identities[k].as_str())).collect();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, _) = worker_count(jobs, todo.len(), cores);
     let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
@@ -344,7 +339,7 @@ pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<
 /// Runs `todo` in this order on `jobs` workers, handing each result and its position in `todo` to
 /// `deliver` (which says whether it was taken); returns how many were taken.
 fn run_all(
-    todo: &[&PlannedRun],
+    todo: &[(&PlannedRun, &str)],
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
@@ -363,9 +358,10 @@ fn run_all(
             scope.spawn(move |_| {
                 while !stop.load(Ordering::SeqCst) {
                     let position = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(run) = todo.get(position) else { break };
+                    let Some(&(run, identity)) = todo.get(position) else { break };
                     let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
-                    if let Some(result) = result {
+                    if let Some(mut result) = result {
+                        result.row.identity = identity.to_string();
                         view.finished(worker, &result.row);
                         if deliver(position, result) {
                             finished.fetch_add(1, Ordering::SeqCst);
