@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use demsweep::export::{self, ExportRequest, Format};
+use demsweep::export::{self, ExportRequest};
 use demsweep::output::{reader, stored};
 use demsweep::plot::results::{PlotRequest, plot_results};
 use demsweep::plot::run::ColourBy;
@@ -81,10 +81,10 @@ fn read_everything(results: &Path, plan: &demsweep::study::Plan) -> Vec<String> 
         size: (400, 300),
     };
     note("plot", plot_results(&plot, &mut |_| {}).is_ok());
-    for (format, name) in [(Format::Vtk, "vtk"), (Format::Csv, "csv")] {
+    for name in ["vtk", "csv"] {
         let request = ExportRequest {
             results: results.to_path_buf(),
-            format,
+            format: export::format(name).unwrap(),
             runs: Vec::new(),
             frames: true,
             out: folder.join(name),

@@ -111,7 +111,7 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
             Some((row, warnings)) => with_warnings(file, &group, row, warnings),
             None => group_row(file, &group),
         };
-        match row.and_then(|row| checked_id(row, &id)) {
+        match row.and_then(|row| checked_id(row, &name)) {
             Ok(row) => {
                 runs.rows.push(row);
                 runs.groups.insert(name, group);
@@ -124,11 +124,12 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     Ok(runs)
 }
 
-/// The row if its run id is its group's name and can name files (plots and exports are named by
-/// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
+/// The row if it names its group (its identity, or its run id in older files) and its run id can
+/// name files (plots and exports are named by it): not empty, `.` or `..`, without `/`, `\\` or
+/// control characters.
 fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
-    if row.id != group_name {
-        return Err(format!("its run id `{}` is not its group's name `{group_name}`", row.id.escape_debug()));
+    if row.group_name() != group_name {
+        return Err(format!("its row names the group `{}`, not `{group_name}`", row.group_name().escape_debug()));
     }
     let unsafe_name =
         matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
