@@ -84,7 +84,7 @@ fn read_everything(results: &Path, plan: &demsweep::study::Plan) -> Vec<String> 
     for name in ["vtk", "csv"] {
         let request = ExportRequest {
             results: results.to_path_buf(),
-            format: export::format(name).unwrap(),
+            format: export::format(name).expect("a format of the table"),
             runs: Vec::new(),
             frames: true,
             out: folder.join(name),

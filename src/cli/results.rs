@@ -302,7 +302,7 @@ fn print_warnings(report: &RunReport) {
         eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
     eprintln!(
-        "each run's warnings: `demsweep summary {}` (warnings column), the texts in each run group's `row` attribute (JSON)",
+        "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `row` attribute (JSON)",
         report.results.display()
     );
 }

@@ -124,12 +124,15 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     Ok(runs)
 }
 
-/// The row if it names its group (its identity, or its run id in older files) and its run id can
-/// name files (plots and exports are named by it): not empty, `.` or `..`, without `/`, `\\` or
-/// control characters.
+/// The row if its run id is its group's name and can name files (plots and exports are named by
+/// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
 fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
     if row.group_name() != group_name {
-        return Err(format!("its row names the group `{}`, not `{group_name}`", row.group_name().escape_debug()));
+        let named = if row.identity.is_empty() { "run id" } else { "identity" };
+        return Err(format!(
+            "its {named} `{}` is not its group's name `{group_name}`",
+            row.group_name().escape_debug()
+        ));
     }
     let unsafe_name =
         matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
@@ -331,11 +334,12 @@ pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, Output
         Some(name) => name,
         None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
     };
+    find_group(file, path, &name)?.ok_or_else(missing)
+}
+
+/// Path of the run group called `name` (see [`SummaryRow::group_name`]), looked up in each batch
+/// (and bucket), newest first; `None` when no batch holds it.
+pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>, OutputError> {
     let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
-    parents
-        .iter()
-        .rev()
-        .map(|parent| format!("{parent}/{name}"))
-        .find(|group| file.group(group).is_ok())
-        .ok_or_else(missing)
+    Ok(parents.iter().rev().map(|parent| format!("{parent}/{name}")).find(|group| file.group(group).is_ok()))
 }

@@ -32,7 +32,8 @@ pub struct StoredRun {
 
 /// Reads the stored data of the run of `row` from `file` (at `path`).
 pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun, OutputError> {
-    let group_path = reader::find_run(file, path, &row.id)?;
+    let group_path = reader::find_group(file, path, row.group_name())?
+        .ok_or_else(|| OutputError::new(path, format!("no group for run `{}` in this file", row.id)))?;
     let fail = |what: &str, reason: String| OutputError::new(path, format!("/{group_path}/{what}: {reason}"));
     let group = file.group(&group_path).map_err(|e| hdf5_error(path, e))?;
     let attrs = group.attrs().map_err(|e| hdf5_error(path, e))?;
