@@ -98,8 +98,10 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
     }
     let file = reader::open(&request.results).map_err(|e| e.to_string())?;
     let (rows, damaged) = reader::scan(&file, &request.results).map_err(|e| e.to_string())?;
-    if let Some(d) = damaged.iter().find(|d| request.runs.iter().any(|id| d.group.ends_with(&format!("/{id}")))) {
-        return Err(format!("{}: run group {} cannot be read ({})", request.results.display(), d.group, d.reason));
+    let unreadable = request.runs.iter().find(|id| !damaged.is_empty() && !rows.iter().any(|r| &r.id == *id));
+    if let Some(id) = unreadable {
+        let why = reader::damage_text(&damaged);
+        return Err(format!("{}: run `{id}` is not among the readable runs: {why}", request.results.display()));
     }
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;
     let folder =
