@@ -1,5 +1,6 @@
 """Opens a demsweep HTML report in headless Chromium (driven by Playwright) and reports, as JSON on
-stdout, what a person would see: console errors, network requests, table rows, whether a click on a
+stdout, what a person would see: console errors, network requests, the answer at the top (the
+first section, whether it shows without scrolling, its grid points), table rows, whether a click on a
 column header sorts the rows, the point table's header groups and the columns under them, every
 chart's rendered size, whether each run link leads to a visible section, first-paint and sort
 timings, and (with --screenshot FILE) a screenshot of the top of the page.
@@ -112,6 +113,17 @@ def main():
             "() => performance.getEntriesByType('paint').map(e => [e.name, e.startTime])"
         )
         out["first_paint_ms"] = dict(paint).get("first-contentful-paint")
+        out["first_section"] = page.evaluate("() => document.querySelector('main h2') && document.querySelector('main h2').id")
+        answer = page.locator("#verdict + p.verdict")
+        box = answer.bounding_box() if answer.count() else None
+        out["verdict_in_first_screen"] = box is not None and box["y"] + box["height"] <= 900
+        verdict_rows = page.locator("table.verdict tbody tr")
+        out["verdict_points"] = [
+            [verdict_rows.nth(k).locator("td").nth(c).inner_text() for c in range(2)] for k in range(verdict_rows.count())
+        ]
+        out["points_table_scrolls_sideways"] = page.evaluate(
+            "() => { const s = document.querySelector('.scroll'); return !!s && s.scrollWidth > s.clientWidth; }"
+        )
 
         table = page.locator("table#points")
         out["rows"] = int(table.get_attribute("data-rows"))
