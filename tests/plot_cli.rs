@@ -101,7 +101,7 @@ fn plots_every_run_and_the_study_at_the_requested_size_diverged_runs_included() 
         let frames = run.frames.len();
         assert!(frames >= 1, "{}: frame at t = 0 recorded", row.id);
         expected.extend([format!("{}_energy.png", row.id), format!("{}_ubf.png", row.id)]);
-        expected.extend((0..frames).map(|k| format!("{}_frame_{k}.png", row.id)));
+        expected.extend((0..frames).map(|k| format!("{}_frame_{k:05}.png", row.id)));
         let final_time = run.final_state.as_ref().unwrap().time;
         let with_final = run.frames.last().is_none_or(|frame| (frame.time - final_time).abs() > 1e-9);
         if with_final {
@@ -128,7 +128,7 @@ fn svg_snapshot_has_one_circle_per_disk_at_its_recorded_position_to_scale() {
     let plot = demsweep(&["plot", results.to_str().unwrap(), "--format", "svg", "--out", svg_dir.to_str().unwrap()]);
     assert!(plot.status.success(), "{}", text(&plot));
     let (row, run) = stored_runs(&results).into_iter().find(|(row, _)| row.status == RunStatus::Settled).unwrap();
-    let snapshots = run.frames.iter().enumerate().map(|(k, s)| (format!("frame_{k}"), s));
+    let snapshots = run.frames.iter().enumerate().map(|(k, s)| (format!("frame_{k:05}"), s));
     for (name, snapshot) in snapshots.chain([("final".to_string(), run.final_state.as_ref().unwrap())]) {
         let circles = svg_elements(&svg_dir.join(format!("{}_{name}.svg", row.id)), "circle");
         assert_eq!(circles.len(), 40, "{name}: one circle per disk");

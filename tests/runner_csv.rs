@@ -69,6 +69,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "final_mechanical (J)",
         "final_ubf",
         "energy_balance_error",
+        "largest_overlap_ratio",
         "pile_height (m)",
         "packing_fraction",
         "packing_fraction_interior",
@@ -84,6 +85,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "mean_overlap_ratio",
         "warnings",
         "message",
+        "identity",
     ];
     let col = |name: &str| {
         expected.iter().position(|c| *c == name || c.strip_prefix(name).is_some_and(|u| u.starts_with(" ("))).unwrap()

@@ -181,21 +181,35 @@ fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
     let results = out.join("shared.h5");
     let intact = summary::read(&results).unwrap().without_timing();
+    // Run groups are named by the run's identity (/summary's `identity` column is the index).
+    let identity = intact.column("identity").unwrap().data.text(5);
     damage_run_group(&results, "r0005");
     let r = results.to_str().unwrap();
-    for args in [vec!["summary", r], vec!["report", r], vec!["plot", r, "--format", "svg"]] {
+    let (vtk, compare_csv) = (dir.join("vtk"), dir.join("compare.csv"));
+    let (vtk, compare_csv) = (vtk.to_str().unwrap(), compare_csv.to_str().unwrap());
+    for args in [
+        vec!["summary", r],
+        vec!["report", r],
+        vec!["plot", r, "--format", "svg"],
+        vec!["export", r, "--format", "vtk", "--run", "r0001", "--out", vtk],
+        vec!["compare", r, "--reference", "r0000", "--csv", compare_csv],
+    ] {
         let seen = command(&args).output().unwrap();
         assert_eq!(seen.status.code(), Some(3), "{args:?}: {}", stderr(&seen));
-        let expected = "damaged: 1 run group(s) cannot be read: /runs_00000/r0005 (";
-        assert!(stderr(&seen).contains(expected), "{args:?}: {}", stderr(&seen));
+        let expected = format!("damaged: 1 run group(s) cannot be read: /runs_00000/{identity} (");
+        assert!(stderr(&seen).contains(&expected), "{args:?}: {}", stderr(&seen));
     }
+    assert!(Path::new(vtk).join("r0001_final_disks.vtp").is_file() && Path::new(compare_csv).is_file());
+    let export = command(&["export", r, "--format", "vtk", "--run", "r0005", "--out", "unused"]).output().unwrap();
+    assert_eq!(export.status.code(), Some(1), "{}", stderr(&export));
+    assert!(stderr(&export).contains("run group /runs_00000/r0005 cannot be read"), "{}", stderr(&export));
     let listed = String::from_utf8(command(&["summary", r]).output().unwrap().stdout).unwrap();
     assert_eq!(listed.lines().count(), 1 + 7, "the seven readable runs:\n{listed}");
     assert!(!listed.contains("r0005"), "{listed}");
     let resumed = command(&["run", s, "--out", o, "--resume"]).output().unwrap();
     assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
     assert!(String::from_utf8_lossy(&resumed.stdout).contains("1 run now, 7 already done"), "{resumed:?}");
-    assert!(stderr(&resumed).contains("/runs_00000/r0005"), "the resume names what it runs again");
+    assert!(stderr(&resumed).contains(&format!("/runs_00000/{identity}")), "the resume names what it runs again");
     assert_eq!(summary::read(&results).unwrap().without_timing(), intact);
     let clean = command(&["summary", r]).output().unwrap();
     assert_eq!(clean.status.code(), Some(0), "{}", stderr(&clean));

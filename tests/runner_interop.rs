@@ -8,11 +8,10 @@ mod runner_common;
 use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;
-use demsweep::physics::material::{Elastic, Materials, restitution_from_beta};
 use demsweep::physics::quantity::{self, HISTORY_SERIES, PILE_METRICS};
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
-use demsweep::study::{ParamValue, Plan, PlannedRun};
+use demsweep::study::{ParamValue, Plan, PlannedRun, RunIdentity};
 use serde_json::{Map, Value, json};
 
 fn param_json(v: &ParamValue) -> Value {
@@ -53,6 +52,7 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         ("final_mechanical", last(|r| &r.history.mechanical)),
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
         ("energy_balance_error", record.map_or(nan, |r| r.energy_balance_error)),
+        ("largest_overlap_ratio", record.map_or(nan, |r| r.largest_overlap_ratio)),
         ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];
@@ -65,26 +65,8 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
     }
     a.insert("row".into(), json!({"$json": row}));
     let s = &run.scene;
-    let beta = Materials::from_scene(s).particle.beta;
-    let scene = [
-        ("youngs_modulus", json!(s.material.youngs_modulus)),
-        ("poisson_ratio", json!(Elastic::new(s.material.youngs_modulus, None, None).poisson_ratio)),
-        ("beta", json!(beta)),
-        ("restitution", json!(restitution_from_beta(beta))),
-        ("friction", json!(s.material.friction)),
-        ("rolling_friction", json!(s.material.rolling_friction)),
-        ("density", json!(s.material.density)),
-        ("time_step", json!(s.integrator.time_step)),
-        ("integrator", json!("adams_bashforth_moulton")),
-        ("contact_law", json!("hertz_mindlin")),
-        ("count", json!(s.particles.count)),
-        ("radius", json!(s.particles.radius)),
-        ("seed", json!(s.placement.seed)),
-        ("duration", json!(s.run.duration)),
-        ("width", json!(s.domain.width)),
-    ];
-    let scene: Map<String, Value> = scene.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
-    a.insert("scene".into(), json!({"$json": scene}));
+    // The run's identity (what its results depend on) names its group and is an attribute.
+    a.insert("identity".into(), json!(RunIdentity::of(run).to_string()));
     a.insert("scene.json".into(), json!(serde_json::to_string(s).unwrap()));
     a
 }
@@ -198,12 +180,12 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
             "created": {"$regex": r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ"},
         }),
     );
-    // Run groups sit in the batch group of the commit that wrote them (`/runs_00000`, …): the check
-    // reads every batch's name as `/runs_*`.
+    // Run groups, named by the run's identity, sit in the batch group of the commit that wrote them
+    // (`/runs_00000`, …): the check reads every batch's name as `/runs_*`.
     groups.insert("/runs_*".into(), json!({}));
     let mut stored_contacts = 0;
     for run in &plan.runs {
-        let base = format!("/runs_*/{}", run.id);
+        let base = format!("/runs_*/{}", RunIdentity::of(run));
         let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
         let record = outcome.as_ref().ok();
         let error = outcome.as_ref().err().cloned().unwrap_or_default();
@@ -226,6 +208,8 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
     // How the sweep ran: 2 worker threads (runner_common::options), for some seconds.
     summary_attrs["jobs"] = json!(2);
     summary_attrs["wall_time"] = json!({"$range": [0.0, 600.0]});
+    // How many run groups the file held when /summary was written.
+    summary_attrs["stored_runs"] = json!(plan.runs.len());
     groups.insert("/summary".into(), summary_attrs);
     // The crowded copy of run 0 (it failed) shares run 0's point; the others are points of their own.
     let points = demsweep::stats::points::Points::new(summary).table();
@@ -261,4 +245,49 @@ fn h5py_reads_exactly_what_was_written() {
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success(), "h5py check failed (scripts/test.sh installs h5py and numpy):\n{text}");
     assert!(text.contains("0 problems"), "{text}");
+}
+
+/// The ```python blocks of a docs chapter.
+fn python_blocks(chapter: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(chapter)).unwrap();
+    text.split("```python\n").skip(1).map(|block| block.split("```").next().unwrap().to_string()).collect()
+}
+
+#[test]
+fn the_docs_python_snippets_run_against_a_fresh_results_file() {
+    let dir = runner_common::scratch("snippets");
+    let study = dir.join("snippets.toml");
+    let text = "name = \"snippets\"\n[scene]\nparticles.count = 4\ndomain.width = 0.06\ndomain.height = 0.08\n\
+                run.duration = 0.01\nrun.sample_interval = 0.002\n[sweep]\n\"material.friction\" = [0.2, 0.6]\n\
+                replicates = 4\n";
+    std::fs::write(&study, text).unwrap();
+    let plan = demsweep::study::load(&study).unwrap();
+    let report = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
+    let blocks = python_blocks("docs/results.md");
+    assert!(!blocks.is_empty(), "docs/results.md has Python snippets");
+    let status = report.summary.column("status").unwrap();
+    let first = status.data.text(0);
+    let count = (0..report.summary.len()).filter(|&i| status.data.text(i) == first).count();
+    let identity = report.summary.column("identity").unwrap().data.text(7);
+    let mut csv = Vec::new();
+    demsweep::output::history::to_csv(&report.results, "r0007", &mut csv).unwrap();
+    let samples = String::from_utf8(csv).unwrap().lines().count() - 1;
+    for (k, block) in blocks.iter().enumerate() {
+        let script = dir.join(format!("snippet_{k:02}.py"));
+        // The snippet as written, on this file, then what it must have read.
+        let checks = format!(
+            "\nassert all(isinstance(s, str) for s in summary.status) and (summary.status == {first:?}).sum() == {count}\n\
+             assert group == {identity:?} and len(history) == {samples}\n\
+             assert len(summary) == {} and list(summary.columns[:2]) == ['run_id', 'index']\nprint('ok')\n",
+            report.summary.len()
+        );
+        let code = block.replace("results/damping_sweep/damping_sweep.h5", report.results.to_str().unwrap());
+        std::fs::write(&script, code + &checks).unwrap();
+        let out = python_env::python(script.to_str().unwrap()).output().expect("run the tests' Python");
+        let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success() && text.trim_end().ends_with("ok"),
+            "docs/results.md snippet {k}:\n{block}\n{text}"
+        );
+    }
 }

@@ -36,19 +36,6 @@ fn existing_results_need_resume_or_force() {
 }
 
 #[test]
-fn resuming_refuses_results_of_another_study() {
-    let dir = runner_common::scratch("other_study");
-    run_plan(&runner_common::sweep("same_name", 2), &runner_common::options(&dir, 1)).unwrap();
-    let mut other = runner_common::sweep("same_name", 3);
-    other.fingerprint = "another-fingerprint".into();
-    let mut resume = runner_common::options(&dir, 1);
-    resume.resume = true;
-    let e = refusal(run_plan(&other, &resume));
-    assert!(e.message.contains("different study") && e.message.contains("another-fingerprint"), "{e}");
-    assert!(e.path.ends_with("same_name.h5"));
-}
-
-#[test]
 fn an_unwritable_output_path_fails_before_running() {
     let dir = runner_common::scratch("unwritable");
     let blocker = dir.join("a_file");

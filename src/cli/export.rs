@@ -10,7 +10,8 @@ use demsweep::export::{ExportRequest, FORMATS, export, format};
 
 #[derive(Args)]
 pub struct ExportArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = super::results::results_file)]
     results: PathBuf,
     /// File format (see below).
     #[arg(long, value_parser = PossibleValuesParser::new(FORMATS.iter().map(|f| f.name)), long_help = format_help())]
@@ -56,7 +57,7 @@ pub fn run(args: &ExportArgs) -> ExitCode {
                 args.out.display(),
                 started.elapsed().as_secs_f64()
             );
-            ExitCode::SUCCESS
+            super::results::damage_status(&args.results, &summary.damaged)
         }
         Err(e) => {
             eprintln!("error: {e}");

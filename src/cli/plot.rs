@@ -11,7 +11,8 @@ use demsweep::plot::{ChartOptions, Format};
 
 #[derive(Args)]
 pub struct PlotArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = super::results::results_file)]
     results: PathBuf,
     /// Draw the per-run charts of this run (repeatable), e.g. --run r0007.
     #[arg(long = "run", value_name = "ID")]

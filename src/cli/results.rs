@@ -47,9 +47,15 @@ pub struct RunArgs {
     /// Output directory (default: results/<study name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Continue existing results: run only the runs the file lacks or that failed with an error.
+    /// Continue existing results, of this study or an edited one: stored runs are matched to the
+    /// study's runs by identity (settings, input files, physics version), and only the runs the file
+    /// lacks, that failed with an error or that lack an asked-for output run.
     #[arg(long, conflicts_with = "force")]
     resume: bool,
+    /// With --resume: delete the stored runs the (edited) study no longer plans (else they stay in
+    /// the file, out of the summary, points and report).
+    #[arg(long, requires = "resume")]
+    drop_unplanned: bool,
     /// Replace existing results.
     #[arg(long)]
     force: bool,
@@ -84,9 +90,15 @@ enum Progress {
     Quiet,
 }
 
+/// A results file argument: the file, or the one results file in a folder.
+pub fn results_file(arg: &str) -> Result<PathBuf, String> {
+    demsweep::output::reader::locate(std::path::Path::new(arg)).map_err(|e| e.to_string())
+}
+
 #[derive(Args)]
 pub struct SummaryArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// Write the table to this CSV file instead of printing it.
     #[arg(long, value_name = "FILE")]
@@ -107,7 +119,8 @@ pub struct SummaryArgs {
 
 #[derive(Args)]
 pub struct CompareArgs {
-    /// A results file (.h5) written by `demsweep run` or `demsweep merge`.
+    /// A results file (.h5) written by `demsweep run` or `demsweep merge`, or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// The reference point: its swept values (KEY=VALUE,KEY=VALUE; a key may be shortened to its last
     /// part) or the id of one of its runs.
@@ -132,7 +145,8 @@ pub struct CompareArgs {
 
 #[derive(Args)]
 pub struct HistoryArgs {
-    /// A results file (.h5).
+    /// A results file (.h5), or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// The run id (first column of `demsweep summary`), e.g. r0007.
     run_id: String,
@@ -140,7 +154,8 @@ pub struct HistoryArgs {
 
 #[derive(Args)]
 pub struct ReportArgs {
-    /// A results file (.h5).
+    /// A results file (.h5), or a folder holding one.
+    #[arg(value_parser = results_file)]
     results: PathBuf,
     /// Where to write the page (default: <results file name without .h5>_report.html next to it).
     #[arg(long)]
@@ -169,6 +184,11 @@ impl RunArgs {
         &self.study
     }
 
+    /// The worker threads asked for, when given.
+    pub fn jobs(&self) -> Option<usize> {
+        self.jobs.filter(|&j| j > 0)
+    }
+
     /// The output directory, when given.
     pub fn out(&self) -> Option<&std::path::Path> {
         self.out.as_deref()
@@ -186,6 +206,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         out_dir: args.out.clone(),
         resume: args.resume,
         force: args.force,
+        drop_unplanned: args.drop_unplanned,
         shard: args.shard,
         progress: match args.progress {
             Progress::Auto => ProgressMode::Auto,
@@ -221,11 +242,11 @@ fn print_report(report: &RunReport) {
         }
     }
     let counts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
+    let counts = if counts.is_empty() { String::new() } else { format!(" ({})", counts.join(", ")) };
     println!(
-        "{} of {} runs recorded ({}); {} run now, {} already done",
+        "{} of {} runs recorded{counts}; {} run now, {} already done",
         report.summary.len(),
         report.selected,
-        counts.join(", "),
         report.ran,
         report.already_done
     );
@@ -281,7 +302,7 @@ fn print_warnings(report: &RunReport) {
         eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
     eprintln!(
-        "each run's warnings: `demsweep summary {}` (warnings column), the texts in each run group's `row` attribute (JSON)",
+        "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `row` attribute (JSON)",
         report.results.display()
     );
 }
@@ -366,10 +387,13 @@ fn print(table: &SummaryTable) -> Result<(), output::OutputError> {
 
 /// `demsweep compare`: every point against the reference; exit 2 for an unknown point or metric.
 pub fn compare(args: &CompareArgs) -> ExitCode {
-    let summary = match output::summary::read(&args.results) {
-        Ok(table) => table,
+    let read =
+        output::reader::open(&args.results).and_then(|file| output::reader::checked_summary(&file, &args.results));
+    let (summary, damaged) = match read {
+        Ok(read) => read,
         Err(e) => return report_error(Err(e)),
     };
+    let status = damage_status(&args.results, &damaged);
     let points = Points::new(&summary);
     let comparison = match compare::compare(&points, &args.reference, &args.keep) {
         Ok(comparison) => comparison,
@@ -411,7 +435,7 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
             }
         }
     }
-    report_error(outcome)
+    if outcome.is_ok() { status } else { report_error(outcome) }
 }
 
 /// Reports bad input (an unknown point or metric) with exit status 2.
@@ -465,12 +489,14 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
         Ok(report) => report,
         Err(e) => return report_error(Err(e)),
     };
+    let merged = match report.shard_count {
+        0 => format!("merged {} runs from {} results files", report.runs, report.shards),
+        count => {
+            format!("merged {} of {} runs from {} of {count} shards", report.runs, report.planned_runs, report.shards)
+        }
+    };
     println!(
-        "merged {} of {} runs from {} of {} shards\nresults: {}\nsummary: {}\npoints: {}",
-        report.runs,
-        report.planned_runs,
-        report.shards,
-        report.shard_count,
+        "{merged}\nresults: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
         report.points_csv.display()

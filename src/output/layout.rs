@@ -2,8 +2,11 @@
 //!
 //! ```text
 //! /                        root attributes: see `header`
-//! /runs_00000/r0007        one group per run, in the batch group of the commit that wrote it (batches
-//!                          `runs_00000`, `runs_00001`, … in commit order); attributes: see `run_attrs`
+//! /runs_00000/<identity>  one group per run, named by its identity (`crate::study::RunIdentity`; the
+//!                          run id in files written before identities), in the batch group of the
+//!                          commit that wrote it (batches `runs_00000`, `runs_00001`, … in commit
+//!                          order); attributes: see `run_attrs`. `/summary`'s `identity` column is
+//!                          the index from a run id to its group
 //!     history              compound table, one field per series, one row per sample
 //!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
 //!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
@@ -46,6 +49,10 @@ pub const SUMMARY_COLUMNS: &str = "columns";
 pub const SWEEP_JOBS: &str = "jobs";
 /// See [`SWEEP_JOBS`].
 pub const SWEEP_WALL_TIME: &str = "wall_time";
+/// Attribute of `/summary`: how many run groups the file held when `/summary` was written (runs
+/// no longer planned included). A file holding more (a sweep killed before it finished) has its
+/// summary assembled from the run groups.
+pub const STORED_RUNS: &str = "stored_runs";
 /// The attributes of a `/summary` or `/points` column dataset: `unit` and `description` of the
 /// per-run quantity it holds (or whose statistic it holds); none for other columns.
 pub fn column_attrs(column: &str) -> Vec<(&'static str, AttrValue)> {

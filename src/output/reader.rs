@@ -7,10 +7,38 @@ use std::path::Path;
 use hdf5_pure::{DType, Dataset, File};
 
 use super::header::FileHeader;
-use super::layout::{self, LEGACY_RUNS, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
+use super::layout::{self, LEGACY_RUNS, POINTS, STORED_RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs};
+
+/// The results file `path` names: the file itself, or the one results file (`*.h5`, not a temporary
+/// `*.partial` or `*.merging.h5`) in the folder `path`; an error naming the folder when it holds none
+/// or several (listed).
+pub fn locate(path: &Path) -> Result<std::path::PathBuf, OutputError> {
+    if !path.is_dir() {
+        return Ok(path.to_path_buf());
+    }
+    let entries = std::fs::read_dir(path).map_err(|e| OutputError::io(path, e))?;
+    let mut found: Vec<std::path::PathBuf> = entries
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "h5"))
+        .filter(|p| !p.to_string_lossy().ends_with(".merging.h5"))
+        .collect();
+    found.sort();
+    match found.len() {
+        1 => Ok(found.remove(0)),
+        0 => Err(OutputError::new(path, "no results file (*.h5) in this folder")),
+        _ => {
+            let names: Vec<String> =
+                found.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+            Err(OutputError::new(
+                path,
+                format!("holds {} results files ({}): name one of them", names.len(), names.join(", ")),
+            ))
+        }
+    }
+}
 
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
@@ -50,7 +78,8 @@ pub struct DamagedGroup {
 pub struct CommittedRuns {
     /// The rows of the readable runs, sorted by run index.
     pub rows: Vec<SummaryRow>,
-    /// Where each readable run's group is: run id → group path (without a leading `/`).
+    /// Where each readable run's group is: group name (see [`SummaryRow::group_name`]) → group path
+    /// (without a leading `/`).
     pub groups: HashMap<String, String>,
     /// The run groups (or batch groups) that cannot be read.
     pub damaged: Vec<DamagedGroup>,
@@ -77,15 +106,15 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     let mut described = summary_rows(file, path)?;
     let (located, mut damaged) = run_groups(file, path, &described)?;
     let mut runs = CommittedRuns::default();
-    for (id, group) in located {
-        let row = match described.remove(&id) {
+    for (name, group) in located {
+        let row = match described.remove(&name) {
             Some((row, warnings)) => with_warnings(file, &group, row, warnings),
             None => group_row(file, &group),
         };
-        match row {
+        match row.and_then(|row| checked_id(row, &name)) {
             Ok(row) => {
                 runs.rows.push(row);
-                runs.groups.insert(id, group);
+                runs.groups.insert(name, group);
             }
             Err(reason) => damaged.push(DamagedGroup { group: format!("/{group}"), reason }),
         }
@@ -93,6 +122,24 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     runs.rows.sort_by_key(|r| r.index);
     runs.damaged = damaged;
     Ok(runs)
+}
+
+/// The row if its run id is its group's name and can name files (plots and exports are named by
+/// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
+fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
+    if row.group_name() != group_name {
+        let named = if row.identity.is_empty() { "run id" } else { "identity" };
+        return Err(format!(
+            "its {named} `{}` is not its group's name `{group_name}`",
+            row.group_name().escape_debug()
+        ));
+    }
+    let unsafe_name =
+        matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
+    if unsafe_name {
+        return Err(format!("its run id `{}` cannot name a file", row.id.escape_debug()));
+    }
+    Ok(row)
 }
 
 /// The rows of every readable committed run (sorted by run index) and the run groups that cannot
@@ -129,7 +176,7 @@ fn run_groups(
     Ok((located, damaged))
 }
 
-/// A run id and the path of its group.
+/// A run group's name and path.
 type RunGroup = (String, String);
 
 /// The runs of `ids` in the group `parent`, each opened and its attributes read: those found, and
@@ -163,11 +210,12 @@ fn containers(file: &File) -> Result<Vec<String>, hdf5_pure::Error> {
     Ok(parents)
 }
 
-/// The rows `/summary` describes, by run id, with their warning counts; none when the file has no
+/// The rows `/summary` describes, by group name, with their warning counts; none when the file has no
 /// `/summary` or one that does not describe runs completely (an older layout).
 fn summary_rows(file: &File, path: &Path) -> Result<HashMap<String, (SummaryRow, usize)>, OutputError> {
     let Some(table) = stored_table(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
-    Ok(table.rows().unwrap_or_default().into_iter().map(|(row, warnings)| (row.id.clone(), (row, warnings))).collect())
+    let rows = table.rows().unwrap_or_default().into_iter();
+    Ok(rows.map(|(row, warnings)| (row.group_name().to_string(), (row, warnings))).collect())
 }
 
 /// A row `/summary` describes; a run with warnings gets their texts from its group's attributes.
@@ -209,12 +257,15 @@ pub fn damage_text(damaged: &[DamagedGroup]) -> String {
     )
 }
 
-/// The summary and the damaged run groups: `/summary` when every run group reads and it describes
-/// them all (see [`summary`]), else the summary of the readable runs.
+/// The summary and the damaged run groups: `/summary` when every run group reads and it was written
+/// after the last run was stored (see [`layout::STORED_RUNS`]), else the summary of the readable runs.
 pub fn checked_summary(file: &File, path: &Path) -> Result<(SummaryTable, Vec<DamagedGroup>), OutputError> {
     let (rows, damaged) = scan(file, path)?;
+    let stored_runs = file.group(SUMMARY).and_then(|g| g.attrs()).ok().and_then(|a| a.get(STORED_RUNS)?.as_i64());
     match stored_table(file, path, SUMMARY)? {
-        Some(table) if damaged.is_empty() && table.len() == rows.len() => Ok((table, damaged)),
+        Some(table) if damaged.is_empty() && stored_runs.map_or(table.len(), |n| n as usize) == rows.len() => {
+            Ok((table, damaged))
+        }
         _ => Ok((SummaryTable::from_rows(&rows), damaged)),
     }
 }
@@ -251,8 +302,11 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
             let data = column_data(&dataset).map_err(err)?;
             Ok(Column { name: name.clone(), data })
         })
-        .collect::<Result<_, OutputError>>()?;
-    Ok(Some(SummaryTable { columns }))
+        .collect::<Result<Vec<Column>, OutputError>>()?;
+    // Columns of different lengths (a damaged or crafted file): the table is not used, as if the
+    // file had none (`/summary` is then rebuilt from the run groups, `/points` from the summary).
+    let rows = columns.first().map_or(0, |c| c.data.len());
+    Ok(columns.iter().all(|c| c.data.len() == rows).then_some(SummaryTable { columns }))
 }
 
 fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
@@ -264,11 +318,28 @@ fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
     })
 }
 
-/// Path of the group of the run with this id (without a leading `/`), looked up in each batch (and
+/// Path of the group of the run with this id (without a leading `/`): its group name from
+/// `/summary` (or from the run groups when `/summary` does not list it), looked up in each batch (and
 /// bucket): a lookup per batch, not a read of every run's name.
 pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, OutputError> {
+    let missing =
+        || OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)"));
+    let listed = stored_table(file, path, SUMMARY)?.and_then(|table| {
+        let ids = table.column("run_id")?;
+        let row = (0..table.len()).find(|&i| ids.data.text(i) == run_id)?;
+        let identity = table.column(super::table::IDENTITY).map(|c| c.data.text(row)).unwrap_or_default();
+        Some(if identity.is_empty() { run_id.to_string() } else { identity })
+    });
+    let name = match listed {
+        Some(name) => name,
+        None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
+    };
+    find_group(file, path, &name)?.ok_or_else(missing)
+}
+
+/// Path of the run group called `name` (see [`SummaryRow::group_name`]), looked up in each batch
+/// (and bucket), newest first; `None` when no batch holds it.
+pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>, OutputError> {
     let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
-    parents.iter().rev().map(|parent| format!("{parent}/{run_id}")).find(|group| file.group(group).is_ok()).ok_or_else(
-        || OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)")),
-    )
+    Ok(parents.iter().rev().map(|parent| format!("{parent}/{name}")).find(|group| file.group(group).is_ok()))
 }

@@ -3,6 +3,7 @@
 
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::{RunRecord, RunStatus};
+use crate::physics::warning::ValidityWarning;
 use crate::study::ParamValue;
 
 /// One run's summary: identity, swept parameters, outcome and final values.
@@ -19,7 +20,7 @@ pub struct SummaryRow {
     /// Why the run diverged or failed; empty otherwise.
     pub message: String,
     /// Validity warnings.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<ValidityWarning>,
     /// Settle time (s), `None` when the run did not settle.
     pub settle_time: Option<f64>,
     /// Time steps taken.
@@ -32,6 +33,9 @@ pub struct SummaryRow {
     pub wall_time: f64,
     /// Final values (NaN for failed runs), in the order of [`quantity::final_value_declarations`].
     pub final_values: [f64; FINAL_VALUE_COUNT],
+    /// The run's identity (`crate::study::RunIdentity`: what its results depend on); empty for runs of
+    /// files written before identities.
+    pub identity: String,
 }
 
 /// A value of one of a row's [`OUTCOME`] fields.
@@ -84,6 +88,7 @@ impl SummaryRow {
             simulated_time: record.simulated_time,
             wall_time: 0.0,
             final_values: quantity::final_values(record),
+            identity: String::new(),
         }
     }
 
@@ -102,7 +107,14 @@ impl SummaryRow {
             simulated_time: 0.0,
             wall_time: 0.0,
             final_values: [f64::NAN; FINAL_VALUE_COUNT],
+            identity: String::new(),
         }
+    }
+
+    /// The name of the run's group in a results file: its identity, or its id in files written
+    /// before identities.
+    pub fn group_name(&self) -> &str {
+        if self.identity.is_empty() { &self.id } else { &self.identity }
     }
 
     /// Whether the run finished (settled, not settled or diverged), as opposed to failing.

@@ -1,12 +1,14 @@
-//! The attributes of a run group: its summary row and key scene values, in at most eight attributes.
+//! The attributes of a run group: its summary row, identity and scene, in at most eight attributes.
 //!
 //! ```text
 //! index, id, status, message   the run's identity and how it ended (int64, strings)
 //! row                          JSON: {"parameters": [[key path, value], …] in axis order,
-//!                              "warnings": [text, …], then each per-run quantity by name
+//!                              "warnings": [{kind, value, limit, time, …}, …] (typed: see
+//!                              [`ValidityWarning`]), then each per-run quantity by name
 //!                              (settle_time, steps, …, pile metrics); a missing value is null,
 //!                              an infinite one "inf" / "-inf"}
-//! scene                        JSON: key scene values as the simulation used them (see [`scene_values`])
+//! identity                     what the run's results depend on (`crate::study::RunIdentity`), the
+//!                              group's name; absent in files written before identities
 //! scene.json                   the complete scene
 //! ```
 //!
@@ -23,7 +25,6 @@ use serde_json::{Map, Value, json};
 
 use super::row::{OutcomeValue, SummaryRow};
 use crate::physics::SceneConfig;
-use crate::physics::material::{Elastic, Materials, restitution_from_beta};
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::RunStatus;
 use crate::study::ParamValue;
@@ -33,7 +34,7 @@ const ID: &str = "id";
 const STATUS: &str = "status";
 const MESSAGE: &str = "message";
 const ROW: &str = "row";
-const SCENE: &str = "scene";
+const IDENTITY: &str = "identity";
 const SCENE_JSON: &str = "scene.json";
 const PARAMETERS: &str = "parameters";
 const WARNINGS: &str = "warnings";
@@ -46,7 +47,7 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(&'static str, At
         (STATUS, AttrValue::String(row.status.as_str().to_string())),
         (MESSAGE, AttrValue::String(row.message.clone())),
         (ROW, AttrValue::String(row_json(row).to_string())),
-        (SCENE, AttrValue::String(Value::Object(scene_values(scene)).to_string())),
+        (IDENTITY, AttrValue::String(row.identity.clone())),
         (SCENE_JSON, AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
     ]
 }
@@ -107,31 +108,6 @@ fn json_param(value: &Value) -> Option<ParamValue> {
     }
 }
 
-/// Key scene values of a run, resolved as the simulation uses them (e.g. ν = 0.3 when not given).
-pub fn scene_values(scene: &SceneConfig) -> Map<String, Value> {
-    let m = Materials::from_scene(scene);
-    let nu = Elastic::new(scene.material.youngs_modulus, scene.material.poisson_ratio, scene.material.shear_modulus)
-        .poisson_ratio;
-    let values = [
-        ("youngs_modulus", float_json(scene.material.youngs_modulus)),
-        ("poisson_ratio", float_json(nu)),
-        ("beta", float_json(m.particle.beta)),
-        ("restitution", float_json(restitution_from_beta(m.particle.beta))),
-        ("friction", float_json(m.particle.friction)),
-        ("rolling_friction", float_json(m.particle.rolling_friction)),
-        ("density", float_json(scene.material.density)),
-        ("time_step", float_json(scene.integrator.time_step.unwrap_or(f64::NAN))),
-        ("integrator", serde_json::to_value(scene.integrator.scheme).unwrap_or_default()),
-        ("contact_law", serde_json::to_value(scene.contact.law).unwrap_or_default()),
-        ("count", json!(scene.particles.count)),
-        ("radius", float_json(scene.particles.radius)),
-        ("seed", json!(scene.placement.seed)),
-        ("duration", float_json(scene.run.duration)),
-        ("width", float_json(scene.domain.width)),
-    ];
-    values.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
-}
-
 /// Reads a summary row back from a run group's attributes (either layout); the error names what is
 /// missing.
 pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
@@ -143,6 +119,7 @@ pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, 
     let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
     let mut row = SummaryRow::failed(index, &text(ID)?, &[], &text(MESSAGE)?);
     row.status = status;
+    row.identity = attrs.get(IDENTITY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
     match attrs.get(ROW) {
         Some(json) => {
             let json = json.as_str().ok_or(format!("`{ROW}` is not text"))?;
@@ -171,7 +148,9 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
         })
         .collect::<Result<_, _>>()?;
     let warnings = get(WARNINGS)?.as_array().ok_or("`warnings` is not a list")?;
-    row.warnings = warnings.iter().filter_map(|w| w.as_str().map(str::to_string)).collect();
+    // Files written before warnings were typed hold texts: those are not read back (the count in
+    // `/summary` stays).
+    row.warnings = warnings.iter().filter_map(|w| serde_json::from_value(w.clone()).ok()).collect();
     let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
     let settle = float(settle_time)?;
     row.settle_time = (!settle.is_nan()).then_some(settle);
@@ -191,7 +170,7 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
 mod legacy {
     use super::*;
 
-    /// The parameters (listed in `parameters`, each under its key path), warnings and quantities of a
+    /// The parameters (listed in `parameters`, each under its key path) and quantities of a
     /// row from one attribute each (a final value the file predates reads as missing).
     pub(super) fn fill_from_attrs(row: &mut SummaryRow, attrs: &HashMap<String, AttrValue>) -> Result<(), String> {
         let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
@@ -221,7 +200,6 @@ mod legacy {
         row.settle_time = (!settle.is_nan()).then_some(settle);
         row.simulated_time = float(simulated_time)?;
         row.wall_time = float(wall_time)?;
-        row.warnings = attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default();
         Ok(())
     }
 
@@ -239,6 +217,7 @@ mod legacy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::warning::{ValidityWarning, WarningKind};
 
     fn row() -> SummaryRow {
         let parameters = [
@@ -249,7 +228,10 @@ mod tests {
         ];
         let mut row = SummaryRow::failed(7, "r0007", &parameters, "");
         row.status = RunStatus::Diverged;
-        row.warnings = vec!["too soft".into(), "second".into()];
+        row.warnings = vec![
+            ValidityWarning::new(WarningKind::ImpactOverlap, 0.2, 0.1),
+            ValidityWarning { time: Some(0.25), ..ValidityWarning::new(WarningKind::EnergyBalance, 0.02, 0.01) },
+        ];
         (row.settle_time, row.steps, row.particle_steps) = (Some(1.0 / 3.0), 12, 3600);
         (row.simulated_time, row.wall_time) = (0.25, 1e-300);
         row.final_values[0] = f64::INFINITY;

@@ -34,6 +34,9 @@ pub struct SummaryTable {
     pub columns: Vec<Column>,
 }
 
+/// The column of each run's identity (the name of its group in its batch group).
+pub const IDENTITY: &str = "identity";
+
 /// Names of the columns that depend on the machine and the moment, not on the study.
 pub const TIMING_COLUMNS: [&str; 1] = ["wall_time"];
 
@@ -67,14 +70,14 @@ impl ColumnData {
         self.len() == 0
     }
 
-    /// The value of row `i` as text: floats in shortest round-trip form, missing values empty.
+    /// The value of row `i` as text: floats in shortest round-trip form, missing values (and rows
+    /// past the column's end) empty.
     pub fn text(&self, i: usize) -> String {
         match self {
-            ColumnData::Float(v) if v[i].is_nan() => String::new(),
-            ColumnData::Float(v) => format!("{:?}", v[i]),
-            ColumnData::Int(v) => v[i].to_string(),
-            ColumnData::Bool(v) => v[i].to_string(),
-            ColumnData::Text(v) => v[i].clone(),
+            ColumnData::Float(v) => v.get(i).filter(|x| !x.is_nan()).map_or(String::new(), |x| format!("{x:?}")),
+            ColumnData::Int(v) => v.get(i).map_or(String::new(), i64::to_string),
+            ColumnData::Bool(v) => v.get(i).map_or(String::new(), bool::to_string),
+            ColumnData::Text(v) => v.get(i).cloned().unwrap_or_default(),
         }
     }
 }
@@ -167,6 +170,7 @@ impl SummaryTable {
         }
         columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
         columns.push(column("message", texts(&|r| r.message.clone())));
+        columns.push(column(IDENTITY, texts(&|r| r.identity.clone())));
         Self { columns }
     }
 
@@ -234,6 +238,7 @@ impl SummaryTable {
                     simulated_time: number(simulated_time, i)?,
                     wall_time: number(wall_time, i)?,
                     final_values,
+                    identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
                 };
                 Some((row, usize::try_from(warnings[i]).ok()?))
             })

@@ -35,7 +35,8 @@ pub struct ResultsWriter {
     /// The number of the next batch group, and the batch group being staged (if any).
     next_batch: usize,
     batch: Option<String>,
-    /// Where the committed runs' groups are, by run id.
+    /// Where the runs' groups are (committed and staged), by group name (see
+    /// [`SummaryRow::group_name`]).
     groups: HashMap<String, String>,
     existing: Vec<SummaryRow>,
     damaged: Vec<DamagedGroup>,
@@ -91,6 +92,12 @@ impl ResultsWriter {
         Ok((writer, header))
     }
 
+    /// Whether the file's runs carry identities (files written before them are matched to a study
+    /// by its fingerprint and run index).
+    pub fn has_identities(&self) -> bool {
+        self.existing.iter().all(|row| !row.identity.is_empty())
+    }
+
     /// Rows of the runs the file held when it was opened (sorted by index), which the writer
     /// hands over: it keeps no rows (the runner, above it, keeps those of the sweep's statistics).
     pub fn take_existing(&mut self) -> Vec<SummaryRow> {
@@ -104,7 +111,7 @@ impl ResultsWriter {
             std::mem::take(&mut self.existing).into_iter().partition(|row| !row.is_finished());
         self.existing = kept;
         for row in &failed {
-            if let Some(group) = self.groups.remove(&row.id) {
+            if let Some(group) = self.groups.remove(row.group_name()) {
                 self.delete_run(&group)?;
             }
         }
@@ -113,6 +120,21 @@ impl ResultsWriter {
             self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
         }
         Ok(failed.len())
+    }
+
+    /// Deletes the committed run groups called `names` (in one commit), e.g. runs that lack an output
+    /// now asked for, so that they run again.
+    pub fn forget(&mut self, names: &[String]) -> Result<(), OutputError> {
+        for name in names {
+            if let Some(group) = self.groups.remove(name) {
+                self.delete_run(&group)?;
+            }
+        }
+        if !names.is_empty() {
+            self.unchanged = false;
+            self.file.commit().map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        Ok(())
     }
 
     /// Deletes the run groups that cannot be read (in one commit), so that their runs run again;
@@ -150,6 +172,27 @@ impl ResultsWriter {
         self.file.group(parent).and_then(|g| g.delete(name)).map_err(|e| hdf5_error(&self.path, e))
     }
 
+    /// Whether the file holds a run group called `name` with every output `output` asks for
+    /// (frames only when `frames` says the run records some).
+    pub fn holds(&self, name: &str, output: &OutputOptions, frames: bool) -> bool {
+        let Some(group) = self.groups.get(name).and_then(|path| self.file.group(path).ok()) else { return false };
+        let (Ok(datasets), Ok(groups)) = (group.datasets(), group.groups()) else { return false };
+        let has = |list: &[String], name: &str| list.iter().any(|n| n == name);
+        (!output.histories || has(&datasets, "history"))
+            && (!output.final_states || has(&datasets, layout::FINAL))
+            && (!(output.frames && frames) || has(&groups, layout::FRAMES))
+    }
+
+    /// Replaces the file's header (the study it now holds), in one commit.
+    pub fn set_header(&mut self, header: &FileHeader) -> Result<(), OutputError> {
+        let root = self.file.root();
+        for (name, value) in header.to_attrs() {
+            root.set_attr(name, value).map_err(|e| hdf5_error(&self.path, e))?;
+        }
+        self.unchanged = false;
+        self.file.commit().map_err(|e| hdf5_error(&self.path, e))
+    }
+
     /// Number of runs staged and not yet committed.
     pub fn pending(&self) -> usize {
         self.pending
@@ -157,7 +200,8 @@ impl ResultsWriter {
 
     /// Stages one run (its group, attributes and the outputs the study asks for).
     pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
-        let group = format!("{}/{}", self.stage_batch()?, run.row.id);
+        let group = format!("{}/{}", self.stage_batch()?, run.row.group_name());
+        self.groups.insert(run.row.group_name().to_string(), group.clone());
         let root = self.file.root();
         let attrs = run_attrs::run_attrs(&run.row, &run.scene);
         let output = &self.output;
@@ -175,10 +219,10 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Stages a copy of the committed run group `group` (of run `id`) of another results file (for
-    /// merging shards), read from `source` run by run (open it streaming: only this run is held);
-    /// returns the bytes of dataset data staged.
-    pub fn stage_copy(&mut self, source: (&File, &Path), group: &str, id: &str) -> Result<usize, OutputError> {
+    /// Stages a copy of the committed run group `group` of another results file under the name
+    /// `name` (for merging), read from `source` run by run (open it streaming: only this run is
+    /// held); returns the bytes of dataset data staged.
+    pub fn stage_copy(&mut self, source: (&File, &Path), group: &str, name: &str) -> Result<usize, OutputError> {
         let (source, source_path) = source;
         let copy = source
             .group(group)
@@ -186,8 +230,9 @@ impl ResultsWriter {
             .and_then(|group| GroupCopy::read(&group))
             .map_err(|reason| OutputError::new(source_path, format!("/{group}: {reason}")))?;
         let bytes = copy.data_bytes();
-        let path = format!("{}/{id}", self.stage_batch()?);
+        let path = format!("{}/{name}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
+        self.groups.insert(name.to_string(), path);
         self.pending += 1;
         self.unchanged = false;
         Ok(bytes)
@@ -227,15 +272,14 @@ impl ResultsWriter {
     fn write_tables(mut self, tables: &Tables) -> Result<(), OutputError> {
         self.commit()?;
         let err = |e| hdf5_error(&self.path, e);
-        let sweep: Vec<(&str, AttrValue)> = self
-            .sweep
-            .iter()
-            .flat_map(|(jobs, started)| {
+        let stored = AttrValue::I64(self.groups.len() as i64);
+        let sweep: Vec<(&str, AttrValue)> = std::iter::once((layout::STORED_RUNS, stored))
+            .chain(self.sweep.iter().flat_map(|(jobs, started)| {
                 [
                     (SWEEP_JOBS, AttrValue::I64(*jobs as i64)),
                     (SWEEP_WALL_TIME, AttrValue::F64(started.elapsed().as_secs_f64())),
                 ]
-            })
+            }))
             .collect();
         let stored = |name| reader::stored_table(&self.file, &self.path, name);
         let kept = self.unchanged

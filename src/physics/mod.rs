@@ -40,9 +40,15 @@ pub mod stability;
 pub mod time_step;
 mod vector;
 pub mod walls;
+pub mod warning;
+
+/// The version of the physics: bumped by every change that changes a run's results, so that runs
+/// stored by another version are not reused as if this one had made them (see `study::identity`).
+pub const PHYSICS_VERSION: u32 = 1;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
 pub use dispatch::{predict_stability, run_scene, run_scene_with_history, scene_time_step};
+pub use neighbors::CellGrid;
 pub use record::{RunRecord, RunStatus};
 pub use simulation::{Control, Progress, Simulation};

@@ -221,41 +221,44 @@ fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
     }
 }
 
-/// Uniform cell grid sized to the current positions (a counting sort of disks into cells).
+/// Uniform cell grid sized to the current positions (a counting sort of disks into cells): the
+/// broad phase of the neighbour list, and of the study's overlap check of placement files. Time and
+/// memory are O(N) to build, whatever the positions (cells grow until there are at most ~2 per disk).
 #[derive(Clone, Debug, Default)]
-struct CellGrid {
+pub struct CellGrid {
     cell_of: Vec<u32>,
     start: Vec<u32>,
     members: Vec<u32>,
     fill: Vec<u32>,
     row: Vec<u32>,
+    cols: usize,
+    rows: usize,
 }
 
 impl CellGrid {
-    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
-        let n = p.len();
-        if n == 0 {
-            return;
-        }
-        let (xmin, xmax) = min_max(&p.x);
-        let (ymin, ymax) = min_max(&p.y);
-        // Cells at least as wide as the longest possible pair reach; at most ~2 cells per disk so a
-        // disk that flew far away cannot blow the grid up (disks beyond are clamped to edge cells).
-        let mut cell = 2.0 * p.max_radius() + skin;
+    /// Sorts the disks at `x`, `y` into cells at least `reach` wide (m): any two disks closer than
+    /// `reach` are in the same or adjacent cells. Non-finite positions land in an edge cell.
+    pub fn build(&mut self, x: &[f64], y: &[f64], reach: f64) {
+        let n = x.len();
+        let (xmin, xmax) = min_max(x);
+        let (ymin, ymax) = min_max(y);
+        // At most ~2 cells per disk so a disk that flew far away cannot blow the grid up (disks
+        // beyond are clamped to edge cells).
+        let mut cell = if reach > 0.0 && reach.is_finite() { reach } else { f64::MAX };
         let max_cells = (2 * n + 16) as f64;
         let span = |lo: f64, hi: f64, c: f64| (((hi - lo) / c).floor() + 1.0).min(1e9);
         while span(xmin, xmax, cell) * span(ymin, ymax, cell) > max_cells {
             cell *= 1.5;
         }
-        let cols = span(xmin, xmax, cell) as usize;
-        let rows = span(ymin, ymax, cell) as usize;
+        let (cols, rows) = (span(xmin, xmax, cell) as usize, span(ymin, ymax, cell) as usize);
+        (self.cols, self.rows) = (cols, rows);
         let cell_index = |x: f64, y: f64| {
             let c = (((x - xmin) / cell) as usize).min(cols - 1);
             let r = (((y - ymin) / cell) as usize).min(rows - 1);
             r * cols + c
         };
         self.cell_of.clear();
-        self.cell_of.extend(p.x.iter().zip(&p.y).map(|(&x, &y)| cell_index(x, y) as u32));
+        self.cell_of.extend(x.iter().zip(y).map(|(&x, &y)| cell_index(x, y) as u32));
         self.start.clear();
         self.start.resize(cols * rows + 1, 0);
         for &c in &self.cell_of {
@@ -270,23 +273,34 @@ impl CellGrid {
             self.members[self.fill[c as usize] as usize] = k as u32;
             self.fill[c as usize] += 1;
         }
-        for i in 0..n {
-            let c = self.cell_of[i] as usize;
-            let (ci, ri) = (c % cols, c / cols);
-            self.row.clear();
-            for r in ri.saturating_sub(1)..=(ri + 1).min(rows - 1) {
-                for cc in ci.saturating_sub(1)..=(ci + 1).min(cols - 1) {
-                    let cell = r * cols + cc;
-                    for &j in &self.members[self.start[cell] as usize..self.start[cell + 1] as usize] {
-                        if j as usize > i && within(p, i, j as usize, skin) {
-                            self.row.push(j);
-                        }
-                    }
-                }
-            }
-            self.row.sort_unstable();
-            out.extend(self.row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
+    }
+
+    /// The disks `j > i` in disk `i`'s cell and the cells around it (after [`Self::build`]), by cell.
+    pub fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
+        let c = self.cell_of[i] as usize;
+        let (ci, ri) = (c % self.cols, c / self.cols);
+        let columns = ci.saturating_sub(1)..=(ci + 1).min(self.cols - 1);
+        (ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1))
+            .flat_map(move |r| columns.clone().map(move |cc| r * self.cols + cc))
+            .flat_map(move |cell| &self.members[self.start[cell] as usize..self.start[cell + 1] as usize])
+            .map(|&j| j as usize)
+            .filter(move |&j| j > i)
+    }
+
+    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted.
+    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
+        if p.is_empty() {
+            return;
         }
+        self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
+        let mut row = std::mem::take(&mut self.row);
+        for i in 0..p.len() {
+            row.clear();
+            row.extend(self.neighbours(i).filter(|&j| within(p, i, j, skin)).map(|j| j as u32));
+            row.sort_unstable();
+            out.extend(row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
+        }
+        self.row = row;
     }
 }
 

@@ -452,8 +452,12 @@ fn snapshots(sink: &mut impl ChartSink, row: &SummaryRow, stored: &StoredRun, (b
 /// The snapshots of a run with their file name parts: `frame_<k>` for each frame, `final` for the
 /// final state unless the last frame was taken at the same step.
 fn snapshot_names(stored: &StoredRun) -> Vec<(String, &Snapshot)> {
-    let mut pictures: Vec<(String, &Snapshot)> =
-        stored.frames.iter().enumerate().map(|(k, frame)| (format!("frame_{k}"), frame)).collect();
+    let mut pictures: Vec<(String, &Snapshot)> = stored
+        .frames
+        .iter()
+        .enumerate()
+        .map(|(k, frame)| (format!("frame_{}", crate::output::layout::frame_name(k)), frame))
+        .collect();
     if let Some(last) = &stored.final_state {
         let half_step = 0.5 * stored.scene.integrator.fixed_time_step().unwrap_or(1e-12);
         if !stored.frames.last().is_some_and(|frame| (frame.time - last.time).abs() < half_step) {

@@ -1,6 +1,8 @@
-//! Merging shard files into the results file a one-machine run gives.
+//! Merging results files: the shards of one study into the results file a one-machine run gives, or
+//! the files of different studies into one file holding each run once (runs are matched by
+//! identity, `crate::study::RunIdentity`).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use crate::output::guard;
@@ -8,7 +10,9 @@ use crate::output::header::{FileHeader, utc_now};
 use crate::output::lock::ResultsLock;
 use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
 use crate::stats::points;
-use crate::study::OutputOptions;
+use crate::study::identity::fnv;
+use crate::study::plan::run_id;
+use crate::study::{OutputOptions, RunIdentity};
 
 /// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
 const BYTES_PER_COMMIT: usize = 16 << 20;
@@ -62,16 +66,21 @@ struct ShardFile {
     groups: HashMap<String, String>,
 }
 
-/// Merges the shard files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`) into
-/// `out_dir/<study name>.h5` and its CSV summary and points. Refuses, naming the files, shards of
-/// different studies and runs present in two shards. Missing shards, missing runs and runs that
-/// failed with an error do not stop it: it merges what there is and lists them in
-/// [`MergeReport::problems`].
+/// Merges the results files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`)
+/// into `out_dir/<first study's name>.h5` and its CSV summary and points.
+///
+/// Shards of one study merge into the file a one-machine run gives: refused, naming the files, when
+/// they hold a run twice or are shards of the same study text whose input files or demsweep version
+/// differ; missing shards, missing runs and runs that failed with an error do not stop it: it merges
+/// what there is and lists them in [`MergeReport::problems`]. Files of different studies merge run
+/// by run, each identity once, renumbered `r0000`, … in file order; refused for files written
+/// before run identities and for files of different physics versions.
 /// An existing merged file is only replaced with `force`; the merged file is written under a
 /// temporary name (`<name>.merging.h5`) and renamed when complete, holding the results file's lock.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
-    let shards = read_shards(&shard_paths(inputs)?)?;
-    let problems = check_complete(&shards)?;
+    let mut shards = read_shards(&shard_paths(inputs)?)?;
+    let studies = !one_study(&shards)?;
+    let problems = if studies { combine(&mut shards)? } else { check_complete(&shards)? };
     let first = &shards[0].header;
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
     let results = out_dir.join(format!("{}.h5", first.study_name));
@@ -82,17 +91,29 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
     guard::check_results_replaceable(&results, &shard_files)
         .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
-    let header = FileHeader { created: utc_now(), shard: None, ..first.clone() };
+    let header = if studies {
+        combined_header(&shards)
+    } else {
+        FileHeader { created: utc_now(), shard: None, ..first.clone() }
+    };
     // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
     // leaves no partial file under the final name (and an existing one stays until replaced).
     let partial = results.with_extension("merging.h5");
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
     let mut writer = ResultsWriter::create(&partial, &header, OutputOptions::default())?;
-    let (mut runs, mut staged) = (0, 0);
+    let (mut runs, mut staged, mut copied) = (0, 0, HashSet::new());
     for shard in &shards {
         let source = reader::open(&shard.path)?;
         for row in &shard.rows {
-            staged += writer.stage_copy((&source, &shard.path), &shard.groups[&row.id], &row.id)?;
+            let name = row.group_name();
+            if !copied.insert(name.to_string()) {
+                continue;
+            }
+            let group = shard
+                .groups
+                .get(name)
+                .ok_or_else(|| OutputError::new(&shard.path, format!("no group for run {}", row.id)))?;
+            staged += writer.stage_copy((&source, &shard.path), group, name)?;
             if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
                 staged = 0;
@@ -111,14 +132,14 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
         std::fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
     }
     let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
-    let shard_count = first.shard.as_ref().map_or(0, |s| s.spec.count);
+    let shard_count = if studies { 0 } else { first.shard.as_ref().map_or(0, |s| s.spec.count) };
     Ok(MergeReport {
         results,
         summary_csv,
         points_csv,
         runs,
         shards: shards.len(),
-        planned_runs: first.planned_runs,
+        planned_runs: if studies { runs } else { first.planned_runs },
         shard_count,
         problems,
     })
@@ -160,9 +181,6 @@ fn read_shards(paths: &[PathBuf]) -> Result<Vec<ShardFile>, OutputError> {
         .map(|path| {
             let file = reader::open(path)?;
             let header = reader::header(&file, path)?;
-            if header.shard.is_none() {
-                return Err(OutputError::new(path, "is not a shard file (it has no `shard` attribute)"));
-            }
             let runs = reader::committed_runs(&file, path)?;
             if !runs.damaged.is_empty() {
                 return Err(OutputError::new(path, reader::damage_text(&runs.damaged)));
@@ -170,7 +188,6 @@ fn read_shards(paths: &[PathBuf]) -> Result<Vec<ShardFile>, OutputError> {
             Ok(ShardFile { path: path.clone(), header, rows: runs.rows, groups: runs.groups })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    check_same_study(&shards)?;
     Ok(shards)
 }
 
@@ -184,22 +201,96 @@ fn describe(shard: &ShardFile) -> String {
     )
 }
 
-fn check_same_study(shards: &[ShardFile]) -> Result<(), OutputError> {
+/// Whether the files are shards of one study split one way (merged as shards), rather than files of
+/// different studies (merged run by run). Shards of one study text whose fingerprints differ (its
+/// input files or the demsweep version changed between them) or that split it differently are
+/// refused, naming both.
+fn one_study(shards: &[ShardFile]) -> Result<bool, OutputError> {
     let first = &shards[0];
     let count = |s: &ShardFile| s.header.shard.as_ref().map_or(0, |i| i.spec.count);
+    if shards.iter().any(|s| s.header.shard.is_none() || s.header.study_text != first.header.study_text) {
+        return Ok(false);
+    }
     if let Some(other) =
         shards.iter().find(|s| s.header.fingerprint != first.header.fingerprint || count(s) != count(first))
     {
+        let why = if other.header.fingerprint == first.header.fingerprint {
+            "they split the study differently".to_string()
+        } else if other.header.demsweep_version != first.header.demsweep_version {
+            format!("demsweep version {} and {}", first.header.demsweep_version, other.header.demsweep_version)
+        } else {
+            "the study's input files (placement.file, placement.contacts) changed between them".to_string()
+        };
         return Err(OutputError::new(
             &other.path,
             format!(
-                "cannot merge shards of different studies or splits:\n  {}\n  {}",
+                "cannot merge shards of different studies or splits ({why}): run them again from the same inputs:\n  {}\n  {}",
                 describe(first),
                 describe(other)
             ),
         ));
     }
-    Ok(())
+    Ok(true)
+}
+
+/// Files of different studies: every run once (by identity), renumbered in file order. Refuses
+/// files without run identities and files of different physics versions.
+fn combine(files: &mut [ShardFile]) -> Result<Vec<ShardProblem>, OutputError> {
+    let mut physics: Option<(u32, &Path)> = None;
+    for file in files.iter() {
+        for row in &file.rows {
+            let identity: RunIdentity = row.identity.parse().map_err(|_| {
+                OutputError::new(
+                    &file.path,
+                    format!("run {} has no run identity (a file written before them): it can only merge with shards of its own study", row.id),
+                )
+            })?;
+            match physics {
+                Some((version, other)) if version != identity.physics => {
+                    return Err(OutputError::new(
+                        &file.path,
+                        format!(
+                            "holds runs of physics version {} but {} of version {version}: rerun one of them with this demsweep",
+                            identity.physics,
+                            other.display()
+                        ),
+                    ));
+                }
+                _ => physics = Some((identity.physics, &file.path)),
+            }
+        }
+    }
+    let mut seen = HashSet::new();
+    for file in files.iter_mut() {
+        file.rows.retain(|row| seen.insert(row.identity.clone()));
+    }
+    let total = seen.len();
+    for (index, row) in files.iter_mut().flat_map(|f| f.rows.iter_mut()).enumerate() {
+        (row.index, row.id) = (index, run_id(index, total));
+    }
+    Ok(Vec::new())
+}
+
+/// The header of a file merged from different studies: the first's name, every study's text.
+fn combined_header(files: &[ShardFile]) -> FileHeader {
+    let first = &files[0].header;
+    let texts: Vec<String> = files
+        .iter()
+        .map(|f| {
+            format!(
+                "# --- study `{}` (fingerprint {}) ---\n{}",
+                f.header.study_name, f.header.fingerprint, f.header.study_text
+            )
+        })
+        .collect();
+    let fingerprints: String = files.iter().map(|f| f.header.fingerprint.as_str()).collect();
+    FileHeader {
+        study_text: texts.join("\n"),
+        fingerprint: format!("merged-{:016x}", fnv(fingerprints.bytes())),
+        created: utc_now(),
+        shard: None,
+        ..first.clone()
+    }
 }
 
 /// No run in two files (an error); the shards missing, incomplete or with failed runs (problems).

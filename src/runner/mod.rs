@@ -15,6 +15,7 @@ mod execute;
 pub mod interrupt;
 pub mod merge;
 mod progress;
+mod reuse;
 pub mod shard;
 mod warnings;
 mod writer_thread;
@@ -31,7 +32,7 @@ use crate::output::{
     self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
 };
 use crate::physics::RunStatus;
-use crate::study::{Plan, PlannedRun};
+use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
 
 /// How to run a plan.
@@ -45,6 +46,9 @@ pub struct RunOptions {
     pub resume: bool,
     /// Overwrite an existing results file.
     pub force: bool,
+    /// With `resume`: delete the stored runs the study no longer plans (else they stay in the file,
+    /// out of the summary).
+    pub drop_unplanned: bool,
     /// Run only this shard of the plan.
     pub shard: Option<ShardSpec>,
     /// How progress is shown.
@@ -147,11 +151,22 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     };
     let path = results_path(plan, options);
     let (_lock, mut writer) = open_results(plan, options, &path, &selected)?;
-    let existing = writer.take_existing();
+    let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
+    let stored = writer.take_existing();
+    let reuse = reuse::Reuse::new(plan, &identities, &selected, stored, &mut writer)?;
+    if options.drop_unplanned {
+        writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
+    }
+    if options.progress != ProgressMode::Quiet {
+        for note in reuse.notes(&path, options.drop_unplanned) {
+            eprintln!("note: {note}");
+        }
+    }
+    let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<&PlannedRun> =
-        selected.iter().map(|&i| &plan.runs[i]).filter(|r| !done.contains(&r.index)).collect();
-    todo.sort_by(|a, b| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
+    let mut todo: Vec<(&PlannedRun, &str)> =
+        reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str())).collect();
+    todo.sort_by(|(a, _), (b, _)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     if let (Some(note), false) = (capped, options.progress == ProgressMode::Quiet) {
@@ -160,7 +175,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
-    let sinks = writer_thread::Sinks { committed: existing, sinks: vec![Box::new(writer)] };
+    let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
     let ran = run_all(&todo, jobs, &options.stop, &view, &|_, result| sender.send(result).is_ok());
     drop(sender); // the writer thread finishes once the channel closes
@@ -176,7 +191,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         selected: selected.len(),
         already_done: done.len(),
         ran,
-        interrupted: options.stop.load(Ordering::SeqCst) && ran + done.len() < selected.len(),
+        interrupted: options.stop.load(Ordering::SeqCst) && tables.summary.len() < selected.len(),
         summary: tables.summary,
         points: tables.points,
         wall_time: started.elapsed(),
@@ -223,7 +238,16 @@ fn open_results(
     let exists = path.exists();
     if exists && options.resume {
         let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
-        check_same_study(path, &header, plan, options.shard)?;
+        check_same_study(path, &header, plan, options.shard, writer.has_identities())?;
+        if header.fingerprint != plan.fingerprint {
+            writer.set_header(&FileHeader {
+                study_text: plan.study_text.clone(),
+                fingerprint: plan.fingerprint.clone(),
+                planned_runs: plan.runs.len(),
+                shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
+                ..header
+            })?;
+        }
         // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
         let damaged = writer.forget_damaged()?;
         writer.forget_failed()?;
@@ -269,12 +293,14 @@ fn check_same_study(
     header: &FileHeader,
     plan: &Plan,
     shard: Option<ShardSpec>,
+    identities: bool,
 ) -> Result<(), OutputError> {
-    if header.fingerprint != plan.fingerprint {
+    if header.fingerprint != plan.fingerprint && !identities {
         return Err(OutputError::new(
             path,
             format!(
-                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}): \
+                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}) \
+                 written before runs had identities, so its runs cannot be matched to this study's: \
                  use another --out directory, or --force to overwrite",
                 header.study_name, header.fingerprint, plan.fingerprint
             ),
@@ -297,7 +323,8 @@ fn check_same_study(
 pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
     order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
-    let todo: Vec<&PlannedRun> = order.iter().map(|&k| runs[k]).collect();
+    let identities: Vec<String> = runs.iter().map(|run| RunIdentity::of(run).to_string()).collect();
+    let todo: Vec<(&PlannedRun, &str)> = order.iter().map(|&k| (runs[k], identities[k].as_str())).collect();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, _) = worker_count(jobs, todo.len(), cores);
     let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
@@ -312,7 +339,7 @@ pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<
 /// Runs `todo` in this order on `jobs` workers, handing each result and its position in `todo` to
 /// `deliver` (which says whether it was taken); returns how many were taken.
 fn run_all(
-    todo: &[&PlannedRun],
+    todo: &[(&PlannedRun, &str)],
     jobs: usize,
     stop: &AtomicBool,
     view: &ProgressView,
@@ -331,9 +358,10 @@ fn run_all(
             scope.spawn(move |_| {
                 while !stop.load(Ordering::SeqCst) {
                     let position = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(run) = todo.get(position) else { break };
+                    let Some(&(run, identity)) = todo.get(position) else { break };
                     let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
-                    if let Some(result) = result {
+                    if let Some(mut result) = result {
+                        result.row.identity = identity.to_string();
                         view.finished(worker, &result.row);
                         if deliver(position, result) {
                             finished.fetch_add(1, Ordering::SeqCst);

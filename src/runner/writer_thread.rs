@@ -1,6 +1,7 @@
 //! The one writer thread: receives finished runs, hands them to the result sinks and commits in
 //! batches; at the end computes the statistics and hands every sink the tables.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -46,6 +47,9 @@ pub struct Sinks {
     pub sinks: Vec<Box<dyn ResultSink>>,
     /// Rows of the runs committed before this sweep.
     pub committed: Vec<SummaryRow>,
+    /// Planned runs that share the identity of a run this sweep makes, by identity: each gets that
+    /// run's row (the same results) under its own index, id and parameters.
+    pub aliases: HashMap<String, Vec<SummaryRow>>,
 }
 
 /// Starts the writer thread; it ends when every sender is dropped, returning the tables and the
@@ -71,7 +75,7 @@ fn write_all(
     runs: &Receiver<RunResult>,
     policy: CommitPolicy,
 ) -> Result<(Tables, Duration), OutputError> {
-    let Sinks { mut sinks, committed: mut rows } = sinks;
+    let Sinks { mut sinks, committed: mut rows, aliases } = sinks;
     let mut last_commit = Instant::now();
     let mut busy = Duration::ZERO;
     let mut pending = 0;
@@ -80,6 +84,14 @@ fn write_all(
             Ok(run) => {
                 let started = Instant::now();
                 sinks.iter_mut().try_for_each(|sink| sink.accept(&run))?;
+                for alias in aliases.get(&run.row.identity).into_iter().flatten() {
+                    rows.push(SummaryRow {
+                        parameters: alias.parameters.clone(),
+                        id: alias.id.clone(),
+                        ..run.row.clone()
+                    });
+                    rows.last_mut().expect("pushed").index = alias.index;
+                }
                 rows.push(run.row);
                 pending += 1;
                 busy += started.elapsed();

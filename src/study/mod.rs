@@ -7,6 +7,7 @@
 pub(crate) mod axes;
 pub(crate) mod errors;
 pub(crate) mod file;
+pub mod identity;
 pub mod initial_csv;
 pub mod name;
 pub(crate) mod plan;
@@ -20,6 +21,7 @@ use serde::{Deserialize, Serialize};
 
 pub use axes::MAX_RUNS;
 pub use errors::{Location, StudyError, StudyErrors, warning_kind};
+pub use identity::RunIdentity;
 
 use crate::physics::SceneConfig;
 use crate::physics::particles::{InitialContact, InitialDisk};

@@ -10,12 +10,12 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, initial_csv, name, resources};
-use crate::physics::SceneConfig;
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, resources};
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
 use crate::physics::walls::BoxWalls;
+use crate::physics::{CellGrid, SceneConfig};
 
 /// Keys allowed at the top of a study file.
 /// The tables of a study file (besides the strings `name` and `description`).
@@ -42,7 +42,7 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
         study_path: file.path.clone(),
         study_text: file.text.clone(),
         name: study_name(doc, &file.path),
-        fingerprint: fingerprint(&file.text),
+        fingerprint: fingerprint_with_inputs(&file.text, &runs),
         output: toml::Value::Table(output).try_into().unwrap_or_default(),
         runs,
         warnings: planner.warnings.into_errors().0,
@@ -172,12 +172,21 @@ pub(crate) fn study_name(doc: &Document, path: &Path) -> String {
 /// FNV-1a 64 of the study text and the demsweep version, as 16 hex digits.
 pub(crate) fn fingerprint(text: &str) -> String {
     let bytes = text.bytes().chain(std::iter::once(0)).chain(env!("CARGO_PKG_VERSION").bytes());
-    let hash = bytes.fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
-    format!("{hash:016x}")
+    format!("{:016x}", super::identity::fnv(bytes))
+}
+
+/// The fingerprint of a study text whose runs are `runs`: of its text, the demsweep version and
+/// the content of its input files, so that shards or a resume whose placement file changed differ.
+fn fingerprint_with_inputs(text: &str, runs: &[PlannedRun]) -> String {
+    let mut inputs: Vec<u64> = RunIdentity::all(runs).iter().map(|identity| identity.inputs).collect();
+    inputs.sort_unstable();
+    inputs.dedup();
+    let digests: String = inputs.iter().map(|d| format!("{d:016x}")).collect();
+    fingerprint(&format!("{text}\0{digests}"))
 }
 
 /// Run ids `r0000`, `r0001`, ... zero-padded to the plan's size (at least 4 digits).
-pub(super) fn run_id(index: usize, runs: usize) -> String {
+pub(crate) fn run_id(index: usize, runs: usize) -> String {
     let width = runs.saturating_sub(1).to_string().len().max(4);
     format!("r{index:0width$}")
 }
@@ -460,6 +469,8 @@ struct Overlaps {
     warnings: Option<(Overlap, usize)>,
     max_ratio: f64,
     warning_ratio: f64,
+    /// The disk pairs examined when the check stopped early (heaped disks), if it did.
+    stopped_after: Option<usize>,
 }
 
 /// One overlap between disks (0-based rows) or a disk and a wall.
@@ -477,46 +488,35 @@ impl Overlaps {
             warnings: None,
             max_ratio: limits.max_overlap_ratio,
             warning_ratio: limits.overlap_warning_ratio,
+            stopped_after: None,
         };
         for (i, disk) in disks.iter().enumerate() {
             if let Some(reason) = outside_box(scene, i, disk) {
-                found.add(Overlap { ratio: f64::INFINITY, what: reason });
+                found.add(f64::INFINITY, || reason);
             } else {
                 for (wall, depth) in wall_depths(scene, disk) {
-                    found.add(Overlap {
-                        ratio: depth / disk.r,
-                        what: format!(
-                            "disk {} (x = {}, y = {}, r = {}) crosses the {wall}",
-                            i + 1,
-                            disk.x,
-                            disk.y,
-                            disk.r
-                        ),
+                    found.add(depth / disk.r, || {
+                        format!("disk {} (x = {}, y = {}, r = {}) crosses the {wall}", i + 1, disk.x, disk.y, disk.r)
                     });
                 }
             }
         }
-        for (i, j) in touching_pairs(disks) {
+        let checked = touching_pairs(disks, |i, j| {
             let (a, b) = (&disks[i], &disks[j]);
             let depth = a.r + b.r - (a.x - b.x).hypot(a.y - b.y);
-            found.add(Overlap {
-                ratio: depth / a.r.min(b.r),
-                what: format!(
-                    "disks {} and {} (rows {} and {} of the file) overlap",
-                    i.min(j) + 1,
-                    i.max(j) + 1,
-                    i.min(j) + 1,
-                    i.max(j) + 1
-                ),
+            found.add(depth / a.r.min(b.r), || {
+                format!("disks {} and {} (rows {} and {} of the file) overlap", i + 1, j + 1, i + 1, j + 1)
             });
-        }
+        });
+        found.stopped_after = checked.err();
         found
     }
 
-    fn add(&mut self, overlap: Overlap) {
-        let slot = if overlap.ratio > self.max_ratio {
+    /// Counts an overlap of `ratio` radii; `what` describes it (made only for a new worst one).
+    fn add(&mut self, ratio: f64, what: impl FnOnce() -> String) {
+        let slot = if ratio > self.max_ratio {
             &mut self.errors
-        } else if overlap.ratio > self.warning_ratio {
+        } else if ratio > self.warning_ratio {
             &mut self.warnings
         } else {
             return;
@@ -524,11 +524,11 @@ impl Overlaps {
         match slot {
             Some((worst, count)) => {
                 *count += 1;
-                if overlap.ratio > worst.ratio {
-                    *worst = overlap;
+                if ratio > worst.ratio {
+                    *worst = Overlap { ratio, what: what() };
                 }
             }
-            None => *slot = Some((overlap, 1)),
+            None => *slot = Some((Overlap { ratio, what: what() }, 1)),
         }
     }
 
@@ -543,25 +543,38 @@ impl Overlaps {
         } else {
             worst.what.clone()
         };
-        Some(format!("{what}{}", more(*count, "beyond the limit")))
+        Some(format!("{what}{}", self.more(*count, "beyond the limit")))
     }
 
     /// The worst overlap beyond `limits.overlap_warning_ratio` that is no error, in words.
     fn warning(&self) -> Option<String> {
-        let (worst, count) = self.warnings.as_ref()?;
+        let Some((worst, count)) = self.warnings.as_ref() else {
+            let pairs = self.stopped_after.filter(|_| self.errors.is_none())?;
+            return Some(format!(
+                "the overlap check stopped after {pairs} disk pairs (disks of very different sizes crowd its grid): \
+                 overlaps beyond them were not looked for"
+            ));
+        };
         Some(format!(
             "{} by {:.3} radii, beyond limits.overlap_warning_ratio = {} (Hertz validity): they start pushed apart{}",
             worst.what,
             worst.ratio,
             self.warning_ratio,
-            more(*count, "beyond it")
+            self.more(*count, "beyond it")
         ))
     }
-}
 
-/// `; N overlaps WHERE in all` when there is more than one.
-fn more(count: usize, place: &str) -> String {
-    if count > 1 { format!("; {count} overlaps {place} in all") } else { String::new() }
+    /// `; N overlaps WHERE in all` when there is more than one (`at least`, and why, when the
+    /// check stopped early).
+    fn more(&self, count: usize, place: &str) -> String {
+        match self.stopped_after {
+            Some(pairs) => format!(
+                "; at least {count} overlaps {place} (the check stopped after {pairs} disk pairs: the disks are heaped)"
+            ),
+            None if count > 1 => format!("; {count} overlaps {place} in all"),
+            None => String::new(),
+        }
+    }
 }
 
 /// A disk whose centre is outside the box, in words.
@@ -591,22 +604,36 @@ fn wall_depths(scene: &SceneConfig, k: &InitialDisk) -> Vec<(&'static str, f64)>
         .collect()
 }
 
-/// Pairs of disks (indices) that touch or overlap: a sweep along x over the disks sorted by x.
-fn touching_pairs(disks: &[InitialDisk]) -> Vec<(usize, usize)> {
-    let mut order: Vec<usize> = (0..disks.len()).collect();
-    order.sort_by(|&a, &b| disks[a].x.total_cmp(&disks[b].x));
-    let largest = disks.iter().map(|d| d.r).fold(0.0, f64::max);
-    let mut pairs = Vec::new();
-    for (k, &i) in order.iter().enumerate() {
-        let a = &disks[i];
-        for &j in order[k + 1..].iter().take_while(|&&j| disks[j].x - a.x < a.r + largest) {
+/// Disk pairs a placement check examines at most (per disk, plus a constant): disks that do not
+/// overlap have a bounded number of neighbours, so only a placement of heaped disks (every pair
+/// overlapping, e.g. 60 000 copies of one disk) reaches it; the check then stops, keeping time O(N).
+const PAIRS_EXAMINED_PER_DISK: usize = 256;
+/// See [`PAIRS_EXAMINED_PER_DISK`].
+const PAIRS_EXAMINED_MIN: usize = 10_000_000;
+
+/// Calls `touching(i, j)` for pairs of disks (indices, `i < j`) that touch or overlap, found through
+/// the cell grid; returns `Err(examined)` when it stopped after examining that many pairs (see
+/// [`PAIRS_EXAMINED_PER_DISK`]), else `Ok(())`.
+fn touching_pairs(disks: &[InitialDisk], mut touching: impl FnMut(usize, usize)) -> Result<(), usize> {
+    let (x, y): (Vec<f64>, Vec<f64>) = disks.iter().map(|d| (d.x, d.y)).unzip();
+    let largest = disks.iter().map(|d| d.r).filter(|r| r.is_finite()).fold(0.0, f64::max);
+    let mut grid = CellGrid::default();
+    grid.build(&x, &y, 2.0 * largest);
+    let budget = PAIRS_EXAMINED_PER_DISK.saturating_mul(disks.len()).max(PAIRS_EXAMINED_MIN);
+    let mut examined = 0;
+    for (i, a) in disks.iter().enumerate() {
+        for j in grid.neighbours(i) {
+            examined += 1;
+            if examined > budget {
+                return Err(budget);
+            }
             let b = &disks[j];
             if (a.x - b.x).hypot(a.y - b.y) < a.r + b.r {
-                pairs.push((i, j));
+                touching(i, j);
             }
         }
     }
-    pairs
+    Ok(())
 }
 
 #[cfg(test)]
@@ -618,6 +645,53 @@ mod tests {
         assert_eq!(run_id(7, 12), "r0007");
         assert_eq!(run_id(0, 10_000), "r0000");
         assert_eq!(run_id(12_345, 100_001), "r012345");
+    }
+
+    /// Disks of radius 1-3 mm at pseudo-random places in a 5 cm square (a small LCG, fixed seed).
+    fn random_disks(n: usize) -> Vec<InitialDisk> {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|_| InitialDisk {
+                x: 0.05 * next(),
+                y: 0.05 * next(),
+                r: 0.001 + 0.002 * next(),
+                ..InitialDisk::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn touching_pairs_are_the_brute_force_pairs() {
+        let disks = random_disks(400);
+        let mut found = Vec::new();
+        assert_eq!(touching_pairs(&disks, |i, j| found.push((i, j))), Ok(()));
+        found.sort_unstable();
+        let mut brute = Vec::new();
+        for i in 0..disks.len() {
+            for j in i + 1..disks.len() {
+                let (a, b) = (&disks[i], &disks[j]);
+                if (a.x - b.x).hypot(a.y - b.y) < a.r + b.r {
+                    brute.push((i, j));
+                }
+            }
+        }
+        assert!(brute.len() > 100, "a test with overlaps: {}", brute.len());
+        assert_eq!(found, brute);
+    }
+
+    #[test]
+    fn heaped_disks_stop_the_pair_check_at_its_budget() {
+        let disks = vec![InitialDisk { x: 0.1, y: 0.1, r: 0.005, ..InitialDisk::default() }; 20_000];
+        let mut found = 0_usize;
+        assert_eq!(
+            touching_pairs(&disks, |_, _| found += 1),
+            Err(PAIRS_EXAMINED_MIN.max(PAIRS_EXAMINED_PER_DISK * 20_000))
+        );
+        assert_eq!(found, PAIRS_EXAMINED_MIN.max(PAIRS_EXAMINED_PER_DISK * 20_000));
     }
 
     #[test]

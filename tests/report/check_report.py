@@ -41,11 +41,14 @@ def option(name):
 
 def stored_disks(results, run_id, name):
     """x, y and r of a player frame (`frame_<k>` or `final`) of run `run_id` as h5py reads them from
-    the file (the run's group is in one of the batch groups `/runs_<k>`)."""
+    the file (the run's group, named by its identity in /summary, is in one of the batch groups
+    `/runs_<k>`)."""
     import h5py
 
     with h5py.File(results, "r") as f:
-        run = next(f[batch][run_id] for batch in f if batch.startswith("runs_") and run_id in f[batch])
+        ids = list(f["summary/run_id"].asstr()[()])
+        name = f["summary/identity"].asstr()[ids.index(run_id)]
+        run = next(f[batch][name] for batch in f if batch.startswith("runs_") and name in f[batch])
         table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
         return table["x"][:], table["y"][:], table["r"][:]
 

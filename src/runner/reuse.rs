@@ -1,0 +1,131 @@
+//! Which planned runs a results file already holds, matched by identity (so that an edited study
+//! continues in the same file), which must run, and which stored runs the study no longer plans.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::Path;
+
+use crate::output::{OutputError, ResultsWriter, SummaryRow};
+use crate::study::{Plan, RunIdentity};
+
+/// What a resumed (or new) results file gives a sweep.
+pub(super) struct Reuse {
+    /// Rows of the stored runs the plan reuses, under the plan's index, id and parameters.
+    pub rows: Vec<SummaryRow>,
+    /// Plan indices of the runs to make, one per identity.
+    pub todo: Vec<usize>,
+    /// Planned runs that share the identity of a run to make, by identity (see `writer_thread`).
+    pub aliases: HashMap<String, Vec<SummaryRow>>,
+    /// Stored runs the study no longer plans: kept in the file, left out of the summary.
+    pub unplanned: Vec<SummaryRow>,
+    /// Stored runs that lacked an output the study now asks for (they run again).
+    pub lacking: usize,
+    /// For planned runs to make whose swept values match a stored run of another identity: what
+    /// changed, with how many runs.
+    pub changed: BTreeMap<String, usize>,
+}
+
+impl Reuse {
+    /// Matches the `stored` runs of `writer`'s file to the `selected` runs of `plan` (whose
+    /// identities are `identities`). Stored runs without identities (files written before them,
+    /// of the same study) are matched by index. Stored runs lacking an output the plan asks for
+    /// are deleted from the file, to run again.
+    pub fn new(
+        plan: &Plan,
+        identities: &[String],
+        selected: &[usize],
+        stored: Vec<SummaryRow>,
+        writer: &mut ResultsWriter,
+    ) -> Result<Self, OutputError> {
+        let mut reuse = Reuse {
+            rows: Vec::new(),
+            todo: Vec::new(),
+            aliases: HashMap::new(),
+            unplanned: Vec::new(),
+            lacking: 0,
+            changed: BTreeMap::new(),
+        };
+        let (legacy, stored): (Vec<SummaryRow>, Vec<SummaryRow>) =
+            stored.into_iter().partition(|row| row.identity.is_empty());
+        let legacy_done: HashSet<usize> = legacy.iter().map(|r| r.index).collect();
+        reuse.rows.extend(legacy);
+        let planned: HashSet<&str> = identities.iter().map(String::as_str).collect();
+        let (mut by_identity, unplanned): (HashMap<String, SummaryRow>, Vec<SummaryRow>) = {
+            let (kept, gone): (Vec<SummaryRow>, Vec<SummaryRow>) =
+                stored.into_iter().partition(|row| planned.contains(row.identity.as_str()));
+            (kept.into_iter().map(|row| (row.identity.clone(), row)).collect(), gone)
+        };
+        let mut making: HashSet<&str> = HashSet::new();
+        let mut lacking = Vec::new();
+        for &i in selected.iter().filter(|i| !legacy_done.contains(i)) {
+            let (run, identity) = (&plan.runs[i], identities[i].as_str());
+            let frames = !run.scene.run.frame_times.is_empty() || run.scene.run.frame_interval.is_some();
+            let as_planned = |row: &SummaryRow| SummaryRow {
+                index: run.index,
+                id: run.id.clone(),
+                parameters: run.parameters.clone(),
+                identity: identity.to_string(),
+                ..row.clone()
+            };
+            if let Some(row) = by_identity.get(identity) {
+                if writer.holds(identity, &plan.output, frames) {
+                    reuse.rows.push(as_planned(row));
+                    continue;
+                }
+                lacking.push(by_identity.remove(identity).expect("present").group_name().to_string());
+            }
+            if !making.insert(identity) {
+                let alias = as_planned(&SummaryRow::failed(0, "", &[], ""));
+                reuse.aliases.entry(identity.to_string()).or_default().push(alias);
+                continue;
+            }
+            reuse.todo.push(i);
+            if let Some(old) = unplanned.iter().find(|row| row.parameters == run.parameters) {
+                let (Ok(was), Ok(now)) = (old.identity.parse::<RunIdentity>(), identity.parse::<RunIdentity>()) else {
+                    continue;
+                };
+                *reuse.changed.entry(was.changes(&now).join(", ")).or_default() += 1;
+            }
+        }
+        reuse.lacking = lacking.len();
+        writer.forget(&lacking)?;
+        reuse.unplanned = unplanned;
+        Ok(reuse)
+    }
+
+    /// What a user should know about the file's stored runs, in words.
+    pub fn notes(&self, path: &Path, dropped: bool) -> Vec<String> {
+        let mut notes = Vec::new();
+        for (what, runs) in &self.changed {
+            notes.push(format!(
+                "{}: {runs} run(s) of this study match stored runs by their swept values but not by what \
+                 they depend on ({what} changed): they run again",
+                path.display()
+            ));
+        }
+        if self.lacking > 0 {
+            notes.push(format!(
+                "{}: {} stored run(s) lack an output this study asks for ([output]): they run again",
+                path.display(),
+                self.lacking
+            ));
+        }
+        if dropped && !self.unplanned.is_empty() {
+            notes.push(format!("{}: deleted {} stored run(s) no longer planned", path.display(), self.unplanned.len()));
+        } else if !self.unplanned.is_empty() {
+            let ids: Vec<&str> = self.unplanned.iter().take(10).map(|r| r.id.as_str()).collect();
+            let more = if self.unplanned.len() > 10 {
+                format!(" and {} more", self.unplanned.len() - 10)
+            } else {
+                String::new()
+            };
+            notes.push(format!(
+                "{}: {} stored run(s) are no longer planned by this study (stored as {}{more}): kept in the file, \
+                 left out of the summary, points and report; `--drop-unplanned` deletes them",
+                path.display(),
+                self.unplanned.len(),
+                ids.join(", ")
+            ));
+        }
+        notes
+    }
+}
