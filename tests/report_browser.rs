@@ -140,7 +140,7 @@ fn each_run_with_frames_has_a_player_that_draws_the_stored_frames() {
     let dir = scratch("report_player");
     let study = dir.join("report_study.toml");
     let with_frames = STUDY
-        .replace("run.duration = 0.3", "run.duration = 0.3\nrun.frame_interval = 0.05")
+        .replace("run.duration = 1.5", "run.duration = 0.3\nrun.frame_interval = 0.05")
         .replace("frames = false", "frames = true")
         .replace("replicates = 3", "replicates = 1");
     std::fs::write(&study, with_frames).unwrap();
