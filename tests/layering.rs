@@ -311,7 +311,7 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> {
 }
 
 /// File cycles being removed (by another change): the test fails once one is gone, so that the entry
-/// is deleted with it. (`tune/file ↔ tune/validity` went with the tune's typed validity warnings, #29.)
+/// is deleted with it.
 const CYCLES_BEING_REMOVED: [&[&str]; 0] = [];
 
 #[test]
