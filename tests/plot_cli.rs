@@ -198,4 +198,14 @@ fn an_unknown_run_or_a_missing_file_is_an_error_naming_it() {
     let plot = demsweep(&["plot", "/no/such/study.h5"]);
     assert!(!plot.status.success());
     assert!(text(&plot).contains("/no/such/study.h5: no such results file"), "{}", text(&plot));
+    // A CSV table (such as the summary beside a results file) given in its place is named as one.
+    let csv = results.with_file_name("cli_errors_summary.csv");
+    std::fs::write(&csv, "run_id,settle_time (s)\nr0000,0.5\n").unwrap();
+    let summary = demsweep(&["summary", csv.to_str().unwrap()]);
+    assert!(!summary.status.success());
+    assert!(
+        text(&summary).contains("demsweep reads the HDF5 file (.h5) a run wrote; a .csv file"),
+        "{}",
+        text(&summary)
+    );
 }

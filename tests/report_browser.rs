@@ -21,7 +21,7 @@ description = "restitution with replicates, for the report test"
 particles.count = 25
 domain.width = 0.16
 domain.height = 0.2
-run.duration = 0.3
+run.duration = 1.5
 [sweep]
 "material.restitution" = [0.2, 0.5, 0.8]
 replicates = 3
@@ -74,6 +74,7 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
     assert_eq!(seen["requests"], Value::Array(Vec::new()), "no network request: {seen}");
     assert_eq!((&seen["rows"], &seen["rows_in_page"]), (&Value::from(3), &Value::from(3)), "one row per grid point");
+    the_answer_comes_first(&seen, &dir.join("report_study.h5"));
     assert_eq!(seen["sorted_column"], "material.restitution");
     assert_eq!((seen["sorted_ascending"].as_bool(), seen["sorted_descending"].as_bool()), (Some(true), Some(true)));
     let pile_charts = CHARTED_METRICS.len() - 1; // settle time against restitution is the settle-time chart
@@ -83,6 +84,25 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     assert_eq!(seen["run_links"], 3, "each point links to a run section");
     assert_eq!(seen["run_links_reached"], 3);
     header_groups_hold_their_columns(&seen);
+}
+
+/// The page opens on its answer, visible without scrolling: the grid points by mean settle time, the
+/// fastest first, as the file's own per-point statistics order them.
+fn the_answer_comes_first(seen: &Value, results: &Path) {
+    assert_eq!(seen["first_section"], "verdict", "{seen}");
+    assert_eq!(seen["verdict_in_first_screen"], true, "{seen}");
+    let file = demsweep::output::reader::open(results).unwrap();
+    let summary = demsweep::output::reader::summary(&file, results).unwrap();
+    let points = demsweep::stats::points::Points::new(&summary);
+    let mut means: Vec<(f64, String)> = (0..points.len())
+        .map(|p| (points.describe(p, "settle_time").mean, points.label(p)))
+        .filter(|(mean, _)| mean.is_finite())
+        .collect();
+    means.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let shown: Vec<&str> = seen["verdict_points"].as_array().unwrap().iter().map(|r| r[0].as_str().unwrap()).collect();
+    let expected: Vec<&str> = means.iter().map(|(_, label)| label.as_str()).collect();
+    assert_eq!(shown, expected, "the settled points, fastest first: {seen}");
+    assert!(!shown.is_empty(), "the test's points settle: {seen}");
 }
 
 /// The point table's header groups span every column, in the quantity table's order, each column
@@ -120,7 +140,7 @@ fn each_run_with_frames_has_a_player_that_draws_the_stored_frames() {
     let dir = scratch("report_player");
     let study = dir.join("report_study.toml");
     let with_frames = STUDY
-        .replace("run.duration = 0.3", "run.duration = 0.3\nrun.frame_interval = 0.05")
+        .replace("run.duration = 1.5", "run.duration = 0.3\nrun.frame_interval = 0.05")
         .replace("frames = false", "frames = true")
         .replace("replicates = 3", "replicates = 1");
     std::fs::write(&study, with_frames).unwrap();

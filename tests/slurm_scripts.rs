@@ -82,7 +82,10 @@ fn the_jobs_run_the_demsweep_that_wrote_them_and_a_build_folder_binary_is_warned
     let build = Path::new(env!("CARGO_BIN_EXE_demsweep"));
     let (script, stderr) = written(build);
     assert!(script.contains(&format!("exec {} run", build.display())), "{script}");
-    assert!(stderr.contains("a cargo build folder's binary") && stderr.contains("cargo install --path ."), "{stderr}");
+    assert!(
+        stderr.contains("a cargo build folder's binary") && stderr.contains("cargo install --locked --path ."),
+        "{stderr}"
+    );
 
     let installed = dir.join("bin/demsweep");
     std::fs::create_dir_all(installed.parent().unwrap()).unwrap();

@@ -30,7 +30,7 @@ pub struct SlurmArgs {
     #[arg(long)]
     time: Option<String>,
     /// The demsweep executable the jobs run (default: this one, by its absolute path: the one
-    /// `cargo install --path .` put on the PATH; a cargo build folder's is warned about).
+    /// `cargo install --locked --path .` put on the PATH; a cargo build folder's is warned about).
     #[arg(long, value_name = "PATH")]
     demsweep: Option<PathBuf>,
     /// Also print both scripts.
@@ -99,7 +99,7 @@ fn warn_if_build_folder(exe: &Path) {
     if exe.parent().is_some_and(|profile| profile.join(".fingerprint").is_dir()) {
         eprintln!(
             "warning: the jobs will run {}, a cargo build folder's binary, which the next cargo build replaces \
-             under queued jobs: install demsweep (cargo install --path .) and run `demsweep slurm` from the PATH, \
+             under queued jobs: install demsweep (cargo install --locked --path .) and run `demsweep slurm` from the PATH, \
              or pass --demsweep PATH",
             exe.display()
         );

@@ -45,7 +45,16 @@ pub fn open(path: &Path) -> Result<File, OutputError> {
     if !path.is_file() {
         return Err(OutputError::new(path, "no such results file"));
     }
-    File::open_streaming(path).map_err(|e| hdf5_error(path, e))
+    File::open_streaming(path).map_err(|e| match path.extension().and_then(|e| e.to_str()) {
+        Some(ext) if !ext.eq_ignore_ascii_case("h5") => OutputError::new(
+            path,
+            format!(
+                "not a results file ({e}): demsweep reads the HDF5 file (.h5) a run wrote; a .{ext} file (such as \
+                 the _summary.csv or _points.csv beside it) is one of its tables"
+            ),
+        ),
+        _ => hdf5_error(path, e),
+    })
 }
 
 /// The file's root attributes.

@@ -266,13 +266,16 @@ impl Grid {
         Self { xs, ys, cells }
     }
 
-    /// The colour scale range: the settle times of settled cells.
+    /// The colour scale range: the settle times of settled cells, widened by the largest 95 %
+    /// half-width on each side, so that cells whose intervals overlap do not look far apart.
     fn settle_range(&self) -> Range<f64> {
+        let widest = self.cells.iter().filter_map(|c| c.4).fold(0.0, f64::max);
         let times = self.cells.iter().filter_map(|(_, _, state, _, _)| match state {
             CellState::Settled(t) => Some(*t),
             _ => None,
         });
-        match style::finite_bounds(times) {
+        let ends = times.flat_map(|t| [(t - widest).max(0.0), t + widest]);
+        match style::finite_bounds(ends) {
             Some((lo, hi)) if hi > lo => lo..hi,
             bounds => style::padded(bounds, 0.0),
         }

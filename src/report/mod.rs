@@ -25,6 +25,7 @@ use crate::physics::warning::WarningKind;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
+use crate::stats::Describe;
 use crate::stats::points::Points;
 use html::{escape, number};
 
@@ -118,6 +119,9 @@ pub fn write_report(
     }
     if !damaged.is_empty() {
         page.push(&format!("<p class=\"note\">{}</p>", escape(&reader::damage_text(&damaged))));
+    }
+    if tune.is_none() {
+        page.push(&verdict(&summary));
     }
     page.push(&outcomes(&rows, tune.is_some()));
     if tune.is_none() {
@@ -218,6 +222,67 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
         escape(&header.study_name),
         escape(description.as_deref().unwrap_or("")),
         escape(&header.study_text)
+    )
+}
+
+/// Grid points the answer at the top of the page lists at most.
+const VERDICT_POINTS: usize = 5;
+
+/// The answer first: the grid points that settle fastest (mean settle time over their settled runs
+/// with its 95 % interval, and their cost), and whether each can be told apart from the fastest
+/// (its interval above the fastest's) or not (the intervals overlap: more seeds would decide).
+fn verdict(summary: &SummaryTable) -> String {
+    let points = Points::new(summary);
+    let mut settled: Vec<(usize, Describe)> = (0..points.len())
+        .map(|p| (p, points.describe(p, "settle_time")))
+        .filter(|(_, d)| d.n > 0 && d.mean.is_finite())
+        .collect();
+    if settled.is_empty() {
+        return "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">No grid point has a settled run: nothing settles in \
+                this sweep (see how the runs ended below).</p>"
+            .into();
+    }
+    settled.sort_by(|a, b| a.1.mean.total_cmp(&b.1.mean));
+    let fastest = &settled[0].1;
+    let fastest_top = fastest.mean + fastest.half_width_95.max(0.0);
+    let rows: String = settled
+        .iter()
+        .take(VERDICT_POINTS)
+        .enumerate()
+        .map(|(rank, (point, d))| {
+            let runs = points.rows(*point).len();
+            let cost = points.describe(*point, "particle_steps");
+            let judged = match rank {
+                0 => "the fastest".to_string(),
+                _ if !d.half_width_95.is_finite() || !fastest.half_width_95.is_finite() => {
+                    "one settled run: no interval to compare".to_string()
+                }
+                _ if d.mean - d.half_width_95 > fastest_top => "slower than the fastest (the intervals are apart)".into(),
+                _ => "not told apart from the fastest (the intervals overlap)".into(),
+            };
+            format!(
+                "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{} of {runs}</td><td class=\"num\">{}</td><td>{judged}</td></tr>",
+                escape(&points.label(*point)),
+                escape(&crate::stats::points::plus_minus(Some(d.mean), Some(d.half_width_95))),
+                d.n,
+                number(cost.mean),
+            )
+        })
+        .collect();
+    let undecided = settled.iter().skip(1).filter(|(_, d)| d.mean - d.half_width_95 <= fastest_top).count();
+    let summary_line = match undecided {
+        0 => "The fastest grid point settles sooner than every other: its 95 % interval lies below theirs.".to_string(),
+        n => format!(
+            "{n} other grid point(s) cannot be told apart from the fastest at these seeds: their 95 % intervals \
+             overlap; more replicates would decide."
+        ),
+    };
+    format!(
+        "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">Fastest-settling grid points (mean settle time over the \
+         settled runs, ± the 95 % confidence half-width). {summary_line} Whether a faster point makes the same pile: \
+         <code>demsweep compare</code> against your usual point (docs/compare.md).</p>\
+         <table class=\"verdict\"><thead><tr><th>grid point</th><th>settle time (s)</th><th>settled runs</th>\
+         <th>mean particle-steps</th><th></th></tr></thead><tbody>{rows}</tbody></table>"
     )
 }
 

@@ -1,5 +1,6 @@
 """Opens a demsweep HTML report in headless Chromium (driven by Playwright) and reports, as JSON on
-stdout, what a person would see: console errors, network requests, table rows, whether a click on a
+stdout, what a person would see: console errors, network requests, the answer at the top (the
+first section, whether it shows without scrolling, its grid points), table rows, whether a click on a
 column header sorts the rows, the point table's header groups and the columns under them, every
 chart's rendered size, whether each run link leads to a visible section, first-paint and sort
 timings, and (with --screenshot FILE) a screenshot of the top of the page.
@@ -46,8 +47,8 @@ def stored_disks(results, run_id, name):
 
     with h5py.File(results, "r") as f:
         ids = list(f["summary/run_id"].asstr()[()])
-        name = f["summary/identity"].asstr()[ids.index(run_id)]
-        run = next(f[batch][name] for batch in f if batch.startswith("runs_") and name in f[batch])
+        group = f["summary/identity"].asstr()[ids.index(run_id)]
+        run = next(f[batch][group] for batch in f if batch.startswith("runs_") and group in f[batch])
         table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
         return table["x"][:], table["y"][:], table["r"][:]
 
@@ -115,6 +116,17 @@ def main():
             "() => performance.getEntriesByType('paint').map(e => [e.name, e.startTime])"
         )
         out["first_paint_ms"] = dict(paint).get("first-contentful-paint")
+        out["first_section"] = page.evaluate("() => document.querySelector('main h2') && document.querySelector('main h2').id")
+        answer = page.locator("#verdict + p.verdict")
+        box = answer.bounding_box() if answer.count() else None
+        out["verdict_in_first_screen"] = box is not None and box["y"] + box["height"] <= 900
+        verdict_rows = page.locator("table.verdict tbody tr")
+        out["verdict_points"] = [
+            [verdict_rows.nth(k).locator("td").nth(c).inner_text() for c in range(2)] for k in range(verdict_rows.count())
+        ]
+        out["points_table_scrolls_sideways"] = page.evaluate(
+            "() => { const s = document.querySelector('.scroll'); return !!s && s.scrollWidth > s.clientWidth; }"
+        )
 
         table = page.locator("table#points")
         out["rows"] = int(table.get_attribute("data-rows"))
