@@ -46,8 +46,8 @@ def stored_disks(results, run_id, name):
 
     with h5py.File(results, "r") as f:
         ids = list(f["summary/run_id"].asstr()[()])
-        name = f["summary/identity"].asstr()[ids.index(run_id)]
-        run = next(f[batch][name] for batch in f if batch.startswith("runs_") and name in f[batch])
+        group = f["summary/identity"].asstr()[ids.index(run_id)]
+        run = next(f[batch][group] for batch in f if batch.startswith("runs_") and group in f[batch])
         table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
         return table["x"][:], table["y"][:], table["r"][:]
 
