@@ -167,6 +167,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         time_step: 1e-5,
         simulated_time: 1.5,
         energy_balance_error: 1e-3,
+        largest_overlap_ratio: 0.01,
         pile: Default::default(),
         stability: StabilityReport::default(),
         history,

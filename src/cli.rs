@@ -188,7 +188,7 @@ enum Command {
         after_help = "Examples:\n  demsweep keys\n  demsweep keys material\n  demsweep keys --markdown"
     )]
     Keys(KeysArgs),
-    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a grid.
+    /// Benchmarks: accuracy against cost, stability map, stress scenarios, skipping savings, tune against a ladder.
     #[command(
         long_about = "Benchmarks of the engine, each writing CSV, Markdown (and charts) into --out \
                       (default results/bench_latest, which git ignores; --update-results writes the \
@@ -196,7 +196,7 @@ enum Command {
                       both integrators), `stability` (where runs blow up against the predicted safe time step), \
                       `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
                       settle, sparse diagnostics and frictionless shortcuts), `tune` (tune against a \
-                      brute-force grid).",
+                      brute-force ladder of time steps).",
         after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
     )]
     Bench(bench::BenchArgs),
@@ -219,14 +219,21 @@ enum Command {
     #[command(
         long_about = "Search the levers of a tune file for the cheapest setting whose settled pile is the same as \
                       the reference scene's: every kept metric equivalent by the two one-sided tests (90 % Welch \
-                      interval of the difference inside the tolerance), every run settled. The reference runs on \
-                      several seeds; candidates from a Halton design and a pattern search run in parallel batches \
-                      through the ordinary runner into OUT/<name>.h5 (every run is kept: --resume after a kill \
-                      replays the search from the file); candidates predicted to overlap past \
-                      limits.max_overlap_ratio are not run; the best is verified on fresh seeds. Prints the \
-                      recommendation and writes OUT/<name>_best.toml (a runnable study), \
-                      OUT/<name>_candidates.csv and charts in OUT/plots/. Exit status 0 when done (with or \
-                      without a recommendation), 1 on a failure, 2 for an invalid tune file, 130 after Ctrl-C.",
+                      interval of the difference inside the tolerance), every run settled, the runs together within \
+                      the validity limits (a limit the reference itself breaks: no worse than the reference). The \
+                      reference runs on several seeds; then the time step alone, from the largest valid fraction of \
+                      the contact time down to the reference's, until the cheapest valid and equivalent step is \
+                      verified on fresh seeds; then, with what the spend limit leaves, the other standard settings, \
+                      a Halton design and a pattern search. Runs go in parallel batches through the ordinary runner \
+                      into OUT/<name>.h5 (every run is kept: --resume after a kill replays the search from the \
+                      file). Prints the answer sheet and writes OUT/<name>_best.toml (a runnable study), \
+                      OUT/<name>_scene_change.toml (the [scene] keys to set in the tune file), \
+                      OUT/<name>_candidates.csv (what ran), OUT/<name>_skipped.csv (predicted invalid, not run) and \
+                      charts in OUT/plots/.\n\nExit status:\n  0    done, with or without a recommendation\n  1    \
+                      a run, the results file or a chart failed, or the reference diverged or did not settle\n  2    \
+                      the tune file is invalid (nothing was run)\n  3    a kept metric cannot be decided: the \
+                      reference's own seed-to-seed spread is too wide for its tolerance (only the reference ran)\n  \
+                      130  interrupted by Ctrl-C (finished runs are kept; continue with --resume)",
         after_help = "Examples:\n  demsweep tune studies/tune_deposition.toml\n  \
                       demsweep tune studies/tune_deposition.toml --jobs 2 --out /tmp/tune --resume"
     )]
@@ -263,7 +270,10 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
         Command::Run(args) => match load_or_report(args.study(), args.out()) {
-            Ok(plan) => results::run(&args, &plan),
+            Ok(plan) => {
+                note_long_cost(&plan, args.jobs().unwrap_or(usize::MAX).min(machine_cores()));
+                results::run(&args, &plan)
+            }
             Err(code) => code,
         },
         Command::Summary(args) => results::summary(&args),
@@ -308,6 +318,7 @@ fn check(args: &CheckArgs) -> ExitCode {
     }
     match load_or_report(&args.study, None) {
         Ok(plan) => {
+            note_long_cost(&plan, machine_cores());
             let warnings = match plan.warnings.len() {
                 0 => String::new(),
                 1 => " (1 warning above)".into(),
@@ -322,14 +333,14 @@ fn check(args: &CheckArgs) -> ExitCode {
 
 fn plan(args: &PlanArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
-        let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+        let cores = args.cores.unwrap_or_else(machine_cores).max(1);
         return tune::plan(&args.study, cores);
     }
     let plan = match load_or_report(&args.study, None) {
         Ok(plan) => plan,
         Err(code) => return code,
     };
-    let cores = args.cores.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    let cores = args.cores.unwrap_or_else(machine_cores).max(1);
     println!(
         "study {} ({}), fingerprint {}, {} runs",
         plan.name,
@@ -346,6 +357,28 @@ fn plan(args: &PlanArgs) -> ExitCode {
         duration(seconds / cores as f64),
     );
     ExitCode::SUCCESS
+}
+
+/// Estimated wall time past which `check` and `run` print it (s): an hour.
+const LONG_SWEEP: f64 = 3600.0;
+
+/// This machine's cores (at least 1).
+fn machine_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Prints the wall-time estimate of `plan` on `cores` (the figure `plan` gives) when it is long.
+fn note_long_cost(plan: &Plan, cores: usize) {
+    let seconds = plan.total_cost() * SECONDS_PER_PARTICLE_STEP / cores.max(1) as f64;
+    if seconds > LONG_SWEEP {
+        eprintln!(
+            "note: {}: about {} on {cores} cores ({:.4e} particle-steps; runs that settle stop sooner): see `demsweep plan {}`",
+            plan.study_path.display(),
+            duration(seconds),
+            plan.total_cost(),
+            plan.study_path.display()
+        );
+    }
 }
 
 /// One aligned line per run: id, swept parameters, disks, steps, particle-steps.

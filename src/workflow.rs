@@ -75,7 +75,13 @@ pub fn load_tune(path: &Path) -> Result<(TuneSpec, Vec<String>), StudyErrors> {
     let spec = tune::load(path)?;
     let mut warnings = spec.warnings.clone();
     match tune::validity::predicted_warnings(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) {
-        Ok(predicted) => warnings.extend(predicted.iter().map(|w| format!("scene (the reference): predicted: {w}"))),
+        Ok(predicted) => warnings.extend(predicted.iter().map(|w| {
+            format!(
+                "scene (the reference): predicted: {w}. The reference itself breaks {}: tune holds every candidate \
+                 to no worse than the reference on it",
+                w.kind.limit_key()
+            )
+        })),
         Err(reason) => warnings.push(format!("scene (the reference): {reason}")),
     }
     Ok((spec, warnings))

@@ -8,6 +8,7 @@ use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::config::IntegratorKind;
 use demsweep::physics::predict_stability as assess;
+use demsweep::physics::warning::WarningKind;
 
 fn small_scene() -> SceneConfig {
     let mut s = SceneConfig::default();
@@ -21,15 +22,19 @@ fn time_step_above_the_contact_time_and_strong_damping_are_warned() {
     let mut s = small_scene();
     let disks = placed_disks(&s).unwrap();
     let report = assess(&s, &disks);
-    assert!(report.warnings.iter().all(|w| !w.contains("time step")), "{:?}", report.warnings);
+    let time_step_kinds = [WarningKind::ContactTimeFraction, WarningKind::DampingRate, WarningKind::TimeStepCapped];
+    assert!(report.warnings.iter().all(|w| !time_step_kinds.contains(&w.kind)), "{:?}", report.warnings);
     s.integrator.time_step = Some(report.contact_time);
     let coarse = assess(&s, &disks);
-    assert!(coarse.warnings.iter().any(|w| w.contains("of the contact time")), "{:?}", coarse.warnings);
+    let fraction = coarse.warnings.iter().find(|w| w.kind == WarningKind::ContactTimeFraction).expect("a warning");
+    assert!((fraction.value - 1.0).abs() < 1e-9 && fraction.limit == s.limits.contact_time_fraction, "{fraction:?}");
+    assert!(fraction.to_string().contains("of the contact time"), "{fraction}");
     s.integrator.time_step = Some(1e-5);
     s.material.beta = Some(50.0);
     let damped = assess(&s, &disks);
     assert!(damped.dt_times_damping_rate > 0.5);
-    assert!(damped.warnings.iter().any(|w| w.contains("damping rate")), "{:?}", damped.warnings);
+    let rate = damped.warnings.iter().find(|w| w.kind == WarningKind::DampingRate).expect("a damping-rate warning");
+    assert_eq!((rate.value, rate.safe_time_step), (damped.dt_times_damping_rate, Some(damped.safe_time_step)));
     s.integrator.time_step = Some(damped.safe_time_step);
     assert!(assess(&s, &disks).warnings.is_empty(), "{:?}", assess(&s, &disks).warnings);
 }

@@ -10,6 +10,7 @@ use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::{Control, Simulation};
+use demsweep::physics::warning::WarningKind;
 
 const G: f64 = 9.81;
 
@@ -137,8 +138,10 @@ fn stability_estimate_counts_the_viscous_rate() {
     let plain = Simulation::<HertzMindlin>::new(&base, &disks).stability();
     let damped = Simulation::<HertzMindlin>::new(&viscous, &disks).stability();
     assert!((damped.damping_rate - plain.damping_rate - 60_000.0).abs() < 1e-6 * damped.damping_rate);
-    assert!(plain.warnings.iter().all(|w| !w.contains("damping rate")), "{:?}", plain.warnings);
-    assert!(damped.warnings.iter().any(|w| w.contains("damping.viscous")), "{:?}", damped.warnings);
+    assert!(plain.warnings.iter().all(|w| w.kind != WarningKind::DampingRate), "{:?}", plain.warnings);
+    let rate = damped.warnings.iter().find(|w| w.kind == WarningKind::DampingRate).expect("a damping-rate warning");
+    assert_eq!(rate.kind.limit_key(), "limits.damping_rate_fraction");
+    assert!(rate.to_string().contains("damping.viscous"), "{rate}");
 }
 
 #[test]
@@ -150,7 +153,9 @@ fn a_step_capped_by_the_damping_limit_says_so_in_the_run() {
     scene.run.duration = 0.01;
     let rec = run_scene(&scene, Some(reference_disks()), &mut |_| Control::Continue).unwrap();
     assert!(rec.time_step <= 0.5 / 20_000.0, "{}", rec.time_step);
-    assert!(rec.warnings[0].starts_with("time step capped at"), "{:?}", rec.warnings);
+    let capped = &rec.warnings[0];
+    assert_eq!((capped.kind, capped.limit), (WarningKind::TimeStepCapped, rec.time_step), "{capped:?}");
+    assert!(capped.value > capped.limit && capped.to_string().starts_with("time step capped at"), "{capped}");
 }
 
 #[test]

@@ -8,6 +8,7 @@ use demsweep::physics::config::{BroadPhaseKind, IntegratorKind, SceneConfig};
 use demsweep::physics::record::{RunRecord, RunStatus};
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
+use demsweep::physics::warning::WarningKind;
 
 fn run(scene: &SceneConfig, disks: Option<Vec<demsweep::physics::particles::InitialDisk>>) -> RunRecord {
     run_scene(scene, disks, &mut |_| Control::Continue).unwrap()
@@ -124,10 +125,18 @@ fn paper_table1_runs_to_the_end_and_flags_the_overlap() {
     assert_ne!(rec.status, RunStatus::Diverged, "{:?}", rec.message);
     assert!((rec.simulated_time - 3.0).abs() < 1e-9);
     let worst = rec.history.max_overlap_ratio.iter().cloned().fold(0.0, f64::max);
-    println!("largest overlap {worst:.3} radii; warnings:\n{}", rec.warnings.join("\n"));
+    let texts: Vec<String> = rec.warnings.iter().map(ToString::to_string).collect();
+    println!("largest overlap {worst:.3} radii; warnings:\n{}", texts.join("\n"));
     assert!(worst > 1.0);
-    assert!(rec.warnings.iter().any(|w| w.contains("largest overlap") && w.contains("radii")));
-    assert!(rec.stability.warnings.iter().any(|w| w.contains("too soft")));
+    // The measured warning is a value: kind, limit key, the largest overlap, its limit and when.
+    let overlap = rec.warnings.iter().find(|w| w.kind == WarningKind::Overlap).expect("a measured overlap warning");
+    assert_eq!((overlap.value, overlap.limit), (worst, s.limits.overlap_warning_ratio));
+    assert_eq!((overlap.kind.limit_key(), rec.largest_overlap_ratio), ("limits.overlap_warning_ratio", worst));
+    let at = rec.history.max_overlap_ratio.iter().position(|&o| o == worst).unwrap();
+    assert_eq!(overlap.time, Some(rec.history.time[at]));
+    assert!(texts.iter().any(|w| w.contains("largest overlap") && w.contains("radii")));
+    let predicted = [WarningKind::ImpactOverlap, WarningKind::StaticOverlap];
+    assert!(rec.stability.warnings.iter().any(|w| predicted.contains(&w.kind) && w.to_string().contains("too soft")));
     // With the default limit the same scene is stopped as diverged, with the reason.
     s.limits = Default::default();
     let stopped = run(&s, None);

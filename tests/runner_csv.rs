@@ -69,6 +69,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "final_mechanical (J)",
         "final_ubf",
         "energy_balance_error",
+        "largest_overlap_ratio",
         "pile_height (m)",
         "packing_fraction",
         "packing_fraction_interior",

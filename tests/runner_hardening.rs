@@ -185,12 +185,24 @@ fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     let identity = intact.column("identity").unwrap().data.text(5);
     damage_run_group(&results, "r0005");
     let r = results.to_str().unwrap();
-    for args in [vec!["summary", r], vec!["report", r], vec!["plot", r, "--format", "svg"]] {
+    let (vtk, compare_csv) = (dir.join("vtk"), dir.join("compare.csv"));
+    let (vtk, compare_csv) = (vtk.to_str().unwrap(), compare_csv.to_str().unwrap());
+    for args in [
+        vec!["summary", r],
+        vec!["report", r],
+        vec!["plot", r, "--format", "svg"],
+        vec!["export", r, "--format", "vtk", "--run", "r0001", "--out", vtk],
+        vec!["compare", r, "--reference", "r0000", "--csv", compare_csv],
+    ] {
         let seen = command(&args).output().unwrap();
         assert_eq!(seen.status.code(), Some(3), "{args:?}: {}", stderr(&seen));
         let expected = format!("damaged: 1 run group(s) cannot be read: /runs_00000/{identity} (");
         assert!(stderr(&seen).contains(&expected), "{args:?}: {}", stderr(&seen));
     }
+    assert!(Path::new(vtk).join("r0001_final_disks.vtp").is_file() && Path::new(compare_csv).is_file());
+    let export = command(&["export", r, "--format", "vtk", "--run", "r0005", "--out", "unused"]).output().unwrap();
+    assert_eq!(export.status.code(), Some(1), "{}", stderr(&export));
+    assert!(stderr(&export).contains("run group /runs_00000/r0005 cannot be read"), "{}", stderr(&export));
     let listed = String::from_utf8(command(&["summary", r]).output().unwrap().stdout).unwrap();
     assert_eq!(listed.lines().count(), 1 + 7, "the seven readable runs:\n{listed}");
     assert!(!listed.contains("r0005"), "{listed}");

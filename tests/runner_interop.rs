@@ -52,6 +52,7 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
         ("final_mechanical", last(|r| &r.history.mechanical)),
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
         ("energy_balance_error", record.map_or(nan, |r| r.energy_balance_error)),
+        ("largest_overlap_ratio", record.map_or(nan, |r| r.largest_overlap_ratio)),
         ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];

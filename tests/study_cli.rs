@@ -33,9 +33,11 @@ fn check_prints_the_warnings_it_can_predict_without_failing() {
     let study = concat!(env!("CARGO_MANIFEST_DIR"), "/studies/paper_table1.toml");
     let out = demsweep(&["check", study]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout), "ok: 1 run (2 warnings above)\n");
+    assert_eq!(text(&out.stdout), "ok: 1 run (4 warnings above)\n");
     let stderr = text(&out.stderr);
     for expected in [
+        "paper_table1.toml:22:1: scene.material.youngs_modulus (run r0000): 20000 Pa is implausible for this key",
+        "units are SI: did you mean 2e10 Pa (20000 MPa)",
         "paper_table1.toml:28:2: scene (run r0000): predicted: an impact at 3.370 m/s would overlap 0.814 radii",
         "paper_table1.toml:28:2: scene (run r0000): predicted: the settled pile's weight would press the bottom disks 8.528 radii into the floor",
     ] {

@@ -1,6 +1,8 @@
 //! Tune's screen of candidates and `check` use the same, law-aware stability prediction: on a soft
-//! linear-law scene both see the same impact overlap.
+//! linear-law scene both see the same impact overlap (the screen's as a typed warning's value, the
+//! check's in its text at the digits it prints).
 
+use demsweep::physics::warning::WarningKind;
 use demsweep::tune::{Evaluator, TuneOptions};
 
 /// A scene whose linear contacts (k_n = 1e3 N/m) are far too soft for a 0.3 m fall.
@@ -38,8 +40,9 @@ fn tune_screen_and_check_predict_the_same_overlap_on_a_linear_law_scene() {
     let spec = demsweep::tune::load(&tune).expect("the tune file loads");
     let options = TuneOptions { out_dir: Some(dir.clone()), ..Default::default() };
     let mut evaluator = demsweep::tune::RunEvaluator::new(&spec, &options);
-    let screened = evaluator.screen(&[0.5], None).invalid.expect("the screen rejects the candidate");
-    let predicted = number_after(&screened, "would overlap ");
+    let screened = evaluator.screen(&[0.5], None).predicted.expect("the scene starts");
+    let overlap = screened.iter().find(|w| w.kind == WarningKind::ImpactOverlap).expect("an impact overlap warning");
+    let predicted: f64 = format!("{:.3}", overlap.value).parse().unwrap();
     println!("check: {checked} radii; tune's screen: {predicted} radii");
     assert!(checked > 1.0, "a soft linear contact overlaps by more than a radius: {checked}");
     assert_eq!(checked, predicted);

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import os
+import pathlib
 import warnings
 
 import numpy as np
@@ -118,7 +119,8 @@ class Results:
         self._file = _native.Results(os.fspath(path))
 
     @property
-    def path(self) -> str:
+    def path(self) -> pathlib.Path:
+        """The results file."""
         return self._file.path
 
     @property
@@ -152,5 +154,6 @@ class Results:
 
 
 def open(path) -> Results:  # noqa: A001 - the module's reader, like io.open
-    """Opens a results file (``.h5``) written by ``run_study``, ``tune`` or the command line."""
+    """Opens a results file (``.h5``) written by ``run_study``, ``tune`` or the command line, or the
+    one results file in a folder (``results/<study name>``), as the commands do."""
     return Results(path)

@@ -428,8 +428,10 @@ impl Results {
 
 #[pymethods]
 impl Results {
+    /// The results file `path`, or the one results file in the folder `path` (as the commands take it).
     #[new]
     fn new(path: PathBuf) -> PyResult<Self> {
+        let path = reader::locate(&path).map_err(results_error)?;
         let file = reader::open(&path).map_err(results_error)?;
         reader::header(&file, &path).map_err(results_error)?;
         Ok(Self { path })

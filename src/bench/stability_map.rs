@@ -271,7 +271,7 @@ fn map_case(column: &Column, scene: &SceneConfig, disks: &[InitialDisk]) -> Resu
         dt_times_damping_rate: st.dt_times_damping_rate,
         safe_time_step: st.safe_time_step,
         warned: !st.warnings.is_empty(),
-        warnings: st.warnings.join(" | "),
+        warnings: st.warnings.iter().map(ToString::to_string).collect::<Vec<_>>().join(" | "),
         status: rec.status,
         message: rec.message.unwrap_or_default(),
         simulated_time: rec.simulated_time,

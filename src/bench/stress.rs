@@ -151,7 +151,7 @@ fn report(result: Result<RunRecord, String>, note: String) -> Report {
                 Some(t) => format!("settled at t = {t:.4} s after {} steps", rec.steps),
                 None => format!("ran {:.4} s ({} steps) without settling", rec.simulated_time, rec.steps),
             });
-            (Outcome::Run(rec.status), message, rec.warnings, note)
+            (Outcome::Run(rec.status), message, rec.warnings.iter().map(ToString::to_string).collect(), note)
         }
         Err(error) => (Outcome::Error, error, Vec::new(), note),
     }

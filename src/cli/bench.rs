@@ -42,15 +42,13 @@ enum Which {
         #[arg(long, default_value = "studies/damping_sweep.toml")]
         study: PathBuf,
     },
-    /// `demsweep tune` against a brute-force grid over the same levers (3 values each, the same seeds per
-    /// point) on each tune file: cost ratio and total cost (several minutes on 2 cores).
+    /// `demsweep tune` against a brute-force ladder of time steps (the time step alone at 1.0 … 0.4 of
+    /// the contact-time limit, each on the reference's seeds) on each tune file: tune's verified cost
+    /// against the ladder's cheapest valid, equivalent rung, and tune's spend (minutes on 2 cores).
     Tune {
         /// Tune files (default: studies/tune_deposition.toml and studies/tune_polydisperse.toml).
         #[arg(long = "tune", value_name = "FILE")]
         tunes: Vec<PathBuf>,
-        /// Grid values per lever.
-        #[arg(long, default_value_t = 3)]
-        levels: usize,
         /// Worker threads (default: all cores).
         #[arg(long, short = 'j')]
         jobs: Option<usize>,
@@ -74,11 +72,10 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
         Which::Skipping { study } => {
             skipping_options(study, out.clone()).and_then(|o| skipping(&o)).map(|_| "skipping.md")
         }
-        Which::Tune { tunes, levels, jobs } => {
+        Which::Tune { tunes, jobs } => {
             let defaults = TuneBenchOptions::default();
             let options = TuneBenchOptions {
                 tunes: if tunes.is_empty() { defaults.tunes } else { tunes.clone() },
-                levels: (*levels).max(2),
                 jobs: jobs.unwrap_or(0),
                 work_dir: out.join("tune_work"),
                 out_dir: out.clone(),

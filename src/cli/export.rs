@@ -57,7 +57,7 @@ pub fn run(args: &ExportArgs) -> ExitCode {
                 args.out.display(),
                 started.elapsed().as_secs_f64()
             );
-            ExitCode::SUCCESS
+            super::results::damage_status(&args.results, &summary.damaged)
         }
         Err(e) => {
             eprintln!("error: {e}");

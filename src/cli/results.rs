@@ -184,6 +184,11 @@ impl RunArgs {
         &self.study
     }
 
+    /// The worker threads asked for, when given.
+    pub fn jobs(&self) -> Option<usize> {
+        self.jobs.filter(|&j| j > 0)
+    }
+
     /// The output directory, when given.
     pub fn out(&self) -> Option<&std::path::Path> {
         self.out.as_deref()
@@ -237,11 +242,11 @@ fn print_report(report: &RunReport) {
         }
     }
     let counts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
+    let counts = if counts.is_empty() { String::new() } else { format!(" ({})", counts.join(", ")) };
     println!(
-        "{} of {} runs recorded ({}); {} run now, {} already done",
+        "{} of {} runs recorded{counts}; {} run now, {} already done",
         report.summary.len(),
         report.selected,
-        counts.join(", "),
         report.ran,
         report.already_done
     );
@@ -297,7 +302,7 @@ fn print_warnings(report: &RunReport) {
         eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
     eprintln!(
-        "each run's warnings: `demsweep summary {}` (warnings column), the texts in each run group's `row` attribute (JSON)",
+        "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `row` attribute (JSON)",
         report.results.display()
     );
 }
@@ -382,10 +387,13 @@ fn print(table: &SummaryTable) -> Result<(), output::OutputError> {
 
 /// `demsweep compare`: every point against the reference; exit 2 for an unknown point or metric.
 pub fn compare(args: &CompareArgs) -> ExitCode {
-    let summary = match output::summary::read(&args.results) {
-        Ok(table) => table,
+    let read =
+        output::reader::open(&args.results).and_then(|file| output::reader::checked_summary(&file, &args.results));
+    let (summary, damaged) = match read {
+        Ok(read) => read,
         Err(e) => return report_error(Err(e)),
     };
+    let status = damage_status(&args.results, &damaged);
     let points = Points::new(&summary);
     let comparison = match compare::compare(&points, &args.reference, &args.keep) {
         Ok(comparison) => comparison,
@@ -427,7 +435,7 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
             }
         }
     }
-    report_error(outcome)
+    if outcome.is_ok() { status } else { report_error(outcome) }
 }
 
 /// Reports bad input (an unknown point or metric) with exit status 2.

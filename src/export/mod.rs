@@ -13,7 +13,7 @@ pub mod vtk;
 use std::path::{Path, PathBuf};
 
 use crate::output::guard::{self, ReplacedFolder};
-use crate::output::reader;
+use crate::output::reader::{self, DamagedGroup};
 use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
 use crate::physics::record::Snapshot;
@@ -76,6 +76,8 @@ pub struct ExportSummary {
     pub files: usize,
     /// Bytes written.
     pub bytes: u64,
+    /// Run groups of the file that cannot be read (left out of an export of every run).
+    pub damaged: Vec<DamagedGroup>,
 }
 
 /// One state to write: the run it belongs to, its name in file names and the snapshot.
@@ -95,7 +97,10 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
         return Err(guard::GuardError { path: out.clone(), refusal: guard::Refusal::Exists }.to_string());
     }
     let file = reader::open(&request.results).map_err(|e| e.to_string())?;
-    let rows = reader::rows(&file, &request.results).map_err(|e| e.to_string())?;
+    let (rows, damaged) = reader::scan(&file, &request.results).map_err(|e| e.to_string())?;
+    if let Some(d) = damaged.iter().find(|d| request.runs.iter().any(|id| d.group.ends_with(&format!("/{id}")))) {
+        return Err(format!("{}: run group {} cannot be read ({})", request.results.display(), d.group, d.reason));
+    }
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;
     let folder =
         ReplacedFolder::prepare(out, MARKER_KIND, &[&request.results], request.force).map_err(|e| e.to_string())?;
@@ -105,7 +110,7 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
     }
     folder.finish().map_err(|e| e.to_string())?;
     let (files, bytes) = folder_size(out)?;
-    Ok(ExportSummary { runs: chosen.len(), files, bytes })
+    Ok(ExportSummary { runs: chosen.len(), files, bytes, damaged })
 }
 
 /// The kind of the marker file in an export folder (`.demsweep-export`): `--force` replaces only such folders.

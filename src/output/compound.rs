@@ -58,11 +58,33 @@ pub fn encode(fields: &[(&str, Field<'_>)]) -> (Datatype, Vec<u8>, u64) {
     (datatype, bytes, rows as u64)
 }
 
-/// Reads a compound table back as named columns (floats and integers), in field order.
-pub fn decode(dataset: &Dataset) -> Result<Vec<(String, ColumnData)>, String> {
+/// Deflate's largest compression ratio (1032:1): no dataset of a file decodes to more than this
+/// many times the file's size.
+const MAX_EXPANSION: u64 = 1032;
+
+/// The most bytes a dataset of the file at `path` can hold: [`MAX_EXPANSION`] times its size.
+pub fn read_limit(path: &std::path::Path) -> u64 {
+    std::fs::metadata(path).map_or(u64::MAX, |m| m.len().saturating_mul(MAX_EXPANSION).saturating_add(1 << 20))
+}
+
+/// Reads a compound table back as named columns (floats and integers), in field order. The table's
+/// declared size must be at most `limit` bytes ([`read_limit`]) and its fields must lie inside its
+/// rows: a damaged or crafted declaration is an error, not an allocation or a panic.
+pub fn decode(dataset: &Dataset, limit: u64) -> Result<Vec<(String, ColumnData)>, String> {
     let Datatype::Compound { size, members } = dataset.datatype().map_err(|e| e.to_string())? else {
         return Err("not a compound (table) dataset".into());
     };
+    let shape = dataset.shape().map_err(|e| e.to_string())?;
+    let declared = shape.iter().try_fold(u64::from(size), |bytes, &n| bytes.checked_mul(n));
+    if declared.is_none_or(|bytes| bytes > limit) {
+        return Err(format!("declares {shape:?} rows of {size} bytes, more than its file could hold"));
+    }
+    if size == 0 {
+        return Err("declares rows of 0 bytes".into());
+    }
+    if let Some(m) = members.iter().find(|m| m.byte_offset as usize + m.datatype.type_size() as usize > size as usize) {
+        return Err(format!("field `{}` lies outside its {size}-byte rows", m.name));
+    }
     let raw = dataset.read_raw().map_err(|e| e.to_string())?;
     let rows: Vec<&[u8]> = raw.chunks_exact(size as usize).collect();
     members
@@ -88,4 +110,26 @@ pub fn decode(dataset: &Dataset) -> Result<Vec<(String, ColumnData)>, String> {
             Ok((m.name.clone(), data))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_table_declaring_more_than_the_limit_is_refused_before_it_is_read() {
+        let path = std::env::temp_dir().join(format!("demsweep-compound-{}.h5", std::process::id()));
+        let values: Vec<f64> = (0..100).map(f64::from).collect();
+        let (datatype, bytes, rows) = encode(&[("x", Field::F64(&values)), ("y", Field::F64(&values))]);
+        let mut builder = hdf5_pure::FileBuilder::new();
+        builder.create_dataset("table").with_compound_data(datatype, bytes, rows);
+        builder.write(&path).unwrap();
+        let file = hdf5_pure::File::open(&path).unwrap();
+        let dataset = file.dataset("table").unwrap();
+        let refused = decode(&dataset, 100 * 16 - 1).unwrap_err();
+        assert!(refused.contains("[100] rows of 16 bytes"), "{refused}");
+        let columns = decode(&dataset, read_limit(&path)).unwrap();
+        assert_eq!(columns[1], ("y".to_string(), ColumnData::Float(values)));
+        std::fs::remove_file(&path).unwrap();
+    }
 }

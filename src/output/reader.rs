@@ -111,7 +111,7 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
             Some((row, warnings)) => with_warnings(file, &group, row, warnings),
             None => group_row(file, &group),
         };
-        match row {
+        match row.and_then(|row| checked_id(row, &name)) {
             Ok(row) => {
                 runs.rows.push(row);
                 runs.groups.insert(name, group);
@@ -122,6 +122,24 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     runs.rows.sort_by_key(|r| r.index);
     runs.damaged = damaged;
     Ok(runs)
+}
+
+/// The row if its run id is its group's name and can name files (plots and exports are named by
+/// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
+fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
+    if row.group_name() != group_name {
+        let named = if row.identity.is_empty() { "run id" } else { "identity" };
+        return Err(format!(
+            "its {named} `{}` is not its group's name `{group_name}`",
+            row.group_name().escape_debug()
+        ));
+    }
+    let unsafe_name =
+        matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
+    if unsafe_name {
+        return Err(format!("its run id `{}` cannot name a file", row.id.escape_debug()));
+    }
+    Ok(row)
 }
 
 /// The rows of every readable committed run (sorted by run index) and the run groups that cannot
@@ -284,8 +302,11 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
             let data = column_data(&dataset).map_err(err)?;
             Ok(Column { name: name.clone(), data })
         })
-        .collect::<Result<_, OutputError>>()?;
-    Ok(Some(SummaryTable { columns }))
+        .collect::<Result<Vec<Column>, OutputError>>()?;
+    // Columns of different lengths (a damaged or crafted file): the table is not used, as if the
+    // file had none (`/summary` is then rebuilt from the run groups, `/points` from the summary).
+    let rows = columns.first().map_or(0, |c| c.data.len());
+    Ok(columns.iter().all(|c| c.data.len() == rows).then_some(SummaryTable { columns }))
 }
 
 fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {

@@ -3,6 +3,7 @@
 
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::{RunRecord, RunStatus};
+use crate::physics::warning::ValidityWarning;
 use crate::study::ParamValue;
 
 /// One run's summary: identity, swept parameters, outcome and final values.
@@ -19,7 +20,7 @@ pub struct SummaryRow {
     /// Why the run diverged or failed; empty otherwise.
     pub message: String,
     /// Validity warnings.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<ValidityWarning>,
     /// Settle time (s), `None` when the run did not settle.
     pub settle_time: Option<f64>,
     /// Time steps taken.

@@ -3,7 +3,8 @@
 //! ```text
 //! index, id, status, message   the run's identity and how it ended (int64, strings)
 //! row                          JSON: {"parameters": [[key path, value], …] in axis order,
-//!                              "warnings": [text, …], then each per-run quantity by name
+//!                              "warnings": [{kind, value, limit, time, …}, …] (typed: see
+//!                              [`ValidityWarning`]), then each per-run quantity by name
 //!                              (settle_time, steps, …, pile metrics); a missing value is null,
 //!                              an infinite one "inf" / "-inf"}
 //! identity                     what the run's results depend on (`crate::study::RunIdentity`), the
@@ -147,7 +148,9 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
         })
         .collect::<Result<_, _>>()?;
     let warnings = get(WARNINGS)?.as_array().ok_or("`warnings` is not a list")?;
-    row.warnings = warnings.iter().filter_map(|w| w.as_str().map(str::to_string)).collect();
+    // Files written before warnings were typed hold texts: those are not read back (the count in
+    // `/summary` stays).
+    row.warnings = warnings.iter().filter_map(|w| serde_json::from_value(w.clone()).ok()).collect();
     let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
     let settle = float(settle_time)?;
     row.settle_time = (!settle.is_nan()).then_some(settle);
@@ -167,7 +170,7 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
 mod legacy {
     use super::*;
 
-    /// The parameters (listed in `parameters`, each under its key path), warnings and quantities of a
+    /// The parameters (listed in `parameters`, each under its key path) and quantities of a
     /// row from one attribute each (a final value the file predates reads as missing).
     pub(super) fn fill_from_attrs(row: &mut SummaryRow, attrs: &HashMap<String, AttrValue>) -> Result<(), String> {
         let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
@@ -197,7 +200,6 @@ mod legacy {
         row.settle_time = (!settle.is_nan()).then_some(settle);
         row.simulated_time = float(simulated_time)?;
         row.wall_time = float(wall_time)?;
-        row.warnings = attrs.get(WARNINGS).and_then(AttrValue::as_strings).map(<[String]>::to_vec).unwrap_or_default();
         Ok(())
     }
 
@@ -215,6 +217,7 @@ mod legacy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::warning::{ValidityWarning, WarningKind};
 
     fn row() -> SummaryRow {
         let parameters = [
@@ -225,7 +228,10 @@ mod tests {
         ];
         let mut row = SummaryRow::failed(7, "r0007", &parameters, "");
         row.status = RunStatus::Diverged;
-        row.warnings = vec!["too soft".into(), "second".into()];
+        row.warnings = vec![
+            ValidityWarning::new(WarningKind::ImpactOverlap, 0.2, 0.1),
+            ValidityWarning { time: Some(0.25), ..ValidityWarning::new(WarningKind::EnergyBalance, 0.02, 0.01) },
+        ];
         (row.settle_time, row.steps, row.particle_steps) = (Some(1.0 / 3.0), 12, 3600);
         (row.simulated_time, row.wall_time) = (0.25, 1e-300);
         row.final_values[0] = f64::INFINITY;

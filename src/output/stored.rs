@@ -50,6 +50,7 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
             let mut state = read_snapshot(file, &format!("{group_path}/{FINAL}"), path)?;
             if has(FINAL_CONTACTS) {
                 state.contacts = read_contacts(file, &format!("{group_path}/{FINAL_CONTACTS}"), path)?;
+                check_contacts(&state)?;
             }
             Ok(state)
         })
@@ -68,6 +69,7 @@ fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapsho
     let contacts = numbered_datasets(file, group_path, FRAME_CONTACTS)?;
     for (frame, name) in frames.iter_mut().zip(&contacts) {
         frame.contacts = read_contacts(file, &format!("{group_path}/{FRAME_CONTACTS}/{name}"), path)?;
+        check_contacts(frame)?;
     }
     Ok(frames)
 }
@@ -89,7 +91,8 @@ fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<St
 /// A contact table (see [`CONTACT_FIELDS`]) as a network.
 fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, String> {
     let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
-    let mut table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
+    let mut table: HashMap<String, ColumnData> =
+        compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect();
     let contacts = table.get(CONTACT_FIELDS[0]).map_or(0, ColumnData::len);
     // The history fields are newer than the rest: a file without them has no history (zeros).
     for name in ["tangential_spring", "law_state"] {
@@ -120,7 +123,7 @@ fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<Contact
     };
     let ColumnData::Bool(sliding) = sliding? else { return Err("field `sliding` is not 0/1".into()) };
     Ok(ContactNetwork {
-        first: ints(first)?.into_iter().map(|i| i as u32).collect(),
+        first: ints(first)?.into_iter().map(|i| u32::try_from(i).unwrap_or(u32::MAX)).collect(),
         second: ints(second)?,
         normal_x: floats(normal_x)?,
         normal_y: floats(normal_y)?,
@@ -135,10 +138,28 @@ fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<Contact
     })
 }
 
+/// Walls a contact's `second` may name (`−1 − k`): floor, left, right, lid.
+const WALLS: i64 = 4;
+
+/// Refuses contacts whose bodies are not disks of the state (or walls): a damaged or crafted table.
+fn check_contacts(state: &Snapshot) -> Result<(), String> {
+    let disks = state.x.len();
+    let c = &state.contacts;
+    let bad_first = c.first.iter().position(|&i| i as usize >= disks);
+    let bad_second = c.second.iter().position(|&j| j < -WALLS || usize::try_from(j).is_ok_and(|j| j >= disks));
+    match bad_first.or(bad_second) {
+        Some(k) => Err(format!(
+            "contact {k} joins body {} and body {}, but the state has {disks} disks (and walls -1 to -{WALLS})",
+            c.first[k], c.second[k]
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A compound table of a run group as named columns.
 fn read_table(file: &File, group_path: &str, name: &str, path: &Path) -> Result<HashMap<String, ColumnData>, String> {
     let dataset = file.dataset(&format!("{group_path}/{name}")).map_err(|e| hdf5_error(path, e).message)?;
-    Ok(compound::decode(&dataset)?.into_iter().collect())
+    Ok(compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect())
 }
 
 /// A state table (final or frame) with its `time` attribute.
@@ -146,7 +167,8 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
     let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
     let time = dataset.attrs().map_err(|e| e.to_string())?.get("time").and_then(|a| a.as_f64());
     let time = time.ok_or("no `time` attribute")?;
-    let table: HashMap<String, ColumnData> = compound::decode(&dataset)?.into_iter().collect();
+    let table: HashMap<String, ColumnData> =
+        compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect();
     let mut snapshot = Snapshot { time, ..Default::default() };
     let disks = table.get(DISK_FIELDS[0].name).map_or(0, ColumnData::len);
     for field in &DISK_FIELDS {

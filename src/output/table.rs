@@ -70,14 +70,14 @@ impl ColumnData {
         self.len() == 0
     }
 
-    /// The value of row `i` as text: floats in shortest round-trip form, missing values empty.
+    /// The value of row `i` as text: floats in shortest round-trip form, missing values (and rows
+    /// past the column's end) empty.
     pub fn text(&self, i: usize) -> String {
         match self {
-            ColumnData::Float(v) if v[i].is_nan() => String::new(),
-            ColumnData::Float(v) => format!("{:?}", v[i]),
-            ColumnData::Int(v) => v[i].to_string(),
-            ColumnData::Bool(v) => v[i].to_string(),
-            ColumnData::Text(v) => v[i].clone(),
+            ColumnData::Float(v) => v.get(i).filter(|x| !x.is_nan()).map_or(String::new(), |x| format!("{x:?}")),
+            ColumnData::Int(v) => v.get(i).map_or(String::new(), i64::to_string),
+            ColumnData::Bool(v) => v.get(i).map_or(String::new(), bool::to_string),
+            ColumnData::Text(v) => v.get(i).cloned().unwrap_or_default(),
         }
     }
 }

@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::key_decl::scene_section;
+use super::key_spec::scene_section;
 
 pub use super::contact::{ContactConfig, ContactLawKind};
 

@@ -1,15 +1,13 @@
 //! The scene's keys — every configuration field's dotted key, default, unit, allowed range and
-//! description — from the one declaration of the configuration: each section of [`super::config`]
-//! (and each contact law's parameters) is declared through `scene_section!`, which keeps a field's
-//! doc comment as its description and its `#[key(...)]` line as its unit, range and plausible SI
-//! values; defaults are the serialized [`SceneConfig::default`]. `demsweep keys` prints them, and
-//! [`implausible_values`] finds values that are valid but implausible in their SI unit.
+//! description — from the one declaration of the configuration (its sections declared through
+//! [`super::key_spec`]); defaults are the serialized [`SceneConfig::default`]. `demsweep keys`
+//! prints them, and [`implausible_values`] finds values that are valid but implausible in their SI
+//! unit.
 
 use serde_json::Value;
 
 use super::SceneConfig;
-
-pub use super::key_decl::{KeyDoc, KeySpec};
+use super::key_spec::KeyDoc;
 
 /// One scene key, ready to print.
 #[derive(Clone, Debug, PartialEq)]

@@ -23,7 +23,7 @@ mod dispatch;
 mod energy;
 mod forces;
 mod integrator;
-pub mod key_decl;
+pub mod key_spec;
 pub mod keys;
 pub mod material;
 mod monitor;
@@ -40,6 +40,7 @@ pub mod stability;
 pub mod time_step;
 mod vector;
 pub mod walls;
+pub mod warning;
 
 /// The version of the physics: bumped by every change that changes a run's results, so that runs
 /// stored by another version are not reused as if this one had made them (see `study::identity`).

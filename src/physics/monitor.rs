@@ -4,6 +4,7 @@ use super::config::{LimitsConfig, SceneConfig};
 use super::diagnostics::{self, Sample};
 use super::particles::Particles;
 use super::walls::BoxWalls;
+use super::warning::{ValidityWarning, WarningKind};
 
 /// Steps at which full frames are recorded, in order.
 pub(super) struct FrameSchedule {
@@ -80,6 +81,12 @@ impl Monitor {
         self.worst_imbalance.0 / self.energy_scale
     }
 
+    /// The largest overlap seen, over the smaller radius of its pair (the ratio
+    /// `limits.overlap_warning_ratio` bounds).
+    pub(super) fn largest_overlap_ratio(&self) -> f64 {
+        self.worst_overlap.0
+    }
+
     /// Why the run must end now, if it must: non-finite state, overlap or energy growth beyond limits.
     pub(super) fn divergence(
         &self,
@@ -117,23 +124,21 @@ impl Monitor {
     }
 
     /// Validity warnings gathered over the run.
-    pub(super) fn warnings(&self, limits: &LimitsConfig) -> Vec<String> {
+    pub(super) fn warnings(&self, limits: &LimitsConfig) -> Vec<ValidityWarning> {
         let mut w = Vec::new();
         let (ratio, time) = self.worst_overlap;
         if ratio > limits.overlap_warning_ratio {
-            w.push(format!(
-                "largest overlap {ratio:.3} radii at t = {time:.4} s is beyond the Hertz validity limit {} (limits.overlap_warning_ratio)",
-                limits.overlap_warning_ratio
-            ));
+            w.push(ValidityWarning {
+                time: Some(time),
+                ..ValidityWarning::new(WarningKind::Overlap, ratio, limits.overlap_warning_ratio)
+            });
         }
-        let (imbalance, time) = self.worst_imbalance;
-        if imbalance > limits.energy_balance_tolerance * self.energy_scale {
-            w.push(format!(
-                "energy balance (mechanical + dissipated = initial) is off by {imbalance:.4e} J at t = {time:.4} s, {:.2} % of the {:.4e} J available: the integration is inaccurate (time step too large for the contact stiffness or damping; limit limits.energy_balance_tolerance = {})",
-                100.0 * imbalance / self.energy_scale,
-                self.energy_scale,
-                limits.energy_balance_tolerance
-            ));
+        let (error, time) = (self.energy_balance_error(), self.worst_imbalance.1);
+        if error > limits.energy_balance_tolerance {
+            w.push(ValidityWarning {
+                time: Some(time),
+                ..ValidityWarning::new(WarningKind::EnergyBalance, error, limits.energy_balance_tolerance)
+            });
         }
         w
     }

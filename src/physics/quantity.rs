@@ -63,7 +63,7 @@ macro_rules! last_sample {
 }
 
 /// Final values of a run taken from its record (before the pile metrics in the summary).
-pub const FINAL_VALUES: [Quantity<RunValue>; 9] = [
+pub const FINAL_VALUES: [Quantity<RunValue>; 10] = [
     Quantity {
         name: "time_step",
         unit: "s",
@@ -102,6 +102,12 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 9] = [
         unit: "",
         description: "Largest absolute error of the energy balance (mechanical + dissipated = initial) over the sampled steps, as a share of the energy available.",
         value: |r| r.energy_balance_error,
+    },
+    Quantity {
+        name: "largest_overlap_ratio",
+        unit: "",
+        description: "Largest overlap over the sampled steps, over the smaller radius of its pair.",
+        value: |r| r.largest_overlap_ratio,
     },
 ];
 

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::pile::PileMetrics;
 use super::stability::StabilityReport;
+use super::warning::ValidityWarning;
 
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -155,7 +156,7 @@ pub struct RunRecord {
     /// Why it diverged or was interrupted; `None` otherwise.
     pub message: Option<String>,
     /// Validity warnings from the pre-run estimate and from the run itself.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<ValidityWarning>,
     /// Start of the stretch over which the settle criterion held (s).
     pub settle_time: Option<f64>,
     /// Time steps taken.
@@ -166,6 +167,8 @@ pub struct RunRecord {
     pub simulated_time: f64,
     /// Largest energy-balance error over the sampled steps, as a share of the energy available.
     pub energy_balance_error: f64,
+    /// Largest overlap over the sampled steps, over the smaller radius of its pair.
+    pub largest_overlap_ratio: f64,
     /// Structure of the pile at the end of the run.
     pub pile: PileMetrics,
     /// Pre-run stability estimate.

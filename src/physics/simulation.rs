@@ -25,6 +25,7 @@ use super::stability::{self, StabilityReport};
 use super::time_step::{self, with_time_step};
 use super::vector;
 use super::walls::BoxWalls;
+use super::warning::ValidityWarning;
 
 /// Disks per chunk of [`Simulation::move_disks`]: their arrays stay in cache from the integrator's
 /// power sum to its update.
@@ -61,7 +62,7 @@ pub struct Simulation<L: ContactLaw> {
     law: L,
     /// The scene, with its time step resolved.
     scene: SceneConfig,
-    time_step_warning: Option<String>,
+    time_step_warning: Option<ValidityWarning>,
     particles: Particles,
     walls: BoxWalls,
     neighbors: NeighborList<L::State>,
@@ -312,7 +313,7 @@ impl<L: ContactLaw> Simulation<L> {
     /// Runs to the end, to settling, to divergence, or until the observer says stop.
     pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
         let stability = self.stability();
-        let mut warnings: Vec<String> = self.time_step_warning.iter().cloned().collect();
+        let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
         warnings.extend(stability.warnings.iter().cloned());
         let total_steps = self.scene.total_steps(self.context.dt);
         let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
@@ -373,6 +374,7 @@ impl<L: ContactLaw> Simulation<L> {
             time_step: self.context.dt,
             simulated_time: self.time(),
             energy_balance_error: monitor.energy_balance_error(),
+            largest_overlap_ratio: monitor.largest_overlap_ratio(),
             pile: self.pile_metrics_of(&contacts),
             stability,
             history,

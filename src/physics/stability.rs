@@ -15,6 +15,7 @@ use super::contact::{ContactLaw, PairProperties, estimate_impact};
 use super::material::{ContactMaterial, Materials, effective_mass, effective_radius};
 use super::particles::Particles;
 use super::walls::BoxWalls;
+use super::warning::{ValidityWarning, WarningKind};
 
 /// Packing fraction assumed for the settled pile when estimating the weight on the floor.
 const PILE_PACKING: f64 = 0.82;
@@ -38,8 +39,8 @@ pub struct StabilityReport {
     pub dt_times_damping_rate: f64,
     /// Largest time step that passes both checks (s).
     pub safe_time_step: f64,
-    /// What is wrong, in words (empty when nothing is).
-    pub warnings: Vec<String>,
+    /// What is wrong (empty when nothing is).
+    pub warnings: Vec<ValidityWarning>,
 }
 
 /// The hardest impact of a scene, for the time step and its checks.
@@ -191,36 +192,35 @@ pub fn assess<L: ContactLaw>(
             .min(damping_time_step_limit(scene, impact.damping_rate)),
         warnings: Vec::new(),
     };
-    report.warnings = warnings(scene, &report, damping_limit, law.name());
+    report.warnings = warnings(scene, &report, damping_limit);
     report
 }
 
-fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64, law: &str) -> Vec<String> {
+fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec<ValidityWarning> {
     let limits = &scene.limits;
+    let warning = |kind, value, limit| ValidityWarning::new(kind, value, limit);
     let mut w = Vec::new();
     if r.dt_over_contact_time > limits.contact_time_fraction {
-        w.push(format!(
-            "time step {:.3e} s is {:.3} of the contact time {:.3e} s of an impact at {:.3} m/s (limit {} = limits.contact_time_fraction): contacts are under-resolved and the run may blow up; use a time step below {:.3e} s",
-            r.dt_over_contact_time * r.contact_time, r.dt_over_contact_time, r.contact_time, r.impact_speed, limits.contact_time_fraction, r.safe_time_step
-        ));
+        w.push(ValidityWarning {
+            impact_speed: Some(r.impact_speed),
+            safe_time_step: Some(r.safe_time_step),
+            ..warning(WarningKind::ContactTimeFraction, r.dt_over_contact_time, limits.contact_time_fraction)
+        });
     }
     if r.dt_times_damping_rate > damping_limit {
-        w.push(format!(
-            "time step x damping rate = {:.3} exceeds {:.3} ({} of the integrator's stability limit {}): the damping (beta, damping.viscous) is too strong for this time step; use a time step below {:.3e} s",
-            r.dt_times_damping_rate, damping_limit, limits.damping_rate_fraction, damping_stability_limit(scene.integrator.scheme), r.safe_time_step
-        ));
+        w.push(ValidityWarning {
+            safe_time_step: Some(r.safe_time_step),
+            ..warning(WarningKind::DampingRate, r.dt_times_damping_rate, damping_limit)
+        });
     }
     if r.impact_overlap_ratio > limits.overlap_warning_ratio {
-        w.push(format!(
-            "an impact at {:.3} m/s would overlap {:.3} radii (contact laws are valid below {} = limits.overlap_warning_ratio): the contacts ({}, E = {:.3e} Pa) are too soft for this scene",
-            r.impact_speed, r.impact_overlap_ratio, limits.overlap_warning_ratio, law, scene.material.youngs_modulus
-        ));
+        w.push(ValidityWarning {
+            impact_speed: Some(r.impact_speed),
+            ..warning(WarningKind::ImpactOverlap, r.impact_overlap_ratio, limits.overlap_warning_ratio)
+        });
     }
     if r.static_overlap_ratio > limits.overlap_warning_ratio {
-        w.push(format!(
-            "the settled pile's weight would press the bottom disks {:.3} radii into the floor (contact laws are valid below {}): the contacts ({}, E = {:.3e} Pa) are too soft for this pile",
-            r.static_overlap_ratio, limits.overlap_warning_ratio, law, scene.material.youngs_modulus
-        ));
+        w.push(warning(WarningKind::StaticOverlap, r.static_overlap_ratio, limits.overlap_warning_ratio));
     }
     w
 }

@@ -20,14 +20,15 @@ use super::material::{Elastic, Materials};
 use super::particles::InitialDisk;
 use super::stability::{self, HardestImpact};
 use super::walls::BoxWalls;
+use super::warning::{ValidityWarning, WarningKind};
 
 /// A scene's time step and how it was chosen.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ResolvedTimeStep {
     /// The time step Δt (s).
     pub dt: f64,
-    /// Set when the damping-rate limit lowered the requested step: says so, with both figures.
-    pub warning: Option<String>,
+    /// Set when the damping-rate limit lowered the requested step: both figures.
+    pub warning: Option<ValidityWarning>,
 }
 
 /// Rayleigh time of a disk of radius `radius` (m): `π R √(ρ/G) / (0.1631 ν + 0.8766)` (s).
@@ -45,17 +46,12 @@ pub fn resolve<L: ContactLaw>(law: &L, scene: &SceneConfig, disks: Option<&[Init
     let materials = Materials::from_scene(scene);
     let impact = hardest_impact(law, scene, &materials, disks);
     let m = &scene.material;
-    let (requested, scale) = match (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) {
-        (Some(f), _) => {
-            (f * impact.contact_time, format!("integrator.contact_time_fraction = {f} of the contact time"))
-        }
+    let requested = match (scene.integrator.contact_time_fraction, scene.integrator.rayleigh_fraction) {
+        (Some(f), _) => f * impact.contact_time,
         (None, Some(f)) => {
             let radius = disks.map_or_else(|| scene.smallest_radius(), smallest_radius);
             let elastic = Elastic::new(m.youngs_modulus, m.poisson_ratio, m.shear_modulus);
-            (
-                f * rayleigh_time(radius, m.density, &elastic),
-                format!("integrator.rayleigh_fraction = {f} of the Rayleigh time"),
-            )
+            f * rayleigh_time(radius, m.density, &elastic)
         }
         (None, None) => unreachable!("a scene without a fraction has a fixed time step"),
     };
@@ -63,10 +59,7 @@ pub fn resolve<L: ContactLaw>(law: &L, scene: &SceneConfig, disks: Option<&[Init
     if requested <= limit {
         return ResolvedTimeStep { dt: requested, warning: None };
     }
-    let warning = format!(
-        "time step capped at {limit:.3e} s by the damping-rate limit (limits.damping_rate_fraction = {} of the integrator's stability limit, damping rate {:.3e} 1/s); {scale} asked for {requested:.3e} s",
-        scene.limits.damping_rate_fraction, impact.damping_rate
-    );
+    let warning = ValidityWarning::new(WarningKind::TimeStepCapped, requested, limit);
     ResolvedTimeStep { dt: limit, warning: Some(warning) }
 }
 
@@ -165,7 +158,7 @@ mod tests {
         let resolved = resolve(&HertzMindlin {}, &s, None);
         let limit = 0.5 * 1.0 / 1e5;
         assert!(resolved.dt < limit && resolved.dt > 0.9 * limit, "{}", resolved.dt);
-        assert!(resolved.warning.unwrap().contains("capped"));
+        assert_eq!(resolved.warning.unwrap().kind, WarningKind::TimeStepCapped);
         assert!(resolve(&HertzMindlin {}, &scene(), None).warning.is_none());
     }
 

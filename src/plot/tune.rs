@@ -34,6 +34,8 @@ pub struct LeverSeries {
     pub points: Vec<(f64, f64, bool)>,
     /// The recommendation's value.
     pub best: Option<f64>,
+    /// The reference's value (drawn at cost ratio 1).
+    pub reference: Option<f64>,
 }
 
 /// Cost ratio against largest |difference|/tolerance; the feasible region (below 1) shaded.
@@ -118,7 +120,8 @@ impl Figure for CostFigure<'_> {
 }
 
 /// One lever's panel on `cell`: cost ratio against the lever on the x axis `x` (linear or log),
-/// points filled `ok` when feasible, `other` when not, the recommendation as a vertical line.
+/// points filled `ok` when feasible, `other` when not, the recommendation as a vertical line and the
+/// reference as a cross at cost ratio 1.
 fn lever_panel<DB, X>(
     cell: &DrawingArea<DB, Shift>,
     series: &LeverSeries,
@@ -149,6 +152,9 @@ where
     if let Some(b) = series.best {
         chart.draw_series(LineSeries::new([(b, y.start), (b, y.end)], BLACK.stroke_width(2)))?;
     }
+    if let Some(r) = series.reference {
+        chart.draw_series([Cross::new((r, 1.0), 7, BLACK.stroke_width(3))])?;
+    }
     Ok(())
 }
 
@@ -163,14 +169,16 @@ impl Figure for LeverFigure<'_> {
     where
         DB::ErrorType: 'static,
     {
-        let area = style::titled(root, &options.title("Tune: cost along each lever (green: equivalent)"))?;
+        let title = "Tune: cost along each lever (green: equivalent; cross: the reference; line: the answer)";
+        let area = style::titled(root, &options.title(title))?;
         let columns = self.series.len().clamp(1, 3);
         let rows = self.series.len().div_ceil(columns).max(1);
         let ratios = self.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).chain([1.0]);
         let (_, hi) = style::finite_bounds(ratios).unwrap_or((0.5, 1.5));
         let y = 0.0..hi * 1.1;
         for (series, cell) in self.series.iter().zip(area.split_evenly((rows, columns))) {
-            let (xlo, xhi) = style::finite_bounds(series.points.iter().map(|p| p.0)).unwrap_or((0.0, 1.0));
+            let xs = series.points.iter().map(|p| p.0).chain(series.best).chain(series.reference);
+            let (xlo, xhi) = style::finite_bounds(xs).unwrap_or((0.0, 1.0));
             let ok = feasible_colour().filled();
             let other = NOT_SETTLED.filled();
             if series.log && xlo > 0.0 {

@@ -21,6 +21,7 @@ use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
 use crate::physics::record::Snapshot;
+use crate::physics::warning::WarningKind;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
@@ -224,12 +225,17 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
 /// numbers left out, when `by_kind`).
 fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
     let mut statuses: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut warnings: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut warnings: BTreeMap<String, usize> = BTreeMap::new();
+    let mut worst: BTreeMap<WarningKind, (f64, f64, &str)> = BTreeMap::new();
     let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     for row in rows {
         *statuses.entry(row.status.as_str()).or_default() += 1;
         for warning in &row.warnings {
-            *warnings.entry(warning).or_default() += 1;
+            *warnings.entry(warning.to_string()).or_default() += 1;
+            let entry = worst.entry(warning.kind).or_insert((warning.value, warning.limit, &row.id));
+            if warning.excess() > entry.0 / entry.1 {
+                *entry = (warning.value, warning.limit, &row.id);
+            }
         }
         if !row.message.is_empty() {
             *messages.entry((row.status.as_str(), &row.message)).or_default() += 1;
@@ -253,12 +259,26 @@ fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
     }
     if warnings.is_empty() {
         out += "<p class=\"note\">No run has a warning.</p>";
-    } else {
-        let mut groups: BTreeMap<String, usize> = BTreeMap::new();
-        for (m, n) in warnings {
-            *groups.entry(if by_kind { warning_kind(m) } else { m.to_string() }).or_default() += n;
+    } else if by_kind {
+        // Grouped by kind, from the warnings' values: the runs of each kind and the worst of them.
+        let mut runs: BTreeMap<WarningKind, usize> = BTreeMap::new();
+        for row in rows {
+            let mut kinds: Vec<WarningKind> = row.warnings.iter().map(|w| w.kind).collect();
+            kinds.sort_unstable();
+            kinds.dedup();
+            kinds.into_iter().for_each(|k| *runs.entry(k).or_default() += 1);
         }
-        out += &grouped("Warnings", groups.into_iter().collect());
+        let entries = worst
+            .into_iter()
+            .map(|(kind, (value, limit, id))| {
+                let text =
+                    format!("{} ({}): worst {value:.4} against {limit} (run {id})", kind.name(), kind.limit_key());
+                (text, runs.get(&kind).copied().unwrap_or(0))
+            })
+            .collect();
+        out += &grouped("Warnings", entries);
+    } else {
+        out += &grouped("Warnings", warnings.into_iter().collect());
     }
     out
 }
@@ -309,26 +329,6 @@ fn pile_charts_section(svgs: &Svgs) -> String {
     format!(
         "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over each grid point's runs with its 95 % interval, against each swept parameter; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
     )
-}
-
-/// A warning's kind: its text with every number replaced by `…`.
-fn warning_kind(warning: &str) -> String {
-    let mut kind = String::new();
-    let mut in_number = false;
-    for (i, c) in warning.char_indices() {
-        let starts = c.is_ascii_digit() && !warning[..i].ends_with(|p: char| p.is_ascii_alphabetic() || p == '_');
-        let continues = in_number && (c.is_ascii_digit() || ".eE+-".contains(c));
-        if starts || continues {
-            if !in_number {
-                kind.push('…');
-            }
-            in_number = true;
-        } else {
-            in_number = false;
-            kind.push(c);
-        }
-    }
-    kind
 }
 
 /// The tune's answer (its lines: indented ones, the pile metrics, as a list with those beyond 2σ

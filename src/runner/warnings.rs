@@ -1,15 +1,14 @@
-//! The warnings of a sweep's runs, grouped by kind (the same text but for its numbers) for the person
-//! running it.
+//! The warnings of a sweep's runs, grouped by kind for the person running it.
 
 use std::collections::HashMap;
 
-use crate::study::warning_kind;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 
-/// One kind of warning: the first run's text and how many runs have one.
+/// One kind of warning: the first run's warning and how many runs have one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WarningGroup {
     /// The warning as the first run that had it gave it.
-    pub example: String,
+    pub example: ValidityWarning,
     /// That run's id.
     pub first_run: String,
     /// How many runs have a warning of this kind.
@@ -23,26 +22,26 @@ pub struct WarningDigest {
     pub groups: Vec<WarningGroup>,
     /// Runs with at least one warning.
     pub runs: usize,
-    index: HashMap<String, usize>,
+    index: HashMap<WarningKind, usize>,
 }
 
 impl WarningDigest {
     /// Adds the warnings of run `id` (a kind it has twice counts once).
-    pub fn add(&mut self, id: &str, warnings: &[String]) {
+    pub fn add(&mut self, id: &str, warnings: &[ValidityWarning]) {
         let mut seen = Vec::new();
-        for text in warnings {
-            let kind = warning_kind(text);
-            if seen.contains(&kind) {
+        for warning in warnings {
+            if seen.contains(&warning.kind) {
                 continue;
             }
-            match self.index.get(&kind) {
+            match self.index.get(&warning.kind) {
                 Some(&k) => self.groups[k].runs += 1,
                 None => {
-                    self.index.insert(kind.clone(), self.groups.len());
-                    self.groups.push(WarningGroup { example: text.clone(), first_run: id.to_string(), runs: 1 });
+                    self.index.insert(warning.kind, self.groups.len());
+                    let group = WarningGroup { example: warning.clone(), first_run: id.to_string(), runs: 1 };
+                    self.groups.push(group);
                 }
             }
-            seen.push(kind);
+            seen.push(warning.kind);
         }
         self.runs += usize::from(!warnings.is_empty());
     }
@@ -54,13 +53,15 @@ mod tests {
 
     #[test]
     fn groups_by_kind_and_counts_runs() {
+        let overlap = |value| ValidityWarning::new(WarningKind::Overlap, value, 0.1);
+        let energy = ValidityWarning::new(WarningKind::EnergyBalance, 0.17, 0.01);
         let mut digest = WarningDigest::default();
-        digest.add("r0", &["overlap 0.81 radii".into(), "energy off 17 %".into(), "overlap 0.9 radii".into()]);
+        digest.add("r0", &[overlap(0.81), energy, overlap(0.9)]);
         digest.add("r1", &[]);
-        digest.add("r2", &["overlap 0.93 radii".into()]);
+        digest.add("r2", &[overlap(0.93)]);
         assert_eq!(digest.runs, 2);
-        let shown: Vec<(&str, &str, usize)> =
-            digest.groups.iter().map(|g| (g.example.as_str(), g.first_run.as_str(), g.runs)).collect();
-        assert_eq!(shown, [("overlap 0.81 radii", "r0", 2), ("energy off 17 %", "r0", 1)]);
+        let shown: Vec<(WarningKind, f64, &str, usize)> =
+            digest.groups.iter().map(|g| (g.example.kind, g.example.value, g.first_run.as_str(), g.runs)).collect();
+        assert_eq!(shown, [(WarningKind::Overlap, 0.81, "r0", 2), (WarningKind::EnergyBalance, 0.17, "r0", 1)]);
     }
 }

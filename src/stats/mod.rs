@@ -8,6 +8,7 @@
 mod distribution;
 
 pub mod compare;
+pub mod fit;
 pub mod points;
 
 /// n, mean, sample std, 95% Student-t half-width, min, max of the finite values (NaN skipped).
@@ -104,10 +105,11 @@ const MAX_SEEDS: usize = 100_000;
 /// Two one-sided t tests at 5 % each are equivalent to asking whether the 90 % confidence interval
 /// d ± t(0.95, ν) · √(s_c²/n_c + s_r²/n_r) (Welch–Satterthwaite ν) lies inside (−margin, +margin).
 /// Different when it lies wholly outside; undecided otherwise, and always when a group has fewer than
-/// 2 finite values. `seeds_needed` (undecided only) assumes the observed difference d and the pooled
-/// standard deviation s_p stay as they are and n values in each group: it is the smallest n with
-/// t(0.95, 2n − 2) · s_p · √(2/n) < | margin − |d| |, the half-width at which the interval clears the
-/// nearer margin; `None` when d sits on the margin or more than 100 000 would be needed.
+/// 2 finite values. `seeds_needed` (undecided only) assumes the observed difference d and both groups'
+/// standard deviations stay as they are and n values in each group: it is the smallest n, above both
+/// counts so far (they did not decide), whose Welch half-width is below | margin − |d| |, where the
+/// interval clears the nearer margin; `None` when d sits on the margin or more than 100 000 would be
+/// needed.
 pub fn equivalence(reference: &[f64], candidate: &[f64], margin: f64) -> Equivalence {
     let (r, c) = (describe(reference), describe(candidate));
     let difference = c.mean - r.mean;
@@ -126,9 +128,8 @@ pub fn equivalence(reference: &[f64], candidate: &[f64], margin: f64) -> Equival
     } else {
         Decision::Undecided
     };
-    let pooled =
-        (((r.n - 1) as f64 * r.std.powi(2) + (c.n - 1) as f64 * c.std.powi(2)) / (r.n + c.n - 2) as f64).sqrt();
-    let seeds_needed = if decision == Decision::Undecided { seeds_to_decide(difference, pooled, margin) } else { None };
+    let seeds_needed =
+        if decision == Decision::Undecided { seeds_to_decide(difference, (&r, &c), margin) } else { None };
     Equivalence { difference, low, high, decision, seeds_needed }
 }
 
@@ -137,22 +138,28 @@ fn welch_df(v1: f64, n1: usize, v2: f64, n2: usize) -> f64 {
     (v1 + v2).powi(2) / (v1.powi(2) / (n1 - 1) as f64 + v2.powi(2) / (n2 - 1) as f64)
 }
 
-/// Smallest per-group n whose 90 % half-width t(0.95, 2n − 2) s √(2/n) is below |margin − |d||.
-fn seeds_to_decide(difference: f64, pooled_std: f64, margin: f64) -> Option<usize> {
+/// Smallest per-group n, above both groups' counts (which did not decide), whose 90 % Welch
+/// half-width with the groups' own spreads, `t(0.95, ν) · √((s_r² + s_c²)/n)`, is below
+/// |margin − |d||.
+fn seeds_to_decide(difference: f64, (r, c): (&Describe, &Describe), margin: f64) -> Option<usize> {
     let gap = (margin - difference.abs()).abs();
-    if !(gap > 0.0 && pooled_std.is_finite()) {
+    let variance = r.std.powi(2) + c.std.powi(2);
+    if !(gap > 0.0 && variance.is_finite()) {
         return None;
     }
-    let half_width = |n: usize| student_t_quantile(0.95, (2 * n - 2) as f64) * pooled_std * (2.0 / n as f64).sqrt();
+    let half_width = |n: usize| {
+        let (vr, vc) = (r.std.powi(2) / n as f64, c.std.powi(2) / n as f64);
+        student_t_quantile(0.95, welch_df(vr, n, vc, n)) * (variance / n as f64).sqrt()
+    };
     let decides = |n: usize| half_width(n) < gap;
     if !decides(MAX_SEEDS) {
         return None;
     }
     // The half-width falls with n: bisect between a count that does not decide and one that does.
-    let (mut low, mut high) = (1, MAX_SEEDS);
+    let (mut low, mut high) = (r.n.max(c.n).max(1), MAX_SEEDS);
     while high - low > 1 {
         let mid = (low + high) / 2;
-        if mid >= 2 && decides(mid) {
+        if decides(mid) {
             high = mid;
         } else {
             low = mid;
@@ -200,6 +207,25 @@ mod tests {
 
     fn close(a: f64, b: f64, tolerance: f64) -> bool {
         (a - b).abs() <= tolerance
+    }
+
+    #[test]
+    fn seeds_to_decide_is_never_a_count_the_groups_already_have() {
+        // A tight reference (10 runs) against a spread candidate (8 runs): the equal-n pooled formula
+        // answered about 10, a count the reference already had without deciding.
+        let reference: Vec<f64> = (0..10).map(|k| 1.0 + 0.01 * ((k % 3) as f64 - 1.0)).collect();
+        let candidate: Vec<f64> = (0..8).map(|k| 1.05 + 0.1 * ((k % 3) as f64 - 1.0)).collect();
+        let e = equivalence(&reference, &candidate, 0.08);
+        assert_eq!(e.decision, Decision::Undecided, "{e:?}");
+        let n = e.seeds_needed.expect("an estimate");
+        assert!(n > 10, "{n}");
+        let (r, c) = (describe(&reference), describe(&candidate));
+        let half = |n: usize| {
+            let (vr, vc) = (r.std.powi(2) / n as f64, c.std.powi(2) / n as f64);
+            student_t_quantile(0.95, welch_df(vr, n, vc, n)) * (vr + vc).sqrt()
+        };
+        let gap = 0.08 - e.difference.abs();
+        assert!(half(n) < gap && half(n - 1) >= gap, "n = {n}");
     }
 
     #[test]

@@ -1,325 +1,26 @@
 //! The tune file: a reference `[scene]`, the `[levers]` tune may move, the pile metrics to `[keep]`
 //! and the `[search]` settings; checked like a study (every problem at once, file:line:column: key).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-
-use serde::Deserialize;
 
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
-use crate::physics::particles::InitialDisk;
 use crate::physics::placement;
 use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
-use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text, set_path};
+use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text};
 use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{OutputOptions, ParamValue, initial_csv};
 
-use super::validity::{self, StandardSetting};
+use super::ladder;
+use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
+use super::validity;
 
 /// Keys allowed at the top of a tune file.
 /// The tables of a tune file (besides the strings `name` and `description`).
 const TABLES: [&str; 5] = ["scene", "levers", "keep", "search", "output"];
-
-/// Significant digits lever values are rounded to (clean values in the best study, and candidates
-/// that differ by less are the same candidate).
-const DIGITS: i32 = 4;
-
-/// The range of one lever.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LeverRange {
-    /// Evenly from a to b (integers when both ends are written as integers).
-    Linear { low: f64, high: f64, integer: bool },
-    /// Evenly in log scale from a to b (a, b > 0).
-    Log { low: f64, high: f64, integer: bool },
-    /// One of these values.
-    List(Vec<ParamValue>),
-}
-
-/// A scene key tune may change.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Lever {
-    /// The dotted scene key, e.g. `material.restitution`.
-    pub key: String,
-    /// Its path into the scene.
-    pub path: KeyPath,
-    /// The values it may take.
-    pub range: LeverRange,
-}
-
-impl Lever {
-    /// The value at normalized coordinate `u` in [0, 1] (log ranges are uniform in log scale).
-    pub fn value(&self, u: f64) -> ParamValue {
-        let u = u.clamp(0.0, 1.0);
-        let number = |x: f64, integer: bool| {
-            if integer { ParamValue::Int(x.round() as i64) } else { ParamValue::Float(round_significant(x, DIGITS)) }
-        };
-        match &self.range {
-            LeverRange::Linear { low, high, integer } => number(low + (high - low) * u, *integer),
-            LeverRange::Log { low, high, integer } => number(low * (high / low).powf(u), *integer),
-            LeverRange::List(values) => {
-                values[((u * values.len() as f64).floor() as usize).min(values.len() - 1)].clone()
-            }
-        }
-    }
-
-    /// The normalized coordinate of a value, when it lies in the range.
-    pub fn coordinate(&self, value: &ParamValue) -> Option<f64> {
-        let x = match value {
-            ParamValue::Float(x) => Some(*x),
-            ParamValue::Int(i) => Some(*i as f64),
-            _ => None,
-        };
-        let inside = |u: f64| (-1e-9..=1.0 + 1e-9).contains(&u).then_some(u.clamp(0.0, 1.0));
-        match &self.range {
-            LeverRange::Linear { low, high, .. } => inside((x? - low) / (high - low)),
-            LeverRange::Log { low, high, .. } => inside((x? / low).ln() / (high / low).ln()),
-            LeverRange::List(values) => {
-                let k = values.iter().position(|v| v == value)?;
-                Some((k as f64 + 0.5) / values.len() as f64)
-            }
-        }
-    }
-
-    /// Whether the lever moves on a log scale.
-    pub fn is_log(&self) -> bool {
-        matches!(self.range, LeverRange::Log { .. })
-    }
-
-    /// The ends (or every value) of the range, for checking.
-    fn extremes(&self) -> Vec<ParamValue> {
-        match &self.range {
-            LeverRange::List(values) => values.clone(),
-            _ => vec![self.value(0.0), self.value(1.0)],
-        }
-    }
-}
-
-/// `x` rounded to `digits` significant digits.
-pub fn round_significant(x: f64, digits: i32) -> f64 {
-    if x == 0.0 || !x.is_finite() {
-        return x;
-    }
-    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
-    let rounded = (x * scale).round() / scale;
-    // Through text, so that the value prints short (0.3, not 0.30000000000000004).
-    format!("{rounded:.*e}", (digits - 1) as usize).parse().unwrap_or(rounded)
-}
-
-/// A pile metric that must stay equivalent to the reference's.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Keep {
-    /// Summary column, e.g. `packing_fraction`.
-    pub metric: String,
-    /// Tolerance: relative to the reference mean, or absolute.
-    pub tolerance: f64,
-    /// Whether `tolerance` is absolute (in the metric's unit) rather than relative.
-    pub absolute: bool,
-}
-
-impl Keep {
-    /// The absolute equivalence margin for a reference mean.
-    pub fn margin(&self, reference_mean: f64) -> f64 {
-        if self.absolute { self.tolerance } else { self.tolerance * reference_mean.abs() }
-    }
-}
-
-/// What the search minimizes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Objective {
-    /// Mean particle-steps (disks × time steps) per run: deterministic, machine independent.
-    #[default]
-    ParticleSteps,
-    /// Mean wall time per run (noisy, machine dependent).
-    WallTime,
-}
-
-impl Objective {
-    /// The name as written in a tune file.
-    pub fn name(self) -> &'static str {
-        match self {
-            Objective::ParticleSteps => "particle_steps",
-            Objective::WallTime => "wall_time",
-        }
-    }
-}
-
-/// The `[search]` table.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SearchOptions {
-    /// What to minimize.
-    pub objective: Objective,
-    /// Placement seeds each candidate starts with (at least 2).
-    pub seeds: usize,
-    /// Most seeds one candidate gets while its equivalence is undecided.
-    pub max_seeds: usize,
-    /// Seeds of the reference (default: twice `seeds`, at least 6).
-    pub reference_seeds: Option<usize>,
-    /// Fresh seeds a recommendation is verified on (default: `max_seeds`).
-    pub verify_seeds: Option<usize>,
-    /// Runs at most, reference and verification included.
-    pub budget: usize,
-    /// Seed of the search's random choices.
-    pub seed: u64,
-    /// Points of the initial design (default: 2 × levers + 2, at least 6, and at most what half the
-    /// search budget runs).
-    pub initial: Option<usize>,
-    /// Most the whole tune may spend, in reference depositions (mean particle-steps of a reference
-    /// run): the search stops proposing when its next round and the verification would pass it.
-    pub max_spend: f64,
-}
-
-impl Default for SearchOptions {
-    fn default() -> Self {
-        Self {
-            objective: Objective::ParticleSteps,
-            seeds: 3,
-            max_seeds: 8,
-            reference_seeds: None,
-            verify_seeds: None,
-            budget: 150,
-            seed: 1,
-            initial: None,
-            max_spend: 20.0,
-        }
-    }
-}
-
-impl SearchOptions {
-    /// Seeds of the reference.
-    pub fn reference_seeds(&self) -> usize {
-        self.reference_seeds.unwrap_or((2 * self.seeds).max(6))
-    }
-
-    /// Fresh seeds of one verification.
-    pub fn verify_seeds(&self) -> usize {
-        self.verify_seeds.unwrap_or(self.max_seeds)
-    }
-}
-
-/// A checked tune file.
-#[derive(Clone, Debug)]
-pub struct TuneSpec {
-    /// Path of the tune file.
-    pub path: PathBuf,
-    /// Its text, verbatim.
-    pub text: String,
-    /// Name (the file stem unless the file sets one).
-    pub name: String,
-    /// Hash of the text and the demsweep version.
-    pub fingerprint: String,
-    /// The reference scene as written (`[scene]`).
-    pub base: toml::Table,
-    /// The reference scene.
-    pub reference: SceneConfig,
-    /// Initial disks of a file placement, shared by every run.
-    pub initial: Option<Arc<Vec<InitialDisk>>>,
-    /// The levers, in written order.
-    pub levers: Vec<Lever>,
-    /// The kept metrics, in written order.
-    pub keep: Vec<Keep>,
-    /// Search settings.
-    pub search: SearchOptions,
-    /// Optional outputs of every run (histories and frames default to off).
-    pub output: OutputOptions,
-    /// What loading changed and the user should know (lever ranges clipped at a validity limit).
-    pub warnings: Vec<String>,
-    /// The standard settings evaluated before the search.
-    pub standards: Vec<StandardSetting>,
-}
-
-impl TuneSpec {
-    /// The scene with `values` set on the base scene.
-    pub fn scene(&self, values: &[(String, ParamValue)]) -> Result<SceneConfig, String> {
-        self.edited_scene(values, &[])
-    }
-
-    /// The scene of a standard setting.
-    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, String> {
-        self.edited_scene(&standard.values, &standard.removed)
-    }
-
-    /// The base scene with the keys `removed` taken out, then `values` set.
-    fn edited_scene(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<SceneConfig, String> {
-        let tree = self.edited_tree(values, removed)?;
-        let mut scene: SceneConfig = toml::Value::Table(tree).try_into().map_err(|e| e.message().to_string())?;
-        if let Some(disks) = &self.initial {
-            scene.particles.count = disks.len();
-        }
-        scene.validate().map_err(|issues| {
-            issues.iter().map(|i| format!("{}: {}", i.key, i.reason)).collect::<Vec<_>>().join("; ")
-        })?;
-        Ok(scene)
-    }
-
-    /// The scene as written with `removed` taken out, then `values` set; a standard setting's when
-    /// `standard` is given, else the levers at `point`.
-    pub fn setting_tree(&self, point: &[f64], standard: Option<usize>) -> Result<toml::Table, String> {
-        match standard {
-            Some(k) => self.edited_tree(&self.standards[k].values, &self.standards[k].removed),
-            None => self.edited_tree(&self.values(point), &[]),
-        }
-    }
-
-    fn edited_tree(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<toml::Table, String> {
-        let mut tree = self.base.clone();
-        for key in removed {
-            remove_path(&mut tree, key);
-        }
-        for (key, value) in values {
-            let path: KeyPath = key.split('.').map(String::from).collect();
-            set_path(&mut tree, &path, value.to_toml())?;
-        }
-        Ok(tree)
-    }
-
-    /// The lever values of normalized point `u`.
-    pub fn values(&self, u: &[f64]) -> Vec<(String, ParamValue)> {
-        self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect()
-    }
-
-    /// The reference scene's value of each lever that it sets (or whose default lies in the range),
-    /// and its normalized coordinate when it lies in the range.
-    pub fn reference_values(&self) -> Vec<(String, ParamValue, Option<f64>)> {
-        let json = serde_json::to_value(&self.reference).unwrap_or_default();
-        self.levers
-            .iter()
-            .filter_map(|lever| {
-                let mut here = &json;
-                for key in &lever.path {
-                    here = here.get(key)?;
-                }
-                let value = match here {
-                    serde_json::Value::Number(n) if n.is_i64() => ParamValue::Int(n.as_i64()?),
-                    serde_json::Value::Number(n) => ParamValue::Float(n.as_f64()?),
-                    serde_json::Value::Bool(b) => ParamValue::Bool(*b),
-                    serde_json::Value::String(s) => ParamValue::Text(s.clone()),
-                    _ => return None,
-                };
-                let coordinate = lever.coordinate(&value);
-                Some((lever.key.clone(), value, coordinate))
-            })
-            .collect()
-    }
-}
-
-/// Removes a dotted key from a TOML tree (nothing when it is not there).
-fn remove_path(tree: &mut toml::Table, key: &str) {
-    match key.split_once('.') {
-        Some((head, rest)) => {
-            if let Some(toml::Value::Table(inner)) = tree.get_mut(head) {
-                remove_path(inner, rest);
-            }
-        }
-        None => {
-            tree.remove(key);
-        }
-    }
-}
 
 /// Whether the file at `path` looks like a tune file (it has `[levers]`, `[keep]` or `[search]`).
 pub fn is_tune_file(path: &Path) -> bool {
@@ -417,7 +118,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     }
     if sink.is_empty() {
         spec.warnings = validity::clip_levers(&mut spec);
-        spec.standards = validity::standard_settings(&spec.reference);
+        spec.standards = ladder::standard_settings(&spec.reference);
     }
     sink.into_result(spec)
 }
@@ -596,28 +297,4 @@ fn parse_keep(file: &StudyFile, doc: &Document) -> (Vec<Keep>, Vec<StudyError>) 
         errors.push(file.error(doc.span(&["keep".to_string()]), "keep", "lists no metric".to_string()));
     }
     (keep, errors)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lever_values_round_and_cover_the_range() {
-        let lin = Lever {
-            key: "a".into(),
-            path: vec!["a".into()],
-            range: LeverRange::Linear { low: 0.1, high: 0.9, integer: false },
-        };
-        assert_eq!(lin.value(0.0), ParamValue::Float(0.1));
-        assert_eq!(lin.value(1.0), ParamValue::Float(0.9));
-        assert_eq!(lin.value(0.25), ParamValue::Float(0.3));
-        let log = Lever { range: LeverRange::Log { low: 1e7, high: 1e9, integer: false }, ..lin.clone() };
-        assert_eq!(log.value(0.5), ParamValue::Float(1e8));
-        assert!((log.coordinate(&ParamValue::Float(1e8)).unwrap() - 0.5).abs() < 1e-12);
-        let list = Lever { range: LeverRange::List(vec![ParamValue::Int(1), ParamValue::Int(2)]), ..lin };
-        assert_eq!(list.value(0.49), ParamValue::Int(1));
-        assert_eq!(list.value(1.0), ParamValue::Int(2));
-        assert_eq!(round_significant(0.123456, 4), 0.1235);
-    }
 }

@@ -7,25 +7,32 @@
 //! and reads every outcome back from the file). [`report`] writes the recommendation, the best study,
 //! the candidates table and the charts.
 
+pub mod design;
 mod file;
+pub mod judge;
+pub mod ladder;
+pub mod model;
 pub mod report;
 pub mod search;
+pub mod spec;
 pub mod validity;
 
 use std::collections::HashMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-pub use file::{Keep, Lever, LeverRange, Objective, TuneSpec, is_tune_file, load};
-pub use search::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult};
-pub use validity::StandardSetting;
+pub use file::{is_tune_file, keepable_metrics, load};
+pub use ladder::StandardSetting;
+pub use model::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, TuneError};
+pub use spec::{Keep, Lever, LeverRange, Objective, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::{self, ProgressMode, RunOptions};
 use crate::study::{ParamValue, Plan, PlannedRun};
+use model::{Reading, RunFailure, ScreenError};
 
 /// How to run a tune.
 #[derive(Clone, Debug, Default)]
@@ -43,28 +50,6 @@ pub struct TuneOptions {
     /// Set (e.g. by Ctrl-C) to stop.
     pub stop: Arc<AtomicBool>,
 }
-
-/// Why a tune could not finish.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TuneError {
-    /// The runner or the results file failed.
-    Runner(String),
-    /// Stopped by Ctrl-C; the finished runs are in the file.
-    Interrupted,
-    /// The search could not go on (e.g. the reference does not settle).
-    Search(String),
-}
-
-impl fmt::Display for TuneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            TuneError::Runner(e) | TuneError::Search(e) => write!(f, "{e}"),
-            TuneError::Interrupted => write!(f, "interrupted: finished runs are kept; continue with --resume"),
-        }
-    }
-}
-
-impl std::error::Error for TuneError {}
 
 /// What a tune did.
 #[derive(Clone, Debug)]
@@ -122,9 +107,8 @@ pub fn tune(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneReport, Tu
     let mut evaluator = RunEvaluator::new(spec, options);
     let searched = search::search(&search_config(spec), &mut evaluator);
     let (reused, ran, total_particle_steps) = (evaluator.reused, evaluator.ran, evaluator.particle_steps);
-    let (standards, error) = (evaluator.standards, evaluator.error);
-    spec.standards = standards;
-    let result = searched.map_err(|e| error.unwrap_or(TuneError::Search(e)))?;
+    spec.standards = evaluator.standards;
+    let result = searched?;
     Ok(TuneReport {
         result,
         results: results_path(spec, options.out_dir.as_deref()),
@@ -158,7 +142,7 @@ fn job_parameters(spec: &TuneSpec, ladder: &[StandardSetting], job: &Job) -> Vec
 }
 
 /// The scene of a candidate's first seed.
-pub fn candidate_scene(spec: &TuneSpec, candidate: &search::Candidate) -> Result<crate::physics::SceneConfig, String> {
+pub fn candidate_scene(spec: &TuneSpec, candidate: &model::Candidate) -> Result<crate::physics::SceneConfig, String> {
     setting_scene(spec, &spec.standards, &candidate.point, candidate.standard, 0)
 }
 
@@ -207,8 +191,6 @@ pub struct RunEvaluator<'a> {
     pub ran: usize,
     /// Particle-steps of every run evaluated.
     pub particle_steps: f64,
-    /// The failure behind an evaluation error.
-    pub error: Option<TuneError>,
 }
 
 impl<'a> RunEvaluator<'a> {
@@ -235,7 +217,6 @@ impl<'a> RunEvaluator<'a> {
             reused: 0,
             ran: 0,
             particle_steps: 0.0,
-            error: None,
         }
     }
 
@@ -264,12 +245,6 @@ impl<'a> RunEvaluator<'a> {
         }
         PlannedRun::new(format!("r{index:05}"), index, parameters, scene, self.spec.initial.clone())
     }
-
-    fn fail(&mut self, error: TuneError) -> String {
-        let text = error.to_string();
-        self.error = Some(error);
-        text
-    }
 }
 
 impl Evaluator for RunEvaluator<'_> {
@@ -279,7 +254,7 @@ impl Evaluator for RunEvaluator<'_> {
             Err(reason) => {
                 return Screen {
                     identity: format!("{point:?} {standard:?}"),
-                    invalid: Some(reason),
+                    predicted: Err(ScreenError::Scene(reason)),
                     resolved: Vec::new(),
                     relative_cost: None,
                 };
@@ -290,10 +265,7 @@ impl Evaluator for RunEvaluator<'_> {
         let dt = crate::physics::scene_time_step(&scene, disks).dt;
         let disks_ratio = scene.particles.count as f64 / self.spec.reference.particles.count.max(1) as f64;
         let relative_cost = Some(self.reference_dt / dt * disks_ratio).filter(|r| r.is_finite() && *r > 0.0);
-        let invalid = match validity::predicted_warnings(&scene, disks) {
-            Ok(warnings) => warnings.into_iter().next().map(|w| format!("predicted: {w}")),
-            Err(reason) => Some(reason),
-        };
+        let predicted = validity::predicted_warnings(&scene, disks);
         // The coordinates of the values as written to the scene (rounded, list bins).
         let resolved = match standard {
             Some(_) => Vec::new(),
@@ -305,16 +277,16 @@ impl Evaluator for RunEvaluator<'_> {
                 .map(|(lever, &u)| lever.coordinate(&lever.value(u)).unwrap_or(u))
                 .collect(),
         };
-        Screen { identity, invalid, resolved, relative_cost }
+        Screen { identity, predicted, resolved, relative_cost }
     }
 
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
-        let stepped = validity::stepped_down(&self.standards[standard], factor)?;
+        let stepped = ladder::stepped_down(&self.standards[standard], factor)?;
         self.standards.push(stepped);
         Some(self.standards.len() - 1)
     }
 
-    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, String> {
+    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError> {
         let first_index = self.plan.runs.len();
         for (k, job) in jobs.iter().enumerate() {
             let run = self.planned_run(job, first_index + k);
@@ -331,76 +303,66 @@ impl Evaluator for RunEvaluator<'_> {
             stop: self.options.stop.clone(),
             ..Default::default()
         };
-        let report = match runner::run_plan(&self.plan, &options) {
-            Ok(report) => report,
-            Err(e) => return Err(self.fail(TuneError::Runner(e.to_string()))),
-        };
+        let report = runner::run_plan(&self.plan, &options).map_err(|e| TuneError::Runner(e.to_string()))?;
         if report.interrupted {
-            return Err(self.fail(TuneError::Interrupted));
+            return Err(TuneError::Interrupted);
         }
         let reused = jobs.len().saturating_sub(report.ran);
         self.reused += reused;
         self.ran += report.ran;
         let mut rows = Rows::new(&report.summary);
-        let warned = (first_index..self.plan.runs.len()).any(|i| rows.warned(i));
-        if warned {
-            rows.warnings = warning_texts(&report.results).map_err(|e| self.fail(TuneError::Runner(e)))?;
+        if (first_index..self.plan.runs.len()).any(|i| rows.warned(i)) {
+            rows.warnings = typed_warnings(&report.results)?;
         }
         let mut outcomes = Vec::with_capacity(jobs.len());
         for (k, job) in jobs.iter().enumerate() {
             let run = &self.plan.runs[first_index + k];
-            match rows.outcome(run, job, self.spec) {
-                Some((outcome, steps)) => {
-                    self.particle_steps += steps;
-                    outcomes.push(outcome);
-                }
-                None => {
-                    return Err(self.fail(TuneError::Runner(format!(
-                        "{}: run {} is missing from the results file",
-                        report.results.display(),
-                        run.id
-                    ))));
-                }
-            }
+            let (outcome, steps) = rows
+                .outcome(run, job, self.spec)
+                .ok_or_else(|| TuneError::MissingRun { results: report.results.clone(), run: run.id.clone() })?;
+            self.particle_steps += steps;
+            outcomes.push(outcome);
         }
         if self.options.verbose {
-            let roles: Vec<String> = {
-                let mut c: Vec<usize> = jobs.iter().map(|j| j.candidate).collect();
-                c.dedup();
-                match (c.first(), c.last()) {
-                    (Some(0), _) => vec!["reference".into()],
-                    (Some(a), Some(b)) if a == b => vec![format!("candidate {a}")],
-                    (Some(a), Some(b)) => vec![format!("candidates {a}-{b}")],
-                    _ => Vec::new(),
-                }
-            };
-            let role = if jobs.iter().any(|j| j.role == Role::Verify) { "verification of " } else { "" };
-            println!(
-                "batch {}: {} runs ({role}{}){}; {} runs so far",
-                self.batches,
-                jobs.len(),
-                roles.join(""),
-                if reused > 0 { format!(", {reused} from the file") } else { String::new() },
-                self.plan.runs.len()
-            );
+            println!("{}", batch_line(self.batches, jobs, reused, self.plan.runs.len()));
         }
         Ok(outcomes)
     }
 }
 
-/// The warning texts of every run in a results file, by run index.
-fn warning_texts(results: &Path) -> Result<HashMap<usize, Vec<String>>, String> {
-    let file = crate::output::reader::open(results).map_err(|e| e.to_string())?;
-    let rows = crate::output::reader::rows(&file, results).map_err(|e| e.to_string())?;
+/// One line per batch: its runs, whose they are and how many came from the file.
+fn batch_line(batch: usize, jobs: &[Job], reused: usize, total: usize) -> String {
+    let mut c: Vec<usize> = jobs.iter().map(|j| j.candidate).collect();
+    c.dedup();
+    let whose = match (c.first(), c.last()) {
+        (Some(0), _) => "reference".to_string(),
+        (Some(a), Some(b)) if a == b => format!("candidate {a}"),
+        (Some(a), Some(b)) => format!("candidates {a}-{b}"),
+        _ => String::new(),
+    };
+    let role = if jobs.iter().any(|j| j.role == Role::Verify) { "verification of " } else { "" };
+    let from_file = if reused > 0 { format!(", {reused} from the file") } else { String::new() };
+    format!("batch {batch}: {} runs ({role}{whose}){from_file}; {total} runs so far", jobs.len())
+}
+
+/// The typed warnings of every run in a results file, by run index.
+fn typed_warnings(results: &Path) -> Result<HashMap<usize, Vec<ValidityWarning>>, TuneError> {
+    let error = |e: String| TuneError::Runner(format!("{}: {e}", results.display()));
+    let file = crate::output::reader::open(results).map_err(|e| error(e.to_string()))?;
+    let rows = crate::output::reader::rows(&file, results).map_err(|e| error(e.to_string()))?;
     Ok(rows.into_iter().map(|row| (row.index, row.warnings)).collect())
 }
+
+/// The measured validity checks of every finished run: summary column and the scene's limit.
+const MEASURED: [(WarningKind, &str); 2] =
+    [(WarningKind::EnergyBalance, "energy_balance_error"), (WarningKind::Overlap, "largest_overlap_ratio")];
 
 /// The summary's rows by run index.
 struct Rows<'a> {
     table: &'a SummaryTable,
     by_index: HashMap<i64, usize>,
-    /// Warning texts by run index, read from the file when a run has any.
-    warnings: HashMap<usize, Vec<String>>,
+    /// Typed warnings by run index, read from the file when a run has any.
+    warnings: HashMap<usize, Vec<ValidityWarning>>,
     /// Every pile metric of the summary.
     pile: Vec<String>,
 }
@@ -437,19 +399,15 @@ impl<'a> Rows<'a> {
         if self.text("run_id", row) != run.id {
             return None;
         }
-        let status = self.text("status", row);
-        let cut = job.cap.is_some() && RunStatus::parse(&status) == Some(RunStatus::NotSettled);
-        let failure = (RunStatus::parse(&status) != Some(RunStatus::Settled)).then(|| match job.cap {
-            Some(cap) if cut => format!(
-                "run {} cut at {cap:.4e} particle-steps: its candidate can no longer beat the incumbent",
-                run.id
-            ),
-            _ => {
-                let message = self.text("message", row);
-                let why = if message.is_empty() { String::new() } else { format!(": {message}") };
-                format!("run {} {status}{why}", run.id)
-            }
-        });
+        let status = RunStatus::parse(&self.text("status", row));
+        let message = self.text("message", row);
+        let failure = match (status, job.cap) {
+            (Some(RunStatus::Settled), _) => None,
+            (Some(RunStatus::NotSettled), Some(cap)) => Some(RunFailure::Cut { cap }),
+            (Some(RunStatus::NotSettled), None) => Some(RunFailure::NotSettled),
+            (Some(RunStatus::Diverged), _) => Some(RunFailure::Diverged(message)),
+            _ => Some(RunFailure::Error(message)),
+        };
         let mut particle_steps = self.number("particle_steps", row);
         if particle_steps.is_nan() {
             particle_steps = self.number("steps", row) * run.scene.particles.count as f64;
@@ -460,13 +418,17 @@ impl<'a> Rows<'a> {
         };
         let metrics = spec.keep.iter().map(|k| self.number(&k.metric, row)).collect();
         let pile = self.pile.iter().map(|m| self.number(m, row)).collect();
-        let warnings = if self.warned(run.index) {
-            let texts = self.warnings.get(&run.index).cloned().unwrap_or_default();
-            if texts.is_empty() { vec![format!("run {} has validity warnings", run.id)] } else { texts }
-        } else {
-            Vec::new()
-        };
-        let excess = if failure.is_none() { validity::time_step_excess(&warnings) } else { None };
-        Some((Outcome { failure, cost, metrics, warnings, cut, pile, excess }, particle_steps))
+        let warnings = self.warnings.get(&run.index).map(Vec::as_slice).unwrap_or_default();
+        let limits = &run.scene.limits;
+        let measured = MEASURED.iter().map(|&(kind, column)| {
+            let limit = match kind {
+                WarningKind::EnergyBalance => limits.energy_balance_tolerance,
+                _ => limits.overlap_warning_ratio,
+            };
+            Reading { kind, value: self.number(column, row), limit }
+        });
+        let predicted = warnings.iter().filter(|w| !w.kind.is_measured()).map(Reading::from);
+        let readings = predicted.chain(measured.filter(|r| r.value.is_finite())).collect();
+        Some((Outcome { failure, cost, metrics, readings, pile }, particle_steps))
     }
 }

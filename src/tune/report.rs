@@ -1,12 +1,17 @@
-//! What a tune tells: the recommendation paragraph, `<name>_best.toml` (a runnable study of the
-//! recommended scene), `<name>_candidates.csv` (every evaluated setting) and the charts.
+//! What a tune tells: the answer sheet (the recommendation or why there is none, said up front when
+//! the reference itself breaks a rule of thumb), `<name>_best.toml` (a runnable study of the
+//! recommended scene), `<name>_scene_change.toml` (the `[scene]` keys to set in the user's file),
+//! `<name>_candidates.csv` (every setting that ran), `<name>_skipped.csv` (those predicted invalid
+//! and not run) and the charts.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::search::{Assessment, Candidate, SearchResult, State};
+use super::judge::broken_by_reference;
+use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, SearchResult, State};
 use super::{TuneSpec, seed_text};
 use crate::output::csv::write_record;
+use crate::physics::quantity::PILE_METRICS;
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
 use crate::plot::{ChartOptions, Format};
 use crate::report::TuneSection;
@@ -97,7 +102,7 @@ pub fn run_counts(result: &SearchResult) -> String {
     let standard: usize = result.candidates.iter().filter(|c| c.standard.is_some()).map(|c| c.runs.len()).sum();
     let search: usize = result.candidates.iter().filter(|c| c.standard.is_none()).map(|c| c.runs.len()).sum();
     let verify: usize = result.candidates.iter().map(|c| c.verification.len()).sum();
-    let cut = result.candidates.iter().flat_map(|c| &c.runs).filter(|o| o.cut).count();
+    let cut = result.candidates.iter().flat_map(|c| &c.runs).filter(|o| o.is_cut()).count();
     format!(
         "{} runs: {} reference, {standard} standard settings, {search} search ({cut} of them cut once they could no \
          longer win), {verify} verification",
@@ -111,16 +116,17 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
     if !result.undecidable.is_empty() {
         return undecidable_text(spec, result);
     }
-    let mut text = String::new();
+    let mut text = reference_breaks(result);
     let objective = spec.search.objective.name();
     let reference = result.reference_costs();
     let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
     let skipped = result.candidates.iter().filter(|c| c.predicted_invalid.is_some()).count();
     let spent = spend(result);
     let budget_line = format!(
-        "The tune evaluated {evaluated} settings ({skipped} more were predicted to break a validity limit and not \
-         run) in {} of a budget of {} runs, and spent {} reference depositions ({objective}; limit {}); the \
+        "{} The tune evaluated {evaluated} settings ({skipped} more were predicted to break a validity limit and \
+         not run) in {} of a budget of {} runs, and spent {} reference depositions ({objective}; limit {}); the \
          reference ran on seeds {}.",
+        path_line(spec, result),
         run_counts(result),
         result.budget,
         num(spent),
@@ -160,6 +166,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                  seed-to-seed spread (σ):"
             );
             text.push_str(&pile_lines(spec, result, cand));
+            text.push_str(&check_lines(result, cand));
             text.push_str(&bound_line(spec, cand));
             let runs = cand.runs.len() + cand.verification.len();
             let unsettled = cand.runs.iter().chain(&cand.verification).filter(|o| o.failure.is_some()).count();
@@ -168,7 +175,8 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 "Runs that did not settle: {unsettled} of its {runs} runs (95 % upper bound on the rate: {} %).",
                 num(100.0 * rate_upper_bound(unsettled, runs))
             );
-            let _ = writeln!(text, "{}", checks_passed(spec));
+            let checks = result.assess_verification(cand).map(|a| a.checks).unwrap_or_default();
+            let _ = writeln!(text, "{}", validity_line(spec, cand, &checks));
             let _ = writeln!(
                 text,
                 "Verified on {} fresh placement seeds {} never used during the search. {budget_line}",
@@ -205,7 +213,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                         metric_lines(spec, result, &a)
                     );
                 }
-                None => text.push_str("No candidate's runs all settled without a validity warning. "),
+                None => text.push_str("No candidate's runs all settled and passed the validity checks. "),
             }
             text.push_str(&budget_line);
         }
@@ -258,7 +266,8 @@ fn payback(result: &SearchResult, ratio: f64, spent: f64) -> String {
 fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> String {
     let names = super::file::keepable_metrics();
     let mut text = String::new();
-    for (k, name) in names.iter().enumerate() {
+    let pile = |name: &str| PILE_METRICS.iter().any(|q| q.name == name);
+    for (k, name) in names.iter().enumerate().filter(|(_, n)| pile(n)) {
         let column = |runs: &[super::Outcome]| runs.iter().filter_map(|o| o.pile.get(k).copied()).collect::<Vec<f64>>();
         let (reference, runs) = (column(&result.reference), column(&cand.verification));
         if reference.iter().chain(&runs).any(|x| !x.is_finite()) || reference.len() < 2 || runs.len() < 2 {
@@ -285,7 +294,7 @@ fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> Strin
 
 /// The levers that sit on a bound of their range.
 fn bound_line(spec: &TuneSpec, cand: &Candidate) -> String {
-    let edge = 1.0 / super::search::QUANT;
+    let edge = 1.0 / super::design::QUANT;
     let on: Vec<String> = spec
         .levers
         .iter()
@@ -305,16 +314,110 @@ fn bound_line(spec: &TuneSpec, cand: &Candidate) -> String {
     if on.is_empty() { String::new() } else { format!("Levers on a range bound: {}.\n", on.join("; ")) }
 }
 
-/// The validity checks every run of a recommendation passed, with the limits that applied.
-fn checks_passed(spec: &TuneSpec) -> String {
-    let l = &spec.reference.limits;
+/// The per-run quantities that are not pile metrics (settle time, final energies, energy-balance
+/// error, largest overlap): shown as checks, the recommendation's verification mean and largest
+/// against the reference's, never in units of the reference's spread.
+fn check_lines(result: &SearchResult, cand: &Candidate) -> String {
+    let names = super::file::keepable_metrics();
+    let mut text =
+        String::from("Checks (not pile metrics), reference mean and largest against the recommendation's:\n");
+    for (k, name) in names.iter().enumerate().filter(|(_, n)| !PILE_METRICS.iter().any(|q| q.name == n.as_str())) {
+        let column =
+            |runs: &[Outcome]| stats::describe(&runs.iter().filter_map(|o| o.pile.get(k).copied()).collect::<Vec<_>>());
+        let (r, c) = (column(&result.reference), column(&cand.verification));
+        if r.n == 0 || c.n == 0 {
+            continue;
+        }
+        let _ = writeln!(
+            text,
+            "  {name}: {} (largest {}) against {} (largest {})",
+            num(r.mean),
+            num(r.max),
+            num(c.mean),
+            num(c.max)
+        );
+    }
+    text
+}
+
+/// The validity rule and each check's figure over the recommendation's verification runs, with its
+/// worst run and the limit it was held to.
+fn validity_line(spec: &TuneSpec, cand: &Candidate, checks: &[CheckFigure]) -> String {
+    let figures: Vec<String> = checks
+        .iter()
+        .map(|c| {
+            let seed = cand.verify_seeds.get(c.worst_run).map(|&s| seed_text(spec, &[s])).unwrap_or_default();
+            let held = if c.held_to > c.limit {
+                format!(", the reference's own figure (limit {})", num(c.limit))
+            } else {
+                String::new()
+            };
+            format!(
+                "{} ({}): figure {}, worst run {} (seed {seed}), held to {}{held}",
+                c.kind.name(),
+                c.kind.limit_key(),
+                num(c.figure),
+                num(c.worst),
+                num(c.held_to)
+            )
+        })
+        .collect();
     format!(
-        "Validity checks passed by every one of its runs: settled; time step at most limits.contact_time_fraction = {} \
-         of the contact time and not capped by the damping-rate limit (limits.damping_rate_fraction = {}); \
-         predicted and measured overlap below limits.overlap_warning_ratio = {} of a radius; energy balance within \
-         limits.energy_balance_tolerance = {} of the energy available.",
-        l.contact_time_fraction, l.damping_rate_fraction, l.overlap_warning_ratio, l.energy_balance_tolerance
+        "Validity over its {} verification runs (rule: a measured check's 75th percentile within its limit and no \
+         run beyond twice it; a predicted check within its limit on every run; a limit the reference breaks is \
+         replaced by the reference's own figure): {}.",
+        cand.verification.len(),
+        if figures.is_empty() { "no check reported".to_string() } else { figures.join("; ") }
     )
+}
+
+/// Up front, loudly: the rules of thumb the reference itself breaks, and that candidates are held
+/// to no worse than it on them (empty when it breaks none).
+pub fn reference_breaks(result: &SearchResult) -> String {
+    let broken = broken_by_reference(&result.reference_checks);
+    if broken.is_empty() {
+        return String::new();
+    }
+    let each: Vec<String> = broken
+        .iter()
+        .map(|c| format!("{} {} against {} ({})", c.kind.name(), num(c.figure), num(c.limit), c.kind.limit_key()))
+        .collect();
+    format!(
+        "WARNING: the reference itself breaks {} rule(s) of thumb: {}. Every candidate is held to no worse than the \
+         reference on {}.\n",
+        broken.len(),
+        each.join("; "),
+        if broken.len() == 1 { "it" } else { "them" }
+    )
+}
+
+/// How the time-step path ended, in one sentence.
+fn path_line(spec: &TuneSpec, result: &SearchResult) -> String {
+    let (rungs, end) = &result.path;
+    let fractions: Vec<String> = rungs.iter().map(|&k| resolved_time_step(spec, &result.candidates[k])).collect();
+    let tried = if fractions.is_empty() { String::new() } else { format!(" (tried: {})", fractions.join("; ")) };
+    match end {
+        PathEnd::NotRun => "The time-step path did not run.".into(),
+        PathEnd::Verified(k) => {
+            format!("The time-step path ended at candidate {}, verified{tried}.", result.candidates[*k].id)
+        }
+        PathEnd::NothingCheaper => {
+            format!(
+                "The time-step path found no time step cheaper than the reference's that is valid and equivalent{tried}."
+            )
+        }
+        PathEnd::OutOfBudget => format!("The spend limit or the run budget stopped the time-step path{tried}."),
+        PathEnd::Undecided(k) => {
+            let cand = &result.candidates[*k];
+            let why = result.assess_verification(cand).map(|a| failure_reason(spec, result, &a)).unwrap_or_default();
+            format!(
+                "The time-step path stopped at candidate {}: on {} fresh seeds {why}, more than the spend limit \
+                 leaves{tried}.",
+                cand.id,
+                cand.verification.len()
+            )
+        }
+    }
 }
 
 /// Why the tune stopped before searching: a kept metric the reference's own spread cannot decide.
@@ -389,7 +492,8 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
     match &a.state {
         State::NotRun(reason) => format!("not run: {reason}"),
         State::Feasible => "acceptable during the search, but the budget ran out before it was verified".into(),
-        State::Infeasible(reason) if a.tests.is_empty() => reason.clone(),
+        State::Cut => "cut: its runs were stopped once it could no longer win (nothing is known of its pile)".into(),
+        State::Infeasible(reason @ (Rejection::Failed(_) | Rejection::Invalid(_))) => reason.to_string(),
         _ => {
             let worst = a
                 .tests
@@ -421,12 +525,19 @@ pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str)
     let mut written = Written::default();
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let csv = dir.join(format!("{}_candidates.csv", spec.name));
-    write_candidates(spec, result, &csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    write_records(&candidate_records(spec, result), &csv).map_err(|e| format!("{}: {e}", csv.display()))?;
     written.files.push(csv);
+    let skipped = dir.join(format!("{}_skipped.csv", spec.name));
+    write_records(&skipped_records(spec, result), &skipped).map_err(|e| format!("{}: {e}", skipped.display()))?;
+    written.files.push(skipped);
     if let Some(k) = result.recommended {
         let best = dir.join(format!("{}_best.toml", spec.name));
         std::fs::write(&best, best_study(spec, result, k)).map_err(|e| format!("{}: {e}", best.display()))?;
         written.files.push(best);
+        let change = dir.join(format!("{}_scene_change.toml", spec.name));
+        std::fs::write(&change, scene_change(spec, &result.candidates[k]))
+            .map_err(|e| format!("{}: {e}", change.display()))?;
+        written.files.push(change);
     }
     let note = dir.join(format!("{}_recommendation.txt", spec.name));
     std::fs::write(&note, format!("{text}\n")).map_err(|e| format!("{}: {e}", note.display()))?;
@@ -464,50 +575,99 @@ fn cost_points(result: &SearchResult) -> (Vec<CostPoint>, Option<CostPoint>) {
     (points, result.recommended.map(|k| point(&result.candidates[k])))
 }
 
+/// Per lever: every candidate that ran (standard settings at the values their scene has), the
+/// reference's value and the recommendation's.
 fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
-    let reference = stats::describe(&result.reference_costs()).mean;
+    let reference = result.reference_cost();
+    let number = |v: &ParamValue| match v {
+        ParamValue::Float(x) => Some(*x),
+        ParamValue::Int(i) => Some(*i as f64),
+        _ => None,
+    };
+    let reference_values = spec.reference_values();
+    let at = |c: &Candidate, key: &str| -> Option<f64> {
+        let values = match c.standard {
+            Some(k) => spec.standards[k].values.clone(),
+            None => spec.values(&c.point),
+        };
+        match values.iter().find(|(k, _)| k == key) {
+            Some((_, v)) => number(v),
+            None => reference_values.iter().find(|(k, _, _)| k == key).and_then(|(_, v, _)| number(v)),
+        }
+    };
     spec.levers
         .iter()
-        .enumerate()
-        .map(|(d, lever)| {
+        .map(|lever| {
             let points = result
                 .candidates
                 .iter()
-                .filter(|c| !c.runs.is_empty() && c.standard.is_none())
-                .map(|c| {
+                .filter(|c| !c.runs.is_empty())
+                .filter_map(|c| {
                     let a = result.assess(c);
-                    let x = match lever.value(c.point[d]) {
-                        ParamValue::Float(x) => x,
-                        ParamValue::Int(i) => i as f64,
-                        _ => c.point[d],
-                    };
-                    (x, a.cost / reference, a.state == State::Feasible)
+                    Some((at(c, &lever.key)?, a.cost / reference, a.state == State::Feasible))
                 })
                 .collect();
-            let best = result.recommended.filter(|&k| result.candidates[k].standard.is_none()).map(|k| {
-                let c = &result.candidates[k];
-                match lever.value(c.point[d]) {
-                    ParamValue::Float(x) => x,
-                    ParamValue::Int(i) => i as f64,
-                    _ => c.point[d],
-                }
-            });
-            LeverSeries { name: lever.key.clone(), log: lever.is_log(), points, best }
+            let best = result.recommended.and_then(|k| at(&result.candidates[k], &lever.key));
+            let reference = reference_values.iter().find(|(k, _, _)| *k == lever.key).and_then(|(_, v, _)| number(v));
+            LeverSeries { name: lever.key.clone(), log: lever.is_log(), points, best, reference }
         })
         .collect()
 }
 
-/// The candidates table.
-fn write_candidates(spec: &TuneSpec, result: &SearchResult, path: &Path) -> std::io::Result<()> {
+/// Writes CSV records.
+fn write_records(records: &[Vec<String>], path: &Path) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    for record in candidate_records(spec, result) {
-        write_record(&mut out, &record)?;
+    for record in records {
+        write_record(&mut out, record)?;
     }
     std::io::Write::flush(&mut out)
 }
 
-/// The candidates table (`<name>_candidates.csv`): the header, the reference, then every evaluated
-/// setting with its levers, n, cost, metric means, decisions and verification.
+/// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.
+pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
+    let header = ["candidate", "origin", "settings", "reason"].map(String::from).to_vec();
+    let skipped = result.candidates.iter().filter(|c| c.runs.is_empty()).map(|c| {
+        let reason = match &c.predicted_invalid {
+            Some(why) => why.to_string(),
+            None => "not run: the budget or the spend limit ran out first".into(),
+        };
+        vec![c.id.to_string(), c.origin.name().into(), settings(spec, c), reason]
+    });
+    std::iter::once(header).chain(skipped).collect()
+}
+
+/// The recommendation as a change to the tune file: the `[scene]` keys to set (and those to take
+/// out, where a ladder setting replaces how the time step is chosen).
+pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
+    let (values, removed) = match cand.standard {
+        Some(k) => (spec.standards[k].values.clone(), spec.standards[k].removed.clone()),
+        None => (spec.values(&cand.point), Vec::new()),
+    };
+    let mut text = format!(
+        "# The recommendation of `demsweep tune {}` as a change to its [scene] table: set these keys\n",
+        spec.path.display()
+    );
+    let present = |key: &str| {
+        let mut here = Some(&spec.base);
+        let parts: Vec<&str> = key.split('.').collect();
+        for part in &parts[..parts.len() - 1] {
+            here = here.and_then(|t| t.get(*part)).and_then(toml::Value::as_table);
+        }
+        here.is_some_and(|t| t.contains_key(parts[parts.len() - 1]))
+    };
+    for key in removed.iter().filter(|k| present(k)) {
+        let _ = writeln!(text, "# remove: {key} (it would take precedence)");
+    }
+    text.push_str("[scene]\n");
+    for (key, value) in values {
+        let _ = writeln!(text, "{} = {}", key, value.to_toml());
+    }
+    text
+}
+
+/// The candidates table (`<name>_candidates.csv`): the header, the reference, then every setting
+/// that ran with its levers, n, cost, metric means, decisions and verification (the settings not run
+/// are in [`skipped_records`]).
 pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
     let reference = stats::describe(&result.reference_costs());
     let mut header: Vec<String> = vec!["candidate".into(), "origin".into()];
@@ -549,7 +709,7 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<Stri
             row
         };
     records.push(reference_row);
-    for (index, cand) in result.candidates.iter().enumerate() {
+    for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
         let a = result.assess(cand);
         let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
         let values = match cand.standard {

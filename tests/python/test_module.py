@@ -130,6 +130,9 @@ def test_run_study_and_open_read_what_the_command_reads(tmp_path):
     assert [f["time"] for f in results.frames("r0001")] == pytest.approx([0.05, 0.1], abs=1e-5)
     assert results.scene("r0003")["material"]["friction"] == 0.6
 
+    assert demsweep.open(out).path == pathlib.Path(done["results"])  # a folder, as the commands take
+    with pytest.raises(demsweep.ResultsError, match="no results file"):
+        demsweep.open(tmp_path)
     with pytest.raises(demsweep.ResultsError, match="no run `r0099`"):
         results.history("r0099")
     with pytest.raises(demsweep.ResultsError, match="results already exist"):

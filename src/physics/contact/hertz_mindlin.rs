@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::key_decl::scene_section;
+use crate::physics::key_spec::scene_section;
 
 use super::{Coefficients, ContactLaw, PairProperties};
 

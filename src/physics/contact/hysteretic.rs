@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::key_decl::scene_section;
+use crate::physics::key_spec::scene_section;
 
 use super::linear::{stiffness_or_hertz_secant, stiffness_problems};
 use super::{Coefficients, ContactLaw, ContactState, PairProperties};

@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{ContactLaw, HertzMindlin, HystereticLinear, LinearSpringDashpot};
-use crate::physics::key_decl::{KeyDoc, KeySpec};
+use crate::physics::key_spec::{KeyDoc, KeySpec};
 
 /// Work done with the scene's law, whichever it is (a generic closure).
 pub trait LawVisitor {

@@ -1,6 +1,7 @@
-//! How a section of the scene configuration declares its keys: `scene_section!` and the
-//! [`KeyDoc`] / [`KeySpec`] it makes per field (read by `super::keys`, which lists them). Apart
-//! from `keys`, so that the configuration it declares does not import what reads it.
+//! How the configuration declares its keys: each section of [`super::config`] (and each contact
+//! law's parameters) is written through `scene_section!`, which keeps every field's doc comment as
+//! its description and its `#[key(...)]` line as a [`KeySpec`] (unit, range, plausible SI values);
+//! [`super::keys`] turns them into the key listing and the unit warnings.
 
 /// What a field's `#[key(...)]` line declares.
 #[derive(Clone, Copy, Debug)]
@@ -54,11 +55,11 @@ macro_rules! scene_section {
 
         impl $name {
             /// The section's keys (`physics::keys`).
-            pub const KEYS: &'static [$crate::physics::key_decl::KeyDoc] = &[
-                $($crate::physics::key_decl::KeyDoc {
+            pub const KEYS: &'static [$crate::physics::key_spec::KeyDoc] = &[
+                $($crate::physics::key_spec::KeyDoc {
                     name: stringify!($field),
                     doc: &[$($doc),*],
-                    spec: $crate::physics::key_decl::KeySpec { $($spec)*, ..$crate::physics::key_decl::KeySpec::NONE },
+                    spec: $crate::physics::key_spec::KeySpec { $($spec)*, ..$crate::physics::key_spec::KeySpec::NONE },
                 },)*
             ];
         }
