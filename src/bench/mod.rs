@@ -6,7 +6,7 @@
 //! - [`stability_map`]: where runs blow up over time step × stiffness × damping, against the prediction;
 //! - [`stress`]: edge-case scenes, each ending with a clear status and message;
 //! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts;
-//! - [`tune`]: `demsweep tune` against a brute-force grid over the same levers.
+//! - [`tune`]: `demsweep tune` against a brute-force ladder of time steps on the reference's seeds.
 
 pub mod accuracy;
 pub mod skipping;
