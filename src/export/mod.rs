@@ -98,10 +98,12 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
     }
     let file = reader::open(&request.results).map_err(|e| e.to_string())?;
     let (rows, damaged) = reader::scan(&file, &request.results).map_err(|e| e.to_string())?;
-    let unreadable = request.runs.iter().find(|id| !damaged.is_empty() && !rows.iter().any(|r| &r.id == *id));
-    if let Some(id) = unreadable {
-        let why = reader::damage_text(&damaged);
-        return Err(format!("{}: run `{id}` is not among the readable runs: {why}", request.results.display()));
+    let mut names = Vec::new();
+    for id in &request.runs {
+        names.push(reader::listed_group(&file, &request.results, id).map_err(|e| e.to_string())?.unwrap_or(id.clone()));
+    }
+    if let Some(d) = damaged.iter().find(|d| names.iter().any(|name| d.group.ends_with(&format!("/{name}")))) {
+        return Err(format!("{}: run group {} cannot be read ({})", request.results.display(), d.group, d.reason));
     }
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;
     let folder =

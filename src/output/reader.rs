@@ -333,17 +333,22 @@ fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
 pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, OutputError> {
     let missing =
         || OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)"));
-    let listed = stored_table(file, path, SUMMARY)?.and_then(|table| {
-        let ids = table.column("run_id")?;
-        let row = (0..table.len()).find(|&i| ids.data.text(i) == run_id)?;
-        let identity = table.column(super::table::IDENTITY).map(|c| c.data.text(row)).unwrap_or_default();
-        Some(if identity.is_empty() { run_id.to_string() } else { identity })
-    });
-    let name = match listed {
+    let name = match listed_group(file, path, run_id)? {
         Some(name) => name,
         None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
     };
     find_group(file, path, &name)?.ok_or_else(missing)
+}
+
+/// The name of the group of run `run_id` as `/summary` lists it (its identity, or its id in files
+/// written before identities); `None` when `/summary` does not list the run.
+pub fn listed_group(file: &File, path: &Path, run_id: &str) -> Result<Option<String>, OutputError> {
+    Ok(stored_table(file, path, SUMMARY)?.and_then(|table| {
+        let ids = table.column("run_id")?;
+        let row = (0..table.len()).find(|&i| ids.data.text(i) == run_id)?;
+        let identity = table.column(super::table::IDENTITY).map(|c| c.data.text(row)).unwrap_or_default();
+        Some(if identity.is_empty() { run_id.to_string() } else { identity })
+    }))
 }
 
 /// Path of the run group called `name` (see [`SummaryRow::group_name`]), looked up in each batch
