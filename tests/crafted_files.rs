@@ -35,9 +35,8 @@ fn add_run(
     drop(file);
     let record = run_scene(&scene, None, &mut |_| Control::Continue).unwrap();
     let mut row = rows[0].clone();
-    // A run of its own: without an identity (as in files written before them) it is stored under its
-    // id, not under the identity of the run it was copied from.
-    (row.id, row.index, row.identity) = ("r900".into(), 900, String::new());
+    // A run of its own, under an identity of its own (not that of the run it was copied from).
+    (row.id, row.index, row.identity) = ("r900".into(), 900, "crafted-r900".into());
     let mut run = RunResult { row, scene, record: Some(record) };
     lie(&mut run);
     let options = OutputOptions { histories: true, final_states: true, frames: true };

@@ -15,6 +15,7 @@ use crate::physics::config::PlacementKind;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
 use crate::physics::walls::BoxWalls;
+use crate::physics::warning::WarningKind;
 use crate::physics::{CellGrid, SceneConfig};
 
 /// Keys allowed at the top of a study file.
@@ -395,8 +396,9 @@ impl<'a> Planner<'a> {
             None => self.try_placement(scene).map_err(|(key, reason)| vec![self.problem(point, &key, reason)])?,
         };
         let span = self.doc.span(&["scene".to_string()]);
-        for reason in crate::physics::predict_stability(scene, &disks).warnings {
-            let warning = self.file.error(span.clone(), "scene", format!("predicted: {reason}")).in_run(&point.id);
+        for predicted in crate::physics::predict_stability(scene, &disks).warnings {
+            let reason = format!("predicted: {predicted}{}", contacts_named(scene, predicted.kind));
+            let warning = self.file.error(span.clone(), "scene", reason).in_run(&point.id);
             self.warnings.push(warning);
         }
         Ok(())
@@ -634,6 +636,15 @@ fn touching_pairs(disks: &[InitialDisk], mut touching: impl FnMut(usize, usize))
         }
     }
     Ok(())
+}
+
+/// For a predicted overlap, the contacts that are too soft: "; the contacts: hertz_mindlin, E = 2.000e4 Pa".
+fn contacts_named(scene: &SceneConfig, kind: WarningKind) -> String {
+    if !matches!(kind, WarningKind::ImpactOverlap | WarningKind::StaticOverlap) {
+        return String::new();
+    }
+    let law = serde_json::to_value(scene.contact.law).ok().and_then(|v| v.as_str().map(str::to_string));
+    format!("; the contacts: {}, E = {:.3e} Pa", law.unwrap_or_default(), scene.material.youngs_modulus)
 }
 
 #[cfg(test)]
