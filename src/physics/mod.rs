@@ -28,6 +28,7 @@ pub mod keys;
 pub mod material;
 mod monitor;
 mod neighbors;
+pub mod number;
 pub mod particles;
 pub mod pile;
 pub mod placement;
