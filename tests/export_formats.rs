@@ -14,7 +14,7 @@ use demsweep::physics::config::PlacementKind;
 use demsweep::physics::quantity::PILE_METRICS;
 use demsweep::physics::record::{RunStatus, Snapshot};
 use demsweep::physics::simulation::Control;
-use demsweep::physics::{run_scene, run_scene_with_history};
+use demsweep::physics::{RunError, run_scene, run_scene_with_history};
 use demsweep::study::ParamValue;
 
 /// A results file of two small piles deposited for `duration` (s) with frames (runs `r000`, `r001`), and a third run
@@ -329,7 +329,9 @@ fn a_pile_restarted_with_its_contacts_file_keeps_every_pile_metric() {
         let without = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap();
         scene.placement.contacts = Some(contacts_file.display().to_string());
         let unread = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap_err();
-        assert!(unread.starts_with("placement.contacts: the contact history"), "{unread}");
+        let file = contacts_file.display().to_string();
+        assert_eq!(unread, RunError::HistoryNotGiven { file }, "the error names the unread history");
+        assert!(unread.to_string().starts_with("placement.contacts: the contact history"), "{unread}");
         let observe = &mut |_: &_| Control::Continue;
         let restarted = run_scene_with_history(&scene, Some(disks), Some(&contacts), observe).unwrap();
         assert_eq!(restarted.status, RunStatus::Settled, "{law:?}: {:?}", restarted.message);
