@@ -3,10 +3,10 @@
 //!
 //! `cargo run --release --example library` (a few seconds).
 
-use demsweep::physics::run_scene;
 use demsweep::physics::{Control, RunStatus, SceneConfig};
+use demsweep::physics::{RunError, run_scene};
 
-fn main() -> Result<(), String> {
+fn main() -> Result<(), RunError> {
     // The paper's deposition, smaller: 60 disks of 1 cm radius poured into a 16 cm wide box.
     let mut scene = SceneConfig::default();
     scene.particles.count = 60;

@@ -7,14 +7,14 @@ mod runner_common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use demsweep::export::{ExportRequest, Format, export, format};
+use demsweep::export::{ExportError, ExportRequest, Format, export, format};
 use demsweep::output::{reader, stored};
 use demsweep::physics::config::ContactLawKind;
 use demsweep::physics::config::PlacementKind;
 use demsweep::physics::quantity::PILE_METRICS;
 use demsweep::physics::record::{RunStatus, Snapshot};
 use demsweep::physics::simulation::Control;
-use demsweep::physics::{run_scene, run_scene_with_history};
+use demsweep::physics::{RunError, run_scene, run_scene_with_history};
 use demsweep::study::ParamValue;
 
 /// A results file of two small piles deposited for `duration` (s) with frames (runs `r000`, `r001`), and a third run
@@ -329,7 +329,9 @@ fn a_pile_restarted_with_its_contacts_file_keeps_every_pile_metric() {
         let without = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap();
         scene.placement.contacts = Some(contacts_file.display().to_string());
         let unread = run_scene(&scene, Some(disks.clone()), &mut |_| Control::Continue).unwrap_err();
-        assert!(unread.starts_with("placement.contacts: the contact history"), "{unread}");
+        let file = contacts_file.display().to_string();
+        assert_eq!(unread, RunError::HistoryNotGiven { file }, "the error names the unread history");
+        assert!(unread.to_string().starts_with("placement.contacts: the contact history"), "{unread}");
         let observe = &mut |_: &_| Control::Continue;
         let restarted = run_scene_with_history(&scene, Some(disks), Some(&contacts), observe).unwrap();
         assert_eq!(restarted.status, RunStatus::Settled, "{law:?}: {:?}", restarted.message);
@@ -409,8 +411,11 @@ fn bad_requests_name_the_run_and_the_option_and_leave_nothing_behind() {
     let (results, dir) = results("export_errors", 0.5);
     let out = dir.join("out");
     let unknown = export(&request(&results, csv(), &["r000", "r077"], out.clone())).unwrap_err();
-    assert!(unknown.contains("no run `r077` (--run)"), "{unknown}");
+    assert!(matches!(&unknown, ExportError::UnknownRun { id, .. } if id == "r077"), "{unknown:?}");
+    assert!(unknown.to_string().contains("no run `r077` (--run)"), "{unknown}");
     let failed = export(&request(&results, vtk(), &["r002"], out.clone())).unwrap_err();
+    assert!(matches!(&failed, ExportError::NoFinalState { id, .. } if id == "r002"), "{failed:?}");
+    let failed = failed.to_string();
     assert!(failed.contains("run r002 has no stored final state") && failed.contains("--run"), "{failed}");
     assert!(!out.exists() && !dir.join("out.partial").exists(), "nothing half-written");
     let mut frames = request(&results, csv(), &[], out.clone());
@@ -418,7 +423,8 @@ fn bad_requests_name_the_run_and_the_option_and_leave_nothing_behind() {
     let every = export(&frames).unwrap();
     assert_eq!(every.runs, 2, "every run that finished (r002 failed)");
     let again = export(&request(&results, csv(), &[], out.clone())).unwrap_err();
-    assert!(again.contains("already exists: pass --force"), "{again}");
+    assert!(matches!(&again, ExportError::Guard(e) if e.path == out), "{again:?}");
+    assert!(again.to_string().contains("already exists: pass --force"), "{again}");
     let mut forced = request(&results, lammps_format(), &["r000"], out.clone());
     forced.force = true;
     assert_eq!(

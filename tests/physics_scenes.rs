@@ -6,9 +6,9 @@ mod common;
 use common::*;
 use demsweep::physics::config::{BroadPhaseKind, IntegratorKind, SceneConfig};
 use demsweep::physics::record::{RunRecord, RunStatus};
-use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
 use demsweep::physics::warning::WarningKind;
+use demsweep::physics::{RunError, run_scene};
 
 fn run(scene: &SceneConfig, disks: Option<Vec<demsweep::physics::particles::InitialDisk>>) -> RunRecord {
     run_scene(scene, disks, &mut |_| Control::Continue).unwrap()
@@ -165,4 +165,16 @@ fn strong_damping_with_friction_creates_no_energy() {
     assert!(highest <= h.mechanical[0] * (1.0 + 1e-3), "energy grew: {highest} > {}", h.mechanical[0]);
     let balance = common::largest_balance_error(h);
     assert!(balance < 0.01 * h.mechanical[0], "energy balance off by {balance}");
+}
+
+#[test]
+fn a_scene_that_cannot_run_gives_a_typed_error_naming_its_key() {
+    let mut invalid = SceneConfig::default();
+    invalid.run.duration = -1.0;
+    match run_scene(&invalid, None, &mut |_| Control::Continue) {
+        Err(RunError::InvalidScene(issues)) => assert!(issues.iter().any(|i| i.key == "run.duration"), "{issues:?}"),
+        other => panic!("expected InvalidScene, got {:?}", other.err()),
+    }
+    let empty = run_scene(&SceneConfig::default(), Some(Vec::new()), &mut |_| Control::Continue);
+    assert_eq!(empty.err(), Some(RunError::NoDisks));
 }

@@ -188,7 +188,7 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         let base = format!("/runs_*/{}", RunIdentity::of(run));
         let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
         let record = outcome.as_ref().ok();
-        let error = outcome.as_ref().err().cloned().unwrap_or_default();
+        let error = outcome.as_ref().err().map(ToString::to_string).unwrap_or_default();
         groups.insert(base.clone(), Value::Object(run_attrs(run, record, &error, wall[run.index])));
         let Some(record) = record else { continue };
         datasets.insert(format!("{base}/history"), history(record));

@@ -161,6 +161,7 @@ fn config() -> SearchConfig {
         dims: 2,
         levels: vec![None, None],
         tolerances: vec![(0.02, true)],
+        metrics: vec!["pile_height".to_string()],
         seeds: 3,
         max_seeds: 8,
         reference_seeds: 8,
@@ -485,4 +486,14 @@ fn the_best_standard_is_verified_before_the_search_and_bounds_the_answer() {
     for c in result.candidates.iter().skip(1).filter(|c| !c.verification.is_empty()) {
         assert!(cost(c) < cost(&result.candidates[0]), "candidate {} verified at {}", c.id, cost(c));
     }
+}
+
+#[test]
+fn a_relative_tolerance_without_margin_names_its_metric() {
+    let error = search(&SearchConfig { tolerances: vec![(0.0, false)], ..config() }, &mut StandIn::new())
+        .expect_err("a zero relative tolerance gives no margin");
+    assert!(matches!(&error, TuneError::NoMargin { metric, .. } if metric == "pile_height"), "{error:?}");
+    let text = error.to_string();
+    assert!(text.starts_with("kept metric pile_height has mean "), "{text}");
+    assert!(text.contains("keep.pile_height = { absolute"), "{text}");
 }

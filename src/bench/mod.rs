@@ -73,9 +73,10 @@ pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
     (value, start.elapsed().as_secs_f64())
 }
 
-/// Runs a scene to its end (no observer), with its initial disks.
+/// Runs a scene to its end (no observer), with its initial disks; the error in words, for the
+/// benchmark's report.
 pub fn run(scene: &SceneConfig, disks: &[InitialDisk]) -> Result<RunRecord, String> {
-    run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue)
+    run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue).map_err(|e| e.to_string())
 }
 
 /// The initial disks a scene's random or lattice placement generates.

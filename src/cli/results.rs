@@ -232,17 +232,10 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
 }
 
 fn print_report(report: &RunReport) {
-    let mut counts: Vec<(String, usize)> = Vec::new();
-    if let Some(ColumnData::Text(statuses)) = report.summary.column("status").map(|c| &c.data) {
-        for status in statuses {
-            match counts.iter_mut().find(|(s, _)| s == status) {
-                Some((_, n)) => *n += 1,
-                None => counts.push((status.clone(), 1)),
-            }
-        }
-    }
-    let counts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
-    let counts = if counts.is_empty() { String::new() } else { format!(" ({})", counts.join(", ")) };
+    let counts = match report.summary.column("status").map(|c| &c.data) {
+        Some(ColumnData::Text(statuses)) => status_counts(statuses),
+        _ => String::new(),
+    };
     println!(
         "{} of {} runs recorded{counts}; {} run now, {} already done",
         report.summary.len(),
@@ -558,5 +551,31 @@ fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(FAILED)
         }
+    }
+}
+
+/// How many runs ended in each status, in order of first appearance: ` (2 settled, 1 diverged)`;
+/// empty when no run was recorded.
+fn status_counts(statuses: &[String]) -> String {
+    let mut counts: Vec<(&str, usize)> = Vec::new();
+    for status in statuses {
+        match counts.iter_mut().find(|(s, _)| s == status) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((status, 1)),
+        }
+    }
+    let counts: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
+    if counts.is_empty() { String::new() } else { format!(" ({})", counts.join(", ")) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::status_counts;
+
+    #[test]
+    fn no_recorded_run_gives_no_empty_parentheses() {
+        assert_eq!(status_counts(&[]), "");
+        let statuses = ["settled", "diverged", "settled"].map(String::from);
+        assert_eq!(status_counts(&statuses), " (2 settled, 1 diverged)");
     }
 }

@@ -7,6 +7,7 @@
 //! hold a `.demsweep-export` marker: `--force` replaces only such a folder (see [`crate::output::guard`]).
 
 pub mod csv;
+mod error;
 pub mod lammps;
 pub mod vtk;
 
@@ -17,6 +18,8 @@ use crate::output::reader::{self, DamagedGroup};
 use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
 use crate::physics::record::Snapshot;
+
+pub use error::ExportError;
 
 /// One export format: a row of [`FORMATS`].
 pub struct Format {
@@ -91,28 +94,28 @@ pub struct State<'a> {
 }
 
 /// Exports the requested runs; errors name the run, file or option at fault.
-pub fn export(request: &ExportRequest) -> Result<ExportSummary, String> {
+pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
     let out = &request.out;
     if exists_unforced(out, request.force) {
-        return Err(guard::GuardError { path: out.clone(), refusal: guard::Refusal::Exists }.to_string());
+        return Err(guard::GuardError { path: out.clone(), refusal: guard::Refusal::Exists }.into());
     }
-    let file = reader::open(&request.results).map_err(|e| e.to_string())?;
-    let (rows, damaged) = reader::scan(&file, &request.results).map_err(|e| e.to_string())?;
+    let file = reader::open(&request.results)?;
+    let (rows, damaged) = reader::scan(&file, &request.results)?;
     let mut names = Vec::new();
     for id in &request.runs {
-        names.push(reader::listed_group(&file, &request.results, id).map_err(|e| e.to_string())?.unwrap_or(id.clone()));
+        names.push(reader::listed_group(&file, &request.results, id)?.unwrap_or(id.clone()));
     }
     if let Some(d) = damaged.iter().find(|d| names.iter().any(|name| d.group.ends_with(&format!("/{name}")))) {
-        return Err(format!("{}: run group {} cannot be read ({})", request.results.display(), d.group, d.reason));
+        let (group, reason) = (d.group.clone(), d.reason.clone());
+        return Err(ExportError::DamagedRun { results: request.results.clone(), group, reason });
     }
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;
-    let folder =
-        ReplacedFolder::prepare(out, MARKER_KIND, &[&request.results], request.force).map_err(|e| e.to_string())?;
+    let folder = ReplacedFolder::prepare(out, MARKER_KIND, &[&request.results], request.force)?;
     if let Err(e) = write_runs(request, &file, &chosen, folder.partial()) {
         folder.abandon();
         return Err(e);
     }
-    folder.finish().map_err(|e| e.to_string())?;
+    folder.finish()?;
     let (files, bytes) = folder_size(out)?;
     Ok(ExportSummary { runs: chosen.len(), files, bytes, damaged })
 }
@@ -126,19 +129,15 @@ fn exists_unforced(out: &Path, force: bool) -> bool {
 }
 
 /// The rows to export: the named ones (each must exist), else every run that finished.
-fn choose_runs<'a>(rows: &'a [SummaryRow], ids: &[String], results: &Path) -> Result<Vec<&'a SummaryRow>, String> {
+fn choose_runs<'a>(rows: &'a [SummaryRow], ids: &[String], results: &Path) -> Result<Vec<&'a SummaryRow>, ExportError> {
     if ids.is_empty() {
         return Ok(rows.iter().filter(|r| r.is_finished()).collect());
     }
     ids.iter()
         .map(|id| {
-            rows.iter().find(|r| &r.id == id).ok_or_else(|| {
-                format!(
-                    "{}: no run `{id}` (--run): see `demsweep summary {}` for the run ids",
-                    results.display(),
-                    results.display()
-                )
-            })
+            rows.iter()
+                .find(|r| &r.id == id)
+                .ok_or_else(|| ExportError::UnknownRun { results: results.to_path_buf(), id: id.clone() })
         })
         .collect()
 }
@@ -149,32 +148,24 @@ fn write_runs(
     file: &hdf5_pure::File,
     rows: &[&SummaryRow],
     folder: &Path,
-) -> Result<(), String> {
+) -> Result<(), ExportError> {
     for row in rows {
-        let run = stored::read_run(file, &request.results, row).map_err(|e| e.to_string())?;
+        let run = stored::read_run(file, &request.results, row)?;
         let states = states(request, row, &run)?;
         let written = (request.format.write_run)(folder, &RunToExport { row, run: &run }, &states);
-        written.map_err(|e| format!("{}: run {}: {e}", folder.display(), row.id))?;
+        written.map_err(|reason| ExportError::Write { folder: folder.to_path_buf(), id: row.id.clone(), reason })?;
     }
     Ok(())
 }
 
 /// The states of a run to export: its frames (with `frames`) then its final state.
-fn states<'a>(request: &ExportRequest, row: &'a SummaryRow, run: &'a StoredRun) -> Result<Vec<State<'a>>, String> {
-    let results = request.results.display();
+fn states<'a>(request: &ExportRequest, row: &'a SummaryRow, run: &'a StoredRun) -> Result<Vec<State<'a>>, ExportError> {
+    let (results, id) = (request.results.clone(), row.id.clone());
     let Some(final_state) = &run.final_state else {
-        return Err(format!(
-            "{results}: run {} has no stored final state (status {}; its study had output.final_states = false, or it \
-             failed): leave it out of --run, or run it again with output.final_states = true",
-            row.id, row.status
-        ));
+        return Err(ExportError::NoFinalState { results, id, status: row.status.to_string() });
     };
     if request.frames && run.frames.is_empty() {
-        return Err(format!(
-            "{results}: run {} has no stored frames (--frames): run it again with output.frames = true and \
-             run.frame_times or run.frame_interval set, or leave out --frames",
-            row.id
-        ));
+        return Err(ExportError::NoFrames { results, id });
     }
     let frames = if request.frames { run.frames.as_slice() } else { &[] };
     let mut states: Vec<State> = frames
@@ -191,8 +182,8 @@ fn states<'a>(request: &ExportRequest, row: &'a SummaryRow, run: &'a StoredRun) 
 }
 
 /// Files and bytes in a folder (not recursive: exports are flat).
-fn folder_size(folder: &Path) -> Result<(usize, u64), String> {
-    let entries = std::fs::read_dir(folder).map_err(|e| format!("{}: cannot list: {e}", folder.display()))?;
+fn folder_size(folder: &Path) -> Result<(usize, u64), ExportError> {
+    let entries = std::fs::read_dir(folder).map_err(|source| ExportError::Io { path: folder.to_path_buf(), source })?;
     let mut files = 0;
     let mut bytes = 0;
     let marker = guard::marker_name(MARKER_KIND);

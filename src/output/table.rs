@@ -5,6 +5,8 @@ use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::RunStatus;
 use crate::study::ParamValue;
 
+pub use crate::physics::number::significant;
+
 /// The values of one column. Equality treats NaN as equal to NaN (a missing value equals a missing value).
 #[derive(Clone, Debug)]
 pub enum ColumnData {
@@ -132,23 +134,6 @@ impl ColumnData {
 /// A float to 6 significant digits: plain between 1e-3 and 1e6, scientific otherwise.
 pub fn short_float(x: f64) -> String {
     significant(x, 6)
-}
-
-/// A float to `digits` (≥ 1) significant digits: plain between 1e-3 and 1e6 (trailing zeros
-/// dropped), scientific otherwise.
-pub fn significant(x: f64, digits: usize) -> String {
-    if x == 0.0 {
-        return "0".to_string(); // -0.0 too: a zero energy is not negative
-    }
-    let digits = digits.max(1) as i32;
-    if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
-        let decimals =
-            if x == 0.0 || !x.is_finite() { 1 } else { (digits - 1 - x.abs().log10().floor() as i32).max(0) as usize };
-        let text = format!("{x:.decimals$}");
-        if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
-    } else {
-        format!("{x:.*e}", (digits - 1) as usize)
-    }
 }
 
 impl SummaryTable {

@@ -2,15 +2,64 @@
 //! predict its stability. Each goes through the law table's one dispatch
 //! ([`ContactConfig::dispatch`](super::contact::ContactConfig::dispatch)).
 
-use super::config::SceneConfig;
+use std::fmt;
+
+use super::config::{ConfigIssue, SceneConfig};
 use super::contact::{LawVisitor, RegisteredLaw};
 use super::material::Materials;
 use super::particles::{InitialContact, InitialDisk, Particles};
+use super::placement::PlacementError;
 use super::record::RunRecord;
 use super::simulation::{Control, Progress, Simulation};
 use super::stability::{self, StabilityReport};
 use super::time_step::{self, ResolvedTimeStep, with_time_step};
 use super::walls::BoxWalls;
+
+/// Why a scene could not be run; its text is made where a person reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RunError {
+    /// The scene breaks its own rules (every issue found).
+    InvalidScene(Vec<ConfigIssue>),
+    /// Its random or lattice placement could not place the disks.
+    Placement(PlacementError),
+    /// There is no disk to run.
+    NoDisks,
+    /// The scene names a contact history (`placement.contacts`, this file) that the caller did not give.
+    HistoryNotGiven {
+        /// The file the scene names.
+        file: String,
+    },
+    /// A contact history was given for a scene that names none.
+    HistoryNotNamed,
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RunError::InvalidScene(issues) => {
+                let texts: Vec<String> = issues.iter().map(ToString::to_string).collect();
+                write!(f, "{}", texts.join("; "))
+            }
+            RunError::Placement(e) => write!(f, "{e}"),
+            RunError::NoDisks => write!(f, "particles.count: a scene needs at least one disk, got 0"),
+            RunError::HistoryNotGiven { file } => {
+                write!(f, "placement.contacts: the contact history {file} was not read")
+            }
+            RunError::HistoryNotNamed => {
+                write!(f, "placement.contacts: a contact history given to a scene that names none")
+            }
+        }
+    }
+}
+
+impl std::error::Error for RunError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            RunError::Placement(e) => Some(e),
+            _ => None,
+        }
+    }
+}
 
 /// Builds and runs one scene with the contact law it names. `disks`: explicit initial states
 /// (file placement), or `None` to generate them from the scene's placement.
@@ -18,7 +67,7 @@ pub fn run_scene(
     scene: &SceneConfig,
     disks: Option<Vec<InitialDisk>>,
     observer: &mut dyn FnMut(&Progress) -> Control,
-) -> Result<RunRecord, String> {
+) -> Result<RunRecord, RunError> {
     run_scene_with_history(scene, disks, None, observer)
 }
 
@@ -30,20 +79,20 @@ pub fn run_scene_with_history(
     disks: Option<Vec<InitialDisk>>,
     contacts: Option<&[InitialContact]>,
     observer: &mut dyn FnMut(&Progress) -> Control,
-) -> Result<RunRecord, String> {
+) -> Result<RunRecord, RunError> {
     if let Err(issues) = scene.validate() {
-        return Err(issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("; "));
+        return Err(RunError::InvalidScene(issues));
     }
     let disks = match disks {
         Some(d) => d,
-        None => super::placement::generate(scene).map_err(|e| e.to_string())?,
+        None => super::placement::generate(scene).map_err(RunError::Placement)?,
     };
     if disks.is_empty() {
-        return Err("particles.count: a scene needs at least one disk, got 0".into());
+        return Err(RunError::NoDisks);
     }
     match (&scene.placement.contacts, contacts) {
-        (Some(file), None) => return Err(format!("placement.contacts: the contact history {file} was not read")),
-        (None, Some(_)) => return Err("placement.contacts: a contact history given to a scene that names none".into()),
+        (Some(file), None) => return Err(RunError::HistoryNotGiven { file: file.clone() }),
+        (None, Some(_)) => return Err(RunError::HistoryNotNamed),
         _ => {}
     }
     struct Run<'a> {

@@ -28,6 +28,7 @@ pub mod keys;
 pub mod material;
 mod monitor;
 mod neighbors;
+pub mod number;
 pub mod particles;
 pub mod pile;
 pub mod placement;
@@ -48,7 +49,7 @@ pub const PHYSICS_VERSION: u32 = 1;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
-pub use dispatch::{predict_stability, run_scene, run_scene_with_history, scene_time_step};
+pub use dispatch::{RunError, predict_stability, run_scene, run_scene_with_history, scene_time_step};
 pub use neighbors::CellGrid;
 pub use record::{RunRecord, RunStatus};
 pub use simulation::{Control, Progress, Simulation};

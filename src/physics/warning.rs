@@ -6,6 +6,8 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use super::number::short;
+
 /// Which validity rule a warning is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -105,45 +107,45 @@ impl ValidityWarning {
 
 impl fmt::Display for ValidityWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (value, limit, key) = (self.value, self.limit, self.kind.limit_key());
-        let at = self.time.map(|t| format!(" at t = {t:.4} s")).unwrap_or_default();
-        let impact = self.impact_speed.map(|v| format!(" of an impact at {v:.3} m/s")).unwrap_or_default();
-        let below = self.safe_time_step.map(|dt| format!("; use a time step below {dt:.3e} s")).unwrap_or_default();
+        let (value, limit, key) = (short(self.value), short(self.limit), self.kind.limit_key());
+        let at = self.time.map(|t| format!(" at t = {} s", short(t))).unwrap_or_default();
+        let impact = self.impact_speed.map(|v| format!(" of an impact at {} m/s", short(v))).unwrap_or_default();
+        let below =
+            self.safe_time_step.map(|dt| format!("; use a time step below {} s", short(dt))).unwrap_or_default();
         match self.kind {
-            WarningKind::TimeStepCapped => write!(
-                f,
-                "time step capped at {limit:.3e} s by the damping-rate limit ({key}); {value:.3e} s was asked for"
-            ),
+            WarningKind::TimeStepCapped => {
+                write!(f, "time step capped at {limit} s by the damping-rate limit ({key}); {value} s was asked for")
+            }
             WarningKind::ContactTimeFraction => write!(
                 f,
-                "time step is {value:.3} of the contact time{impact} (limit {limit} = {key}): contacts are \
+                "time step is {value} of the contact time{impact} (limit {limit} = {key}): contacts are \
                  under-resolved and the run may blow up{below}"
             ),
             WarningKind::DampingRate => write!(
                 f,
-                "time step x damping rate = {value:.3} exceeds {limit:.3} ({key} of the integrator's stability \
+                "time step x damping rate = {value} exceeds {limit} ({key} of the integrator's stability \
                  limit): the damping (beta, damping.viscous) is too strong for this time step{below}"
             ),
             WarningKind::ImpactOverlap => write!(
                 f,
-                "an impact{} would overlap {value:.3} radii (contact laws are valid below {limit} = {key}): the \
+                "an impact{} would overlap {value} radii (contact laws are valid below {limit} = {key}): the \
                  contacts are too soft for this scene",
-                self.impact_speed.map(|v| format!(" at {v:.3} m/s")).unwrap_or_default()
+                self.impact_speed.map(|v| format!(" at {} m/s", short(v))).unwrap_or_default()
             ),
             WarningKind::StaticOverlap => write!(
                 f,
-                "the settled pile's weight would press the bottom disks {value:.3} radii into the floor (contact \
+                "the settled pile's weight would press the bottom disks {value} radii into the floor (contact \
                  laws are valid below {limit} = {key}): the contacts are too soft for this pile"
             ),
             WarningKind::Overlap => {
-                write!(f, "largest overlap {value:.3} radii{at} is beyond the Hertz validity limit {limit} ({key})")
+                write!(f, "largest overlap {value} radii{at} is beyond the Hertz validity limit {limit} ({key})")
             }
             WarningKind::EnergyBalance => write!(
                 f,
-                "energy balance (mechanical + dissipated = initial) is off by {:.2} % of the energy available{at}: \
+                "energy balance (mechanical + dissipated = initial) is off by {} % of the energy available{at}: \
                  the integration is inaccurate (time step too large for the contact stiffness or damping; limit \
                  {key} = {limit})",
-                100.0 * value
+                short(100.0 * self.value)
             ),
         }
     }
@@ -161,5 +163,23 @@ mod tests {
         assert!((w.excess() - 1.08).abs() < 1e-12);
         let text = w.to_string();
         assert!(text.contains("1.08 %") && text.contains("limits.energy_balance_tolerance"), "{text}");
+    }
+
+    #[test]
+    fn a_diverged_value_prints_four_significant_digits_not_two_hundred() {
+        let w = ValidityWarning {
+            impact_speed: Some(1e177),
+            safe_time_step: Some(3.3333e-9),
+            ..ValidityWarning::new(WarningKind::ContactTimeFraction, 2.4e177, 0.1)
+        };
+        let text = w.to_string();
+        assert!(text.contains("time step is 2.400e177 of the contact time of an impact at 1.000e177 m/s"), "{text}");
+        assert!(text.contains("below 3.333e-9 s"), "{text}");
+        let longest_number = text
+            .split([' ', '(', ')', ';', ':'])
+            .filter(|w| w.starts_with(|c: char| c.is_ascii_digit()))
+            .map(str::len)
+            .max();
+        assert!(longest_number.is_some_and(|n| n <= 10), "{text}");
     }
 }

@@ -26,7 +26,7 @@ pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Pro
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
         Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),
-        Ok(Err(message)) => (SummaryRow::failed(run.index, &run.id, &run.parameters, &message), None),
+        Ok(Err(error)) => (SummaryRow::failed(run.index, &run.id, &run.parameters, &error.to_string()), None),
         Err(panic) => {
             let message = format!("the simulation panicked: {}", panic_text(panic.as_ref()));
             (SummaryRow::failed(run.index, &run.id, &run.parameters, &message), None)

@@ -12,6 +12,7 @@ use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
 use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, resources};
 use crate::physics::config::PlacementKind;
+use crate::physics::number::short;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
 use crate::physics::walls::BoxWalls;
@@ -498,7 +499,13 @@ impl Overlaps {
             } else {
                 for (wall, depth) in wall_depths(scene, disk) {
                     found.add(depth / disk.r, || {
-                        format!("disk {} (x = {}, y = {}, r = {}) crosses the {wall}", i + 1, disk.x, disk.y, disk.r)
+                        format!(
+                            "disk {} (x = {}, y = {}, r = {}) crosses the {wall}",
+                            i + 1,
+                            short(disk.x),
+                            short(disk.y),
+                            short(disk.r)
+                        )
                     });
                 }
             }
@@ -539,8 +546,10 @@ impl Overlaps {
         let (worst, count) = self.errors.as_ref()?;
         let what = if worst.ratio.is_finite() {
             format!(
-                "{} by {:.3} radii, beyond limits.max_overlap_ratio = {}: the run would end as diverged at t = 0",
-                worst.what, worst.ratio, self.max_ratio
+                "{} by {} radii, beyond limits.max_overlap_ratio = {}: the run would end as diverged at t = 0",
+                worst.what,
+                short(worst.ratio),
+                self.max_ratio
             )
         } else {
             worst.what.clone()
@@ -558,9 +567,9 @@ impl Overlaps {
             ));
         };
         Some(format!(
-            "{} by {:.3} radii, beyond limits.overlap_warning_ratio = {} (Hertz validity): they start pushed apart{}",
+            "{} by {} radii, beyond limits.overlap_warning_ratio = {} (Hertz validity): they start pushed apart{}",
             worst.what,
-            worst.ratio,
+            short(worst.ratio),
             self.warning_ratio,
             self.more(*count, "beyond it")
         ))

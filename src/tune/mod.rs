@@ -80,6 +80,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
             })
             .collect(),
         tolerances: spec.keep.iter().map(|k| (k.tolerance, k.absolute)).collect(),
+        metrics: spec.keep.iter().map(|k| k.metric.clone()).collect(),
         seeds: s.seeds,
         max_seeds: s.max_seeds,
         reference_seeds: s.reference_seeds(),

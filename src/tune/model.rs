@@ -5,6 +5,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
+use crate::physics::number::short;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::stats::Equivalence;
 
@@ -18,6 +19,8 @@ pub struct SearchConfig {
     pub levels: Vec<Option<usize>>,
     /// Per kept metric: tolerance and whether it is absolute (else relative to the reference mean).
     pub tolerances: Vec<(f64, bool)>,
+    /// Per kept metric: its name, for messages.
+    pub metrics: Vec<String>,
     /// Seeds each candidate starts with.
     pub seeds: usize,
     /// Most seeds of one candidate during the search.
@@ -91,7 +94,7 @@ impl fmt::Display for RunFailure {
         match self {
             RunFailure::Diverged(why) => write!(f, "diverged: {why}"),
             RunFailure::NotSettled => write!(f, "did not settle"),
-            RunFailure::Cut { cap } => write!(f, "cut at {cap:.4e}: its candidate could no longer win"),
+            RunFailure::Cut { cap } => write!(f, "cut at {}: its candidate could no longer win", short(*cap)),
             RunFailure::Error(why) => write!(f, "failed: {why}"),
         }
     }
@@ -210,8 +213,8 @@ pub enum TuneError {
     },
     /// A kept metric's reference mean is zero, so a relative tolerance gives no margin.
     NoMargin {
-        /// Index of the kept metric.
-        metric: usize,
+        /// The kept metric's name.
+        metric: String,
         /// The reference mean.
         mean: f64,
     },
@@ -231,9 +234,9 @@ impl fmt::Display for TuneError {
             ),
             TuneError::NoMargin { metric, mean } => write!(
                 f,
-                "kept metric {} has mean {mean} in the reference: a relative tolerance gives no margin; give an \
-                 absolute one",
-                metric + 1
+                "kept metric {metric} has mean {} in the reference: a relative tolerance gives no margin; give \
+                 an absolute one (keep.{metric} = {{ absolute = … }})",
+                short(*mean)
             ),
         }
     }
@@ -349,12 +352,12 @@ impl fmt::Display for Rejection {
             Rejection::Failed(failure) => write!(f, "a run {failure}"),
             Rejection::Invalid(c) => write!(
                 f,
-                "validity: {} ({}) {:.4} over its runs (worst {:.4}) against {}{}",
+                "validity: {} ({}) {} over its runs (worst {}) against {}{}",
                 c.kind.name(),
                 c.kind.limit_key(),
-                c.figure,
-                c.worst,
-                c.held_to,
+                short(c.figure),
+                short(c.worst),
+                short(c.held_to),
                 if c.held_to > c.limit { " (the reference's own figure)" } else { "" }
             ),
             Rejection::Differs(k) => write!(f, "kept metric {} differs", k + 1),

@@ -143,7 +143,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let mean = stats::describe(&values).mean;
             let margin = if absolute { tolerance } else { tolerance * mean.abs() };
             if !(margin > 0.0 && margin.is_finite()) {
-                return Err(TuneError::NoMargin { metric: k, mean });
+                let metric = c.metrics.get(k).cloned().unwrap_or_else(|| format!("number {}", k + 1));
+                return Err(TuneError::NoMargin { metric, mean });
             }
             margins.push(margin);
         }
