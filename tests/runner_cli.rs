@@ -210,7 +210,7 @@ fn a_sweep_says_how_many_warnings_each_run_has_and_which_kinds() {
     let digest: Vec<&str> = stderr.lines().skip_while(|l| !l.starts_with("warnings: ")).collect();
     assert_eq!(digest.first(), Some(&"warnings: 4 kind(s) in 1 of 1 runs run now:"), "{stderr}");
     for expected in [
-        "  1 run (r0000): an impact at 3.370 m/s would overlap 0.814 radii",
+        "  1 run (r0000): an impact at 3.37 m/s would overlap 0.8144 radii",
         "  1 run (r0000): the settled pile's weight would press the bottom disks 8.528 radii into the floor",
         "  1 run (r0000): largest overlap 3.044 radii at t = ",
         "  1 run (r0000): energy balance (mechanical + dissipated = initial) is off by ",

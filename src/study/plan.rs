@@ -647,13 +647,13 @@ fn touching_pairs(disks: &[InitialDisk], mut touching: impl FnMut(usize, usize))
     Ok(())
 }
 
-/// For a predicted overlap, the contacts that are too soft: "; the contacts: hertz_mindlin, E = 2.000e4 Pa".
+/// For a predicted overlap, the contacts that are too soft: " (hertz_mindlin, E = 2.000e4 Pa)".
 fn contacts_named(scene: &SceneConfig, kind: WarningKind) -> String {
     if !matches!(kind, WarningKind::ImpactOverlap | WarningKind::StaticOverlap) {
         return String::new();
     }
     let law = serde_json::to_value(scene.contact.law).ok().and_then(|v| v.as_str().map(str::to_string));
-    format!("; the contacts: {}, E = {:.3e} Pa", law.unwrap_or_default(), scene.material.youngs_modulus)
+    format!(" ({}, E = {:.3e} Pa)", law.unwrap_or_default(), scene.material.youngs_modulus)
 }
 
 #[cfg(test)]
