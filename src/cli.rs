@@ -169,7 +169,9 @@ enum Command {
     #[command(
         long_about = "Write one self-contained HTML page about a results file (inline CSS, SVG charts and a \
                       little JavaScript, no network request; open it anywhere, attach it to an e-mail): what \
-                      was run, how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
+                      was run; the answer (the fastest-settling grid points and, when the study names a \
+                      `[report] reference` point, which points make an equivalent pile at what cost, as \
+                      `compare` decides); how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
                       interval of settle time, cost and pile metrics; sortable by any column, filterable by \
                       status), the settle-time charts, and a section per charted run (energies, unbalanced \
                       force ratio, final pile) linked from its point's row. `run`, `merge` and `tune` write \
