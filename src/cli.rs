@@ -82,9 +82,12 @@ enum Command {
     Run(results::RunArgs),
     /// Print the summary of a results file (one row per run, or per grid point), or export it as CSV.
     #[command(
-        long_about = "Print the summary of a results file as an aligned table: run id, swept parameters, \
-                      status, settle time, steps, times, final energies, UBF, pile height, packing fraction, \
-                      warnings and message. With --csv, write it as a CSV file instead. Works on a file \
+        long_about = "Print the summary of a results file as an aligned table: run_id, index, the swept \
+                      parameters, status, then settle_time, the pile metrics `compare` keeps by default \
+                      (packing_fraction_interior, coordination_number, floor_load_ratio, fabric_anisotropy; \
+                      packing_fraction and pile_height in files older than them), particle_steps (steps \
+                      when there is none), wall_time and the number of warnings (--metric and --all print \
+                      others). With --csv, write it as a CSV file instead. Works on a file \
                       whose run was killed, too (the summary is then rebuilt from the committed runs).\n\n\
                       With --by-point, one row per grid point (the runs that differ only by placement seed): \
                       n, status counts and, per numeric column, n, mean, sample standard deviation, 95 % \
@@ -169,7 +172,9 @@ enum Command {
     #[command(
         long_about = "Write one self-contained HTML page about a results file (inline CSS, SVG charts and a \
                       little JavaScript, no network request; open it anywhere, attach it to an e-mail): what \
-                      was run, how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
+                      was run; the answer (the fastest-settling grid points and, when the study names a \
+                      `[report] reference` point, which points make an equivalent pile at what cost, as \
+                      `compare` decides); how the runs ended with their warnings grouped, the per-point table (mean ± 95 % \
                       interval of settle time, cost and pile metrics; sortable by any column, filterable by \
                       status), the settle-time charts, and a section per charted run (energies, unbalanced \
                       force ratio, final pile) linked from its point's row. `run`, `merge` and `tune` write \
@@ -228,7 +233,8 @@ enum Command {
                       into OUT/<name>.h5 (every run is kept: --resume after a kill replays the search from the \
                       file). Prints the answer sheet and writes OUT/<name>_best.toml (a runnable study), \
                       OUT/<name>_scene_change.toml (the [scene] keys to set in the tune file), \
-                      OUT/<name>_candidates.csv (what ran), OUT/<name>_skipped.csv (predicted invalid, not run) and \
+                      OUT/<name>_candidates.csv (what ran), OUT/<name>_skipped.csv (settings never run: predicted past a validity limit, or, on a check \
+                      the reference itself breaks, more than 5 % past the reference's figure) and \
                       charts in OUT/plots/.\n\nExit status:\n  0    done, with or without a recommendation\n  1    \
                       a run, the results file or a chart failed, or the reference diverged or did not settle\n  2    \
                       the tune file is invalid (nothing was run)\n  3    a kept metric cannot be decided: the \
@@ -446,5 +452,25 @@ fn duration(seconds: f64) -> String {
         s if s < 90.0 => format!("{s:.0} s"),
         s if s < 5400.0 => format!("{:.1} min", s / 60.0),
         s => format!("{:.1} h", s / 3600.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    /// `tune --help` states the skip rule docs/tune.md states, with the slack the judge applies.
+    #[test]
+    fn tune_help_states_the_skip_rule_of_the_docs() {
+        let help = Cli::command().find_subcommand("tune").unwrap().get_long_about().unwrap().to_string();
+        let slack = demsweep::tune::judge::PREDICTED_SLACK * 100.0;
+        assert!(help.contains(&format!("more than {slack} % past the reference's figure")), "{help}");
+        assert!(help.contains("predicted past a validity limit"), "{help}");
+        let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/tune.md")).unwrap();
+        let docs = docs.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(docs.contains(&format!("within {slack} % of the reference's figure")), "docs/tune.md");
+        assert!(docs.contains("a setting predicted past one is recorded (`_skipped.csv`) and never run"));
     }
 }

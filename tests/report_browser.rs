@@ -27,6 +27,8 @@ run.duration = 1.5
 replicates = 3
 [output]
 frames = false
+[report]
+reference = { "material.restitution" = 0.5 }
 "#;
 
 fn scratch(name: &str) -> PathBuf {
@@ -69,6 +71,19 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
         html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "").replace("\"http://www.w3.org/1999/xlink\"", "");
     assert!(!names.contains("http://") && !names.contains("https://"), "no address in the page");
 
+    // `demsweep report` reads the reference from the study text stored in the results file.
+    let again = dir.join("again.html");
+    let results = dir.join("report_study.h5");
+    let out = Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["report", results.to_str().unwrap(), "--out", again.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        std::fs::read_to_string(&again).unwrap().contains("id=\"reference-verdict\""),
+        "report shows the reference"
+    );
+
     let seen = open_in_browser(&report, None);
     println!("{seen}");
     assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
@@ -103,6 +118,37 @@ fn the_answer_comes_first(seen: &Value, results: &Path) {
     let expected: Vec<&str> = means.iter().map(|(_, label)| label.as_str()).collect();
     assert_eq!(shown, expected, "the settled points, fastest first: {seen}");
     assert!(!shown.is_empty(), "the test's points settle: {seen}");
+    the_reference_verdict_is_in_the_answer(seen, &points);
+}
+
+/// The study's reference point is compared in the answer's section, each other point judged as
+/// `demsweep compare` judges it at its default tolerances.
+fn the_reference_verdict_is_in_the_answer(seen: &Value, points: &demsweep::stats::points::Points) {
+    assert_eq!(seen["reference_section"], "verdict", "{seen}");
+    let text = seen["reference_verdict"].as_str().unwrap_or_default();
+    assert!(text.starts_with("Reference: material.restitution=0.5."), "{seen}");
+    let comparison = demsweep::stats::compare::compare(points, "material.restitution=0.5", &[]).unwrap();
+    let judged = |p: &demsweep::stats::compare::PointComparison| {
+        let different = p.tests.iter().any(|t| t.decision == demsweep::stats::Decision::Different);
+        match (p.acceptable(), different) {
+            (true, _) => "equivalent",
+            (false, true) => "different",
+            (false, false) => "undecided",
+        }
+    };
+    let mut expected: Vec<(String, &str)> =
+        comparison.points.iter().map(|p| (points.label(p.point), judged(p))).collect();
+    let mut shown: Vec<(String, &str)> = seen["reference_rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r[0].as_str().unwrap().to_string(), r[1].as_str().unwrap()))
+        .collect();
+    expected.sort();
+    shown.sort();
+    assert_eq!(shown, expected, "every other point with compare's decision: {seen}");
+    let equivalent = expected.iter().filter(|(_, j)| *j == "equivalent").count();
+    assert!(text.contains(&format!("{equivalent} of 2 other grid points make an equivalent pile")), "{seen}");
 }
 
 /// The point table's header groups span every column, in the quantity table's order, each column

@@ -570,7 +570,23 @@ fn status_counts(statuses: &[String]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::status_counts;
+    use clap::CommandFactory;
+
+    use super::*;
+
+    /// `summary --help` names every column `summary` prints by default, old files' fallbacks too.
+    #[test]
+    fn summary_help_lists_the_default_columns() {
+        let help = crate::cli::Cli::command().find_subcommand("summary").unwrap().get_long_about().unwrap().to_string();
+        let pile = compare::DEFAULT_KEEP.iter().chain(&compare::FALLBACK_KEEP).map(|(m, _)| *m);
+        let all: Vec<&str> = ["settle_time", "particle_steps", "steps", "wall_time"].into_iter().chain(pile).collect();
+        let newer = |m: &&str| *m == "particle_steps" || compare::DEFAULT_KEEP.iter().any(|(k, _)| k == m);
+        let old: Vec<&str> = all.iter().copied().filter(|m| !newer(m)).collect();
+        for metric in default_metrics(&all).iter().chain(&default_metrics(&old)).map(String::as_str).chain(["warnings"])
+        {
+            assert!(help.contains(metric), "`summary --help` does not name {metric}: {help}");
+        }
+    }
 
     #[test]
     fn no_recorded_run_gives_no_empty_parentheses() {

@@ -25,8 +25,9 @@ use crate::physics::warning::WarningKind;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
-use crate::stats::Describe;
+use crate::stats::compare::{self, Comparison};
 use crate::stats::points::Points;
+use crate::stats::{Decision, Describe};
 use html::{escape, number};
 
 /// Size of every chart on the page (pixels; the page scales them to its width).
@@ -121,7 +122,7 @@ pub fn write_report(
         page.push(&format!("<p class=\"note\">{}</p>", escape(&reader::damage_text(&damaged))));
     }
     if tune.is_none() {
-        page.push(&verdict(&summary));
+        page.push(&verdict(&summary, crate::study::reference::reference_spec(&header.study_text).as_deref()));
     }
     page.push(&outcomes(&rows, tune.is_some()));
     if tune.is_none() {
@@ -230,17 +231,20 @@ const VERDICT_POINTS: usize = 5;
 
 /// The answer first: the grid points that settle fastest (mean settle time over their settled runs
 /// with its 95 % interval, and their cost), and whether each can be told apart from the fastest
-/// (its interval above the fastest's) or not (the intervals overlap: more seeds would decide).
-fn verdict(summary: &SummaryTable) -> String {
+/// (its interval above the fastest's) or not (the intervals overlap: more seeds would decide); then,
+/// when the study names a reference point (`spec`), which points are equivalent to it.
+fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
     let points = Points::new(summary);
+    let reference = spec.map_or(String::new(), |spec| reference_section(&points, spec));
     let mut settled: Vec<(usize, Describe)> = (0..points.len())
         .map(|p| (p, points.describe(p, "settle_time")))
         .filter(|(_, d)| d.n > 0 && d.mean.is_finite())
         .collect();
     if settled.is_empty() {
-        return "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">No grid point has a settled run: nothing settles in \
-                this sweep (see how the runs ended below).</p>"
-            .into();
+        return format!(
+            "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">No grid point has a settled run: nothing settles in \
+             this sweep (see how the runs ended below).</p>{reference}"
+        );
     }
     settled.sort_by(|a, b| a.1.mean.total_cmp(&b.1.mean));
     let fastest = &settled[0].1;
@@ -282,7 +286,97 @@ fn verdict(summary: &SummaryTable) -> String {
          settled runs, ± the 95 % confidence half-width). {summary_line} Whether a faster point makes the same pile: \
          <code>demsweep compare</code> against your usual point (docs/compare.md).</p>\
          <table class=\"verdict\"><thead><tr><th>grid point</th><th>settle time (s)</th><th>settled runs</th>\
-         <th>mean particle-steps</th><th></th></tr></thead><tbody>{rows}</tbody></table>"
+         <th>mean particle-steps</th><th></th></tr></thead><tbody>{rows}</tbody></table>{reference}"
+    )
+}
+
+/// The points compared with the study's reference point (`demsweep compare`, default tolerances),
+/// sorted by their decision over every kept metric (TOST at 90 %).
+#[derive(Debug)]
+struct ReferenceVerdict {
+    /// Every other point against the reference.
+    comparison: Comparison,
+    /// Indices into `comparison.points`, each list cheapest first: equivalent on every kept metric.
+    equivalent: Vec<usize>,
+    /// Different on at least one kept metric.
+    different: Vec<usize>,
+    /// Neither: more seeds would decide.
+    undecided: Vec<usize>,
+}
+
+impl ReferenceVerdict {
+    fn new(points: &Points, spec: &str) -> Result<Self, String> {
+        let comparison = compare::compare(points, spec, &[])?;
+        let (mut equivalent, mut different, mut undecided) = (Vec::new(), Vec::new(), Vec::new());
+        for (i, point) in comparison.points.iter().enumerate() {
+            match () {
+                _ if point.acceptable() => equivalent.push(i),
+                _ if point.tests.iter().any(|t| t.decision == Decision::Different) => different.push(i),
+                _ => undecided.push(i),
+            }
+        }
+        let cheapest_first = |list: &mut Vec<usize>| {
+            list.sort_by(|&a, &b| comparison.points[a].cost.ratio.total_cmp(&comparison.points[b].cost.ratio))
+        };
+        [&mut equivalent, &mut different, &mut undecided].into_iter().for_each(cheapest_first);
+        Ok(Self { comparison, equivalent, different, undecided })
+    }
+}
+
+/// The answer about the study's reference point: which points make the same pile, at what cost.
+fn reference_section(points: &Points, spec: &str) -> String {
+    let verdict = match ReferenceVerdict::new(points, spec) {
+        Ok(verdict) => verdict,
+        Err(reason) => {
+            return format!(
+                "<h3 id=\"reference\">Against the reference point</h3><p class=\"note\">The study's reference ({}) \
+                 cannot be compared: {}</p>",
+                escape(spec),
+                escape(&reason)
+            );
+        }
+    };
+    let comparison = &verdict.comparison;
+    let kept: Vec<String> = comparison
+        .kept
+        .iter()
+        .map(|k| format!("{} within {} %", k.tolerance.metric, number(100.0 * k.tolerance.relative)))
+        .collect();
+    // Long names and intervals wrap (at underscores, before the interval) so the table fits the page.
+    let wrapped = |text: &str| escape(text).replace('_', "_<wbr>").replacen(" [", "<br>[", 1);
+    let metric_headers: String =
+        comparison.kept.iter().map(|k| format!("<th>{}</th>", wrapped(&k.tolerance.metric))).collect();
+    let cost = &comparison.cost_column;
+    let cost_header = wrapped(cost);
+    let row = |i: &usize, judged: &str| {
+        let point = &comparison.points[*i];
+        let decisions: String = point.tests.iter().map(|t| format!("<td>{}</td>", t.decision.as_str())).collect();
+        format!(
+            "<tr><td>{}</td>{decisions}<td class=\"num\">{}</td><td class=\"num\">{}</td><td>{judged}</td></tr>",
+            escape(&points.label(point.point)),
+            wrapped(&compare::ratio(&point.cost)),
+            wrapped(&compare::ratio(&point.wall_time)),
+        )
+    };
+    let rows: String =
+        [(&verdict.equivalent, "equivalent"), (&verdict.undecided, "undecided"), (&verdict.different, "different")]
+            .iter()
+            .flat_map(|(list, judged)| list.iter().map(move |i| row(i, judged)))
+            .collect();
+    let notes: String = comparison.notes.iter().map(|n| format!(" {}.", escape(n))).collect();
+    format!(
+        "<h3 id=\"reference\">Against the reference point</h3><p class=\"verdict\" id=\"reference-verdict\">Reference: \
+         {}. {} of {} other grid points make an equivalent pile (TOST, 90 % intervals of the difference inside \
+         the margins: {}); {} differ, {} are undecided (more seeds would decide).{notes} Cost: {cost} and wall time \
+         relative to the reference, with 95 % intervals.</p><table class=\"verdict\" id=\"reference-table\"><thead><tr>\
+         <th>grid point</th>{metric_headers}<th>{cost_header} ratio</th><th>wall time ratio</th><th>pile</th></tr></thead>\
+         <tbody>{rows}</tbody></table>",
+        escape(&points.label(comparison.reference)),
+        verdict.equivalent.len(),
+        comparison.points.len(),
+        escape(&kept.join(", ")),
+        verdict.different.len(),
+        verdict.undecided.len(),
     )
 }
 
@@ -439,4 +533,53 @@ fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
         svgs.player.as_deref().unwrap_or(""),
         id = escape(&row.id),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::table::{Column, ColumnData};
+
+    /// Six runs at each friction 0.2, 0.4, 0.6: the packing fraction of 0.4 within 0.1 % of 0.2's
+    /// at half the particle-steps, that of 0.6 10 % higher.
+    fn summary() -> SummaryTable {
+        let (mut friction, mut packing, mut cost) = (Vec::new(), Vec::new(), Vec::new());
+        for (point, (mu, level, steps)) in [(0.2, 0.80, 2e6), (0.4, 0.8004, 1e6), (0.6, 0.88, 2e6)].iter().enumerate() {
+            for seed in 0..6 {
+                let noise = [-2.0, 1.0, 0.5, -0.5, 1.5, -0.5][(seed + point) % 6] * 1e-4;
+                friction.push(*mu);
+                packing.push(level + noise);
+                cost.push(steps * (1.0 + noise));
+            }
+        }
+        let n = friction.len();
+        let column = |name: &str, data| Column { name: name.to_string(), data };
+        SummaryTable {
+            columns: vec![
+                column("index", ColumnData::Int((0..n as i64).collect())),
+                column("material.friction", ColumnData::Float(friction)),
+                column("status", ColumnData::Text(vec!["settled".into(); n])),
+                column("packing_fraction_interior", ColumnData::Float(packing)),
+                column("particle_steps", ColumnData::Float(cost.clone())),
+                column("wall_time", ColumnData::Float(cost.iter().map(|c| c * 1e-7).collect())),
+            ],
+        }
+    }
+
+    #[test]
+    fn the_reference_verdict_sorts_points_by_their_tost_decision() {
+        let summary = summary();
+        let points = Points::new(&summary);
+        let verdict = ReferenceVerdict::new(&points, "friction=0.2").unwrap();
+        let label = |i: &usize| points.label(verdict.comparison.points[*i].point);
+        assert_eq!(points.label(verdict.comparison.reference), "material.friction=0.2");
+        assert_eq!(verdict.equivalent.iter().map(label).collect::<Vec<_>>(), ["material.friction=0.4"]);
+        assert_eq!(verdict.different.iter().map(label).collect::<Vec<_>>(), ["material.friction=0.6"]);
+        assert!(verdict.undecided.is_empty());
+        let cost = &verdict.comparison.points[verdict.equivalent[0]].cost;
+        assert!((cost.ratio - 0.5).abs() < 1e-3 && cost.low < 0.5 && cost.high > 0.5, "{cost:?}");
+        let html = super::verdict(&summary, Some("friction=0.2"));
+        assert!(html.contains("1 of 2 other grid points make an equivalent pile"), "{html}");
+        assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().contains("no point has"));
+    }
 }

@@ -333,7 +333,7 @@ fn interval(low: f64, high: f64, show: fn(f64) -> String) -> String {
 }
 
 /// `1.23 [1.1, 1.4]`.
-fn ratio(r: &Ratio) -> String {
+pub fn ratio(r: &Ratio) -> String {
     let value = plus_minus(Some(r.ratio), None);
     match interval(r.low, r.high, short_float) {
         unknown if unknown == "-" => value,

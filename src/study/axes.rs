@@ -47,7 +47,7 @@ pub(super) struct Sweep {
     /// The axes, in written order.
     pub axes: Vec<Axis>,
     /// Dimensions of the product, slowest first; each lists the axes (indices) that vary together.
-    dimensions: Vec<Vec<usize>>,
+    pub dimensions: Vec<Vec<usize>>,
     /// Runs per grid point, each with its own placement seed.
     pub replicates: usize,
     /// Where `replicates` is written.

@@ -11,6 +11,7 @@ pub mod identity;
 pub mod initial_csv;
 pub mod name;
 pub(crate) mod plan;
+pub mod reference;
 pub mod resources;
 
 use std::fmt;

@@ -10,7 +10,7 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, resources};
+use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, reference, resources};
 use crate::physics::config::PlacementKind;
 use crate::physics::number::short;
 use crate::physics::particles::{InitialContact, InitialDisk};
@@ -21,7 +21,7 @@ use crate::physics::{CellGrid, SceneConfig};
 
 /// Keys allowed at the top of a study file.
 /// The tables of a study file (besides the strings `name` and `description`).
-const TABLES: [&str; 3] = ["scene", "sweep", "output"];
+const TABLES: [&str; 4] = ["scene", "sweep", "output", "report"];
 
 /// Checks the whole study and expands it into runs; every problem is reported at once.
 pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyErrors> {
@@ -34,6 +34,7 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
     let (sweep, sweep_errors) = axes::parse(doc, file);
     sink.extend(sweep_errors);
     sink.extend(sweep.axes.iter().flat_map(|axis| check_axis(file, &base, axis, sweep.replicates)));
+    sink.extend(reference::check(file, doc, &sweep));
     if !sink.is_empty() {
         sink.extend(check_base_scene(file, doc, &base));
         return Err(sink.into_errors());

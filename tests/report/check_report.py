@@ -1,6 +1,6 @@
 """Opens a demsweep HTML report in headless Chromium (driven by Playwright) and reports, as JSON on
 stdout, what a person would see: console errors, network requests, the answer at the top (the
-first section, whether it shows without scrolling, its grid points), table rows, whether a click on a
+first section, whether it shows without scrolling, its grid points, the reference point's verdict), table rows, whether a click on a
 column header sorts the rows, the point table's header groups and the columns under them, every
 chart's rendered size, whether each run link leads to a visible section, first-paint and sort
 timings, and (with --screenshot FILE) a screenshot of the top of the page.
@@ -120,9 +120,23 @@ def main():
         answer = page.locator("#verdict + p.verdict")
         box = answer.bounding_box() if answer.count() else None
         out["verdict_in_first_screen"] = box is not None and box["y"] + box["height"] <= 900
-        verdict_rows = page.locator("table.verdict tbody tr")
+        verdict_rows = page.locator("table.verdict:not(#reference-table) tbody tr")
         out["verdict_points"] = [
             [verdict_rows.nth(k).locator("td").nth(c).inner_text() for c in range(2)] for k in range(verdict_rows.count())
+        ]
+        # The reference point's verdict: the h2 of the section holding it, its text and its rows
+        # (grid point, pile decision).
+        out["reference_section"] = page.evaluate(
+            """() => { const r = document.querySelector('#reference-verdict'); if (!r) return null;
+               let h = r.previousElementSibling; while (h && h.tagName !== 'H2') h = h.previousElementSibling;
+               return h && h.id; }"""
+        )
+        reference = page.locator("#reference-verdict")
+        out["reference_verdict"] = reference.inner_text() if reference.count() else None
+        reference_rows = page.locator("#reference-table tbody tr")
+        out["reference_rows"] = [
+            [reference_rows.nth(k).locator("td").first.inner_text(), reference_rows.nth(k).locator("td").last.inner_text()]
+            for k in range(reference_rows.count())
         ]
         out["points_table_scrolls_sideways"] = page.evaluate(
             "() => { const s = document.querySelector('.scroll'); return !!s && s.scrollWidth > s.clientWidth; }"
