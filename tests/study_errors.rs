@@ -273,14 +273,14 @@ fn initial_disks_overlapping_beyond_the_divergence_limit_are_errors() {
     assert_eq!((e.key.as_str(), e.location.map(|l| l.line)), ("scene.placement.file", Some(3)));
     assert_eq!(
         e.reason,
-        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 1.500 radii, beyond limits.max_overlap_ratio = 0.5: \
+        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 1.5 radii, beyond limits.max_overlap_ratio = 0.5: \
          the run would end as diverged at t = 0"
     );
     dir.write("init.csv", "x,y,r\n0.1,0.004,0.01\n0.2,0.1,0.01\n0.395,0.2,0.01\n");
     let e = &errors_at(&study)[0];
     assert_eq!(
         e.reason,
-        "disk 1 (x = 0.1, y = 0.004, r = 0.01) crosses the floor by 0.600 radii, beyond limits.max_overlap_ratio = 0.5: \
+        "disk 1 (x = 0.1, y = 0.004, r = 0.01) crosses the floor by 0.6 radii, beyond limits.max_overlap_ratio = 0.5: \
          the run would end as diverged at t = 0; 2 overlaps beyond the limit in all"
     );
 }

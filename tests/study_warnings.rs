@@ -44,7 +44,7 @@ fn overlapping_initial_disks_below_the_divergence_limit_are_warned_with_rows() {
     assert_eq!(overlaps.len(), 1, "{warnings:#?}");
     assert_eq!(
         overlaps[0].reason,
-        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 0.200 radii, beyond limits.overlap_warning_ratio = 0.1 \
+        "disks 2 and 3 (rows 2 and 3 of the file) overlap by 0.2 radii, beyond limits.overlap_warning_ratio = 0.1 \
          (Hertz validity): they start pushed apart; 2 overlaps beyond it in all"
     );
 }
