@@ -458,8 +458,9 @@ fn points_section(summary: &SummaryTable, charted: &[&str], points_csv: &Path) -
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>{left_out}\
-         <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse. Tick a header group under \"columns\" to show its columns./p>{left_out}\
+         <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label>\
+         <span id=\"column-groups\" title=\"Show or hide a header group's columns.\">columns:</span></div>\
          <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
          <script type=\"application/json\" id=\"points-data\">{}</script>",
         table.header(),
