@@ -70,6 +70,12 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     let names =
         html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "").replace("\"http://www.w3.org/1999/xlink\"", "");
     assert!(!names.contains("http://") && !names.contains("https://"), "no address in the page");
+    // Computing time: the runs' summed wall time, their CPU time beside it.
+    let computing = html.split("computing time</dt><dd>").nth(1).and_then(|rest| rest.split("</dd>").next());
+    assert!(
+        computing.is_some_and(|c| c.contains(" s wall time summed over all runs; ") && c.ends_with(" s CPU time")),
+        "{computing:?}"
+    );
 
     // `demsweep report` reads the reference from the study text stored in the results file.
     let again = dir.join("again.html");

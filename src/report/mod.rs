@@ -196,6 +196,12 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
         .ok()
         .and_then(|t| t.get("description").and_then(|d| d.as_str().map(str::to_string)));
     let run_seconds: f64 = rows.iter().map(|r| r.wall_time).sum();
+    let measured: Vec<f64> = rows.iter().map(|r| r.cpu_time).filter(|t| t.is_finite()).collect();
+    let cpu = match measured.len() {
+        0 => "no CPU time measured".to_string(),
+        n if n == rows.len() => format!("{} s CPU time", number(measured.iter().sum())),
+        n => format!("{} s CPU time over the {n} runs that measured it", number(measured.iter().sum())),
+    };
     let mut facts = vec![
         ("study", escape(&header.study_name)),
         ("fingerprint", format!("<code>{}</code>", escape(&header.fingerprint))),
@@ -209,7 +215,7 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
                 false => format!("{} of {} planned", rows.len(), header.planned_runs),
             },
         ),
-        ("computing time", format!("{} s summed over all runs", number(run_seconds))),
+        ("computing time", format!("{} s wall time summed over all runs; {cpu}", number(run_seconds))),
     ];
     if let Some(elapsed) = context.elapsed {
         facts.push(("wall time", format!("{} s (the last sweep into the file)", number(elapsed))));

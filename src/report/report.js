@@ -51,7 +51,7 @@
       return "<td class=\"runs\" title=\"" + escape(value[1]) + "\">" + shown + more + "</td>";
     }
     if (column.kind === "text") return "<td>" + escape(value) + "</td>";
-    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1 " + number(value[1])) : number(value);
+    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1\u00a0" + number(value[1])) : number(value);
     return "<td class=\"num\">" + text + "</td>";
   }
 
