@@ -70,6 +70,12 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     let names =
         html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "").replace("\"http://www.w3.org/1999/xlink\"", "");
     assert!(!names.contains("http://") && !names.contains("https://"), "no address in the page");
+    // Computing time: the runs' summed wall time, their CPU time beside it.
+    let computing = html.split("computing time</dt><dd>").nth(1).and_then(|rest| rest.split("</dd>").next());
+    assert!(
+        computing.is_some_and(|c| c.contains(" s wall time summed over all runs; ") && c.ends_with(" s CPU time")),
+        "{computing:?}"
+    );
 
     // `demsweep report` reads the reference from the study text stored in the results file.
     let again = dir.join("again.html");
@@ -99,6 +105,47 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     assert_eq!(seen["run_links"], 3, "each point links to a run section");
     assert_eq!(seen["run_links_reached"], 3);
     header_groups_hold_their_columns(&seen);
+    the_column_picker_fits_the_page(&seen);
+}
+
+/// At 1280 px the point table shows a compact set of header groups without sideways scroll; ticking
+/// another group shows its columns (header and cells), unticking hides them again.
+fn the_column_picker_fits_the_page(seen: &Value) {
+    assert_eq!(seen["points_table_scrolls_sideways"], false, "{seen}");
+    let strings = |key: &str| -> Vec<String> {
+        seen[key]
+            .as_array()
+            .unwrap_or_else(|| panic!("{key}: {seen}"))
+            .iter()
+            .map(|c| c.as_str().unwrap().to_string())
+            .collect()
+    };
+    let shown = strings("visible_columns");
+    for column in ["material.restitution", &quantity::with_unit("settle_time"), &quantity::with_unit("pile_height")] {
+        assert!(shown.iter().any(|c| c == column), "{column} shown at first: {shown:?}");
+    }
+    let all = strings("columns");
+    assert!(shown.len() < all.len(), "some groups hidden at first: {shown:?}");
+    let toggled = seen["toggled_group"].as_str().unwrap();
+    let under: Vec<&str> = {
+        let columns: Vec<&str> = all.iter().map(String::as_str).collect();
+        let mut next = 0;
+        let mut under = Vec::new();
+        for group in seen["header_groups"].as_array().unwrap() {
+            let span = group[1].as_u64().unwrap() as usize;
+            if group[0] == toggled {
+                under = columns[next..next + span].to_vec();
+            }
+            next += span;
+        }
+        under
+    };
+    assert!(!under.is_empty() && under.iter().all(|c| !shown.iter().any(|s| s == c)), "{toggled} hidden at first");
+    let with = strings("visible_columns_toggled");
+    assert_eq!(with.len(), shown.len() + under.len(), "{toggled} adds its columns: {with:?}");
+    assert!(under.iter().all(|c| with.iter().any(|s| s == c)), "{toggled}'s columns shown: {with:?}");
+    assert_eq!(seen["cells_per_row_toggled"], with.len(), "a row has a cell per shown column: {seen}");
+    assert_eq!(strings("visible_columns_untoggled"), shown, "unticked, the group hides again");
 }
 
 /// The page opens on its answer, visible without scrolling: the grid points by mean settle time, the

@@ -60,6 +60,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         "particle_steps",
         "simulated_time (s)",
         "wall_time (s)",
+        "cpu_time (s)",
         "time_step (s)",
         "final_kinetic (J)",
         "final_potential (J)",

@@ -24,7 +24,12 @@ fn param_json(v: &ParamValue) -> Value {
 }
 
 /// The expected attributes of a run group.
-fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_time: f64) -> Map<String, Value> {
+fn run_attrs(
+    run: &PlannedRun,
+    record: Option<&RunRecord>,
+    error: &str,
+    (wall_time, cpu_time): (f64, f64),
+) -> Map<String, Value> {
     let mut a = Map::new();
     let nan = f64::NAN;
     a.insert("index".into(), json!(run.index));
@@ -41,6 +46,7 @@ fn run_attrs(run: &PlannedRun, record: Option<&RunRecord>, error: &str, wall_tim
     row.insert("particle_steps".into(), json!(record.map_or(0, |r| r.steps * r.final_state.x.len() as u64)));
     row.insert("simulated_time".into(), json!(record.map_or(0.0, |r| r.simulated_time)));
     row.insert("wall_time".into(), json!(wall_time));
+    row.insert("cpu_time".into(), json!(cpu_time));
     let last = |f: fn(&RunRecord) -> &Vec<f64>| record.map_or(nan, |r| *f(r).last().unwrap());
     let finals = [
         ("final_kinetic", last(|r| &r.history.kinetic_translational) + last(|r| &r.history.kinetic_rotational)),
@@ -166,10 +172,11 @@ fn column_datasets(group: &str, table: &SummaryTable, datasets: &mut Map<String,
 }
 
 fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
-    let wall = match &summary.column("wall_time").unwrap().data {
+    let times = |name: &str| match &summary.column(name).unwrap().data {
         ColumnData::Float(v) => v.clone(),
-        other => panic!("wall_time column {other:?}"),
+        other => panic!("{name} column {other:?}"),
     };
+    let (wall, cpu) = (times("wall_time"), times("cpu_time"));
     let mut groups = Map::new();
     let mut datasets = Map::new();
     groups.insert(
@@ -189,8 +196,12 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
         let record = outcome.as_ref().ok();
         let error = outcome.as_ref().err().map(ToString::to_string).unwrap_or_default();
-        groups.insert(base.clone(), Value::Object(run_attrs(run, record, &error, wall[run.index])));
+        groups.insert(base.clone(), Value::Object(run_attrs(run, record, &error, (wall[run.index], cpu[run.index]))));
         let Some(record) = record else { continue };
+        // The worker thread's CPU time: some, and no more than its wall time (10 % and 20 ms slack for
+        // the clocks' granularity), as the run's thread did nothing else meanwhile.
+        let (wall, cpu) = (wall[run.index], cpu[run.index]);
+        assert!(cpu > 0.0 && cpu <= wall * 1.1 + 0.02, "run {}: cpu_time {cpu} s, wall_time {wall} s", run.id);
         datasets.insert(format!("{base}/history"), history(record));
         datasets.insert(format!("{base}/final"), snapshot(&record.final_state));
         stored_contacts += record.final_state.contacts.len();

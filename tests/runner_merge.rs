@@ -23,12 +23,15 @@ fn history_text(path: &Path, id: &str) -> String {
     String::from_utf8(out).unwrap()
 }
 
-/// The CSV text without its wall_time column.
+/// The CSV text without its wall_time and cpu_time columns.
 fn csv_without_timing(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let wall = header.iter().position(|c| *c == "wall_time (s)").unwrap();
-    text.lines().map(|l| l.split(',').enumerate().filter(|(i, _)| *i != wall).map(|(_, f)| f).collect()).collect()
+    let timing: Vec<usize> =
+        ["wall_time (s)", "cpu_time (s)"].iter().map(|name| header.iter().position(|c| c == name).unwrap()).collect();
+    text.lines()
+        .map(|l| l.split(',').enumerate().filter(|(i, _)| !timing.contains(i)).map(|(_, f)| f).collect())
+        .collect()
 }
 
 #[test]

@@ -206,9 +206,12 @@ fn a_file_of_the_older_layout_reads_and_resumes() {
     let file = reader::open(&path).unwrap();
     let read = reader::rows(&file, &path).unwrap();
     drop(file);
-    // The older layout has no run identities.
-    let without_7: Vec<SummaryRow> =
-        rows.iter().filter(|r| r.index != 7).map(|r| SummaryRow { identity: String::new(), ..r.clone() }).collect();
+    // The older layout has no run identities and no CPU time.
+    let without_7: Vec<SummaryRow> = rows
+        .iter()
+        .filter(|r| r.index != 7)
+        .map(|r| SummaryRow { identity: String::new(), cpu_time: f64::NAN, ..r.clone() })
+        .collect();
     assert!(SummaryTable::from_rows(&read) == SummaryTable::from_rows(&without_7), "the older layout reads");
     let study = path.with_file_name("scale.toml");
     let out = demsweep()

@@ -31,6 +31,8 @@ pub struct SummaryRow {
     pub simulated_time: f64,
     /// Wall-clock time of the simulation (s).
     pub wall_time: f64,
+    /// CPU time of the simulation's thread (s); NaN where not measured.
+    pub cpu_time: f64,
     /// Final values (NaN for failed runs), in the order of [`quantity::final_value_declarations`].
     pub final_values: [f64; FINAL_VALUE_COUNT],
     /// The run's identity (`crate::study::RunIdentity`: what its results depend on); empty for runs of
@@ -66,11 +68,18 @@ impl OutcomeValue {
 }
 
 impl SummaryRow {
-    /// The row's values of [`OUTCOME`], in order (a missing settle time is NaN).
+    /// The row's values of [`OUTCOME`], in order (a missing settle or CPU time is NaN).
     pub fn outcome(&self) -> [OutcomeValue; OUTCOME.len()] {
         use OutcomeValue::{Float, Int};
         let settle = self.settle_time.unwrap_or(f64::NAN);
-        [Float(settle), Int(self.steps), Int(self.particle_steps), Float(self.simulated_time), Float(self.wall_time)]
+        [
+            Float(settle),
+            Int(self.steps),
+            Int(self.particle_steps),
+            Float(self.simulated_time),
+            Float(self.wall_time),
+            Float(self.cpu_time),
+        ]
     }
 
     /// The row of a finished run.
@@ -87,6 +96,7 @@ impl SummaryRow {
             particle_steps: record.steps * record.final_state.x.len() as u64,
             simulated_time: record.simulated_time,
             wall_time: 0.0,
+            cpu_time: f64::NAN,
             final_values: quantity::final_values(record),
             identity: String::new(),
         }
@@ -106,6 +116,7 @@ impl SummaryRow {
             particle_steps: 0,
             simulated_time: 0.0,
             wall_time: 0.0,
+            cpu_time: f64::NAN,
             final_values: [f64::NAN; FINAL_VALUE_COUNT],
             identity: String::new(),
         }

@@ -151,11 +151,13 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
     // Files written before warnings were typed hold texts: those are not read back (the count in
     // `/summary` stays).
     row.warnings = warnings.iter().filter_map(|w| serde_json::from_value(w.clone()).ok()).collect();
-    let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
+    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
     let settle = float(settle_time)?;
     row.settle_time = (!settle.is_nan()).then_some(settle);
     (row.steps, row.particle_steps) = (int(steps)?, int(particle_steps)?);
     (row.simulated_time, row.wall_time) = (float(simulated_time)?, float(wall_time)?);
+    // Files written before CPU time have none.
+    row.cpu_time = if value.get(cpu_time).is_some() { float(cpu_time)? } else { f64::NAN };
     let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
     for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
         if value.get(declared.name).is_some() {
@@ -190,7 +192,7 @@ mod legacy {
                 *slot = float(declared.name)?;
             }
         }
-        let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
+        let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
         row.steps = int(steps)? as u64;
         row.particle_steps = match attrs.get(particle_steps) {
             Some(_) => int(particle_steps)? as u64,
@@ -200,6 +202,7 @@ mod legacy {
         row.settle_time = (!settle.is_nan()).then_some(settle);
         row.simulated_time = float(simulated_time)?;
         row.wall_time = float(wall_time)?;
+        row.cpu_time = if attrs.contains_key(cpu_time) { float(cpu_time)? } else { f64::NAN };
         Ok(())
     }
 
@@ -233,7 +236,7 @@ mod tests {
             ValidityWarning { time: Some(0.25), ..ValidityWarning::new(WarningKind::EnergyBalance, 0.02, 0.01) },
         ];
         (row.settle_time, row.steps, row.particle_steps) = (Some(1.0 / 3.0), 12, 3600);
-        (row.simulated_time, row.wall_time) = (0.25, 1e-300);
+        (row.simulated_time, row.wall_time, row.cpu_time) = (0.25, 1e-300, 0.125);
         row.final_values[0] = f64::INFINITY;
         row.final_values[1] = -f64::INFINITY;
         row.final_values[2] = 5e-324;

@@ -40,7 +40,7 @@ pub struct SummaryTable {
 pub const IDENTITY: &str = "identity";
 
 /// Names of the columns that depend on the machine and the moment, not on the study.
-pub const TIMING_COLUMNS: [&str; 1] = ["wall_time"];
+pub const TIMING_COLUMNS: [&str; 2] = ["wall_time", "cpu_time"];
 
 impl PartialEq for ColumnData {
     fn eq(&self, other: &Self) -> bool {
@@ -198,7 +198,7 @@ impl SummaryTable {
         let number = |name: &str, i: usize| self.column(name)?.data.number(i);
         let (ids, indices, statuses, messages, warnings) =
             (texts("run_id")?, ints("index")?, texts("status")?, texts("message")?, ints("warnings")?);
-        let [settle_time, steps, particle_steps, simulated_time, wall_time] = OUTCOME.map(|q| q.name);
+        let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
         (0..self.len())
             .map(|i| {
                 let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
@@ -222,6 +222,7 @@ impl SummaryTable {
                     particle_steps: ints(particle_steps)?[i] as u64,
                     simulated_time: number(simulated_time, i)?,
                     wall_time: number(wall_time, i)?,
+                    cpu_time: number(cpu_time, i).unwrap_or(f64::NAN),
                     final_values,
                     identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
                 };

@@ -43,12 +43,13 @@ pub type RunValue = fn(&RunRecord) -> f64;
 
 /// What each run reports about how it went, in summary order; the summary row keeps them as typed
 /// fields (an optional settle time, integer step counts).
-pub const OUTCOME: [Declaration; 5] = [
+pub const OUTCOME: [Declaration; 6] = [
     declared("settle_time", "s", "Start of the stretch over which the settle criterion held; empty if never."),
     declared("steps", "", "Time steps taken."),
     declared("particle_steps", "", "Time steps times disks: the run's cost, independent of the machine."),
     declared("simulated_time", "s", "Simulated time reached."),
     declared("wall_time", "s", "Wall-clock time of the simulation, measured by the runner."),
+    declared("cpu_time", "s", "CPU time of the simulation's thread, measured by the runner; empty where not measured."),
 ];
 
 const fn declared(name: &'static str, unit: &'static str, description: &'static str) -> Declaration {

@@ -196,6 +196,12 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
         .ok()
         .and_then(|t| t.get("description").and_then(|d| d.as_str().map(str::to_string)));
     let run_seconds: f64 = rows.iter().map(|r| r.wall_time).sum();
+    let measured: Vec<f64> = rows.iter().map(|r| r.cpu_time).filter(|t| t.is_finite()).collect();
+    let cpu = match measured.len() {
+        0 => "no CPU time measured".to_string(),
+        n if n == rows.len() => format!("{} s CPU time", number(measured.iter().sum())),
+        n => format!("{} s CPU time over the {n} runs that measured it", number(measured.iter().sum())),
+    };
     let mut facts = vec![
         ("study", escape(&header.study_name)),
         ("fingerprint", format!("<code>{}</code>", escape(&header.fingerprint))),
@@ -209,7 +215,7 @@ fn overview(header: &FileHeader, rows: &[SummaryRow], context: &ReportContext, t
                 false => format!("{} of {} planned", rows.len(), header.planned_runs),
             },
         ),
-        ("computing time", format!("{} s summed over all runs", number(run_seconds))),
+        ("computing time", format!("{} s wall time summed over all runs; {cpu}", number(run_seconds))),
     ];
     if let Some(elapsed) = context.elapsed {
         facts.push(("wall time", format!("{} s (the last sweep into the file)", number(elapsed))));
@@ -458,8 +464,9 @@ fn points_section(summary: &SummaryTable, charted: &[&str], points_csv: &Path) -
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse.</p>{left_out}\
-         <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label></div>\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse. Tick a header group under \"columns\" to show its columns./p>{left_out}\
+         <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label>\
+         <span id=\"column-groups\" title=\"Show or hide a header group's columns.\">columns:</span></div>\
          <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
          <script type=\"application/json\" id=\"points-data\">{}</script>",
         table.header(),

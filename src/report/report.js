@@ -2,9 +2,11 @@
 // (click a header; again to reverse) and filters it by run status. No network, no libraries.
 // Up to WINDOW rows are in the page at once: a longer table renders the rows scrolled into view
 // (between two spacer rows of the height of the others), so that sorting 10 000 points stays fast.
+// A check box per header group shows or hides its columns (`shown_groups` at first), so that the
+// table fits the page's width; every column stays one click away.
 //
 // Data: { columns: [{ name, kind: "text" | "number" | "run", unit, description, group }],
-// rows: [{ statuses, cells }] } (units and groups are in the header, not repeated in the cells);
+// rows: [{ statuses, cells }], shown_groups: [group] } (units and groups are in the header, not repeated in the cells);
 // a number cell is a value or [mean, 95 % half-width], a text cell a string, a run cell
 // [id of a run with a section of its own or null, the point's run ids], a missing value null.
 (function () {
@@ -19,6 +21,12 @@
   var shown = order;
   var sortColumn = -1, descending = false;
   var WINDOW = 400, rowHeight = 24, drawnFirst = -1;
+  var groupHeaders = table.tHead.rows[0].cells;
+  var groups = [], shownGroups = {}, visible = [];
+  data.columns.forEach(function (column) {
+    if (groups.indexOf(column.group) < 0) groups.push(column.group);
+  });
+  (data.shown_groups || groups).forEach(function (group) { shownGroups[group] = true; });
 
   function escape(text) {
     return String(text).replace(/[&<>"]/g, function (c) {
@@ -43,13 +51,13 @@
       return "<td class=\"runs\" title=\"" + escape(value[1]) + "\">" + shown + more + "</td>";
     }
     if (column.kind === "text") return "<td>" + escape(value) + "</td>";
-    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1 " + number(value[1])) : number(value);
+    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1\u00a0" + number(value[1])) : number(value);
     return "<td class=\"num\">" + text + "</td>";
   }
 
   function spacer(rows) {
     return rows > 0 ? "<tr class=\"spacer\" style=\"height:" + rows * rowHeight + "px\"><td colspan=\"" +
-      data.columns.length + "\"></td></tr>" : "";
+      visible.length + "\"></td></tr>" : "";
   }
 
   // Draws the rows of `shown` around the scroll position (all of them in a short table).
@@ -65,7 +73,7 @@
     for (var k = first; k < last; k++) {
       var row = data.rows[shown[k]];
       var cells = [];
-      for (var c = 0; c < data.columns.length; c++) cells.push(cell(row.cells[c], data.columns[c]));
+      for (var v = 0; v < visible.length; v++) cells.push(cell(row.cells[visible[v]], data.columns[visible[v]]));
       html.push("<tr>" + cells.join("") + "</tr>");
     }
     html.push(spacer(shown.length - last));
@@ -111,9 +119,47 @@
     table.dataset.sorted = data.columns[column].name + (descending ? " desc" : " asc");
   }
 
+  // Shows the columns of the checked groups: their headers, one <colgroup> per group, their cells.
+  function showGroups() {
+    visible = [];
+    data.columns.forEach(function (column, c) {
+      var on = !!shownGroups[column.group];
+      headers[c].hidden = !on;
+      if (on) visible.push(c);
+    });
+    var old = table.querySelectorAll("colgroup");
+    for (var k = 0; k < old.length; k++) old[k].remove();
+    groups.forEach(function (group, g) {
+      groupHeaders[g].hidden = !shownGroups[group];
+      if (!shownGroups[group]) return;
+      var span = data.columns.filter(function (column) { return column.group === group; }).length;
+      var colgroup = document.createElement("colgroup");
+      colgroup.span = span;
+      table.insertBefore(colgroup, table.tHead);
+    });
+    table.dataset.columns = String(visible.length);
+    draw(true);
+  }
+
+  var picker = document.getElementById("column-groups");
+  if (picker) {
+    groups.forEach(function (group) {
+      var label = document.createElement("label");
+      var box = document.createElement("input");
+      box.type = "checkbox";
+      box.value = group;
+      box.checked = !!shownGroups[group];
+      box.addEventListener("change", function () { shownGroups[group] = box.checked; showGroups(); });
+      label.appendChild(box);
+      label.appendChild(document.createTextNode(" " + group));
+      picker.appendChild(label);
+    });
+  }
+
   for (var h = 0; h < headers.length; h++) headers[h].addEventListener("click", sortBy.bind(null, h));
   if (filter) filter.addEventListener("change", render);
   scroller.addEventListener("scroll", function () { draw(false); }, { passive: true });
+  showGroups();
   render();
 })();
 

@@ -392,7 +392,9 @@ mod tests {
         let runs: Vec<&PlannedRun> = plan.runs.iter().rev().collect();
         let stop = AtomicBool::new(false);
         let timeless = |rows: Vec<Option<SummaryRow>>| -> Vec<SummaryRow> {
-            rows.into_iter().map(|r| SummaryRow { wall_time: 0.0, ..r.expect("not interrupted") }).collect()
+            rows.into_iter()
+                .map(|r| SummaryRow { wall_time: 0.0, cpu_time: 0.0, ..r.expect("not interrupted") })
+                .collect()
         };
         let one = timeless(run_rows(&runs, 1, &stop).unwrap());
         let two = timeless(run_rows(&runs, 2, &stop).unwrap());

@@ -18,7 +18,7 @@ from conftest import ROOT, TINY, dotted_toml, demsweep_command
 
 
 def without_wall_time(frame: pd.DataFrame) -> pd.DataFrame:
-    return frame.drop(columns=["wall_time"])
+    return frame.drop(columns=["wall_time", "cpu_time"])
 
 
 def test_run_gives_what_the_command_gives_for_the_same_study(tiny, tmp_path):

@@ -142,6 +142,25 @@ def main():
             "() => { const s = document.querySelector('.scroll'); return !!s && s.scrollWidth > s.clientWidth; }"
         )
 
+        # The column picker: the groups shown at first, then one more ticked on (its columns shown,
+        # the table still without sideways scroll or not), then off again.
+        visible_columns = lambda: page.evaluate(
+            "() => [...document.querySelectorAll('table#points thead tr.columns th')].filter(h => !h.hidden).map(h => h.innerText.trim())"
+        )
+        boxes = page.locator("#column-groups input[type=checkbox]")
+        out["column_groups"] = [[boxes.nth(k).get_attribute("value"), boxes.nth(k).is_checked()] for k in range(boxes.count())]
+        out["visible_columns"] = visible_columns()
+        off = next((k for k in range(boxes.count()) if not boxes.nth(k).is_checked()), None)
+        if off is not None:
+            boxes.nth(off).check()
+            out["toggled_group"] = boxes.nth(off).get_attribute("value")
+            out["visible_columns_toggled"] = visible_columns()
+            out["cells_per_row_toggled"] = page.evaluate(
+                "() => document.querySelector('table#points tbody tr:not(.spacer)').cells.length"
+            )
+            boxes.nth(off).uncheck()
+            out["visible_columns_untoggled"] = visible_columns()
+
         table = page.locator("table#points")
         out["rows"] = int(table.get_attribute("data-rows"))
         out["rows_in_page"] = table.locator("tbody tr:not(.spacer)").count()
