@@ -246,7 +246,7 @@ fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
 }
 
 /// Per-run quantities that are costs or settings, not results a `[keep]` entry may hold.
-const NOT_KEPT: [&str; 5] = ["steps", "particle_steps", "simulated_time", "wall_time", "time_step"];
+const NOT_KEPT: [&str; 6] = ["steps", "particle_steps", "simulated_time", "wall_time", "cpu_time", "time_step"];
 
 /// The per-run quantities a `[keep]` entry may name: the declared results, costs and settings left out.
 pub fn keepable_metrics() -> Vec<String> {
