@@ -92,7 +92,7 @@ fn read_everything(results: &Path, plan: &demsweep::study::Plan) -> Vec<String> 
         };
         note("export", export::export(&request).is_ok());
     }
-    note("merge", runner::merge(&folder.join("merged"), &[results.to_path_buf()], false).is_ok());
+    note("merge", runner::merge(&folder.join("merged"), &[results.to_path_buf()], &Default::default()).is_ok());
     let options = runner::RunOptions { resume: true, ..runner_common::options(folder, 1) };
     note("resume", runner::run_plan(plan, &options).is_ok());
     outcomes

@@ -144,7 +144,8 @@ fn files_of_different_studies_merge_run_by_run() {
     let dir = runner_common::scratch("grow_merge");
     let a = run(&write(&dir, "a.toml", &study("0.2, 0.4", 1, "")), &dir.join("a"), false);
     let b = run(&write(&dir, "b.toml", &format!("# another\n{}", study("0.4, 0.6", 1, ""))), &dir.join("b"), false);
-    let merged = merge(&dir.join("merged"), &[a.results.clone(), b.results.clone()], false).expect("merge");
+    let merged =
+        merge(&dir.join("merged"), &[a.results.clone(), b.results.clone()], &Default::default()).expect("merge");
     assert_eq!(merged.runs, 3, "the run both studies hold is kept once");
     let table = summary::read(&merged.results).unwrap();
     let identities = table.column("identity").unwrap();

@@ -9,8 +9,10 @@ use demsweep::output::SummaryTable;
 use demsweep::output::table::ColumnData;
 use demsweep::physics::RunRecord;
 use demsweep::physics::quantity::{self, HISTORY_SERIES, PILE_METRICS};
+use demsweep::physics::record::DISK_FIELDS;
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
+use demsweep::physics::warning::ValidityWarning;
 use demsweep::study::{ParamValue, Plan, PlannedRun, RunIdentity};
 use serde_json::{Map, Value, json};
 
@@ -23,30 +25,34 @@ fn param_json(v: &ParamValue) -> Value {
     }
 }
 
-/// The expected attributes of a run group.
-fn run_attrs(
+/// The expected attributes of a run group and its tables `values`, `parameters` and `warnings`
+/// (the last absent when the run has none), by dataset name.
+fn run_group(
     run: &PlannedRun,
     record: Option<&RunRecord>,
     error: &str,
     (wall_time, cpu_time): (f64, f64),
-) -> Map<String, Value> {
+) -> (Map<String, Value>, Vec<(&'static str, Value)>) {
     let mut a = Map::new();
     let nan = f64::NAN;
     a.insert("index".into(), json!(run.index));
     a.insert("id".into(), json!(run.id));
     a.insert("status".into(), json!(record.map_or("error", |r| r.status.as_str())));
     a.insert("message".into(), json!(record.map_or(error.to_string(), |r| r.message.clone().unwrap_or_default())));
-    // The summary row, as JSON text in the attribute `row` (NaN as null).
-    let mut row = Map::new();
-    let parameters: Vec<Value> = run.parameters.iter().map(|(k, v)| json!([k, param_json(v)])).collect();
-    row.insert("parameters".into(), json!(parameters));
-    row.insert("warnings".into(), json!(record.map_or(vec![], |r| r.warnings.clone())));
-    row.insert("settle_time".into(), json!(record.and_then(|r| r.settle_time)));
-    row.insert("steps".into(), json!(record.map_or(0, |r| r.steps)));
-    row.insert("particle_steps".into(), json!(record.map_or(0, |r| r.steps * r.final_state.x.len() as u64)));
-    row.insert("simulated_time".into(), json!(record.map_or(0.0, |r| r.simulated_time)));
-    row.insert("wall_time".into(), json!(wall_time));
-    row.insert("cpu_time".into(), json!(cpu_time));
+    // The run's identity (what its results depend on) names its group and is an attribute, beside
+    // the program and results format that made it.
+    a.insert("identity".into(), json!(RunIdentity::of(run).to_string()));
+    a.insert("demsweep_version".into(), json!(env!("CARGO_PKG_VERSION")));
+    a.insert("results_format".into(), json!(3));
+    a.insert("scene.json".into(), json!(serde_json::to_string(&run.scene).unwrap()));
+    // The per-run values, typed, one field each (NaN as null), in the quantity table's order.
+    let mut values = Map::new();
+    values.insert("settle_time".into(), json!(record.and_then(|r| r.settle_time)));
+    values.insert("steps".into(), json!(record.map_or(0, |r| r.steps)));
+    values.insert("particle_steps".into(), json!(record.map_or(0, |r| r.steps * r.final_state.x.len() as u64)));
+    values.insert("simulated_time".into(), json!(record.map_or(0.0, |r| r.simulated_time)));
+    values.insert("wall_time".into(), json!(wall_time));
+    values.insert("cpu_time".into(), json!(cpu_time));
     let last = |f: fn(&RunRecord) -> &Vec<f64>| record.map_or(nan, |r| *f(r).last().unwrap());
     let finals = [
         ("final_kinetic", last(|r| &r.history.kinetic_translational) + last(|r| &r.history.kinetic_rotational)),
@@ -63,18 +69,35 @@ fn run_attrs(
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];
     for (name, value) in finals {
-        row.insert(name.into(), json!(value));
+        values.insert(name.into(), json!(value));
     }
     // The other pile metrics, as the record has them.
     for metric in PILE_METRICS.iter().filter(|m| !["pile_height", "packing_fraction"].contains(&m.name)) {
-        row.insert(metric.name.to_string(), json!(record.map_or(nan, |r| r.pile[metric.name])));
+        values.insert(metric.name.to_string(), json!(record.map_or(nan, |r| r.pile[metric.name])));
     }
-    a.insert("row".into(), json!({"$json": row}));
-    let s = &run.scene;
-    // The run's identity (what its results depend on) names its group and is an attribute.
-    a.insert("identity".into(), json!(RunIdentity::of(run).to_string()));
-    a.insert("scene.json".into(), json!(serde_json::to_string(s).unwrap()));
-    a
+    let declared: Vec<quantity::Declaration> =
+        quantity::OUTCOME.iter().copied().chain(quantity::final_value_declarations()).collect();
+    assert_eq!(declared.len(), values.len(), "every per-run value is expected");
+    let fields = declared.iter().map(|q| (q.name, json!([values[q.name]]))).collect();
+    let units: Vec<&str> = declared.iter().map(|q| q.unit).collect();
+    let mut tables = vec![("values", table(fields, json!({"units": units})))];
+    let parameters = run.parameters.iter().map(|(k, v)| (k.as_str(), json!([param_json(v)]))).collect();
+    tables.push(("parameters", table(parameters, json!({}))));
+    let warnings = record.map_or(vec![], |r| r.warnings.clone());
+    if !warnings.is_empty() {
+        let column = |f: fn(&ValidityWarning) -> Option<f64>| json!(warnings.iter().map(f).collect::<Vec<_>>());
+        let kinds: Vec<Value> = warnings.iter().map(|w| serde_json::to_value(w.kind).unwrap()).collect();
+        let fields = vec![
+            ("kind", json!(kinds)),
+            ("value", column(|w| Some(w.value))),
+            ("limit", column(|w| Some(w.limit))),
+            ("time", column(|w| w.time)),
+            ("impact_speed", column(|w| w.impact_speed)),
+            ("safe_time_step", column(|w| w.safe_time_step)),
+        ];
+        tables.push(("warnings", table(fields, json!({}))));
+    }
+    (a, tables)
 }
 
 /// The highest disk top (m).
@@ -91,6 +114,33 @@ fn packing_fraction(s: &demsweep::physics::record::Snapshot, width: f64) -> f64 
 fn table(fields: Vec<(&str, Value)>, attrs: Value) -> Value {
     let fields: Vec<Value> = fields.into_iter().map(|(k, v)| json!([k, v])).collect();
     json!({"attrs": attrs, "fields": fields})
+}
+
+/// The frames as arrays over time: `time` (T) and one (T, N) array per disk field, with its unit.
+fn frames(base: &str, frames: &[demsweep::physics::record::Snapshot], datasets: &mut Map<String, Value>) {
+    let times: Vec<f64> = frames.iter().map(|s| s.time).collect();
+    datasets.insert(format!("{base}/frames/time"), json!({"attrs": {"unit": "s"}, "values": times}));
+    for (field, unit) in DISK_FIELDS.iter().map(|f| (f.name, f.unit)) {
+        let values: Vec<Vec<f64>> = frames
+            .iter()
+            .map(|s| snapshot(s)["fields"].as_array().unwrap().iter().find(|p| p[0] == field).unwrap()[1].clone())
+            .map(|v| serde_json::from_value(v).unwrap())
+            .collect();
+        datasets.insert(format!("{base}/frames/{field}"), json!({"attrs": {"unit": unit}, "values": values}));
+    }
+    // Every frame's contacts in one table, frame after frame, with the frame of each first.
+    let mut all: Vec<(String, Vec<Value>)> = vec![("frame".into(), Vec::new())];
+    for (k, s) in frames.iter().enumerate() {
+        all[0].1.extend(std::iter::repeat_n(json!(k), s.contacts.len()));
+        for (i, pair) in contacts(s)["fields"].as_array().unwrap().iter().enumerate() {
+            if all.len() <= i + 1 {
+                all.push((pair[0].as_str().unwrap().to_string(), Vec::new()));
+            }
+            all[i + 1].1.extend(pair[1].as_array().unwrap().iter().cloned());
+        }
+    }
+    let fields = all.iter().map(|(n, v)| (n.as_str(), Value::Array(v.clone()))).collect();
+    datasets.insert(format!("{base}/frames/contacts"), table(fields, json!({})));
 }
 
 fn snapshot(s: &demsweep::physics::record::Snapshot) -> Value {
@@ -196,7 +246,11 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         let outcome = run_scene(&run.scene, None, &mut |_| Control::Continue);
         let record = outcome.as_ref().ok();
         let error = outcome.as_ref().err().map(ToString::to_string).unwrap_or_default();
-        groups.insert(base.clone(), Value::Object(run_attrs(run, record, &error, (wall[run.index], cpu[run.index]))));
+        let (attrs, tables) = run_group(run, record, &error, (wall[run.index], cpu[run.index]));
+        groups.insert(base.clone(), Value::Object(attrs));
+        for (name, table) in tables {
+            datasets.insert(format!("{base}/{name}"), table);
+        }
         let Some(record) = record else { continue };
         // The worker thread's CPU time: some, and no more than its wall time (10 % and 20 ms slack for
         // the clocks' granularity), as the run's thread did nothing else meanwhile.
@@ -207,15 +261,18 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         stored_contacts += record.final_state.contacts.len();
         datasets.insert(format!("{base}/final_contacts"), contacts(&record.final_state));
         groups.insert(format!("{base}/frames"), json!({}));
-        groups.insert(format!("{base}/frame_contacts"), json!({}));
-        // Frame names are zero-padded, so that h5py (which lists names in byte order) lists them in time order.
-        for (k, frame) in record.frames.iter().enumerate() {
-            datasets.insert(format!("{base}/frames/{k:05}"), snapshot(frame));
-            datasets.insert(format!("{base}/frame_contacts/{k:05}"), contacts(frame));
-        }
+        frames(&base, &record.frames, &mut datasets);
     }
     assert!(stored_contacts > 0, "the final states have contacts to check");
     let mut summary_attrs = column_datasets("summary", summary, &mut datasets);
+    summary_attrs["columns"].as_array_mut().unwrap().extend([json!("group"), json!("demsweep_version")]);
+    // Beside the columns: each run's group (its path) and the version that made it.
+    let identities = summary.column("identity").unwrap();
+    let paths: Vec<Value> =
+        (0..summary.len()).map(|i| json!({"$regex": format!(r"runs_\d{{5}}/{}", identities.data.text(i))})).collect();
+    datasets.insert("/summary/group".into(), json!({"attrs": {}, "values": paths}));
+    let versions = vec![env!("CARGO_PKG_VERSION"); summary.len()];
+    datasets.insert("/summary/demsweep_version".into(), json!({"attrs": {}, "values": versions}));
     // How the sweep ran: 2 worker threads (runner_common::options), for some seconds.
     summary_attrs["jobs"] = json!(2);
     summary_attrs["wall_time"] = json!({"$range": [0.0, 600.0]});
@@ -269,8 +326,8 @@ fn the_docs_python_snippets_run_against_a_fresh_results_file() {
     let dir = runner_common::scratch("snippets");
     let study = dir.join("snippets.toml");
     let text = "name = \"snippets\"\n[scene]\nparticles.count = 4\ndomain.width = 0.06\ndomain.height = 0.08\n\
-                run.duration = 0.01\nrun.sample_interval = 0.002\n[sweep]\n\"material.friction\" = [0.2, 0.6]\n\
-                replicates = 4\n";
+                run.duration = 0.01\nrun.sample_interval = 0.002\nrun.frame_interval = 0.005\n[sweep]\n\
+                \"material.friction\" = [0.2, 0.6]\nreplicates = 4\n[output]\nframes = true\n";
     std::fs::write(&study, text).unwrap();
     let plan = demsweep::study::load(&study).unwrap();
     let report = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
@@ -280,6 +337,16 @@ fn the_docs_python_snippets_run_against_a_fresh_results_file() {
     let first = status.data.text(0);
     let count = (0..report.summary.len()).filter(|&i| status.data.text(i) == first).count();
     let identity = report.summary.column("identity").unwrap().data.text(7);
+    let settle = report.summary.column("settle_time").unwrap().data.number(7).unwrap();
+    let settle = if settle.is_nan() { "nan".to_string() } else { format!("{settle:?}") };
+    let stored = demsweep::output::stored::read_run(
+        &demsweep::output::reader::open(&report.results).unwrap(),
+        &report.results,
+        &report.summary.rows().unwrap()[7].0,
+    )
+    .unwrap();
+    let times: Vec<f64> = stored.frames.iter().map(|f| f.time).collect();
+    assert_eq!(times.len(), 3, "frames at 0, 5 and 10 ms");
     let mut csv = Vec::new();
     demsweep::output::history::to_csv(&report.results, "r0007", &mut csv).unwrap();
     let samples = String::from_utf8(csv).unwrap().lines().count() - 1;
@@ -288,7 +355,9 @@ fn the_docs_python_snippets_run_against_a_fresh_results_file() {
         // The snippet as written, on this file, then what it must have read.
         let checks = format!(
             "\nassert all(isinstance(s, str) for s in summary.status) and (summary.status == {first:?}).sum() == {count}\n\
-             assert group == {identity:?} and len(history) == {samples}\n\
+             assert run.name.endswith('/' + {identity:?}) and len(history) == {samples}\n\
+             assert unit == 's' and repr(float(settle_time)) == {settle:?} and units['steps'] == ''\n\
+             assert x.shape == (3, 4) and list(t) == {times:?}\n\
              assert len(summary) == {} and list(summary.columns[:2]) == ['run_id', 'index']\nprint('ok')\n",
             report.summary.len()
         );

@@ -43,7 +43,8 @@ fn merged_shards_equal_a_single_machine_run() {
     let sizes: Vec<usize> = shard_files.iter().map(|f| summary::read(f).unwrap().len()).collect();
     assert_eq!(sizes.iter().sum::<usize>(), 7);
 
-    let merged = merge(&runner_common::scratch("merge_out"), std::slice::from_ref(&shards_dir), false).expect("merge");
+    let merged = merge(&runner_common::scratch("merge_out"), std::slice::from_ref(&shards_dir), &Default::default())
+        .expect("merge");
     assert_eq!((merged.runs, merged.shards), (7, 3));
     let single = run_plan(&plan, &runner_common::options(&runner_common::scratch("merge_single"), 2)).unwrap();
 
@@ -56,12 +57,19 @@ fn merged_shards_equal_a_single_machine_run() {
     let attrs = file.root().attrs().unwrap();
     assert!(!attrs.contains_key("shard"), "a merged file is not a shard");
     assert_eq!(attrs["fingerprint"].as_str(), Some(plan.fingerprint.as_str()));
-    let r004 = demsweep::output::reader::find_run(&file, &merged.results, "r004").unwrap();
-    assert_eq!(file.group(&format!("{r004}/frames")).unwrap().datasets().unwrap().len(), 2, "frames were copied");
+    let frames = |results: &std::path::Path| {
+        let file = demsweep::output::reader::open(results).unwrap();
+        let rows = demsweep::output::reader::rows(&file, results).unwrap();
+        let row = rows.iter().find(|r| r.id == "r004").unwrap();
+        let frames = demsweep::output::stored::read_run(&file, results, row).unwrap().frames;
+        frames.iter().map(|f| (f.time, f.x.clone(), f.contacts.normal_force.clone())).collect::<Vec<_>>()
+    };
+    assert_eq!(frames(&merged.results).len(), 2);
+    assert_eq!(frames(&merged.results), frames(&single.results), "frames were copied");
 }
 
 fn merge_error(inputs: &[PathBuf]) -> String {
-    match merge(&runner_common::scratch("merge_refused_out"), inputs, false) {
+    match merge(&runner_common::scratch("merge_refused_out"), inputs, &Default::default()) {
         Err(e) => e.to_string(),
         Ok(report) => panic!("merge should have been refused, made {report:?}"),
     }
@@ -107,7 +115,7 @@ fn merge_merges_what_there_is_and_names_the_shards_to_run_again() {
     run_plan(&plan, &stopped).unwrap();
 
     let out = runner_common::scratch("merge_partial_out");
-    let report = merge(&out, std::slice::from_ref(&dir), false).expect("a partial merge");
+    let report = merge(&out, std::slice::from_ref(&dir), &Default::default()).expect("a partial merge");
     assert_eq!((report.runs, report.shards, report.planned_runs, report.shard_count), (2, 2, 6, 3));
     assert_eq!(report.shards_to_rerun(), [1, 2, 3]);
     let reasons: Vec<&str> = report.problems.iter().map(|p| p.reason.as_str()).collect();

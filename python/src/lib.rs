@@ -389,6 +389,7 @@ fn field_list<'py>(py: Python<'py>, field: Field<'_>) -> PyResult<Bound<'py, PyA
         Field::U32(v) => v.into_pyobject(py),
         Field::I64(v) => v.into_pyobject(py),
         Field::Bool(v) => v.into_pyobject(py),
+        Field::Text(v) => v.into_pyobject(py),
     }
 }
 
@@ -408,11 +409,16 @@ fn snapshot<'py>(py: Python<'py>, state: &Snapshot) -> PyResult<Bound<'py, PyDic
 }
 
 impl Results {
-    /// The stored run `run` (an id such as `r0007`, or a run index).
+    /// The stored run `run` (an id such as `r0007`, or a run index) among the runs of the summary
+    /// (a grown file also holds runs its study no longer plans, under the ids they had).
     fn stored(&self, run: &Bound<'_, PyAny>) -> PyResult<stored::StoredRun> {
         let path = &self.path;
         let file = reader::open(path).map_err(results_error)?;
-        let rows = reader::rows(&file, path).map_err(results_error)?;
+        let summary = reader::summary(&file, path).map_err(results_error)?;
+        let rows: Vec<output::SummaryRow> = match summary.rows() {
+            Some(rows) => rows.into_iter().map(|(row, _)| row).collect(),
+            None => reader::rows(&file, path).map_err(results_error)?,
+        };
         let wanted = |row: &&output::SummaryRow| match run.extract::<usize>() {
             Ok(index) => row.index == index,
             Err(_) => run.extract::<String>().is_ok_and(|id| row.id == id),

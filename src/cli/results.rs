@@ -56,6 +56,10 @@ pub struct RunArgs {
     /// the file, out of the summary, points and report).
     #[arg(long, requires = "resume")]
     drop_unplanned: bool,
+    /// With --resume: reuse stored runs made by another demsweep version of the same physics
+    /// version (else such a resume is refused, naming the run and both versions).
+    #[arg(long, requires = "resume")]
+    accept_version: bool,
     /// Replace existing results.
     #[arg(long)]
     force: bool,
@@ -172,6 +176,13 @@ pub struct MergeArgs {
     /// Replace an existing merged file.
     #[arg(long)]
     force: bool,
+    /// Merge runs made by different demsweep versions (of one physics version); else refused,
+    /// naming a run of each.
+    #[arg(long)]
+    accept_version: bool,
+    /// The merged study's name: writes <NAME>.h5 (default: the first file's study name).
+    #[arg(long)]
+    name: Option<String>,
     /// The Slurm array script that ran the shards (`demsweep slurm` passes it): shards to run again
     /// are then given as `sbatch --array=K,...` of it.
     #[arg(long, value_name = "PATH")]
@@ -207,6 +218,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         resume: args.resume,
         force: args.force,
         drop_unplanned: args.drop_unplanned,
+        accept_version: args.accept_version,
         shard: args.shard,
         progress: match args.progress {
             Progress::Auto => ProgressMode::Auto,
@@ -295,7 +307,7 @@ fn print_warnings(report: &RunReport) {
         eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
     eprintln!(
-        "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `row` attribute (JSON)",
+        "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `warnings` table",
         report.results.display()
     );
 }
@@ -478,7 +490,9 @@ pub fn page_written(results: &Path, page: demsweep::workflow::Page) {
 /// `demsweep merge`: shard files into one results file; exit 1 when shards or runs are missing or
 /// failed (what there is is merged, and the commands that complete it are printed).
 pub fn merge(args: &MergeArgs) -> ExitCode {
-    let report = match runner::merge(&args.out, &args.inputs, args.force) {
+    let options =
+        runner::MergeOptions { force: args.force, accept_version: args.accept_version, name: args.name.clone() };
+    let report = match runner::merge(&args.out, &args.inputs, &options) {
         Ok(report) => report,
         Err(e) => return report_error(Err(e)),
     };

@@ -1,7 +1,7 @@
 //! Tables stored as one compound dataset (one named field per column): a single HDF5 object per
 //! table keeps the object count per run small, and h5py reads a column as `dataset["name"]`.
 
-use hdf5_pure::{CompoundTypeBuilder, Dataset, Datatype};
+use hdf5_pure::{CharacterSet, CompoundTypeBuilder, Dataset, Datatype, StringPadding};
 
 use super::table::ColumnData;
 
@@ -16,6 +16,8 @@ pub enum Field<'a> {
     I64(&'a [i64]),
     /// Booleans as 8-bit unsigned integers (0 or 1).
     Bool(&'a [bool]),
+    /// Text as fixed-length UTF-8, as wide as the longest value (at least 1 byte), null-padded.
+    Text(&'a [String]),
 }
 
 impl Field<'_> {
@@ -25,8 +27,14 @@ impl Field<'_> {
             Field::U32(v) => v.len(),
             Field::I64(v) => v.len(),
             Field::Bool(v) => v.len(),
+            Field::Text(v) => v.len(),
         }
     }
+}
+
+/// The width of a text field: its longest value, at least 1 byte.
+fn text_width(values: &[String]) -> usize {
+    values.iter().map(String::len).max().unwrap_or(0).max(1)
 }
 
 /// The compound datatype, little-endian packed element bytes and row count of a table
@@ -41,6 +49,14 @@ pub fn encode(fields: &[(&str, Field<'_>)]) -> (Datatype, Vec<u8>, u64) {
             Field::U32(_) => builder.u32_field(name),
             Field::I64(_) => builder.i64_field(name),
             Field::Bool(_) => builder.u8_field(name),
+            Field::Text(v) => builder.field(
+                name,
+                Datatype::String {
+                    size: text_width(v) as u32,
+                    padding: StringPadding::NullPad,
+                    charset: CharacterSet::Utf8,
+                },
+            ),
         };
     }
     let datatype = builder.build().expect("a table has at least one column");
@@ -52,10 +68,47 @@ pub fn encode(fields: &[(&str, Field<'_>)]) -> (Datatype, Vec<u8>, u64) {
                 Field::U32(v) => bytes.extend_from_slice(&v[row].to_le_bytes()),
                 Field::I64(v) => bytes.extend_from_slice(&v[row].to_le_bytes()),
                 Field::Bool(v) => bytes.push(u8::from(v[row])),
+                Field::Text(v) => {
+                    let start = bytes.len();
+                    bytes.extend_from_slice(v[row].as_bytes());
+                    bytes.resize(start + text_width(v), 0);
+                }
             }
         }
     }
     (datatype, bytes, rows as u64)
+}
+
+/// Tables with at least this many rows are compressed (shuffle + deflate).
+const COMPRESS_MIN_ROWS: u64 = 64;
+/// Largest chunk (rows) of a table.
+const MAX_CHUNK_ROWS: u64 = 1 << 14;
+/// Deflate level: fast, and most of the gain for smooth float series comes from the shuffle.
+pub const DEFLATE_LEVEL: u32 = 1;
+
+/// Stages a compound table in `b`: chunked with a Fletcher-32 checksum of each chunk, so that a
+/// damaged byte is an error when read (by demsweep, h5py or any libhdf5 reader), not a value; long
+/// tables also compressed (shuffle + deflate). An empty table is a plain empty dataset.
+pub fn stage(b: &mut hdf5_pure::DatasetBuilder, fields: &[(&str, Field<'_>)]) {
+    let (datatype, bytes, rows) = encode(fields);
+    b.with_compound_data(datatype, bytes, rows);
+    checksummed(b, &[rows], rows);
+}
+
+/// Chunks a dataset of `shape` (`rows` along its first axis) with a Fletcher-32 checksum, and
+/// compresses it when it has [`COMPRESS_MIN_ROWS`] rows or more (an empty one is left plain).
+pub fn checksummed(b: &mut hdf5_pure::DatasetBuilder, shape: &[u64], rows: u64) {
+    if shape.contains(&0) {
+        b.with_shape(shape);
+        return;
+    }
+    let mut chunks = shape.to_vec();
+    chunks[0] = rows.min(MAX_CHUNK_ROWS);
+    b.with_chunks(&chunks);
+    if rows >= COMPRESS_MIN_ROWS {
+        b.with_shuffle().with_deflate(DEFLATE_LEVEL);
+    }
+    b.with_fletcher32();
 }
 
 /// Deflate's largest compression ratio (1032:1): no dataset of a file decodes to more than this
@@ -105,6 +158,15 @@ pub fn decode(dataset: &Dataset, limit: u64) -> Result<Vec<(String, ColumnData)>
                     rows.iter().map(|r| i64::from_le_bytes(bytes(r, 8).try_into().expect("8 bytes"))).collect(),
                 ),
                 (Datatype::FixedPoint { .. }, 1) => ColumnData::Bool(rows.iter().map(|r| r[at] != 0).collect()),
+                (Datatype::String { .. }, n) => ColumnData::Text(
+                    rows.iter()
+                        .map(|r| {
+                            let text = &r[at..at + n as usize];
+                            let end = text.iter().position(|&b| b == 0).unwrap_or(text.len());
+                            String::from_utf8_lossy(&text[..end]).into_owned()
+                        })
+                        .collect(),
+                ),
                 _ => return Err(format!("field `{}` has an unsupported type", m.name)),
             };
             Ok((m.name.clone(), data))

@@ -5,9 +5,10 @@
 
 use hdf5_pure::{AttrValue, DatasetBuilder, Datatype, Group, StagedGroup};
 
-/// HDF5's registered filter identifiers of deflate and shuffle.
+/// HDF5's registered filter identifiers of deflate, shuffle and Fletcher-32.
 const FILTER_DEFLATE: u16 = 1;
 const FILTER_SHUFFLE: u16 = 2;
+const FILTER_FLETCHER32: u16 = 3;
 
 /// A group read from a results file: its attributes, datasets and subgroups, sorted by name.
 pub struct GroupCopy {
@@ -23,22 +24,25 @@ struct DatasetCopy {
     shape: Vec<u64>,
     bytes: Vec<u8>,
     chunks: Option<Vec<u64>>,
-    /// Shuffle, then deflate at this level, as the source had them.
+    /// Shuffle, then deflate at this level, then a Fletcher-32 checksum, as the source had them.
     shuffle: bool,
     deflate: Option<u32>,
+    fletcher32: bool,
     attrs: Vec<(String, AttrValue)>,
 }
 
 impl GroupCopy {
-    /// Reads `group` and everything under it; a filter other than shuffle and deflate is refused.
+    /// Reads `group` and everything under it (checksums verified); a filter other than shuffle,
+    /// deflate and Fletcher-32 is refused.
     pub fn read(group: &Group) -> Result<Self, String> {
         let text = |e: hdf5_pure::Error| e.to_string();
         let mut datasets = Vec::new();
         for (name, dataset) in group.iter_datasets().map_err(text)? {
-            let (mut shuffle, mut deflate) = (false, None);
+            let (mut shuffle, mut deflate, mut fletcher32) = (false, None, false);
             for filter in dataset.filter_pipeline() {
                 match filter.id {
                     FILTER_SHUFFLE => shuffle = true,
+                    FILTER_FLETCHER32 => fletcher32 = true,
                     FILTER_DEFLATE => deflate = Some(filter.client_data.first().copied().unwrap_or(1)),
                     other => return Err(format!("{name}: filter {other} cannot be copied")),
                 }
@@ -46,10 +50,11 @@ impl GroupCopy {
             datasets.push(DatasetCopy {
                 datatype: dataset.datatype().map_err(text)?,
                 shape: dataset.shape().map_err(text)?,
-                bytes: dataset.read_raw().map_err(text)?,
+                bytes: dataset.read_raw().map_err(|e| format!("{name}: {e}"))?,
                 chunks: dataset.chunk_shape().map_err(text)?,
                 shuffle,
                 deflate,
+                fletcher32,
                 attrs: sorted(dataset.attrs().map_err(text)?),
                 name,
             });
@@ -95,6 +100,9 @@ impl DatasetCopy {
         }
         if let Some(level) = self.deflate {
             b.with_deflate(level);
+        }
+        if self.fletcher32 {
+            b.with_fletcher32();
         }
         for (name, value) in self.attrs {
             b.set_attr(&name, value);

@@ -18,7 +18,7 @@ pub fn to_csv<W: Write>(path: &Path, run_id: &str, out: &mut W) -> Result<(), Ou
         )
     })?;
     let columns = compound::decode(&dataset, compound::read_limit(path))
-        .map_err(|e| OutputError::new(path, format!("/{run}/history: {e}")))?;
+        .map_err(|e| reader::damaged_data(path, run_id, &format!("{run}/history"), &e))?;
     let write_err = |e| OutputError::io(Path::new("<output>"), e);
     let names: Vec<String> = columns.iter().map(|(n, _)| quantity::series_with_unit(n)).collect();
     csv::write_record(out, &names).map_err(write_err)?;

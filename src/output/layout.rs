@@ -1,28 +1,35 @@
-//! Where things live in a results file (a run group's attributes: see [`super::run_attrs`]).
+//! Where things live in a results file (a run group's attributes and small tables: see
+//! [`super::run_attrs`]). Results format 3 ([`super::run_attrs::RESULTS_FORMAT`]):
 //!
 //! ```text
 //! /                        root attributes: see `header`
 //! /runs_00000/<identity>  one group per run, named by its identity (`crate::study::RunIdentity`; the
 //!                          run id in files written before identities), in the batch group of the
 //!                          commit that wrote it (batches `runs_00000`, `runs_00001`, … in commit
-//!                          order); attributes: see `run_attrs`. `/summary`'s `identity` column is
-//!                          the index from a run id to its group
-//!     history              compound table, one field per series, one row per sample
+//!                          order); attributes and the tables values, parameters, warnings: see
+//!                          `run_attrs`
+//!     history              compound table, one field per series, one row per sample (attr `units`)
 //!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
 //!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
 //!     final_contacts       compound table, one field per contact property, one row per contact
 //!                          (attr `time`; see `CONTACT_FIELDS`), stored with `final`
-//!     frames/<k>           the state table of recorded frame k (attribute `time`); k zero-padded to
-//!                          `FRAME_DIGITS` digits (`00000`, `00001`, …), so names sort in time order
-//!     frame_contacts/<k>   the contact table of frame k, stored with `frames`
+//!     frames/time          the recorded frames' times (T), H5MD-like: one array per quantity over time
+//!     frames/<field>       one (T, N) float64 array per disk property of `DISK_FIELDS` (attr `unit`)
+//!     frames/contacts      compound table of every frame's contacts, frame after frame: field
+//!                          `frame` (uint32, the row of `time`), then `CONTACT_FIELDS`
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
-//!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`])
+//!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`]); the last two
+//!                          columns, [`RUN_GROUP`] and [`RUN_MADE_BY`], are the file's own (not in
+//!                          the summary table, the CSV or the printed summary)
 //! ```
 //!
-//! Each commit adds one new batch group under the root and changes no other group but the root:
-//! hdf5-pure walks every object of the file when a commit rebuilds an existing group below the root
-//! (to check it has one hard link), which made each commit cost grow with the file. Files written
-//! before batches keep their runs in `/runs/b<index / 100>/<id>` ([`LEGACY_RUNS`]); readers read both.
+//! Every dataset of a run is chunked with a Fletcher-32 checksum, so a damaged byte is an error,
+//! not a value. Each commit adds one new batch group under the root and changes no other group but
+//! the root: hdf5-pure walks every object of the file when a commit rebuilds an existing group below
+//! the root (to check it has one hard link), which made each commit cost grow with the file. Files
+//! written before batches keep their runs in `/runs/b<index / 100>/<id>` ([`LEGACY_RUNS`]); files of
+//! results format 2 and before keep frames as `frames/<k>` and `frame_contacts/<k>` tables
+//! ([`FRAME_DIGITS`]); readers read every layout.
 
 use hdf5_pure::AttrValue;
 
@@ -61,7 +68,21 @@ pub fn column_attrs(column: &str) -> Vec<(&'static str, AttrValue)> {
     })
 }
 
-const UNIT: &str = "unit";
+/// Attribute of an array dataset (and of `/summary` and `/points` columns): the unit of its values
+/// (empty when dimensionless).
+pub const UNIT: &str = "unit";
+/// Column of `/summary` (the file's own): the path of each run's group (`runs_00003/<identity>`),
+/// so that `f[path]` reaches a run.
+pub const RUN_GROUP: &str = "group";
+/// Column of `/summary` (the file's own): the demsweep version that made each run (empty where
+/// the run's group does not say: results formats before 3).
+pub const RUN_MADE_BY: &str = "demsweep_version";
+/// The frames' times in a run's `frames` group.
+pub const FRAME_TIME: &str = "time";
+/// The frames' contacts table in a run's `frames` group.
+pub const FRAME_CONTACT_TABLE: &str = "contacts";
+/// The field of [`FRAME_CONTACT_TABLE`] saying which frame a contact belongs to.
+pub const FRAME_INDEX: &str = "frame";
 const DESCRIPTION: &str = "description";
 
 /// The history table: one field per series of [`HISTORY_SERIES`], in its order.
@@ -139,14 +160,43 @@ pub const FINAL: &str = "final";
 pub const FINAL_CONTACTS: &str = "final_contacts";
 /// The group of frame state tables in a run group.
 pub const FRAMES: &str = "frames";
-/// The group of frame contact tables in a run group.
+/// The group of frame contact tables in a run group of results format 2 and before.
 pub const FRAME_CONTACTS: &str = "frame_contacts";
-/// Digits of a frame's name (zero-padded, so that names sort in time order).
+
+/// Digits of a frame's number in names (zero-padded, so that names sort in time order): exported
+/// and plotted frames, and the frame tables of results format 2 and before.
 pub const FRAME_DIGITS: usize = 5;
 
-/// Name of frame `k` in [`FRAMES`] and [`FRAME_CONTACTS`].
+/// Name of frame `k` (see [`FRAME_DIGITS`]).
 pub fn frame_name(k: usize) -> String {
     format!("{k:0FRAME_DIGITS$}")
+}
+
+/// The contacts of every frame, frame after frame, and the frame of each (see [`FRAME_CONTACT_TABLE`]).
+pub fn frame_contacts(frames: &[Snapshot]) -> (Vec<u32>, ContactNetwork) {
+    let mut all = ContactNetwork::default();
+    let mut frame = Vec::new();
+    for (k, s) in frames.iter().enumerate() {
+        let c = &s.contacts;
+        frame.extend(std::iter::repeat_n(k as u32, c.first.len()));
+        all.first.extend(&c.first);
+        all.second.extend(&c.second);
+        for (to, from) in [
+            (&mut all.normal_x, &c.normal_x),
+            (&mut all.normal_y, &c.normal_y),
+            (&mut all.normal_force, &c.normal_force),
+            (&mut all.tangential_force, &c.tangential_force),
+            (&mut all.overlap, &c.overlap),
+            (&mut all.point_x, &c.point_x),
+            (&mut all.point_y, &c.point_y),
+            (&mut all.tangential_spring, &c.tangential_spring),
+            (&mut all.law_state, &c.law_state),
+        ] {
+            to.extend(from);
+        }
+        all.sliding.extend(&c.sliding);
+    }
+    (frame, all)
 }
 
 /// Name of the batch group of commit `k`.

@@ -95,8 +95,8 @@ pub struct CommittedRuns {
 }
 
 thread_local! {
-    /// Run-group attribute sets read by this thread: each costs a read of every attribute of a run
-    /// group, which readers do only for runs `/summary` does not describe (and for the warning texts
+    /// Run groups whose rows this thread has read (attributes and tables): each costs a read of a run
+    /// group, which readers do only for runs `/summary` does not describe (and for the warnings
     /// of runs that have warnings). Tests count them to check that reading a finished file does not.
     static ATTRIBUTE_SETS_READ: Cell<usize> = const { Cell::new(0) };
 }
@@ -116,9 +116,10 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     let (located, mut damaged) = run_groups(file, path, &described)?;
     let mut runs = CommittedRuns::default();
     for (name, group) in located {
+        let limit = super::compound::read_limit(path);
         let row = match described.remove(&name) {
-            Some((row, warnings)) => with_warnings(file, &group, row, warnings),
-            None => group_row(file, &group),
+            Some((row, warnings)) => with_warnings(file, &group, row, (warnings, limit)),
+            None => group_row(file, &group, limit),
         };
         match row.and_then(|row| checked_id(row, &name)) {
             Ok(row) => {
@@ -196,7 +197,7 @@ fn look_up<'a>(file: &File, parent: &str, ids: impl Iterator<Item = &'a String>)
         let group = format!("{parent}/{id}");
         match file.group(&group) {
             Err(hdf5_pure::Error::Format(hdf5_pure::FormatError::PathNotFound(_))) => {}
-            opened => match opened.map_err(|e| e.to_string()).and_then(|g| attributes(&g)) {
+            opened => match opened.and_then(|g| g.attrs()).map_err(|e| e.to_string()) {
                 Ok(_) => found.push((id.clone(), group)),
                 Err(reason) => unreadable.push(DamagedGroup { group: format!("/{group}"), reason }),
             },
@@ -219,33 +220,40 @@ fn containers(file: &File) -> Result<Vec<String>, hdf5_pure::Error> {
     Ok(parents)
 }
 
-/// The rows `/summary` describes, by group name, with their warning counts; none when the file has no
-/// `/summary` or one that does not describe runs completely (an older layout).
+/// The rows `/summary` describes, by group name, with their warning counts (and the version that
+/// made each, where `/summary` records it); none when the file has no `/summary` or one that does
+/// not describe runs completely (an older layout).
 fn summary_rows(file: &File, path: &Path) -> Result<HashMap<String, (SummaryRow, usize)>, OutputError> {
     let Some(table) = stored_table(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
-    let rows = table.rows().unwrap_or_default().into_iter();
-    Ok(rows.map(|(row, warnings)| (row.group_name().to_string(), (row, warnings))).collect())
+    let mut rows = table.rows().unwrap_or_default();
+    let made_by = file.dataset(&format!("{SUMMARY}/{}", layout::RUN_MADE_BY)).and_then(|d| d.read_string());
+    if let Ok(made_by) = made_by.map_err(drop).and_then(|v| if v.len() == rows.len() { Ok(v) } else { Err(()) }) {
+        for ((row, _), version) in rows.iter_mut().zip(made_by) {
+            row.made_by = version;
+        }
+    }
+    Ok(rows.into_iter().map(|(row, warnings)| (row.group_name().to_string(), (row, warnings))).collect())
 }
 
-/// A row `/summary` describes; a run with warnings gets their texts from its group's attributes.
-fn with_warnings(file: &File, group: &str, mut row: SummaryRow, warnings: usize) -> Result<SummaryRow, String> {
+/// A row `/summary` describes; a run with warnings gets them from its group (tables read at most
+/// `limit` bytes).
+fn with_warnings(
+    file: &File,
+    group: &str,
+    mut row: SummaryRow,
+    (warnings, limit): (usize, u64),
+) -> Result<SummaryRow, String> {
     if warnings > 0 {
-        let opened = file.group(group).map_err(|e| e.to_string())?;
-        row.warnings = run_attrs::row_from_attrs(&attributes(&opened)?)?.warnings;
+        row.warnings = group_row(file, group, limit)?.warnings;
     }
     Ok(row)
 }
 
-/// A run's row read from its group's attributes.
-fn group_row(file: &File, group: &str) -> Result<SummaryRow, String> {
+/// A run's row read from its group (counted: see [`attribute_sets_read`]).
+fn group_row(file: &File, group: &str, limit: u64) -> Result<SummaryRow, String> {
     let opened = file.group(group).map_err(|e| e.to_string())?;
-    run_attrs::row_from_attrs(&attributes(&opened)?)
-}
-
-/// Every attribute of a run group (counted: see [`attribute_sets_read`]).
-fn attributes(group: &hdf5_pure::Group) -> Result<HashMap<String, hdf5_pure::AttrValue>, String> {
     ATTRIBUTE_SETS_READ.set(ATTRIBUTE_SETS_READ.get() + 1);
-    group.attrs().map_err(|e| e.to_string())
+    run_attrs::row_from_group(&opened, limit)
 }
 
 /// The rows of every committed run, sorted by run index; an error naming the damaged run groups if
@@ -306,14 +314,16 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
     let names = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()).unwrap_or(&[]);
     let columns = names
         .iter()
+        .filter(|name| ![layout::RUN_GROUP, layout::RUN_MADE_BY].contains(&name.as_str()))
         .map(|name| {
             let dataset = group.dataset(name).map_err(err)?;
-            let data = column_data(&dataset).map_err(err)?;
-            Ok(Column { name: name.clone(), data })
+            Ok(column_data(&dataset).ok().map(|data| Column { name: name.clone(), data }))
         })
-        .collect::<Result<Vec<Column>, OutputError>>()?;
-    // Columns of different lengths (a damaged or crafted file): the table is not used, as if the
-    // file had none (`/summary` is then rebuilt from the run groups, `/points` from the summary).
+        .collect::<Result<Option<Vec<Column>>, OutputError>>()?;
+    // A column that does not read (its checksum fails) or columns of different lengths (a damaged
+    // or crafted file): the table is not used, as if the file had none (`/summary` is then rebuilt
+    // from the run groups, `/points` from the summary).
+    let Some(columns) = columns else { return Ok(None) };
     let rows = columns.first().map_or(0, |c| c.data.len());
     Ok(columns.iter().all(|c| c.data.len() == rows).then_some(SummaryTable { columns }))
 }
@@ -356,4 +366,10 @@ pub fn listed_group(file: &File, path: &Path, run_id: &str) -> Result<Option<Str
 pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>, OutputError> {
     let parents = containers(file).map_err(|e| hdf5_error(path, e))?;
     Ok(parents.iter().rev().map(|parent| format!("{parent}/{name}")).find(|group| file.group(group).is_ok()))
+}
+
+/// The error of a dataset of run `run_id` (`dataset`: its path) that cannot be read, e.g. one whose
+/// Fletcher-32 checksum does not match its bytes (damaged data is an error, never a value).
+pub fn damaged_data(path: &Path, run_id: &str, dataset: &str, reason: &str) -> OutputError {
+    OutputError::new(path, format!("run {run_id}: /{dataset} cannot be read: {reason}"))
 }

@@ -6,6 +6,9 @@ use crate::physics::record::{RunRecord, RunStatus};
 use crate::physics::warning::ValidityWarning;
 use crate::study::ParamValue;
 
+/// The version of this program, recorded on each run it makes.
+pub const DEMSWEEP_VERSION: &str = env!("CARGO_PKG_VERSION");
+
 /// One run's summary: identity, swept parameters, outcome and final values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SummaryRow {
@@ -38,6 +41,9 @@ pub struct SummaryRow {
     /// The run's identity (`crate::study::RunIdentity`: what its results depend on); empty for runs of
     /// files written before identities.
     pub identity: String,
+    /// The demsweep version that made the run (a run group's `demsweep_version`); empty where the
+    /// file does not say (results formats before 3: the file header's version is the best guess).
+    pub made_by: String,
 }
 
 /// A value of one of a row's [`OUTCOME`] fields.
@@ -99,6 +105,7 @@ impl SummaryRow {
             cpu_time: f64::NAN,
             final_values: quantity::final_values(record),
             identity: String::new(),
+            made_by: DEMSWEEP_VERSION.to_string(),
         }
     }
 
@@ -119,6 +126,7 @@ impl SummaryRow {
             cpu_time: f64::NAN,
             final_values: [f64::NAN; FINAL_VALUE_COUNT],
             identity: String::new(),
+            made_by: DEMSWEEP_VERSION.to_string(),
         }
     }
 

@@ -1,33 +1,44 @@
-//! The attributes of a run group: its summary row, identity and scene, in at most eight attributes.
+//! A run group's description of its run: attributes (identity, how it ended, what made it, its scene)
+//! and three small typed tables (per-run values, swept parameters, validity warnings).
 //!
 //! ```text
-//! index, id, status, message   the run's identity and how it ended (int64, strings)
-//! row                          JSON: {"parameters": [[key path, value], …] in axis order,
-//!                              "warnings": [{kind, value, limit, time, …}, …] (typed: see
-//!                              [`ValidityWarning`]), then each per-run quantity by name
-//!                              (settle_time, steps, …, pile metrics); a missing value is null,
-//!                              an infinite one "inf" / "-inf"}
-//! identity                     what the run's results depend on (`crate::study::RunIdentity`), the
-//!                              group's name; absent in files written before identities
-//! scene.json                   the complete scene
+//! attributes   index (int64), id, status, message, identity (`crate::study::RunIdentity`, the
+//!              group's name), demsweep_version (of the program that made the run),
+//!              results_format (int64, [`RESULTS_FORMAT`]), scene.json (the complete scene)
+//! values       compound, one row: each per-run quantity by name ([`OUTCOME`], then the final
+//!              values and pile metrics), float64 (NaN when missing) or int64 (steps,
+//!              particle_steps); attribute `units` (field order)
+//! parameters   compound, one row: each swept key path, typed (float64, int64, uint8 0/1, text);
+//!              absent when nothing is swept
+//! warnings     compound, one row per validity warning: kind (text, e.g. `energy_balance`), value,
+//!              limit, time, impact_speed, safe_time_step (NaN where the warning has none; see
+//!              [`ValidityWarning`]); absent when the run has none
 //! ```
 //!
 //! Eight attributes at most keep them in the group's object header: with more, hdf5-pure stores
 //! them in a fractal heap, and a file holding such an object can never be proven free of object
 //! references, so every commit walks the whole file to repoint references (a commit cost growing
-//! with the file). Files written before this layout have one attribute per value; [`row_from_attrs`]
-//! reads both.
+//! with the file). The tables are chunked with a Fletcher-32 checksum, like every dataset of a run.
+//! Older layouts: results format 2 (no `results_format` attribute) kept the row as JSON text in an
+//! attribute `row`; format 1 had one attribute per value. [`row_from_group`] reads all three.
 
 use std::collections::HashMap;
 
-use hdf5_pure::AttrValue;
-use serde_json::{Map, Value, json};
+use hdf5_pure::{AttrValue, Group, StagedGroup};
+use serde_json::Value;
 
-use super::row::{OutcomeValue, SummaryRow};
+use super::compound::{self, Field};
+use super::row::{DEMSWEEP_VERSION, OutcomeValue, SummaryRow};
+use super::table::ColumnData;
 use crate::physics::SceneConfig;
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::RunStatus;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::study::ParamValue;
+
+/// The layout of the run groups this program writes: 3 since per-run values are typed tables
+/// (2: a JSON `row` attribute; 1: one attribute per value).
+pub const RESULTS_FORMAT: i64 = 3;
 
 const INDEX: &str = "index";
 const ID: &str = "id";
@@ -35,9 +46,18 @@ const STATUS: &str = "status";
 const MESSAGE: &str = "message";
 const ROW: &str = "row";
 const IDENTITY: &str = "identity";
-const SCENE_JSON: &str = "scene.json";
+/// Attribute of a run group: the demsweep version that made the run (absent before format 3).
+pub const MADE_BY: &str = "demsweep_version";
+/// Attribute of a run group: its results format ([`RESULTS_FORMAT`]; absent before format 3).
+pub const FORMAT: &str = "results_format";
+/// Attribute of a run group: its complete scene, as JSON.
+pub const SCENE_JSON: &str = "scene.json";
 const PARAMETERS: &str = "parameters";
 const WARNINGS: &str = "warnings";
+/// The per-run values table of a run group.
+pub const VALUES: &str = "values";
+/// The fields of the warnings table after `kind`.
+const WARNING_FIELDS: [&str; 5] = ["value", "limit", "time", "impact_speed", "safe_time_step"];
 
 /// The attributes of a run group (see the module documentation).
 pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(&'static str, AttrValue)> {
@@ -46,56 +66,198 @@ pub fn run_attrs(row: &SummaryRow, scene: &SceneConfig) -> Vec<(&'static str, At
         (ID, AttrValue::String(row.id.clone())),
         (STATUS, AttrValue::String(row.status.as_str().to_string())),
         (MESSAGE, AttrValue::String(row.message.clone())),
-        (ROW, AttrValue::String(row_json(row).to_string())),
         (IDENTITY, AttrValue::String(row.identity.clone())),
+        (MADE_BY, AttrValue::String(DEMSWEEP_VERSION.to_string())),
+        (FORMAT, AttrValue::I64(RESULTS_FORMAT)),
         (SCENE_JSON, AttrValue::String(serde_json::to_string(scene).unwrap_or_default())),
     ]
 }
 
-/// The `row` attribute: parameters, warnings and per-run quantities.
-fn row_json(row: &SummaryRow) -> Value {
-    let mut map = Map::new();
-    let parameters = row.parameters.iter().map(|(k, v)| json!([k, param_json(v)])).collect();
-    map.insert(PARAMETERS.into(), Value::Array(parameters));
-    map.insert(WARNINGS.into(), json!(row.warnings));
-    for (q, value) in OUTCOME.iter().zip(row.outcome()) {
-        let value = match value {
-            OutcomeValue::Float(x) => float_json(x),
-            OutcomeValue::Int(i) => json!(i),
+/// A value of the one-row tables.
+enum Cell {
+    Float(f64),
+    Int(i64),
+    Bool(bool),
+    Text(String),
+}
+
+impl Cell {
+    fn field(&self) -> Field<'_> {
+        match self {
+            Cell::Float(x) => Field::F64(std::slice::from_ref(x)),
+            Cell::Int(i) => Field::I64(std::slice::from_ref(i)),
+            Cell::Bool(b) => Field::Bool(std::slice::from_ref(b)),
+            Cell::Text(t) => Field::Text(std::slice::from_ref(t)),
+        }
+    }
+}
+
+/// Stages the tables `values`, `parameters` and `warnings` of a run's row in its group `g`.
+pub fn stage_tables(g: &mut StagedGroup<'_>, row: &SummaryRow) {
+    let outcome = OUTCOME.iter().zip(row.outcome()).map(|(q, v)| match v {
+        OutcomeValue::Float(x) => (q.name, Cell::Float(x)),
+        OutcomeValue::Int(i) => (q.name, Cell::Int(i as i64)),
+    });
+    let finals = quantity::final_value_declarations().zip(row.final_values).map(|(q, x)| (q.name, Cell::Float(x)));
+    let values: Vec<(&str, Cell)> = outcome.chain(finals).collect();
+    g.create_dataset(VALUES, |b| {
+        compound::stage(b, &values.iter().map(|(n, c)| (*n, c.field())).collect::<Vec<_>>());
+        b.set_attr(super::layout::UNITS, values_units());
+    });
+    let parameters: Vec<(&str, Cell)> = row
+        .parameters
+        .iter()
+        .map(|(key, value)| {
+            let cell = match value {
+                ParamValue::Float(x) => Cell::Float(*x),
+                ParamValue::Int(i) => Cell::Int(*i),
+                ParamValue::Bool(b) => Cell::Bool(*b),
+                ParamValue::Text(t) => Cell::Text(t.clone()),
+            };
+            (key.as_str(), cell)
+        })
+        .collect();
+    if !parameters.is_empty() {
+        g.create_dataset(PARAMETERS, |b| {
+            compound::stage(b, &parameters.iter().map(|(n, c)| (*n, c.field())).collect::<Vec<_>>())
+        });
+    }
+    if !row.warnings.is_empty() {
+        let kinds: Vec<String> = row.warnings.iter().map(|w| kind_name(w.kind)).collect();
+        let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let columns: [Vec<f64>; 5] = [
+            row.warnings.iter().map(|w| w.value).collect(),
+            row.warnings.iter().map(|w| w.limit).collect(),
+            row.warnings.iter().map(|w| nan(w.time)).collect(),
+            row.warnings.iter().map(|w| nan(w.impact_speed)).collect(),
+            row.warnings.iter().map(|w| nan(w.safe_time_step)).collect(),
+        ];
+        let mut fields = vec![("kind", Field::Text(&kinds))];
+        fields.extend(WARNING_FIELDS.iter().zip(&columns).map(|(name, v)| (*name, Field::F64(v))));
+        g.create_dataset(WARNINGS, |b| compound::stage(b, &fields));
+    }
+}
+
+/// The units of the `values` table's fields, in order.
+fn values_units() -> AttrValue {
+    let units = OUTCOME.iter().map(|q| q.unit).chain(quantity::final_value_declarations().map(|q| q.unit));
+    AttrValue::StringArray(units.map(str::to_string).collect())
+}
+
+/// A warning kind's name in files (`energy_balance`).
+fn kind_name(kind: WarningKind) -> String {
+    serde_json::to_value(kind).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
+}
+
+/// Reads a summary row back from a run group (any results format); the error names what is missing
+/// or damaged. `limit` bounds what a table may declare (see [`compound::read_limit`]).
+pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, String> {
+    let attrs = group.attrs().map_err(|e| e.to_string())?;
+    let mut row = row_header(&attrs)?;
+    if attrs.contains_key(FORMAT) {
+        let table = |name: &str| -> Result<Option<HashMap<String, ColumnData>>, String> {
+            let datasets = group.datasets().map_err(|e| e.to_string())?;
+            if !datasets.iter().any(|d| d == name) {
+                return Ok(None);
+            }
+            let dataset = group.dataset(name).map_err(|e| format!("`{name}`: {e}"))?;
+            let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{name}`: {e}"))?;
+            Ok(Some(columns.into_iter().collect()))
         };
-        map.insert(q.name.into(), value);
+        let values = table(VALUES)?.ok_or(format!("no `{VALUES}` table"))?;
+        fill_values(&mut row, &values).map_err(|e| format!("`{VALUES}`: {e}"))?;
+        row.parameters = match group.dataset(PARAMETERS) {
+            Ok(dataset) => {
+                let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{PARAMETERS}`: {e}"))?;
+                columns.into_iter().filter_map(|(key, column)| Some((key, column.param(0)?))).collect()
+            }
+            Err(_) => Vec::new(),
+        };
+        row.warnings = table(WARNINGS)?.map_or(Ok(Vec::new()), |t| warnings(&t))?;
+        return Ok(row);
     }
-    for (q, value) in quantity::final_value_declarations().zip(row.final_values) {
-        map.insert(q.name.into(), float_json(value));
+    match attrs.get(ROW) {
+        Some(json) => {
+            let json = json.as_str().ok_or(format!("`{ROW}` is not text"))?;
+            let value: Value = serde_json::from_str(json).map_err(|e| format!("`{ROW}` is not JSON: {e}"))?;
+            fill_from_json(&mut row, &value).map_err(|what| format!("`{ROW}`: {what}"))?;
+        }
+        None => legacy::fill_from_attrs(&mut row, &attrs)?,
     }
-    Value::Object(map)
+    Ok(row)
 }
 
-/// A float in JSON: a number, null when missing (NaN), `"inf"` / `"-inf"` when infinite.
-fn float_json(x: f64) -> Value {
-    match x {
-        x if x.is_finite() => json!(x),
-        x if x.is_nan() => Value::Null,
-        x if x > 0.0 => json!("inf"),
-        _ => json!("-inf"),
-    }
+/// The row's index, id, status, message and identity from a run group's attributes.
+fn row_header(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
+    let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
+    let text =
+        |name: &str| get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(format!("`{name}` is not text")));
+    let index = get(INDEX).and_then(|v| v.as_i64().ok_or(format!("`{INDEX}` is not an integer")))? as usize;
+    let status = text(STATUS)?;
+    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
+    let mut row = SummaryRow::failed(index, &text(ID)?, &[], &text(MESSAGE)?);
+    row.status = status;
+    row.identity = attrs.get(IDENTITY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
+    row.made_by = attrs.get(MADE_BY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
+    Ok(row)
 }
 
-/// A float back from [`float_json`]; `None` for anything else.
+/// The quantities of a row from its `values` table (a quantity the file predates reads as missing).
+fn fill_values(row: &mut SummaryRow, values: &HashMap<String, ColumnData>) -> Result<(), String> {
+    let number = |name: &str| -> Result<f64, String> {
+        match values.get(name) {
+            None => Ok(f64::NAN),
+            Some(column) if column.len() == 1 => column.number(0).ok_or(format!("`{name}` is not a number")),
+            Some(_) => Err(format!("`{name}` does not hold one value")),
+        }
+    };
+    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
+    let settle = number(settle_time)?;
+    row.settle_time = (!settle.is_nan()).then_some(settle);
+    let count = |name: &str| number(name).map(|x| if x.is_nan() { 0 } else { x as u64 });
+    (row.steps, row.particle_steps) = (count(steps)?, count(particle_steps)?);
+    (row.simulated_time, row.wall_time, row.cpu_time) =
+        (number(simulated_time)?, number(wall_time)?, number(cpu_time)?);
+    for (slot, declared) in row.final_values.iter_mut().zip(quantity::final_value_declarations()) {
+        *slot = number(declared.name)?;
+    }
+    Ok(())
+}
+
+/// The warnings of a `warnings` table.
+fn warnings(table: &HashMap<String, ColumnData>) -> Result<Vec<ValidityWarning>, String> {
+    let Some(ColumnData::Text(kinds)) = table.get("kind") else {
+        return Err("`warnings`: no text field `kind`".into());
+    };
+    let column = |name: &str| match table.get(name) {
+        Some(ColumnData::Float(v)) if v.len() == kinds.len() => Ok(v),
+        _ => Err(format!("`warnings`: no float field `{name}` of {} rows", kinds.len())),
+    };
+    let [value, limit, time, impact_speed, safe_time_step] = WARNING_FIELDS.map(column);
+    let (value, limit, time, impact_speed, safe_time_step) = (value?, limit?, time?, impact_speed?, safe_time_step?);
+    let some = |x: f64| (!x.is_nan()).then_some(x);
+    kinds
+        .iter()
+        .enumerate()
+        .map(|(i, kind)| {
+            let kind: WarningKind = serde_json::from_value(Value::String(kind.clone()))
+                .map_err(|_| format!("`warnings`: `{kind}` is not a warning kind"))?;
+            Ok(ValidityWarning {
+                time: some(time[i]),
+                impact_speed: some(impact_speed[i]),
+                safe_time_step: some(safe_time_step[i]),
+                ..ValidityWarning::new(kind, value[i], limit[i])
+            })
+        })
+        .collect()
+}
+
+/// A float of a format-2 `row`: a number, null when missing (NaN), `"inf"` / `"-inf"` when infinite.
 fn json_float(value: &Value) -> Option<f64> {
     match value {
         Value::Null => Some(f64::NAN),
         Value::String(text) => text.parse().ok().filter(|x: &f64| x.is_infinite()),
         other => other.as_f64(),
-    }
-}
-
-fn param_json(v: &ParamValue) -> Value {
-    match v {
-        ParamValue::Float(x) => float_json(*x),
-        ParamValue::Int(i) => json!(i),
-        ParamValue::Bool(b) => json!(b),
-        ParamValue::Text(s) => json!(s),
     }
 }
 
@@ -106,29 +268,6 @@ fn json_param(value: &Value) -> Option<ParamValue> {
         Value::String(s) => Some(ParamValue::Text(s.clone())),
         other => json_float(other).map(ParamValue::Float),
     }
-}
-
-/// Reads a summary row back from a run group's attributes (either layout); the error names what is
-/// missing.
-pub fn row_from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
-    let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
-    let text =
-        |name: &str| get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(format!("`{name}` is not text")));
-    let index = get(INDEX).and_then(|v| v.as_i64().ok_or(format!("`{INDEX}` is not an integer")))? as usize;
-    let status = text(STATUS)?;
-    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
-    let mut row = SummaryRow::failed(index, &text(ID)?, &[], &text(MESSAGE)?);
-    row.status = status;
-    row.identity = attrs.get(IDENTITY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
-    match attrs.get(ROW) {
-        Some(json) => {
-            let json = json.as_str().ok_or(format!("`{ROW}` is not text"))?;
-            let value: Value = serde_json::from_str(json).map_err(|e| format!("`{ROW}` is not JSON: {e}"))?;
-            fill_from_json(&mut row, &value).map_err(|what| format!("`{ROW}`: {what}"))?;
-        }
-        None => legacy::fill_from_attrs(&mut row, attrs)?,
-    }
-    Ok(row)
 }
 
 /// The parameters, warnings and quantities of a row from its `row` attribute (a quantity the file
@@ -219,8 +358,9 @@ mod legacy {
 
 #[cfg(test)]
 mod tests {
+    use serde_json::{Map, json};
+
     use super::*;
-    use crate::physics::warning::{ValidityWarning, WarningKind};
 
     fn row() -> SummaryRow {
         let parameters = [
@@ -240,27 +380,114 @@ mod tests {
         row.final_values[0] = f64::INFINITY;
         row.final_values[1] = -f64::INFINITY;
         row.final_values[2] = 5e-324;
+        row.identity = "0123456789abcdef-0000000000000007-p1".into();
         row
     }
 
+    /// Writes a file with one group `run` staged by `stage`, and reads its row back.
+    fn written(name: &str, stage: impl FnOnce(&mut StagedGroup<'_>)) -> Result<SummaryRow, String> {
+        let path = std::env::temp_dir().join(format!("demsweep-run-attrs-{name}-{}.h5", std::process::id()));
+        hdf5_pure::FileBuilder::new().write(&path).unwrap();
+        let file = hdf5_pure::File::open_rw(&path).unwrap();
+        file.root().create_group_with("run", stage).unwrap();
+        file.commit().unwrap();
+        file.close().unwrap();
+        let file = hdf5_pure::File::open(&path).unwrap();
+        let row = row_from_group(&file.group("run").unwrap(), compound::read_limit(&path));
+        std::fs::remove_file(&path).unwrap();
+        row
+    }
+
+    fn set_attrs(g: &mut StagedGroup<'_>, attrs: Vec<(&'static str, AttrValue)>) {
+        for (name, value) in attrs {
+            g.set_attr(name, value);
+        }
+    }
+
+    fn without_finals(r: SummaryRow) -> SummaryRow {
+        SummaryRow { final_values: [0.0; FINAL_VALUE_COUNT], ..r }
+    }
+
     #[test]
-    fn a_row_reads_back_bit_for_bit_from_at_most_eight_attributes() {
+    fn a_row_reads_back_bit_for_bit_from_eight_attributes_and_typed_tables() {
         let row = row();
         let attrs = run_attrs(&row, &SceneConfig::default());
         assert!(attrs.len() <= 8, "{} attributes: more go to a fractal heap", attrs.len());
-        let attrs: HashMap<String, AttrValue> = attrs.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
-        let back = row_from_attrs(&attrs).unwrap();
+        let back = written("typed", |g| {
+            set_attrs(g, attrs);
+            stage_tables(g, &row);
+        })
+        .unwrap();
         assert_eq!(back.parameters, row.parameters);
         assert_eq!(back.final_values.map(f64::to_bits), row.final_values.map(f64::to_bits), "NaN and ±inf too");
-        let without_finals = |r: SummaryRow| SummaryRow { final_values: [0.0; FINAL_VALUE_COUNT], ..r };
+        assert_eq!(back.made_by, DEMSWEEP_VERSION);
         assert_eq!(without_finals(back), without_finals(row));
+    }
+
+    /// The `row` attribute of results format 2.
+    fn row_json(row: &SummaryRow) -> Value {
+        let mut map = Map::new();
+        let parameters = row.parameters.iter().map(|(k, v)| json!([k, param_json(v)])).collect();
+        map.insert(PARAMETERS.into(), Value::Array(parameters));
+        map.insert(WARNINGS.into(), json!(row.warnings));
+        for (q, value) in OUTCOME.iter().zip(row.outcome()) {
+            let value = match value {
+                OutcomeValue::Float(x) => float_json(x),
+                OutcomeValue::Int(i) => json!(i),
+            };
+            map.insert(q.name.into(), value);
+        }
+        for (q, value) in quantity::final_value_declarations().zip(row.final_values) {
+            map.insert(q.name.into(), float_json(value));
+        }
+        Value::Object(map)
+    }
+
+    /// A float in JSON: a number, null when missing (NaN), `"inf"` / `"-inf"` when infinite.
+    fn float_json(x: f64) -> Value {
+        match x {
+            x if x.is_finite() => json!(x),
+            x if x.is_nan() => Value::Null,
+            x if x > 0.0 => json!("inf"),
+            _ => json!("-inf"),
+        }
+    }
+
+    fn param_json(v: &ParamValue) -> Value {
+        match v {
+            ParamValue::Float(x) => float_json(*x),
+            ParamValue::Int(i) => json!(i),
+            ParamValue::Bool(b) => json!(b),
+            ParamValue::Text(s) => json!(s),
+        }
+    }
+
+    /// The attributes of a run group of results format 2.
+    fn format2_attrs(row: &SummaryRow, json: String) -> Vec<(&'static str, AttrValue)> {
+        vec![
+            (INDEX, AttrValue::I64(row.index as i64)),
+            (ID, AttrValue::String(row.id.clone())),
+            (STATUS, AttrValue::String(row.status.as_str().to_string())),
+            (MESSAGE, AttrValue::String(row.message.clone())),
+            (ROW, AttrValue::String(json)),
+            (IDENTITY, AttrValue::String(row.identity.clone())),
+        ]
+    }
+
+    #[test]
+    fn a_row_of_results_format_2_reads_back() {
+        let row = row();
+        let attrs = format2_attrs(&row, row_json(&row).to_string());
+        let back = written("format2", |g| set_attrs(g, attrs)).unwrap();
+        assert_eq!(back.final_values.map(f64::to_bits), row.final_values.map(f64::to_bits));
+        assert_eq!(back.made_by, "", "format 2 does not say which version made the run");
+        assert_eq!(without_finals(back), without_finals(SummaryRow { made_by: String::new(), ..row }));
     }
 
     #[test]
     fn a_damaged_row_attribute_is_named() {
-        let mut attrs: HashMap<String, AttrValue> =
-            run_attrs(&row(), &SceneConfig::default()).into_iter().map(|(k, v)| (k.to_string(), v)).collect();
-        attrs.insert(ROW.into(), AttrValue::String("{\"parameters\": []".into()));
-        assert!(row_from_attrs(&attrs).unwrap_err().starts_with("`row` is not JSON"));
+        let attrs = format2_attrs(&row(), "{\"parameters\": []".into());
+        let refused = written("damaged", |g| set_attrs(g, attrs)).unwrap_err();
+        assert!(refused.starts_with("`row` is not JSON"), "{refused}");
     }
 }

@@ -5,7 +5,9 @@ use std::path::Path;
 
 use hdf5_pure::{Dataset, File};
 
-use super::layout::{CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACTS, FRAMES};
+use super::layout::{
+    CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACT_TABLE, FRAME_CONTACTS, FRAME_INDEX, FRAME_TIME, FRAMES,
+};
 use super::row::SummaryRow;
 use super::table::ColumnData;
 use super::{OutputError, compound, hdf5_error, reader};
@@ -25,16 +27,18 @@ pub struct StoredRun {
     /// The state at the end of the run (`final`), with its contacts (`final_contacts`; empty in files
     /// written before contacts were stored).
     pub final_state: Option<Snapshot>,
-    /// The recorded frames (`frames/00000`, `frames/00001`, …), in order, with their contacts
-    /// (`frame_contacts/<k>`).
+    /// The recorded frames (the arrays of `frames`; `frames/00000`, … and `frame_contacts/<k>` in
+    /// results format 2 and before), in order, with their contacts.
     pub frames: Vec<Snapshot>,
 }
 
-/// Reads the stored data of the run of `row` from `file` (at `path`).
+/// Reads the stored data of the run of `row` from `file` (at `path`); damaged data (a checksum that
+/// does not match) is an error naming the run and the dataset.
 pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun, OutputError> {
     let group_path = reader::find_group(file, path, row.group_name())?
         .ok_or_else(|| OutputError::new(path, format!("no group for run `{}` in this file", row.id)))?;
-    let fail = |what: &str, reason: String| OutputError::new(path, format!("/{group_path}/{what}: {reason}"));
+    let fail =
+        |what: &str, reason: String| reader::damaged_data(path, &row.id, &format!("{group_path}/{what}"), &reason);
     let group = file.group(&group_path).map_err(|e| hdf5_error(path, e))?;
     let attrs = group.attrs().map_err(|e| hdf5_error(path, e))?;
     let json = attrs.get("scene.json").and_then(|a| a.as_str()).ok_or_else(|| fail("scene.json", "missing".into()))?;
@@ -60,8 +64,82 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
     Ok(StoredRun { scene, history, final_state, frames })
 }
 
-/// The frames of a run group, ordered by their number, with their contacts where stored.
+/// The frames of a run group, in time order, with their contacts where stored: from the arrays over
+/// time of results format 3, or the numbered tables of the formats before.
 fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, String> {
+    let group = file.group(group_path).map_err(|e| e.to_string())?;
+    if !group.groups().map_err(|e| e.to_string())?.iter().any(|g| g == FRAMES) {
+        return Ok(Vec::new());
+    }
+    let frames = file.group(&format!("{group_path}/{FRAMES}")).map_err(|e| e.to_string())?;
+    if !frames.datasets().map_err(|e| e.to_string())?.iter().any(|d| d == FRAME_TIME) {
+        return read_numbered_frames(file, group_path, path);
+    }
+    let array = |name: &str| -> Result<(Vec<u64>, Vec<f64>), String> {
+        let dataset = frames.dataset(name).map_err(|e| format!("{name}: {e}"))?;
+        let shape = dataset.shape().map_err(|e| format!("{name}: {e}"))?;
+        let declared = shape.iter().try_fold(8u64, |bytes, &n| bytes.checked_mul(n));
+        if declared.is_none_or(|bytes| bytes > compound::read_limit(path)) {
+            return Err(format!("{name}: declares {shape:?} values, more than its file could hold"));
+        }
+        Ok((shape, dataset.read_f64().map_err(|e| format!("{name}: {e}"))?))
+    };
+    let (_, times) = array(FRAME_TIME)?;
+    let mut snapshots: Vec<Snapshot> = times.iter().map(|&time| Snapshot { time, ..Default::default() }).collect();
+    for field in &DISK_FIELDS {
+        let (shape, values) = array(field.name)?;
+        let [count, disks] = shape[..] else { return Err(format!("{}: not a (time, disk) array", field.name)) };
+        if count as usize != times.len() || values.len() as u64 != count * disks {
+            return Err(format!("{}: {shape:?} values for {} frames", field.name, times.len()));
+        }
+        for (snapshot, row) in snapshots.iter_mut().zip(values.chunks_exact(disks.max(1) as usize)) {
+            *(field.values_mut)(snapshot) = row.to_vec();
+        }
+    }
+    let table = format!("{group_path}/{FRAMES}/{FRAME_CONTACT_TABLE}");
+    let contacts = read_contacts(file, &table, path)?;
+    let frame_of =
+        match compound::decode(&file.dataset(&table).map_err(|e| e.to_string())?, compound::read_limit(path))?
+            .into_iter()
+            .find(|(name, _)| name == FRAME_INDEX)
+        {
+            Some((_, ColumnData::Int(frame))) => frame,
+            _ => return Err(format!("{FRAME_CONTACT_TABLE}: no integer field `{FRAME_INDEX}`")),
+        };
+    if frame_of.windows(2).any(|w| w[0] > w[1]) {
+        return Err(format!("{FRAME_CONTACT_TABLE}: the contacts are not frame after frame"));
+    }
+    for (k, snapshot) in snapshots.iter_mut().enumerate() {
+        let k = k as i64;
+        let rows = frame_of.partition_point(|&f| f < k)..frame_of.partition_point(|&f| f <= k);
+        snapshot.contacts = slice(&contacts, rows);
+        check_contacts(snapshot)?;
+    }
+    Ok(snapshots)
+}
+
+/// The contacts `rows` of a network.
+fn slice(c: &ContactNetwork, rows: std::ops::Range<usize>) -> ContactNetwork {
+    let f = |v: &Vec<f64>| v[rows.clone()].to_vec();
+    ContactNetwork {
+        first: c.first[rows.clone()].to_vec(),
+        second: c.second[rows.clone()].to_vec(),
+        normal_x: f(&c.normal_x),
+        normal_y: f(&c.normal_y),
+        normal_force: f(&c.normal_force),
+        tangential_force: f(&c.tangential_force),
+        overlap: f(&c.overlap),
+        point_x: f(&c.point_x),
+        point_y: f(&c.point_y),
+        sliding: c.sliding[rows.clone()].to_vec(),
+        tangential_spring: f(&c.tangential_spring),
+        law_state: f(&c.law_state),
+    }
+}
+
+/// The frames of results format 2 and before: one state table per frame (`frames/<k>`), ordered by
+/// number, with its contact table (`frame_contacts/<k>`) where stored.
+fn read_numbered_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, String> {
     let mut frames: Vec<Snapshot> = numbered_datasets(file, group_path, FRAMES)?
         .iter()
         .map(|name| read_snapshot(file, &format!("{group_path}/{FRAMES}/{name}"), path))

@@ -225,6 +225,7 @@ impl SummaryTable {
                     cpu_time: number(cpu_time, i).unwrap_or(f64::NAN),
                     final_values,
                     identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
+                    made_by: String::new(),
                 };
                 Some((row, usize::try_from(warnings[i]).ok()?))
             })

@@ -15,17 +15,10 @@ use super::layout::{self, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WA
 use super::reader::{self, DamagedGroup};
 use super::row::SummaryRow;
 use super::sink::{ResultSink, RunResult, Tables};
-use super::table::{ColumnData, SummaryTable};
+use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs, write_csv_files};
-use crate::physics::record::{RunRecord, Snapshot};
+use crate::physics::record::{DISK_FIELDS, RunRecord, Snapshot};
 use crate::study::OutputOptions;
-
-/// Tables with at least this many rows are chunked and compressed (shuffle + deflate).
-const COMPRESS_MIN_ROWS: usize = 64;
-/// Largest chunk (rows) of a compressed table.
-const MAX_CHUNK_ROWS: u64 = 1 << 14;
-/// Deflate level: fast, and most of the gain for smooth float series comes from the shuffle.
-const DEFLATE_LEVEL: u32 = 1;
 
 /// A results file open for writing.
 pub struct ResultsWriter {
@@ -38,6 +31,10 @@ pub struct ResultsWriter {
     /// Where the runs' groups are (committed and staged), by group name (see
     /// [`SummaryRow::group_name`]).
     groups: HashMap<String, String>,
+    /// The demsweep version that made each run (empty where not recorded), by group name.
+    made_by: HashMap<String, String>,
+    /// The demsweep version that created the file (the header's).
+    created_by: String,
     existing: Vec<SummaryRow>,
     damaged: Vec<DamagedGroup>,
     pending: usize,
@@ -76,6 +73,7 @@ impl ResultsWriter {
         let runs = reader::committed_runs(&file, path)?;
         let root = file.root().groups().map_err(|e| hdf5_error(path, e))?;
         let next_batch = root.iter().filter_map(|name| layout::batch_number(name)).max().map_or(0, |k| k + 1);
+        let made_by = runs.rows.iter().map(|r| (r.group_name().to_string(), r.made_by.clone())).collect();
         let writer = Self {
             file,
             path: path.to_path_buf(),
@@ -83,6 +81,8 @@ impl ResultsWriter {
             next_batch,
             batch: None,
             groups: runs.groups,
+            made_by,
+            created_by: header.demsweep_version.clone(),
             existing: runs.rows,
             damaged: runs.damaged,
             pending: 0,
@@ -96,6 +96,17 @@ impl ResultsWriter {
     /// by its fingerprint and run index).
     pub fn has_identities(&self) -> bool {
         self.existing.iter().all(|row| !row.identity.is_empty())
+    }
+
+    /// The results file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The demsweep version that made the stored run of `row`: recorded on the run (results format
+    /// 3), else the version that created the file (the best guess for older formats).
+    pub fn made_by<'a>(&'a self, row: &'a SummaryRow) -> &'a str {
+        if row.made_by.is_empty() { &self.created_by } else { &row.made_by }
     }
 
     /// Rows of the runs the file held when it was opened (sorted by index), which the writer
@@ -202,6 +213,7 @@ impl ResultsWriter {
     pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
         let group = format!("{}/{}", self.stage_batch()?, run.row.group_name());
         self.groups.insert(run.row.group_name().to_string(), group.clone());
+        self.made_by.insert(run.row.group_name().to_string(), super::row::DEMSWEEP_VERSION.to_string());
         let root = self.file.root();
         let attrs = run_attrs::run_attrs(&run.row, &run.scene);
         let output = &self.output;
@@ -209,6 +221,7 @@ impl ResultsWriter {
             for (name, value) in attrs {
                 g.set_attr(name, value);
             }
+            run_attrs::stage_tables(g, &run.row);
             if let Some(record) = &run.record {
                 stage_record(g, record, output);
             }
@@ -221,8 +234,14 @@ impl ResultsWriter {
 
     /// Stages a copy of the committed run group `group` of another results file under the name
     /// `name` (for merging), read from `source` run by run (open it streaming: only this run is
-    /// held); returns the bytes of dataset data staged.
-    pub fn stage_copy(&mut self, source: (&File, &Path), group: &str, name: &str) -> Result<usize, OutputError> {
+    /// held), made by demsweep `made_by` (empty: not recorded); returns the bytes of dataset data
+    /// staged.
+    pub fn stage_copy(
+        &mut self,
+        source: (&File, &Path),
+        group: &str,
+        (name, made_by): (&str, &str),
+    ) -> Result<usize, OutputError> {
         let (source, source_path) = source;
         let copy = source
             .group(group)
@@ -233,6 +252,7 @@ impl ResultsWriter {
         let path = format!("{}/{name}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.groups.insert(name.to_string(), path);
+        self.made_by.insert(name.to_string(), made_by.to_string());
         self.pending += 1;
         self.unchanged = false;
         Ok(bytes)
@@ -286,11 +306,34 @@ impl ResultsWriter {
             && stored(SUMMARY)?.as_ref() == Some(&tables.summary)
             && stored(POINTS)?.as_ref() == Some(&tables.points);
         if !kept {
-            write_columns(&self.file, SUMMARY, &tables.summary, &sweep).map_err(err)?;
-            write_columns(&self.file, POINTS, &tables.points, &[]).map_err(err)?;
+            let index = self.run_index(&tables.summary);
+            write_columns(&self.file, SUMMARY, (&tables.summary, &index), &sweep).map_err(err)?;
+            write_columns(&self.file, POINTS, (&tables.points, &[]), &[]).map_err(err)?;
             self.file.commit().map_err(err)?;
         }
         self.file.close().map_err(err)
+    }
+}
+
+impl ResultsWriter {
+    /// `/summary`'s datasets beside its columns, one value per row of `summary`: the path of the
+    /// run's group ([`layout::RUN_GROUP`]) and the version that made it ([`layout::RUN_MADE_BY`]).
+    fn run_index(&self, summary: &SummaryTable) -> Vec<Column> {
+        let column = |name: &str| summary.column(name).map(|c| &c.data);
+        let (ids, identities) = (column("run_id"), column(super::table::IDENTITY));
+        let names: Vec<String> = (0..summary.len())
+            .map(|i| {
+                let identity = identities.map(|c| c.text(i)).unwrap_or_default();
+                if identity.is_empty() { ids.map(|c| c.text(i)).unwrap_or_default() } else { identity }
+            })
+            .collect();
+        let lookup = |map: &HashMap<String, String>| -> ColumnData {
+            ColumnData::Text(names.iter().map(|n| map.get(n).cloned().unwrap_or_default()).collect())
+        };
+        vec![
+            Column { name: layout::RUN_GROUP.into(), data: lookup(&self.groups) },
+            Column { name: layout::RUN_MADE_BY.into(), data: lookup(&self.made_by) },
+        ]
     }
 }
 
@@ -312,27 +355,29 @@ impl ResultSink for ResultsWriter {
     }
 }
 
-/// Replaces the group `name` (`/summary`, `/points`) with one dataset per column of `table`, listed
-/// in order by its attribute `columns`, and the attributes `attrs` (staged for one commit, so the
-/// group is never absent).
+/// Replaces the group `name` (`/summary`, `/points`) with one dataset per column of `table` and then
+/// of `beside` (the file's own columns, which readers leave out of the table), listed in order by its
+/// attribute `columns`, and the attributes
+/// `attrs` (staged for one commit, so the group is never absent). Each dataset is chunked with a
+/// checksum.
 pub fn write_columns(
     file: &File,
     name: &str,
-    table: &SummaryTable,
+    (table, beside): (&SummaryTable, &[Column]),
     attrs: &[(&str, AttrValue)],
 ) -> Result<(), hdf5_pure::Error> {
     let root = file.root();
     if root.groups()?.iter().any(|g| g == name) {
         root.delete(name)?;
     }
-    let names: Vec<String> = table.columns.iter().map(|c| c.name.clone()).collect();
+    let names: Vec<String> = table.columns.iter().chain(beside).map(|c| c.name.clone()).collect();
     let mut failure = None;
     root.create_group_with(name, |g| {
         g.set_attr(SUMMARY_COLUMNS, AttrValue::StringArray(names));
         for (key, value) in attrs {
             g.set_attr(key, value.clone());
         }
-        for column in &table.columns {
+        for column in table.columns.iter().chain(beside) {
             g.create_dataset(&column.name, |b| {
                 if let Err(e) = column_data(b, &column.data) {
                     failure = Some(e);
@@ -353,16 +398,14 @@ fn column_data(b: &mut DatasetBuilder, data: &ColumnData) -> Result<(), hdf5_pur
         ColumnData::Bool(v) => drop(b.with_u8_data(&v.iter().map(|&x| u8::from(x)).collect::<Vec<_>>())),
         ColumnData::Text(v) => drop(b.with_strings(&v.iter().map(String::as_str).collect::<Vec<_>>())?),
     }
-    if data.is_empty() {
-        b.with_shape(&[0]);
-    }
+    compound::checksummed(b, &[data.len() as u64], data.len() as u64);
     Ok(())
 }
 
 fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOptions) {
     if output.histories {
         g.create_dataset("history", |b| {
-            stage_table(b, &layout::history_table(&record.history));
+            compound::stage(b, &layout::history_table(&record.history));
             b.set_attr(layout::UNITS, layout::history_units());
         });
     }
@@ -371,23 +414,40 @@ fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOpti
         stage_contacts(g, layout::FINAL_CONTACTS, &record.final_state);
     }
     if output.frames && !record.frames.is_empty() {
-        g.create_group_with(layout::FRAMES, |frames| {
-            for (k, frame) in record.frames.iter().enumerate() {
-                stage_snapshot(frames, &layout::frame_name(k), frame);
-            }
-        });
-        g.create_group_with(layout::FRAME_CONTACTS, |frames| {
-            for (k, frame) in record.frames.iter().enumerate() {
-                stage_contacts(frames, &layout::frame_name(k), frame);
-            }
+        g.create_group_with(layout::FRAMES, |g| stage_frames(g, &record.frames));
+    }
+}
+
+/// The frames as arrays over time: `time` (T), one (T, N) array per disk property, and the contacts
+/// of every frame in one table (see [`layout`]).
+fn stage_frames(g: &mut StagedGroup<'_>, frames: &[Snapshot]) {
+    let times: Vec<f64> = frames.iter().map(|s| s.time).collect();
+    g.create_dataset(layout::FRAME_TIME, |b| {
+        b.with_f64_data(&times);
+        compound::checksummed(b, &[times.len() as u64], times.len() as u64);
+        b.set_attr(layout::UNIT, AttrValue::String("s".into()));
+    });
+    let disks = frames[0].x.len() as u64;
+    for field in &DISK_FIELDS {
+        let values: Vec<f64> = frames.iter().flat_map(|s| (field.values)(s).iter().copied()).collect();
+        g.create_dataset(field.name, |b| {
+            b.with_f64_data(&values).with_shape(&[frames.len() as u64, disks]);
+            compound::checksummed(b, &[frames.len() as u64, disks], frames.len() as u64);
+            b.set_attr(layout::UNIT, AttrValue::String(field.unit.into()));
         });
     }
+    let (frame, contacts) = layout::frame_contacts(frames);
+    g.create_dataset(layout::FRAME_CONTACT_TABLE, |b| {
+        let mut fields = vec![(layout::FRAME_INDEX, Field::U32(&frame))];
+        fields.extend(layout::contact_table(&contacts));
+        compound::stage(b, &fields);
+    });
 }
 
 /// A snapshot as a state table with attributes `time` and `units`.
 fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     g.create_dataset(name, |b| {
-        stage_table(b, &layout::state_table(s));
+        compound::stage(b, &layout::state_table(s));
         b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
         b.set_attr(layout::UNITS, layout::state_units());
     });
@@ -396,18 +456,7 @@ fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
 /// A snapshot's contact network as a contact table with attribute `time`.
 fn stage_contacts(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     g.create_dataset(name, |b| {
-        stage_table(b, &layout::contact_table(&s.contacts));
+        compound::stage(b, &layout::contact_table(&s.contacts));
         b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
     });
-}
-
-/// A compound table; long ones are chunked and compressed (shuffle + deflate).
-fn stage_table(b: &mut DatasetBuilder, fields: &[(&str, Field<'_>)]) {
-    let (datatype, bytes, rows) = compound::encode(fields);
-    b.with_compound_data(datatype, bytes, rows);
-    if rows == 0 {
-        b.with_shape(&[0]);
-    } else if rows as usize >= COMPRESS_MIN_ROWS {
-        b.with_chunks(&[rows.min(MAX_CHUNK_ROWS)]).with_shuffle().with_deflate(DEFLATE_LEVEL);
-    }
 }

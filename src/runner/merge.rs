@@ -17,6 +17,17 @@ use crate::study::{OutputOptions, RunIdentity};
 /// Data staged (decoded bytes) before a commit while merging: memory holds this, or one run if larger.
 const BYTES_PER_COMMIT: usize = 16 << 20;
 
+/// How to merge.
+#[derive(Clone, Debug, Default)]
+pub struct MergeOptions {
+    /// Replace an existing merged file.
+    pub force: bool,
+    /// Merge runs made by different demsweep versions (else refused, naming them).
+    pub accept_version: bool,
+    /// The merged file's study name (`<name>.h5`); default the first file's study name.
+    pub name: Option<String>,
+}
+
 /// What a merge produced.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MergeReport {
@@ -67,25 +78,33 @@ struct ShardFile {
 }
 
 /// Merges the results files in `inputs` (files, or directories searched for `*.shard-K-of-N.h5`)
-/// into `out_dir/<first study's name>.h5` and its CSV summary and points.
+/// into `out_dir/<name>.h5` (the first study's name unless `options` gives one) and its CSV summary
+/// and points.
 ///
 /// Shards of one study merge into the file a one-machine run gives: refused, naming the files, when
 /// they hold a run twice or are shards of the same study text whose input files or demsweep version
 /// differ; missing shards, missing runs and runs that failed with an error do not stop it: it merges
 /// what there is and lists them in [`MergeReport::problems`]. Files of different studies merge run
 /// by run, each identity once, renumbered `r0000`, … in file order; refused for files written
-/// before run identities and for files of different physics versions.
-/// An existing merged file is only replaced with `force`; the merged file is written under a
+/// before run identities, for files of different physics versions, and (unless
+/// `options.accept_version`) for runs made by different demsweep versions.
+/// An existing merged file is only replaced with `options.force`; the merged file is written under a
 /// temporary name (`<name>.merging.h5`) and renamed when complete, holding the results file's lock.
-pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeReport, OutputError> {
+pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Result<MergeReport, OutputError> {
     let mut shards = read_shards(&shard_paths(inputs)?)?;
     let studies = !one_study(&shards)?;
-    let problems = if studies { combine(&mut shards)? } else { check_complete(&shards)? };
+    let problems = if studies { combine(&mut shards, options.accept_version)? } else { check_complete(&shards)? };
     let first = &shards[0].header;
+    let name = match &options.name {
+        Some(name) => crate::study::name::check_name(name)
+            .map(|()| name.clone())
+            .map_err(|reason| OutputError::new(out_dir, format!("--name `{}`: {reason}", name.escape_debug())))?,
+        None => first.study_name.clone(),
+    };
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
-    let results = out_dir.join(format!("{}.h5", first.study_name));
+    let results = out_dir.join(format!("{name}.h5"));
     let _lock = ResultsLock::acquire(&results)?;
-    if results.exists() && !force {
+    if results.exists() && !options.force {
         return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
     }
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
@@ -96,6 +115,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
     } else {
         FileHeader { created: utc_now(), shard: None, ..first.clone() }
     };
+    let header = FileHeader { study_name: name, ..header };
     // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
     // leaves no partial file under the final name (and an existing one stays until replaced).
     let partial = results.with_extension("merging.h5");
@@ -113,7 +133,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], force: bool) -> Result<MergeRep
                 .groups
                 .get(name)
                 .ok_or_else(|| OutputError::new(&shard.path, format!("no group for run {}", row.id)))?;
-            staged += writer.stage_copy((&source, &shard.path), group, name)?;
+            staged += writer.stage_copy((&source, &shard.path), group, (name, made_by(shard, row)))?;
             if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
                 staged = 0;
@@ -233,11 +253,39 @@ fn one_study(shards: &[ShardFile]) -> Result<bool, OutputError> {
     Ok(true)
 }
 
+/// The demsweep version that made a run of `file`: recorded on the run, else the file's creator.
+fn made_by<'a>(file: &'a ShardFile, row: &'a SummaryRow) -> &'a str {
+    if row.made_by.is_empty() { &file.header.demsweep_version } else { &row.made_by }
+}
+
 /// Files of different studies: every run once (by identity), renumbered in file order. Refuses
-/// files without run identities and files of different physics versions.
-fn combine(files: &mut [ShardFile]) -> Result<Vec<ShardProblem>, OutputError> {
+/// files without run identities, files of different physics versions and, unless `accept_version`,
+/// runs made by different demsweep versions (naming a run of each).
+fn combine(files: &mut [ShardFile], accept_version: bool) -> Result<Vec<ShardProblem>, OutputError> {
     let mut physics: Option<(u32, &Path)> = None;
+    let mut version: Option<(&ShardFile, &SummaryRow)> = None;
     for file in files.iter() {
+        for row in &file.rows {
+            match version {
+                Some((first, run)) if !accept_version && made_by(first, run) != made_by(file, row) => {
+                    return Err(OutputError::new(
+                        &file.path,
+                        format!(
+                            "run {} was made by demsweep {}, but run {} of {} by {}: `merge --accept-version` \
+                             merges them (each run keeps the version that made it, in /summary/demsweep_version), \
+                             or run one of them again with this demsweep",
+                            row.id,
+                            made_by(file, row),
+                            run.id,
+                            first.path.display(),
+                            made_by(first, run)
+                        ),
+                    ));
+                }
+                None => version = Some((file, row)),
+                _ => {}
+            }
+        }
         for row in &file.rows {
             let identity: RunIdentity = row.identity.parse().map_err(|_| {
                 OutputError::new(

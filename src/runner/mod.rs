@@ -20,7 +20,7 @@ pub mod shard;
 mod warnings;
 mod writer_thread;
 
-pub use merge::{MergeReport, ShardProblem, merge};
+pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
 pub use progress::ProgressMode;
 pub use warnings::WarningDigest;
 pub use writer_thread::CommitPolicy;
@@ -49,6 +49,8 @@ pub struct RunOptions {
     /// With `resume`: delete the stored runs the study no longer plans (else they stay in the file,
     /// out of the summary).
     pub drop_unplanned: bool,
+    /// With `resume`: reuse stored runs made by another demsweep version (else refused, naming them).
+    pub accept_version: bool,
     /// Run only this shard of the plan.
     pub shard: Option<ShardSpec>,
     /// How progress is shown.
@@ -153,7 +155,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (_lock, mut writer) = open_results(plan, options, &path, &selected)?;
     let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
     let stored = writer.take_existing();
-    let reuse = reuse::Reuse::new(plan, &identities, &selected, stored, &mut writer)?;
+    let reuse = reuse::Reuse::new(plan, &identities, (&selected, options.accept_version), stored, &mut writer)?;
     if options.drop_unplanned {
         writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
     }

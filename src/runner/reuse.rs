@@ -4,6 +4,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
+use crate::output::row::DEMSWEEP_VERSION;
 use crate::output::{OutputError, ResultsWriter, SummaryRow};
 use crate::study::{Plan, RunIdentity};
 
@@ -22,17 +23,21 @@ pub(super) struct Reuse {
     /// For planned runs to make whose swept values match a stored run of another identity: what
     /// changed, with how many runs.
     pub changed: BTreeMap<String, usize>,
+    /// Reused runs made by another demsweep version (reused only when accepted): (run id, version).
+    pub other_versions: Vec<(String, String)>,
 }
 
 impl Reuse {
     /// Matches the `stored` runs of `writer`'s file to the `selected` runs of `plan` (whose
     /// identities are `identities`). Stored runs without identities (files written before them,
     /// of the same study) are matched by index. Stored runs lacking an output the plan asks for
-    /// are deleted from the file, to run again.
+    /// are deleted from the file, to run again. A stored run made by another demsweep version is
+    /// reused only when `accept_version` says so; else the sweep is refused before anything
+    /// changes, naming the run and both versions (see [`version_refusal`]).
     pub fn new(
         plan: &Plan,
         identities: &[String],
-        selected: &[usize],
+        (selected, accept_version): (&[usize], bool),
         stored: Vec<SummaryRow>,
         writer: &mut ResultsWriter,
     ) -> Result<Self, OutputError> {
@@ -43,6 +48,7 @@ impl Reuse {
             unplanned: Vec::new(),
             lacking: 0,
             changed: BTreeMap::new(),
+            other_versions: Vec::new(),
         };
         let (legacy, stored): (Vec<SummaryRow>, Vec<SummaryRow>) =
             stored.into_iter().partition(|row| row.identity.is_empty());
@@ -68,6 +74,10 @@ impl Reuse {
             };
             if let Some(row) = by_identity.get(identity) {
                 if writer.holds(identity, &plan.output, frames) {
+                    let made_by = writer.made_by(row);
+                    if made_by != DEMSWEEP_VERSION {
+                        reuse.other_versions.push((run.id.clone(), made_by.to_string()));
+                    }
                     reuse.rows.push(as_planned(row));
                     continue;
                 }
@@ -86,6 +96,9 @@ impl Reuse {
                 *reuse.changed.entry(was.changes(&now).join(", ")).or_default() += 1;
             }
         }
+        if let (Some(refusal), false) = (version_refusal(&reuse.other_versions), accept_version) {
+            return Err(OutputError::new(writer.path(), refusal));
+        }
         reuse.lacking = lacking.len();
         writer.forget(&lacking)?;
         reuse.unplanned = unplanned;
@@ -95,6 +108,14 @@ impl Reuse {
     /// What a user should know about the file's stored runs, in words.
     pub fn notes(&self, path: &Path, dropped: bool) -> Vec<String> {
         let mut notes = Vec::new();
+        if let Some((id, version)) = self.other_versions.first() {
+            notes.push(format!(
+                "{}: reusing {} stored run(s) made by another demsweep version (run {id} by {version}; this is \
+                 {DEMSWEEP_VERSION}), as --accept-version asks; /summary/demsweep_version says which made each",
+                path.display(),
+                self.other_versions.len()
+            ));
+        }
         for (what, runs) in &self.changed {
             notes.push(format!(
                 "{}: {runs} run(s) of this study match stored runs by their swept values but not by what \
@@ -128,4 +149,23 @@ impl Reuse {
         }
         notes
     }
+}
+
+/// The refusal of reusing runs made by other demsweep versions (`(run id, version)`), naming the
+/// first run and both versions; `None` when there are none. A version that kept the physics version
+/// computes the same results unless a change outside the physics (placement, measures) altered
+/// them, which only the user can judge: so it is refused with the two ways on, not rerun silently
+/// (which could cost days of sweeps) nor reused silently.
+pub(super) fn version_refusal(other_versions: &[(String, String)]) -> Option<String> {
+    let (id, version) = other_versions.first()?;
+    let more = match other_versions.len() {
+        1 => String::new(),
+        n => format!(" (and {} more of the runs this study reuses)", n - 1),
+    };
+    Some(format!(
+        "run {id}{more} was made by demsweep {version}, this is {DEMSWEEP_VERSION} (both physics version {}): \
+         `--resume --accept-version` reuses the stored runs (each keeps the version that made it, in \
+         /summary/demsweep_version), `--force` runs every run again",
+        crate::physics::PHYSICS_VERSION
+    ))
 }

@@ -8,7 +8,8 @@ or {"attrs": {...}, "values": [..]}}}. Every group, dataset and attribute in the
 equal (floats exactly; null means NaN, {"$float": "inf"} an infinity; {"$regex": ...} matches a string, {"$range": [lo, hi]} a number;
 {"$json": ...} a string holding that JSON, null there being null or NaN). The batch groups holding run groups
 (`/runs_00000`, `/runs_00001`, …: which one depends on when a run was committed) are listed as `/runs_*`.
-Exits 1 listing every difference, 2 when h5py cannot be imported.
+Every non-empty dataset must carry a Fletcher-32 checksum, and frames must be arrays
+over time in time order. Exits 1 listing every difference, 2 when h5py cannot be imported.
 """
 import json
 import math
@@ -85,11 +86,14 @@ def main(h5_path, json_path):
                 problems.append(f"{kind} {path} {'unexpected in the file' if path in found else 'missing from the file'}")
         for path in sorted(set(groups) & set(expected["groups"])):
             check_attrs(path, groups[path].attrs, expected["groups"][path], problems)
-        for path, group in groups.items():  # h5py lists names in byte order: frames must come out in time order
-            if path.endswith("/frames") or path.endswith("/frame_contacts"):
-                times = [float(group[name].attrs["time"]) for name in group]
-                if times != sorted(times):
-                    problems.append(f"{path}: h5py lists the frames out of time order: {list(group)}")
+        for path, group in groups.items():  # frames are arrays over time, in time order
+            if path.endswith("/frames"):
+                times = list(group["time"][()])
+                if times != sorted(times) or any(group[name].shape[:1] != (len(times),) for name in group if name != "contacts"):
+                    problems.append(f"{path}: frames not in time order, or arrays not (time, ...): {times}")
+        for path, ds in datasets.items():  # stored data carries checksums that libhdf5 verifies
+            if ds.size and not ds.fletcher32:
+                problems.append(f"{path}: no Fletcher-32 checksum")
         for path in sorted(set(datasets) & set(expected["datasets"])):
             spec, ds = expected["datasets"][path], datasets[path]
             check_attrs(path, ds.attrs, spec["attrs"], problems)

@@ -78,18 +78,22 @@ def main(folder, h5_path, group_path, run_id):
     problems = []
     with h5py.File(h5_path, "r") as f:
         run = f[group_path]
-        states = [(run["frames"][k], run["frame_contacts"][k]) for k in run["frames"]]
-        states.append((run["final"], run["final_contacts"]))
+        # The frames are arrays over time: row k of each (T, N) array, and the contacts of frame k.
+        frames, states = run["frames"], []
+        fields = ("x", "y", "vx", "vy", "omega", "angle", "r", "contact_force")
+        for k, time in enumerate(frames["time"][()]):
+            network = frames["contacts"][()]
+            states.append((float(time), {name: frames[name][k] for name in fields}, network[network["frame"] == k]))
+        states.append((float(run["final"].attrs["time"]), run["final"][()], run["final_contacts"][()]))
         disks = collection(f"{folder}/{run_id}_disks.pvd")
         contacts = collection(f"{folder}/{run_id}_contacts.pvd")
-        times = [float(state.attrs["time"]) for state, _ in states]
+        times = [time for time, _, _ in states]
         if [t for t, _ in disks] != times or [t for t, _ in contacts] != times:
             problems.append(f"pvd times {[t for t, _ in disks]}, expected {times}")
-        for (state, network), (_, disk_file), (_, contact_file) in zip(states, disks, contacts):
-            state, network = state[()], network[()]
+        for (_, state, network), (_, disk_file), (_, contact_file) in zip(states, disks, contacts):
             polydata = read(f"{folder}/{disk_file}")
-            if polydata.GetNumberOfPoints() != len(state) or polydata.GetNumberOfVerts() != len(state):
-                problems.append(f"{disk_file}: {polydata.GetNumberOfPoints()} points, expected {len(state)}")
+            if polydata.GetNumberOfPoints() != len(state["x"]) or polydata.GetNumberOfVerts() != len(state["x"]):
+                problems.append(f"{disk_file}: {polydata.GetNumberOfPoints()} points, expected {len(state['x'])}")
                 continue
             points = vtk_to_numpy(polydata.GetPoints().GetData())
             same(points[:, 0], state["x"], f"{disk_file} x", problems)

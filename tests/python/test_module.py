@@ -100,6 +100,28 @@ replicates = 2
 """
 
 
+def test_open_reads_the_runs_of_the_summary_in_a_grown_file(tmp_path):
+    """A study edited to drop a friction value keeps that run in its file, unplanned, under the id it
+    had: `open` finds runs by the summary's ids, as the commands do, not the stored ones."""
+    study = tmp_path / "tiny_sweep.toml"
+    study.write_text(STUDY)
+    out = tmp_path / "out"
+    assert demsweep.run_study(study, out=out, jobs=2)["ran"] == 4
+    study.write_text(STUDY.replace("[0.3, 0.6]", "[0.6]"))
+    again = demsweep.run_study(study, out=out, resume=True)
+    assert (again["selected"], again["ran"]) == (2, 0)
+    results = demsweep.open(again["results"])
+    assert list(results.summary["run_id"]) == ["r0000", "r0001"]
+    for run in ("r0000", "r0001"):
+        listed = demsweep_command("history", again["results"], run)
+        assert listed.returncode == 0, listed.stderr
+        command = pd.read_csv(io.StringIO(listed.stdout))
+        assert np.array_equal(results.history(run)["potential"], command["potential (J)"]), run
+        assert results.scene(run)["material"]["friction"] == 0.6
+    with pytest.raises(demsweep.ResultsError, match="no run `r0002`"):
+        results.history("r0002")  # stored, but no longer planned
+
+
 def test_run_study_and_open_read_what_the_command_reads(tmp_path):
     study = tmp_path / "tiny_sweep.toml"
     study.write_text(STUDY)
