@@ -55,7 +55,10 @@ pub type Page = Result<(PathBuf, Vec<DamagedGroup>), OutputError>;
 /// What `demsweep run` did: the sweep and its report page.
 #[derive(Clone, Debug)]
 pub struct StudyRun {
-    /// The sweep: results file, summary, counts, warnings.
+    /// The sweep: results file, summary, counts, warnings. Its `points` table is left empty (the
+    /// results file's `/points` and `_points.csv` hold it): one row per grid point with seven
+    /// statistics per metric, it can be several times the summary's size, and is not held while the
+    /// report page computes its own.
     pub report: RunReport,
     /// The report page next to the results.
     pub page: Page,
@@ -64,7 +67,8 @@ pub struct StudyRun {
 /// Runs a plan as `demsweep run` does: the runs into the results file and its CSV files, then the
 /// report page.
 pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerError> {
-    let report = runner::run_plan(plan, options)?;
+    let mut report = runner::run_plan(plan, options)?;
+    report.points = crate::output::SummaryTable::default();
     let page = report::write_report(&report.results, None, &ReportContext::default());
     Ok(StudyRun { report, page })
 }

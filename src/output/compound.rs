@@ -92,20 +92,20 @@ pub const DEFLATE_LEVEL: u32 = 1;
 pub fn stage(b: &mut hdf5_pure::DatasetBuilder, fields: &[(&str, Field<'_>)]) {
     let (datatype, bytes, rows) = encode(fields);
     b.with_compound_data(datatype, bytes, rows);
-    checksummed(b, &[rows], rows);
+    checksummed(b, &[rows]);
 }
 
-/// Chunks a dataset of `shape` (`rows` along its first axis) with a Fletcher-32 checksum, and
+/// Chunks a dataset of `shape` along its first axis with a Fletcher-32 checksum of each chunk, and
 /// compresses it when it has [`COMPRESS_MIN_ROWS`] rows or more (an empty one is left plain).
-pub fn checksummed(b: &mut hdf5_pure::DatasetBuilder, shape: &[u64], rows: u64) {
+pub fn checksummed(b: &mut hdf5_pure::DatasetBuilder, shape: &[u64]) {
     if shape.contains(&0) {
         b.with_shape(shape);
         return;
     }
     let mut chunks = shape.to_vec();
-    chunks[0] = rows.min(MAX_CHUNK_ROWS);
+    chunks[0] = shape[0].min(MAX_CHUNK_ROWS);
     b.with_chunks(&chunks);
-    if rows >= COMPRESS_MIN_ROWS {
+    if shape[0] >= COMPRESS_MIN_ROWS {
         b.with_shuffle().with_deflate(DEFLATE_LEVEL);
     }
     b.with_fletcher32();

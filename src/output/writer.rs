@@ -13,7 +13,7 @@ use super::copy::GroupCopy;
 use super::header::FileHeader;
 use super::layout::{self, POINTS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
 use super::reader::{self, DamagedGroup};
-use super::row::SummaryRow;
+use super::row::{DEMSWEEP_VERSION, SummaryRow};
 use super::sink::{ResultSink, RunResult, Tables};
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs, write_csv_files};
@@ -31,7 +31,8 @@ pub struct ResultsWriter {
     /// Where the runs' groups are (committed and staged), by group name (see
     /// [`SummaryRow::group_name`]).
     groups: HashMap<String, String>,
-    /// The demsweep version that made each run (empty where not recorded), by group name.
+    /// The demsweep version that made each run, by group name, for the runs not made by this one
+    /// (empty where not recorded): most files hold none, so this costs nothing per run.
     made_by: HashMap<String, String>,
     /// The demsweep version that created the file (the header's).
     created_by: String,
@@ -73,7 +74,12 @@ impl ResultsWriter {
         let runs = reader::committed_runs(&file, path)?;
         let root = file.root().groups().map_err(|e| hdf5_error(path, e))?;
         let next_batch = root.iter().filter_map(|name| layout::batch_number(name)).max().map_or(0, |k| k + 1);
-        let made_by = runs.rows.iter().map(|r| (r.group_name().to_string(), r.made_by.clone())).collect();
+        let made_by = runs
+            .rows
+            .iter()
+            .filter(|r| r.made_by != DEMSWEEP_VERSION)
+            .map(|r| (r.group_name().to_string(), r.made_by.clone()))
+            .collect();
         let writer = Self {
             file,
             path: path.to_path_buf(),
@@ -213,7 +219,7 @@ impl ResultsWriter {
     pub fn stage(&mut self, run: &RunResult) -> Result<(), OutputError> {
         let group = format!("{}/{}", self.stage_batch()?, run.row.group_name());
         self.groups.insert(run.row.group_name().to_string(), group.clone());
-        self.made_by.insert(run.row.group_name().to_string(), super::row::DEMSWEEP_VERSION.to_string());
+        self.made_by.remove(run.row.group_name());
         let root = self.file.root();
         let attrs = run_attrs::run_attrs(&run.row, &run.scene);
         let output = &self.output;
@@ -252,7 +258,9 @@ impl ResultsWriter {
         let path = format!("{}/{name}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
         self.groups.insert(name.to_string(), path);
-        self.made_by.insert(name.to_string(), made_by.to_string());
+        if made_by != DEMSWEEP_VERSION {
+            self.made_by.insert(name.to_string(), made_by.to_string());
+        }
         self.pending += 1;
         self.unchanged = false;
         Ok(bytes)
@@ -306,8 +314,15 @@ impl ResultsWriter {
             && stored(SUMMARY)?.as_ref() == Some(&tables.summary)
             && stored(POINTS)?.as_ref() == Some(&tables.points);
         if !kept {
+            // One commit each, so that the staged copy of one is gone before the other is staged; the
+            // old `/points` goes with the first (between them, readers compute points from `/summary`).
             let index = self.run_index(&tables.summary);
             write_columns(&self.file, SUMMARY, (&tables.summary, &index), &sweep).map_err(err)?;
+            drop(index);
+            if self.file.root().groups().map_err(err)?.iter().any(|g| g == POINTS) {
+                self.file.root().delete(POINTS).map_err(err)?;
+            }
+            self.file.commit().map_err(err)?;
             write_columns(&self.file, POINTS, (&tables.points, &[]), &[]).map_err(err)?;
             self.file.commit().map_err(err)?;
         }
@@ -327,12 +342,11 @@ impl ResultsWriter {
                 if identity.is_empty() { ids.map(|c| c.text(i)).unwrap_or_default() } else { identity }
             })
             .collect();
-        let lookup = |map: &HashMap<String, String>| -> ColumnData {
-            ColumnData::Text(names.iter().map(|n| map.get(n).cloned().unwrap_or_default()).collect())
-        };
+        let paths = names.iter().map(|n| self.groups.get(n).cloned().unwrap_or_default());
+        let made_by = names.iter().map(|n| self.made_by.get(n).map_or(DEMSWEEP_VERSION, String::as_str).to_string());
         vec![
-            Column { name: layout::RUN_GROUP.into(), data: lookup(&self.groups) },
-            Column { name: layout::RUN_MADE_BY.into(), data: lookup(&self.made_by) },
+            Column { name: layout::RUN_GROUP.into(), data: ColumnData::Text(paths.collect()) },
+            Column { name: layout::RUN_MADE_BY.into(), data: ColumnData::Text(made_by.collect()) },
         ]
     }
 }
@@ -398,7 +412,7 @@ fn column_data(b: &mut DatasetBuilder, data: &ColumnData) -> Result<(), hdf5_pur
         ColumnData::Bool(v) => drop(b.with_u8_data(&v.iter().map(|&x| u8::from(x)).collect::<Vec<_>>())),
         ColumnData::Text(v) => drop(b.with_strings(&v.iter().map(String::as_str).collect::<Vec<_>>())?),
     }
-    compound::checksummed(b, &[data.len() as u64], data.len() as u64);
+    compound::checksummed(b, &[data.len() as u64]);
     Ok(())
 }
 
@@ -424,7 +438,7 @@ fn stage_frames(g: &mut StagedGroup<'_>, frames: &[Snapshot]) {
     let times: Vec<f64> = frames.iter().map(|s| s.time).collect();
     g.create_dataset(layout::FRAME_TIME, |b| {
         b.with_f64_data(&times);
-        compound::checksummed(b, &[times.len() as u64], times.len() as u64);
+        compound::checksummed(b, &[times.len() as u64]);
         b.set_attr(layout::UNIT, AttrValue::String("s".into()));
     });
     let disks = frames[0].x.len() as u64;
@@ -432,7 +446,7 @@ fn stage_frames(g: &mut StagedGroup<'_>, frames: &[Snapshot]) {
         let values: Vec<f64> = frames.iter().flat_map(|s| (field.values)(s).iter().copied()).collect();
         g.create_dataset(field.name, |b| {
             b.with_f64_data(&values).with_shape(&[frames.len() as u64, disks]);
-            compound::checksummed(b, &[frames.len() as u64, disks], frames.len() as u64);
+            compound::checksummed(b, &[frames.len() as u64, disks]);
             b.set_attr(layout::UNIT, AttrValue::String(field.unit.into()));
         });
     }

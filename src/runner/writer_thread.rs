@@ -110,6 +110,7 @@ fn write_all(
     let started = Instant::now();
     sinks.iter_mut().try_for_each(|sink| sink.commit())?;
     let tables = points::tables(&rows);
+    drop(rows); // the tables hold what the sinks need: memory peaks while they are written
     sinks.into_iter().try_for_each(|sink| sink.finish(&tables))?;
     Ok((tables, busy + started.elapsed()))
 }

@@ -41,16 +41,17 @@ def option(name):
 
 def stored_disks(results, run_id, name):
     """x, y and r of a player frame (`frame_<k>` or `final`) of run `run_id` as h5py reads them from
-    the file (the run's group, named by its identity in /summary, is in one of the batch groups
-    `/runs_<k>`)."""
+    the file (the path of the run's group is /summary's `group` column; frames are (time, disk)
+    arrays)."""
     import h5py
 
     with h5py.File(results, "r") as f:
         ids = list(f["summary/run_id"].asstr()[()])
-        group = f["summary/identity"].asstr()[ids.index(run_id)]
-        run = next(f[batch][group] for batch in f if batch.startswith("runs_") and group in f[batch])
-        table = run["final"] if name == "final" else run["frames"][f"{int(name.split('_')[1]):05d}"]
-        return table["x"][:], table["y"][:], table["r"][:]
+        run = f[f["summary/group"].asstr()[ids.index(run_id)]]
+        if name == "final":
+            return run["final"]["x"][:], run["final"]["y"][:], run["final"]["r"][:]
+        k = int(name.split("_")[1])
+        return run["frames/x"][k], run["frames/y"][k], run["frames/r"][k]
 
 
 def check_player(page, player, results):
