@@ -15,11 +15,11 @@ use hdf5_pure::AttrValue;
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// Six disks falling for 10 ms (6 history samples: stored uncompressed, so their bytes are found
-/// as they are), one run per friction value.
+/// as they are), one run per friction value, with a contact-time limit strict enough to warn.
 fn study(frictions: &str) -> String {
     format!(
         "name = \"layout\"\n[scene]\nparticles.count = 6\ndomain.width = 0.08\ndomain.height = 0.1\n\
-         run.duration = 0.01\nrun.sample_interval = 0.002\nplacement.seed = 7\n\
+         run.duration = 0.01\nrun.sample_interval = 0.002\nplacement.seed = 7\nlimits.contact_time_fraction = 0.01\nintegrator.time_step = 1e-4\n\
          [sweep]\n\"material.friction\" = [{frictions}]\n"
     )
 }
@@ -190,4 +190,96 @@ fn merge_refuses_runs_of_different_demsweep_versions_unless_accepted_and_takes_a
     assert_eq!(versions(&both), [VERSION, VERSION, "0.0.9"], "the run both hold is a's; 0.6 is b's");
     let file = reader::open(&both).unwrap();
     assert_eq!(reader::header(&file, &both).unwrap().study_name, "both studies");
+}
+
+/// Rewrites the run groups of `results` as results format 2 wrote them: the row as JSON text in an
+/// attribute `row` (no `values`, `parameters`, `warnings` tables, no `results_format` or
+/// `demsweep_version` attributes), and no `/summary`.
+fn as_format_2(results: &Path) {
+    let file = reader::open(results).unwrap();
+    let runs = reader::committed_runs(&file, results).unwrap();
+    drop(file);
+    let file = hdf5_pure::File::open_rw(results).unwrap();
+    for row in &runs.rows {
+        let group = file.group(&runs.groups[row.group_name()]).unwrap();
+        for table in ["values", "parameters", "warnings"] {
+            if group.datasets().unwrap().iter().any(|d| d == table) {
+                group.delete(table).unwrap();
+            }
+        }
+        group.remove_attr("results_format").unwrap();
+        group.remove_attr("demsweep_version").unwrap();
+        let number = |x: f64| if x.is_nan() { serde_json::Value::Null } else { serde_json::json!(x) };
+        let mut json = serde_json::Map::new();
+        let parameters: Vec<serde_json::Value> = row
+            .parameters
+            .iter()
+            .map(|(k, v)| match v {
+                demsweep::study::ParamValue::Float(x) => serde_json::json!([k, x]),
+                other => panic!("{other:?}"),
+            })
+            .collect();
+        json.insert("parameters".into(), parameters.into());
+        json.insert("warnings".into(), serde_json::to_value(&row.warnings).unwrap());
+        json.insert("settle_time".into(), number(row.settle_time.unwrap_or(f64::NAN)));
+        json.insert("steps".into(), row.steps.into());
+        json.insert("particle_steps".into(), row.particle_steps.into());
+        json.insert("simulated_time".into(), number(row.simulated_time));
+        json.insert("wall_time".into(), number(row.wall_time));
+        json.insert("cpu_time".into(), number(row.cpu_time));
+        for (q, x) in demsweep::physics::quantity::final_value_declarations().zip(row.final_values) {
+            json.insert(q.name.into(), number(x));
+        }
+        group.set_attr("row", AttrValue::String(serde_json::Value::Object(json).to_string())).unwrap();
+    }
+    file.root().delete("summary").unwrap();
+    file.commit().unwrap();
+    file.close().unwrap();
+}
+
+#[test]
+fn a_file_of_results_format_2_reads_grows_in_format_3_and_merges() {
+    let dir = runner_common::scratch("layout_format2");
+    let results = run(&dir, "a", &study("0.2, 0.4"));
+    let file = reader::open(&results).unwrap();
+    let rows = reader::rows(&file, &results).unwrap();
+    let history = |file: &Path, id: &str| {
+        let out = demsweep(&["history", path(file), id]);
+        assert!(out.status.success(), "{}", text(&out));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let histories = [history(&results, "r0000"), history(&results, "r0001")];
+    drop(file);
+    as_format_2(&results);
+    let file = reader::open(&results).unwrap();
+    let read = reader::rows(&file, &results).unwrap();
+    let warnings: usize = read.iter().map(|r| r.warnings.len()).sum();
+    assert!(warnings > 0, "the runs have warnings to read back");
+    let unrecorded: Vec<_> =
+        rows.iter().map(|r| demsweep::output::SummaryRow { made_by: String::new(), ..r.clone() }).collect();
+    let table = demsweep::output::SummaryTable::from_rows;
+    assert!(table(&read) == table(&unrecorded), "format 2 reads back as written (NaN equal to NaN)");
+    let warnings = |rows: &[demsweep::output::SummaryRow]| rows.iter().map(|r| r.warnings.clone()).collect::<Vec<_>>();
+    assert_eq!(warnings(&read), warnings(&unrecorded));
+    drop(file);
+
+    // An edited study grows the file: the new run in format 3 beside the two of format 2.
+    std::fs::write(dir.join("a.toml"), study("0.2, 0.3, 0.4")).unwrap();
+    let grown = demsweep(&["run", path(&dir.join("a.toml")), "--out", path(&dir.join("a")), "--resume"]);
+    assert!(grown.status.success() && text(&grown).contains("1 run now, 2 already done"), "{}", text(&grown));
+    assert_eq!([history(&results, "r0000"), history(&results, "r0002")], histories, "the old runs read as before");
+    assert_eq!(versions(&results), ["", VERSION, ""], "format 2 recorded no version");
+    let file = hdf5_pure::File::open(&results).unwrap();
+    let groups = file.dataset("summary/group").unwrap().read_string().unwrap();
+    let format = |g: &str| file.group(g).unwrap().attrs().unwrap().get("results_format").and_then(AttrValue::as_i64);
+    assert_eq!(groups.iter().map(|g| format(g)).collect::<Vec<_>>(), [None, Some(3), None]);
+    drop(file);
+
+    // And merges with a file of format 3 (a fresh run of another study).
+    let b = run(&dir, "b", &format!("# another study\n{}", study("0.4, 0.6")));
+    let merged = demsweep(&["merge", path(&dir.join("merged")), path(&results), path(&b)]);
+    assert!(merged.status.success(), "{}", text(&merged));
+    let both = dir.join("merged").join("layout.h5");
+    assert_eq!(history(&both, "r0000"), histories[0]);
+    assert_eq!(versions(&both), ["", VERSION, "", VERSION]);
 }

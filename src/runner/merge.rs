@@ -133,7 +133,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
                 .groups
                 .get(name)
                 .ok_or_else(|| OutputError::new(&shard.path, format!("no group for run {}", row.id)))?;
-            staged += writer.stage_copy((&source, &shard.path), group, (name, made_by(shard, row)))?;
+            staged += writer.stage_copy((&source, &shard.path), group, (name, &row.made_by))?;
             if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
                 staged = 0;
