@@ -6,7 +6,7 @@ mod runner_common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 /// A 4-run study of 12 disks (a second or so).
 const STUDY: &str = r#"name = "paths"
@@ -21,15 +21,7 @@ run.sample_interval = 2e-3
 replicates = 2
 "#;
 
-fn demsweep(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep"))
-        .args(args)
-        .current_dir(cwd)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .unwrap()
-}
+use runner_common::demsweep_in as demsweep;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
