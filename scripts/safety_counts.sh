@@ -44,16 +44,7 @@ classify() {
     [[ $outcome == ok || $outcome == clear ]] || echo "  $outcome: $CASE (exit $RC)"
 }
 
-STUDY='name = "paths"
-[scene]
-particles.count = 12
-domain.width = 0.12
-domain.height = 0.2
-run.duration = 0.03
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = [0.3, 0.6]
-replicates = 2'
+STUDY=$(cat "$(dirname "$0")/../tests/data/paths.toml")
 
 # A fresh work folder with a study and its results in results/; sets CWD, GUARD (what must survive).
 fresh() {
