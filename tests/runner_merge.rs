@@ -28,7 +28,7 @@ fn csv_without_timing(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
     let timing: Vec<usize> =
-        ["wall_time (s)", "cpu_time (s)"].iter().map(|name| header.iter().position(|c| c == name).unwrap()).collect();
+        ["wall_time", "cpu_time"].iter().map(|name| header.iter().position(|c| c == name).unwrap()).collect();
     text.lines()
         .map(|l| l.split(',').enumerate().filter(|(i, _)| !timing.contains(i)).map(|(_, f)| f).collect())
         .collect()

@@ -189,7 +189,7 @@ impl MetricFigure<'_> {
 
     /// The metric with its unit, for the title and the axis.
     fn quantity(&self) -> String {
-        if self.unit.is_empty() { self.metric.to_string() } else { format!("{} ({})", self.metric, self.unit) }
+        quantity::labelled(self.metric, self.unit)
     }
 }
 

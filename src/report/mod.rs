@@ -50,7 +50,7 @@ pub struct TuneSection {
     pub recommendation: String,
     /// Cost against largest |difference| / tolerance, as an SVG document.
     pub chart_svg: String,
-    /// Every evaluated setting: the header, then one record per setting (as in `<name>_candidates.csv`).
+    /// Every evaluated setting: the column labels, then one record per setting (as in `<name>_candidates.csv`).
     pub candidates: Vec<Vec<String>>,
 }
 

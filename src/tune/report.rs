@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use super::judge::broken_by_reference;
 use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, SearchResult, State};
 use super::{TuneSpec, seed_text};
-use crate::output::csv::write_record;
-use crate::physics::quantity::PILE_METRICS;
+use crate::output::csv;
+use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
 use crate::plot::{ChartOptions, Format};
 use crate::report::TuneSection;
@@ -614,11 +614,12 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         .collect()
 }
 
-/// Writes CSV records.
+/// Writes CSV records, the first one the column names (followed by their units line).
 fn write_records(records: &[Vec<String>], path: &Path) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    for record in records {
-        write_record(&mut out, record)?;
+    if let Some((names, rows)) = records.split_first() {
+        csv::write_named_header(&mut out, names)?;
+        rows.iter().try_for_each(|row| csv::write_record(&mut out, row))?;
     }
     std::io::Write::flush(&mut out)
 }
@@ -665,14 +666,14 @@ pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
     text
 }
 
-/// The candidates table (`<name>_candidates.csv`): the header, the reference, then every setting
-/// that ran with its levers, n, cost, metric means, decisions and verification (the settings not run
+/// The candidates table (`<name>_candidates.csv`): the column names, the reference, then every setting
+/// that ran with its levers, n, cost (the objective's mean, and its ratio to the reference's), metric means, decisions and verification (the settings not run
 /// are in [`skipped_records`]).
 pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
     let reference = stats::describe(&result.reference_costs());
     let mut header: Vec<String> = vec!["candidate".into(), "origin".into()];
     header.extend(spec.levers.iter().map(|l| l.key.clone()));
-    header.extend(["n".into(), "cost_mean".into(), "cost_ratio".into()]);
+    header.extend(["n".into(), format!("{}_mean", spec.search.objective.name()), "cost_ratio".into()]);
     for keep in &spec.keep {
         header.extend([
             format!("{}_mean", keep.metric),
@@ -754,7 +755,11 @@ pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Res
     let (points, recommended) = cost_points(result);
     let mut chart_svg = String::new();
     cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg).map_err(|e| e.to_string())?;
-    Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates: candidate_records(spec, result) })
+    let mut candidates = candidate_records(spec, result);
+    if let Some(names) = candidates.first_mut() {
+        names.iter_mut().for_each(|name| *name = quantity::label(name));
+    }
+    Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates })
 }
 
 /// A runnable study of the recommended scene: the reference scene with the lever values set, run on
