@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{Format, RunToExport, State};
+use super::{Format, RunToExport, State, WriteError};
 use crate::output::csv;
 
 /// The format's row of [`super::FORMATS`].
@@ -52,11 +52,11 @@ fn header(out: &mut dyn Write, columns: &[Column]) -> std::io::Result<()> {
 
 /// Writes each state's `<run>_<label>.csv` (the disks), `<run>_<label>_contacts.csv` and
 /// `<run>_<label>.json` (what they hold) into `folder`.
-fn write_run(folder: &Path, _: &RunToExport, states: &[State]) -> Result<(), String> {
+fn write_run(folder: &Path, _: &RunToExport, states: &[State]) -> Result<(), WriteError> {
     states.iter().try_for_each(|state| write_state(folder, state))
 }
 
-fn write_state(folder: &Path, state: &State) -> Result<(), String> {
+fn write_state(folder: &Path, state: &State) -> Result<(), WriteError> {
     let s = state.snapshot;
     let stem = format!("{}_{}", state.run, state.label);
     super::write_file(folder, &format!("{stem}.csv"), |out: &mut dyn Write| {
