@@ -113,13 +113,8 @@ impl std::error::Error for ExportError {
 pub enum WriteError {
     /// The file cannot be created: the output guard refuses the path, or the folder does not take it.
     Create(GuardError),
-    /// Writing into the created file failed (disk full, quota, I/O error).
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
+    /// Writing into the created file (`path`) failed: disk full, quota, I/O error.
+    Write { path: PathBuf, source: std::io::Error },
 }
 
 impl fmt::Display for WriteError {
