@@ -174,6 +174,7 @@ fn summary_history_and_merge_commands() {
     let text = String::from_utf8_lossy(&by_point.stdout);
     assert_eq!(text.lines().count(), 1 + 4, "one line per restitution value:\n{text}");
     assert!(text.lines().nth(1).unwrap().starts_with("0.2  "), "{text}");
+    assert!(text.lines().next().unwrap().contains("  settle_time (s) ±95%  "), "labelled as everywhere: {text}");
     let points_csv = dir.join("points.csv");
     let export = demsweep(&["summary", r, "--by-point", "--csv", points_csv.to_str().unwrap()]);
     assert_eq!(export.status.code(), Some(0));
