@@ -1,9 +1,9 @@
 //! Every per-run quantity, declared once: name, unit, description and how it is computed.
 //!
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units (HDF5
-//! attributes, the CSV files' units line, labels: [`unit`], [`label`]), the history tables, `compare --keep`, tune's
-//! `[keep]`, `summary --metric` and the column table of docs/results.md all read these tables; nothing else
-//! lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
+//! attributes, the CSV files' units line and the labels people read: [`unit`], [`label`]), the
+//! history tables, `compare --keep`, tune's `[keep]`, `summary --metric` and the column table of
+//! docs/results.md all read these tables; nothing else lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
 //! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
 //! record is turned into a row, never in the step loop.
 //!
