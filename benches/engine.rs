@@ -55,7 +55,9 @@ fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>) -> (f64, u64, 
 }
 
 fn main() {
-    let mut csv = String::from("case,particles,steps,ns_per_particle_step,best_ns_per_particle_step,final_contacts\n");
+    // Names, then units (the header of every CSV demsweep writes, docs/results.md).
+    let mut csv =
+        String::from("case,particles,steps,ns_per_particle_step,best_ns_per_particle_step,final_contacts\n,,,ns,ns,\n");
     let mut scene = reference_scene();
     scene.placement.kind = PlacementKind::File;
     scene.placement.file = Some("tests/data/deposition_300.csv".into());

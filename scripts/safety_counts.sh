@@ -44,16 +44,7 @@ classify() {
     [[ $outcome == ok || $outcome == clear ]] || echo "  $outcome: $CASE (exit $RC)"
 }
 
-STUDY='name = "paths"
-[scene]
-particles.count = 12
-domain.width = 0.12
-domain.height = 0.2
-run.duration = 0.03
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = [0.3, 0.6]
-replicates = 2'
+STUDY=$(cat "$(dirname "$0")/../tests/data/paths.toml")
 
 # A fresh work folder with a study and its results in results/; sets CWD, GUARD (what must survive).
 fresh() {
@@ -111,30 +102,9 @@ every_command() {
 }
 
 echo "diverged runs"
-every_command 'name = "blowup"
-[scene]
-particles.count = 40
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.1
-run.sample_interval = 0.02
-[sweep]
-"material.youngs_modulus" = [1e8, 1e10, 1e12, 1e14]
-"integrator.time_step" = [1e-5, 1e-4, 1e-3]'
-every_command 'name = "blowup"
-[scene]
-particles.count = 10
-particles.radius = 0.005
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.02
-run.sample_interval = 2e-3
-placement.kind = "file"
-placement.file = "fast.csv"
-[sweep]
-"material.restitution" = [0.3, 0.6]' "$(python3 -c "
-print('x,y,r,vx,vy')
-for i in range(10): print(f'{0.01 + 0.015 * i},0.05,0.005,{1e200 if i == 0 else 0},0')")"
+readonly DIVERGED=$(dirname "$0")/../tests/data/diverged
+every_command "$(cat "$DIVERGED/stiffness_time_step.toml")"
+every_command "$(cat "$DIVERGED/fast_disk.toml")" "$(cat "$DIVERGED/fast.csv")"
 
 echo "heaped placement"
 rm -rf "$WORK/h" && mkdir -p "$WORK/h" && CWD=$WORK/h GUARD=

@@ -119,10 +119,11 @@ enum Command {
     Compare(results::CompareArgs),
     /// Print one run's histories (energies, UBF, contacts over time) as CSV.
     #[command(
-        long_about = "Print the sampled histories of one run as CSV on stdout, one line per sample: time t \
-                      (s); the energies (J) kinetic_translational, kinetic_rotational, potential, elastic, \
-                      dissipated, numerical_damping_dissipated, total (kinetic + potential) and mechanical \
-                      (+ elastic); unbalanced_force_ratio, contacts and max_overlap_ratio (overlap / radius).",
+        long_about = "Print the sampled histories of one run as CSV on stdout: the series' names, their \
+                      units, then one line per sample (docs/results.md, CSV files): time t (s); the energies \
+                      (J) kinetic_translational, kinetic_rotational, potential, elastic, dissipated, \
+                      numerical_damping_dissipated, total (kinetic + potential) and mechanical (+ elastic); \
+                      unbalanced_force_ratio, contacts and max_overlap_ratio (overlap / radius).",
         after_help = "Example:\n  demsweep history results/damping_sweep/damping_sweep.h5 r0007 > r0007.csv"
     )]
     History(results::HistoryArgs),

@@ -106,6 +106,8 @@ impl ArrayJob {
         let values = [
             ("{{JOB_NAME}}", job_name(&self.study_name)),
             ("{{SHARDS}}", self.shards.to_string()),
+            // Log files' task ids zero-padded (Slurm's `%2a`), as demsweep pads the shards' file names.
+            ("{{TASK_DIGITS}}", self.shards.to_string().len().to_string()),
             ("{{JOBS}}", self.jobs.to_string()),
             ("{{LOG_DIR}}", log_dir),
             ("{{EXTRA_DIRECTIVES}}\n", extra),
@@ -230,7 +232,7 @@ mod tests {
             "#SBATCH --job-name=demsweep-damping_sweep\n",
             "#SBATCH --array=1-4\n",
             "#SBATCH --cpus-per-task=2\n",
-            "#SBATCH --output=/scratch/out/logs/%x_%A_%a.out\nset -euo pipefail\n",
+            "#SBATCH --output=/scratch/out/logs/%x_%A_%1a.out\nset -euo pipefail\n",
             "exec /opt/bin/demsweep run '/data/my study'\\''s.toml' --shard \"${SLURM_ARRAY_TASK_ID}/4\" \
              --out /scratch/out/shards \\\n    --jobs 2 --resume",
         ] {

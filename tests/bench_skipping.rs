@@ -33,7 +33,9 @@ fn skipping_measures_settle_stop_sampling_and_friction_on_the_same_scene() {
     assert!(rows[2..].iter().all(|r| r.steps == rows[2].steps));
     assert!(rows.iter().all(|r| r.run_time > 0.0 && r.runs == 1));
     assert_eq!(rows[0].saved, 0.0);
-    assert_eq!(csv_lines(&dir.join("skipping.csv")).len(), 7);
+    let csv = csv_lines(&dir.join("skipping.csv"));
+    assert_eq!(csv.len(), 8, "names, units and 6 rows");
+    assert_eq!(csv[1], ",,,s,,s,ns,", "the units line under {}", csv[0]);
     assert!(std::fs::read_to_string(dir.join("skipping.md")).unwrap().contains("stop once settled"));
     std::fs::remove_dir_all(dir).unwrap();
 }

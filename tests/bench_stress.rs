@@ -28,6 +28,11 @@ fn every_stress_scenario_ends_with_its_expected_status_and_a_message() {
     }
     assert!(row("large_100000").note.contains("2000 disks") && row("large_100000").note.contains("per step"));
     assert!(row("frictionless").note.contains("% saved"));
-    assert_eq!(csv_lines(&dir.join("stress.csv")).len(), 11);
+    let csv = csv_lines(&dir.join("stress.csv"));
+    assert_eq!(csv.len(), 12, "names, units and 10 scenarios");
+    assert_eq!(
+        (csv[0].as_str(), csv[1].as_str()),
+        ("scenario,expected,outcome,as_expected,run_time,message,warnings,note", ",,,,s,,,")
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

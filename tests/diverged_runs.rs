@@ -5,48 +5,14 @@
 mod runner_common;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
 
 /// Stiffness x time step: the stiff, coarse corner diverges (checked below), the soft, fine one does not.
-const STIFFNESS_TIME_STEP: &str = r#"name = "blowup"
-[scene]
-particles.count = 40
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.1
-run.sample_interval = 0.02
-[sweep]
-"material.youngs_modulus" = [1e8, 1e10, 1e12, 1e14]
-"integrator.time_step" = [1e-5, 1e-4, 1e-3]
-"#;
+const STIFFNESS_TIME_STEP: &str = include_str!("data/diverged/stiffness_time_step.toml");
 
-/// Ten disks in a row, the first at 1e200 m/s.
-const FAST_PLACEMENT: &str = r#"name = "blowup"
-[scene]
-particles.count = 10
-particles.radius = 0.005
-domain.width = 0.16
-domain.height = 0.25
-run.duration = 0.02
-run.sample_interval = 2e-3
-placement.kind = "file"
-placement.file = "fast.csv"
-[sweep]
-"material.restitution" = [0.3, 0.6]
-"#;
+/// Ten disks in a row (`fast.csv`), the first at 1e200 m/s.
+const FAST_DISK: &str = include_str!("data/diverged/fast_disk.toml");
 
-fn demsweep(cwd: &Path, args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_demsweep"))
-        .args(args)
-        .current_dir(cwd)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .unwrap();
-    let code = out.status.code();
-    assert!(code.is_some_and(|c| c != 101), "{args:?}: {:?}\n{}", out.status, String::from_utf8_lossy(&out.stderr));
-    out
-}
+use runner_common::demsweep_in as demsweep;
 
 /// Runs the study in `dir` whole and in two shards, then every reading command; returns the
 /// statuses of the runs.
@@ -86,11 +52,8 @@ fn a_stiffness_time_step_sweep_with_diverged_runs_goes_through_every_command() {
 #[test]
 fn a_disk_started_at_1e200_metres_per_second_goes_through_every_command() {
     let dir = runner_common::scratch("diverged_placement");
-    std::fs::write(dir.join("blowup.toml"), FAST_PLACEMENT).unwrap();
-    let rows: Vec<String> = (0..10)
-        .map(|i| format!("{},0.05,0.005,{},0", 0.01 + 0.015 * i as f64, if i == 0 { 1e200 } else { 0.0 }))
-        .collect();
-    std::fs::write(dir.join("fast.csv"), format!("x,y,r,vx,vy\n{}\n", rows.join("\n"))).unwrap();
+    std::fs::write(dir.join("blowup.toml"), FAST_DISK).unwrap();
+    std::fs::write(dir.join("fast.csv"), include_str!("data/diverged/fast.csv")).unwrap();
     let statuses = every_command(&dir);
     assert_eq!(statuses, ["diverged", "diverged"]);
 }

@@ -6,30 +6,12 @@ mod runner_common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 /// A 4-run study of 12 disks (a second or so).
-const STUDY: &str = r#"name = "paths"
-[scene]
-particles.count = 12
-domain.width = 0.12
-domain.height = 0.2
-run.duration = 0.03
-run.sample_interval = 2e-3
-[sweep]
-"material.restitution" = [0.3, 0.6]
-replicates = 2
-"#;
+const STUDY: &str = include_str!("data/paths.toml");
 
-fn demsweep(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep"))
-        .args(args)
-        .current_dir(cwd)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .unwrap()
-}
+use runner_common::demsweep_in as demsweep;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()

@@ -121,7 +121,7 @@ fn the_column_picker_fits_the_page(seen: &Value) {
             .collect()
     };
     let shown = strings("visible_columns");
-    for column in ["material.restitution", &quantity::with_unit("settle_time"), &quantity::with_unit("pile_height")] {
+    for column in ["material.restitution", &quantity::label("settle_time"), &quantity::label("pile_height")] {
         assert!(shown.iter().any(|c| c == column), "{column} shown at first: {shown:?}");
     }
     let all = strings("columns");
@@ -215,7 +215,7 @@ fn header_groups_hold_their_columns(seen: &Value) {
     assert_eq!(names[..5], expected, "{names:?}");
     assert_eq!(names[5..], ["contacts & forces", "warnings & run ids"], "{names:?}");
     let group_of = |column: &str| under.iter().find(|(_, c)| c.contains(&column)).map(|(g, _)| *g);
-    let header = |name: &str| quantity::with_unit(name);
+    let header = |name: &str| quantity::label(name);
     assert_eq!(group_of("material.restitution"), Some("grid point"));
     assert_eq!(group_of(&header("settle_time")), Some("settle time & cost"));
     assert_eq!(group_of(&header("pile_height")), Some("pile geometry"));

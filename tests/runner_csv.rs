@@ -50,48 +50,49 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
     assert!(report.summary_csv.ends_with("csv_summary.csv"));
     assert!(text.ends_with("\r\n"));
     let records = parse_csv(&text);
+    // The names line, then the units line (the swept key in its unit too, docs/results.md).
     let expected = [
-        "run_id",
-        "index",
-        "integrator.time_step",
-        "status",
-        "settle_time (s)",
-        "steps",
-        "particle_steps",
-        "simulated_time (s)",
-        "wall_time (s)",
-        "cpu_time (s)",
-        "time_step (s)",
-        "final_kinetic (J)",
-        "final_potential (J)",
-        "final_elastic (J)",
-        "final_dissipated (J)",
-        "final_numerical_damping_dissipated (J)",
-        "final_mechanical (J)",
-        "final_ubf",
-        "energy_balance_error",
-        "largest_overlap_ratio",
-        "pile_height (m)",
-        "packing_fraction",
-        "packing_fraction_interior",
-        "coordination_number",
-        "mechanical_coordination_number",
-        "rattler_fraction",
-        "floor_load_ratio",
-        "floor_mean_contact_force (N)",
-        "fabric_anisotropy",
-        "fabric_direction (rad)",
-        "normal_force_width",
-        "sliding_fraction",
-        "mean_overlap_ratio",
-        "warnings",
-        "message",
-        "identity",
+        ("run_id", ""),
+        ("index", ""),
+        ("integrator.time_step", "s"),
+        ("status", ""),
+        ("settle_time", "s"),
+        ("steps", ""),
+        ("particle_steps", ""),
+        ("simulated_time", "s"),
+        ("wall_time", "s"),
+        ("cpu_time", "s"),
+        ("time_step", "s"),
+        ("final_kinetic", "J"),
+        ("final_potential", "J"),
+        ("final_elastic", "J"),
+        ("final_dissipated", "J"),
+        ("final_numerical_damping_dissipated", "J"),
+        ("final_mechanical", "J"),
+        ("final_ubf", ""),
+        ("energy_balance_error", ""),
+        ("largest_overlap_ratio", ""),
+        ("pile_height", "m"),
+        ("packing_fraction", ""),
+        ("packing_fraction_interior", ""),
+        ("coordination_number", ""),
+        ("mechanical_coordination_number", ""),
+        ("rattler_fraction", ""),
+        ("floor_load_ratio", ""),
+        ("floor_mean_contact_force", "N"),
+        ("fabric_anisotropy", ""),
+        ("fabric_direction", "rad"),
+        ("normal_force_width", ""),
+        ("sliding_fraction", ""),
+        ("mean_overlap_ratio", ""),
+        ("warnings", ""),
+        ("message", ""),
+        ("identity", ""),
     ];
-    let col = |name: &str| {
-        expected.iter().position(|c| *c == name || c.strip_prefix(name).is_some_and(|u| u.starts_with(" ("))).unwrap()
-    };
-    assert_eq!(records[0], expected);
+    let col = |name: &str| expected.iter().position(|c| c.0 == name).unwrap();
+    assert_eq!(records[0], expected.map(|c| c.0));
+    assert_eq!(records[1], expected.map(|c| c.1));
+    let records = &records[1..];
     assert_eq!(records.len(), 4);
     let statuses: Vec<&str> = records[1..].iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(statuses, ["not_settled", "diverged", "error"]);
@@ -130,21 +131,16 @@ fn points_csv_and_the_points_group_agree() {
     let records = parse_csv(&std::fs::read_to_string(&report.points_csv).unwrap());
     let names: Vec<&str> = stored.columns.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(records[0].len(), names.len());
-    for (written, name) in records[0].iter().zip(&names) {
-        // A statistic of a quantity with a unit is headed with that unit, e.g. `pile_height_mean (m)`.
-        assert!(written == name || written.starts_with(&format!("{name} (")), "{written} for {name}");
-    }
+    assert_eq!(records[0], names, "the names line holds the bare names, as /points does");
     assert_eq!(records[0][..3], ["material.restitution", "n", "settled"]);
-    for (column, header) in [("settle_time_ci95", "settle_time_ci95 (s)"), ("pile_height_mean", "pile_height_mean (m)")]
-    {
-        assert!(records[0].contains(&header.to_string()), "{column}: {:?}", records[0]);
-    }
-    assert!(records[0].contains(&"settle_time_n".to_string()), "a count has no unit");
-    assert_eq!(records.len(), 1 + 4);
-    for (i, record) in records[1..].iter().enumerate() {
+    // A statistic of a quantity with a unit is in that unit; a count has none.
+    let unit = |column: &str| records[1][names.iter().position(|n| *n == column).unwrap()].as_str();
+    assert_eq!([unit("settle_time_ci95"), unit("pile_height_mean"), unit("settle_time_n")], ["s", "m", ""]);
+    assert_eq!(records.len(), 2 + 4);
+    for (i, record) in records[2..].iter().enumerate() {
         let cells: Vec<String> = stored.columns.iter().map(|c| c.data.text(i)).collect();
         assert_eq!(record, &cells, "point {i}");
     }
     let n = stored.columns.iter().position(|c| c.name == "n").unwrap();
-    assert!(records[1..].iter().all(|r| r[n] == "2"));
+    assert!(records[2..].iter().all(|r| r[n] == "2"));
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 use demsweep::output::{ShardSpec, history, summary};
-use demsweep::runner::{merge, run_plan};
+use demsweep::runner::{merge, results_path, run_plan};
 use demsweep::study::Plan;
 
 fn run_shard(plan: &Plan, dir: &Path, k: usize, n: usize) -> PathBuf {
@@ -28,7 +28,7 @@ fn csv_without_timing(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
     let timing: Vec<usize> =
-        ["wall_time (s)", "cpu_time (s)"].iter().map(|name| header.iter().position(|c| c == name).unwrap()).collect();
+        ["wall_time", "cpu_time"].iter().map(|name| header.iter().position(|c| c == name).unwrap()).collect();
     text.lines()
         .map(|l| l.split(',').enumerate().filter(|(i, _)| !timing.contains(i)).map(|(_, f)| f).collect())
         .collect()
@@ -150,4 +150,18 @@ fn merge_merges_what_there_is_and_names_the_shards_to_run_again() {
         ),
         "{stderr}"
     );
+}
+
+#[test]
+fn shard_file_names_are_zero_padded_and_an_unpadded_one_is_continued() {
+    let plan = runner_common::sweep("padded", 12);
+    let dir = runner_common::scratch("padded_shards");
+    let mut options = runner_common::options(&dir, 1);
+    options.shard = Some(ShardSpec { index: 3, count: 12 });
+    assert!(results_path(&plan, &options).ends_with("padded.shard-03-of-12.h5"), "lists in shard order");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("padded.shard-3-of-12.h5"), b"").unwrap();
+    assert!(results_path(&plan, &options).ends_with("padded.shard-3-of-12.h5"), "a file named before padding");
+    options.shard = Some(ShardSpec { index: 3, count: 4 });
+    assert!(results_path(&plan, &options).ends_with("padded.shard-3-of-4.h5"));
 }

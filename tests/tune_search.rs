@@ -420,7 +420,7 @@ fn a_reference_that_breaks_a_limit_holds_candidates_to_it_instead_of_stopping() 
     let text = demsweep::tune::report::reference_breaks(&result);
     assert!(
         text.starts_with("WARNING: the reference itself breaks 1 rule")
-            && text.contains("limits.overlap_warning_ratio"),
+            && text.contains(" 0.12 against 0.1 (limits.overlap_warning_ratio)"),
         "{text}"
     );
 }

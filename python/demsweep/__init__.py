@@ -12,7 +12,8 @@ as pandas DataFrames and its arrays as NumPy arrays. Guide: docs/python.md of th
   ``.frames(run)``, ``.scene(run)``.
 
 Units are SI, one per quantity: ``UNITS`` maps every summary column, history series and disk field
-to its unit (also in each DataFrame's ``attrs["units"]``). Refused studies and scenes raise
+to its unit; each DataFrame's ``attrs["units"]`` holds its columns' units (swept keys' included), as
+the units line of a CSV file does. Refused studies and scenes raise
 ``StudyError`` with the text ``demsweep check`` prints; unreadable results raise ``ResultsError``.
 """
 
@@ -46,19 +47,10 @@ __all__ = [
 #: The SI unit of every summary column, history series and disk field ("" when dimensionless).
 UNITS: dict[str, str] = _native.units()
 
-_STATISTICS = ("_mean", "_std", "_ci95", "_min", "_max")
-
-
-def _unit(column: str) -> str | None:
-    if column in UNITS:
-        return UNITS[column]
-    base = next((column[: -len(s)] for s in _STATISTICS if column.endswith(s)), None)
-    return UNITS.get(base) if base else None
-
 
 def _frame(columns: dict) -> pd.DataFrame:
     frame = pd.DataFrame(columns)
-    frame.attrs["units"] = {c: u for c in frame.columns if (u := _unit(c)) is not None}
+    frame.attrs["units"] = _native.column_units([str(c) for c in frame.columns])  # the CSV's units line
     return frame
 
 

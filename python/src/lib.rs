@@ -376,6 +376,19 @@ fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(dict)
 }
 
+/// `column_units(names)`: the unit of each named column that has one (`quantity::unit`: the units
+/// line of the CSV files), `""` when dimensionless; columns without one are left out.
+#[pyfunction]
+fn column_units(py: Python<'_>, names: Vec<String>) -> PyResult<Bound<'_, PyDict>> {
+    let dict = PyDict::new(py);
+    for name in &names {
+        if let Some(unit) = quantity::unit(name) {
+            dict.set_item(name, unit)?;
+        }
+    }
+    Ok(dict)
+}
+
 /// A results file written by `run`, `merge` or `tune`, read through the library's readers.
 #[pyclass(frozen, module = "demsweep._native")]
 struct Results {
@@ -502,5 +515,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(tune, m)?)?;
     m.add_function(wrap_pyfunction!(units, m)?)?;
+    m.add_function(wrap_pyfunction!(column_units, m)?)?;
     Ok(())
 }

@@ -23,6 +23,7 @@ use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::material::{Materials, beta_from_restitution};
 use crate::physics::particles::InitialDisk;
+use crate::physics::quantity;
 use crate::physics::record::RunRecord;
 use crate::physics::simulation::Simulation;
 use crate::plot::bench::{LogLogSeries, log_log_chart};
@@ -103,16 +104,16 @@ pub struct AccuracyRow {
 }
 
 impl CsvRow for AccuracyRow {
-    const HEADER: &'static [&'static str] = &[
-        "problem",
-        "scheme",
-        "contact_time_over_dt",
-        "time_step",
-        "run_time_s",
-        "observable",
-        "value",
-        "reference",
-        "relative_error",
+    const COLUMNS: &'static [(&'static str, &'static str)] = &[
+        ("problem", ""),
+        ("scheme", ""),
+        ("contact_time_over_dt", ""),
+        ("time_step", "s"),
+        ("run_time", "s"),
+        ("observable", ""),
+        ("value", ""),
+        ("reference", ""),
+        ("relative_error", ""),
     ];
     fn values(&self) -> Vec<String> {
         vec![
@@ -413,8 +414,15 @@ fn chart(options: &AccuracyOptions, rows: &[AccuracyRow], problem: &str, counted
         .collect();
     let chart = ChartOptions { format: Format::Png, subject: Some(problem.replace('_', " ")), ..Default::default() };
     let path = options.out_dir.join(format!("work_precision_{problem}.png"));
-    log_log_chart("Work-precision", "run time (s)", "largest relative error", &series, &chart, &path)
-        .map_err(|e| e.to_string())
+    log_log_chart(
+        "Work-precision",
+        &quantity::labelled("run_time", "s"),
+        "largest relative error",
+        &series,
+        &chart,
+        &path,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// The fastest (scheme, `t_c/dt`, run time, error) reaching `target` error for a problem.
@@ -448,7 +456,8 @@ fn error_table(rows: &[AccuracyRow], problem: &str) -> String {
     }
     let same_run = |r: &&&AccuracyRow| r.scheme == of_problem[0].scheme && r.ratio == of_problem[0].ratio;
     let observables: Vec<&str> = of_problem.iter().take_while(same_run).map(|r| r.observable).collect();
-    let mut header = vec!["scheme", "dt", "run time (s)"];
+    let run_time = quantity::labelled("run_time", "s");
+    let mut header = vec!["scheme", "dt", run_time.as_str()];
     header.extend(&observables);
     let table: Vec<Vec<String>> = of_problem
         .chunks(observables.len())
@@ -502,7 +511,10 @@ fn summary(options: &AccuracyOptions, rows: &[AccuracyRow], problems: &[Problem]
         options.deposition_reference_ratio,
         options.coarsest_ratio,
         options.finest_ratio,
-        markdown_table(&["problem", "error ≤", "scheme", "dt", "run time (s)", "error"], &best),
+        markdown_table(
+            &["problem", "error ≤", "scheme", "dt", quantity::labelled("run_time", "s").as_str(), "error"],
+            &best
+        ),
         markdown_table(&["observable", "relative difference"], &floor_rows),
         error_table(rows, "impact_undamped"),
         error_table(rows, "impact_damped"),

@@ -21,6 +21,7 @@ use std::time::Instant;
 use crate::output::csv;
 use crate::physics::config::{IntegratorKind, SceneConfig};
 use crate::physics::particles::InitialDisk;
+use crate::physics::quantity;
 use crate::physics::simulation::Control;
 use crate::physics::{RunRecord, placement, run_scene};
 
@@ -34,16 +35,22 @@ pub const SCHEMES: [IntegratorKind; 2] = [IntegratorKind::AdamsBashforthMoulton,
 
 /// One row of a CSV table.
 pub trait CsvRow {
-    /// Column names.
-    const HEADER: &'static [&'static str];
-    /// The row's values, in [`Self::HEADER`] order.
+    /// Column names and SI units (empty where a column has none).
+    const COLUMNS: &'static [(&'static str, &'static str)];
+    /// The row's values, in [`Self::COLUMNS`] order.
     fn values(&self) -> Vec<String>;
+
+    /// The columns' labels, for Markdown tables ([`quantity::labelled`]).
+    fn labels() -> Vec<String> {
+        Self::COLUMNS.iter().map(|(name, unit)| quantity::labelled(name, unit)).collect()
+    }
 }
 
-/// Writes rows as CSV (RFC 4180, through [`csv::write_record`]) with a header line.
+/// Writes rows as CSV (RFC 4180, the names and units lines of [`csv`]).
 pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
     let mut text = Vec::new();
-    csv::write_record(&mut text, R::HEADER).expect("writing to memory");
+    let (names, units): (Vec<&str>, Vec<&str>) = R::COLUMNS.iter().copied().unzip();
+    csv::write_header(&mut text, &names, &units).expect("writing to memory");
     for row in rows {
         csv::write_record(&mut text, &row.values()).expect("writing to memory");
     }
@@ -96,7 +103,8 @@ pub fn ratio_grid(coarsest: f64, finest: f64, per_doubling: u32) -> Vec<f64> {
 }
 
 /// A Markdown table from a header and rows of cells.
-pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
+pub fn markdown_table<S: AsRef<str>>(header: &[S], rows: &[Vec<String>]) -> String {
+    let header: Vec<&str> = header.iter().map(AsRef::as_ref).collect();
     let mut text = format!("| {} |\n|{}\n", header.join(" | "), "---|".repeat(header.len()));
     for row in rows {
         let _ = writeln!(text, "| {} |", row.join(" | "));

@@ -80,15 +80,15 @@ pub struct SkippingRow {
 }
 
 impl CsvRow for SkippingRow {
-    const HEADER: &'static [&'static str] = &[
-        "measure",
-        "setting",
-        "runs",
-        "run_time_s",
-        "steps",
-        "simulated_time",
-        "ns_per_particle_step",
-        "saved_fraction",
+    const COLUMNS: &'static [(&'static str, &'static str)] = &[
+        ("measure", ""),
+        ("setting", ""),
+        ("runs", ""),
+        ("run_time", "s"),
+        ("steps", ""),
+        ("simulated_time", "s"),
+        ("ns_per_particle_step", "ns"),
+        ("saved_fraction", ""),
     ];
     fn values(&self) -> Vec<String> {
         vec![
@@ -221,6 +221,6 @@ fn summary(options: &SkippingOptions, rows: &[SkippingRow]) -> String {
         s.material.youngs_modulus,
         s.integrator.fixed_time_step().unwrap_or_default(),
         options.window,
-        markdown_table(SkippingRow::HEADER, &table)
+        markdown_table(&SkippingRow::labels(), &table)
     )
 }

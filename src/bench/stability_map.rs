@@ -127,24 +127,24 @@ impl MapRow {
 }
 
 impl CsvRow for MapRow {
-    const HEADER: &'static [&'static str] = &[
-        "scheme",
-        "youngs_modulus",
-        "beta",
-        "friction",
-        "restitution",
-        "time_step",
-        "contact_time",
-        "dt_over_contact_time",
-        "damping_rate",
-        "dt_times_damping_rate",
-        "safe_time_step",
-        "warned",
-        "status",
-        "failure",
-        "simulated_time",
-        "message",
-        "warnings",
+    const COLUMNS: &'static [(&'static str, &'static str)] = &[
+        ("scheme", ""),
+        ("youngs_modulus", "Pa"),
+        ("beta", ""),
+        ("friction", ""),
+        ("restitution", ""),
+        ("time_step", "s"),
+        ("contact_time", "s"),
+        ("dt_over_contact_time", ""),
+        ("damping_rate", "1/s"),
+        ("dt_times_damping_rate", ""),
+        ("safe_time_step", "s"),
+        ("warned", ""),
+        ("status", ""),
+        ("failure", ""),
+        ("simulated_time", "s"),
+        ("message", ""),
+        ("warnings", ""),
     ];
     fn values(&self) -> Vec<String> {
         vec![

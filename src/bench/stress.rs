@@ -8,6 +8,7 @@ use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::{PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
+use crate::physics::quantity;
 use crate::physics::simulation::Simulation;
 use crate::physics::{RunRecord, RunStatus};
 
@@ -87,8 +88,16 @@ impl StressRow {
 }
 
 impl CsvRow for StressRow {
-    const HEADER: &'static [&'static str] =
-        &["scenario", "expected", "outcome", "as_expected", "run_time_s", "message", "warnings", "note"];
+    const COLUMNS: &'static [(&'static str, &'static str)] = &[
+        ("scenario", ""),
+        ("expected", ""),
+        ("outcome", ""),
+        ("as_expected", ""),
+        ("run_time", "s"),
+        ("message", ""),
+        ("warnings", ""),
+        ("note", ""),
+    ];
     fn values(&self) -> Vec<String> {
         vec![
             self.scenario.into(),
@@ -339,6 +348,17 @@ fn summary(options: &StressOptions, rows: &[StressRow]) -> String {
         options.duration,
         options.large_count,
         options.large_steps,
-        markdown_table(&["scenario", "expected", "outcome", "run time (s)", "message", "warnings", "note"], &table)
+        markdown_table(
+            &[
+                "scenario",
+                "expected",
+                "outcome",
+                quantity::labelled("run_time", "s").as_str(),
+                "message",
+                "warnings",
+                "note"
+            ],
+            &table
+        )
     )
 }

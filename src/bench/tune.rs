@@ -104,20 +104,20 @@ pub struct TuneBenchRow {
 }
 
 impl CsvRow for TuneBenchRow {
-    const HEADER: &'static [&'static str] = &[
-        "scene",
-        "disks",
-        "tune_answer",
-        "tune_cost_ratio",
-        "tune_cost_ratio_low",
-        "tune_cost_ratio_high",
-        "tune_spend",
-        "undecided_metric",
-        "ladder_best",
-        "ladder_cost_ratio",
-        "ladder_runs",
-        "tune_over_ladder",
-        "goal_met",
+    const COLUMNS: &'static [(&'static str, &'static str)] = &[
+        ("scene", ""),
+        ("disks", ""),
+        ("tune_answer", ""),
+        ("tune_cost_ratio", ""),
+        ("tune_cost_ratio_low", ""),
+        ("tune_cost_ratio_high", ""),
+        ("tune_spend", ""),
+        ("undecided_metric", ""),
+        ("ladder_best", ""),
+        ("ladder_cost_ratio", ""),
+        ("ladder_runs", ""),
+        ("tune_over_ladder", ""),
+        ("goal_met", ""),
     ];
 
     fn values(&self) -> Vec<String> {

@@ -1,14 +1,16 @@
 //! Placement CSV: one row per disk, `id,x,y,r,vx,vy,omega,angle,contact_force` (SI units), the
 //! columns `placement.kind = "file"` reads (it skips `id` and `contact_force`, which are there for the
 //! reader); beside it the contacts' history, one row per contact,
-//! `first,second,tangential_spring,law_state`, which `placement.contacts` reads. Both files are plain
-//! CSV (a header line, then values: `pandas.read_csv` opens them as they are); what they are — the
-//! run, the time, each column's unit and meaning — is in a JSON file beside them.
+//! `first,second,tangential_spring,law_state`, which `placement.contacts` reads. Both files are CSV
+//! as demsweep writes every CSV (RFC 4180; the names line, then the units line, then the values:
+//! `pandas.read_csv(path, skiprows=[1])`); what they are — the run, the time, each column's unit and
+//! meaning — is also in a JSON file beside them.
 
 use std::io::Write;
 use std::path::Path;
 
-use super::{Format, RunToExport, State};
+use super::{Format, RunToExport, State, WriteError};
+use crate::output::csv;
 
 /// The format's row of [`super::FORMATS`].
 pub const FORMAT: Format = Format {
@@ -42,33 +44,34 @@ pub const CONTACT_COLUMNS: [Column; 4] = [
     ("law_state", "", "the contact law's state (hysteretic_linear: the largest overlap, m; 0 for other laws)"),
 ];
 
-/// A header line: the column names, comma separated.
-pub fn header(columns: &[Column]) -> String {
-    columns.iter().map(|c| c.0).collect::<Vec<_>>().join(",")
+/// Writes the header lines of `columns`: their names, then their units.
+fn header(out: &mut dyn Write, columns: &[Column]) -> std::io::Result<()> {
+    let (names, units): (Vec<&str>, Vec<&str>) = columns.iter().map(|c| (c.0, c.1)).unzip();
+    csv::write_header(out, &names, &units)
 }
 
 /// Writes each state's `<run>_<label>.csv` (the disks), `<run>_<label>_contacts.csv` and
 /// `<run>_<label>.json` (what they hold) into `folder`.
-fn write_run(folder: &Path, _: &RunToExport, states: &[State]) -> Result<(), String> {
+fn write_run(folder: &Path, _: &RunToExport, states: &[State]) -> Result<(), WriteError> {
     states.iter().try_for_each(|state| write_state(folder, state))
 }
 
-fn write_state(folder: &Path, state: &State) -> Result<(), String> {
+fn write_state(folder: &Path, state: &State) -> Result<(), WriteError> {
     let s = state.snapshot;
     let stem = format!("{}_{}", state.run, state.label);
     super::write_file(folder, &format!("{stem}.csv"), |out: &mut dyn Write| {
-        writeln!(out, "{}", header(&DISK_COLUMNS))?;
+        header(out, &DISK_COLUMNS)?;
         for i in 0..s.x.len() {
             let (x, y, r, vx, vy) = (s.x[i], s.y[i], s.r[i], s.vx[i], s.vy[i]);
-            writeln!(out, "{i},{x},{y},{r},{vx},{vy},{},{},{}", s.omega[i], s.angle[i], s.contact_force[i])?;
+            write!(out, "{i},{x},{y},{r},{vx},{vy},{},{},{}\r\n", s.omega[i], s.angle[i], s.contact_force[i])?;
         }
         Ok(())
     })?;
     let c = &s.contacts;
     super::write_file(folder, &format!("{stem}_contacts.csv"), |out: &mut dyn Write| {
-        writeln!(out, "{}", header(&CONTACT_COLUMNS))?;
+        header(out, &CONTACT_COLUMNS)?;
         for k in 0..c.len() {
-            writeln!(out, "{},{},{},{}", c.first[k], c.second[k], c.tangential_spring[k], c.law_state[k])?;
+            write!(out, "{},{},{},{}\r\n", c.first[k], c.second[k], c.tangential_spring[k], c.law_state[k])?;
         }
         Ok(())
     })?;

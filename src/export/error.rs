@@ -52,8 +52,8 @@ pub enum ExportError {
         folder: PathBuf,
         /// The run's id.
         id: String,
-        /// The writer's reason.
-        reason: String,
+        /// Which file, and why.
+        source: WriteError,
     },
     /// The written folder cannot be listed.
     Io {
@@ -90,7 +90,7 @@ impl fmt::Display for ExportError {
                  run.frame_times or run.frame_interval set, or leave out --frames",
                 results.display()
             ),
-            ExportError::Write { folder, id, reason } => write!(f, "{}: run {id}: {reason}", folder.display()),
+            ExportError::Write { folder, id, source } => write!(f, "{}: run {id}: {source}", folder.display()),
             ExportError::Io { path, source } => write!(f, "{}: cannot list: {source}", path.display()),
         }
     }
@@ -102,7 +102,35 @@ impl std::error::Error for ExportError {
             ExportError::Guard(e) => Some(e),
             ExportError::Output(e) => Some(e),
             ExportError::Io { source, .. } => Some(source),
+            ExportError::Write { source, .. } => Some(source),
             _ => None,
+        }
+    }
+}
+
+/// Why a format's writer could not write one of its files.
+#[derive(Debug)]
+pub enum WriteError {
+    /// The file cannot be created: the output guard refuses the path, or the folder does not take it.
+    Create(GuardError),
+    /// Writing into the created file (`path`) failed: disk full, quota, I/O error.
+    Write { path: PathBuf, source: std::io::Error },
+}
+
+impl fmt::Display for WriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WriteError::Create(e) => write!(f, "{e}"),
+            WriteError::Write { path, source } => write!(f, "{}: cannot write: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for WriteError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            WriteError::Create(e) => Some(e),
+            WriteError::Write { source, .. } => Some(source),
         }
     }
 }

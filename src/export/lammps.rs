@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 use std::io::Write;
 use std::path::Path;
 
-use super::{Format, RunToExport, State};
+use super::{Format, RunToExport, State, WriteError};
 use crate::physics::SceneConfig;
 use crate::physics::config::IntegratorKind;
 use crate::physics::contact::{Coefficients, LawVisitor, PairProperties, RegisteredLaw};
@@ -37,7 +37,7 @@ pub const FORMAT: Format = Format {
 pub const DEFAULT_STEPS: u64 = 10_000;
 
 /// Writes each state's `<run>_<label>.data` and `<run>_<label>.in` into `folder`.
-fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), String> {
+fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), WriteError> {
     let scene = &export.run.scene;
     let time_step = time_step(export);
     for state in states {

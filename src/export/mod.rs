@@ -19,7 +19,7 @@ use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
 use crate::physics::record::Snapshot;
 
-pub use error::ExportError;
+pub use error::{ExportError, WriteError};
 
 /// One export format: a row of [`FORMATS`].
 pub struct Format {
@@ -28,7 +28,7 @@ pub struct Format {
     /// What it writes, in a line (the CLI's help).
     pub description: &'static str,
     /// Writes the states of one run into a folder.
-    pub write_run: fn(&Path, &RunToExport, &[State]) -> Result<(), String>,
+    pub write_run: fn(&Path, &RunToExport, &[State]) -> Result<(), WriteError>,
 }
 
 impl std::fmt::Debug for Format {
@@ -153,7 +153,7 @@ fn write_runs(
         let run = stored::read_run(file, &request.results, row)?;
         let states = states(request, row, &run)?;
         let written = (request.format.write_run)(folder, &RunToExport { row, run: &run }, &states);
-        written.map_err(|reason| ExportError::Write { folder: folder.to_path_buf(), id: row.id.clone(), reason })?;
+        written.map_err(|source| ExportError::Write { folder: folder.to_path_buf(), id: row.id.clone(), source })?;
     }
     Ok(())
 }
@@ -199,10 +199,32 @@ pub(crate) fn write_file(
     folder: &Path,
     name: &str,
     body: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
-) -> Result<(), String> {
+) -> Result<(), WriteError> {
     let path = folder.join(name);
-    let fail = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-    let file = guard::create_file(&path, &[]).map_err(|e| e.to_string())?;
+    let file = guard::create_file(&path, &[]).map_err(WriteError::Create)?;
     let mut buffer = std::io::BufWriter::new(file);
-    body(&mut buffer).and_then(|()| std::io::Write::flush(&mut buffer)).map_err(fail)
+    let written = body(&mut buffer).and_then(|()| std::io::Write::flush(&mut buffer));
+    written.map_err(|source| WriteError::Write { path, source })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_that_cannot_be_created_or_written_is_a_typed_error_naming_it() {
+        let missing = std::env::temp_dir().join(format!("demsweep-export-missing-{}", std::process::id()));
+        let created = write_file(&missing, "r0000_final.csv", |out| out.write_all(b"x"));
+        assert!(
+            matches!(&created, Err(WriteError::Create(e)) if e.path == missing.join("r0000_final.csv")),
+            "{created:?}"
+        );
+        // A writer whose bytes do not go in (the disk full): the file is created, then the write fails.
+        let folder = std::env::temp_dir();
+        let name = format!("demsweep-export-full-{}.csv", std::process::id());
+        let full = write_file(&folder, &name, |_| Err(std::io::ErrorKind::StorageFull.into()));
+        std::fs::remove_file(folder.join(&name)).unwrap();
+        let Err(WriteError::Write { path, source }) = &full else { panic!("{full:?}") };
+        assert_eq!((path, source.kind()), (&folder.join(&name), std::io::ErrorKind::StorageFull));
+    }
 }

@@ -16,7 +16,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{Format, RunToExport, State};
+use super::{Format, RunToExport, State, WriteError};
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::record::Snapshot;
 
@@ -31,7 +31,7 @@ pub const FORMAT: Format = Format {
 const PARAVIEW_SCRIPT: &str = include_str!("../../scripts/paraview_pile.py");
 
 /// Writes the files of one run (see the module doc).
-fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), String> {
+fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), WriteError> {
     let run = export.run;
     let Some(first) = states.first() else { return Ok(()) };
     for state in states {

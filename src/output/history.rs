@@ -4,7 +4,6 @@ use std::io::Write;
 use std::path::Path;
 
 use super::{OutputError, compound, csv, reader};
-use crate::physics::quantity;
 
 /// Writes the histories of run `run_id` of a results file as CSV: one column per series (the fields
 /// of the run's `history` table, headed `name (unit)`), one line per sample.
@@ -20,8 +19,8 @@ pub fn to_csv<W: Write>(path: &Path, run_id: &str, out: &mut W) -> Result<(), Ou
     let columns = compound::decode(&dataset, compound::read_limit(path))
         .map_err(|e| reader::damaged_data(path, run_id, &format!("{run}/history"), &e))?;
     let write_err = |e| OutputError::io(Path::new("<output>"), e);
-    let names: Vec<String> = columns.iter().map(|(n, _)| quantity::series_with_unit(n)).collect();
-    csv::write_record(out, &names).map_err(write_err)?;
+    let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
+    csv::write_named_header(out, &names).map_err(write_err)?;
     for i in 0..columns.first().map_or(0, |(_, c)| c.len()) {
         let cells: Vec<String> = columns.iter().map(|(_, c)| c.text(i)).collect();
         csv::write_record(out, &cells).map_err(write_err)?;

@@ -13,22 +13,21 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
     reader::summary(&file, path)
 }
 
-/// Writes a table (the summary or the points) as a CSV file (header line, RFC 4180 quoting, missing values empty).
+/// Writes a table (the summary or the points) as a CSV file (names and units lines, RFC 4180 quoting, missing
+/// values empty).
 pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
     let file = super::guard::create_file(path, &[]).map_err(|e| OutputError::new(path, e.refusal_text()))?;
     let mut out = BufWriter::new(file);
     csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
 }
 
-/// Writes the summary as an aligned text table (headers with units, columns separated by two spaces, floats to 6
+/// Writes the summary as an aligned text table (headed by labels, [`quantity::label`], columns separated by two spaces, floats to 6
 /// significant digits; the CSV has them exactly).
 pub fn print_aligned<W: Write>(out: &mut W, table: &SummaryTable) -> std::io::Result<()> {
     let cells: Vec<Vec<String>> = table
         .columns
         .iter()
-        .map(|c| {
-            std::iter::once(quantity::with_unit(&c.name)).chain((0..table.len()).map(|i| c.data.display(i))).collect()
-        })
+        .map(|c| std::iter::once(quantity::label(&c.name)).chain((0..table.len()).map(|i| c.data.display(i))).collect())
         .collect();
     let widths: Vec<usize> = cells.iter().map(|col| col.iter().map(|s| s.chars().count()).max().unwrap_or(0)).collect();
     for line in 0..=table.len() {

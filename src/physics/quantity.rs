@@ -1,9 +1,9 @@
 //! Every per-run quantity, declared once: name, unit, description and how it is computed.
 //!
-//! The summary's columns (CSV and `/summary`), the run groups' attributes, their units in the HDF5
-//! attributes and in the CSV and report headers, the history tables, `compare --keep`, tune's
-//! `[keep]`, `summary --metric` and the column table of docs/results.md all read these tables; nothing else
-//! lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
+//! The summary's columns (CSV and `/summary`), the run groups' attributes, their units (HDF5
+//! attributes, the CSV files' units line and the labels people read: [`unit`], [`label`]), the
+//! history tables, `compare --keep`, tune's `[keep]`, `summary --metric` and the column table of
+//! docs/results.md all read these tables; nothing else lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
 //! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
 //! record is turned into a row, never in the step loop.
 //!
@@ -11,7 +11,7 @@
 
 use super::contact_record::PileContact;
 use super::pile::{PILE_METRIC_COUNT, Pile, PileGeometry, PileMetrics};
-use super::record::{History, RunRecord};
+use super::record::{DISK_FIELDS, History, RunRecord};
 
 /// One declared quantity; `value` says how it is computed (`()` where the runner measures it).
 #[derive(Clone, Copy, Debug)]
@@ -241,27 +241,38 @@ pub fn find(name: &str) -> Option<Declaration> {
     per_run().find(|q| q.name == name)
 }
 
-/// The per-run quantity a summary or points column holds, directly or as a statistic over runs
-/// (`m_mean`, `m_std`, `m_ci95`, `m_min`, `m_max`, in the quantity's unit); `None` for other columns.
+/// The statistics a column may hold of a per-run quantity, in its unit, by suffix: over runs
+/// (`_mean`, `_std`, `_ci95`, `_min`, `_max`) or between two settings' means (`_difference`, in tune's
+/// candidates table).
+const STATISTIC_SUFFIXES: [&str; 6] = ["_mean", "_std", "_ci95", "_min", "_max", "_difference"];
+
+/// The per-run quantity a column holds, directly or as a statistic of it (see
+/// [`STATISTIC_SUFFIXES`]); `None` for other columns.
 pub fn column_quantity(column: &str) -> Option<Declaration> {
-    let statistic = |suffix: &str| column.strip_suffix(suffix);
-    find(column).or_else(|| ["_mean", "_std", "_ci95", "_min", "_max"].into_iter().find_map(statistic).and_then(find))
+    let statistic = |suffix: &&str| column.strip_suffix(suffix);
+    find(column).or_else(|| STATISTIC_SUFFIXES.iter().find_map(statistic).and_then(find))
 }
 
-/// A column's name with its unit for headers, `name (unit)`; the name alone without a unit.
-pub fn with_unit(column: &str) -> String {
-    match column_quantity(column).map(|q| q.unit).filter(|u| !u.is_empty()) {
-        Some(unit) => format!("{column} ({unit})"),
-        None => column.to_string(),
-    }
+/// The SI unit of a named column wherever demsweep stores or reads it (`""`: dimensionless): a
+/// per-run quantity or a statistic of one (`settle_time_ci95`), a history series, a disk field of a
+/// state, or a scene key (a swept column such as `material.youngs_modulus`); `None` for anything
+/// else (text, run ids, counts of runs). Every CSV file's units line and every [`label`] read it.
+pub fn unit(name: &str) -> Option<&'static str> {
+    let series = || HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.unit);
+    let disk_field = || DISK_FIELDS.iter().find(|f| f.name == name).map(|f| f.unit);
+    let key = || super::keys::scene_keys().into_iter().find(|k| k.path == name).map(|k| k.unit);
+    column_quantity(name).map(|q| q.unit).or_else(series).or_else(disk_field).or_else(key)
 }
 
-/// A history series' name with its unit for headers, `name (unit)`; the name alone without one.
-pub fn series_with_unit(name: &str) -> String {
-    match HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.unit) {
-        Some(unit) if !unit.is_empty() => format!("{name} ({unit})"),
-        _ => name.to_string(),
-    }
+/// The one way a name is shown with its unit to people (plot axes, report and terminal table
+/// headers): `name (unit)`, the name alone when the unit is empty. Files hold the bare name.
+pub fn labelled(name: &str, unit: &str) -> String {
+    if unit.is_empty() { name.to_string() } else { format!("{name} ({unit})") }
+}
+
+/// A column's label: [`labelled`] with its [`unit`].
+pub fn label(name: &str) -> String {
+    labelled(name, unit(name).unwrap_or(""))
 }
 
 /// The values of a history series.
@@ -404,16 +415,34 @@ mod tests {
     }
 
     #[test]
-    fn statistics_columns_carry_their_metric_unit() {
-        assert_eq!(with_unit("settle_time"), "settle_time (s)");
-        assert_eq!(with_unit("pile_height_ci95"), "pile_height_ci95 (m)");
-        assert_eq!(with_unit("floor_mean_contact_force_mean"), "floor_mean_contact_force_mean (N)");
-        assert_eq!(with_unit("wall_time_std"), "wall_time_std (s)");
-        assert_eq!(with_unit("settle_time_n"), "settle_time_n", "a count of values has no unit");
-        assert_eq!(with_unit("coordination_number_mean"), "coordination_number_mean", "dimensionless");
-        assert_eq!(column_quantity("coordination_number_mean").map(|q| q.unit), Some(""));
-        assert_eq!(with_unit("material.friction"), "material.friction");
-        assert_eq!(series_with_unit("t"), "t (s)");
-        assert_eq!(series_with_unit("contacts"), "contacts");
+    fn every_stored_name_has_one_unit() {
+        assert_eq!(label("settle_time"), "settle_time (s)");
+        assert_eq!(label("pile_height_ci95"), "pile_height_ci95 (m)");
+        assert_eq!(label("floor_mean_contact_force_mean"), "floor_mean_contact_force_mean (N)");
+        assert_eq!(label("wall_time_std"), "wall_time_std (s)");
+        assert_eq!(unit("packing_fraction_difference"), Some(""));
+        assert_eq!(unit("settle_time_n"), None, "a count of values is not a quantity");
+        assert_eq!(label("coordination_number_mean"), "coordination_number_mean", "dimensionless");
+        assert_eq!(unit("coordination_number_mean"), Some(""));
+        assert_eq!(unit("material.youngs_modulus"), Some("Pa"), "a swept scene key");
+        assert_eq!(unit("material.friction"), Some(""));
+        assert_eq!(label("t"), "t (s)");
+        assert_eq!(label("contacts"), "contacts");
+        assert_eq!((unit("vx"), unit("contact_force")), (Some("m/s"), Some("N")), "disk fields");
+        assert_eq!((unit("run_id"), unit("status")), (None, None));
+        assert_eq!(labelled("run_time", "s"), "run_time (s)");
+    }
+
+    #[test]
+    fn a_name_means_one_quantity_across_the_tables() {
+        let mut names: Vec<&str> = per_run()
+            .map(|q| q.name)
+            .chain(HISTORY_SERIES.iter().map(|s| s.quantity.name))
+            .chain(DISK_FIELDS.iter().map(|f| f.name))
+            .collect();
+        let count = names.len();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), count, "a name declared in two tables would have two units");
     }
 }

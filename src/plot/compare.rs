@@ -144,7 +144,7 @@ pub fn draw_all(
         let centre = kept.reference.mean;
         let path = dir.join(format!("compare_{metric}.png"));
         let band = Some(centre - kept.margin..centre + kept.margin);
-        let unit = quantity::column_quantity(metric).map_or("", |q| q.unit);
+        let unit = quantity::unit(metric).unwrap_or("");
         let x_param = axes.first().copied().unwrap_or("point");
         metric_chart((metric, unit), &chart_points, (x_param, series_param), band, &options, &path)?;
         written.push(path);
@@ -189,7 +189,7 @@ impl MetricFigure<'_> {
 
     /// The metric with its unit, for the title and the axis.
     fn quantity(&self) -> String {
-        if self.unit.is_empty() { self.metric.to_string() } else { format!("{} ({})", self.metric, self.unit) }
+        quantity::labelled(self.metric, self.unit)
     }
 }
 

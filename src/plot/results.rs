@@ -355,7 +355,7 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
             if metric == "settle_time" && axis == x {
                 continue;
             }
-            let unit = quantity::find(metric).map_or("", |q| q.unit);
+            let unit = quantity::unit(metric).unwrap_or("");
             let mut estimates = compare::metric_points(&points, metric, (Some(axis), colour), None);
             estimates.retain(|e| {
                 e.series.is_none_or(|v| lines.contains(&(axis, v.to_bits()))) && shown.contains(&(axis, e.x.to_bits()))

@@ -10,6 +10,7 @@ use plotters::prelude::*;
 
 use super::style::{self, LINE_WIDTH};
 use super::{Canvas, ChartOptions, DrawResult, Figure, Format, PlotError, render};
+use crate::physics::quantity;
 use crate::physics::record::{History, Snapshot};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
@@ -108,10 +109,10 @@ impl ColourBy {
     }
 
     /// Colour bar label, with unit.
-    fn label(self) -> &'static str {
+    fn label(self) -> String {
         match self {
-            ColourBy::Speed => "speed (m/s)",
-            ColourBy::ContactForce => "contact force (N)",
+            ColourBy::Speed => quantity::labelled("speed", "m/s"),
+            ColourBy::ContactForce => quantity::label("contact_force"),
         }
     }
 }
@@ -201,7 +202,7 @@ where
         .x_label_area_size(X_LABEL_AREA)
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(time, y)?;
-    style::numbered_mesh(&mut chart.configure_mesh()).x_desc("time (s)").y_desc(y_desc).draw()?;
+    style::numbered_mesh(&mut chart.configure_mesh()).x_desc(quantity::label("t")).y_desc(y_desc).draw()?;
     Ok(chart)
 }
 
@@ -260,7 +261,8 @@ impl Figure for EnergyFigure<'_> {
         let (upper, lower) = root.split_vertically(f64::from(options.height) * ENERGY_PANEL_SHARE);
         let energy = style::padded(style::finite_bounds(lines.iter().flat_map(Line::values)), 0.05);
         let title = options.title("Energies");
-        let mut chart = time_chart(&upper, (&title, style::TITLE_SIZE), time.clone(), (energy, "energy (J)"))?;
+        let energy_label = quantity::labelled("energy", "J");
+        let mut chart = time_chart(&upper, (&title, style::TITLE_SIZE), time.clone(), (energy, &energy_label))?;
         draw_lines(&mut chart, &lines)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         let positive = style::finite_bounds(lines[0].values().chain(lines[2].values()).filter(|v| *v > 0.0));
@@ -271,7 +273,7 @@ impl Figure for EnergyFigure<'_> {
             Line::new("elastic", style::series_colour(2), elastic, |v| v >= lo),
         ];
         let caption = ("kinetic and elastic energy, log scale", style::AXIS_DESC_SIZE);
-        let mut chart = time_chart(&lower, caption, time, ((lo..hi).log_scale(), "energy (J)"))?;
+        let mut chart = time_chart(&lower, caption, time, ((lo..hi).log_scale(), &energy_label))?;
         draw_lines(&mut chart, &detail)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
@@ -303,7 +305,12 @@ impl Figure for UbfFigure<'_> {
         let time = time_range(h);
         let title = options.title("Unbalanced force ratio");
         let caption = (title.as_str(), style::TITLE_SIZE);
-        let mut chart = time_chart(root, caption, time.clone(), ((lo / 3.0..hi * 3.0).log_scale(), "UBF (-)"))?;
+        let mut chart = time_chart(
+            root,
+            caption,
+            time.clone(),
+            ((lo / 3.0..hi * 3.0).log_scale(), &quantity::label("unbalanced_force_ratio")),
+        )?;
         draw_lines(&mut chart, std::slice::from_ref(&ubf))?;
         self.draw_markers(&mut chart, time, lo / 3.0..hi * 3.0)?;
         // Early times (no or few contacts) and low ratios: the lower left is usually empty.
@@ -396,8 +403,8 @@ impl Figure for SnapshotFigure<'_> {
             .build_cartesian_2d(x_range, y_range)?;
         style::numbered_mesh(&mut chart.configure_mesh())
             .disable_mesh()
-            .x_desc("x (m)")
-            .y_desc("y (m)")
+            .x_desc(quantity::label("x"))
+            .y_desc(quantity::label("y"))
             .x_labels(6)
             .y_labels(8)
             .draw()?;
@@ -409,7 +416,7 @@ impl Figure for SnapshotFigure<'_> {
         let frame = box_frame(&chart, self.box_size);
         chart.draw_series(self.disks(frame.pixels_per_metre.0))?;
         chart.draw_series(self.force_chains(frame.pixels_per_metre.0))?;
-        style::colour_bar(&bar_area, self.scale.range(), self.scale.by.label(), (MARGIN, MARGIN + X_LABEL_AREA))?;
+        style::colour_bar(&bar_area, self.scale.range(), &self.scale.by.label(), (MARGIN, MARGIN + X_LABEL_AREA))?;
         Ok(frame)
     }
 }

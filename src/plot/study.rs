@@ -16,6 +16,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::style::{self, DIVERGED, LABEL_SIZE, LINE_WIDTH, NOT_SETTLED};
 use super::{Canvas, ChartOptions, DrawResult, Figure, PlotError, StudyPoint, render};
 use crate::physics::RunStatus;
+use crate::physics::quantity;
 use crate::stats::{Describe, describe};
 
 /// Draws settle time against the swept parameter `x_param`, one line per value of `series_param`
@@ -175,7 +176,10 @@ impl Figure for LinesFigure<'_> {
             .x_label_area_size(55)
             .y_label_area_size(85)
             .build_cartesian_2d(x_range.clone(), 0.0..top * 1.2)?;
-        style::numbered_mesh(&mut chart.configure_mesh()).x_desc(self.x_param).y_desc("settle time (s)").draw()?;
+        style::numbered_mesh(&mut chart.configure_mesh())
+            .x_desc(self.x_param)
+            .y_desc(quantity::label("settle_time"))
+            .draw()?;
         let row = [(x_range.start, unsettled_row), (x_range.end, unsettled_row)];
         chart.draw_series(DashedLineSeries::new(row, 4, 6, NOT_SETTLED.stroke_width(1)))?;
         for (index, ((label, line), (_, runs))) in lines.iter().zip(self.series()).enumerate() {
@@ -351,7 +355,7 @@ impl Figure for HeatmapFigure<'_> {
         let range = self.grid.settle_range();
         let cells = self.draw_cells(&mut chart, root, &range)?;
         let bar_bottom = MARGIN + X_LABEL_AREA + LEGEND_AREA;
-        style::colour_bar(&right, range, "settle time (s)", (MARGIN, bar_bottom))?;
+        style::colour_bar(&right, range, &quantity::label("settle_time"), (MARGIN, bar_bottom))?;
         let legend_top = right.dim_in_pixel().1.saturating_sub(LEGEND_AREA + X_LABEL_AREA);
         self.draw_legend(&right.shrink((20, legend_top), (170, LEGEND_AREA)))?;
         Ok(cells)

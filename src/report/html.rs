@@ -131,7 +131,10 @@ impl PointsTable {
         let mut columns: Vec<Value> = points
             .coordinates()
             .iter()
-            .map(|c| column(&c.name, if c.data.is_numeric() { "number" } else { "text" }, ("", swept), POINT_GROUP))
+            .map(|c| {
+                let unit = quantity::unit(&c.name).unwrap_or("");
+                column(&c.name, if c.data.is_numeric() { "number" } else { "text" }, (unit, swept), POINT_GROUP)
+            })
             .collect();
         columns.push(column("n", "number", ("", "Runs at the grid point (placement seeds)."), RUNS_GROUP));
         columns.extend(
@@ -205,13 +208,13 @@ impl PointsTable {
             .columns
             .iter()
             .map(|c| {
-                let (name, unit) = (escape(&text(c, "name")), text(c, "unit"));
-                let unit = if unit.is_empty() { String::new() } else { format!(" ({})", escape(&unit)) };
+                let name = escape(&text(c, "name"));
+                let label = escape(&quantity::labelled(&text(c, "name"), &text(c, "unit")));
                 format!(
-                    "<th data-kind=\"{}\" title=\"{} Click to sort by {name}.\">{}{unit}</th>",
+                    "<th data-kind=\"{}\" title=\"{} Click to sort by {name}.\">{}</th>",
                     escape(&text(c, "kind")),
                     escape(&text(c, "description")),
-                    name.replace('_', "_<wbr>").replace('.', ".<wbr>"),
+                    label.replace('_', "_<wbr>").replace('.', ".<wbr>"),
                 )
             })
             .collect();

@@ -20,6 +20,7 @@ use crate::output::guard;
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::quantity;
 use crate::physics::record::Snapshot;
 use crate::physics::warning::WarningKind;
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
@@ -50,7 +51,7 @@ pub struct TuneSection {
     pub recommendation: String,
     /// Cost against largest |difference| / tolerance, as an SVG document.
     pub chart_svg: String,
-    /// Every evaluated setting: the header, then one record per setting (as in `<name>_candidates.csv`).
+    /// Every evaluated setting: the column labels, then one record per setting (as in `<name>_candidates.csv`).
     pub candidates: Vec<Vec<String>>,
 }
 
@@ -291,8 +292,10 @@ fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
         "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">Fastest-settling grid points (mean settle time over the \
          settled runs, ± the 95 % confidence half-width). {summary_line} Whether a faster point makes the same pile: \
          <code>demsweep compare</code> against your usual point (docs/compare.md).</p>\
-         <table class=\"verdict\"><thead><tr><th>grid point</th><th>settle time (s)</th><th>settled runs</th>\
-         <th>mean particle-steps</th><th></th></tr></thead><tbody>{rows}</tbody></table>{reference}"
+         <table class=\"verdict\"><thead><tr><th>grid point</th><th>{}</th><th>settled runs</th>\
+         <th>{}</th><th></th></tr></thead><tbody>{rows}</tbody></table>{reference}",
+        escape(&quantity::label("settle_time")),
+        escape(&quantity::label("particle_steps_mean")),
     )
 }
 

@@ -214,14 +214,16 @@ fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<S
     (jobs, note)
 }
 
-/// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard.
+/// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard, K zero-padded to the digits of N
+/// (`shard-03-of-12`) so that the shards list in order; a shard file written before the padding
+/// (`shard-3-of-12`) is continued under its own name.
 pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
     let dir = options.out_dir.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
-    let file = match options.shard {
-        Some(s) => format!("{}.shard-{}-of-{}.h5", plan.name, s.index, s.count),
-        None => format!("{}.h5", plan.name),
-    };
-    dir.join(file)
+    let Some(s) = options.shard else { return dir.join(format!("{}.h5", plan.name)) };
+    let width = s.count.to_string().len();
+    let padded = dir.join(format!("{}.shard-{:0width$}-of-{}.h5", plan.name, s.index, s.count));
+    let unpadded = dir.join(format!("{}.shard-{}-of-{}.h5", plan.name, s.index, s.count));
+    if !padded.exists() && unpadded.exists() { unpadded } else { padded }
 }
 
 /// Takes the results file's lock, then creates the file, or opens it to resume after checking it

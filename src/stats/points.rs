@@ -219,9 +219,7 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Str
             continue;
         };
         let cells = (0..points.len()).map(|i| plus_minus(mean.data.number(i), half.data.number(i))).collect();
-        let unit = quantity::find(metric).map(|q| q.unit).filter(|u| !u.is_empty());
-        let name = unit.map_or(format!("{metric} (±95%)"), |unit| format!("{metric} ({unit}, ±95%)"));
-        columns.push(Column { name, data: ColumnData::Text(cells) });
+        columns.push(Column { name: format!("{} ±95%", quantity::label(metric)), data: ColumnData::Text(cells) });
     }
     Ok(SummaryTable { columns })
 }

@@ -1,7 +1,8 @@
 //! Placement files: initial disk states as CSV with a header line. Columns `x,y` (m) are required;
 //! `r` (m), `vx,vy` (m/s), `omega` (rad/s) and `angle` (rad) are optional, in any order; `id` and
 //! `contact_force` (written by `demsweep export --format csv`) are allowed and not read. Blank lines
-//! and lines starting with `#` are skipped.
+//! and lines starting with `#` are skipped. A units line may follow the header (as in every CSV
+//! demsweep writes: no cell a number); each of its cells is empty or the column's SI unit.
 //!
 //! Contact files (`placement.contacts`, written by the same export as `<run>_<state>_contacts.csv`):
 //! the contact history of a restart, one row per contact, columns `first` (a disk: its row in the
@@ -14,13 +15,26 @@ use std::path::Path;
 use crate::physics::contact_record::Partner;
 use crate::physics::particles::{InitialContact, InitialDisk};
 
+/// A column a file may have: its name and SI unit (empty when dimensionless).
+type Column = (&'static str, &'static str);
+
 /// The columns a placement file may have: the disk state, then the ones that are not read.
-const COLUMNS: [&str; 9] = ["x", "y", "r", "vx", "vy", "omega", "angle", "id", "contact_force"];
+const COLUMNS: [Column; 9] = [
+    ("x", "m"),
+    ("y", "m"),
+    ("r", "m"),
+    ("vx", "m/s"),
+    ("vy", "m/s"),
+    ("omega", "rad/s"),
+    ("angle", "rad"),
+    ("id", ""),
+    ("contact_force", "N"),
+];
 /// Of [`COLUMNS`], the required ones (x and y).
 const REQUIRED: usize = 2;
 
 /// The columns of a contact file, the first three required.
-const CONTACT_COLUMNS: [&str; 4] = ["first", "second", "tangential_spring", "law_state"];
+const CONTACT_COLUMNS: [Column; 4] = [("first", ""), ("second", ""), ("tangential_spring", "m"), ("law_state", "")];
 
 /// Largest placement (or contact) file read (bytes): a million disks with every column take about 100 MB.
 pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
@@ -103,7 +117,7 @@ fn body(value: f64, disks: usize, walls: usize) -> Result<Partner, String> {
 /// The data rows of a CSV text with a header naming some of `columns` (the first `required` of
 /// them required), each row's values in header order with its line number.
 struct Table<'a> {
-    columns: &'a [&'a str],
+    columns: &'a [Column],
     /// Index into `columns` of each header field.
     header: Vec<usize>,
     /// The header's line number.
@@ -113,23 +127,53 @@ struct Table<'a> {
 
 impl<'a> Table<'a> {
     /// Reads the header and the rows (every value a finite number).
-    fn parse(text: &str, columns: &'a [&'a str], required: usize) -> Result<Self, String> {
+    fn parse(text: &str, columns: &'a [Column], required: usize) -> Result<Self, String> {
         let mut lines = text
             .lines()
             .enumerate()
             .map(|(i, line)| (i + 1, line.trim()))
-            .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'));
+            .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'))
+            .peekable();
         let Some((header_line, header)) = lines.next() else {
-            let example = columns[..required].join(",");
+            let example = names(&columns[..required]).join(",");
             return Err(format!("line 1: empty file: expected a header line like `{example}`"));
         };
         let header = header_columns(header, columns, required).map_err(|e| format!("line {header_line}: {e}"))?;
         let mut table = Self { columns, header, header_line, rows: Vec::new() };
+        if let Some((number, line)) = lines.next_if(|(_, line)| is_units_line(line)) {
+            table.check_units(line).map_err(|e| format!("line {number}{e}"))?;
+        }
         for (number, line) in lines {
             let values = table.parse_row(line).map_err(|e| format!("line {number}{e}"))?;
             table.rows.push((number, values));
         }
         Ok(table)
+    }
+
+    /// Each cell of a units line is empty or its column's SI unit; errors as [`Self::parse_row`]'s.
+    fn check_units(&self, line: &str) -> Result<(), String> {
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        if cells.len() != self.header.len() {
+            return Err(format!(
+                ": the units line has {} fields but the header has {}",
+                cells.len(),
+                self.header.len()
+            ));
+        }
+        let wrong =
+            cells.iter().zip(&self.header).position(|(cell, &c)| !cell.is_empty() && *cell != self.columns[c].1);
+        match wrong {
+            None => Ok(()),
+            Some(position) => {
+                let (name, unit) = self.columns[self.header[position]];
+                let si = if unit.is_empty() { "dimensionless" } else { unit };
+                Err(format!(
+                    ", column {} ({name}): unit \"{}\": values are read in SI ({si})",
+                    position + 1,
+                    cells[position]
+                ))
+            }
+        }
     }
 
     /// One data line's values; errors start with what follows the line number (", column ..." or ": ...").
@@ -139,7 +183,7 @@ impl<'a> Table<'a> {
             return Err(format!(": has {} fields but the header has {}", fields.len(), self.header.len()));
         }
         let values = fields.iter().enumerate().map(|(position, field)| {
-            let at = || format!(", column {} ({})", position + 1, self.columns[self.header[position]]);
+            let at = || format!(", column {} ({})", position + 1, self.columns[self.header[position]].0);
             let value: f64 = field.parse().map_err(|_| format!("{}: \"{field}\" is not a number", at()))?;
             if !value.is_finite() {
                 return Err(format!("{}: must be finite, got {field}", at()));
@@ -161,20 +205,20 @@ impl<'a> Table<'a> {
     /// ", column K (name)" for column `column` of `columns` as the header places it.
     fn at(&self, column: usize) -> String {
         let position = self.header.iter().position(|&c| c == column).unwrap_or(column);
-        format!(", column {} ({})", position + 1, self.columns[column])
+        format!(", column {} ({})", position + 1, self.columns[column].0)
     }
 }
 
 /// Index into `columns` of each header field; the first `required` columns must be there.
-fn header_columns(header: &str, columns: &[&str], required: usize) -> Result<Vec<usize>, String> {
+fn header_columns(header: &str, columns: &[Column], required: usize) -> Result<Vec<usize>, String> {
     let mut found = Vec::new();
     for name in header.split(',').map(str::trim) {
-        let Some(k) = columns.iter().position(|c| c.eq_ignore_ascii_case(name)) else {
+        let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
             let (must, may) = columns.split_at(required);
             return Err(format!(
                 "unknown column \"{name}\" (expected {} and optionally {})",
-                must.join(", "),
-                may.join(", ")
+                names(must).join(", "),
+                names(may).join(", ")
             ));
         };
         if found.contains(&k) {
@@ -183,10 +227,20 @@ fn header_columns(header: &str, columns: &[&str], required: usize) -> Result<Vec
         found.push(k);
     }
     if let Some(missing) = columns[..required].iter().enumerate().find(|(k, _)| !found.contains(k)) {
-        let list = columns[..required].join(", ");
-        return Err(format!("the header has no \"{}\" column ({list} are required)", missing.1));
+        let list = names(&columns[..required]).join(", ");
+        return Err(format!("the header has no \"{}\" column ({list} are required)", missing.1.0));
     }
     Ok(found)
+}
+
+/// The columns' names.
+fn names(columns: &[Column]) -> Vec<&'static str> {
+    columns.iter().map(|c| c.0).collect()
+}
+
+/// Whether a line after the header is a units line: none of its cells a number.
+fn is_units_line(line: &str) -> bool {
+    line.split(',').all(|cell| cell.trim().parse::<f64>().is_err())
 }
 
 #[cfg(test)]
@@ -208,6 +262,34 @@ mod tests {
         let text = "# exported\nid,x,y,r,vx,vy,omega,angle,contact_force\n7,1,2,0.5,-1,3,4,-6.5,9.5\n";
         let disks = parse(text, 0.01).unwrap();
         assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
+    }
+
+    #[test]
+    fn a_units_line_under_the_header_is_checked_and_skipped() {
+        let text =
+            "id,x,y,r,vx,vy,omega,angle,contact_force\r\n,m,m,m,m/s,m/s,rad/s,rad,N\r\n7,1,2,0.5,-1,3,4,-6.5,9.5\r\n";
+        let disks = parse(text, 0.01).unwrap();
+        assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
+        assert_eq!(parse("x,y\n,\n1,2\n", 0.01).unwrap().len(), 1, "empty unit cells are allowed");
+        assert_eq!(
+            parse("x,y,r\nmm,m,\n1,2,3\n", 0.01).unwrap_err(),
+            "line 2, column 1 (x): unit \"mm\": values are read in SI (m)"
+        );
+        assert_eq!(
+            parse("x,y\nm,m,m\n1,2\n", 0.01).unwrap_err(),
+            "line 2: the units line has 3 fields but the header has 2"
+        );
+        let contacts = parse_contacts("first,second,tangential_spring\n,,m\n0,1,5e-8\n", 2, 3).unwrap();
+        assert_eq!(contacts.len(), 1);
+        assert_eq!(
+            parse_contacts("first,second,tangential_spring\n,,N\n0,1,5e-8\n", 2, 3).unwrap_err(),
+            "line 2, column 3 (tangential_spring): unit \"N\": values are read in SI (m)"
+        );
+        assert_eq!(
+            parse("x,y\n1,abc\n", 0.01).unwrap_err(),
+            "line 2, column 2 (y): \"abc\" is not a number",
+            "a data line with a number"
+        );
     }
 
     #[test]

@@ -10,8 +10,9 @@ use std::path::{Path, PathBuf};
 use super::judge::broken_by_reference;
 use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, SearchResult, State};
 use super::{TuneSpec, seed_text};
-use crate::output::csv::write_record;
-use crate::physics::quantity::PILE_METRICS;
+use crate::output::csv;
+use crate::physics::number::short;
+use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
 use crate::plot::{ChartOptions, Format};
 use crate::report::TuneSection;
@@ -25,20 +26,6 @@ pub struct Written {
     pub files: Vec<PathBuf>,
     /// Charts that could not be drawn, with the reason.
     pub chart_errors: Vec<String>,
-}
-
-/// A number short: 4 significant digits.
-fn num(x: f64) -> String {
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    if x != 0.0 && !(1e-3..1e5).contains(&x.abs()) {
-        format!("{x:.3e}")
-    } else {
-        let digits = (3 - x.abs().log10().floor() as i32).clamp(0, 8) as usize;
-        let text = format!("{x:.digits$}");
-        if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
-    }
 }
 
 /// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
@@ -61,8 +48,8 @@ fn resolved_time_step(spec: &TuneSpec, candidate: &Candidate) -> String {
     let dt = crate::physics::scene_time_step(&scene, disks).dt;
     let fraction = super::validity::predicted_report(&scene, disks).map(|r| r.dt_over_contact_time);
     match fraction {
-        Ok(f) => format!("time step {} s ({} of the contact time)", num(dt), num(f)),
-        Err(_) => format!("time step {} s", num(dt)),
+        Ok(f) => format!("time step {} s ({} of the contact time)", short(dt), short(f)),
+        Err(_) => format!("time step {} s", short(dt)),
     }
 }
 
@@ -129,8 +116,8 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
         path_line(spec, result),
         run_counts(result),
         result.budget,
-        num(spent),
-        num(spec.search.max_spend),
+        short(spent),
+        short(spec.search.max_spend),
         seed_text(spec, &(0..result.reference.len() as u64).collect::<Vec<_>>())
     );
     match result.recommended {
@@ -153,10 +140,10 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 text,
                 "Cost ({objective}, on the fresh verification seeds): {} of the reference (95 % interval {}-{}), a \
                  speedup of {}x; {}.",
-                num(ratio.ratio),
-                num(ratio.low),
-                num(ratio.high),
-                num(1.0 / ratio.ratio),
+                short(ratio.ratio),
+                short(ratio.low),
+                short(ratio.high),
+                short(1.0 / ratio.ratio),
                 against_standard(spec, result, &costs)
             );
             let _ = writeln!(text, "{}", payback(result, ratio.ratio, spent));
@@ -173,7 +160,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
             let _ = writeln!(
                 text,
                 "Runs that did not settle: {unsettled} of its {runs} runs (95 % upper bound on the rate: {} %).",
-                num(100.0 * rate_upper_bound(unsettled, runs))
+                short(100.0 * rate_upper_bound(unsettled, runs))
             );
             let checks = result.assess_verification(cand).map(|a| a.checks).unwrap_or_default();
             let _ = writeln!(text, "{}", validity_line(spec, cand, &checks));
@@ -208,7 +195,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                         "The closest candidate was {} ({}): cost {} of the reference; {}; metrics: {}. ",
                         cand.id,
                         settings(spec, cand),
-                        num(a.cost / stats::describe(&reference).mean),
+                        short(a.cost / stats::describe(&reference).mean),
                         failure_reason(spec, result, &a),
                         metric_lines(spec, result, &a)
                     );
@@ -231,10 +218,10 @@ fn against_standard(spec: &TuneSpec, result: &SearchResult, costs: &[f64]) -> St
             let r = stats::ratio_interval(&runs, costs);
             format!(
                 "{} of the best valid standard setting, {} (95 % interval {}-{})",
-                num(r.ratio),
+                short(r.ratio),
                 spec.standards[standard.standard.unwrap_or(0)].name,
-                num(r.low),
-                num(r.high)
+                short(r.low),
+                short(r.high)
             )
         }
         None => "no standard setting was both valid and equivalent to the reference".into(),
@@ -243,7 +230,7 @@ fn against_standard(spec: &TuneSpec, result: &SearchResult, costs: &[f64]) -> St
 
 /// After how many depositions the answer has saved more than the tune cost.
 fn payback(result: &SearchResult, ratio: f64, spent: f64) -> String {
-    let count = |saving: f64| if saving > 0.0 { num((spent / saving).ceil()) } else { "never".into() };
+    let count = |saving: f64| if saving > 0.0 { short((spent / saving).ceil()) } else { "never".into() };
     let reference = stats::describe(&result.reference_costs()).mean;
     let standard = result.best_standard().map(|s| result.assess(&result.candidates[s]).cost / reference);
     let against = match standard {
@@ -256,7 +243,7 @@ fn payback(result: &SearchResult, ratio: f64, spent: f64) -> String {
     format!(
         "Payback: the tune spent {} reference depositions; it has saved more than that after {} depositions \
          against the reference{against}.",
-        num(spent),
+        short(spent),
         count(1.0 - ratio)
     )
 }
@@ -277,16 +264,16 @@ fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> Strin
         let t = stats::equivalence(&reference, &runs, f64::INFINITY);
         let sigmas = if spread > 0.0 { t.difference / spread } else { t.difference * f64::INFINITY };
         let kept = spec.keep.iter().position(|keep| keep.metric == *name);
-        let tolerance = kept.map(|i| format!(", kept within ±{}", num(result.margins[i]))).unwrap_or_default();
+        let tolerance = kept.map(|i| format!(", kept within ±{}", short(result.margins[i]))).unwrap_or_default();
         let flag = if sigmas.abs() > 2.0 { " — beyond 2σ" } else { "" };
         let in_sigmas =
-            if sigmas.is_finite() { format!("{}σ", num(sigmas)) } else { "the reference does not vary".into() };
+            if sigmas.is_finite() { format!("{}σ", short(sigmas)) } else { "the reference does not vary".into() };
         let _ = writeln!(
             text,
             "  {name}: {} ({} to {}), {in_sigmas}{tolerance}{flag}",
-            num(t.difference),
-            num(t.low),
-            num(t.high),
+            short(t.difference),
+            short(t.low),
+            short(t.high),
         );
     }
     text
@@ -331,10 +318,10 @@ fn check_lines(result: &SearchResult, cand: &Candidate) -> String {
         let _ = writeln!(
             text,
             "  {name}: {} (largest {}) against {} (largest {})",
-            num(r.mean),
-            num(r.max),
-            num(c.mean),
-            num(c.max)
+            short(r.mean),
+            short(r.max),
+            short(c.mean),
+            short(c.max)
         );
     }
     text
@@ -348,7 +335,7 @@ fn validity_line(spec: &TuneSpec, cand: &Candidate, checks: &[CheckFigure]) -> S
         .map(|c| {
             let seed = cand.verify_seeds.get(c.worst_run).map(|&s| seed_text(spec, &[s])).unwrap_or_default();
             let held = if c.held_to > c.limit {
-                format!(", the reference's own figure (limit {})", num(c.limit))
+                format!(", the reference's own figure (limit {})", short(c.limit))
             } else {
                 String::new()
             };
@@ -356,9 +343,9 @@ fn validity_line(spec: &TuneSpec, cand: &Candidate, checks: &[CheckFigure]) -> S
                 "{} ({}): figure {}, worst run {} (seed {seed}), held to {}{held}",
                 c.kind.name(),
                 c.kind.limit_key(),
-                num(c.figure),
-                num(c.worst),
-                num(c.held_to)
+                short(c.figure),
+                short(c.worst),
+                short(c.held_to)
             )
         })
         .collect();
@@ -380,7 +367,7 @@ pub fn reference_breaks(result: &SearchResult) -> String {
     }
     let each: Vec<String> = broken
         .iter()
-        .map(|c| format!("{} {} against {} ({})", c.kind.name(), num(c.figure), num(c.limit), c.kind.limit_key()))
+        .map(|c| format!("{} {} against {} ({})", c.kind.name(), short(c.figure), short(c.limit), c.kind.limit_key()))
         .collect();
     format!(
         "WARNING: the reference itself breaks {} rule(s) of thumb: {}. Every candidate is held to no worse than the \
@@ -430,7 +417,7 @@ fn undecidable_text(spec: &TuneSpec, result: &SearchResult) -> String {
     for u in &result.undecidable {
         let keep = &spec.keep[u.metric];
         let relative = |m: f64| {
-            if u.mean != 0.0 { format!(" ({} % of the mean)", num(100.0 * m / u.mean.abs())) } else { String::new() }
+            if u.mean != 0.0 { format!(" ({} % of the mean)", short(100.0 * m / u.mean.abs())) } else { String::new() }
         };
         let seeds = match u.seeds_needed {
             Some(n) => format!("the asked tolerance would need about {n} seeds per candidate (search.max_seeds)"),
@@ -443,12 +430,12 @@ fn undecidable_text(spec: &TuneSpec, result: &SearchResult) -> String {
             " {}: the reference spreads {} between seeds{} against a tolerance of ±{}{}; with search.max_seeds = {} \
              the smallest decidable tolerance is ±{}{}; {seeds}.",
             keep.metric,
-            num(u.spread),
+            short(u.spread),
             relative(u.spread),
-            num(u.margin),
+            short(u.margin),
             relative(u.margin),
             spec.search.max_seeds,
-            num(u.decidable_margin),
+            short(u.decidable_margin),
             relative(u.decidable_margin),
         );
     }
@@ -468,10 +455,10 @@ fn metric_lines(spec: &TuneSpec, result: &SearchResult, a: &Assessment) -> Strin
             format!(
                 "{} {} ({} to {}, tolerance ±{}) {}",
                 keep.metric,
-                num(t.difference),
-                num(t.low),
-                num(t.high),
-                num(*m),
+                short(t.difference),
+                short(t.low),
+                short(t.high),
+                short(*m),
                 decision_name(t.decision)
             )
         })
@@ -507,10 +494,10 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
                     "{} is {} (difference {}, 90 % interval {} to {}, tolerance ±{}{})",
                     spec.keep[k].metric,
                     decision_name(t.decision),
-                    num(t.difference),
-                    num(t.low),
-                    num(t.high),
-                    num(*m),
+                    short(t.difference),
+                    short(t.low),
+                    short(t.high),
+                    short(*m),
                     t.seeds_needed.map(|n| format!("; about {n} seeds would decide it")).unwrap_or_default()
                 ),
                 None => a.state.name().into(),
@@ -614,11 +601,12 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         .collect()
 }
 
-/// Writes CSV records.
+/// Writes CSV records, the first one the column names (followed by their units line).
 fn write_records(records: &[Vec<String>], path: &Path) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    for record in records {
-        write_record(&mut out, record)?;
+    if let Some((names, rows)) = records.split_first() {
+        csv::write_named_header(&mut out, names)?;
+        rows.iter().try_for_each(|row| csv::write_record(&mut out, row))?;
     }
     std::io::Write::flush(&mut out)
 }
@@ -665,14 +653,14 @@ pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
     text
 }
 
-/// The candidates table (`<name>_candidates.csv`): the header, the reference, then every setting
-/// that ran with its levers, n, cost, metric means, decisions and verification (the settings not run
+/// The candidates table (`<name>_candidates.csv`): the column names, the reference, then every setting
+/// that ran with its levers, n, cost (the objective's mean, and its ratio to the reference's), metric means, decisions and verification (the settings not run
 /// are in [`skipped_records`]).
 pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
     let reference = stats::describe(&result.reference_costs());
     let mut header: Vec<String> = vec!["candidate".into(), "origin".into()];
     header.extend(spec.levers.iter().map(|l| l.key.clone()));
-    header.extend(["n".into(), "cost_mean".into(), "cost_ratio".into()]);
+    header.extend(["n".into(), format!("{}_mean", spec.search.objective.name()), "cost_ratio".into()]);
     for keep in &spec.keep {
         header.extend([
             format!("{}_mean", keep.metric),
@@ -754,7 +742,11 @@ pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Res
     let (points, recommended) = cost_points(result);
     let mut chart_svg = String::new();
     cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg).map_err(|e| e.to_string())?;
-    Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates: candidate_records(spec, result) })
+    let mut candidates = candidate_records(spec, result);
+    if let Some(names) = candidates.first_mut() {
+        names.iter_mut().for_each(|name| *name = quantity::label(name));
+    }
+    Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates })
 }
 
 /// A runnable study of the recommended scene: the reference scene with the lever values set, run on

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""Reads a `demsweep export --format csv` folder with a plain `pandas.read_csv` (no options) and
-compares it with the results file read by h5py.
+"""Reads a `demsweep export --format csv` folder with `pandas.read_csv` as docs/results.md says
+(`skiprows=[1]` for the values, the line under the names for the units) and compares it with the
+results file read by h5py.
 
 Usage: check_csv.py EXPORT_DIR RESULTS.h5 RUN_GROUP RUN_ID
 
-For the run's final state: the disks' and the contacts' files open as tables whose columns are the
-ones the JSON file beside them describes (each with a unit and a description), one row per disk and
+For the run's final state: the disks' and the contacts' files open as tables whose columns and units
+are the ones the JSON file beside them describes (each with a unit and a description), one row per disk and
 per contact, every value equal to the results file's. Exits 1 listing every difference, 2 when pandas
 or h5py is missing.
 """
@@ -40,12 +41,16 @@ def main(folder, h5_path, group_path, run_id):
         columns = sidecar[part]["columns"]
         if not all({"name", "unit", "description"} <= set(c) for c in columns):
             problems.append(f"{part}: the JSON file's columns lack a unit or a description: {columns}")
-    disks = pd.read_csv(f"{folder}/{sidecar['disks']['file']}")
-    contacts = pd.read_csv(f"{folder}/{sidecar['contacts']['file']}")
+    paths = {part: f"{folder}/{sidecar[part]['file']}" for part in ("disks", "contacts")}
+    disks, contacts = (pd.read_csv(paths[part], skiprows=[1]) for part in ("disks", "contacts"))
     for table, part in ((disks, "disks"), (contacts, "contacts")):
         expected = [c["name"] for c in sidecar[part]["columns"]]
         if list(table.columns) != expected:
             problems.append(f"{part}: pandas reads the columns {list(table.columns)}, the JSON file says {expected}")
+        units = pd.read_csv(paths[part], nrows=1, dtype=str, keep_default_na=False).iloc[0].to_dict()
+        expected_units = {c["name"]: c["unit"] for c in sidecar[part]["columns"]}
+        if units != expected_units:
+            problems.append(f"{part}: the units line says {units}, the JSON file says {expected_units}")
         if len(table) != sidecar[part]["rows"]:
             problems.append(f"{part}: {len(table)} rows, the JSON file says {sidecar[part]['rows']}")
     with h5py.File(h5_path, "r") as f:

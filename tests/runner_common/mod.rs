@@ -97,3 +97,18 @@ pub fn wait_for_first_commit(results: &std::path::Path, child: &mut std::process
         std::thread::sleep(std::time::Duration::from_millis(2));
     }
 }
+
+/// Runs the `demsweep` binary in `cwd` with `args` and asserts it ended with an exit status other
+/// than a panic's (101), not by a signal; returns its output.
+pub fn demsweep_in(cwd: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("demsweep starts");
+    let panicked_or_killed = out.status.code().is_none_or(|c| c == 101);
+    assert!(!panicked_or_killed, "{args:?}: {:?}\n{}", out.status, String::from_utf8_lossy(&out.stderr));
+    out
+}
