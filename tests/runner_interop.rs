@@ -140,7 +140,8 @@ fn frames(base: &str, frames: &[demsweep::physics::record::Snapshot], datasets: 
         }
     }
     let fields = all.iter().map(|(n, v)| (n.as_str(), Value::Array(v.clone()))).collect();
-    datasets.insert(format!("{base}/frames/contacts"), table(fields, json!({})));
+    let units: Vec<&str> = std::iter::once("").chain(CONTACT_UNITS).collect();
+    datasets.insert(format!("{base}/frames/contacts"), table(fields, json!({"units": units})));
 }
 
 fn snapshot(s: &demsweep::physics::record::Snapshot) -> Value {
@@ -174,8 +175,11 @@ fn contacts(s: &demsweep::physics::record::Snapshot) -> Value {
         ("tangential_spring", json!(c.tangential_spring)),
         ("law_state", json!(c.law_state)),
     ];
-    table(f, json!({"time": s.time}))
+    table(f, json!({"time": s.time, "units": CONTACT_UNITS}))
 }
+
+/// The units of a contact table's fields: forces in N, lengths in m, the rest none.
+const CONTACT_UNITS: [&str; 12] = ["", "", "", "", "N", "N", "m", "m", "m", "", "m", "m"];
 
 /// Floats with infinities kept (`{"$float": "inf"}`; JSON has none, and NaN is `null`): the UBF is
 /// infinite while contacts carry no force.

@@ -12,11 +12,11 @@
 //!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
 //!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
 //!     final_contacts       compound table, one field per contact property, one row per contact
-//!                          (attr `time`; see `CONTACT_FIELDS`), stored with `final`
+//!                          (attrs `time`, `units`; see `CONTACT_FIELDS`), stored with `final`
 //!     frames/time          the recorded frames' times (T), H5MD-like: one array per quantity over time
 //!     frames/<field>       one (T, N) float64 array per disk property of `DISK_FIELDS` (attr `unit`)
 //!     frames/contacts      compound table of every frame's contacts, frame after frame: field
-//!                          `frame` (uint32, the row of `time`), then `CONTACT_FIELDS`
+//!                          `frame` (uint32, the row of `time`), then `CONTACT_FIELDS` (attr `units`)
 //! /summary/<column>        one dataset per summary column (attribute `columns` on /summary, and
 //!                          `jobs`, `wall_time` of the last sweep: see [`SWEEP_JOBS`]); the last two
 //!                          columns, [`RUN_GROUP`] and [`RUN_MADE_BY`], are the file's own (not in
@@ -96,7 +96,7 @@ pub fn history_table(h: &History) -> [(&'static str, Field<'_>); HISTORY_SERIES.
     })
 }
 
-/// Attribute of the `history` and state tables listing the unit of each field, in field order (empty
+/// Attribute of the `history`, `values`, state and contact tables listing the unit of each field, in field order (empty
 /// when dimensionless); each `/summary` dataset has attributes `unit` and `description`.
 pub const UNITS: &str = "units";
 
@@ -135,6 +135,16 @@ pub const CONTACT_FIELDS: [&str; 12] = [
     "tangential_spring",
     "law_state",
 ];
+
+/// The units of [`CONTACT_FIELDS`], in order (empty: an index, a flag or dimensionless; `law_state`
+/// is the hysteretic law's largest overlap, 0 for the other laws).
+pub const CONTACT_UNITS: [&str; CONTACT_FIELDS.len()] = ["", "", "", "", "N", "N", "m", "m", "m", "", "m", "m"];
+
+/// The units of a contact table's fields, `leading` empty ones first (attribute [`UNITS`]).
+pub fn contact_units(leading: usize) -> AttrValue {
+    let units = std::iter::repeat_n("", leading).chain(CONTACT_UNITS);
+    AttrValue::StringArray(units.map(str::to_string).collect())
+}
 
 /// The contact table of a network: one field per contact property, in the order of [`CONTACT_FIELDS`].
 pub fn contact_table(c: &ContactNetwork) -> [(&'static str, Field<'_>); CONTACT_FIELDS.len()] {

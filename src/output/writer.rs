@@ -455,6 +455,7 @@ fn stage_frames(g: &mut StagedGroup<'_>, frames: &[Snapshot]) {
         let mut fields = vec![(layout::FRAME_INDEX, Field::U32(&frame))];
         fields.extend(layout::contact_table(&contacts));
         compound::stage(b, &fields);
+        b.set_attr(layout::UNITS, layout::contact_units(1));
     });
 }
 
@@ -467,10 +468,11 @@ fn stage_snapshot(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     });
 }
 
-/// A snapshot's contact network as a contact table with attribute `time`.
+/// A snapshot's contact network as a contact table with attributes `time` and `units`.
 fn stage_contacts(g: &mut StagedGroup<'_>, name: &str, s: &Snapshot) {
     g.create_dataset(name, |b| {
         compound::stage(b, &layout::contact_table(&s.contacts));
         b.set_attr("time", hdf5_pure::AttrValue::F64(s.time));
+        b.set_attr(layout::UNITS, layout::contact_units(0));
     });
 }
