@@ -343,7 +343,7 @@ fn tune<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (mut spec, warnings) = workflow::load_tune(&path).map_err(|e| study_error(py, &e, None))?;
     let stop = Arc::new(AtomicBool::new(false));
-    let options = TuneOptions { jobs, out_dir: out, resume, force, verbose, stop: stop.clone() };
+    let options = TuneOptions { jobs, out_dir: out, resume, force, verbose, stop: stop.clone(), ..Default::default() };
     let run = detached(py, &stop, || workflow::tune_file(&mut spec, &options))?.map_err(results_error)?;
     let result = &run.report.result;
     let answer = PyDict::new(py);

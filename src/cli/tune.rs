@@ -29,6 +29,10 @@ pub struct TuneArgs {
     /// Reuse the runs of an existing results file (after a kill, Ctrl-C or crash) and go on.
     #[arg(long, conflicts_with = "force")]
     resume: bool,
+    /// With --resume: reuse runs made by another demsweep version of the same physics version
+    /// (else such a resume is refused, naming the run and both versions).
+    #[arg(long, requires = "resume")]
+    accept_version: bool,
     /// Replace an existing results file.
     #[arg(long)]
     force: bool,
@@ -158,6 +162,7 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         jobs: args.jobs.unwrap_or(0),
         out_dir: args.out.clone(),
         resume: args.resume,
+        accept_version: args.accept_version,
         force: args.force,
         verbose: !args.quiet,
         stop,

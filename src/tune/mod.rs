@@ -43,6 +43,8 @@ pub struct TuneOptions {
     pub out_dir: Option<PathBuf>,
     /// Reuse the runs of an existing results file.
     pub resume: bool,
+    /// With `resume`: reuse runs made by another demsweep version (else refused, naming them).
+    pub accept_version: bool,
     /// Overwrite an existing results file.
     pub force: bool,
     /// Print one line per batch.
@@ -299,6 +301,7 @@ impl Evaluator for RunEvaluator<'_> {
             jobs: self.options.jobs,
             out_dir: Some(results_path(self.spec, self.options.out_dir.as_deref()).parent().unwrap().to_path_buf()),
             resume: !first || self.options.resume,
+            accept_version: self.options.accept_version,
             force: first && self.options.force,
             progress: ProgressMode::Quiet,
             stop: self.options.stop.clone(),
