@@ -115,8 +115,8 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
     let mut described = summary_rows(file, path)?;
     let (located, mut damaged) = run_groups(file, path, &described)?;
     let mut runs = CommittedRuns::default();
+    let limit = super::compound::read_limit(path);
     for (name, group) in located {
-        let limit = super::compound::read_limit(path);
         let row = match described.remove(&name) {
             Some((row, warnings)) => with_warnings(file, &group, row, (warnings, limit)),
             None => group_row(file, &group, limit),
@@ -227,7 +227,7 @@ fn summary_rows(file: &File, path: &Path) -> Result<HashMap<String, (SummaryRow,
     let Some(table) = stored_table(file, path, SUMMARY)? else { return Ok(HashMap::new()) };
     let mut rows = table.rows().unwrap_or_default();
     let made_by = file.dataset(&format!("{SUMMARY}/{}", layout::RUN_MADE_BY)).and_then(|d| d.read_string());
-    if let Ok(made_by) = made_by.map_err(drop).and_then(|v| if v.len() == rows.len() { Ok(v) } else { Err(()) }) {
+    if let Some(made_by) = made_by.ok().filter(|v| v.len() == rows.len()) {
         for ((row, _), version) in rows.iter_mut().zip(made_by) {
             row.made_by = version;
         }

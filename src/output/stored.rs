@@ -46,7 +46,7 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
     let datasets = group.datasets().map_err(|e| hdf5_error(path, e))?;
     let has = |name: &str| datasets.iter().any(|d| d == name);
     let history = has("history")
-        .then(|| read_table(file, &group_path, "history", path).and_then(|t| history(&t)))
+        .then(|| read_table(file, &format!("{group_path}/history"), path).and_then(|t| history(&t)))
         .transpose()
         .map_err(|e| fail("history", e))?;
     let final_state = has(FINAL)
@@ -96,26 +96,27 @@ fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapsho
             *(field.values_mut)(snapshot) = row.to_vec();
         }
     }
-    let table = format!("{group_path}/{FRAMES}/{FRAME_CONTACT_TABLE}");
-    let contacts = read_contacts(file, &table, path)?;
-    let frame_of =
-        match compound::decode(&file.dataset(&table).map_err(|e| e.to_string())?, compound::read_limit(path))?
-            .into_iter()
-            .find(|(name, _)| name == FRAME_INDEX)
-        {
-            Some((_, ColumnData::Int(frame))) => frame,
-            _ => return Err(format!("{FRAME_CONTACT_TABLE}: no integer field `{FRAME_INDEX}`")),
-        };
+    let table = read_table(file, &format!("{group_path}/{FRAMES}/{FRAME_CONTACT_TABLE}"), path)?;
+    split_contacts(table, &mut snapshots)?;
+    Ok(snapshots)
+}
+
+/// Gives each frame its contacts from the table of every frame's contacts (see
+/// [`FRAME_CONTACT_TABLE`]), checked against the frame's disks.
+fn split_contacts(mut table: HashMap<String, ColumnData>, frames: &mut [Snapshot]) -> Result<(), String> {
+    let Some(ColumnData::Int(frame_of)) = table.remove(FRAME_INDEX) else {
+        return Err(format!("{FRAME_CONTACT_TABLE}: no integer field `{FRAME_INDEX}`"));
+    };
     if frame_of.windows(2).any(|w| w[0] > w[1]) {
         return Err(format!("{FRAME_CONTACT_TABLE}: the contacts are not frame after frame"));
     }
-    for (k, snapshot) in snapshots.iter_mut().enumerate() {
+    let all = contacts(table)?;
+    for (k, frame) in frames.iter_mut().enumerate() {
         let k = k as i64;
-        let rows = frame_of.partition_point(|&f| f < k)..frame_of.partition_point(|&f| f <= k);
-        snapshot.contacts = slice(&contacts, rows);
-        check_contacts(snapshot)?;
+        frame.contacts = slice(&all, frame_of.partition_point(|&f| f < k)..frame_of.partition_point(|&f| f <= k));
+        check_contacts(frame)?;
     }
-    Ok(snapshots)
+    Ok(())
 }
 
 /// The contacts `rows` of a network.
@@ -168,9 +169,11 @@ fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<St
 
 /// A contact table (see [`CONTACT_FIELDS`]) as a network.
 fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, String> {
-    let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
-    let mut table: HashMap<String, ColumnData> =
-        compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect();
+    contacts(read_table(file, dataset_path, path)?)
+}
+
+/// The contact fields of a table (see [`CONTACT_FIELDS`]) as a network.
+fn contacts(mut table: HashMap<String, ColumnData>) -> Result<ContactNetwork, String> {
     let contacts = table.get(CONTACT_FIELDS[0]).map_or(0, ColumnData::len);
     // The history fields are newer than the rest: a file without them has no history (zeros).
     for name in ["tangential_spring", "law_state"] {
@@ -234,9 +237,9 @@ fn check_contacts(state: &Snapshot) -> Result<(), String> {
     }
 }
 
-/// A compound table of a run group as named columns.
-fn read_table(file: &File, group_path: &str, name: &str, path: &Path) -> Result<HashMap<String, ColumnData>, String> {
-    let dataset = file.dataset(&format!("{group_path}/{name}")).map_err(|e| hdf5_error(path, e).message)?;
+/// A compound table (its path in the file) as named columns.
+fn read_table(file: &File, dataset_path: &str, path: &Path) -> Result<HashMap<String, ColumnData>, String> {
+    let dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
     Ok(compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect())
 }
 
