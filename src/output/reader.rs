@@ -311,7 +311,8 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
     }
     let group = file.group(name).map_err(err)?;
     let attrs = group.attrs().map_err(err)?;
-    let names = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()).unwrap_or(&[]);
+    // No `columns`: a table whose writing was cut short (see `writer::write_columns`).
+    let Some(names) = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()) else { return Ok(None) };
     let columns = names
         .iter()
         .filter(|name| ![layout::RUN_GROUP, layout::RUN_MADE_BY].contains(&name.as_str()))

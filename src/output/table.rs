@@ -72,6 +72,16 @@ impl ColumnData {
         self.len() == 0
     }
 
+    /// The bytes its values take (8 a number, 1 a boolean, a text's length).
+    pub fn data_bytes(&self) -> usize {
+        match self {
+            ColumnData::Float(v) => 8 * v.len(),
+            ColumnData::Int(v) => 8 * v.len(),
+            ColumnData::Bool(v) => v.len(),
+            ColumnData::Text(v) => v.iter().map(String::len).sum(),
+        }
+    }
+
     /// The value of row `i` as text: floats in shortest round-trip form, missing values (and rows
     /// past the column's end) empty.
     pub fn text(&self, i: usize) -> String {
