@@ -115,19 +115,6 @@ fn a_flipped_byte_inside_a_stored_final_state_or_history_is_an_error_naming_the_
     }
 }
 
-/// Says that demsweep `version` made every run of `results` (as an older or newer program would
-/// have), and drops `/summary` so that the runs are read from their groups.
-fn made_by(results: &Path, version: &str) {
-    let file = hdf5_pure::File::open_rw(results).unwrap();
-    let groups: Vec<String> = reader::committed_runs(&file, results).unwrap().groups.into_values().collect();
-    for group in groups {
-        file.group(&group).unwrap().set_attr("demsweep_version", AttrValue::String(version.into())).unwrap();
-    }
-    file.root().delete("summary").unwrap();
-    file.commit().unwrap();
-    file.close().unwrap();
-}
-
 fn versions(results: &Path) -> Vec<String> {
     let file = hdf5_pure::File::open(results).unwrap();
     file.dataset("summary/demsweep_version").unwrap().read_string().unwrap()
@@ -138,7 +125,7 @@ fn resume_refuses_runs_of_another_demsweep_version_naming_them_unless_accepted()
     let dir = runner_common::scratch("layout_versions");
     let results = run(&dir, "a", &study("0.2, 0.4, 0.6"));
     assert_eq!(versions(&results), [VERSION; 3], "each run records the version that made it");
-    made_by(&results, "0.0.9");
+    runner_common::made_by(&results, "0.0.9");
     let before = std::fs::read(&results).unwrap();
     let (study, out) = (dir.join("a.toml"), dir.join("a"));
     let resume = |extra: &[&str]| {
@@ -170,7 +157,7 @@ fn merge_refuses_runs_of_different_demsweep_versions_unless_accepted_and_takes_a
     let dir = runner_common::scratch("layout_merge");
     let a = run(&dir, "a", &study("0.2, 0.4"));
     let b = run(&dir, "b", &format!("# another study\n{}", study("0.4, 0.6")));
-    made_by(&b, "0.0.9");
+    runner_common::made_by(&b, "0.0.9");
     let out = dir.join("merged");
     let merge = |extra: &[&str]| demsweep(&[&["merge", path(&out), path(&a), path(&b)][..], extra].concat());
     let refused = merge(&[]);

@@ -112,7 +112,7 @@ fn a_tiny_tune_runs_end_to_end() {
     assert_eq!(again.status.code(), Some(1));
     assert!(text(&again.stderr).contains("--resume"), "{}", text(&again.stderr));
     // Runs another demsweep version made are reused only when accepted, with the same answer.
-    made_by_another_version(&out.join("tiny_tune.h5"));
+    runner_common::made_by(&out.join("tiny_tune.h5"), "0.0.9");
     let refused = tune(&file, &out, &["--resume"]);
     let said_refused = text(&refused.stderr);
     assert_eq!(refused.status.code(), Some(1), "{said_refused}");
@@ -120,20 +120,6 @@ fn a_tiny_tune_runs_end_to_end() {
     let accepted = tune(&file, &out, &["--resume", "--accept-version", "--jobs", "2"]);
     assert_eq!(accepted.status.code(), Some(0), "{}", text(&accepted.stderr));
     assert_eq!(paragraph(&text(&accepted.stdout)), said, "the same answer from the same runs");
-}
-
-/// Says that demsweep 0.0.9 made every run of `results`, and drops `/summary` (the runs are then
-/// read from their groups, as after a kill).
-fn made_by_another_version(results: &Path) {
-    let file = hdf5_pure::File::open_rw(results).unwrap();
-    let runs = demsweep::output::reader::committed_runs(&file, results).unwrap();
-    for group in runs.groups.values() {
-        let version = hdf5_pure::AttrValue::String("0.0.9".into());
-        file.group(group).unwrap().set_attr("demsweep_version", version).unwrap();
-    }
-    file.root().delete("summary").unwrap();
-    file.commit().unwrap();
-    file.close().unwrap();
 }
 
 #[test]

@@ -112,3 +112,17 @@ pub fn demsweep_in(cwd: &std::path::Path, args: &[&str]) -> std::process::Output
     assert!(!panicked_or_killed, "{args:?}: {:?}\n{}", out.status, String::from_utf8_lossy(&out.stderr));
     out
 }
+
+/// Says that demsweep `version` made every run of `results` (as an older or newer program would
+/// have), and drops `/summary`, so that the runs are read from their groups (as after a kill).
+pub fn made_by(results: &std::path::Path, version: &str) {
+    let file = hdf5_pure::File::open_rw(results).unwrap();
+    let runs = demsweep::output::reader::committed_runs(&file, results).unwrap();
+    for group in runs.groups.values() {
+        let version = hdf5_pure::AttrValue::String(version.into());
+        file.group(group).unwrap().set_attr("demsweep_version", version).unwrap();
+    }
+    file.root().delete("summary").unwrap();
+    file.commit().unwrap();
+    file.close().unwrap();
+}
