@@ -23,12 +23,15 @@
 //! block can touch the disk (see [`TouchingPairs::contacts`]).
 
 use super::contact::{self, Coefficients, ContactForce, ContactLaw, ContactOptions, Kinematics, PairProperties};
+use super::contact_sums::{BLOCK, ContactSums, DiskSums, RowsMut, SumOptions};
 use super::diagnostics::ContactTotals;
 use super::material::ContactMaterial;
 use super::neighbors::{Candidates, NeighborPair, WallPair};
+use super::parallel::{Split, for_each_part, split_slice};
 use super::particles::{Forces, State};
 use super::walls::Wall;
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// Whether a law's contact state takes memory (a law without state has `S = ()`: every use of it is
 /// compiled out, bounds checks included).
@@ -46,9 +49,6 @@ fn states_of<S>(states: &mut [S], range: Range<usize>) -> &mut [S] {
 
 /// The tangential springs and law states of a run of candidates.
 type Histories<'a, S> = (&'a mut [f64], &'a mut [S]);
-
-/// Candidates per block: the block's table of touching pairs stays in the L1 cache.
-const BLOCK: usize = 128;
 
 /// Longest candidate list whose narrow phase always branches on contact (see
 /// `TouchingPairs::collect`): measured on settled piles, the branch was as fast or faster at 300
@@ -214,6 +214,90 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
     }
 }
 
+/// A run of whole blocks of candidates (the first is block `first_block` of its list) with their
+/// histories and force rows: a part of the parallel path's work.
+struct CandidateBlocks<'a, T, S> {
+    first_block: usize,
+    entries: &'a [T],
+    springs: &'a mut [f64],
+    states: &'a mut [S],
+    rows: RowsMut<'a>,
+}
+
+impl<'a, T, S> CandidateBlocks<'a, T, S> {
+    fn new(entries: &'a [T], springs: &'a mut [f64], states: &'a mut [S], rows: RowsMut<'a>) -> Self {
+        Self { first_block: 0, entries, springs, states, rows }
+    }
+
+    /// The first `at` blocks and the rest.
+    fn cut(self, at: usize) -> (Self, Self) {
+        let mid = (at * BLOCK).min(self.entries.len());
+        let (e0, e1) = self.entries.split_at(mid);
+        let (s0, s1) = self.springs.split_at_mut(mid);
+        let (st0, st1) = split_slice(self.states, mid, 1);
+        let (r0, r1) = self.rows.split_blocks(at);
+        let first = CandidateBlocks { first_block: self.first_block, entries: e0, springs: s0, states: st0, rows: r0 };
+        let rest =
+            CandidateBlocks { first_block: self.first_block + at, entries: e1, springs: s1, states: st1, rows: r1 };
+        (first, rest)
+    }
+}
+
+impl<T: Sync, S: Send> Split for CandidateBlocks<'_, T, S> {
+    fn units(&self) -> usize {
+        self.entries.len().div_ceil(BLOCK)
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        self.cut(at)
+    }
+}
+
+/// The parallel path of a step's contact forces (not sampled: no contact sums): the blocks of
+/// disk pairs and then of disk-wall candidates shared out in `parts` pieces between threads, each
+/// piece through one of `tables`, the forces stored per candidate in `sums`; then each disk's sum,
+/// disks shared out likewise (see [`super::contact_sums`]). The same bits as
+/// [`TouchingPairs::contacts`].
+#[allow(clippy::too_many_arguments)]
+pub fn contacts_in_parts<L: ContactLaw>(
+    tables: &mut Vec<Mutex<TouchingPairs<L::State>>>,
+    law: &L,
+    kinds: [&ContactParameters; 2],
+    pairs: &mut Candidates<NeighborPair, L::State>,
+    walls: (&[Wall], &mut Candidates<WallPair, L::State>),
+    s: &State<'_>,
+    f: &mut Forces<'_>,
+    sums: &mut ContactSums,
+    parts: usize,
+) {
+    let [disk_kind, wall_kind] = kinds;
+    let (walls, wall_candidates) = walls;
+    while tables.len() < parts {
+        tables.push(Mutex::new(TouchingPairs::default()));
+    }
+    let tables = &tables[..];
+    sums.prepare(&pairs.entries, &wall_candidates.entries, s.x.len());
+    let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
+    let blocks = pairs.entries.len().div_ceil(BLOCK);
+    let part = CandidateBlocks::new(&pairs.entries, &mut pairs.springs, &mut pairs.states, sums.pairs.rows());
+    for_each_part(part, parts, &|part, number| {
+        let mut table = tables[number].lock().expect("a table per part");
+        table.touching_before.resize(blocks, 0);
+        table.pair_forces(law, disk_kind, part, s, short);
+    });
+    let c = wall_candidates;
+    let part = CandidateBlocks::new(&c.entries, &mut c.springs, &mut c.states, sums.walls.rows());
+    for_each_part(part, parts, &|part, number| {
+        tables[number].lock().expect("a table per part").wall_forces(law, wall_kind, walls, part, s);
+    });
+    let options = SumOptions {
+        rotation: disk_kind.rotation,
+        rolling_friction: [disk_kind.material.rolling_friction, wall_kind.material.rolling_friction],
+    };
+    let accumulators = DiskSums::new(f.fx, f.fy, f.torque, f.rolling);
+    sums.add_up(accumulators, s.r, options, parts);
+}
+
 impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
     /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
@@ -263,6 +347,76 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         }
         let all = done..wall_candidates.entries.len();
         self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, all, s, f, totals);
+    }
+
+    /// Stages 1 and 2 for the disk-pair blocks of `part`, the forces stored in its rows; `short`:
+    /// whether the whole list is short (see `collect`).
+    fn pair_forces<L: ContactLaw<State = S>>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+        part: CandidateBlocks<'_, NeighborPair, S>,
+        s: &State<'_>,
+        short: bool,
+    ) {
+        let mut rest = part;
+        while !rest.entries.is_empty() {
+            let (block, after) = rest.cut(1);
+            let b = block.first_block;
+            if short || self.touching_before[b] < SPARSE_BLOCK {
+                self.collect::<true>(s, block.entries, (block.springs, block.states));
+            } else {
+                self.collect::<false>(s, block.entries, (block.springs, block.states));
+            }
+            self.touching_before[b] = self.len as u8; // at most BLOCK = 128
+            self.compute_forces::<L, true>(law, kind);
+            self.store::<true>(block.rows, (block.springs, block.states));
+            rest = after;
+        }
+    }
+
+    /// Stages 1 and 2 for the disk-wall blocks of `part`, the forces stored in its rows.
+    fn wall_forces<L: ContactLaw<State = S>>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+        walls: &[Wall],
+        part: CandidateBlocks<'_, WallPair, S>,
+        s: &State<'_>,
+    ) {
+        let mut rest = part;
+        while !rest.entries.is_empty() {
+            let (block, after) = rest.cut(1);
+            self.collect_walls(s, walls, block.entries, (block.springs, block.states));
+            self.compute_forces::<L, false>(law, kind);
+            self.store::<false>(block.rows, (block.springs, block.states));
+            rest = after;
+        }
+    }
+
+    /// The parallel path's stage 3: the touching contacts of one block in its rows, and their
+    /// springs and states.
+    fn store<const PAIRS: bool>(&self, rows: RowsMut<'_>, histories: Histories<'_, S>) {
+        let n = self.len;
+        rows.touching[0] = n as u8; // at most BLOCK = 128
+        for c in 0..n {
+            (rows.disk_i[c], rows.disk_j[c]) = (self.i[c] as u32, self.j[c] as u32);
+        }
+        rows.fx[..n].copy_from_slice(&self.force_x[..n]);
+        rows.fy[..n].copy_from_slice(&self.force_y[..n]);
+        rows.torque_i[..n].copy_from_slice(&self.torque_i[..n]);
+        if PAIRS {
+            rows.torque_j[..n].copy_from_slice(&self.torque_j[..n]);
+        }
+        rows.normal[..n].copy_from_slice(&self.normal[..n]);
+        let (springs, states) = histories;
+        for c in 0..n {
+            let k = self.candidate[c];
+            springs[k] = self.spring[c];
+            if stateful::<S>() {
+                states[k] = self.state[c];
+            }
+        }
     }
 
     /// Adds the disk-wall contacts of the candidates in `range` (and with `SAMPLE`, their contact
