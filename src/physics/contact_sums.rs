@@ -219,6 +219,11 @@ impl ContactSums {
         self.indexed = false;
     }
 
+    /// The rows of the pairs and of the walls, writable, and for each disk its first wall candidate.
+    pub fn rows(&mut self) -> (RowsMut<'_>, RowsMut<'_>, &[u32]) {
+        (self.pairs.rows(), self.walls.rows(), &self.wall_start)
+    }
+
     /// Sizes the rows for the lists and indexes them if they changed.
     pub fn prepare(&mut self, pairs: &[NeighborPair], walls: &[WallPair], disks: usize) {
         self.pairs.resize(pairs.len());

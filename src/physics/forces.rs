@@ -253,8 +253,34 @@ impl<T: Sync, S: Send> Split for CandidateBlocks<'_, T, S> {
     }
 }
 
+/// The disk-pair blocks of a part and the wall blocks of about the same disks (so that the disks
+/// at the walls are still in the thread's cache from its pairs).
+struct Blocks<'a, S> {
+    pairs: CandidateBlocks<'a, NeighborPair, S>,
+    walls: CandidateBlocks<'a, WallPair, S>,
+    /// For each disk, its first wall candidate.
+    wall_start: &'a [u32],
+}
+
+impl<S: Send> Split for Blocks<'_, S> {
+    fn units(&self) -> usize {
+        self.pairs.units()
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        // The wall blocks before the first disk of pair block `at` go with the first part.
+        let wall_block =
+            self.pairs.entries.get(at * BLOCK).map_or(usize::MAX, |p| self.wall_start[p.i as usize] as usize / BLOCK);
+        let wall_at = wall_block.saturating_sub(self.walls.first_block).min(self.walls.units());
+        let (p0, p1) = self.pairs.cut(at);
+        let (w0, w1) = self.walls.cut(wall_at);
+        let wall_start = self.wall_start;
+        (Blocks { pairs: p0, walls: w0, wall_start }, Blocks { pairs: p1, walls: w1, wall_start })
+    }
+}
+
 /// The parallel path of a step's contact forces (not sampled: no contact sums): the blocks of
-/// disk pairs and then of disk-wall candidates shared out in `parts` pieces between threads, each
+/// disk pairs and of disk-wall candidates shared out in `parts` pieces between threads, each
 /// piece through one of `tables`, the forces stored per candidate in `sums`; then each disk's sum,
 /// disks shared out likewise (see [`super::contact_sums`]). The same bits as
 /// [`TouchingPairs::contacts`].
@@ -279,16 +305,18 @@ pub fn contacts_in_parts<L: ContactLaw>(
     sums.prepare(&pairs.entries, &wall_candidates.entries, s.x.len());
     let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
     let blocks = pairs.entries.len().div_ceil(BLOCK);
-    let part = CandidateBlocks::new(&pairs.entries, &mut pairs.springs, &mut pairs.states, sums.pairs.rows());
+    let c = wall_candidates;
+    let (pair_rows, wall_rows, wall_start) = sums.rows();
+    let part = Blocks {
+        pairs: CandidateBlocks::new(&pairs.entries, &mut pairs.springs, &mut pairs.states, pair_rows),
+        walls: CandidateBlocks::new(&c.entries, &mut c.springs, &mut c.states, wall_rows),
+        wall_start,
+    };
     for_each_part(part, parts, &|part, number| {
         let mut table = tables[number].lock().expect("a table per part");
         table.touching_before.resize(blocks, 0);
-        table.pair_forces(law, disk_kind, part, s, short);
-    });
-    let c = wall_candidates;
-    let part = CandidateBlocks::new(&c.entries, &mut c.springs, &mut c.states, sums.walls.rows());
-    for_each_part(part, parts, &|part, number| {
-        tables[number].lock().expect("a table per part").wall_forces(law, wall_kind, walls, part, s);
+        table.pair_forces(law, disk_kind, part.pairs, s, short);
+        table.wall_forces(law, wall_kind, walls, part.walls, s);
     });
     let options = SumOptions {
         rotation: disk_kind.rotation,
