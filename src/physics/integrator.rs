@@ -135,8 +135,8 @@ impl Integrator {
     pub fn finish(&mut self, p: &mut Particles, c: &StepContext, parts: usize, moved: &mut Vec<Moved>) {
         if let Integrator::VelocityVerlet = self {
             let disks = Moving::new(p, [&mut [], &mut [], &mut []]);
-            by_chunks(disks, parts, moved, &|mut d| {
-                kick_either(&mut d, c, false);
+            by_chunks(disks, parts, moved, &|d| {
+                kick_either(d, c, false);
                 Moved::default()
             });
         }
@@ -246,30 +246,44 @@ fn by_chunks(
     disks: Moving<'_>,
     parts: usize,
     moved: &mut Vec<Moved>,
-    step: &(impl Fn(Moving<'_>) -> Moved + Sync),
+    step: &(impl Fn(&mut Moving<'_>) -> Moved + Sync),
 ) -> Moved {
-    moved.clear();
-    moved.resize(disks.len().div_ceil(CHUNK), Moved::default());
-    for_each_part(Chunks { disks, moved }, parts, &|chunks: Chunks<'_>, _| {
-        let mut rest = chunks.disks;
-        for slot in chunks.moved.iter_mut() {
-            let (chunk, after) = rest.split_disks(CHUNK);
-            *slot = step(chunk);
-            rest = after;
-        }
-    });
     let mut total = Moved::default();
-    for m in moved.iter() {
+    let mut combine = |m: Moved| {
         total.power += m.power;
         total.damping_power += m.damping_power;
         total.longest = total.longest.max(m.longest);
+    };
+    if parts <= 1 {
+        each_chunk(disks, step, &mut combine);
+        return total;
     }
+    moved.clear();
+    moved.resize(disks.len().div_ceil(CHUNK), Moved::default());
+    for_each_part(Chunks { disks, moved }, parts, &|chunks: Chunks<'_>, _| {
+        let mut slots = chunks.moved.iter_mut();
+        each_chunk(chunks.disks, step, &mut |m| *slots.next().expect("a slot per chunk") = m);
+    });
+    moved.iter().for_each(|m| combine(*m));
     total
 }
 
+/// Hands `step`'s report on each `CHUNK` disks of `disks`, in order, to `report`.
+fn each_chunk(disks: Moving<'_>, step: &impl Fn(&mut Moving<'_>) -> Moved, report: &mut impl FnMut(Moved)) {
+    let mut rest = disks;
+    while rest.len() > CHUNK {
+        let (mut chunk, after) = rest.split_disks(CHUNK);
+        report(step(&mut chunk));
+        rest = after;
+    }
+    if rest.len() > 0 {
+        report(step(&mut rest));
+    }
+}
+
 /// Velocity Verlet's first half of a step for one chunk: half kick, then drift (and turn).
-fn verlet_drift(mut d: Moving<'_>, c: &StepContext) -> Moved {
-    let (power, damping_power) = kick_either(&mut d, c, true);
+fn verlet_drift(d: &mut Moving<'_>, c: &StepContext) -> Moved {
+    let (power, damping_power) = kick_either(d, c, true);
     let n = d.len();
     let (x, y, vx, vy) = (&mut d.x[..n], &mut d.y[..n], &d.vx[..n], &d.vy[..n]);
     let mut longest = vector::LargestSquare::default();
@@ -280,7 +294,7 @@ fn verlet_drift(mut d: Moving<'_>, c: &StepContext) -> Moved {
         longest.add(step_x, step_y);
     }
     if c.rotation {
-        turn(&mut d, c.dt);
+        turn(d, c.dt);
     }
     Moved { power, longest, damping_power }
 }
@@ -306,14 +320,14 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
 /// One Adams-Bashforth-Moulton step of `d`; with `DAMPED`, the numerical damping acts on the net
 /// forces and torques at `t`.
 #[inline(always)]
-fn adams_step<const DAMPED: bool>(d: Moving<'_>, c: &StepContext) -> Moved {
+fn adams_step<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext) -> Moved {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
     let n = d.len();
     // Equal-length slices: no bounds checks, and the loop vectorises.
     let (x, y, vx, vy) = (&mut d.x[..n], &mut d.y[..n], &mut d.vx[..n], &mut d.vy[..n]);
     let (fx, fy, inv_mass, mass) = (&mut d.fx[..n], &mut d.fy[..n], &d.inv_mass[..n], &d.mass[..n]);
-    let [prev_ax, prev_ay, prev_alpha] = d.previous;
+    let [prev_ax, prev_ay, prev_alpha] = &mut d.previous;
     let (prev_ax, prev_ay) = (&mut prev_ax[..n], &mut prev_ay[..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
     let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);

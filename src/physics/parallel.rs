@@ -32,6 +32,7 @@ impl Threads {
     }
 
     /// Parts to cut a step's work into for a scene of `disks` disks.
+    #[inline]
     pub fn parts(&self, disks: usize) -> usize {
         if disks >= self.min_disks { self.count.max(1) } else { 1 }
     }
