@@ -68,8 +68,9 @@ print(float(row["wall_time (s)"]) * 1e9 / float(row["particle_steps"]))
 EOF
 }
 
-median() { python3 -c 'import statistics, sys; v = [float(x) for x in sys.argv[1:]]; print(f"{statistics.median(v):.2f} (all: {", ".join(f"{x:.2f}" for x in v)})")' "$@"; }
+median() { python3 -c 'import statistics, sys; v = [float(x) for x in sys.argv[1:]]; print("%.2f (all: %s)" % (statistics.median(v), ", ".join("%.2f" % x for x in v)))' "$@"; }
 
+mkdir -p "$work/runs"
 echo "load before: $(uptime)"
 declare -a ref_base ref_new big_base big_1 big_2
 for k in $(seq "$rounds"); do
