@@ -1,13 +1,13 @@
-//! The contact forces of a step on several threads: the blocks of candidates are shared out
-//! between threads, each block's touching contacts stored with their forces in the block's rows;
-//! then the rows are added to the disks, the disks shared out between threads in runs: the thread of
-//! a run goes through the rows in list order, from the first block that touches one of its disks,
-//! and adds each contact's force to those of its two disks that are in the run; then the wall rows
-//! of its disks. So every disk gets the same terms in the same order as from the one-thread scatter
-//! (which adds pairs in list order and the walls after them), whatever the runs: the same bits on
-//! any number of threads. (The rows scanned for a run are its own and those of its first disks'
-//! neighbours of smaller index: with disks ordered in space, as placement orders them, a few per
-//! cent more than its share.)
+//! The contact forces of a step on several threads. The blocks of candidates are shared out
+//! between threads in parts; a part adds each contact's force itself to those of its disks all of
+//! whose pairs are in the part (most of its disks: see [`DiskIndex::own_disks`]), in list order as
+//! the one-thread scatter does, and stores it in the block's rows for the others (disks near the
+//! part's ends). Then the rows are added to the disks, the disks shared out in runs: the thread of a
+//! run goes through the rows in list order, from the first block that touches one of its disks,
+//! adding each row to those of its disks that are in the run; then the wall rows of its disks. So
+//! every disk gets the same terms in the same order as from the one-thread scatter (which adds
+//! pairs in list order and the walls after them), whatever the parts and runs: the same bits on any
+//! number of threads.
 
 use super::neighbors::{NeighborPair, WallPair};
 use super::parallel::{Split, for_each_part, split_slice};
@@ -17,11 +17,15 @@ use std::ops::Range;
 /// in the L1 cache.
 pub const BLOCK: usize = 128;
 
+/// The disk index of a row's disk whose force the part that evaluated the contact added itself.
+pub const ADDED: u32 = u32::MAX;
+
 /// Disks per unit of the per-disk sums.
 const DISKS_PER_UNIT: usize = 256;
 
 /// The touching contacts of a candidate list, block by block: block `b`'s are rows
-/// `b * BLOCK..b * BLOCK + touching[b]`, in list order, one array per quantity.
+/// `b * BLOCK..b * BLOCK + touching[b]`, in list order, one array per quantity. A disk whose force
+/// is already added has [`ADDED`] in place of its index.
 #[derive(Clone, Debug, Default)]
 pub struct ContactRows {
     /// Touching contacts per block.
@@ -146,6 +150,30 @@ pub struct ContactSums {
     indexed: bool,
 }
 
+/// Where each disk's candidates are (see [`ContactSums`]).
+#[derive(Clone, Copy)]
+pub struct DiskIndex<'a> {
+    first_start: &'a [u32],
+    earliest: &'a [u32],
+    wall_start: &'a [u32],
+}
+
+impl DiskIndex<'_> {
+    /// The disks all of whose pairs are among the pair candidates `candidates`: a part that
+    /// evaluates those candidates in list order can add their forces to these disks itself, in the
+    /// one-thread order (the walls come later, in the sums).
+    pub fn own_disks(&self, candidates: Range<usize>) -> Range<usize> {
+        let first = self.earliest.partition_point(|&k| (k as usize) < candidates.start);
+        let end = self.first_start[1..].partition_point(|&k| k as usize <= candidates.end);
+        first..end.max(first)
+    }
+
+    /// The first wall block of disk `d`.
+    pub fn wall_block(&self, d: usize) -> usize {
+        self.wall_start[d] as usize / BLOCK
+    }
+}
+
 /// What the per-disk sums add besides the rows.
 #[derive(Clone, Copy, Debug)]
 pub struct SumOptions {
@@ -157,7 +185,8 @@ pub struct SumOptions {
 
 /// The per-disk accumulators of a run of disks, starting at disk `first`.
 pub struct DiskSums<'a> {
-    first: usize,
+    /// The first disk.
+    pub first: usize,
     /// Net force x (N).
     pub fx: &'a mut [f64],
     /// Net force y (N).
@@ -176,6 +205,17 @@ impl<'a> DiskSums<'a> {
 }
 
 impl DiskSums<'_> {
+    /// The disks before disk `d` (at most all) and the rest.
+    pub fn split_disks(self, d: usize) -> (Self, Self) {
+        let at = d.saturating_sub(self.first).min(self.fx.len());
+        let (fx0, fx1) = self.fx.split_at_mut(at);
+        let (fy0, fy1) = self.fy.split_at_mut(at);
+        let (t0, t1) = self.torque.split_at_mut(at);
+        let (r0, r1) = self.rolling.split_at_mut(at);
+        let second = DiskSums { first: self.first + at, fx: fx1, fy: fy1, torque: t1, rolling: r1 };
+        (DiskSums { first: self.first, fx: fx0, fy: fy0, torque: t0, rolling: r0 }, second)
+    }
+
     /// Adds contact `row` of `rows` to disk `k` of the run, its first disk (`FIRST`) or its second
     /// (the force subtracted), as the one-thread scatter does; `rolling`: the rolling friction
     /// coefficient (0: none) and the disk's radius.
@@ -219,9 +259,11 @@ impl ContactSums {
         self.indexed = false;
     }
 
-    /// The rows of the pairs and of the walls, writable, and for each disk its first wall candidate.
-    pub fn rows(&mut self) -> (RowsMut<'_>, RowsMut<'_>, &[u32]) {
-        (self.pairs.rows(), self.walls.rows(), &self.wall_start)
+    /// The rows of the pairs and of the walls, writable, and the index of the lists by disk.
+    pub fn rows(&mut self) -> (RowsMut<'_>, RowsMut<'_>, DiskIndex<'_>) {
+        let index =
+            DiskIndex { first_start: &self.first_start, earliest: &self.earliest, wall_start: &self.wall_start };
+        (self.pairs.rows(), self.walls.rows(), index)
     }
 
     /// Sizes the rows for the lists and indexes them if they changed.

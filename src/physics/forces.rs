@@ -23,7 +23,7 @@
 //! block can touch the disk (see [`TouchingPairs::contacts`]).
 
 use super::contact::{self, Coefficients, ContactForce, ContactLaw, ContactOptions, Kinematics, PairProperties};
-use super::contact_sums::{BLOCK, ContactSums, DiskSums, RowsMut, SumOptions};
+use super::contact_sums::{ADDED, BLOCK, ContactSums, DiskIndex, DiskSums, RowsMut, SumOptions};
 use super::diagnostics::ContactTotals;
 use super::material::ContactMaterial;
 use super::neighbors::{Candidates, NeighborPair, WallPair};
@@ -253,13 +253,13 @@ impl<T: Sync, S: Send> Split for CandidateBlocks<'_, T, S> {
     }
 }
 
-/// The disk-pair blocks of a part and the wall blocks of about the same disks (so that the disks
-/// at the walls are still in the thread's cache from its pairs).
+/// The disk-pair blocks of a part, the wall blocks of about the same disks (so that the disks at
+/// the walls are still in the thread's cache from its pairs) and the accumulators of those disks.
 struct Blocks<'a, S> {
     pairs: CandidateBlocks<'a, NeighborPair, S>,
     walls: CandidateBlocks<'a, WallPair, S>,
-    /// For each disk, its first wall candidate.
-    wall_start: &'a [u32],
+    sums: DiskSums<'a>,
+    index: DiskIndex<'a>,
 }
 
 impl<S: Send> Split for Blocks<'_, S> {
@@ -268,14 +268,16 @@ impl<S: Send> Split for Blocks<'_, S> {
     }
 
     fn split_at(self, at: usize) -> (Self, Self) {
-        // The wall blocks before the first disk of pair block `at` go with the first part.
-        let wall_block =
-            self.pairs.entries.get(at * BLOCK).map_or(usize::MAX, |p| self.wall_start[p.i as usize] as usize / BLOCK);
+        // The disks before the first disk of pair block `at`, and their wall blocks, go with the
+        // first part.
+        let disk = self.pairs.entries.get(at * BLOCK).map_or(usize::MAX, |p| p.i as usize);
+        let wall_block = if disk == usize::MAX { usize::MAX } else { self.index.wall_block(disk) };
         let wall_at = wall_block.saturating_sub(self.walls.first_block).min(self.walls.units());
         let (p0, p1) = self.pairs.cut(at);
         let (w0, w1) = self.walls.cut(wall_at);
-        let wall_start = self.wall_start;
-        (Blocks { pairs: p0, walls: w0, wall_start }, Blocks { pairs: p1, walls: w1, wall_start })
+        let (s0, s1) = self.sums.split_disks(disk);
+        let index = self.index;
+        (Blocks { pairs: p0, walls: w0, sums: s0, index }, Blocks { pairs: p1, walls: w1, sums: s1, index })
     }
 }
 
@@ -306,16 +308,20 @@ pub fn contacts_in_parts<L: ContactLaw>(
     let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
     let blocks = pairs.entries.len().div_ceil(BLOCK);
     let c = wall_candidates;
-    let (pair_rows, wall_rows, wall_start) = sums.rows();
+    let (pair_rows, wall_rows, index) = sums.rows();
     let part = Blocks {
         pairs: CandidateBlocks::new(&pairs.entries, &mut pairs.springs, &mut pairs.states, pair_rows),
         walls: CandidateBlocks::new(&c.entries, &mut c.springs, &mut c.states, wall_rows),
-        wall_start,
+        sums: DiskSums::new(f.fx, f.fy, f.torque, f.rolling),
+        index,
     };
-    for_each_part(part, parts, &|part, number| {
+    for_each_part(part, parts, &|mut part, number| {
         let mut table = tables[number].lock().expect("a table per part");
         table.touching_before.resize(blocks, 0);
-        table.pair_forces(law, disk_kind, part.pairs, s, short);
+        let start = part.pairs.first_block * BLOCK;
+        let own = index.own_disks(start..start + part.pairs.entries.len());
+        let own = own.start.max(part.sums.first)..own.end.min(part.sums.first + part.sums.fx.len());
+        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own));
         table.wall_forces(law, wall_kind, walls, part.walls, s);
     });
     let options = SumOptions {
@@ -377,8 +383,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, all, s, f, totals);
     }
 
-    /// Stages 1 and 2 for the disk-pair blocks of `part`, the forces stored in its rows; `short`:
-    /// whether the whole list is short (see `collect`).
+    /// The stages for the disk-pair blocks of `part`: the forces added to the disks `own` of
+    /// `sums` (all of whose pairs are in `part`), and stored in the part's rows for the others;
+    /// `short`: whether the whole list is short (see `collect`).
     fn pair_forces<L: ContactLaw<State = S>>(
         &mut self,
         law: &L,
@@ -386,6 +393,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         part: CandidateBlocks<'_, NeighborPair, S>,
         s: &State<'_>,
         short: bool,
+        (sums, own): (&mut DiskSums<'_>, Range<usize>),
     ) {
         let mut rest = part;
         while !rest.entries.is_empty() {
@@ -398,7 +406,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             self.touching_before[b] = self.len as u8; // at most BLOCK = 128
             self.compute_forces::<L, true>(law, kind);
-            self.store::<true>(block.rows, (block.springs, block.states));
+            self.add_or_store(kind, block.rows, (block.springs, block.states), sums, own.clone());
             rest = after;
         }
     }
@@ -417,28 +425,82 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let (block, after) = rest.cut(1);
             self.collect_walls(s, walls, block.entries, (block.springs, block.states));
             self.compute_forces::<L, false>(law, kind);
-            self.store::<false>(block.rows, (block.springs, block.states));
+            self.store(block.rows, (block.springs, block.states));
             rest = after;
         }
     }
 
-    /// The parallel path's stage 3: the touching contacts of one block in its rows, and their
-    /// springs and states.
-    fn store<const PAIRS: bool>(&self, rows: RowsMut<'_>, histories: Histories<'_, S>) {
+    /// The parallel path's stage 3 for disk-wall contacts: the touching contacts of one block in
+    /// its rows, and their springs and states.
+    fn store(&self, rows: RowsMut<'_>, histories: Histories<'_, S>) {
         let n = self.len;
         rows.touching[0] = n as u8; // at most BLOCK = 128
         for c in 0..n {
-            (rows.disk_i[c], rows.disk_j[c]) = (self.i[c] as u32, self.j[c] as u32);
+            rows.disk_i[c] = self.i[c] as u32;
         }
         rows.fx[..n].copy_from_slice(&self.force_x[..n]);
         rows.fy[..n].copy_from_slice(&self.force_y[..n]);
         rows.torque_i[..n].copy_from_slice(&self.torque_i[..n]);
-        if PAIRS {
-            rows.torque_j[..n].copy_from_slice(&self.torque_j[..n]);
-        }
         rows.normal[..n].copy_from_slice(&self.normal[..n]);
-        let (springs, states) = histories;
-        for c in 0..n {
+        self.keep_histories(histories);
+    }
+
+    /// The parallel path's stage 3 for disk pairs: each contact's force added to those of its disks
+    /// that are in `own` (as the scatter does), and stored in the block's rows for the others; the
+    /// springs and states kept.
+    fn add_or_store(
+        &self,
+        kind: &ContactParameters,
+        rows: RowsMut<'_>,
+        histories: Histories<'_, S>,
+        sums: &mut DiskSums<'_>,
+        own: Range<usize>,
+    ) {
+        let rolling_friction = kind.material.rolling_friction;
+        let mut stored = 0;
+        for c in 0..self.len {
+            let (i, j) = (self.i[c], self.j[c]);
+            let (i_own, j_own) = (own.contains(&i), own.contains(&j));
+            let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
+            let resistance = rolling_friction * self.normal[c].max(0.0);
+            if i_own {
+                let k = i - sums.first;
+                sums.fx[k] += force_x;
+                sums.fy[k] += force_y;
+                if kind.rotation {
+                    sums.torque[k] += self.torque_i[c];
+                }
+                if rolling_friction > 0.0 {
+                    sums.rolling[k] += resistance * self.ri[c];
+                }
+            }
+            if j_own {
+                let k = j - sums.first;
+                sums.fx[k] -= force_x;
+                sums.fy[k] -= force_y;
+                if kind.rotation {
+                    sums.torque[k] += self.torque_j[c];
+                }
+                if rolling_friction > 0.0 {
+                    sums.rolling[k] += resistance * self.rj[c];
+                }
+            }
+            if !(i_own && j_own) {
+                rows.disk_i[stored] = if i_own { ADDED } else { i as u32 };
+                rows.disk_j[stored] = if j_own { ADDED } else { j as u32 };
+                (rows.fx[stored], rows.fy[stored]) = (force_x, force_y);
+                (rows.torque_i[stored], rows.torque_j[stored]) = (self.torque_i[c], self.torque_j[c]);
+                rows.normal[stored] = self.normal[c];
+                stored += 1;
+            }
+        }
+        rows.touching[0] = stored as u8; // at most BLOCK = 128
+        self.keep_histories(histories);
+    }
+
+    /// Writes the touching contacts' springs and states back to their candidates.
+    fn keep_histories(&self, (springs, states): Histories<'_, S>) {
+        for c in 0..self.len {
             let k = self.candidate[c];
             springs[k] = self.spring[c];
             if stateful::<S>() {
