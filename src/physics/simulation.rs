@@ -69,7 +69,7 @@ pub struct Simulation<L: ContactLaw> {
     disk_contacts: ContactParameters,
     wall_contacts: ContactParameters,
     touching: Box<TouchingPairs<L::State>>,
-    /// The parallel path's tables (one per part) and per-candidate forces.
+    /// The parallel path's tables (one per part) and contact rows (see `contact_sums`).
     tables: Vec<Mutex<TouchingPairs<L::State>>>,
     sums: ContactSums,
     threads: Threads,
