@@ -1,4 +1,4 @@
-//! Engine speed: nanoseconds per particle-step, single thread.
+//! Engine speed: nanoseconds per particle-step, on one thread unless said otherwise.
 //!
 //! `cargo bench --bench engine` runs
 //! 1. the reference scene of `docs/reference_scene.md` (300 disks, E 1e9 Pa, e 0.5, μ 0.5,
@@ -12,62 +12,72 @@
 //!    the best run is the one least slowed by other tenants); `DEMSWEEP_BENCH_DURATION=none` skips
 //!    them (the reference scene alone, e.g. to compare two builds side by side).
 //!
+//! 3. one big deposition (40 000 disks, 0.3 s) on 1 and 2 threads, alternated, best of 3 each
+//!    (the rows `threads_1`, `threads_2`; two threads should take at most 0.6 of one's time).
+//!
 //! Results are printed and written to `results/bench_latest/engine.csv` (git ignores it);
 //! `cargo bench --bench engine -- --update-results` writes the committed `results/bench/engine.csv`
 //! instead.
 
 use std::time::Instant;
 
+use demsweep::bench::{reference_deposition, reference_disks};
 use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::run_scene;
 use demsweep::physics::simulation::Control;
+use demsweep::physics::{Threads, run_scene_on};
 
-fn reference_disks() -> Vec<InitialDisk> {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/deposition_300.csv"))
-        .expect("tests/data/deposition_300.csv");
-    text.lines()
-        .skip(1)
-        .map(|line| {
-            let v: Vec<f64> = line.split(',').map(|x| x.parse().expect("number")).collect();
-            InitialDisk { x: v[0], y: v[1], r: v[2], ..Default::default() }
-        })
-        .collect()
-}
-
-fn reference_scene() -> SceneConfig {
-    let mut s = SceneConfig::default();
-    s.material.restitution = Some(0.5);
-    s.material.friction = 0.5;
-    s.integrator.time_step = Some(1e-5);
-    s.run.duration = 1.5;
-    s.run.stop_at_settle = false;
-    s
-}
-
-/// Runs a scene once; returns (ns per particle-step, steps, contacts at the end).
-fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>) -> (f64, u64, u32) {
+/// Runs a scene once on `threads` threads; returns (ns per particle-step, steps, contacts at the end).
+fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>, threads: usize) -> (f64, u64, u32) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
     let start = Instant::now();
-    let rec = run_scene(scene, disks, &mut |_| Control::Continue).expect("scene runs");
+    let rec = pool
+        .install(|| run_scene_on(scene, disks, None, Threads::new(threads), &mut |_| Control::Continue))
+        .expect("scene runs");
     let seconds = start.elapsed().as_secs_f64();
     let n = rec.final_state.x.len() as f64;
     (seconds * 1e9 / (n * rec.steps as f64), rec.steps, *rec.history.contacts.last().unwrap_or(&0))
 }
 
+/// The big scene run on 1 and 2 threads: disks, simulated seconds (the fall and the first impacts).
+const THREADS_CASE: (usize, f64) = (40_000, 0.3);
+
 fn main() {
     // Names, then units (the header of every CSV demsweep writes, docs/results.md).
     let mut csv =
         String::from("case,particles,steps,ns_per_particle_step,best_ns_per_particle_step,final_contacts\n,,,ns,ns,\n");
-    let mut scene = reference_scene();
+    let mut scene = reference_deposition(300, 1.5);
     scene.placement.kind = PlacementKind::File;
     scene.placement.file = Some("tests/data/deposition_300.csv".into());
-    let mut times: Vec<f64> = (0..5).map(|_| time_run(&scene, Some(reference_disks())).0).collect();
+    let mut times: Vec<f64> = (0..5).map(|_| time_run(&scene, Some(reference_disks()), 1).0).collect();
     times.sort_by(f64::total_cmp);
     println!(
         "reference scene (300 disks, 150 000 steps): {:.1} ns/particle-step (median of 5; best {:.1}; all {times:.1?})",
         times[2], times[0]
     );
     csv += &format!("reference,300,150000,{:.2},{:.2},\n", times[2], times[0]);
+
+    // One big run on 1 and 2 threads, alternated (a shared machine's speed drifts), best of 3.
+    let big = reference_deposition(THREADS_CASE.0, THREADS_CASE.1);
+    let mut best = [f64::INFINITY; 2];
+    let mut last = (0, 0);
+    for _ in 0..3 {
+        for (slot, threads) in [1, 2].into_iter().enumerate() {
+            let (ns, steps, contacts) = time_run(&big, None, threads);
+            best[slot] = best[slot].min(ns);
+            last = (steps, contacts);
+        }
+    }
+    let (n, duration) = THREADS_CASE;
+    println!(
+        "N = {n}, {duration} s on 1 / 2 threads: {:.1} / {:.1} ns/particle-step (best of 3), 2 threads take {:.2} of the time",
+        best[0],
+        best[1],
+        best[1] / best[0]
+    );
+    for (slot, threads) in [1, 2].into_iter().enumerate() {
+        csv += &format!("threads_{threads},{n},{},{:.2},{:.2},{}\n", last.0, best[slot], best[slot], last.1);
+    }
 
     let durations = std::env::var("DEMSWEEP_BENCH_DURATION").unwrap_or_else(|_| "1.5".into());
     let durations = durations
@@ -76,11 +86,8 @@ fn main() {
         .map(|d| d.trim().parse::<f64>().expect("DEMSWEEP_BENCH_DURATION: seconds or none"));
     let cases = [(300usize, 5), (3_000, 3), (30_000, 1), (100_000, 1)];
     for (duration, (n, repeats)) in durations.flat_map(|d| cases.map(|case| (d, case))) {
-        let mut s = reference_scene();
-        s.run.duration = duration;
-        s.particles.count = n;
-        s.domain.width = 0.4 * n as f64 / 300.0;
-        let mut runs: Vec<_> = (0..repeats).map(|_| time_run(&s, None)).collect();
+        let s = reference_deposition(n, duration);
+        let mut runs: Vec<_> = (0..repeats).map(|_| time_run(&s, None, 1)).collect();
         runs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let ((ns, steps, contacts), best) = (runs[repeats / 2], runs[0].0);
         println!(

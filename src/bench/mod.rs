@@ -25,6 +25,29 @@ use crate::physics::quantity;
 use crate::physics::simulation::Control;
 use crate::physics::{RunRecord, placement, run_scene};
 
+/// The engine's reference deposition (docs/reference_scene.md) at `count` disks, the box widened
+/// with them so that the pile is as deep as the reference's: E 1e9 Pa, e 0.5, μ 0.5, dt 1e-5 s,
+/// `duration` s to the end. At 300 disks with [`reference_disks`], the reference scene.
+pub fn reference_deposition(count: usize, duration: f64) -> SceneConfig {
+    let mut s = SceneConfig::default();
+    s.material.restitution = Some(0.5);
+    s.material.friction = 0.5;
+    s.integrator.time_step = Some(1e-5);
+    s.particles.count = count;
+    s.domain.width = 0.4 * count as f64 / 300.0;
+    s.run.duration = duration;
+    s.run.stop_at_settle = false;
+    s
+}
+
+/// The reference scene's 300 initial disks (`tests/data/deposition_300.csv`).
+pub fn reference_disks() -> Vec<InitialDisk> {
+    let text = include_str!("../../tests/data/deposition_300.csv");
+    let number = |x: &str| x.parse::<f64>().expect("tests/data/deposition_300.csv holds numbers");
+    let disk = |v: Vec<f64>| InitialDisk { x: v[0], y: v[1], r: v[2], ..Default::default() };
+    text.lines().skip(1).map(|line| disk(line.split(',').map(number).collect())).collect()
+}
+
 /// Where benchmarks write by default: a folder git ignores, so that running one changes no tracked file.
 pub const LATEST_DIR: &str = "results/bench_latest";
 /// The committed figures the docs quote; written only when asked (`demsweep bench KIND --update-results`).

@@ -7,6 +7,7 @@ use std::fmt;
 use super::config::{ConfigIssue, SceneConfig};
 use super::contact::{LawVisitor, RegisteredLaw};
 use super::material::Materials;
+use super::parallel::Threads;
 use super::particles::{InitialContact, InitialDisk, Particles};
 use super::placement::PlacementError;
 use super::record::RunRecord;
@@ -80,6 +81,18 @@ pub fn run_scene_with_history(
     contacts: Option<&[InitialContact]>,
     observer: &mut dyn FnMut(&Progress) -> Control,
 ) -> Result<RunRecord, RunError> {
+    run_scene_on(scene, disks, contacts, Threads::default(), observer)
+}
+
+/// [`run_scene_with_history`] on `threads` (of the current rayon pool; the results are the same
+/// bits on any number: see [`super::parallel`]).
+pub fn run_scene_on(
+    scene: &SceneConfig,
+    disks: Option<Vec<InitialDisk>>,
+    contacts: Option<&[InitialContact]>,
+    threads: Threads,
+    observer: &mut dyn FnMut(&Progress) -> Control,
+) -> Result<RunRecord, RunError> {
     if let Err(issues) = scene.validate() {
         return Err(RunError::InvalidScene(issues));
     }
@@ -99,15 +112,18 @@ pub fn run_scene_with_history(
         scene: &'a SceneConfig,
         disks: &'a [InitialDisk],
         contacts: &'a [InitialContact],
+        threads: Threads,
         observer: &'a mut dyn FnMut(&Progress) -> Control,
     }
     impl LawVisitor for Run<'_> {
         type Output = RunRecord;
         fn visit<L: RegisteredLaw>(self, law: &L) -> RunRecord {
-            Simulation::with_history(self.scene, self.disks, self.contacts, law.clone()).run(self.observer)
+            let mut simulation = Simulation::with_history(self.scene, self.disks, self.contacts, law.clone());
+            simulation.set_threads(self.threads);
+            simulation.run(self.observer)
         }
     }
-    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts: contacts.unwrap_or_default(), observer }))
+    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts: contacts.unwrap_or_default(), threads, observer }))
 }
 
 /// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.

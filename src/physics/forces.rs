@@ -23,12 +23,15 @@
 //! block can touch the disk (see [`TouchingPairs::contacts`]).
 
 use super::contact::{self, Coefficients, ContactForce, ContactLaw, ContactOptions, Kinematics, PairProperties};
+use super::contact_sums::{ADDED, BLOCK, ContactSums, DiskIndex, DiskSums, RowsMut, SumOptions};
 use super::diagnostics::ContactTotals;
 use super::material::ContactMaterial;
 use super::neighbors::{Candidates, NeighborPair, WallPair};
+use super::parallel::{Split, for_each_part, split_slice};
 use super::particles::{Forces, State};
 use super::walls::Wall;
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// Whether a law's contact state takes memory (a law without state has `S = ()`: every use of it is
 /// compiled out, bounds checks included).
@@ -46,9 +49,6 @@ fn states_of<S>(states: &mut [S], range: Range<usize>) -> &mut [S] {
 
 /// The tangential springs and law states of a run of candidates.
 type Histories<'a, S> = (&'a mut [f64], &'a mut [S]);
-
-/// Candidates per block: the block's table of touching pairs stays in the L1 cache.
-const BLOCK: usize = 128;
 
 /// Longest candidate list whose narrow phase always branches on contact (see
 /// `TouchingPairs::collect`): measured on settled piles, the branch was as fast or faster at 300
@@ -214,6 +214,124 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
     }
 }
 
+/// A run of whole blocks of candidates (the first is block `first_block` of its list) with their
+/// histories and force rows: a part of the parallel path's work.
+struct CandidateBlocks<'a, T, S> {
+    first_block: usize,
+    entries: &'a [T],
+    springs: &'a mut [f64],
+    states: &'a mut [S],
+    rows: RowsMut<'a>,
+}
+
+impl<'a, T, S> CandidateBlocks<'a, T, S> {
+    fn new(entries: &'a [T], springs: &'a mut [f64], states: &'a mut [S], rows: RowsMut<'a>) -> Self {
+        Self { first_block: 0, entries, springs, states, rows }
+    }
+
+    /// The first `at` blocks and the rest.
+    fn cut(self, at: usize) -> (Self, Self) {
+        let mid = (at * BLOCK).min(self.entries.len());
+        let (e0, e1) = self.entries.split_at(mid);
+        let (s0, s1) = self.springs.split_at_mut(mid);
+        let (st0, st1) = split_slice(self.states, mid, 1);
+        let (r0, r1) = self.rows.split_blocks(at);
+        let first = CandidateBlocks { first_block: self.first_block, entries: e0, springs: s0, states: st0, rows: r0 };
+        let rest =
+            CandidateBlocks { first_block: self.first_block + at, entries: e1, springs: s1, states: st1, rows: r1 };
+        (first, rest)
+    }
+}
+
+impl<T: Sync, S: Send> Split for CandidateBlocks<'_, T, S> {
+    fn units(&self) -> usize {
+        self.entries.len().div_ceil(BLOCK)
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        self.cut(at)
+    }
+}
+
+/// The disk-pair blocks of a part, the wall blocks of about the same disks (so that the disks at
+/// the walls are still in the thread's cache from its pairs) and the accumulators of those disks.
+struct Blocks<'a, S> {
+    pairs: CandidateBlocks<'a, NeighborPair, S>,
+    walls: CandidateBlocks<'a, WallPair, S>,
+    sums: DiskSums<'a>,
+    index: DiskIndex<'a>,
+}
+
+impl<S: Send> Split for Blocks<'_, S> {
+    fn units(&self) -> usize {
+        self.pairs.units()
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        // The disks before the first disk of pair block `at`, and their wall blocks, go with the
+        // first part.
+        let disk = self.pairs.entries.get(at * BLOCK).map_or(usize::MAX, |p| p.i as usize);
+        let wall_block = if disk == usize::MAX { usize::MAX } else { self.index.wall_block(disk) };
+        let wall_at = wall_block.saturating_sub(self.walls.first_block).min(self.walls.units());
+        let (p0, p1) = self.pairs.cut(at);
+        let (w0, w1) = self.walls.cut(wall_at);
+        let (s0, s1) = self.sums.split_disks(disk);
+        let index = self.index;
+        (Blocks { pairs: p0, walls: w0, sums: s0, index }, Blocks { pairs: p1, walls: w1, sums: s1, index })
+    }
+}
+
+/// The parallel path of a step's contact forces (not sampled: no contact sums): the blocks of
+/// disk pairs and of disk-wall candidates shared out in `parts` pieces between threads, each
+/// piece through one of `tables`, the forces stored per candidate in `sums`; then each disk's sum,
+/// disks shared out likewise (see [`super::contact_sums`]). The same bits as
+/// [`TouchingPairs::contacts`].
+#[allow(clippy::too_many_arguments)]
+pub fn contacts_in_parts<L: ContactLaw>(
+    tables: &mut Vec<Mutex<TouchingPairs<L::State>>>,
+    law: &L,
+    kinds: [&ContactParameters; 2],
+    pairs: &mut Candidates<NeighborPair, L::State>,
+    walls: (&[Wall], &mut Candidates<WallPair, L::State>),
+    s: &State<'_>,
+    f: &mut Forces<'_>,
+    sums: &mut ContactSums,
+    parts: usize,
+) {
+    let [disk_kind, wall_kind] = kinds;
+    let (walls, wall_candidates) = walls;
+    while tables.len() < parts {
+        tables.push(Mutex::new(TouchingPairs::default()));
+    }
+    let tables = &tables[..];
+    sums.prepare(&pairs.entries, &wall_candidates.entries, s.x.len());
+    let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
+    let blocks = pairs.entries.len().div_ceil(BLOCK);
+    let c = wall_candidates;
+    let (pair_rows, wall_rows, index) = sums.rows();
+    let part = Blocks {
+        pairs: CandidateBlocks::new(&pairs.entries, &mut pairs.springs, &mut pairs.states, pair_rows),
+        walls: CandidateBlocks::new(&c.entries, &mut c.springs, &mut c.states, wall_rows),
+        sums: DiskSums::new(f.fx, f.fy, f.torque, f.rolling),
+        index,
+    };
+    for_each_part(part, parts, &|mut part, number| {
+        let mut table = tables[number].lock().expect("a table per part");
+        table.touching_before.resize(blocks, 0);
+        let start = part.pairs.first_block * BLOCK;
+        let own = index.own_disks(start..start + part.pairs.entries.len());
+        let own = own.start.max(part.sums.first)..own.end.min(part.sums.first + part.sums.fx.len());
+        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own));
+        table.wall_forces(law, wall_kind, walls, part.walls, s);
+    });
+    let options = SumOptions {
+        rotation: disk_kind.rotation,
+        rolling_friction: [disk_kind.material.rolling_friction, wall_kind.material.rolling_friction],
+    };
+    let accumulators = DiskSums::new(f.fx, f.fy, f.torque, f.rolling);
+    sums.add_up(accumulators, s.r, options, parts);
+}
+
 impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
     /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
@@ -263,6 +381,132 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         }
         let all = done..wall_candidates.entries.len();
         self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, all, s, f, totals);
+    }
+
+    /// The stages for the disk-pair blocks of `part`: the forces added to the disks `own` of
+    /// `sums` (all of whose pairs are in `part`), and stored in the part's rows for the others;
+    /// `short`: whether the whole list is short (see `collect`).
+    fn pair_forces<L: ContactLaw<State = S>>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+        part: CandidateBlocks<'_, NeighborPair, S>,
+        s: &State<'_>,
+        short: bool,
+        (sums, own): (&mut DiskSums<'_>, Range<usize>),
+    ) {
+        let mut rest = part;
+        while !rest.entries.is_empty() {
+            let (block, after) = rest.cut(1);
+            let b = block.first_block;
+            if short || self.touching_before[b] < SPARSE_BLOCK {
+                self.collect::<true>(s, block.entries, (block.springs, block.states));
+            } else {
+                self.collect::<false>(s, block.entries, (block.springs, block.states));
+            }
+            self.touching_before[b] = self.len as u8; // at most BLOCK = 128
+            self.compute_forces::<L, true>(law, kind);
+            self.add_or_store(kind, block.rows, (block.springs, block.states), sums, own.clone());
+            rest = after;
+        }
+    }
+
+    /// Stages 1 and 2 for the disk-wall blocks of `part`, the forces stored in its rows.
+    fn wall_forces<L: ContactLaw<State = S>>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+        walls: &[Wall],
+        part: CandidateBlocks<'_, WallPair, S>,
+        s: &State<'_>,
+    ) {
+        let mut rest = part;
+        while !rest.entries.is_empty() {
+            let (block, after) = rest.cut(1);
+            self.collect_walls(s, walls, block.entries, (block.springs, block.states));
+            self.compute_forces::<L, false>(law, kind);
+            self.store(block.rows, (block.springs, block.states));
+            rest = after;
+        }
+    }
+
+    /// The parallel path's stage 3 for disk-wall contacts: the touching contacts of one block in
+    /// its rows, and their springs and states.
+    fn store(&self, rows: RowsMut<'_>, histories: Histories<'_, S>) {
+        let n = self.len;
+        rows.touching[0] = n as u8; // at most BLOCK = 128
+        for c in 0..n {
+            rows.disk_i[c] = self.i[c] as u32;
+        }
+        rows.fx[..n].copy_from_slice(&self.force_x[..n]);
+        rows.fy[..n].copy_from_slice(&self.force_y[..n]);
+        rows.torque_i[..n].copy_from_slice(&self.torque_i[..n]);
+        rows.normal[..n].copy_from_slice(&self.normal[..n]);
+        self.keep_histories(histories);
+    }
+
+    /// The parallel path's stage 3 for disk pairs: each contact's force added to those of its disks
+    /// that are in `own` (as the scatter does), and stored in the block's rows for the others; the
+    /// springs and states kept.
+    fn add_or_store(
+        &self,
+        kind: &ContactParameters,
+        rows: RowsMut<'_>,
+        histories: Histories<'_, S>,
+        sums: &mut DiskSums<'_>,
+        own: Range<usize>,
+    ) {
+        let rolling_friction = kind.material.rolling_friction;
+        let mut stored = 0;
+        for c in 0..self.len {
+            let (i, j) = (self.i[c], self.j[c]);
+            let (i_own, j_own) = (own.contains(&i), own.contains(&j));
+            let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
+            let resistance = rolling_friction * self.normal[c].max(0.0);
+            if i_own {
+                let k = i - sums.first;
+                sums.fx[k] += force_x;
+                sums.fy[k] += force_y;
+                if kind.rotation {
+                    sums.torque[k] += self.torque_i[c];
+                }
+                if rolling_friction > 0.0 {
+                    sums.rolling[k] += resistance * self.ri[c];
+                }
+            }
+            if j_own {
+                let k = j - sums.first;
+                sums.fx[k] -= force_x;
+                sums.fy[k] -= force_y;
+                if kind.rotation {
+                    sums.torque[k] += self.torque_j[c];
+                }
+                if rolling_friction > 0.0 {
+                    sums.rolling[k] += resistance * self.rj[c];
+                }
+            }
+            if !(i_own && j_own) {
+                rows.disk_i[stored] = if i_own { ADDED } else { i as u32 };
+                rows.disk_j[stored] = if j_own { ADDED } else { j as u32 };
+                (rows.fx[stored], rows.fy[stored]) = (force_x, force_y);
+                (rows.torque_i[stored], rows.torque_j[stored]) = (self.torque_i[c], self.torque_j[c]);
+                rows.normal[stored] = self.normal[c];
+                stored += 1;
+            }
+        }
+        rows.touching[0] = stored as u8; // at most BLOCK = 128
+        self.keep_histories(histories);
+    }
+
+    /// Writes the touching contacts' springs and states back to their candidates.
+    fn keep_histories(&self, (springs, states): Histories<'_, S>) {
+        for c in 0..self.len {
+            let k = self.candidate[c];
+            springs[k] = self.spring[c];
+            if stateful::<S>() {
+                states[k] = self.state[c];
+            }
+        }
     }
 
     /// Adds the disk-wall contacts of the candidates in `range` (and with `SAMPLE`, their contact

@@ -5,16 +5,16 @@
 //! The force arrays hold contact forces only; gravity `g` enters as an acceleration. `advance`
 //! is the last reader of the forces at `t`: it clears them for the next evaluation and reports their
 //! power `Σ F·v + M·ω` at `t` (for the energy balance) and the longest move of a disk (for the
-//! neighbour list), all in the same pass over the disks. It takes the disks a range at a time, so
-//! that each range's arrays stay in cache from the power sum to the update.
+//! neighbour list), all in the same pass over the disks. It takes the disks a chunk at a time, so
+//! that each chunk's arrays stay in cache from the power sum to the update, and shares the chunks
+//! out between threads where it is given more than one.
 //!
 //! Numerical damping ([`DampingConfig`]) is added to the net force and torque of every disk
 //! where the scheme reads them; its power is reported separately. Scenes without it run a copy of
 //! each loop compiled without it (`DAMPED = false`), so they pay nothing for it.
 
-use std::ops::Range;
-
 use super::config::{DampingConfig, IntegratorKind};
+use super::parallel::{Split, for_each_part};
 use super::particles::Particles;
 use super::vector;
 
@@ -105,47 +105,198 @@ impl Integrator {
         }
     }
 
-    /// Moves the positions (and velocities) of `disks` from `t` to `t + dt` using the contact forces
-    /// at `t` and clears their forces.
-    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, disks: Range<usize>) -> Moved {
+    /// Moves the positions (and velocities) of all disks from `t` to `t + dt` using the contact
+    /// forces at `t` and clears their forces, `CHUNK` disks at a time, the chunks shared out in
+    /// `parts` pieces between threads; `moved` is scratch space for the chunks' reports, which are
+    /// combined in chunk order (so the result does not depend on `parts`).
+    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, parts: usize, moved: &mut Vec<Moved>) -> Moved {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
+                let disks = Moving::new(p, [&mut prev.ax, &mut prev.ay, &mut prev.alpha]);
                 if c.damping.is_active() {
-                    adams_step::<true>(p, prev, c, disks)
+                    by_chunks(disks, parts, moved, &|d| adams_step::<true>(d, c))
                 } else {
-                    vector::widest(
-                        #[inline(always)]
-                        || adams_step::<false>(p, prev, c, disks),
-                    )
+                    by_chunks(disks, parts, moved, &|d| {
+                        vector::widest(
+                            #[inline(always)]
+                            || adams_step::<false>(d, c),
+                        )
+                    })
                 }
             }
             Integrator::VelocityVerlet => {
-                let (power, damping_power) = kick_either(p, c, true, disks.clone());
-                let n = disks.len();
-                let (x, y) = (&mut p.x[disks.clone()][..n], &mut p.y[disks.clone()][..n]);
-                let (vx, vy) = (&p.vx[disks.clone()][..n], &p.vy[disks.clone()][..n]);
-                let mut longest = vector::LargestSquare::default();
-                for i in 0..n {
-                    let (step_x, step_y) = (vx[i] * c.dt, vy[i] * c.dt);
-                    x[i] += step_x;
-                    y[i] += step_y;
-                    longest.add(step_x, step_y);
-                }
-                if c.rotation {
-                    turn(p, c.dt, disks);
-                }
-                Moved { power, longest, damping_power }
+                by_chunks(Moving::new(p, [&mut [], &mut [], &mut []]), parts, moved, &|d| verlet_drift(d, c))
             }
         }
     }
 
     /// Completes the step after forces at the new positions have been evaluated.
-    pub fn finish(&mut self, p: &mut Particles, c: &StepContext) {
+    pub fn finish(&mut self, p: &mut Particles, c: &StepContext, parts: usize, moved: &mut Vec<Moved>) {
         if let Integrator::VelocityVerlet = self {
-            kick_either(p, c, false, 0..p.len());
+            let disks = Moving::new(p, [&mut [], &mut [], &mut []]);
+            by_chunks(disks, parts, moved, &|d| {
+                kick_either(d, c, false);
+                Moved::default()
+            });
         }
     }
+}
+
+/// Disks per chunk of the integrator's pass: their arrays stay in cache from the power sum to the
+/// update. Chunks are also the units the pass is shared out in between threads.
+const CHUNK: usize = 512;
+
+/// The arrays the integrator reads and writes, for a run of disks; `previous`: the stored
+/// accelerations `a_x`, `a_y`, `α` of the Adams-Bashforth step (empty for velocity Verlet, and
+/// `α` without rotation).
+pub struct Moving<'a> {
+    x: &'a mut [f64],
+    y: &'a mut [f64],
+    vx: &'a mut [f64],
+    vy: &'a mut [f64],
+    omega: &'a mut [f64],
+    angle: &'a mut [f64],
+    fx: &'a mut [f64],
+    fy: &'a mut [f64],
+    torque: &'a mut [f64],
+    mass: &'a [f64],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    previous: [&'a mut [f64]; 3],
+}
+
+impl<'a> Moving<'a> {
+    fn new(p: &'a mut Particles, previous: [&'a mut [f64]; 3]) -> Self {
+        Self {
+            x: &mut p.x,
+            y: &mut p.y,
+            vx: &mut p.vx,
+            vy: &mut p.vy,
+            omega: &mut p.omega,
+            angle: &mut p.angle,
+            fx: &mut p.fx,
+            fy: &mut p.fy,
+            torque: &mut p.torque,
+            mass: &p.mass,
+            inv_mass: &p.inv_mass,
+            inv_inertia: &p.inv_inertia,
+            previous,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// The first `mid` disks and the rest.
+    fn split_disks(self, mid: usize) -> (Self, Self) {
+        let cut = |s: &'a mut [f64]| s.split_at_mut(mid.min(s.len()));
+        let cut_shared = |s: &'a [f64]| s.split_at(mid.min(s.len()));
+        let [ax, ay, alpha] = self.previous;
+        let ((x0, x1), (y0, y1), (vx0, vx1), (vy0, vy1)) = (cut(self.x), cut(self.y), cut(self.vx), cut(self.vy));
+        let ((w0, w1), (a0, a1), (fx0, fx1), (fy0, fy1)) =
+            (cut(self.omega), cut(self.angle), cut(self.fx), cut(self.fy));
+        let ((t0, t1), (m0, m1), (im0, im1)) = (cut(self.torque), cut_shared(self.mass), cut_shared(self.inv_mass));
+        let ((ii0, ii1), (ax0, ax1), (ay0, ay1), (al0, al1)) =
+            (cut_shared(self.inv_inertia), cut(ax), cut(ay), cut(alpha));
+        let part = |x, y, vx, vy, omega, angle, fx, fy, torque, mass, inv_mass, inv_inertia, previous| Moving {
+            x,
+            y,
+            vx,
+            vy,
+            omega,
+            angle,
+            fx,
+            fy,
+            torque,
+            mass,
+            inv_mass,
+            inv_inertia,
+            previous,
+        };
+        (
+            part(x0, y0, vx0, vy0, w0, a0, fx0, fy0, t0, m0, im0, ii0, [ax0, ay0, al0]),
+            part(x1, y1, vx1, vy1, w1, a1, fx1, fy1, t1, m1, im1, ii1, [ax1, ay1, al1]),
+        )
+    }
+}
+
+/// The disks of a pass with a report slot per chunk.
+struct Chunks<'a> {
+    disks: Moving<'a>,
+    moved: &'a mut [Moved],
+}
+
+impl Split for Chunks<'_> {
+    fn units(&self) -> usize {
+        self.moved.len()
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        let (d0, d1) = self.disks.split_disks(at * CHUNK);
+        let (m0, m1) = self.moved.split_at_mut(at);
+        (Chunks { disks: d0, moved: m0 }, Chunks { disks: d1, moved: m1 })
+    }
+}
+
+/// Runs `step` on each `CHUNK` disks of `disks` (the chunks shared out in `parts` pieces between
+/// threads) and combines their reports in chunk order: powers summed, the longest move kept.
+fn by_chunks(
+    disks: Moving<'_>,
+    parts: usize,
+    moved: &mut Vec<Moved>,
+    step: &(impl Fn(&mut Moving<'_>) -> Moved + Sync),
+) -> Moved {
+    let mut total = Moved::default();
+    let mut combine = |m: Moved| {
+        total.power += m.power;
+        total.damping_power += m.damping_power;
+        total.longest = total.longest.max(m.longest);
+    };
+    if parts <= 1 {
+        each_chunk(disks, step, &mut combine);
+        return total;
+    }
+    moved.clear();
+    moved.resize(disks.len().div_ceil(CHUNK), Moved::default());
+    for_each_part(Chunks { disks, moved }, parts, &|chunks: Chunks<'_>, _| {
+        let mut slots = chunks.moved.iter_mut();
+        each_chunk(chunks.disks, step, &mut |m| *slots.next().expect("a slot per chunk") = m);
+    });
+    moved.iter().for_each(|m| combine(*m));
+    total
+}
+
+/// Hands `step`'s report on each `CHUNK` disks of `disks`, in order, to `report`.
+fn each_chunk(disks: Moving<'_>, step: &impl Fn(&mut Moving<'_>) -> Moved, report: &mut impl FnMut(Moved)) {
+    let mut rest = disks;
+    while rest.len() > CHUNK {
+        let (mut chunk, after) = rest.split_disks(CHUNK);
+        report(step(&mut chunk));
+        rest = after;
+    }
+    if rest.len() > 0 {
+        report(step(&mut rest));
+    }
+}
+
+/// Velocity Verlet's first half of a step for one chunk: half kick, then drift (and turn).
+fn verlet_drift(d: &mut Moving<'_>, c: &StepContext) -> Moved {
+    let (power, damping_power) = kick_either(d, c, true);
+    let n = d.len();
+    let (x, y, vx, vy) = (&mut d.x[..n], &mut d.y[..n], &d.vx[..n], &d.vy[..n]);
+    let mut longest = vector::LargestSquare::default();
+    for i in 0..n {
+        let (step_x, step_y) = (vx[i] * c.dt, vy[i] * c.dt);
+        x[i] += step_x;
+        y[i] += step_y;
+        longest.add(step_x, step_y);
+    }
+    if c.rotation {
+        turn(d, c.dt);
+    }
+    Moved { power, longest, damping_power }
 }
 
 /// AB1 on the first step equals AB2 with `a_{-1} = a_0`.
@@ -166,24 +317,18 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
     }
 }
 
-/// One Adams-Bashforth-Moulton step of `disks`; with `DAMPED`, the numerical damping acts on the
-/// net forces and torques at `t`.
+/// One Adams-Bashforth-Moulton step of `d`; with `DAMPED`, the numerical damping acts on the net
+/// forces and torques at `t`.
 #[inline(always)]
-fn adams_step<const DAMPED: bool>(
-    p: &mut Particles,
-    prev: &mut Accelerations,
-    c: &StepContext,
-    disks: Range<usize>,
-) -> Moved {
+fn adams_step<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext) -> Moved {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
-    let n = disks.len();
-    let d = || disks.clone();
+    let n = d.len();
     // Equal-length slices: no bounds checks, and the loop vectorises.
-    let (x, y, vx, vy) = (&mut p.x[d()][..n], &mut p.y[d()][..n], &mut p.vx[d()][..n], &mut p.vy[d()][..n]);
-    let (fx, fy, inv_mass) = (&mut p.fx[d()][..n], &mut p.fy[d()][..n], &p.inv_mass[d()][..n]);
-    let mass = &p.mass[d()][..n];
-    let (prev_ax, prev_ay) = (&mut prev.ax[d()][..n], &mut prev.ay[d()][..n]);
+    let (x, y, vx, vy) = (&mut d.x[..n], &mut d.y[..n], &mut d.vx[..n], &mut d.vy[..n]);
+    let (fx, fy, inv_mass, mass) = (&mut d.fx[..n], &mut d.fy[..n], &d.inv_mass[..n], &d.mass[..n]);
+    let [prev_ax, prev_ay, prev_alpha] = &mut d.previous;
+    let (prev_ax, prev_ay) = (&mut prev_ax[..n], &mut prev_ay[..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
     let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
     let mut longest = vector::LargestSquare::default();
@@ -212,8 +357,8 @@ fn adams_step<const DAMPED: bool>(
         fy[i] = 0.0;
     }
     if c.rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
-        let (angle, prev_alpha) = (&mut p.angle[d()][..n], &mut prev.alpha[d()][..n]);
+        let (omega, torque, inv_inertia) = (&mut d.omega[..n], &mut d.torque[..n], &d.inv_inertia[..n]);
+        let (angle, prev_alpha) = (&mut d.angle[..n], &mut prev_alpha[..n]);
         power += vector::lane_sum(n, |i| torque[i] * omega[i]);
         for i in 0..n {
             if DAMPED {
@@ -233,30 +378,29 @@ fn adams_step<const DAMPED: bool>(
     Moved { power, longest, damping_power }
 }
 
-/// The velocity Verlet drift of the angles of `disks`: `θ += ω Δt` with the half-step ω.
-fn turn(p: &mut Particles, dt: f64, disks: Range<usize>) {
-    let n = disks.len();
-    let (angle, omega) = (&mut p.angle[disks.clone()][..n], &p.omega[disks][..n]);
+/// The velocity Verlet drift of the angles of `d`: `θ += ω Δt` with the half-step ω.
+fn turn(d: &mut Moving<'_>, dt: f64) {
+    let n = d.len();
+    let (angle, omega) = (&mut d.angle[..n], &d.omega[..n]);
     for i in 0..n {
         angle[i] += omega[i] * dt;
     }
 }
 
 /// [`kick`] with or without numerical damping, as the scene asks; returns the contact and damping powers.
-fn kick_either(p: &mut Particles, c: &StepContext, clear: bool, disks: Range<usize>) -> (f64, f64) {
-    if c.damping.is_active() { kick::<true>(p, c, clear, disks) } else { kick::<false>(p, c, clear, disks) }
+fn kick_either(d: &mut Moving<'_>, c: &StepContext, clear: bool) -> (f64, f64) {
+    if c.damping.is_active() { kick::<true>(d, c, clear) } else { kick::<false>(d, c, clear) }
 }
 
-/// Half kick `v += (F/m + g) dt/2` of `disks` (with `DAMPED`, the numerical damping at the current
+/// Half kick `v += (F/m + g) dt/2` of `d` (with `DAMPED`, the numerical damping at the current
 /// velocities added to `F`); with `clear`, also clears their forces and returns the contact forces'
 /// power and the damping's.
-fn kick<const DAMPED: bool>(p: &mut Particles, c: &StepContext, clear: bool, disks: Range<usize>) -> (f64, f64) {
+fn kick<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext, clear: bool) -> (f64, f64) {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
-    let n = disks.len();
-    let d = || disks.clone();
-    let (vx, vy, inv_mass, mass) = (&mut p.vx[d()][..n], &mut p.vy[d()][..n], &p.inv_mass[d()][..n], &p.mass[d()][..n]);
-    let (fx, fy) = (&mut p.fx[d()][..n], &mut p.fy[d()][..n]);
+    let n = d.len();
+    let (vx, vy, inv_mass, mass) = (&mut d.vx[..n], &mut d.vy[..n], &d.inv_mass[..n], &d.mass[..n]);
+    let (fx, fy) = (&mut d.fx[..n], &mut d.fy[..n]);
     let (mut power, mut damping_power) = (0.0, 0.0);
     for i in 0..n {
         if clear {
@@ -278,7 +422,7 @@ fn kick<const DAMPED: bool>(p: &mut Particles, c: &StepContext, clear: bool, dis
         }
     }
     if c.rotation {
-        let (omega, torque, inv_inertia) = (&mut p.omega[d()][..n], &mut p.torque[d()][..n], &p.inv_inertia[d()][..n]);
+        let (omega, torque, inv_inertia) = (&mut d.omega[..n], &mut d.torque[..n], &d.inv_inertia[..n]);
         for i in 0..n {
             if clear {
                 power += torque[i] * omega[i];

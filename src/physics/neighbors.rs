@@ -11,8 +11,11 @@ use super::config::BroadPhaseKind;
 use super::contact::ContactState;
 use super::contact_record::Partner;
 use super::material::{effective_mass, effective_radius};
+use super::parallel::{Span, for_each_part};
 use super::particles::{InitialContact, Particles};
 use super::walls::BoxWalls;
+use std::ops::Range;
+use std::sync::Mutex;
 
 /// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per
 /// build, not once per step). Its tangential spring lives in [`Candidates::springs`], apart, so
@@ -146,6 +149,16 @@ pub struct NeighborList<S = ()> {
     grid: CellGrid,
 }
 
+/// Scratch of a parallel search: each run's row and found pairs (a clone starts without).
+#[derive(Debug, Default)]
+struct PartPairs(Vec<Mutex<(Vec<u32>, Vec<NeighborPair>)>>);
+
+impl Clone for PartPairs {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
 impl<S: Copy + Default> NeighborList<S> {
     /// An empty list; call [`NeighborList::rebuild`] before use.
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {
@@ -167,10 +180,11 @@ impl<S: Copy + Default> NeighborList<S> {
         self.travel >= 0.5 * self.skin || self.travel.is_nan()
     }
 
-    /// Rebuilds the lists from the current positions, keeping springs of surviving pairs.
-    pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls) {
+    /// Rebuilds the lists from the current positions, keeping springs of surviving pairs; the
+    /// grid's search shared out between threads in `parts` runs of disks (the list is the same).
+    pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, parts: usize) {
         match self.broad_phase {
-            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh),
+            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, parts),
             BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
         }
         self.pairs.swap_in_fresh();
@@ -231,6 +245,8 @@ pub struct CellGrid {
     members: Vec<u32>,
     fill: Vec<u32>,
     row: Vec<u32>,
+    /// Scratch of the parallel search.
+    parts: PartPairs,
     cols: usize,
     rows: usize,
 }
@@ -287,20 +303,44 @@ impl CellGrid {
             .filter(move |&j| j > i)
     }
 
-    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted.
-    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
+    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
+    /// disks shared out in `parts` runs between threads, whose pairs are joined in disk order.
+    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, parts: usize) {
         if p.is_empty() {
             return;
         }
         self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
-        let mut row = std::mem::take(&mut self.row);
-        for i in 0..p.len() {
+        if parts <= 1 {
+            let mut row = std::mem::take(&mut self.row);
+            self.pairs_of(p, skin, 0..p.len(), &mut row, out);
+            self.row = row;
+            return;
+        }
+        let mut buffers = std::mem::take(&mut self.parts.0);
+        buffers.resize_with(buffers.len().max(parts), Default::default);
+        for buffer in &mut buffers {
+            buffer.get_mut().expect("no panic while held").1.clear();
+        }
+        let span = Span { range: 0..p.len(), unit: 256 };
+        for_each_part(span, parts, &|run: Span, number| {
+            let mut buffer = buffers[number].lock().expect("a buffer per run");
+            let (row, pairs) = &mut *buffer;
+            self.pairs_of(p, skin, run.range, row, pairs);
+        });
+        for buffer in &mut buffers {
+            out.extend_from_slice(&buffer.get_mut().expect("no panic while held").1);
+        }
+        self.parts.0 = buffers;
+    }
+
+    /// Appends the candidate pairs `(i, j)` of the disks `i` in `disks` to `out`, sorted.
+    fn pairs_of(&self, p: &Particles, skin: f64, disks: Range<usize>, row: &mut Vec<u32>, out: &mut Vec<NeighborPair>) {
+        for i in disks {
             row.clear();
             row.extend(self.neighbours(i).filter(|&j| within(p, i, j, skin)).map(|j| j as u32));
             row.sort_unstable();
             out.extend(row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
         }
-        self.row = row;
     }
 }
 
@@ -327,8 +367,8 @@ mod tests {
         let walls = BoxWalls::new(&scene.domain);
         let mut grid = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.006);
         let mut brute = NeighborList::<()>::new(BroadPhaseKind::AllPairs, 0.006);
-        grid.rebuild(&p, &walls);
-        brute.rebuild(&p, &walls);
+        grid.rebuild(&p, &walls, 1);
+        brute.rebuild(&p, &walls, 1);
         assert!(!grid.walls.entries.is_empty());
         assert_eq!(grid.walls.entries, brute.walls.entries);
         assert!(!brute.pairs.entries.is_empty());
@@ -359,7 +399,7 @@ mod tests {
         let walls = BoxWalls::new(&SceneConfig::default().domain);
         type State = <crate::physics::contact::HystereticLinear as crate::physics::ContactLaw>::State;
         let mut list = NeighborList::<State>::new(BroadPhaseKind::Grid, 0.002);
-        list.rebuild(&p, &walls);
+        list.rebuild(&p, &walls, 1);
         let contact =
             |disk, partner, tangential_spring| InitialContact { disk, partner, tangential_spring, law_state: 1e-4 };
         list.seed_histories(&[
@@ -384,14 +424,14 @@ mod tests {
         let p = Particles::new(&placement::generate(&scene).unwrap(), 1000.0, 1.0);
         let walls = BoxWalls::new(&scene.domain);
         let mut list = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.004);
-        list.rebuild(&p, &walls);
+        list.rebuild(&p, &walls, 1);
         let steps_until_due = |list: &mut NeighborList<()>, step: f64| (1..).find(|_| list.note_step(step)).unwrap();
         assert_eq!(steps_until_due(&mut list, 0.00025), 8);
         // Due until rebuilt; then counted afresh.
         assert!(list.note_step(0.0));
-        list.rebuild(&p, &walls);
+        list.rebuild(&p, &walls, 1);
         assert_eq!(steps_until_due(&mut list, 0.0005), 4);
-        list.rebuild(&p, &walls);
+        list.rebuild(&p, &walls, 1);
         assert!(!list.note_step(0.0) && list.note_step(f64::NAN));
     }
 }

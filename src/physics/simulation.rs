@@ -10,13 +10,15 @@ use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
 use super::contact_list;
 use super::contact_network::ContactNetwork;
 use super::contact_record::PileContact;
+use super::contact_sums::ContactSums;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::energy::EnergyLedger;
-use super::forces::{ContactParameters, TouchingPairs};
-use super::integrator::{Integrator, StepContext};
+use super::forces::{self, ContactParameters, TouchingPairs};
+use super::integrator::{Integrator, Moved, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
+use super::parallel::Threads;
 use super::particles::{InitialContact, InitialDisk, Particles};
 use super::pile::{PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
@@ -26,10 +28,7 @@ use super::time_step::{self, with_time_step};
 use super::vector;
 use super::walls::BoxWalls;
 use super::warning::ValidityWarning;
-
-/// Disks per chunk of [`Simulation::move_disks`]: their arrays stay in cache from the integrator's
-/// power sum to its update.
-const INTEGRATOR_CHUNK: usize = 512;
+use std::sync::Mutex;
 
 /// What a running simulation tells its caller at every sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,6 +69,12 @@ pub struct Simulation<L: ContactLaw> {
     disk_contacts: ContactParameters,
     wall_contacts: ContactParameters,
     touching: Box<TouchingPairs<L::State>>,
+    /// The parallel path's tables (one per part) and contact rows (see `contact_sums`).
+    tables: Vec<Mutex<TouchingPairs<L::State>>>,
+    sums: ContactSums,
+    threads: Threads,
+    /// The integrator's per-chunk reports (scratch).
+    moved: Vec<Moved>,
     integrator: Integrator,
     rolling_resistance: bool,
     step: u64,
@@ -123,6 +128,10 @@ impl<L: ContactLaw> Simulation<L> {
             disk_contacts: kind(&materials.particle),
             wall_contacts: kind(&materials.wall),
             touching: Box::default(),
+            tables: Vec::new(),
+            sums: ContactSums::default(),
+            threads: Threads::default(),
+            moved: Vec::new(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
             particles,
@@ -133,11 +142,16 @@ impl<L: ContactLaw> Simulation<L> {
             energy: EnergyLedger::default(),
             totals: ContactTotals::default(),
         };
-        sim.neighbors.rebuild(&sim.particles, &sim.walls);
+        sim.rebuild_neighbors();
         sim.neighbors.seed_histories(contacts);
         sim.compute_forces::<true>();
         sim.energy.initial_elastic = sim.totals.elastic;
         sim
+    }
+
+    /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
+    pub fn set_threads(&mut self, threads: Threads) {
+        self.threads = threads;
     }
 
     /// The disks.
@@ -170,33 +184,34 @@ impl<L: ContactLaw> Simulation<L> {
         let (power, damping_power, stale) = self.move_disks();
         self.energy.record_step(power, damping_power, self.context.dt);
         if stale {
-            self.neighbors.rebuild(&self.particles, &self.walls);
+            self.rebuild_neighbors();
         }
         if sample {
             self.compute_forces::<true>();
         } else {
             self.compute_forces::<false>();
         }
-        self.integrator.finish(&mut self.particles, &self.context);
+        let parts = self.threads.parts(self.particles.len());
+        self.integrator.finish(&mut self.particles, &self.context, parts, &mut self.moved);
         if self.rolling_resistance {
             self.energy.remove(rolling::apply(&mut self.particles, self.context.dt));
         }
         self.step += 1;
     }
 
-    /// The integrator's update, `INTEGRATOR_CHUNK` disks at a time. Returns the power of the contact forces and
-    /// of the numerical damping at the start of the step, and whether the neighbour list must be rebuilt.
+    /// The integrator's update. Returns the power of the contact forces and of the numerical damping
+    /// at the start of the step, and whether the neighbour list must be rebuilt.
     fn move_disks(&mut self) -> (f64, f64, bool) {
-        let n = self.particles.len();
-        let (mut power, mut damping_power, mut longest) = (0.0, 0.0, vector::LargestSquare::default());
-        for start in (0..n).step_by(INTEGRATOR_CHUNK) {
-            let disks = start..(start + INTEGRATOR_CHUNK).min(n);
-            let moved = self.integrator.advance(&mut self.particles, &self.context, disks);
-            power += moved.power;
-            damping_power += moved.damping_power;
-            longest = longest.max(moved.longest);
-        }
-        (power, damping_power, self.neighbors.note_step(longest.root()))
+        let parts = self.threads.parts(self.particles.len());
+        let moved = self.integrator.advance(&mut self.particles, &self.context, parts, &mut self.moved);
+        (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
+    }
+
+    /// Builds the neighbour list afresh from the current positions.
+    fn rebuild_neighbors(&mut self) {
+        let parts = self.threads.parts(self.particles.len());
+        self.neighbors.rebuild(&self.particles, &self.walls, parts);
+        self.sums.invalidate();
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).
@@ -287,7 +302,8 @@ impl<L: ContactLaw> Simulation<L> {
     }
 
     /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
-    /// contact sums and per-disk contact force magnitudes.
+    /// contact sums and per-disk contact force magnitudes (on one thread; other steps share the
+    /// work between the threads the simulation is given, with the same bits).
     fn compute_forces<const SAMPLE: bool>(&mut self) {
         // Forces and torques were cleared by the integrator, which read them last.
         let p = &mut self.particles;
@@ -299,6 +315,24 @@ impl<L: ContactLaw> Simulation<L> {
             self.totals = ContactTotals::default();
         }
         let (s, mut f) = p.split();
+        let parts = self.threads.parts(s.x.len());
+        if !SAMPLE && parts > 1 {
+            let kinds = [&self.disk_contacts, &self.wall_contacts];
+            let walls = (&self.walls.walls[..], &mut self.neighbors.walls);
+            let (tables, sums) = (&mut self.tables, &mut self.sums);
+            forces::contacts_in_parts(
+                tables,
+                &self.law,
+                kinds,
+                &mut self.neighbors.pairs,
+                walls,
+                &s,
+                &mut f,
+                sums,
+                parts,
+            );
+            return;
+        }
         self.touching.contacts::<L, SAMPLE>(
             &self.law,
             [&self.disk_contacts, &self.wall_contacts],

@@ -6,14 +6,19 @@ use std::time::Instant;
 
 use crate::output::{RunResult, SummaryRow};
 use crate::physics::RunStatus;
-use crate::physics::run_scene_with_history;
 use crate::physics::simulation::{Control, Progress};
+use crate::physics::{Threads, run_scene_on};
 use crate::study::PlannedRun;
 
-/// Runs one simulation; `observe` sees every progress sample. Returns `None` when `stop` interrupted
+/// Runs one simulation on `threads` (of the current pool); `observe` sees every progress sample. Returns `None` when `stop` interrupted
 /// it (an interrupted run is not a result: it runs again on `--resume`). Errors and panics become
 /// results with status `error` and the message.
-pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Progress)) -> Option<RunResult> {
+pub fn run_one(
+    run: &PlannedRun,
+    stop: &AtomicBool,
+    threads: Threads,
+    observe: &mut dyn FnMut(&Progress),
+) -> Option<RunResult> {
     let started = Instant::now();
     let cpu_started = thread_cpu_time();
     let initial = run.initial.as_ref().map(|disks| disks.as_ref().clone());
@@ -23,7 +28,7 @@ pub fn run_one(run: &PlannedRun, stop: &AtomicBool, observe: &mut dyn FnMut(&Pro
     };
     let contacts = run.initial_contacts.as_deref().map(Vec::as_slice);
     let outcome =
-        catch_unwind(AssertUnwindSafe(|| run_scene_with_history(&run.scene, initial, contacts, &mut observer)));
+        catch_unwind(AssertUnwindSafe(|| run_scene_on(&run.scene, initial, contacts, threads, &mut observer)));
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
         Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),

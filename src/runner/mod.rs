@@ -1,8 +1,9 @@
 //! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
 //! runs through a bounded channel to one writer thread, progress, resume, shards and Ctrl-C.
 //!
-//! Results do not depend on `jobs`: every simulation is single-threaded and deterministic, and the
-//! summary is sorted by run index whatever order runs finish in.
+//! Results do not depend on `jobs`: every simulation is deterministic on any number of threads (one
+//! per run, unless fewer runs are left than threads: see `run_all`), and the summary is sorted by
+//! run index whatever order runs finish in.
 
 use std::collections::HashSet;
 use std::fmt;
@@ -31,7 +32,8 @@ use crate::output::table::ColumnData;
 use crate::output::{
     self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
 };
-use crate::physics::RunStatus;
+use crate::physics::parallel::PARALLEL_MIN_DISKS;
+use crate::physics::{RunStatus, Threads};
 use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
 
@@ -179,7 +181,8 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
     let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
     let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
-    let ran = run_all(&todo, jobs, &options.stop, &view, &|_, result| sender.send(result).is_ok());
+    let threads = pool_threads(options.jobs, cores);
+    let ran = run_all(&todo, (jobs, threads), &options.stop, &view, &|_, result| sender.send(result).is_ok());
     drop(sender); // the writer thread finishes once the channel closes
     let warnings = view.finish();
     let (tables, writer_time) =
@@ -212,6 +215,29 @@ fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<S
         format!("--jobs {requested} capped to {jobs} worker threads ({why})")
     });
     (jobs, note)
+}
+
+/// Threads of the worker pool when `requested` were asked for (0 = one per core): those of the
+/// workers, and while fewer runs are left to start than it has threads, all of them for each run
+/// started then (see `run_all`).
+fn pool_threads(requested: usize, cores: usize) -> usize {
+    (if requested == 0 { cores } else { requested }).min(cores).max(1)
+}
+
+/// The environment variable that sets from how many disks a run uses the threads it is given
+/// (default [`PARALLEL_MIN_DISKS`]): for tests and measurements of small scenes.
+pub const PARALLEL_MIN_DISKS_VARIABLE: &str = "DEMSWEEP_PARALLEL_MIN_DISKS";
+
+/// The value of [`PARALLEL_MIN_DISKS_VARIABLE`], or the default.
+fn parallel_min_disks() -> Result<usize, RunnerError> {
+    match std::env::var(PARALLEL_MIN_DISKS_VARIABLE) {
+        Err(_) => Ok(PARALLEL_MIN_DISKS),
+        Ok(text) => text.trim().parse().map_err(|_| {
+            RunnerError::Internal(format!(
+                "environment variable {PARALLEL_MIN_DISKS_VARIABLE}: expected a whole number of disks, got {text:?}"
+            ))
+        }),
+    }
 }
 
 /// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard, K zero-padded to the digits of N
@@ -328,36 +354,45 @@ fn check_same_study(
 /// Runs `runs` on `jobs` worker threads (0 = one per core, as `run`) and writes nothing: the summary
 /// row of each run, in the order given (`None` for a run that `stop` interrupted). The rows do not
 /// depend on `jobs`, but for their wall times.
-pub fn run_rows(runs: &[&PlannedRun], jobs: usize, stop: &AtomicBool) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
+pub fn run_rows(
+    runs: &[&PlannedRun],
+    requested: usize,
+    stop: &AtomicBool,
+) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
     order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
     let identities: Vec<String> = runs.iter().map(|run| RunIdentity::of(run).to_string()).collect();
     let todo: Vec<(&PlannedRun, &str)> = order.iter().map(|&k| (runs[k], identities[k].as_str())).collect();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let (jobs, _) = worker_count(jobs, todo.len(), cores);
+    let (jobs, _) = worker_count(requested, todo.len(), cores);
     let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
     let rows = Mutex::new(vec![None; runs.len()]);
-    run_all(&todo, jobs, stop, &view, &|position, result| {
+    run_all(&todo, (jobs, pool_threads(requested, cores)), stop, &view, &|position, result| {
         rows.lock().expect("no worker panics holding the rows")[order[position]] = Some(result.row);
         true
     })?;
     Ok(rows.into_inner().expect("no worker panicked holding the rows"))
 }
 
-/// Runs `todo` in this order on `jobs` workers, handing each result and its position in `todo` to
-/// `deliver` (which says whether it was taken); returns how many were taken.
+/// Runs `todo` in this order on `jobs` workers in a pool of `threads` threads, handing each result
+/// and its position in `todo` to `deliver` (which says whether it was taken); returns how many were
+/// taken. One run per worker thread is the rule; a run started while fewer runs are left to start
+/// than the pool has threads is given them all: the simulation shares the work of its steps out in
+/// as many parts, which the pool's idle threads take up (results do not depend on it).
 fn run_all(
     todo: &[(&PlannedRun, &str)],
-    jobs: usize,
+    (jobs, threads): (usize, usize),
     stop: &AtomicBool,
     view: &ProgressView,
     deliver: &(dyn Fn(usize, RunResult) -> bool + Sync),
 ) -> Result<usize, RunnerError> {
+    let threads = threads.max(jobs);
+    let min_disks = parallel_min_disks()?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
+        .num_threads(threads)
         .thread_name(|i| format!("demsweep-worker-{i}"))
         .build()
-        .map_err(|e| RunnerError::Internal(format!("cannot start {jobs} worker threads: {e}")))?;
+        .map_err(|e| RunnerError::Internal(format!("cannot start {threads} worker threads: {e}")))?;
     let next = AtomicUsize::new(0);
     let finished = AtomicUsize::new(0);
     pool.scope(|scope| {
@@ -367,7 +402,9 @@ fn run_all(
                 while !stop.load(Ordering::SeqCst) {
                     let position = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&(run, identity)) = todo.get(position) else { break };
-                    let result = execute::run_one(run, stop, &mut |p| view.sample(worker, &run.id, p));
+                    let count = if todo.len() - position < threads { threads } else { 1 };
+                    let given = Threads { count, min_disks };
+                    let result = execute::run_one(run, stop, given, &mut |p| view.sample(worker, &run.id, p));
                     if let Some(mut result) = result {
                         result.row.identity = identity.to_string();
                         view.finished(worker, &result.row);

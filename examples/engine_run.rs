@@ -1,0 +1,57 @@
+//! One deposition timed, with a fingerprint of its final state: for before/after comparisons of
+//! engine changes (`scripts/engine_compare.sh`).
+//!
+//! `cargo run --release --example engine_run -- SCENE [DURATION [THREADS [POOL]]]`: SCENE is `reference`
+//! (the scene of `docs/reference_scene.md`, 1.5 s unless DURATION, in s, says otherwise) or a disk
+//! count N (the reference deposition at N disks, the box widened with N, 0.1 s unless DURATION says
+//! otherwise); THREADS (default 1): threads the run is given (used from 8 000 disks on), in a pool of
+//! POOL threads (default THREADS; `… 40000 0.3 2 1` shows what the parallel path costs on one thread).
+//! Prints `ns_per_particle_step=… steps=… fingerprint=…`, the fingerprint a hash of the bits of the
+//! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).
+
+use std::time::Instant;
+
+use demsweep::bench::{reference_deposition, reference_disks};
+use demsweep::physics::simulation::Control;
+use demsweep::physics::{Threads, run_scene_on};
+
+/// FNV-1a over the bits of every value.
+fn fingerprint(columns: &[&Vec<f64>]) -> u64 {
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    for value in columns.iter().flat_map(|c| c.iter()) {
+        for byte in value.to_bits().to_le_bytes() {
+            hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    hash
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let usage = "usage: engine_run reference|N [DURATION [THREADS [POOL]]]";
+    let which = args.first().expect(usage);
+    let (mut s, disks) = if which == "reference" {
+        (reference_deposition(300, 1.5), Some(reference_disks()))
+    } else {
+        (reference_deposition(which.parse().expect(usage), 0.1), None)
+    };
+    if let Some(d) = args.get(1) {
+        s.run.duration = d.parse().expect(usage);
+    }
+    let threads: usize = args.get(2).map_or(1, |t| t.parse().expect(usage));
+    let pool_threads: usize = args.get(3).map_or(threads, |t| t.parse().expect(usage));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(pool_threads).build().expect("a thread pool");
+    let start = Instant::now();
+    let rec = pool
+        .install(|| run_scene_on(&s, disks, None, Threads::new(threads), &mut |_| Control::Continue))
+        .expect("scene runs");
+    let seconds = start.elapsed().as_secs_f64();
+    let f = &rec.final_state;
+    let n = f.x.len() as f64;
+    println!(
+        "ns_per_particle_step={:.2} steps={} seconds={seconds:.3} fingerprint={:016x}",
+        seconds * 1e9 / (n * rec.steps as f64),
+        rec.steps,
+        fingerprint(&[&f.x, &f.y, &f.vx, &f.vy, &f.omega, &f.angle])
+    );
+}
