@@ -4,7 +4,7 @@
 //! `cargo run --release --example engine_run -- SCENE [DURATION [THREADS [POOL]]]`: SCENE is `reference`
 //! (the scene of `docs/reference_scene.md`, 1.5 s unless DURATION, in s, says otherwise) or a disk
 //! count N (the reference deposition at N disks, the box widened with N, 0.1 s unless DURATION says
-//! otherwise); THREADS (default 1): threads the run is given (used from 8 000 disks on), in a pool of
+//! otherwise); THREADS (default 1): threads the run is given (used from 32 000 disks on), in a pool of
 //! POOL threads (default THREADS; `… 40000 0.3 2 1` shows what the parallel path costs on one thread).
 //! Prints `ns_per_particle_step=… steps=… fingerprint=…`, the fingerprint a hash of the bits of the
 //! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).

@@ -8,7 +8,7 @@
 
 /// Disks from which a run uses the threads it is given: below, one thread does the work faster
 /// than two share it (measured on 2 cores: see docs/performance.md).
-pub const PARALLEL_MIN_DISKS: usize = 8_000;
+pub const PARALLEL_MIN_DISKS: usize = 32_000;
 
 /// How many threads one simulation may use, and from what size on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
