@@ -69,7 +69,7 @@ def run_batch(scenes, seeds=None, jobs: int = 0) -> list[pd.DataFrame]:
 
 
 def _warn(answer: dict) -> dict:
-    for text in answer["warnings"]:
+    for text in answer["warnings"] + answer.get("notes", []):
         warnings.warn(text, stacklevel=3)
     return answer
 
@@ -80,7 +80,9 @@ def run_study(path, out=None, resume: bool = False, force: bool = False, jobs: i
 
     Keys: ``results`` (the HDF5 file, for ``open``), ``summary_csv``, ``points_csv``, ``report``,
     ``selected``, ``already_done``, ``ran``, ``failed``, ``missing``, ``exit_code`` (the command's),
-    ``warnings`` (the study's, also issued as Python warnings) and ``run_warnings``.
+    ``warnings`` (the study's), ``notes`` (what it found in an existing results file: stored runs
+    that run again and why, stored runs the study no longer plans; both also issued as Python
+    warnings) and ``run_warnings``.
     """
     return _warn(_native.run_study(os.fspath(path), _path(out), resume, force, jobs, progress))
 

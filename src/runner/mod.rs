@@ -90,6 +90,10 @@ pub struct RunReport {
     pub writer_time: std::time::Duration,
     /// The warnings of the runs finished by this invocation, by kind.
     pub warnings: WarningDigest,
+    /// What this invocation found in the results file and did about it, printed as `note:` lines
+    /// unless the progress display is quiet: stored runs that run again and why (changed input
+    /// files, physics version), stored runs the study no longer plans, fewer workers than asked.
+    pub notes: Vec<String>,
 }
 
 impl RunReport {
@@ -161,11 +165,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     if options.drop_unplanned {
         writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
     }
-    if options.progress != ProgressMode::Quiet {
-        for note in reuse.notes(&path, options.drop_unplanned) {
-            eprintln!("note: {note}");
-        }
-    }
+    let mut notes = reuse.notes(&path, options.drop_unplanned);
     let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
     let mut todo: Vec<(&PlannedRun, &str)> =
@@ -173,8 +173,11 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     todo.sort_by(|(a, _), (b, _)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
-    if let (Some(note), false) = (capped, options.progress == ProgressMode::Quiet) {
-        eprintln!("note: {note}");
+    notes.extend(capped);
+    if options.progress != ProgressMode::Quiet {
+        for note in &notes {
+            eprintln!("note: {note}");
+        }
     }
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
@@ -202,6 +205,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         wall_time: started.elapsed(),
         writer_time,
         warnings,
+        notes,
     })
 }
 

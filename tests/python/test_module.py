@@ -109,8 +109,10 @@ def test_open_reads_the_runs_of_the_summary_in_a_grown_file(tmp_path):
     out = tmp_path / "out"
     assert demsweep.run_study(study, out=out, jobs=2)["ran"] == 4
     study.write_text(STUDY.replace("[0.3, 0.6]", "[0.6]"))
-    again = demsweep.run_study(study, out=out, resume=True)
+    with pytest.warns(UserWarning, match="2 stored run.* no longer planned"):  # quiet, yet said
+        again = demsweep.run_study(study, out=out, resume=True)
     assert (again["selected"], again["ran"]) == (2, 0)
+    assert any("--drop-unplanned" in note for note in again["notes"]), again["notes"]
     results = demsweep.open(again["results"])
     assert list(results.summary["run_id"]) == ["r0000", "r0001"]
     for run in ("r0000", "r0001"):
