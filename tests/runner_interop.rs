@@ -82,7 +82,8 @@ fn run_group(
     let units: Vec<&str> = declared.iter().map(|q| q.unit).collect();
     let mut tables = vec![("values", table(fields, json!({"units": units})))];
     let parameters = run.parameters.iter().map(|(k, v)| (k.as_str(), json!([param_json(v)]))).collect();
-    tables.push(("parameters", table(parameters, json!({}))));
+    let units: Vec<&str> = run.parameters.iter().map(|(k, _)| key_unit(k)).collect();
+    tables.push(("parameters", table(parameters, json!({"units": units}))));
     let warnings = record.map_or(vec![], |r| r.warnings.clone());
     if !warnings.is_empty() {
         let column = |f: fn(&ValidityWarning) -> Option<f64>| json!(warnings.iter().map(f).collect::<Vec<_>>());
@@ -209,6 +210,11 @@ fn history(r: &RunRecord) -> Value {
     table(f, json!({"units": units}))
 }
 
+/// The SI unit of a scene key, from the key table (`demsweep keys`).
+fn key_unit(path: &str) -> &'static str {
+    demsweep::physics::keys::scene_keys().into_iter().find(|k| k.path == path).map_or("", |k| k.unit)
+}
+
 /// The expected datasets of the group `/<group>` (`summary`, `points`): one per column, typed by its values.
 fn column_datasets(group: &str, table: &SummaryTable, datasets: &mut Map<String, Value>) -> Value {
     for c in &table.columns {
@@ -218,8 +224,11 @@ fn column_datasets(group: &str, table: &SummaryTable, datasets: &mut Map<String,
             ColumnData::Bool(v) => json!(v),
             ColumnData::Text(v) => json!(v),
         };
-        let attrs = quantity::column_quantity(&c.name)
-            .map_or(json!({}), |q| json!({"unit": q.unit, "description": q.description}));
+        let attrs = match quantity::column_quantity(&c.name) {
+            Some(q) => json!({"unit": q.unit, "description": q.description}),
+            None if c.name.contains('.') => json!({"unit": key_unit(&c.name)}), // a swept key
+            None => json!({}),
+        };
         datasets.insert(format!("/{group}/{}", c.name), json!({"attrs": attrs, "values": values}));
     }
     json!({"columns": table.columns.iter().map(|c| &c.name).collect::<Vec<_>>()})

@@ -60,12 +60,13 @@ pub const SWEEP_WALL_TIME: &str = "wall_time";
 /// no longer planned included). A file holding more (a sweep killed before it finished) has its
 /// summary assembled from the run groups.
 pub const STORED_RUNS: &str = "stored_runs";
-/// The attributes of a `/summary` or `/points` column dataset: `unit` and `description` of the
-/// per-run quantity it holds (or whose statistic it holds); none for other columns.
+/// The attributes of a `/summary` or `/points` column dataset: `unit` of its values (a per-run
+/// quantity, its statistic or a swept scene key; none for text columns such as `run_id`), and the
+/// `description` of the per-run quantity it holds or whose statistic it holds.
 pub fn column_attrs(column: &str) -> Vec<(&'static str, AttrValue)> {
-    quantity::column_quantity(column).map_or_else(Vec::new, |q| {
-        vec![(UNIT, AttrValue::String(q.unit.into())), (DESCRIPTION, AttrValue::String(q.description.into()))]
-    })
+    let unit = quantity::unit(column).map(|u| (UNIT, AttrValue::String(u.into())));
+    let description = quantity::column_quantity(column).map(|q| (DESCRIPTION, AttrValue::String(q.description.into())));
+    unit.into_iter().chain(description).collect()
 }
 
 /// Attribute of an array dataset (and of `/summary` and `/points` columns): the unit of its values

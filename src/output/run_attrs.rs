@@ -9,7 +9,7 @@
 //!              values and pile metrics), float64 (NaN when missing) or int64 (steps,
 //!              particle_steps); attribute `units` (field order)
 //! parameters   compound, one row: each swept key path, typed (float64, int64, uint8 0/1, text);
-//!              absent when nothing is swept
+//!              attribute `units` (field order, the keys' SI units); absent when nothing is swept
 //! warnings     compound, one row per validity warning: kind (text, e.g. `energy_balance`), value,
 //!              limit, time, impact_speed, safe_time_step (NaN where the warning has none; see
 //!              [`ValidityWarning`]); absent when the run has none
@@ -119,7 +119,9 @@ pub fn stage_tables(g: &mut StagedGroup<'_>, row: &SummaryRow) {
         .collect();
     if !parameters.is_empty() {
         g.create_dataset(PARAMETERS, |b| {
-            compound::stage(b, &parameters.iter().map(|(n, c)| (*n, c.field())).collect::<Vec<_>>())
+            compound::stage(b, &parameters.iter().map(|(n, c)| (*n, c.field())).collect::<Vec<_>>());
+            let units = parameters.iter().map(|(key, _)| quantity::unit(key).unwrap_or_default().to_string());
+            b.set_attr(super::layout::UNITS, AttrValue::StringArray(units.collect()));
         });
     }
     if !row.warnings.is_empty() {
