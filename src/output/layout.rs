@@ -97,8 +97,9 @@ pub fn history_table(h: &History) -> [(&'static str, Field<'_>); HISTORY_SERIES.
     })
 }
 
-/// Attribute of the `history`, `values`, state and contact tables listing the unit of each field, in field order (empty
-/// when dimensionless); each `/summary` dataset has attributes `unit` and `description`.
+/// Attribute of the `history`, `values`, `parameters`, state and contact tables listing the unit of
+/// each field, in field order (empty when dimensionless); `/summary` and `/points` columns have a
+/// `unit` of their own instead (see [`column_attrs`]).
 pub const UNITS: &str = "units";
 
 /// The units of the history table's fields, in order.

@@ -212,8 +212,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
 /// Worker threads for `todo` runs on `cores` cores when `requested` were asked for (0 = one per
 /// core): never more than the runs to do nor the cores, at least one; with a note when capped.
 fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<String>) {
-    let wanted = if requested == 0 { cores } else { requested };
-    let jobs = wanted.min(cores).min(todo).max(1);
+    let jobs = pool_threads(requested, cores).min(todo).max(1);
     let note = (requested > jobs).then(|| {
         let why = if jobs == todo { format!("{todo} runs to do") } else { format!("{cores} cores") };
         format!("--jobs {requested} capped to {jobs} worker threads ({why})")
