@@ -8,11 +8,13 @@
 //! POOL threads (default THREADS; `… 40000 0.3 2 1` shows what the parallel path costs on one thread).
 //! Prints `ns_per_particle_step=… steps=… fingerprint=…`, the fingerprint a hash of the bits of the
 //! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).
+//! `DEMSWEEP_VECTOR=baseline|avx2|avx512` runs the hot loops in that width (default: as detected).
 
 use std::time::Instant;
 
 use demsweep::bench::{reference_deposition, reference_disks};
 use demsweep::physics::simulation::Control;
+use demsweep::physics::vector::{self, Width};
 use demsweep::physics::{Threads, run_scene_on};
 
 /// FNV-1a over the bits of every value.
@@ -40,6 +42,10 @@ fn main() {
     }
     let threads: usize = args.get(2).map_or(1, |t| t.parse().expect(usage));
     let pool_threads: usize = args.get(3).map_or(threads, |t| t.parse().expect(usage));
+    if let Ok(name) = std::env::var("DEMSWEEP_VECTOR") {
+        let width = Width::parse(&name).expect("DEMSWEEP_VECTOR: baseline, avx2 or avx512");
+        eprintln!("vector width: {}", vector::use_width(width).name());
+    }
     let pool = rayon::ThreadPoolBuilder::new().num_threads(pool_threads).build().expect("a thread pool");
     let start = Instant::now();
     let rec = pool

@@ -41,7 +41,7 @@ mod rolling;
 pub mod simulation;
 pub mod stability;
 pub mod time_step;
-mod vector;
+pub mod vector;
 pub mod walls;
 pub mod warning;
 

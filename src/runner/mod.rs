@@ -33,6 +33,7 @@ use crate::output::{
     self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
 };
 use crate::physics::parallel::PARALLEL_MIN_DISKS;
+use crate::physics::vector::{self, Width};
 use crate::physics::{RunStatus, Threads};
 use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
@@ -243,6 +244,25 @@ fn parallel_min_disks() -> Result<usize, RunnerError> {
     }
 }
 
+/// The environment variable that names the vector instructions the engine's hot loops run in
+/// (`baseline`, `avx2`, `avx512`; default: the widest this CPU runs well, see
+/// `physics::vector::width`): for measurements. Results are the same bits in every width.
+pub const VECTOR_WIDTH_VARIABLE: &str = "DEMSWEEP_VECTOR";
+
+/// Sets the width named by [`VECTOR_WIDTH_VARIABLE`], if it is set.
+fn use_vector_width() -> Result<(), RunnerError> {
+    let Ok(text) = std::env::var(VECTOR_WIDTH_VARIABLE) else { return Ok(()) };
+    let width = Width::parse(text.trim()).ok_or_else(|| {
+        let names: Vec<_> = Width::ALL.iter().map(|w| w.name()).collect();
+        RunnerError::Internal(format!(
+            "environment variable {VECTOR_WIDTH_VARIABLE}: expected one of {}, got {text:?}",
+            names.join(", ")
+        ))
+    })?;
+    vector::use_width(width);
+    Ok(())
+}
+
 /// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard, K zero-padded to the digits of N
 /// (`shard-03-of-12`) so that the shards list in order; a shard file written before the padding
 /// (`shard-3-of-12`) is continued under its own name.
@@ -391,6 +411,7 @@ fn run_all(
 ) -> Result<usize, RunnerError> {
     let threads = threads.max(jobs);
     let min_disks = parallel_min_disks()?;
+    use_vector_width()?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .thread_name(|i| format!("demsweep-worker-{i}"))
