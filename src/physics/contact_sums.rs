@@ -10,7 +10,7 @@
 //! number of threads.
 
 use super::neighbors::{NeighborPair, WallPair};
-use super::parallel::{Split, for_each_part, split_slice};
+use super::parallel::{Split, Team, split_slice};
 use std::ops::Range;
 
 /// Candidates per block of the contact stages (`forces`): the block's table of touching pairs stays
@@ -300,8 +300,8 @@ impl ContactSums {
 
     /// Adds the rows to the disks' accumulators (which hold zeros: the integrator cleared them),
     /// disks shared out in `parts` runs between threads; `r`: the radii.
-    pub fn add_up(&self, sums: DiskSums<'_>, r: &[f64], options: SumOptions, parts: usize) {
-        for_each_part(sums, parts, &|run: DiskSums<'_>, _| self.add_up_run(run, r, options));
+    pub fn add_up(&self, sums: DiskSums<'_>, r: &[f64], options: SumOptions, team: &Team) {
+        team.for_each_part(sums, &|run: DiskSums<'_>, _| self.add_up_run(run, r, options));
     }
 
     fn add_up_run(&self, mut sums: DiskSums<'_>, r: &[f64], options: SumOptions) {

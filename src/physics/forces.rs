@@ -27,7 +27,7 @@ use super::contact_sums::{ADDED, BLOCK, ContactSums, DiskIndex, DiskSums, RowsMu
 use super::diagnostics::ContactTotals;
 use super::material::ContactMaterial;
 use super::neighbors::{Candidates, NeighborPair, WallPair};
-use super::parallel::{Split, for_each_part, split_slice};
+use super::parallel::{Split, Team, split_slice};
 use super::particles::{Forces, State};
 use super::vector::{self, Width};
 use super::walls::Wall;
@@ -297,11 +297,11 @@ pub fn contacts_in_parts<L: ContactLaw>(
     s: &State<'_>,
     f: &mut Forces<'_>,
     sums: &mut ContactSums,
-    parts: usize,
+    team: &Team,
 ) {
     let [disk_kind, wall_kind] = kinds;
     let (walls, wall_candidates) = walls;
-    while tables.len() < parts {
+    while tables.len() < team.parts() {
         tables.push(Mutex::new(TouchingPairs::default()));
     }
     let tables = &tables[..];
@@ -316,7 +316,7 @@ pub fn contacts_in_parts<L: ContactLaw>(
         sums: DiskSums::new(f.fx, f.fy, f.torque, f.rolling),
         index,
     };
-    for_each_part(part, parts, &|mut part, number| {
+    team.for_each_part(part, &|mut part, number| {
         let mut table = tables[number].lock().expect("a table per part");
         table.touching_before.resize(blocks, 0);
         let start = part.pairs.first_block * BLOCK;
@@ -330,7 +330,7 @@ pub fn contacts_in_parts<L: ContactLaw>(
         rolling_friction: [disk_kind.material.rolling_friction, wall_kind.material.rolling_friction],
     };
     let accumulators = DiskSums::new(f.fx, f.fy, f.torque, f.rolling);
-    sums.add_up(accumulators, s.r, options, parts);
+    sums.add_up(accumulators, s.r, options, team);
 }
 
 impl<S: Copy + Default + PartialEq> TouchingPairs<S> {

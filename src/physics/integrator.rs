@@ -14,7 +14,7 @@
 //! each loop compiled without it (`DAMPED = false`), so they pay nothing for it.
 
 use super::config::{DampingConfig, IntegratorKind};
-use super::parallel::{Split, for_each_part};
+use super::parallel::{Split, Team};
 use super::particles::Particles;
 use super::vector;
 
@@ -109,15 +109,15 @@ impl Integrator {
     /// forces at `t` and clears their forces, `CHUNK` disks at a time, the chunks shared out in
     /// `parts` pieces between threads; `moved` is scratch space for the chunks' reports, which are
     /// combined in chunk order (so the result does not depend on `parts`).
-    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, parts: usize, moved: &mut Vec<Moved>) -> Moved {
+    pub fn advance(&mut self, p: &mut Particles, c: &StepContext, team: &Team, moved: &mut Vec<Moved>) -> Moved {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
                 let disks = Moving::new(p, [&mut prev.ax, &mut prev.ay, &mut prev.alpha]);
                 if c.damping.is_active() {
-                    by_chunks(disks, parts, moved, &|d| adams_step::<true>(d, c))
+                    by_chunks(disks, team, moved, &|d| adams_step::<true>(d, c))
                 } else {
-                    by_chunks(disks, parts, moved, &|d| {
+                    by_chunks(disks, team, moved, &|d| {
                         vector::widest(
                             #[inline(always)]
                             || adams_step::<false>(d, c),
@@ -126,16 +126,16 @@ impl Integrator {
                 }
             }
             Integrator::VelocityVerlet => {
-                by_chunks(Moving::new(p, [&mut [], &mut [], &mut []]), parts, moved, &|d| verlet_drift(d, c))
+                by_chunks(Moving::new(p, [&mut [], &mut [], &mut []]), team, moved, &|d| verlet_drift(d, c))
             }
         }
     }
 
     /// Completes the step after forces at the new positions have been evaluated.
-    pub fn finish(&mut self, p: &mut Particles, c: &StepContext, parts: usize, moved: &mut Vec<Moved>) {
+    pub fn finish(&mut self, p: &mut Particles, c: &StepContext, team: &Team, moved: &mut Vec<Moved>) {
         if let Integrator::VelocityVerlet = self {
             let disks = Moving::new(p, [&mut [], &mut [], &mut []]);
-            by_chunks(disks, parts, moved, &|d| {
+            by_chunks(disks, team, moved, &|d| {
                 kick_either(d, c, false);
                 Moved::default()
             });
@@ -240,11 +240,11 @@ impl Split for Chunks<'_> {
     }
 }
 
-/// Runs `step` on each `CHUNK` disks of `disks` (the chunks shared out in `parts` pieces between
+/// Runs `step` on each `CHUNK` disks of `disks` (the chunks shared out between the `team`'s
 /// threads) and combines their reports in chunk order: powers summed, the longest move kept.
 fn by_chunks(
     disks: Moving<'_>,
-    parts: usize,
+    team: &Team,
     moved: &mut Vec<Moved>,
     step: &(impl Fn(&mut Moving<'_>) -> Moved + Sync),
 ) -> Moved {
@@ -254,13 +254,13 @@ fn by_chunks(
         total.damping_power += m.damping_power;
         total.longest = total.longest.max(m.longest);
     };
-    if parts <= 1 {
+    if team.parts() <= 1 {
         each_chunk(disks, step, &mut combine);
         return total;
     }
     moved.clear();
     moved.resize(disks.len().div_ceil(CHUNK), Moved::default());
-    for_each_part(Chunks { disks, moved }, parts, &|chunks: Chunks<'_>, _| {
+    team.for_each_part(Chunks { disks, moved }, &|chunks: Chunks<'_>, _| {
         let mut slots = chunks.moved.iter_mut();
         each_chunk(chunks.disks, step, &mut |m| *slots.next().expect("a slot per chunk") = m);
     });

@@ -11,7 +11,7 @@ use super::config::BroadPhaseKind;
 use super::contact::ContactState;
 use super::contact_record::Partner;
 use super::material::{effective_mass, effective_radius};
-use super::parallel::{Span, for_each_part};
+use super::parallel::{Span, Team};
 use super::particles::{InitialContact, Particles};
 use super::walls::BoxWalls;
 use std::ops::Range;
@@ -182,9 +182,9 @@ impl<S: Copy + Default> NeighborList<S> {
 
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs; the
     /// grid's search shared out between threads in `parts` runs of disks (the list is the same).
-    pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, parts: usize) {
+    pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, team: &Team) {
         match self.broad_phase {
-            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, parts),
+            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, team),
             BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
         }
         self.pairs.swap_in_fresh();
@@ -305,11 +305,12 @@ impl CellGrid {
 
     /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
     /// disks shared out in `parts` runs between threads, whose pairs are joined in disk order.
-    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, parts: usize) {
+    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, team: &Team) {
         if p.is_empty() {
             return;
         }
         self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
+        let parts = team.parts();
         if parts <= 1 {
             let mut row = std::mem::take(&mut self.row);
             self.pairs_of(p, skin, 0..p.len(), &mut row, out);
@@ -322,7 +323,7 @@ impl CellGrid {
             buffer.get_mut().expect("no panic while held").1.clear();
         }
         let span = Span { range: 0..p.len(), unit: 256 };
-        for_each_part(span, parts, &|run: Span, number| {
+        team.for_each_part(span, &|run: Span, number| {
             let mut buffer = buffers[number].lock().expect("a buffer per run");
             let (row, pairs) = &mut *buffer;
             self.pairs_of(p, skin, run.range, row, pairs);
@@ -367,8 +368,8 @@ mod tests {
         let walls = BoxWalls::new(&scene.domain);
         let mut grid = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.006);
         let mut brute = NeighborList::<()>::new(BroadPhaseKind::AllPairs, 0.006);
-        grid.rebuild(&p, &walls, 1);
-        brute.rebuild(&p, &walls, 1);
+        grid.rebuild(&p, &walls, &Team::new(1));
+        brute.rebuild(&p, &walls, &Team::new(1));
         assert!(!grid.walls.entries.is_empty());
         assert_eq!(grid.walls.entries, brute.walls.entries);
         assert!(!brute.pairs.entries.is_empty());
@@ -399,7 +400,7 @@ mod tests {
         let walls = BoxWalls::new(&SceneConfig::default().domain);
         type State = <crate::physics::contact::HystereticLinear as crate::physics::ContactLaw>::State;
         let mut list = NeighborList::<State>::new(BroadPhaseKind::Grid, 0.002);
-        list.rebuild(&p, &walls, 1);
+        list.rebuild(&p, &walls, &Team::new(1));
         let contact =
             |disk, partner, tangential_spring| InitialContact { disk, partner, tangential_spring, law_state: 1e-4 };
         list.seed_histories(&[
@@ -424,14 +425,14 @@ mod tests {
         let p = Particles::new(&placement::generate(&scene).unwrap(), 1000.0, 1.0);
         let walls = BoxWalls::new(&scene.domain);
         let mut list = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.004);
-        list.rebuild(&p, &walls, 1);
+        list.rebuild(&p, &walls, &Team::new(1));
         let steps_until_due = |list: &mut NeighborList<()>, step: f64| (1..).find(|_| list.note_step(step)).unwrap();
         assert_eq!(steps_until_due(&mut list, 0.00025), 8);
         // Due until rebuilt; then counted afresh.
         assert!(list.note_step(0.0));
-        list.rebuild(&p, &walls, 1);
+        list.rebuild(&p, &walls, &Team::new(1));
         assert_eq!(steps_until_due(&mut list, 0.0005), 4);
-        list.rebuild(&p, &walls, 1);
+        list.rebuild(&p, &walls, &Team::new(1));
         assert!(!list.note_step(0.0) && list.note_step(f64::NAN));
     }
 }

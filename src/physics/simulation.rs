@@ -18,7 +18,7 @@ use super::integrator::{Integrator, Moved, StepContext};
 use super::material::{ContactMaterial, Materials};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
-use super::parallel::Threads;
+use super::parallel::{Team, Threads};
 use super::particles::{InitialContact, InitialDisk, Particles};
 use super::pile::{PileGeometry, PileMetrics};
 use super::record::{History, RunRecord, RunStatus, Snapshot};
@@ -72,7 +72,8 @@ pub struct Simulation<L: ContactLaw> {
     /// The parallel path's tables (one per part) and contact rows (see `contact_sums`).
     tables: Vec<Mutex<TouchingPairs<L::State>>>,
     sums: ContactSums,
-    threads: Threads,
+    /// The threads the steps' work is shared with.
+    team: Team,
     /// The integrator's per-chunk reports (scratch).
     moved: Vec<Moved>,
     integrator: Integrator,
@@ -130,7 +131,7 @@ impl<L: ContactLaw> Simulation<L> {
             touching: Box::default(),
             tables: Vec::new(),
             sums: ContactSums::default(),
-            threads: Threads::default(),
+            team: Team::new(1),
             moved: Vec::new(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             integrator: Integrator::new(scene.integrator.scheme),
@@ -151,7 +152,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
     pub fn set_threads(&mut self, threads: Threads) {
-        self.threads = threads;
+        self.team = Team::new(threads.parts(self.particles.len()));
     }
 
     /// The disks.
@@ -191,8 +192,7 @@ impl<L: ContactLaw> Simulation<L> {
         } else {
             self.compute_forces::<false>();
         }
-        let parts = self.threads.parts(self.particles.len());
-        self.integrator.finish(&mut self.particles, &self.context, parts, &mut self.moved);
+        self.integrator.finish(&mut self.particles, &self.context, &self.team, &mut self.moved);
         if self.rolling_resistance {
             self.energy.remove(rolling::apply(&mut self.particles, self.context.dt));
         }
@@ -202,15 +202,13 @@ impl<L: ContactLaw> Simulation<L> {
     /// The integrator's update. Returns the power of the contact forces and of the numerical damping
     /// at the start of the step, and whether the neighbour list must be rebuilt.
     fn move_disks(&mut self) -> (f64, f64, bool) {
-        let parts = self.threads.parts(self.particles.len());
-        let moved = self.integrator.advance(&mut self.particles, &self.context, parts, &mut self.moved);
+        let moved = self.integrator.advance(&mut self.particles, &self.context, &self.team, &mut self.moved);
         (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
     }
 
     /// Builds the neighbour list afresh from the current positions.
     fn rebuild_neighbors(&mut self) {
-        let parts = self.threads.parts(self.particles.len());
-        self.neighbors.rebuild(&self.particles, &self.walls, parts);
+        self.neighbors.rebuild(&self.particles, &self.walls, &self.team);
         self.sums.invalidate();
     }
 
@@ -315,8 +313,7 @@ impl<L: ContactLaw> Simulation<L> {
             self.totals = ContactTotals::default();
         }
         let (s, mut f) = p.split();
-        let parts = self.threads.parts(s.x.len());
-        if !SAMPLE && parts > 1 {
+        if !SAMPLE && self.team.parts() > 1 {
             let kinds = [&self.disk_contacts, &self.wall_contacts];
             let walls = (&self.walls.walls[..], &mut self.neighbors.walls);
             let (tables, sums) = (&mut self.tables, &mut self.sums);
@@ -329,7 +326,7 @@ impl<L: ContactLaw> Simulation<L> {
                 &s,
                 &mut f,
                 sums,
-                parts,
+                &self.team,
             );
             return;
         }
