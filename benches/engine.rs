@@ -12,8 +12,9 @@
 //!    the best run is the one least slowed by other tenants); `DEMSWEEP_BENCH_DURATION=none` skips
 //!    them (the reference scene alone, e.g. to compare two builds side by side).
 //!
-//! 3. one big deposition (40 000 disks, 0.3 s) on 1 and 2 threads, alternated, best of 3 each
-//!    (the rows `threads_1`, `threads_2`; two threads should take at most 0.6 of one's time).
+//! 3. big depositions (10 000, 40 000 and 100 000 disks, 0.3 s) on 1 and 2 threads, alternated,
+//!    best of 3 each (the rows `threads_1`, `threads_2`; at 40 000 disks two threads should take at
+//!    most 0.6 of one's time).
 //!
 //! Results are printed and written to `results/bench_latest/engine.csv` (git ignores it);
 //! `cargo bench --bench engine -- --update-results` writes the committed `results/bench/engine.csv`
@@ -39,8 +40,8 @@ fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>, threads: usize
     (seconds * 1e9 / (n * rec.steps as f64), rec.steps, *rec.history.contacts.last().unwrap_or(&0))
 }
 
-/// The big scene run on 1 and 2 threads: disks, simulated seconds (the fall and the first impacts).
-const THREADS_CASE: (usize, f64) = (40_000, 0.3);
+/// The big scenes run on 1 and 2 threads: disks, simulated seconds (the fall and the first impacts).
+const THREADS_CASES: [(usize, f64); 3] = [(10_000, 0.3), (40_000, 0.3), (100_000, 0.3)];
 
 fn main() {
     // Names, then units (the header of every CSV demsweep writes, docs/results.md).
@@ -57,26 +58,31 @@ fn main() {
     );
     csv += &format!("reference,300,150000,{:.2},{:.2},\n", times[2], times[0]);
 
-    // One big run on 1 and 2 threads, alternated (a shared machine's speed drifts), best of 3.
-    let big = reference_deposition(THREADS_CASE.0, THREADS_CASE.1);
-    let mut best = [f64::INFINITY; 2];
-    let mut last = (0, 0);
-    for _ in 0..3 {
-        for (slot, threads) in [1, 2].into_iter().enumerate() {
-            let (ns, steps, contacts) = time_run(&big, None, threads);
-            best[slot] = best[slot].min(ns);
-            last = (steps, contacts);
+    // Big runs on 1 and 2 threads, alternated (a shared machine's speed drifts), best of 3.
+    for (n, duration) in THREADS_CASES {
+        let big = reference_deposition(n, duration);
+        let mut best = [f64::INFINITY; 2];
+        let mut last = (0, 0);
+        for _ in 0..3 {
+            for (slot, threads) in [1, 2].into_iter().enumerate() {
+                let (ns, steps, contacts) = time_run(&big, None, threads);
+                best[slot] = best[slot].min(ns);
+                last = (steps, contacts);
+            }
         }
-    }
-    let (n, duration) = THREADS_CASE;
-    println!(
-        "N = {n}, {duration} s on 1 / 2 threads: {:.1} / {:.1} ns/particle-step (best of 3), 2 threads take {:.2} of the time",
-        best[0],
-        best[1],
-        best[1] / best[0]
-    );
-    for (slot, threads) in [1, 2].into_iter().enumerate() {
-        csv += &format!("threads_{threads},{n},{},{:.2},{:.2},{}\n", last.0, best[slot], best[slot], last.1);
+        println!(
+            "N = {n}, {duration} s on 1 / 2 threads: {:.1} / {:.1} ns/particle-step (best of 3), 2 threads take {:.2} of the time",
+            best[0],
+            best[1],
+            best[1] / best[0]
+        );
+        for (slot, threads) in [1, 2].into_iter().enumerate() {
+            csv += &format!(
+                "threads_{threads},{n},{},{:.2},{:.2},{}
+",
+                last.0, best[slot], best[slot], last.1
+            );
+        }
     }
 
     let durations = std::env::var("DEMSWEEP_BENCH_DURATION").unwrap_or_else(|_| "1.5".into());

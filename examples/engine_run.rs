@@ -4,11 +4,12 @@
 //! `cargo run --release --example engine_run -- SCENE [DURATION [THREADS [POOL]]]`: SCENE is `reference`
 //! (the scene of `docs/reference_scene.md`, 1.5 s unless DURATION, in s, says otherwise) or a disk
 //! count N (the reference deposition at N disks, the box widened with N, 0.1 s unless DURATION says
-//! otherwise); THREADS (default 1): threads the run is given (used from 32 000 disks on), in a pool of
+//! otherwise); THREADS (default 1): threads the run is given (used from 8 000 disks on), in a pool of
 //! POOL threads (default THREADS; `… 40000 0.3 2 1` shows what the parallel path costs on one thread).
 //! Prints `ns_per_particle_step=… steps=… fingerprint=…`, the fingerprint a hash of the bits of the
 //! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).
-//! `DEMSWEEP_VECTOR=baseline|avx2|avx512` runs the hot loops in that width (default: as detected).
+//! `DEMSWEEP_VECTOR=baseline|avx2|avx512` runs the hot loops in that width (default: as detected);
+//! `DEMSWEEP_PARALLEL_MIN_DISKS` sets from how many disks THREADS are used (default 8 000).
 
 use std::time::Instant;
 
@@ -46,11 +47,13 @@ fn main() {
         let width = Width::parse(&name).expect("DEMSWEEP_VECTOR: baseline, avx2 or avx512");
         eprintln!("vector width: {}", vector::use_width(width).name());
     }
+    let mut given = Threads::new(threads);
+    if let Ok(min) = std::env::var("DEMSWEEP_PARALLEL_MIN_DISKS") {
+        given.min_disks = min.parse().expect("DEMSWEEP_PARALLEL_MIN_DISKS: a whole number of disks");
+    }
     let pool = rayon::ThreadPoolBuilder::new().num_threads(pool_threads).build().expect("a thread pool");
     let start = Instant::now();
-    let rec = pool
-        .install(|| run_scene_on(&s, disks, None, Threads::new(threads), &mut |_| Control::Continue))
-        .expect("scene runs");
+    let rec = pool.install(|| run_scene_on(&s, disks, None, given, &mut |_| Control::Continue)).expect("scene runs");
     let seconds = start.elapsed().as_secs_f64();
     let f = &rec.final_state;
     let n = f.x.len() as f64;

@@ -42,7 +42,7 @@ pub struct RunArgs {
     /// The study file (TOML).
     study: PathBuf,
     /// Worker threads, one simulation each (default: all cores); while fewer runs are left to start
-    /// than threads, a run started then is given them all (from 32 000 disks on; the same results).
+    /// than threads, a run started then is given them all (from 8 000 disks on; the same results).
     #[arg(long, short = 'j')]
     jobs: Option<usize>,
     /// Output directory (default: results/<study name>/).

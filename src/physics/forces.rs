@@ -754,37 +754,25 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (rolling, contact_force) = (&mut f.rolling[..n], &mut f.contact_force[..n]);
         let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
-        // Disk i's sums are held in registers while consecutive contacts share it (pairs come
-        // sorted by i, and j > i: no contact in between touches the held sums). The same additions
-        // in the same order as one at a time through memory, without a store and a reload per contact.
-        let mut held = usize::MAX;
-        let (mut held_fx, mut held_fy, mut held_torque, mut held_rolling) = (0.0, 0.0, 0.0, 0.0);
         for c in 0..self.len {
             let (i, j) = (self.i[c], self.j[c]);
             assert!(i < n && j < n, "contact out of range");
-            if i != held {
-                if held != usize::MAX {
-                    (fx[held], fy[held], torque[held], rolling[held]) = (held_fx, held_fy, held_torque, held_rolling);
-                }
-                held = i;
-                (held_fx, held_fy, held_torque, held_rolling) = (fx[i], fy[i], torque[i], rolling[i]);
-            }
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
-            held_fx += force_x;
-            held_fy += force_y;
+            fx[i] += force_x;
+            fy[i] += force_y;
             if PAIRS {
                 fx[j] -= force_x;
                 fy[j] -= force_y;
             }
             if kind.rotation {
-                held_torque += self.torque_i[c];
+                torque[i] += self.torque_i[c];
                 if PAIRS {
                     torque[j] += self.torque_j[c];
                 }
             }
             if rolling_friction > 0.0 {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
-                held_rolling += resistance * self.ri[c];
+                rolling[i] += resistance * self.ri[c];
                 if PAIRS {
                     rolling[j] += resistance * self.rj[c];
                 }
@@ -809,9 +797,6 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
                 totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
             }
-        }
-        if held != usize::MAX {
-            (fx[held], fy[held], torque[held], rolling[held]) = (held_fx, held_fy, held_torque, held_rolling);
         }
     }
 }

@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 /// Disks from which a run uses the threads it is given: below, one thread does the work faster
 /// than two share it (measured on 2 cores: see docs/performance.md).
-pub const PARALLEL_MIN_DISKS: usize = 32_000;
+pub const PARALLEL_MIN_DISKS: usize = 8_000;
 
 /// How many threads one simulation may use, and from what size on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,7 +73,7 @@ pub struct Team {
 
 /// Parts per thread a section is cut into when a team has more than one thread: parts that take
 /// longer (more contacts) are made up for by others, as threads claim parts while any is left.
-const PARTS_PER_THREAD: usize = 4;
+const PARTS_PER_THREAD: usize = 2;
 
 /// How long a helper spins without a part to do before it hands its thread back to the pool.
 pub const HELPER_PATIENCE: Duration = Duration::from_millis(2);
