@@ -9,11 +9,13 @@
 //! Prints `ns_per_particle_step=… steps=… fingerprint=…`, the fingerprint a hash of the bits of the
 //! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).
 //! `DEMSWEEP_VECTOR=baseline|avx2|avx512` runs the hot loops in that width (default: as detected);
-//! `DEMSWEEP_PARALLEL_MIN_DISKS` sets from how many disks THREADS are used (default 8 000).
+//! `DEMSWEEP_PARALLEL_MIN_DISKS` sets from how many disks THREADS are used (default 8 000);
+//! `ENGINE_RUN_VERLET=1` runs the scene with velocity Verlet instead of the paper's integrator.
 
 use std::time::Instant;
 
 use demsweep::bench::{reference_deposition, reference_disks};
+use demsweep::physics::config::IntegratorKind;
 use demsweep::physics::simulation::Control;
 use demsweep::physics::vector::{self, Width};
 use demsweep::physics::{Threads, run_scene_on};
@@ -40,6 +42,9 @@ fn main() {
     };
     if let Some(d) = args.get(1) {
         s.run.duration = d.parse().expect(usage);
+    }
+    if std::env::var("ENGINE_RUN_VERLET").is_ok() {
+        s.integrator.scheme = IntegratorKind::VelocityVerlet;
     }
     let threads: usize = args.get(2).map_or(1, |t| t.parse().expect(usage));
     let pool_threads: usize = args.get(3).map_or(threads, |t| t.parse().expect(usage));

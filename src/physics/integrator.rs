@@ -114,20 +114,19 @@ impl Integrator {
             Integrator::AdamsBashforthMoulton { previous } => {
                 let prev = previous.get_or_insert_with(|| first_step_history(p, c));
                 let disks = Moving::new(p, [&mut prev.ax, &mut prev.ay, &mut prev.alpha]);
-                if c.damping.is_active() {
-                    by_chunks(disks, team, moved, &|d| adams_step::<true>(d, c))
-                } else {
-                    by_chunks(disks, team, moved, &|d| {
-                        vector::widest(
-                            #[inline(always)]
-                            || adams_step::<false>(d, c),
-                        )
-                    })
-                }
+                by_chunks(disks, team, moved, &|d| {
+                    vector::widest(
+                        #[inline(always)]
+                        || adams_either(d, c),
+                    )
+                })
             }
-            Integrator::VelocityVerlet => {
-                by_chunks(Moving::new(p, [&mut [], &mut [], &mut []]), team, moved, &|d| verlet_drift(d, c))
-            }
+            Integrator::VelocityVerlet => by_chunks(Moving::new(p, [&mut [], &mut [], &mut []]), team, moved, &|d| {
+                vector::widest(
+                    #[inline(always)]
+                    || verlet_drift(d, c),
+                )
+            }),
         }
     }
 
@@ -136,7 +135,10 @@ impl Integrator {
         if let Integrator::VelocityVerlet = self {
             let disks = Moving::new(p, [&mut [], &mut [], &mut []]);
             by_chunks(disks, team, moved, &|d| {
-                kick_either(d, c, false);
+                vector::widest(
+                    #[inline(always)]
+                    || kick_either(d, c, false),
+                );
                 Moved::default()
             });
         }
@@ -282,6 +284,7 @@ fn each_chunk(disks: Moving<'_>, step: &impl Fn(&mut Moving<'_>) -> Moved, repor
 }
 
 /// Velocity Verlet's first half of a step for one chunk: half kick, then drift (and turn).
+#[inline(always)]
 fn verlet_drift(d: &mut Moving<'_>, c: &StepContext) -> Moved {
     let (power, damping_power) = kick_either(d, c, true);
     let n = d.len();
@@ -315,6 +318,12 @@ fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
         ay: linear(&p.fy, &p.vy, c.gravity[1]),
         alpha: if c.rotation { (0..n).map(angular).collect() } else { Vec::new() },
     }
+}
+
+/// [`adams_step`] with or without numerical damping, as the scene asks.
+#[inline(always)]
+fn adams_either(d: &mut Moving<'_>, c: &StepContext) -> Moved {
+    if c.damping.is_active() { adams_step::<true>(d, c) } else { adams_step::<false>(d, c) }
 }
 
 /// One Adams-Bashforth-Moulton step of `d`; with `DAMPED`, the numerical damping acts on the net
@@ -379,6 +388,7 @@ fn adams_step<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext) -> Moved 
 }
 
 /// The velocity Verlet drift of the angles of `d`: `θ += ω Δt` with the half-step ω.
+#[inline(always)]
 fn turn(d: &mut Moving<'_>, dt: f64) {
     let n = d.len();
     let (angle, omega) = (&mut d.angle[..n], &d.omega[..n]);
@@ -388,6 +398,7 @@ fn turn(d: &mut Moving<'_>, dt: f64) {
 }
 
 /// [`kick`] with or without numerical damping, as the scene asks; returns the contact and damping powers.
+#[inline(always)]
 fn kick_either(d: &mut Moving<'_>, c: &StepContext, clear: bool) -> (f64, f64) {
     if c.damping.is_active() { kick::<true>(d, c, clear) } else { kick::<false>(d, c, clear) }
 }
@@ -395,6 +406,7 @@ fn kick_either(d: &mut Moving<'_>, c: &StepContext, clear: bool) -> (f64, f64) {
 /// Half kick `v += (F/m + g) dt/2` of `d` (with `DAMPED`, the numerical damping at the current
 /// velocities added to `F`); with `clear`, also clears their forces and returns the contact forces'
 /// power and the damping's.
+#[inline(always)]
 fn kick<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext, clear: bool) -> (f64, f64) {
     let h = 0.5 * c.dt;
     let [gx, gy] = c.gravity;
