@@ -71,9 +71,29 @@ pub struct Team {
     shared: Arc<Shared>,
 }
 
-/// Parts per thread a section is cut into when a team has more than one thread: parts that take
-/// longer (more contacts) are made up for by others, as threads claim parts while any is left.
-const PARTS_PER_THREAD: usize = 2;
+/// Parts per thread a section is cut into when a team has more than one thread (see [`cut_point`]):
+/// parts that take longer (more contacts) are made up for by others, as threads claim parts while
+/// any is left.
+const PARTS_PER_THREAD: usize = 3;
+
+/// Units before part `k` of a section of `units` units cut into `parts` parts for `threads`
+/// threads. In rounds of one part per thread, the first round takes half the units, each later
+/// round half of what is left, the last round all the rest: the parts claimed last, while the
+/// other threads finish theirs, are the short ones. (Equal parts if `parts` is not a whole number
+/// of rounds.)
+fn cut_point(units: usize, parts: usize, threads: usize, k: usize) -> usize {
+    if k >= parts {
+        return units;
+    }
+    if threads < 2 || !parts.is_multiple_of(threads) {
+        return units * k / parts;
+    }
+    let (round, place, rounds) = (k / threads, k % threads, parts / threads);
+    let before = 0.5_f64.powi(round as i32);
+    let share = if round + 1 == rounds { before } else { 0.5 * before };
+    let fraction = (1.0 - before) + share * place as f64 / threads as f64;
+    ((units as f64 * fraction).round() as usize).min(units)
+}
 
 /// How long a helper spins without a part to do before it hands its thread back to the pool.
 pub const HELPER_PATIENCE: Duration = Duration::from_millis(2);
@@ -188,7 +208,7 @@ impl Team {
         let slots: [Mutex<Option<V>>; MAX_PARTS] = std::array::from_fn(|_| Mutex::new(None));
         let (mut rest, mut taken) = (whole, 0);
         for (k, slot) in slots.iter().enumerate().take(parts - 1) {
-            let end = units * (k + 1) / parts;
+            let end = cut_point(units, parts, self.threads, k + 1).max(taken);
             let (part, after) = rest.split_at(end - taken);
             *slot.lock().expect("not shared yet") = Some(part);
             (rest, taken) = (after, end);
@@ -338,5 +358,13 @@ mod tests {
         let mut seen = vec![0; 40];
         pool.install(|| team.for_each_part(Units(&mut seen, 0), &|u: Units, _| u.0.iter_mut().for_each(|s| *s += 1)));
         assert!(seen.iter().all(|&s| s == 1));
+    }
+
+    #[test]
+    fn parts_shrink_round_by_round_and_cover_every_unit() {
+        let ends: Vec<_> = (0..=6).map(|k| cut_point(1000, 6, 2, k)).collect();
+        assert_eq!(ends, [0, 250, 500, 625, 750, 875, 1000]);
+        assert_eq!((0..=5).map(|k| cut_point(10, 5, 2, k)).collect::<Vec<_>>(), [0, 2, 4, 6, 8, 10]);
+        assert_eq!((0..=3).map(|k| cut_point(7, 3, 1, k)).collect::<Vec<_>>(), [0, 2, 4, 7]);
     }
 }
