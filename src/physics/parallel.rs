@@ -19,9 +19,9 @@ pub const PARALLEL_MIN_DISKS: usize = 8_000;
 /// How many threads one simulation may use, and from what size on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Threads {
-    /// Threads (parts of each step's work); 1: the serial path.
+    /// Threads the run may use; 1: the serial path.
     pub count: usize,
-    /// Fewest disks for which more than one part is used (tests lower it to check small scenes).
+    /// Fewest disks for which more than one thread is used (tests lower it to check small scenes).
     pub min_disks: usize,
 }
 
@@ -37,9 +37,9 @@ impl Threads {
         Self { count: count.max(1), min_disks: PARALLEL_MIN_DISKS }
     }
 
-    /// Parts to cut a step's work into for a scene of `disks` disks.
+    /// Threads a scene of `disks` disks runs on.
     #[inline]
-    pub fn parts(&self, disks: usize) -> usize {
+    pub fn used_for(&self, disks: usize) -> usize {
         if disks >= self.min_disks { self.count.max(1) } else { 1 }
     }
 }
@@ -59,7 +59,7 @@ pub const MAX_PARTS: usize = 64;
 ///
 /// Each parallel section of a step (the integrator's pass, the contact blocks, the per-disk sums,
 /// the neighbour search) is cut into the team's number of parts, and each part is claimed by
-/// whichever thread comes first: the simulation's own, or one of up to `parts − 1` helpers. Helpers
+/// whichever thread comes first: the simulation's own, or one of up to `threads − 1` helpers. Helpers
 /// are tasks of the current rayon pool that stay between sections, spinning, until the simulation
 /// ends or no section has come for [`HELPER_PATIENCE`]; so a step's three or four sections cost no
 /// wake-up of a sleeping thread (tens of microseconds each, on a 40 000-disk step of 300 µs).
@@ -328,8 +328,8 @@ mod tests {
             numbers.sort_unstable();
             assert_eq!(numbers, (0..parts).collect::<Vec<_>>());
         }
-        assert_eq!(Threads { count: 3, min_disks: 10 }.parts(9), 1);
-        assert_eq!(Threads { count: 3, min_disks: 10 }.parts(10), 3);
+        assert_eq!(Threads { count: 3, min_disks: 10 }.used_for(9), 1);
+        assert_eq!(Threads { count: 3, min_disks: 10 }.used_for(10), 3);
     }
 
     #[test]

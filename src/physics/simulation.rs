@@ -152,7 +152,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
     pub fn set_threads(&mut self, threads: Threads) {
-        self.team = Team::new(threads.parts(self.particles.len()));
+        self.team = Team::new(threads.used_for(self.particles.len()));
     }
 
     /// The disks.
