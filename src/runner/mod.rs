@@ -129,6 +129,15 @@ impl RunReport {
 pub enum RunnerError {
     /// A results-file problem (refused overwrite, other study, unwritable path, full disk …).
     Output(OutputError),
+    /// An environment variable the runner reads holds a value it cannot use.
+    Environment {
+        /// The variable.
+        variable: &'static str,
+        /// Its value.
+        value: String,
+        /// What it should hold.
+        expected: String,
+    },
     /// The worker pool or writer thread failed.
     Internal(String),
 }
@@ -137,6 +146,9 @@ impl fmt::Display for RunnerError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RunnerError::Output(e) => write!(f, "{e}"),
+            RunnerError::Environment { variable, value, expected } => {
+                write!(f, "environment variable {variable}: expected {expected}, got {value:?}")
+            }
             RunnerError::Internal(e) => write!(f, "{e}"),
         }
     }
@@ -234,14 +246,16 @@ pub const PARALLEL_MIN_DISKS_VARIABLE: &str = "DEMSWEEP_PARALLEL_MIN_DISKS";
 
 /// The value of [`PARALLEL_MIN_DISKS_VARIABLE`], or the default.
 fn parallel_min_disks() -> Result<usize, RunnerError> {
-    match std::env::var(PARALLEL_MIN_DISKS_VARIABLE) {
-        Err(_) => Ok(PARALLEL_MIN_DISKS),
-        Ok(text) => text.trim().parse().map_err(|_| {
-            RunnerError::Internal(format!(
-                "environment variable {PARALLEL_MIN_DISKS_VARIABLE}: expected a whole number of disks, got {text:?}"
-            ))
-        }),
-    }
+    std::env::var(PARALLEL_MIN_DISKS_VARIABLE).map_or(Ok(PARALLEL_MIN_DISKS), |text| min_disks_in(&text))
+}
+
+/// The disk count `text` (a value of [`PARALLEL_MIN_DISKS_VARIABLE`]) holds.
+fn min_disks_in(text: &str) -> Result<usize, RunnerError> {
+    text.trim().parse().map_err(|_| RunnerError::Environment {
+        variable: PARALLEL_MIN_DISKS_VARIABLE,
+        value: text.into(),
+        expected: "a whole number of disks".into(),
+    })
 }
 
 /// The environment variable that names the vector instructions the engine's hot loops run in
@@ -251,16 +265,22 @@ pub const VECTOR_WIDTH_VARIABLE: &str = "DEMSWEEP_VECTOR";
 
 /// Sets the width named by [`VECTOR_WIDTH_VARIABLE`], if it is set.
 fn use_vector_width() -> Result<(), RunnerError> {
-    let Ok(text) = std::env::var(VECTOR_WIDTH_VARIABLE) else { return Ok(()) };
-    let width = Width::parse(text.trim()).ok_or_else(|| {
-        let names: Vec<_> = Width::ALL.iter().map(|w| w.name()).collect();
-        RunnerError::Internal(format!(
-            "environment variable {VECTOR_WIDTH_VARIABLE}: expected one of {}, got {text:?}",
-            names.join(", ")
-        ))
-    })?;
-    vector::use_width(width);
+    if let Ok(text) = std::env::var(VECTOR_WIDTH_VARIABLE) {
+        vector::use_width(width_in(&text)?);
+    }
     Ok(())
+}
+
+/// The width `text` (a value of [`VECTOR_WIDTH_VARIABLE`]) names.
+fn width_in(text: &str) -> Result<Width, RunnerError> {
+    Width::parse(text.trim()).ok_or_else(|| {
+        let names: Vec<_> = Width::ALL.iter().map(|w| w.name()).collect();
+        RunnerError::Environment {
+            variable: VECTOR_WIDTH_VARIABLE,
+            value: text.into(),
+            expected: format!("one of {}", names.join(", ")),
+        }
+    })
 }
 
 /// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard, K zero-padded to the digits of N
@@ -446,6 +466,24 @@ fn run_all(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn environment_values_are_read_or_refused_as_typed_errors() {
+        assert_eq!(min_disks_in(" 500 "), Ok(500));
+        assert_eq!(width_in("avx2"), Ok(Width::Avx2));
+        let refused = RunnerError::Environment {
+            variable: VECTOR_WIDTH_VARIABLE,
+            value: "avx1024".into(),
+            expected: "one of baseline, avx2, avx512".into(),
+        };
+        assert_eq!(width_in("avx1024"), Err(refused));
+        match min_disks_in("many") {
+            Err(RunnerError::Environment { variable, value, .. }) => {
+                assert_eq!((variable, value.as_str()), (PARALLEL_MIN_DISKS_VARIABLE, "many"))
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 
     #[test]
     fn rows_run_in_memory_come_in_the_order_given_whatever_the_workers() {
