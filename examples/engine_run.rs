@@ -17,8 +17,8 @@ use std::time::Instant;
 use demsweep::bench::{reference_deposition, reference_disks};
 use demsweep::physics::config::IntegratorKind;
 use demsweep::physics::simulation::Control;
-use demsweep::physics::vector::{self, Width};
 use demsweep::physics::{Threads, run_scene_on};
+use demsweep::runner;
 
 /// FNV-1a over the bits of every value.
 fn fingerprint(columns: &[&Vec<f64>]) -> u64 {
@@ -48,14 +48,9 @@ fn main() {
     }
     let threads: usize = args.get(2).map_or(1, |t| t.parse().expect(usage));
     let pool_threads: usize = args.get(3).map_or(threads, |t| t.parse().expect(usage));
-    if let Ok(name) = std::env::var("DEMSWEEP_VECTOR") {
-        let width = Width::parse(&name).expect("DEMSWEEP_VECTOR: baseline, avx2 or avx512");
-        eprintln!("vector width: {}", vector::use_width(width).name());
-    }
-    let mut given = Threads::new(threads);
-    if let Ok(min) = std::env::var("DEMSWEEP_PARALLEL_MIN_DISKS") {
-        given.min_disks = min.parse().expect("DEMSWEEP_PARALLEL_MIN_DISKS: a whole number of disks");
-    }
+    runner::use_vector_width().unwrap_or_else(|e| panic!("{e}"));
+    let min_disks = runner::parallel_min_disks().unwrap_or_else(|e| panic!("{e}"));
+    let given = Threads { count: threads.max(1), min_disks };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(pool_threads).build().expect("a thread pool");
     let start = Instant::now();
     let rec = pool.install(|| run_scene_on(&s, disks, None, given, &mut |_| Control::Continue)).expect("scene runs");

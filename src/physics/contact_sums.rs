@@ -299,7 +299,7 @@ impl ContactSums {
     }
 
     /// Adds the rows to the disks' accumulators (which hold zeros: the integrator cleared them),
-    /// disks shared out in `parts` runs between threads; `r`: the radii.
+    /// disks shared out in runs between the `team`'s threads; `r`: the radii.
     pub fn add_up(&self, sums: DiskSums<'_>, r: &[f64], options: SumOptions, team: &Team) {
         team.for_each_part(sums, &|run: DiskSums<'_>, _| self.add_up_run(run, r, options));
     }

@@ -283,7 +283,7 @@ impl<S: Send> Split for Blocks<'_, S> {
 }
 
 /// The parallel path of a step's contact forces (not sampled: no contact sums): the blocks of
-/// disk pairs and of disk-wall candidates shared out in `parts` pieces between threads, each
+/// disk pairs and of disk-wall candidates shared out in the `team`'s parts between its threads, each
 /// piece through one of `tables`, the forces stored per candidate in `sums`; then each disk's sum,
 /// disks shared out likewise (see [`super::contact_sums`]). The same bits as
 /// [`TouchingPairs::contacts`].

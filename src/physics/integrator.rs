@@ -107,8 +107,8 @@ impl Integrator {
 
     /// Moves the positions (and velocities) of all disks from `t` to `t + dt` using the contact
     /// forces at `t` and clears their forces, `CHUNK` disks at a time, the chunks shared out in
-    /// `parts` pieces between threads; `moved` is scratch space for the chunks' reports, which are
-    /// combined in chunk order (so the result does not depend on `parts`).
+    /// parts between the `team`'s threads; `moved` is scratch space for the chunks' reports, which
+    /// are combined in chunk order (so the result does not depend on the threads).
     pub fn advance(&mut self, p: &mut Particles, c: &StepContext, team: &Team, moved: &mut Vec<Moved>) -> Moved {
         match self {
             Integrator::AdamsBashforthMoulton { previous } => {

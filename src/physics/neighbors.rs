@@ -181,7 +181,7 @@ impl<S: Copy + Default> NeighborList<S> {
     }
 
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs; the
-    /// grid's search shared out between threads in `parts` runs of disks (the list is the same).
+    /// grid's search shared out between the `team`'s threads in runs of disks (the list is the same).
     pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, team: &Team) {
         match self.broad_phase {
             BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, team),
@@ -304,7 +304,7 @@ impl CellGrid {
     }
 
     /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
-    /// disks shared out in `parts` runs between threads, whose pairs are joined in disk order.
+    /// disks shared out in runs between the `team`'s threads, whose pairs are joined in disk order.
     fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, team: &Team) {
         if p.is_empty() {
             return;

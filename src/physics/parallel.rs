@@ -53,7 +53,7 @@ pub trait Split: Sized + Send {
 }
 
 /// Most parts a section is cut into.
-pub const MAX_PARTS: usize = 64;
+const MAX_PARTS: usize = 64;
 
 /// The threads one simulation shares its steps' work with.
 ///
@@ -96,7 +96,7 @@ fn cut_point(units: usize, parts: usize, threads: usize, k: usize) -> usize {
 }
 
 /// How long a helper spins without a part to do before it hands its thread back to the pool.
-pub const HELPER_PATIENCE: Duration = Duration::from_millis(2);
+const HELPER_PATIENCE: Duration = Duration::from_millis(2);
 
 /// What the simulation's thread and its helpers share.
 #[derive(Default)]
@@ -256,12 +256,6 @@ impl Team {
 impl Drop for Team {
     fn drop(&mut self) {
         self.shared.closed.store(true, Ordering::Relaxed);
-    }
-}
-
-impl std::fmt::Debug for Team {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Team").field("parts", &self.parts).finish()
     }
 }
 

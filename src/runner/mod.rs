@@ -245,7 +245,7 @@ fn pool_threads(requested: usize, cores: usize) -> usize {
 pub const PARALLEL_MIN_DISKS_VARIABLE: &str = "DEMSWEEP_PARALLEL_MIN_DISKS";
 
 /// The value of [`PARALLEL_MIN_DISKS_VARIABLE`], or the default.
-fn parallel_min_disks() -> Result<usize, RunnerError> {
+pub fn parallel_min_disks() -> Result<usize, RunnerError> {
     std::env::var(PARALLEL_MIN_DISKS_VARIABLE).map_or(Ok(PARALLEL_MIN_DISKS), |text| min_disks_in(&text))
 }
 
@@ -264,7 +264,7 @@ fn min_disks_in(text: &str) -> Result<usize, RunnerError> {
 pub const VECTOR_WIDTH_VARIABLE: &str = "DEMSWEEP_VECTOR";
 
 /// Sets the width named by [`VECTOR_WIDTH_VARIABLE`], if it is set.
-fn use_vector_width() -> Result<(), RunnerError> {
+pub fn use_vector_width() -> Result<(), RunnerError> {
     if let Ok(text) = std::env::var(VECTOR_WIDTH_VARIABLE) {
         vector::use_width(width_in(&text)?);
     }
