@@ -306,6 +306,9 @@ impl ContactSums {
 
     fn add_up_run(&self, mut sums: DiskSums<'_>, r: &[f64], options: SumOptions) {
         let (first, n) = (sums.first, sums.fx.len());
+        if n == 0 {
+            return;
+        }
         let [pair_rolling, wall_rolling] = options.rolling_friction;
         let blocks = |start: u32, end: u32| start as usize / BLOCK..(end as usize).div_ceil(BLOCK);
         let p = &self.pairs;

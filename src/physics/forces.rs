@@ -457,9 +457,18 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         sums: &mut DiskSums<'_>,
         own: Range<usize>,
     ) {
+        let n = self.len;
+        // Pairs are sorted by first disk, and the first is the smaller: most blocks have all
+        // their disks in `own`, and are added as the scatter adds them.
+        let last_disk = self.j[..n].iter().fold(0, |last, &j| last.max(j));
+        if n == 0 || (self.i[0] >= own.start && last_disk < own.end) {
+            rows.touching[0] = 0;
+            return self.add_to::<true>(kind, sums, histories);
+        }
+        self.keep_histories(histories);
         let rolling_friction = kind.material.rolling_friction;
         let mut stored = 0;
-        for c in 0..self.len {
+        for c in 0..n {
             let (i, j) = (self.i[c], self.j[c]);
             let (i_own, j_own) = (own.contains(&i), own.contains(&j));
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
@@ -496,7 +505,6 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
         }
         rows.touching[0] = stored as u8; // at most BLOCK = 128
-        self.keep_histories(histories);
     }
 
     /// Writes the touching contacts' springs and states back to their candidates.
@@ -739,7 +747,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     }
 
     /// Stage 3: adds the forces of the touching pairs to both disks (`PAIRS`; walls: to the disk),
-    /// in list order, and stores the springs.
+    /// in list order, and stores the springs; with `SAMPLE`, adds the contact sums to `totals`.
     fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool>(
         &self,
         law: &L,
@@ -748,14 +756,31 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        let n = f.fx.len();
+        self.add_to::<PAIRS>(kind, &mut DiskSums::new(f.fx, f.fy, f.torque, f.rolling), histories);
+        if SAMPLE {
+            self.sample::<L, PAIRS>(law, kind, f.contact_force, totals);
+        }
+    }
+
+    /// Adds the table's forces, torques and rolling resistances to the disks of `sums`, which
+    /// holds all of them, row after row: to both disks (`PAIRS`; the second gets the opposite
+    /// force), or to the disk (walls); writes the springs and states back to their candidates
+    /// (in the same loop: one pass over the table).
+    #[inline(always)]
+    fn add_to<const PAIRS: bool>(
+        &self,
+        kind: &ContactParameters,
+        sums: &mut DiskSums<'_>,
+        histories: Histories<'_, S>,
+    ) {
+        let (first, n) = (sums.first, sums.fx.len());
         // Slices of one known length: the assert below covers all their bounds checks.
-        let (fx, fy, torque) = (&mut f.fx[..n], &mut f.fy[..n], &mut f.torque[..n]);
-        let (rolling, contact_force) = (&mut f.rolling[..n], &mut f.contact_force[..n]);
+        let (fx, fy) = (&mut sums.fx[..n], &mut sums.fy[..n]);
+        let (torque, rolling) = (&mut sums.torque[..n], &mut sums.rolling[..n]);
         let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
         for c in 0..self.len {
-            let (i, j) = (self.i[c], self.j[c]);
+            let (i, j) = (self.i[c].wrapping_sub(first), self.j[c].wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
             fx[i] += force_x;
@@ -781,22 +806,33 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             if stateful::<S>() {
                 states[self.candidate[c]] = self.state[c];
             }
-            if SAMPLE {
-                let force = ContactForce {
-                    normal: self.normal[c],
-                    tangential: self.tangential[c],
-                    tangential_stiffness: self.tangential_stiffness[c],
-                };
-                let magnitude = force.magnitude();
-                contact_force[i] += magnitude;
-                if PAIRS {
-                    contact_force[j] += magnitude;
-                }
-                let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
-                let overlap = self.overlap[c];
-                let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
-                totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
+        }
+    }
+
+    /// Adds the table's contacts to the contact sums: force magnitudes to both disks' (`PAIRS`) or
+    /// the disk's `contact_force`, elastic energy, force and overlap to `totals`.
+    fn sample<L: ContactLaw<State = S>, const PAIRS: bool>(
+        &self,
+        law: &L,
+        kind: &ContactParameters,
+        contact_force: &mut [f64],
+        totals: &mut ContactTotals,
+    ) {
+        for c in 0..self.len {
+            let force = ContactForce {
+                normal: self.normal[c],
+                tangential: self.tangential[c],
+                tangential_stiffness: self.tangential_stiffness[c],
+            };
+            let magnitude = force.magnitude();
+            contact_force[self.i[c]] += magnitude;
+            if PAIRS {
+                contact_force[self.j[c]] += magnitude;
             }
+            let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
+            let overlap = self.overlap[c];
+            let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
+            totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
         }
     }
 }
