@@ -293,14 +293,20 @@ impl CellGrid {
 
     /// The disks `j > i` in disk `i`'s cell and the cells around it (after [`Self::build`]), by cell.
     pub fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
+        self.around(i).flatten().map(|&j| j as usize).filter(move |&j| j > i)
+    }
+
+    /// The disks of disk `i`'s cell and the cells around it, in three runs: the cells of a row are
+    /// consecutive in `members`, so each row's three cells are one slice.
+    #[inline]
+    fn around(&self, i: usize) -> impl Iterator<Item = &[u32]> + '_ {
         let c = self.cell_of[i] as usize;
         let (ci, ri) = (c % self.cols, c / self.cols);
-        let columns = ci.saturating_sub(1)..=(ci + 1).min(self.cols - 1);
-        (ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1))
-            .flat_map(move |r| columns.clone().map(move |cc| r * self.cols + cc))
-            .flat_map(move |cell| &self.members[self.start[cell] as usize..self.start[cell + 1] as usize])
-            .map(|&j| j as usize)
-            .filter(move |&j| j > i)
+        let (first, last) = (ci.saturating_sub(1), (ci + 1).min(self.cols - 1));
+        (ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1)).map(move |r| {
+            let (from, to) = (self.start[r * self.cols + first], self.start[r * self.cols + last + 1]);
+            &self.members[from as usize..to as usize]
+        })
     }
 
     /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
@@ -338,7 +344,13 @@ impl CellGrid {
     fn pairs_of(&self, p: &Particles, skin: f64, disks: Range<usize>, row: &mut Vec<u32>, out: &mut Vec<NeighborPair>) {
         for i in disks {
             row.clear();
-            row.extend(self.neighbours(i).filter(|&j| within(p, i, j, skin)).map(|j| j as u32));
+            for run in self.around(i) {
+                for &j in run {
+                    if j as usize > i && within(p, i, j as usize, skin) {
+                        row.push(j);
+                    }
+                }
+            }
             row.sort_unstable();
             out.extend(row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
         }
