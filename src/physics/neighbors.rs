@@ -11,7 +11,7 @@ use super::config::BroadPhaseKind;
 use super::contact::ContactState;
 use super::contact_record::Partner;
 use super::material::{effective_mass, effective_radius};
-use super::parallel::{Span, Team};
+use super::parallel::{Span, Split, Team};
 use super::particles::{InitialContact, Particles};
 use super::walls::BoxWalls;
 use std::ops::Range;
@@ -102,24 +102,53 @@ impl<T, S> Default for Candidates<T, S> {
     }
 }
 
-impl<T: Keyed, S: Copy + Default> Candidates<T, S> {
+/// Fresh entries per unit of the merge that carries histories over.
+const MERGE_UNIT: usize = 4096;
+
+/// A run of fresh entries and their histories, to be taken from the old list.
+struct FreshRun<'a, T, S> {
+    entries: &'a [T],
+    springs: &'a mut [f64],
+    states: &'a mut [S],
+}
+
+impl<T: Sync, S: Send> Split for FreshRun<'_, T, S> {
+    fn units(&self) -> usize {
+        self.entries.len().div_ceil(MERGE_UNIT)
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        let mid = (at * MERGE_UNIT).min(self.entries.len());
+        let (e0, e1) = self.entries.split_at(mid);
+        let (sp0, sp1) = self.springs.split_at_mut(mid);
+        let (st0, st1) = self.states.split_at_mut(mid);
+        (FreshRun { entries: e0, springs: sp0, states: st0 }, FreshRun { entries: e1, springs: sp1, states: st1 })
+    }
+}
+
+impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
     /// Replaces the entries by the freshly collected ones (in `fresh`), carrying the histories of
-    /// entries present in both by a linear merge of the two sorted lists.
-    fn swap_in_fresh(&mut self) {
+    /// entries present in both by a linear merge of the two sorted lists, the fresh entries shared
+    /// out in runs between the `team`'s threads (each run's merge starts where its first key is).
+    fn swap_in_fresh(&mut self, team: &Team) {
         self.fresh_springs.clear();
         self.fresh_springs.resize(self.fresh.len(), 0.0);
         self.fresh_states.clear();
         self.fresh_states.resize(self.fresh.len(), S::default());
-        let mut k = 0;
-        let histories = self.fresh_springs.iter_mut().zip(self.fresh_states.iter_mut());
-        for (entry, (spring, state)) in self.fresh.iter().zip(histories) {
-            while k < self.entries.len() && self.entries[k].key() < entry.key() {
-                k += 1;
+        let run = FreshRun { entries: &self.fresh, springs: &mut self.fresh_springs, states: &mut self.fresh_states };
+        let (old, springs, states) = (&self.entries, &self.springs, &self.states);
+        team.for_each_part(run, &|run: FreshRun<'_, T, S>, _| {
+            let Some(first) = run.entries.first() else { return };
+            let mut k = old.partition_point(|e| e.key() < first.key());
+            for (entry, (spring, state)) in run.entries.iter().zip(run.springs.iter_mut().zip(run.states.iter_mut())) {
+                while k < old.len() && old[k].key() < entry.key() {
+                    k += 1;
+                }
+                if k < old.len() && old[k].key() == entry.key() {
+                    (*spring, *state) = (springs[k], states[k]);
+                }
             }
-            if k < self.entries.len() && self.entries[k].key() == entry.key() {
-                (*spring, *state) = (self.springs[k], self.states[k]);
-            }
-        }
+        });
         std::mem::swap(&mut self.entries, &mut self.fresh);
         std::mem::swap(&mut self.springs, &mut self.fresh_springs);
         std::mem::swap(&mut self.states, &mut self.fresh_states);
@@ -147,19 +176,56 @@ pub struct NeighborList<S = ()> {
     skin: f64,
     broad_phase: BroadPhaseKind,
     grid: CellGrid,
+    /// Scratch of the parallel search for wall candidates.
+    wall_finds: PartFinds<WallPair>,
 }
 
-/// Scratch of a parallel search: each run's row and found pairs (a clone starts without).
-#[derive(Debug, Default)]
-struct PartPairs(Vec<Mutex<(Vec<u32>, Vec<NeighborPair>)>>);
+/// What a search does with a run of disks: given them, a row of scratch and where to put its finds.
+type Finder<'a, T> = dyn Fn(Range<usize>, &mut Vec<u32>, &mut Vec<T>) + Sync + 'a;
 
-impl Clone for PartPairs {
+/// Scratch of a parallel search: each run's row and finds (a clone starts without).
+#[derive(Debug)]
+struct PartFinds<T>(Vec<Mutex<(Vec<u32>, Vec<T>)>>);
+
+impl<T> Default for PartFinds<T> {
+    fn default() -> Self {
+        Self(Vec::new())
+    }
+}
+
+impl<T> Clone for PartFinds<T> {
     fn clone(&self) -> Self {
         Self::default()
     }
 }
 
-impl<S: Copy + Default> NeighborList<S> {
+impl<T: Copy + Send> PartFinds<T> {
+    /// Appends to `out` what `find` finds among the disks `0..disks`, in disk order: the disks
+    /// shared out in runs between the `team`'s threads, each run's finds in a buffer of its own,
+    /// then joined.
+    fn find(&mut self, disks: usize, team: &Team, out: &mut Vec<T>, find: &Finder<'_, T>) {
+        let parts = team.parts();
+        self.0.resize_with(self.0.len().max(parts), Default::default);
+        if parts <= 1 {
+            let row = &mut self.0[0].get_mut().expect("no panic while held").0;
+            return find(0..disks, row, out);
+        }
+        for buffer in &mut self.0 {
+            buffer.get_mut().expect("no panic while held").1.clear();
+        }
+        let buffers = &self.0;
+        team.for_each_part(Span { range: 0..disks, unit: 256 }, &|run: Span, number| {
+            let mut buffer = buffers[number].lock().expect("a buffer per run");
+            let (row, found) = &mut *buffer;
+            find(run.range, row, found);
+        });
+        for buffer in &mut self.0 {
+            out.extend_from_slice(&buffer.get_mut().expect("no panic while held").1);
+        }
+    }
+}
+
+impl<S: Copy + Default + Send + Sync> NeighborList<S> {
     /// An empty list; call [`NeighborList::rebuild`] before use.
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {
         Self {
@@ -169,6 +235,7 @@ impl<S: Copy + Default> NeighborList<S> {
             skin,
             broad_phase,
             grid: CellGrid::default(),
+            wall_finds: PartFinds::default(),
         }
     }
 
@@ -187,17 +254,20 @@ impl<S: Copy + Default> NeighborList<S> {
             BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, team),
             BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
         }
-        self.pairs.swap_in_fresh();
-        for i in 0..p.len() {
-            for (w, wall) in walls.walls.iter().enumerate() {
-                // NaN positions are kept as candidates, so a diverging disk is still seen.
-                let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
-                if overlap > -self.skin || overlap.is_nan() {
-                    self.walls.fresh.push(WallPair { i: i as u32, wall: w as u32, m_star: p.mass[i] });
+        self.pairs.swap_in_fresh(team);
+        let skin = self.skin;
+        self.wall_finds.find(p.len(), team, &mut self.walls.fresh, &|disks, _, found| {
+            for i in disks {
+                for (w, wall) in walls.walls.iter().enumerate() {
+                    // NaN positions are kept as candidates, so a diverging disk is still seen.
+                    let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
+                    if overlap > -skin || overlap.is_nan() {
+                        found.push(WallPair { i: i as u32, wall: w as u32, m_star: p.mass[i] });
+                    }
                 }
             }
-        }
-        self.walls.swap_in_fresh();
+        });
+        self.walls.swap_in_fresh(team);
         self.travel = 0.0;
     }
 }
@@ -244,9 +314,8 @@ pub struct CellGrid {
     start: Vec<u32>,
     members: Vec<u32>,
     fill: Vec<u32>,
-    row: Vec<u32>,
-    /// Scratch of the parallel search.
-    parts: PartPairs,
+    /// Scratch of the search.
+    finds: PartFinds<NeighborPair>,
     cols: usize,
     rows: usize,
 }
@@ -316,28 +385,9 @@ impl CellGrid {
             return;
         }
         self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
-        let parts = team.parts();
-        if parts <= 1 {
-            let mut row = std::mem::take(&mut self.row);
-            self.pairs_of(p, skin, 0..p.len(), &mut row, out);
-            self.row = row;
-            return;
-        }
-        let mut buffers = std::mem::take(&mut self.parts.0);
-        buffers.resize_with(buffers.len().max(parts), Default::default);
-        for buffer in &mut buffers {
-            buffer.get_mut().expect("no panic while held").1.clear();
-        }
-        let span = Span { range: 0..p.len(), unit: 256 };
-        team.for_each_part(span, &|run: Span, number| {
-            let mut buffer = buffers[number].lock().expect("a buffer per run");
-            let (row, pairs) = &mut *buffer;
-            self.pairs_of(p, skin, run.range, row, pairs);
-        });
-        for buffer in &mut buffers {
-            out.extend_from_slice(&buffer.get_mut().expect("no panic while held").1);
-        }
-        self.parts.0 = buffers;
+        let mut finds = std::mem::take(&mut self.finds);
+        finds.find(p.len(), team, out, &|disks, row, found| self.pairs_of(p, skin, disks, row, found));
+        self.finds = finds;
     }
 
     /// Appends the candidate pairs `(i, j)` of the disks `i` in `disks` to `out`, sorted.
@@ -398,11 +448,43 @@ mod tests {
             fresh: vec![pair(0, 3), pair(1, 2), pair(2, 3)],
             ..Default::default()
         };
-        list.swap_in_fresh();
+        list.swap_in_fresh(&Team::new(1));
         assert_eq!(list.entries, [pair(0, 3), pair(1, 2), pair(2, 3)]);
         assert_eq!(list.springs, [2.0, 0.0, 3.0]);
         assert_eq!(list.states, [20, 0, 30]);
         assert!(list.fresh.is_empty());
+    }
+
+    #[test]
+    fn histories_carried_over_in_runs_on_several_threads_land_where_on_one() {
+        // Old and fresh lists of some 30 000 pairs sharing about half their keys: the fresh list
+        // spans several merge runs, whose starts fall on keys present and absent in the old one.
+        let pair = |i: u32, j: u32| NeighborPair { i, j, r_star: 0.0, m_star: 0.0 };
+        let keys = |keep: u32| {
+            (0..10_000u32).flat_map(move |i| (1..5).filter(move |d| (i + d) % keep != 0).map(move |d| pair(i, i + d)))
+        };
+        let old: Vec<_> = keys(3).collect();
+        let merged = |team: &Team| {
+            let mut list = Candidates {
+                springs: (0..old.len()).map(|k| k as f64 + 1.0).collect(),
+                states: (0..old.len() as u32).collect(),
+                entries: old.clone(),
+                fresh: keys(2).collect(),
+                ..Default::default()
+            };
+            list.swap_in_fresh(team);
+            list
+        };
+        let one = merged(&Team::new(1));
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        let three = pool.install(|| merged(&Team::new(3)));
+        assert!(one.entries.len() > 3 * MERGE_UNIT);
+        assert_eq!((&one.entries, &one.springs, &one.states), (&three.entries, &three.springs, &three.states));
+        for (k, entry) in one.entries.iter().enumerate() {
+            let before = old.binary_search_by_key(&entry.key(), Keyed::key).ok();
+            assert_eq!(one.springs[k], before.map_or(0.0, |b| b as f64 + 1.0), "pair {:?}", entry.key());
+            assert_eq!(one.states[k], before.map_or(0, |b| b as u32));
+        }
     }
 
     #[test]
