@@ -168,6 +168,12 @@ impl DiskIndex<'_> {
         first..end.max(first)
     }
 
+    /// The first pair whose second disk is `d` or above (`d` up to the number of disks; the
+    /// number of pairs if none).
+    pub fn first_pair_reaching(&self, d: usize) -> usize {
+        self.earliest[d] as usize
+    }
+
     /// The first wall block of disk `d`.
     pub fn wall_block(&self, d: usize) -> usize {
         self.wall_start[d] as usize / BLOCK

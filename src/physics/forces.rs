@@ -322,7 +322,8 @@ pub fn contacts_in_parts<L: ContactLaw>(
         let start = part.pairs.first_block * BLOCK;
         let own = index.own_disks(start..start + part.pairs.entries.len());
         let own = own.start.max(part.sums.first)..own.end.min(part.sums.first + part.sums.fx.len());
-        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own));
+        let reaching = index.first_pair_reaching(own.end);
+        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own, reaching));
         table.wall_forces(law, wall_kind, walls, part.walls, s);
     });
     let options = SumOptions {
@@ -386,7 +387,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 
     /// The stages for the disk-pair blocks of `part`: the forces added to the disks `own` of
     /// `sums` (all of whose pairs are in `part`), and stored in the part's rows for the others;
-    /// `short`: whether the whole list is short (see `collect`).
+    /// `short`: whether the whole list is short (see `collect`); `reaching`: the first candidate
+    /// whose second disk is `own.end` or above.
     fn pair_forces<L: ContactLaw<State = S>>(
         &mut self,
         law: &L,
@@ -394,7 +396,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         part: CandidateBlocks<'_, NeighborPair, S>,
         s: &State<'_>,
         short: bool,
-        (sums, own): (&mut DiskSums<'_>, Range<usize>),
+        (sums, own, reaching): (&mut DiskSums<'_>, Range<usize>, usize),
     ) {
         let mut rest = part;
         while !rest.entries.is_empty() {
@@ -407,7 +409,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             self.touching_before[b] = self.len as u8; // at most BLOCK = 128
             self.compute_forces::<L, true>(law, kind);
-            self.add_or_store(kind, block.rows, (block.springs, block.states), sums, own.clone());
+            // Candidates are sorted by first disk, the second the larger: a block whose first
+            // disk is the part's own and that ends before `reaching` has only the part's own disks.
+            let end = b * BLOCK + block.entries.len();
+            let all_own = block.entries[0].i as usize >= own.start && end <= reaching;
+            self.add_or_store(kind, block.rows, (block.springs, block.states), sums, (own.clone(), all_own));
             rest = after;
         }
     }
@@ -448,24 +454,21 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 
     /// The parallel path's stage 3 for disk pairs: each contact's force added to those of its disks
     /// that are in `own` (as the scatter does), and stored in the block's rows for the others; the
-    /// springs and states kept.
+    /// springs and states kept. A block `all_own` (most blocks) is added as the scatter adds it.
     fn add_or_store(
         &self,
         kind: &ContactParameters,
         rows: RowsMut<'_>,
         histories: Histories<'_, S>,
         sums: &mut DiskSums<'_>,
-        own: Range<usize>,
+        (own, all_own): (Range<usize>, bool),
     ) {
-        let n = self.len;
-        // Pairs are sorted by first disk, and the first is the smaller: most blocks have all
-        // their disks in `own`, and are added as the scatter adds them.
-        let last_disk = self.j[..n].iter().fold(0, |last, &j| last.max(j));
-        if n == 0 || (self.i[0] >= own.start && last_disk < own.end) {
+        if all_own {
             rows.touching[0] = 0;
             return self.add_to::<true>(kind, sums, histories);
         }
         self.keep_histories(histories);
+        let n = self.len;
         let rolling_friction = kind.material.rolling_friction;
         let mut stored = 0;
         for c in 0..n {
