@@ -129,11 +129,11 @@ impl<T: Sync, S: Send> Split for FreshRun<'_, T, S> {
 impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
     /// Replaces the entries by the freshly collected ones (in `fresh`), carrying the histories of
     /// entries present in both by a linear merge of the two sorted lists, the fresh entries shared
-    /// out in runs between the `team`'s threads (each run's merge starts where its first key is).
+    /// out in runs between the `team`'s threads (each run's merge starts where its first key is
+    /// and writes every history of its run: the buffers are only resized, not cleared, so no
+    /// thread writes the whole of them). `fresh` holds the old entries afterwards, as scratch.
     fn swap_in_fresh(&mut self, team: &Team) {
-        self.fresh_springs.clear();
         self.fresh_springs.resize(self.fresh.len(), 0.0);
-        self.fresh_states.clear();
         self.fresh_states.resize(self.fresh.len(), S::default());
         let run = FreshRun { entries: &self.fresh, springs: &mut self.fresh_springs, states: &mut self.fresh_states };
         let (old, springs, states) = (&self.entries, &self.springs, &self.states);
@@ -144,15 +144,13 @@ impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
                 while k < old.len() && old[k].key() < entry.key() {
                     k += 1;
                 }
-                if k < old.len() && old[k].key() == entry.key() {
-                    (*spring, *state) = (springs[k], states[k]);
-                }
+                let kept = k < old.len() && old[k].key() == entry.key();
+                (*spring, *state) = if kept { (springs[k], states[k]) } else { (0.0, S::default()) };
             }
         });
         std::mem::swap(&mut self.entries, &mut self.fresh);
         std::mem::swap(&mut self.springs, &mut self.fresh_springs);
         std::mem::swap(&mut self.states, &mut self.fresh_states);
-        self.fresh.clear();
     }
 
     /// Gives the entry of `key`, if there is one, the history `(spring, state)`.
@@ -200,13 +198,15 @@ impl<T> Clone for PartFinds<T> {
 }
 
 impl<T: Copy + Send> PartFinds<T> {
-    /// Appends to `out` what `find` finds among the disks `0..disks`, in disk order: the disks
-    /// shared out in runs between the `team`'s threads, each run's finds in a buffer of its own,
-    /// then joined.
+    /// Puts in `out` (its entries replaced) what `find` finds among the disks `0..disks`, in disk
+    /// order: the disks shared out in runs between the `team`'s threads, each run's finds in a
+    /// buffer of its own, then joined, each buffer copied to its place by the part of the same
+    /// runs (so mostly by the thread that found them, which holds them in its cache).
     fn find(&mut self, disks: usize, team: &Team, out: &mut Vec<T>, find: &Finder<'_, T>) {
         let parts = team.parts();
         self.0.resize_with(self.0.len().max(parts), Default::default);
         if parts <= 1 {
+            out.clear();
             let row = &mut self.0[0].get_mut().expect("no panic while held").0;
             return find(0..disks, row, out);
         }
@@ -219,9 +219,43 @@ impl<T: Copy + Send> PartFinds<T> {
             let (row, found) = &mut *buffer;
             find(run.range, row, found);
         });
-        for buffer in &mut self.0 {
-            out.extend_from_slice(&buffer.get_mut().expect("no panic while held").1);
+        let found = |b: &Mutex<(Vec<u32>, Vec<T>)>| b.lock().expect("no panic while held").1.first().copied();
+        let Some(filler) = self.0.iter().find_map(found) else { return out.clear() };
+        // Only a longer list than the last writes on this thread: the rest is overwritten in place.
+        let total = self.0.iter_mut().map(|b| b.get_mut().expect("no panic while held").1.len()).sum();
+        out.resize(total, filler);
+        team.for_each_part(Joined { finds: &self.0, out }, &|part: Joined<'_, T>, _| part.copy());
+    }
+}
+
+/// Buffers of a [`PartFinds`] and their places in the joined list.
+struct Joined<'a, T> {
+    finds: &'a [Mutex<(Vec<u32>, Vec<T>)>],
+    out: &'a mut [T],
+}
+
+impl<T: Copy> Joined<'_, T> {
+    fn copy(self) {
+        let mut rest = self.out;
+        for buffer in self.finds {
+            let found = &buffer.lock().expect("no panic while held").1;
+            let (place, after) = rest.split_at_mut(found.len());
+            place.copy_from_slice(found);
+            rest = after;
         }
+    }
+}
+
+impl<T: Send> Split for Joined<'_, T> {
+    fn units(&self) -> usize {
+        self.finds.len()
+    }
+
+    fn split_at(self, at: usize) -> (Self, Self) {
+        let (f0, f1) = self.finds.split_at(at);
+        let len = f0.iter().map(|b| b.lock().expect("no panic while held").1.len()).sum();
+        let (o0, o1) = self.out.split_at_mut(len);
+        (Joined { finds: f0, out: o0 }, Joined { finds: f1, out: o1 })
     }
 }
 
@@ -296,6 +330,7 @@ fn within(p: &Particles, i: usize, j: usize, skin: f64) -> bool {
 }
 
 fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
+    out.clear();
     for i in 0..p.len() {
         for j in i + 1..p.len() {
             if within(p, i, j, skin) {
@@ -382,7 +417,7 @@ impl CellGrid {
     /// disks shared out in runs between the `team`'s threads, whose pairs are joined in disk order.
     fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, team: &Team) {
         if p.is_empty() {
-            return;
+            return out.clear();
         }
         self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
         let mut finds = std::mem::take(&mut self.finds);
@@ -452,7 +487,6 @@ mod tests {
         assert_eq!(list.entries, [pair(0, 3), pair(1, 2), pair(2, 3)]);
         assert_eq!(list.springs, [2.0, 0.0, 3.0]);
         assert_eq!(list.states, [20, 0, 30]);
-        assert!(list.fresh.is_empty());
     }
 
     #[test]
