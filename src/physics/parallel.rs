@@ -55,6 +55,9 @@ pub trait Split: Sized + Send {
 /// Most parts a section is cut into, and most threads a team has.
 const MAX_PARTS: usize = 64;
 
+/// Parts of a team of two threads, and of sections of few units.
+const FEW_PARTS: usize = 2 * PARTS_PER_THREAD;
+
 /// The threads one simulation shares its steps' work with.
 ///
 /// Each parallel section of a step (the integrator's pass, the contact blocks, the per-disk sums,
@@ -248,8 +251,18 @@ impl Team {
             work(whole, 0);
             return;
         }
+        if parts <= FEW_PARTS {
+            self.share::<V, FEW_PARTS>(whole, units, parts, work);
+        } else {
+            self.share::<V, MAX_PARTS>(whole, units, parts, work);
+        }
+    }
+
+    /// [`Self::for_each_part`] of `units` units in `parts` parts, at most `N` (the parts wait in
+    /// `N` slots: a section of a few parts does not move or clear a slot for each of 64).
+    fn share<V: Split, const N: usize>(&self, whole: V, units: usize, parts: usize, work: &(impl Fn(V, usize) + Sync)) {
         let regions = self.threads.min(parts);
-        let slots: [Mutex<Option<V>>; MAX_PARTS] = std::array::from_fn(|_| Mutex::new(None));
+        let slots: [Mutex<Option<V>>; N] = std::array::from_fn(|_| Mutex::new(None));
         let (mut rest, mut taken) = (whole, 0);
         for (k, slot) in slots.iter().enumerate().take(parts - 1) {
             let end = part_end(units, parts, regions, k).max(taken);
