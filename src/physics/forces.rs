@@ -323,8 +323,8 @@ pub fn contacts_in_parts<L: ContactLaw>(
         let own = index.own_disks(start..start + part.pairs.entries.len());
         let own = own.start.max(part.sums.first)..own.end.min(part.sums.first + part.sums.fx.len());
         let reaching = index.first_pair_reaching(own.end);
-        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own, reaching));
-        table.wall_forces(law, wall_kind, walls, part.walls, s);
+        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own.clone(), reaching));
+        table.wall_forces(law, wall_kind, walls, part.walls, s, (&mut part.sums, &own));
     });
     let options = SumOptions {
         rotation: disk_kind.rotation,
@@ -418,7 +418,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         }
     }
 
-    /// Stages 1 and 2 for the disk-wall blocks of `part`, the forces stored in its rows.
+    /// The stages for the disk-wall blocks of `part`: each force added to its disk if that is in
+    /// `own` of `sums` (whose pairs this part has added: its walls come after them, as in the
+    /// one-thread order), else stored in the part's rows.
     fn wall_forces<L: ContactLaw<State = S>>(
         &mut self,
         law: &L,
@@ -426,30 +428,53 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         walls: &[Wall],
         part: CandidateBlocks<'_, WallPair, S>,
         s: &State<'_>,
+        (sums, own): (&mut DiskSums<'_>, &Range<usize>),
     ) {
         let mut rest = part;
         while !rest.entries.is_empty() {
             let (block, after) = rest.cut(1);
             self.collect_walls(s, walls, block.entries, (block.springs, block.states));
             self.compute_forces::<L, false>(law, kind);
-            self.store(block.rows, (block.springs, block.states));
+            self.keep_histories((block.springs, block.states));
+            let rows = block.rows;
+            let mut stored = 0;
+            for c in 0..self.len {
+                let i = self.i[c];
+                if own.contains(&i) {
+                    self.add_one::<true>(kind, c, i - sums.first, sums);
+                    continue;
+                }
+                rows.disk_i[stored] = i as u32;
+                (rows.fx[stored], rows.fy[stored]) = (self.force_x[c], self.force_y[c]);
+                rows.torque_i[stored] = self.torque_i[c];
+                rows.normal[stored] = self.normal[c];
+                stored += 1;
+            }
+            rows.touching[0] = stored as u8; // at most BLOCK = 128
             rest = after;
         }
     }
 
-    /// The parallel path's stage 3 for disk-wall contacts: the touching contacts of one block in
-    /// its rows, and their springs and states.
-    fn store(&self, rows: RowsMut<'_>, histories: Histories<'_, S>) {
-        let n = self.len;
-        rows.touching[0] = n as u8; // at most BLOCK = 128
-        for c in 0..n {
-            rows.disk_i[c] = self.i[c] as u32;
+    /// Adds contact `c`'s force, torque and rolling resistance to disk `k` of `sums`, its first
+    /// body (`FIRST`) or its second (the force subtracted), as the one-thread scatter does.
+    #[inline(always)]
+    fn add_one<const FIRST: bool>(&self, kind: &ContactParameters, c: usize, k: usize, sums: &mut DiskSums<'_>) {
+        let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
+        if FIRST {
+            sums.fx[k] += force_x;
+            sums.fy[k] += force_y;
+        } else {
+            sums.fx[k] -= force_x;
+            sums.fy[k] -= force_y;
         }
-        rows.fx[..n].copy_from_slice(&self.force_x[..n]);
-        rows.fy[..n].copy_from_slice(&self.force_y[..n]);
-        rows.torque_i[..n].copy_from_slice(&self.torque_i[..n]);
-        rows.normal[..n].copy_from_slice(&self.normal[..n]);
-        self.keep_histories(histories);
+        if kind.rotation {
+            sums.torque[k] += if FIRST { self.torque_i[c] } else { self.torque_j[c] };
+        }
+        let rolling_friction = kind.material.rolling_friction;
+        if rolling_friction > 0.0 {
+            let resistance = rolling_friction * self.normal[c].max(0.0);
+            sums.rolling[k] += resistance * if FIRST { self.ri[c] } else { self.rj[c] };
+        }
     }
 
     /// The parallel path's stage 3 for disk pairs: each contact's force added to those of its disks
@@ -468,40 +493,20 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             return self.add_to::<true>(kind, sums, histories);
         }
         self.keep_histories(histories);
-        let n = self.len;
-        let rolling_friction = kind.material.rolling_friction;
         let mut stored = 0;
-        for c in 0..n {
+        for c in 0..self.len {
             let (i, j) = (self.i[c], self.j[c]);
             let (i_own, j_own) = (own.contains(&i), own.contains(&j));
-            let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
-            let resistance = rolling_friction * self.normal[c].max(0.0);
             if i_own {
-                let k = i - sums.first;
-                sums.fx[k] += force_x;
-                sums.fy[k] += force_y;
-                if kind.rotation {
-                    sums.torque[k] += self.torque_i[c];
-                }
-                if rolling_friction > 0.0 {
-                    sums.rolling[k] += resistance * self.ri[c];
-                }
+                self.add_one::<true>(kind, c, i - sums.first, sums);
             }
             if j_own {
-                let k = j - sums.first;
-                sums.fx[k] -= force_x;
-                sums.fy[k] -= force_y;
-                if kind.rotation {
-                    sums.torque[k] += self.torque_j[c];
-                }
-                if rolling_friction > 0.0 {
-                    sums.rolling[k] += resistance * self.rj[c];
-                }
+                self.add_one::<false>(kind, c, j - sums.first, sums);
             }
             if !(i_own && j_own) {
                 rows.disk_i[stored] = if i_own { ADDED } else { i as u32 };
                 rows.disk_j[stored] = if j_own { ADDED } else { j as u32 };
-                (rows.fx[stored], rows.fy[stored]) = (force_x, force_y);
+                (rows.fx[stored], rows.fy[stored]) = (self.force_x[c], self.force_y[c]);
                 (rows.torque_i[stored], rows.torque_j[stored]) = (self.torque_i[c], self.torque_j[c]);
                 rows.normal[stored] = self.normal[c];
                 stored += 1;
