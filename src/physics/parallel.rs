@@ -65,10 +65,10 @@ const FEW_PARTS: usize = 2 * PARTS_PER_THREAD;
 /// per thread: every section's units are in disk order, so a thread's region holds about the same
 /// disks in every section. Each thread does its own region's parts first, from its front, then
 /// takes the parts left in other regions from their backs. So each disk's data stays in the cache
-/// of the thread that last wrote it, except near where threads meet: on a machine whose cores
-/// share no cache (two 2-core virtual machines' cores on different chiplets, one-way core-to-core
-/// latency 210 ns against 40–70 ns), cut-anywhere claiming made a 40 000-disk step fetch most of its
-/// data from the other core (0.87–0.95 of one thread's time, against 0.58–0.62 on shared cache).
+/// of the thread that last wrote it, except near where threads meet. On a machine whose cores
+/// share no cache (the project's 2-core virtual machines, at times: one core sees the other's
+/// writes after some 200 ns instead of 25–70), claiming parts in any order made a 40 000-disk step
+/// fetch most of its data from the other core: 2 threads took 0.87–0.95 of one thread's time.
 ///
 /// Helpers are tasks of the current rayon pool that stay between sections, spinning, until the
 /// simulation ends or no section has come for [`HELPER_PATIENCE`]; so a step's three or four
