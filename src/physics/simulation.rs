@@ -78,6 +78,8 @@ pub struct Simulation<L: ContactLaw> {
     moved: Vec<Moved>,
     integrator: Integrator,
     rolling_resistance: bool,
+    /// Scratch of the rolling resistance on several threads.
+    rolling_removed: rolling::Removed,
     step: u64,
     context: StepContext,
     energy: EnergyLedger,
@@ -134,6 +136,7 @@ impl<L: ContactLaw> Simulation<L> {
             team: Team::new(1),
             moved: Vec::new(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
+            rolling_removed: rolling::Removed::default(),
             integrator: Integrator::new(scene.integrator.scheme),
             particles,
             walls,
@@ -194,7 +197,12 @@ impl<L: ContactLaw> Simulation<L> {
         }
         self.integrator.finish(&mut self.particles, &self.context, &self.team, &mut self.moved);
         if self.rolling_resistance {
-            self.energy.remove(rolling::apply(&mut self.particles, self.context.dt));
+            self.energy.remove(rolling::apply(
+                &mut self.particles,
+                self.context.dt,
+                &self.team,
+                &mut self.rolling_removed,
+            ));
         }
         self.step += 1;
     }
