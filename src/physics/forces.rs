@@ -436,7 +436,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.collect_walls(s, walls, block.entries, (block.springs, block.states));
             self.compute_forces::<L, false>(law, kind);
             self.keep_histories((block.springs, block.states));
-            let rows = block.rows;
+            let mut rows = block.rows;
             let mut stored = 0;
             for c in 0..self.len {
                 let i = self.i[c];
@@ -444,15 +444,22 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                     self.add_one::<true>(kind, c, i - sums.first, sums);
                     continue;
                 }
-                rows.disk_i[stored] = i as u32;
-                (rows.fx[stored], rows.fy[stored]) = (self.force_x[c], self.force_y[c]);
-                rows.torque_i[stored] = self.torque_i[c];
-                rows.normal[stored] = self.normal[c];
+                self.store_row(&mut rows, stored, c, [i as u32, ADDED]);
                 stored += 1;
             }
             rows.touching[0] = stored as u8; // at most BLOCK = 128
             rest = after;
         }
+    }
+
+    /// Stores contact `c` in row `at` of `rows`, with `disks` in place of its bodies' indices
+    /// ([`ADDED`] for a body whose force is already added, or a wall's).
+    #[inline(always)]
+    fn store_row(&self, rows: &mut RowsMut<'_>, at: usize, c: usize, [disk_i, disk_j]: [u32; 2]) {
+        (rows.disk_i[at], rows.disk_j[at]) = (disk_i, disk_j);
+        (rows.fx[at], rows.fy[at]) = (self.force_x[c], self.force_y[c]);
+        (rows.torque_i[at], rows.torque_j[at]) = (self.torque_i[c], self.torque_j[c]);
+        rows.normal[at] = self.normal[c];
     }
 
     /// Adds contact `c`'s force, torque and rolling resistance to disk `k` of `sums`, its first
@@ -483,7 +490,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     fn add_or_store(
         &self,
         kind: &ContactParameters,
-        rows: RowsMut<'_>,
+        mut rows: RowsMut<'_>,
         histories: Histories<'_, S>,
         sums: &mut DiskSums<'_>,
         (own, all_own): (Range<usize>, bool),
@@ -504,11 +511,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 self.add_one::<false>(kind, c, j - sums.first, sums);
             }
             if !(i_own && j_own) {
-                rows.disk_i[stored] = if i_own { ADDED } else { i as u32 };
-                rows.disk_j[stored] = if j_own { ADDED } else { j as u32 };
-                (rows.fx[stored], rows.fy[stored]) = (self.force_x[c], self.force_y[c]);
-                (rows.torque_i[stored], rows.torque_j[stored]) = (self.torque_i[c], self.torque_j[c]);
-                rows.normal[stored] = self.normal[c];
+                let disks = [if i_own { ADDED } else { i as u32 }, if j_own { ADDED } else { j as u32 }];
+                self.store_row(&mut rows, stored, c, disks);
                 stored += 1;
             }
         }

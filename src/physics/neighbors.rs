@@ -219,8 +219,8 @@ impl<T: Copy + Send> PartFinds<T> {
             let (row, found) = &mut *buffer;
             find(run.range, row, found);
         });
-        let found = |b: &Mutex<(Vec<u32>, Vec<T>)>| b.lock().expect("no panic while held").1.first().copied();
-        let Some(filler) = self.0.iter().find_map(found) else { return out.clear() };
+        let found = |b: &mut Mutex<(Vec<u32>, Vec<T>)>| b.get_mut().expect("no panic while held").1.first().copied();
+        let Some(filler) = self.0.iter_mut().find_map(found) else { return out.clear() };
         // Only a longer list than the last writes on this thread: the rest is overwritten in place.
         let total = self.0.iter_mut().map(|b| b.get_mut().expect("no panic while held").1.len()).sum();
         out.resize(total, filler);
