@@ -207,7 +207,8 @@ fn a_damaged_run_group_is_named_skipped_and_run_again_on_resume() {
     let listed = String::from_utf8(command(&["summary", r]).output().unwrap().stdout).unwrap();
     assert_eq!(listed.lines().count(), 1 + 7, "the seven readable runs:\n{listed}");
     assert!(!listed.contains("r0005"), "{listed}");
-    let resumed = command(&["run", s, "--out", o, "--resume"]).output().unwrap();
+    // Quiet progress still warns about what is damaged and runs again.
+    let resumed = command(&["run", s, "--out", o, "--resume", "--progress", "quiet"]).output().unwrap();
     assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
     assert!(String::from_utf8_lossy(&resumed.stdout).contains("1 run now, 7 already done"), "{resumed:?}");
     assert!(stderr(&resumed).contains(&format!("/runs_00000/{identity}")), "the resume names what it runs again");

@@ -91,7 +91,7 @@ enum Progress {
     Bars,
     /// One line per finished run.
     Lines,
-    /// Nothing but the final report.
+    /// Nothing but warnings and the final report.
     Quiet,
 }
 

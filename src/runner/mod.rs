@@ -328,7 +328,8 @@ fn open_results(
         // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
         let damaged = writer.forget_damaged()?;
         writer.forget_failed()?;
-        if !damaged.is_empty() && options.progress != ProgressMode::Quiet {
+        // A warning about stored results, not progress: shown whatever the progress display.
+        if !damaged.is_empty() {
             eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
         }
         return Ok((lock, writer));
