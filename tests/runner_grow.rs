@@ -7,7 +7,8 @@ mod runner_common;
 use std::path::{Path, PathBuf};
 
 use demsweep::output::{history, summary};
-use demsweep::runner::{RunReport, merge, run_plan};
+use demsweep::runner::{RunNote, RunReport, merge, run_plan};
+use demsweep::study::IdentityChange;
 
 /// A study of tiny runs: friction values, `replicates` seeds, an optional extra axis and text.
 fn study(frictions: &str, replicates: usize, extra: &str) -> String {
@@ -135,8 +136,22 @@ fn a_changed_input_file_reruns_the_runs_that_read_it() {
     write(&dir, "pile.csv", &placement(0.06));
     let changed = run(&study_path, &out, true);
     assert_eq!((changed.already_done, changed.ran), (0, 2), "both runs read the edited file");
+    let rerun = RunNote::InputsChanged { runs: 2, changed: vec![IdentityChange::InputFiles] };
+    let kept = RunNote::Unplanned { ids: vec!["r0000".into(), "r0001".into()], deleted: false };
+    assert_eq!(changed.notes, [rerun, kept], "the resume says why both run again, and what it keeps");
     let fresh = run(&study_path, &dir.join("fresh"), false);
     assert_same_results(&changed, &fresh);
+    // The command says so whatever the progress display: a quiet resume reruns nothing unsaid.
+    write(&dir, "pile.csv", &placement(0.07));
+    let (s, o) = (study_path.to_str().unwrap(), out.to_str().unwrap());
+    let quiet = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["run", s, "--out", o, "--resume", "--progress", "quiet", "--jobs", "1"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&quiet.stderr);
+    assert_eq!(quiet.status.code(), Some(0), "{stderr}");
+    let expected = format!("note: {}: 2 run(s) of this study match stored runs", changed.results.display());
+    assert!(stderr.contains(&expected) && stderr.contains("(input files"), "{stderr}");
 }
 
 #[test]

@@ -324,7 +324,8 @@ fn run_study<'py>(
     answer.set_item("missing", report.missing())?;
     answer.set_item("exit_code", report.exit_code())?;
     answer.set_item("warnings", warnings)?;
-    answer.set_item("notes", &report.notes)?;
+    let notes: Vec<String> = report.notes.iter().map(|note| note.line(&report.results)).collect();
+    answer.set_item("notes", notes)?;
     answer
         .set_item("run_warnings", report.warnings.groups.iter().map(|g| g.example.to_string()).collect::<Vec<_>>())?;
     Ok(answer)

@@ -91,7 +91,7 @@ enum Progress {
     Bars,
     /// One line per finished run.
     Lines,
-    /// Nothing but warnings and the final report.
+    /// Nothing but warnings, notes about stored runs (what runs again and why) and the final report.
     Quiet,
 }
 

@@ -15,6 +15,7 @@ use std::sync::{Arc, Mutex};
 mod execute;
 pub mod interrupt;
 pub mod merge;
+mod notes;
 mod progress;
 mod reuse;
 pub mod shard;
@@ -22,6 +23,7 @@ mod warnings;
 mod writer_thread;
 
 pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
+pub use notes::{RunNote, WorkerCap};
 pub use progress::ProgressMode;
 pub use warnings::WarningDigest;
 pub use writer_thread::CommitPolicy;
@@ -92,9 +94,10 @@ pub struct RunReport {
     /// The warnings of the runs finished by this invocation, by kind.
     pub warnings: WarningDigest,
     /// What this invocation found in the results file and did about it, printed as `note:` lines
-    /// unless the progress display is quiet: stored runs that run again and why (changed input
-    /// files, physics version), stored runs the study no longer plans, fewer workers than asked.
-    pub notes: Vec<String>,
+    /// before the runs start (see [`RunNote::print_all`]): stored runs that run again and why
+    /// (changed input files, physics version), stored runs the study no longer plans, fewer
+    /// workers than asked.
+    pub notes: Vec<RunNote>,
 }
 
 impl RunReport {
@@ -178,7 +181,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     if options.drop_unplanned {
         writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
     }
-    let mut notes = reuse.notes(&path, options.drop_unplanned);
+    let mut notes = reuse.notes(options.drop_unplanned);
     let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
     let mut todo: Vec<(&PlannedRun, &str)> =
@@ -187,11 +190,7 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     notes.extend(capped);
-    if options.progress != ProgressMode::Quiet {
-        for note in &notes {
-            eprintln!("note: {note}");
-        }
-    }
+    RunNote::print_all(&notes, &path, options.progress);
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
@@ -224,11 +223,11 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
 
 /// Worker threads for `todo` runs on `cores` cores when `requested` were asked for (0 = one per
 /// core): never more than the runs to do nor the cores, at least one; with a note when capped.
-fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<String>) {
+fn worker_count(requested: usize, todo: usize, cores: usize) -> (usize, Option<RunNote>) {
     let jobs = pool_threads(requested, cores).min(todo).max(1);
     let note = (requested > jobs).then(|| {
-        let why = if jobs == todo { format!("{todo} runs to do") } else { format!("{cores} cores") };
-        format!("--jobs {requested} capped to {jobs} worker threads ({why})")
+        let by = if jobs == todo { WorkerCap::Runs(todo) } else { WorkerCap::Cores(cores) };
+        RunNote::WorkersCapped { asked: requested, used: jobs, by }
     });
     (jobs, note)
 }
@@ -514,9 +513,10 @@ mod tests {
         assert_eq!(worker_count(0, 3, 8), (3, None), "no note when the default is capped");
         assert_eq!(worker_count(4, 100, 8), (4, None));
         assert_eq!(worker_count(1, 0, 8), (1, None), "at least one");
-        let (jobs, note) = worker_count(100_000, 2, 16);
-        assert_eq!((jobs, note.as_deref()), (2, Some("--jobs 100000 capped to 2 worker threads (2 runs to do)")));
-        let (jobs, note) = worker_count(64, 1000, 16);
-        assert_eq!((jobs, note.as_deref()), (16, Some("--jobs 64 capped to 16 worker threads (16 cores)")));
+        let words = |(jobs, note): (usize, Option<RunNote>)| (jobs, note.map(|n| n.to_string()));
+        let capped = words(worker_count(100_000, 2, 16));
+        assert_eq!(capped, (2, Some("--jobs 100000 capped to 2 worker threads (2 runs to do)".into())));
+        let capped = words(worker_count(64, 1000, 16));
+        assert_eq!(capped, (16, Some("--jobs 64 capped to 16 worker threads (16 cores)".into())));
     }
 }

@@ -2,11 +2,11 @@
 //! continues in the same file), which must run, and which stored runs the study no longer plans.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
-use std::path::Path;
 
+use super::notes::RunNote;
 use crate::output::row::DEMSWEEP_VERSION;
 use crate::output::{OutputError, ResultsWriter, SummaryRow};
-use crate::study::{Plan, RunIdentity};
+use crate::study::{IdentityChange, Plan, RunIdentity};
 
 /// What a resumed (or new) results file gives a sweep.
 pub(super) struct Reuse {
@@ -22,7 +22,7 @@ pub(super) struct Reuse {
     pub lacking: usize,
     /// For planned runs to make whose swept values match a stored run of another identity: what
     /// changed, with how many runs.
-    pub changed: BTreeMap<String, usize>,
+    pub changed: BTreeMap<Vec<IdentityChange>, usize>,
     /// Reused runs made by another demsweep version (reused only when accepted): (run id, version).
     pub other_versions: Vec<(String, String)>,
 }
@@ -93,7 +93,7 @@ impl Reuse {
                 let (Ok(was), Ok(now)) = (old.identity.parse::<RunIdentity>(), identity.parse::<RunIdentity>()) else {
                     continue;
                 };
-                *reuse.changed.entry(was.changes(&now).join(", ")).or_default() += 1;
+                *reuse.changed.entry(was.changes(&now)).or_default() += 1;
             }
         }
         if let (Some(refusal), false) = (version_refusal(&reuse.other_versions), accept_version) {
@@ -105,47 +105,22 @@ impl Reuse {
         Ok(reuse)
     }
 
-    /// What a user should know about the file's stored runs, in words.
-    pub fn notes(&self, path: &Path, dropped: bool) -> Vec<String> {
+    /// What a user should know about the file's stored runs; `dropped`: whether the unplanned
+    /// ones were deleted.
+    pub fn notes(&self, dropped: bool) -> Vec<RunNote> {
         let mut notes = Vec::new();
-        if let Some((id, version)) = self.other_versions.first() {
-            notes.push(format!(
-                "{}: reusing {} stored run(s) made by another demsweep version (run {id} by {version}; this is \
-                 {DEMSWEEP_VERSION}), as --accept-version asks; /summary/demsweep_version says which made each",
-                path.display(),
-                self.other_versions.len()
-            ));
+        if let Some(first) = self.other_versions.first() {
+            notes.push(RunNote::OtherVersions { runs: self.other_versions.len(), first: first.clone() });
         }
-        for (what, runs) in &self.changed {
-            notes.push(format!(
-                "{}: {runs} run(s) of this study match stored runs by their swept values but not by what \
-                 they depend on ({what} changed): they run again",
-                path.display()
-            ));
+        for (changed, &runs) in &self.changed {
+            notes.push(RunNote::InputsChanged { runs, changed: changed.clone() });
         }
         if self.lacking > 0 {
-            notes.push(format!(
-                "{}: {} stored run(s) lack an output this study asks for ([output]): they run again",
-                path.display(),
-                self.lacking
-            ));
+            notes.push(RunNote::LackingOutput { runs: self.lacking });
         }
-        if dropped && !self.unplanned.is_empty() {
-            notes.push(format!("{}: deleted {} stored run(s) no longer planned", path.display(), self.unplanned.len()));
-        } else if !self.unplanned.is_empty() {
-            let ids: Vec<&str> = self.unplanned.iter().take(10).map(|r| r.id.as_str()).collect();
-            let more = if self.unplanned.len() > 10 {
-                format!(" and {} more", self.unplanned.len() - 10)
-            } else {
-                String::new()
-            };
-            notes.push(format!(
-                "{}: {} stored run(s) are no longer planned by this study (stored as {}{more}): kept in the file, \
-                 left out of the summary, points and report; `--drop-unplanned` deletes them",
-                path.display(),
-                self.unplanned.len(),
-                ids.join(", ")
-            ));
+        if !self.unplanned.is_empty() {
+            let ids = self.unplanned.iter().map(|r| r.id.clone()).collect();
+            notes.push(RunNote::Unplanned { ids, deleted: dropped });
         }
         notes
     }

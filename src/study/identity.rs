@@ -43,20 +43,45 @@ impl RunIdentity {
         Self { settings, inputs, physics: PHYSICS_VERSION }
     }
 
-    /// What differs between this identity and `other`, in words ("settings", "input files",
-    /// "physics version 1 → 2"); empty when they are equal.
-    pub fn changes(&self, other: &Self) -> Vec<String> {
+    /// What differs between this identity and `other`; empty when they are equal.
+    pub fn changes(&self, other: &Self) -> Vec<IdentityChange> {
         let mut changed = Vec::new();
         if self.settings != other.settings {
-            changed.push("settings".to_string());
+            changed.push(IdentityChange::Settings);
         }
         if self.inputs != other.inputs {
-            changed.push("input files (placement.file, placement.contacts)".to_string());
+            changed.push(IdentityChange::InputFiles);
         }
         if self.physics != other.physics {
-            changed.push(format!("physics version {} → {}", self.physics, other.physics));
+            changed.push(IdentityChange::Physics { from: self.physics, to: other.physics });
         }
         changed
+    }
+}
+
+/// One part of a run's identity that differs between two identities (see [`RunIdentity::changes`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum IdentityChange {
+    /// The resolved settings.
+    Settings,
+    /// The content of the input files (placement and contact history).
+    InputFiles,
+    /// The physics version.
+    Physics {
+        /// The version before.
+        from: u32,
+        /// The version now.
+        to: u32,
+    },
+}
+
+impl fmt::Display for IdentityChange {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IdentityChange::Settings => write!(f, "settings"),
+            IdentityChange::InputFiles => write!(f, "input files (placement.file, placement.contacts)"),
+            IdentityChange::Physics { from, to } => write!(f, "physics version {from} → {to}"),
+        }
     }
 }
 
@@ -135,7 +160,9 @@ mod tests {
             assert!(bad.parse::<RunIdentity>().is_err(), "{bad}");
         }
         let b = RunIdentity { inputs: 8, physics: 2, ..a };
-        assert_eq!(a.changes(&b), ["input files (placement.file, placement.contacts)", "physics version 1 → 2"]);
+        assert_eq!(a.changes(&b), [IdentityChange::InputFiles, IdentityChange::Physics { from: 1, to: 2 }]);
+        let words: Vec<String> = a.changes(&b).iter().map(ToString::to_string).collect();
+        assert_eq!(words, ["input files (placement.file, placement.contacts)", "physics version 1 → 2"]);
         assert!(a.changes(&a).is_empty());
     }
 }

@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 
 pub use axes::MAX_RUNS;
 pub use errors::{Location, StudyError, StudyErrors, warning_kind};
-pub use identity::RunIdentity;
+pub use identity::{IdentityChange, RunIdentity};
 
 use crate::physics::SceneConfig;
 use crate::physics::particles::{InitialContact, InitialDisk};
