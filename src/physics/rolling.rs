@@ -22,12 +22,13 @@ pub(super) struct Removed {
 /// (as a torque inside a multistep scheme it would overshoot and chatter). Returns the kinetic
 /// energy removed (J), summed in disk order. On a `team` of several threads the disks are shared
 /// out in runs; each run keeps the energies its disks lost, in order, and they are summed run after
-/// run: the same additions in the same order as on one thread, so the same bits.
+/// run: the same additions in the same order as on one thread, so the same bits. Clears the
+/// resistances, which it reads last, for the next contact stage (in the same pass).
 pub(super) fn apply(p: &mut Particles, dt: f64, team: &Team, scratch: &mut Removed) -> f64 {
     if team.parts() <= 1 {
         let mut total = 0.0;
         for i in 0..p.len() {
-            if let Some(term) = slow_down(&mut p.omega[i], p.rolling[i], p.inv_inertia[i], dt) {
+            if let Some(term) = slow_down(&mut p.omega[i], std::mem::take(&mut p.rolling[i]), p.inv_inertia[i], dt) {
                 total += term;
             }
         }
@@ -41,7 +42,7 @@ pub(super) fn apply(p: &mut Particles, dt: f64, team: &Team, scratch: &mut Remov
     let run = Spins {
         first: 0,
         omega: &mut p.omega,
-        rolling: &p.rolling,
+        rolling: &mut p.rolling,
         inv_inertia: &p.inv_inertia,
         terms: &mut scratch.terms,
     };
@@ -49,7 +50,9 @@ pub(super) fn apply(p: &mut Particles, dt: f64, team: &Team, scratch: &mut Remov
     team.for_each_part(run, &|run: Spins<'_>, number| {
         let mut kept = 0;
         for k in 0..run.omega.len() {
-            if let Some(term) = slow_down(&mut run.omega[k], run.rolling[k], run.inv_inertia[k], dt) {
+            if let Some(term) =
+                slow_down(&mut run.omega[k], std::mem::take(&mut run.rolling[k]), run.inv_inertia[k], dt)
+            {
                 run.terms[kept] = term;
                 kept += 1;
             }
@@ -81,7 +84,7 @@ fn slow_down(omega: &mut f64, moment: f64, inv_inertia: f64, dt: f64) -> Option<
 struct Spins<'a> {
     first: usize,
     omega: &'a mut [f64],
-    rolling: &'a [f64],
+    rolling: &'a mut [f64],
     inv_inertia: &'a [f64],
     terms: &'a mut [f64],
 }
@@ -94,7 +97,7 @@ impl Split for Spins<'_> {
     fn split_at(self, at: usize) -> (Self, Self) {
         let mid = (at * DISKS_PER_UNIT).min(self.omega.len());
         let (o0, o1) = self.omega.split_at_mut(mid);
-        let ((r0, r1), (i0, i1)) = (self.rolling.split_at(mid), self.inv_inertia.split_at(mid));
+        let ((r0, r1), (i0, i1)) = (self.rolling.split_at_mut(mid), self.inv_inertia.split_at(mid));
         let (t0, t1) = self.terms.split_at_mut(mid);
         let first = Spins { first: self.first, omega: o0, rolling: r0, inv_inertia: i0, terms: t0 };
         (first, Spins { first: self.first + mid, omega: o1, rolling: r1, inv_inertia: i1, terms: t1 })
@@ -126,6 +129,7 @@ mod tests {
             let mut p = p.clone();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let removed = pool.install(|| apply(&mut p, 1e-4, &Team::new(threads), &mut Removed::default()));
+            assert!(p.rolling.iter().all(|&m| m == 0.0), "{threads} threads: resistances cleared for the next stage");
             (removed.to_bits(), p.omega.iter().map(|w| w.to_bits()).collect::<Vec<_>>())
         };
         let one = run(1);

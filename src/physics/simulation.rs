@@ -150,6 +150,8 @@ impl<L: ContactLaw> Simulation<L> {
         sim.neighbors.seed_histories(contacts);
         sim.compute_forces::<true>();
         sim.energy.initial_elastic = sim.totals.elastic;
+        // No step reads the rolling resistances at the start: cleared for the first contact stage.
+        sim.particles.rolling.fill(0.0);
         sim
     }
 
@@ -311,11 +313,9 @@ impl<L: ContactLaw> Simulation<L> {
     /// contact sums and per-disk contact force magnitudes (on one thread; other steps share the
     /// work between the threads the simulation is given, with the same bits).
     fn compute_forces<const SAMPLE: bool>(&mut self) {
-        // Forces and torques were cleared by the integrator, which read them last.
+        // Forces and torques were cleared by the integrator, which read them last, the rolling
+        // resistances by `rolling::apply` (or at the start).
         let p = &mut self.particles;
-        if self.rolling_resistance {
-            p.rolling.fill(0.0);
-        }
         if SAMPLE {
             p.contact_force.fill(0.0);
             self.totals = ContactTotals::default();
@@ -469,6 +469,26 @@ mod tests {
         assert_eq!(bits(&p.fy), bits(&fy), "fy");
         assert_eq!(bits(&p.torque), bits(&torque), "torque");
         assert_eq!(bits(&p.contact_force), bits(&magnitude), "force magnitudes");
+    }
+
+    #[test]
+    fn rolling_resistances_are_cleared_from_the_start_and_by_their_last_reader() {
+        // Three spinning disks pressed into the floor and into each other at time zero, so that
+        // the first force evaluation (at construction) already sums rolling resistances.
+        let mut scene = SceneConfig::default();
+        scene.material.rolling_friction = 0.1;
+        let r = 0.01;
+        let disk =
+            |k: u32| InitialDisk { x: 0.1 + 1.9 * r * f64::from(k), y: 0.98 * r, r, omega: 5.0, ..Default::default() };
+        let disks: Vec<InitialDisk> = (0..3).map(disk).collect();
+        let mut sim = Simulation::<crate::physics::contact::HertzMindlin>::new(&scene, &disks);
+        assert!(sim.totals.contacts >= 5, "{} contacts at the start", sim.totals.contacts);
+        let cleared = |sim: &Simulation<_>| sim.particles.rolling.iter().all(|&m| m == 0.0);
+        assert!(cleared(&sim), "the next contact stage starts from zero");
+        for _ in 0..20 {
+            sim.advance(false);
+            assert!(cleared(&sim), "cleared by the pass that applied them");
+        }
     }
 
     #[test]
