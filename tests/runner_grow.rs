@@ -136,7 +136,7 @@ fn a_changed_input_file_reruns_the_runs_that_read_it() {
     write(&dir, "pile.csv", &placement(0.06));
     let changed = run(&study_path, &out, true);
     assert_eq!((changed.already_done, changed.ran), (0, 2), "both runs read the edited file");
-    let rerun = RunNote::InputsChanged { runs: 2, changed: vec![IdentityChange::InputFiles] };
+    let rerun = RunNote::IdentityChanged { runs: 2, changed: vec![IdentityChange::InputFiles] };
     let kept = RunNote::Unplanned { ids: vec!["r0000".into(), "r0001".into()], deleted: false };
     assert_eq!(changed.notes, [rerun, kept], "the resume says why both run again, and what it keeps");
     let fresh = run(&study_path, &dir.join("fresh"), false);

@@ -21,7 +21,7 @@ pub enum RunNote {
         first: (String, String),
     },
     /// Planned runs match stored runs by their swept values but not by their identity: they run again.
-    InputsChanged {
+    IdentityChanged {
         /// How many.
         runs: usize,
         /// What differs.
@@ -88,7 +88,7 @@ impl fmt::Display for RunNote {
                  as --accept-version asks; /summary/demsweep_version says which made each",
                 crate::output::row::DEMSWEEP_VERSION
             ),
-            RunNote::InputsChanged { runs, changed } => {
+            RunNote::IdentityChanged { runs, changed } => {
                 let changed: Vec<String> = changed.iter().map(ToString::to_string).collect();
                 write!(
                     f,

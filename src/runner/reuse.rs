@@ -113,7 +113,7 @@ impl Reuse {
             notes.push(RunNote::OtherVersions { runs: self.other_versions.len(), first: first.clone() });
         }
         for (changed, &runs) in &self.changed {
-            notes.push(RunNote::InputsChanged { runs, changed: changed.clone() });
+            notes.push(RunNote::IdentityChanged { runs, changed: changed.clone() });
         }
         if self.lacking > 0 {
             notes.push(RunNote::LackingOutput { runs: self.lacking });
