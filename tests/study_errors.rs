@@ -65,6 +65,14 @@ fn non_positive_time_step() {
 }
 
 #[test]
+fn extreme_values_are_echoed_exactly_and_short() {
+    let e = single_error("tiny", "[scene]\nparticles.count = 20\ndomain.width = 1e-300\n", 3, "scene.domain.width");
+    assert_eq!(e.reason, "1e-300 m is narrower than the largest disk diameter 0.02 m");
+    let e = single_error("huge", "[scene]\nparticles.count = 20\ndamping.local = -2.5e200\n", 3, "scene.damping.local");
+    assert_eq!(e.reason, "must lie in [0, 1), got -2.5e200");
+}
+
+#[test]
 fn time_step_given_twice_names_both_keys() {
     let e = single_error(
         "dt-twice",

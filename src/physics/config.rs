@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::key_spec::scene_section;
+use super::number::exact;
 
 pub use super::contact::{ContactConfig, ContactLawKind};
 
@@ -504,27 +505,27 @@ impl Checker {
     }
     fn positive(&mut self, key: &str, value: f64) {
         if !(value.is_finite() && value > 0.0) {
-            self.fail(key, format!("must be a finite number > 0, got {value}"));
+            self.fail(key, format!("must be a finite number > 0, got {}", exact(value)));
         }
     }
     fn non_negative(&mut self, key: &str, value: f64) {
         if !(value.is_finite() && value >= 0.0) {
-            self.fail(key, format!("must be a finite number >= 0, got {value}"));
+            self.fail(key, format!("must be a finite number >= 0, got {}", exact(value)));
         }
     }
     fn finite(&mut self, key: &str, value: f64) {
         if !value.is_finite() {
-            self.fail(key, format!("must be finite, got {value}"));
+            self.fail(key, format!("must be finite, got {}", exact(value)));
         }
     }
     fn poisson(&mut self, key: &str, nu: f64) {
         if !(nu > -1.0 && nu <= 0.5) {
-            self.fail(key, format!("Poisson's ratio must lie in (-1, 0.5], got {nu}"));
+            self.fail(key, format!("Poisson's ratio must lie in (-1, 0.5], got {}", exact(nu)));
         }
     }
     fn restitution(&mut self, key: &str, e: f64) {
         if !(e > 0.0 && e <= 1.0) {
-            self.fail(key, format!("restitution must lie in (0, 1], got {e}"));
+            self.fail(key, format!("restitution must lie in (0, 1], got {}", exact(e)));
         }
     }
     fn exclusive(&mut self, a: &str, a_set: bool, b: &str, b_set: bool) {
@@ -557,7 +558,10 @@ impl SceneConfig {
         if let Some(rmax) = p.radius_max
             && !(rmax.is_finite() && rmax >= p.radius)
         {
-            c.fail("particles.radius_max", format!("must be >= particles.radius ({}), got {rmax}", p.radius));
+            c.fail(
+                "particles.radius_max",
+                format!("must be >= particles.radius ({}), got {}", exact(p.radius), exact(rmax)),
+            );
         }
         c.exclusive("particles.radius_max", p.radius_max.is_some(), "particles.radii", p.radii.is_some());
         if let Some(radii) = &p.radii {
@@ -565,14 +569,14 @@ impl SceneConfig {
                 c.fail("particles.radii", format!("has {} entries but particles.count is {}", radii.len(), p.count));
             }
             if let Some(bad) = radii.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
-                c.fail("particles.radii", format!("every radius must be > 0, found {bad}"));
+                c.fail("particles.radii", format!("every radius must be > 0, found {}", exact(*bad)));
             }
         }
         let largest = self.largest_radius();
         if largest.is_finite() && 2.0 * largest > d.width {
             c.fail(
                 "domain.width",
-                format!("{} m is narrower than the largest disk diameter {} m", d.width, 2.0 * largest),
+                format!("{} m is narrower than the largest disk diameter {} m", exact(d.width), exact(2.0 * largest)),
             );
         }
         if self.placement.kind == PlacementKind::File && self.placement.file.is_none() {
@@ -665,7 +669,7 @@ impl SceneConfig {
             if let Some(f) = fraction
                 && !(f.is_finite() && f > 0.0 && f <= 1.0)
             {
-                c.fail(key, format!("must lie in (0, 1], got {f}"));
+                c.fail(key, format!("must lie in (0, 1], got {}", exact(f)));
             }
             c.exclusive("integrator.time_step", i.time_step.is_some(), key, fraction.is_some());
         }
@@ -677,7 +681,7 @@ impl SceneConfig {
         );
         let d = &self.damping;
         if !(d.local.is_finite() && (0.0..1.0).contains(&d.local)) {
-            c.fail("damping.local", format!("must lie in [0, 1), got {}", d.local));
+            c.fail("damping.local", format!("must lie in [0, 1), got {}", exact(d.local)));
         }
         c.non_negative("damping.viscous", d.viscous);
         let r = &self.run;
@@ -687,7 +691,7 @@ impl SceneConfig {
             c.positive("run.frame_interval", i);
         }
         if let Some(t) = r.frame_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
-            c.fail("run.frame_times", format!("frame times must be >= 0, found {t}"));
+            c.fail("run.frame_times", format!("frame times must be >= 0, found {}", exact(*t)));
         }
         let steps = r.duration / i.fixed_time_step().unwrap_or(f64::INFINITY);
         if steps.is_finite() && steps > 1e12 {

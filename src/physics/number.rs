@@ -16,6 +16,12 @@ pub fn significant(x: f64, digits: usize) -> String {
     }
 }
 
+/// A value a user gave, in a message, exactly (the shortest text that reads back to it): plain
+/// unless very large or very small, where it is scientific (`1e-300`, not 300 digits).
+pub fn exact(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-6..1e16).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+}
+
 /// A measured value in a message: 4 significant digits.
 pub fn short(x: f64) -> String {
     significant(x, 4)
@@ -38,6 +44,18 @@ mod tests {
         assert_eq!(short(f64::MAX).len(), 9);
         assert_eq!(short(f64::MIN_POSITIVE), "2.225e-308");
         assert_eq!(short(5e-324), "4.941e-324", "a subnormal is scientific too");
+    }
+
+    #[test]
+    fn given_values_read_back_exactly_and_stay_short() {
+        for (x, text) in [(-0.00001, "-0.00001"), (0.0, "0"), (0.7, "0.7"), (1e-300, "1e-300"), (1e200, "1e200")] {
+            assert_eq!(exact(x), text);
+        }
+        assert_eq!((exact(f64::NAN), exact(f64::NEG_INFINITY)), ("NaN".to_string(), "-inf".to_string()));
+        for x in [0.1 + 0.2, f64::MAX, f64::MIN_POSITIVE, 5e-324, -123_456.789, 1e15 + 0.5] {
+            assert_eq!(exact(x).parse::<f64>(), Ok(x), "{}", exact(x));
+            assert!(exact(x).len() <= 24, "{}", exact(x));
+        }
     }
 
     #[test]

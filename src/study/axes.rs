@@ -9,6 +9,7 @@ use std::ops::Range;
 use super::ParamValue;
 use super::errors::StudyError;
 use super::file::{Document, KeyPath, StudyFile, dotted, quoted_key};
+use crate::physics::number::exact;
 
 /// The most runs one study may expand to.
 pub const MAX_RUNS: usize = 1_000_000;
@@ -283,7 +284,7 @@ pub(crate) fn range_ends(table: &toml::Table, extra: &[&str], shape: &str) -> Re
     };
     let (a, b) = endpoints(ends).map_err(|e| format!("{}: {e}", spacing.key()))?;
     if spacing == Spacing::Log && (a <= 0.0 || b <= 0.0) {
-        return Err(format!("log: the ends must be > 0, got [{a}, {b}]"));
+        return Err(format!("log: the ends must be > 0, got [{}, {}]", exact(a), exact(b)));
     }
     let integer = ends.as_array().is_some_and(|ends| ends.iter().all(toml::Value::is_integer));
     Ok(RangeEnds { spacing, a, b, integer })

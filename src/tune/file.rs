@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use crate::physics::SceneConfig;
 use crate::physics::config::PlacementKind;
+use crate::physics::number::exact;
 use crate::physics::placement;
 use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
@@ -284,7 +285,7 @@ fn parse_keep(file: &StudyFile, doc: &Document) -> (Vec<Keep>, Vec<StudyError>) 
                 keep.push(Keep { metric: metric.clone(), tolerance, absolute })
             }
             Some((tolerance, _)) => {
-                errors.push(file.error(span, label, format!("the tolerance must be > 0, got {tolerance}")))
+                errors.push(file.error(span, label, format!("the tolerance must be > 0, got {}", exact(tolerance))))
             }
             None => errors.push(file.error(
                 span,

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::physics::key_spec::scene_section;
+use crate::physics::number::exact;
 
 use super::linear::{stiffness_or_hertz_secant, stiffness_problems};
 use super::{Coefficients, ContactLaw, ContactState, PairProperties};
@@ -92,7 +93,10 @@ impl ContactLaw for HystereticLinear {
         );
         let ratio = self.unloading_stiffness_ratio;
         if !(ratio.is_finite() && ratio >= 1.0) {
-            problems.push(("unloading_stiffness_ratio", format!("must be a finite number ≥ 1 (k₂/k₁), got {ratio}")));
+            problems.push((
+                "unloading_stiffness_ratio",
+                format!("must be a finite number ≥ 1 (k₂/k₁), got {}", exact(ratio)),
+            ));
         }
         problems
     }

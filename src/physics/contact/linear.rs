@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::physics::key_spec::scene_section;
+use crate::physics::number::exact;
 
 use super::{Coefficients, ContactLaw, PairProperties};
 
@@ -43,10 +44,10 @@ pub(super) fn stiffness_problems(
     if let (key, Some(k)) = stiffness
         && !(k.is_finite() && k > 0.0)
     {
-        problems.push((key, format!("must be a finite number > 0 (N/m), got {k}")));
+        problems.push((key, format!("must be a finite number > 0 (N/m), got {}", exact(k))));
     }
     if !(ratio.1.is_finite() && ratio.1 >= 0.0) {
-        problems.push((ratio.0, format!("must be a finite number ≥ 0, got {}", ratio.1)));
+        problems.push((ratio.0, format!("must be a finite number ≥ 0, got {}", exact(ratio.1))));
     }
     problems
 }
