@@ -70,6 +70,8 @@ fn extreme_values_are_echoed_exactly_and_short() {
     assert_eq!(e.reason, "1e-300 m is narrower than the largest disk diameter 0.02 m");
     let e = single_error("huge", "[scene]\nparticles.count = 20\ndamping.local = -2.5e200\n", 3, "scene.damping.local");
     assert_eq!(e.reason, "must lie in [0, 1), got -2.5e200");
+    let e = single_error("count", "[scene]\nparticles.count = 1e200\n", 2, "scene.particles.count");
+    assert_eq!(e.reason, "invalid type: floating point `1e200`, expected a whole number ≥ 0");
 }
 
 #[test]

@@ -4,6 +4,8 @@ use std::collections::HashMap;
 use std::fmt;
 use std::path::PathBuf;
 
+use crate::physics::number::exact;
+
 /// A position in a text file, 1-based.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Location {
@@ -143,13 +145,27 @@ const PLAIN_TYPES: [(&str, &str); 9] = [
 ];
 
 /// A deserializer's message in the study's words: `expected f64` becomes `expected a number`,
-/// `expected usize` `expected a whole number ≥ 0`.
+/// `expected usize` `expected a whole number ≥ 0`, and an unexpected float is written as given
+/// ([`exact`]: serde writes `1e200` as 201 digits).
 pub(crate) fn plain_types(message: &str) -> String {
+    let message = &short_float(message);
     let Some((head, tail)) = message.split_once("expected ") else { return message.to_string() };
     let word_end = tail.find(|c: char| !c.is_ascii_alphanumeric()).unwrap_or(tail.len());
     match PLAIN_TYPES.iter().find(|(rust, _)| *rust == &tail[..word_end]) {
         Some((_, plain)) => format!("{head}expected {plain}{}", &tail[word_end..]),
         None => message.to_string(),
+    }
+}
+
+/// `message` with the float of its ``floating point `…` `` written as [`exact`] where serde's text
+/// is long (`15.0` stays: it says the value was a float).
+fn short_float(message: &str) -> String {
+    const FLOAT: &str = "floating point `";
+    let Some(start) = message.find(FLOAT).map(|i| i + FLOAT.len()) else { return message.to_string() };
+    let Some(len) = message[start..].find('`').filter(|&len| len > 24) else { return message.to_string() };
+    match message[start..start + len].parse::<f64>() {
+        Ok(x) => format!("{}{}{}", &message[..start], exact(x), &message[start + len..]),
+        Err(_) => message.to_string(),
     }
 }
 
@@ -282,6 +298,12 @@ mod tests {
         assert_eq!(
             plain_types("invalid value: integer `-1`, expected u64 here"),
             "invalid value: integer `-1`, expected a whole number ≥ 0 here"
+        );
+        let huge = format!("invalid type: floating point `1{}.0`, expected usize", "0".repeat(200));
+        assert_eq!(plain_types(&huge), "invalid type: floating point `1e200`, expected a whole number ≥ 0");
+        assert_eq!(
+            plain_types("floating point `15.0`, expected u8"),
+            "floating point `15.0`, expected a whole number ≥ 0"
         );
         assert_eq!(plain_types("expected f64s"), "expected f64s", "whole words only");
         assert_eq!(plain_types("unknown field `x`, expected one of `a`"), "unknown field `x`, expected one of `a`");
