@@ -135,10 +135,11 @@ pub struct TouchingPairs<S> {
     len: usize,
     /// Touching pairs of each block at the previous step (a hint for the narrow phase).
     touching_before: Vec<u8>,
-    /// Index of the pair in its block, and its two disks.
+    /// Index of the pair in its block.
     candidate: [usize; BLOCK],
-    i: [usize; BLOCK],
-    j: [usize; BLOCK],
+    /// Its two disks (a disk-wall contact: the disk twice), as the candidate has them: one
+    /// 8-byte copy per touching pair instead of two stores.
+    bodies: [[u32; 2]; BLOCK],
     // Gathered by the narrow phase.
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
@@ -184,8 +185,7 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
             len: 0,
             touching_before: Vec::new(),
             candidate: index,
-            i: index,
-            j: index,
+            bodies: [[0; 2]; BLOCK],
             dx: column,
             dy: column,
             ri: column,
@@ -439,7 +439,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let mut rows = block.rows;
             let mut stored = 0;
             for c in 0..self.len {
-                let i = self.i[c];
+                let (i, _) = self.bodies(c);
                 if own.contains(&i) {
                     self.add_one::<true>(kind, c, i - sums.first, sums);
                     continue;
@@ -502,7 +502,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         self.keep_histories(histories);
         let mut stored = 0;
         for c in 0..self.len {
-            let (i, j) = (self.i[c], self.j[c]);
+            let (i, j) = self.bodies(c);
             let (i_own, j_own) = (own.contains(&i), own.contains(&j));
             if i_own {
                 self.add_one::<true>(kind, c, i - sums.first, sums);
@@ -554,6 +554,13 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         }
     }
 
+    /// The two disks of row `c` (a disk-wall contact: the disk twice).
+    #[inline(always)]
+    fn bodies(&self, c: usize) -> (usize, usize) {
+        let [i, j] = self.bodies[c];
+        (i as usize, j as usize)
+    }
+
     /// Stage 1 for disk-wall candidates: the table rows of those touching, with the wall's normal
     /// and the overlap already in place (a wall has no centre to measure a distance from); the
     /// wall is the second body, at rest, of infinite radius and mass (`R* = r`, `m* = m`).
@@ -574,7 +581,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 continue;
             }
             self.candidate[len] = k;
-            (self.i[len], self.j[len]) = (i, i);
+            self.bodies[len] = [candidate.i; 2];
             [self.unit_x[len], self.unit_y[len]] = wall.normal;
             self.overlap[len] = overlap;
             (self.ri[len], self.rj[len]) = (r, f64::INFINITY);
@@ -631,8 +638,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             // Without the branch, every candidate is written to row `len`, which only a touching
             // one keeps.
             self.candidate[len] = k;
-            self.i[len] = i;
-            self.j[len] = j;
+            self.bodies[len] = [pair.i, pair.j];
             self.dx[len] = dx;
             self.dy[len] = dy;
             self.ri[len] = ri;
@@ -792,7 +798,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
         for c in 0..self.len {
-            let (i, j) = (self.i[c].wrapping_sub(first), self.j[c].wrapping_sub(first));
+            let (i, j) = self.bodies(c);
+            let (i, j) = (i.wrapping_sub(first), j.wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
             fx[i] += force_x;
@@ -837,9 +844,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 tangential_stiffness: self.tangential_stiffness[c],
             };
             let magnitude = force.magnitude();
-            contact_force[self.i[c]] += magnitude;
+            let (i, j) = self.bodies(c);
+            contact_force[i] += magnitude;
             if PAIRS {
-                contact_force[self.j[c]] += magnitude;
+                contact_force[j] += magnitude;
             }
             let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
             let overlap = self.overlap[c];
@@ -918,7 +926,7 @@ mod tests {
         let rows = |t: &TouchingPairs<()>| {
             let columns = [t.dx, t.dy, t.ri, t.rj, t.r_star, t.m_star, t.dvx, t.dvy, t.spin_i, t.spin_j, t.spring];
             (0..t.len)
-                .map(|c| (t.candidate[c], t.i[c], t.j[c], columns.map(|column| column[c].to_bits())))
+                .map(|c| (t.candidate[c], t.bodies(c), columns.map(|column| column[c].to_bits())))
                 .collect::<Vec<_>>()
         };
         assert_eq!(rows(&branchy), rows(&branch_free));
