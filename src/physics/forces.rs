@@ -3,7 +3,10 @@
 //! Disk pairs are taken in blocks of `BLOCK` (128) neighbour-list candidates, each in three stages:
 //! 1. **narrow phase**: which candidates touch. Their geometry, radii and relative velocities are
 //!    copied into a small table, one array per quantity (branching on contact in short lists only,
-//!    see `TouchingPairs::collect`);
+//!    see `TouchingPairs::collect`). In short lists each block keeps its touching pairs' rows (which
+//!    pairs, their disks, radii, `R*` and `m*`) from step to step: a block whose pairs touch as at
+//!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions,
+//!    velocities and springs (`TouchingPairs::gather_unchanged`), with the same touching test;
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
 //!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
 //!    the block, in branch-free loops over the table that the compiler vectorises. Their three
@@ -132,21 +135,21 @@ pub(super) fn relative_motion(overlap: f64, n: [f64; 2], dv: [f64; 2], spin: [f6
 /// with one row number costs one bounds check.
 #[derive(Clone, Debug)]
 pub struct TouchingPairs<S> {
-    len: usize,
+    /// The rows' pairs and what of them stays from step to step (swapped for a block's own, see
+    /// [`KeptRows`]).
+    rows: Box<KeptRows>,
+    /// Each block's rows as the narrow phase left them at a previous step (short lists).
+    kept: Vec<Box<KeptRows>>,
+    /// Calls of [`TouchingPairs::contacts`] so far (which call each block's rows are from).
+    calls: u64,
+    /// Blocks whose touching pairs were gathered unchanged (the tests' view of that path).
+    #[cfg(test)]
+    unchanged_blocks: usize,
     /// Touching pairs of each block at the previous step (a hint for the narrow phase).
     touching_before: Vec<u8>,
-    /// Index of the pair in its block.
-    candidate: [usize; BLOCK],
-    /// Its two disks (a disk-wall contact: the disk twice), as the candidate has them: one
-    /// 8-byte copy per touching pair instead of two stores.
-    bodies: [[u32; 2]; BLOCK],
     // Gathered by the narrow phase.
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
-    ri: [f64; BLOCK],
-    rj: [f64; BLOCK],
-    r_star: [f64; BLOCK],
-    m_star: [f64; BLOCK],
     /// `v_i − v_j`.
     dvx: [f64; BLOCK],
     dvy: [f64; BLOCK],
@@ -178,20 +181,61 @@ pub struct TouchingPairs<S> {
     tangential_stiffness: [f64; BLOCK],
 }
 
-impl<S: Copy + Default> Default for TouchingPairs<S> {
+/// The touching pairs of a block, what of them does not change between neighbour-list builds:
+/// kept from step to step, so that a block whose touching pairs are those of the previous step
+/// (nearly all blocks of a settling pile) only gathers their positions and velocities.
+#[derive(Clone, Debug)]
+struct KeptRows {
+    len: usize,
+    /// The call of [`TouchingPairs::contacts`] whose narrow phase wrote them, and the build of
+    /// the candidate list they are from.
+    written: u64,
+    build: u64,
+    /// Index of the pair in its block.
+    candidate: [usize; BLOCK],
+    /// Its two disks (a disk-wall contact: the disk twice), as the candidate has them: one
+    /// 8-byte copy per touching pair instead of two stores.
+    bodies: [[u32; 2]; BLOCK],
+    ri: [f64; BLOCK],
+    rj: [f64; BLOCK],
+    r_star: [f64; BLOCK],
+    m_star: [f64; BLOCK],
+    /// The block's candidates out of contact (indices in the block), and how many.
+    apart: [u8; BLOCK],
+    apart_len: usize,
+}
+
+impl Default for KeptRows {
     fn default() -> Self {
-        let (index, column) = ([0; BLOCK], [0.0; BLOCK]);
+        let column = [0.0; BLOCK];
         Self {
             len: 0,
-            touching_before: Vec::new(),
-            candidate: index,
+            written: 0,
+            build: 0,
+            candidate: [0; BLOCK],
             bodies: [[0; 2]; BLOCK],
-            dx: column,
-            dy: column,
             ri: column,
             rj: column,
             r_star: column,
             m_star: column,
+            apart: [0; BLOCK],
+            apart_len: 0,
+        }
+    }
+}
+
+impl<S: Copy + Default> Default for TouchingPairs<S> {
+    fn default() -> Self {
+        let column = [0.0; BLOCK];
+        Self {
+            rows: Box::default(),
+            kept: Vec::new(),
+            calls: 0,
+            #[cfg(test)]
+            unchanged_blocks: 0,
+            touching_before: Vec::new(),
+            dx: column,
+            dy: column,
             dvx: column,
             dvy: column,
             spin_i: column,
@@ -362,7 +406,13 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         // than its vector loops save).
         let (mut done, mut ready) = (0, 0);
         let short = pairs.entries.len() <= PREDICTED_CANDIDATES;
-        self.touching_before.resize(pairs.entries.len().div_ceil(BLOCK), 0);
+        let block_count = pairs.entries.len().div_ceil(BLOCK);
+        self.touching_before.resize(block_count, 0);
+        self.calls += 1;
+        if short && self.kept.len() < block_count {
+            self.kept.resize_with(block_count, Box::default);
+        }
+        let build = pairs.build();
         let blocks = pairs.entries.chunks(BLOCK).zip(pairs.springs.chunks_mut(BLOCK));
         for (b, (block, springs)) in blocks.enumerate() {
             let states = states_of(&mut pairs.states, b * BLOCK..b * BLOCK + block.len());
@@ -372,14 +422,24 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, done..ready, s, f, totals);
                 done = ready;
             }
-            if short || self.touching_before[b] < SPARSE_BLOCK {
-                self.collect::<true>(s, block, (springs, states));
-            } else {
-                self.collect::<false>(s, block, (springs, states));
+            if short {
+                std::mem::swap(&mut self.rows, &mut self.kept[b]);
             }
-            self.touching_before[b] = self.len as u8; // at most BLOCK = 128
+            // Sampled steps count every contact afresh (and are rare).
+            if short && !SAMPLE && self.gather_unchanged(s, build, block, (springs, states)) {
+                #[cfg(test)]
+                {
+                    self.unchanged_blocks += 1;
+                }
+            } else {
+                self.narrow_phase(b, short, s, block, (springs, states));
+            }
             self.compute_forces::<L, true>(law, disk_kind);
             self.scatter::<L, SAMPLE, true>(law, disk_kind, (springs, states), f, totals);
+            if short {
+                (self.rows.written, self.rows.build) = (self.calls, build);
+                std::mem::swap(&mut self.rows, &mut self.kept[b]);
+            }
         }
         let all = done..wall_candidates.entries.len();
         self.wall_contacts::<L, SAMPLE>(law, wall_kind, walls, wall_candidates, all, s, f, totals);
@@ -402,12 +462,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         while !rest.entries.is_empty() {
             let (block, after) = rest.cut(1);
             let b = block.first_block;
-            if short || self.touching_before[b] < SPARSE_BLOCK {
-                self.collect::<true>(s, block.entries, (block.springs, block.states));
-            } else {
-                self.collect::<false>(s, block.entries, (block.springs, block.states));
-            }
-            self.touching_before[b] = self.len as u8; // at most BLOCK = 128
+            self.narrow_phase(b, short, s, block.entries, (block.springs, block.states));
             self.compute_forces::<L, true>(law, kind);
             // Candidates are sorted by first disk, the second the larger: a block whose first
             // disk is the part's own and that ends before `reaching` has only the part's own disks.
@@ -438,7 +493,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.keep_histories((block.springs, block.states));
             let mut rows = block.rows;
             let mut stored = 0;
-            for c in 0..self.len {
+            for c in 0..self.rows.len {
                 let (i, _) = self.bodies(c);
                 if own.contains(&i) {
                     self.add_one::<true>(kind, c, i - sums.first, sums);
@@ -480,7 +535,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let rolling_friction = kind.material.rolling_friction;
         if rolling_friction > 0.0 {
             let resistance = rolling_friction * self.normal[c].max(0.0);
-            sums.rolling[k] += resistance * if FIRST { self.ri[c] } else { self.rj[c] };
+            sums.rolling[k] += resistance * if FIRST { self.rows.ri[c] } else { self.rows.rj[c] };
         }
     }
 
@@ -501,7 +556,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         }
         self.keep_histories(histories);
         let mut stored = 0;
-        for c in 0..self.len {
+        for c in 0..self.rows.len {
             let (i, j) = self.bodies(c);
             let (i_own, j_own) = (own.contains(&i), own.contains(&j));
             if i_own {
@@ -521,8 +576,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 
     /// Writes the touching contacts' springs and states back to their candidates.
     fn keep_histories(&self, (springs, states): Histories<'_, S>) {
-        for c in 0..self.len {
-            let k = self.candidate[c];
+        for c in 0..self.rows.len {
+            let k = self.rows.candidate[c];
             springs[k] = self.spring[c];
             if stateful::<S>() {
                 states[k] = self.state[c];
@@ -557,8 +612,75 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// The two disks of row `c` (a disk-wall contact: the disk twice).
     #[inline(always)]
     fn bodies(&self, c: usize) -> (usize, usize) {
-        let [i, j] = self.bodies[c];
+        let [i, j] = self.rows.bodies[c];
         (i as usize, j as usize)
+    }
+
+    /// Stage 1 for block `b` of the candidate list, `short` or not (see `collect`).
+    fn narrow_phase(
+        &mut self,
+        b: usize,
+        short: bool,
+        s: &State<'_>,
+        block: &[NeighborPair],
+        histories: Histories<'_, S>,
+    ) {
+        if short || self.touching_before[b] < SPARSE_BLOCK {
+            self.collect::<true>(s, block, histories);
+        } else {
+            self.collect::<false>(s, block, histories);
+        }
+        self.touching_before[b] = self.rows.len as u8; // at most BLOCK = 128
+    }
+
+    /// Stage 1 for a block whose touching pairs are those the narrow phase found at the previous
+    /// step (the rows swapped in, of a list of `build`, the block's candidates `block` of them):
+    /// their positions, velocities and histories gathered into the table. Returns false, having
+    /// gathered some or none, when the rows are not the block's of the previous call, or a pair
+    /// touches that did not or no longer does (the narrow phase then takes the block). The same
+    /// touching test as `collect`'s, so the same rows in the same order.
+    fn gather_unchanged(
+        &mut self,
+        s: &State<'_>,
+        build: u64,
+        block: &[NeighborPair],
+        (springs, states): (&[f64], &[S]),
+    ) -> bool {
+        let rows = &*self.rows;
+        if build == 0 || rows.build != build || rows.written + 1 != self.calls {
+            return false;
+        }
+        let n = s.x.len();
+        // Slices of one known length: the asserts below cover all their bounds checks.
+        let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN distances touch, as in `collect`
+        let touching = |dx: f64, dy: f64, reach: f64| !(dx * dx + dy * dy >= reach * reach);
+        for &k in &rows.apart[..rows.apart_len] {
+            let pair = &block[usize::from(k)];
+            let (i, j) = (pair.i as usize, pair.j as usize);
+            assert!(i < n && j < n, "neighbour pair out of range");
+            if touching(x[j] - x[i], y[j] - y[i], r[i] + r[j]) {
+                return false;
+            }
+        }
+        let springs = &springs[..block.len()];
+        for c in 0..rows.len {
+            let [i, j] = rows.bodies[c].map(|b| b as usize);
+            assert!(i < n && j < n, "neighbour pair out of range");
+            let (dx, dy, ri, rj) = (x[j] - x[i], y[j] - y[i], rows.ri[c], rows.rj[c]);
+            if !touching(dx, dy, ri + rj) {
+                return false;
+            }
+            (self.dx[c], self.dy[c]) = (dx, dy);
+            (self.dvx[c], self.dvy[c]) = (vx[i] - vx[j], vy[i] - vy[j]);
+            (self.spin_i[c], self.spin_j[c]) = (omega[i] * ri, omega[j] * rj);
+            let k = rows.candidate[c];
+            self.spring[c] = springs[k];
+            if stateful::<S>() {
+                self.state[c] = states[k];
+            }
+        }
+        true
     }
 
     /// Stage 1 for disk-wall candidates: the table rows of those touching, with the wall's normal
@@ -580,12 +702,12 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 }
                 continue;
             }
-            self.candidate[len] = k;
-            self.bodies[len] = [candidate.i; 2];
+            self.rows.candidate[len] = k;
+            self.rows.bodies[len] = [candidate.i; 2];
             [self.unit_x[len], self.unit_y[len]] = wall.normal;
             self.overlap[len] = overlap;
-            (self.ri[len], self.rj[len]) = (r, f64::INFINITY);
-            (self.r_star[len], self.m_star[len]) = (r, candidate.m_star);
+            (self.rows.ri[len], self.rows.rj[len]) = (r, f64::INFINITY);
+            (self.rows.r_star[len], self.rows.m_star[len]) = (r, candidate.m_star);
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
             (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
             self.spring[len] = *spring;
@@ -594,7 +716,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             len += 1;
         }
-        self.len = len;
+        self.rows.len = len;
     }
 
     /// Stage 1: appends the touching pairs of `block` to the table with what stage 2 needs; pairs
@@ -612,7 +734,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
         let (springs, states) = histories;
         let springs = &mut springs[..block.len()];
-        let mut len = 0;
+        let (mut len, mut apart) = (0, 0);
         for k in 0..block.len() {
             let (pair, spring) = (&block[k], &mut springs[k]);
             let (i, j) = (pair.i as usize, pair.j as usize);
@@ -626,6 +748,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
             let touching = !(d2 >= reach * reach);
             if PREDICTED && !touching {
+                self.rows.apart[apart] = k as u8; // k < BLOCK = 128
+                apart += 1;
                 // Written only when set, so pairs out of contact leave their cache line clean.
                 if *spring != 0.0 {
                     *spring = 0.0;
@@ -637,14 +761,14 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             // Without the branch, every candidate is written to row `len`, which only a touching
             // one keeps.
-            self.candidate[len] = k;
-            self.bodies[len] = [pair.i, pair.j];
+            self.rows.candidate[len] = k;
+            self.rows.bodies[len] = [pair.i, pair.j];
             self.dx[len] = dx;
             self.dy[len] = dy;
-            self.ri[len] = ri;
-            self.rj[len] = rj;
-            self.r_star[len] = pair.r_star;
-            self.m_star[len] = pair.m_star;
+            self.rows.ri[len] = ri;
+            self.rows.rj[len] = rj;
+            self.rows.r_star[len] = pair.r_star;
+            self.rows.m_star[len] = pair.m_star;
             self.dvx[len] = vx[i] - vx[j];
             self.dvy[len] = vy[i] - vy[j];
             self.spin_i[len] = omega[i] * ri;
@@ -663,7 +787,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             len += usize::from(touching);
         }
-        self.len = len;
+        (self.rows.len, self.rows.apart_len) = (len, apart);
     }
 
     /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
@@ -709,9 +833,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// many contacts' square root and division, which follow one another within a contact.
     #[inline(always)]
     fn geometry(&mut self) {
-        let n = self.len;
+        let n = self.rows.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
-        let (dx, dy, ri, rj) = (&self.dx[..n], &self.dy[..n], &self.ri[..n], &self.rj[..n]);
+        let (dx, dy, ri, rj) = (&self.dx[..n], &self.dy[..n], &self.rows.ri[..n], &self.rows.rj[..n]);
         let (unit_x, unit_y, overlap) = (&mut self.unit_x[..n], &mut self.unit_y[..n], &mut self.overlap[..n]);
         for c in 0..n {
             let ([ux, uy], o) = unit_normal_and_overlap(dx[c], dy[c], ri[c], rj[c]);
@@ -722,8 +846,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// The law's stiffness and damping at each overlap: a loop of its own, for the same reason.
     #[inline(always)]
     fn coefficients<L: ContactLaw<State = S>>(&mut self, law: &L, kind: &ContactParameters) {
-        let n = self.len;
-        let (overlap, r_star, m_star) = (&self.overlap[..n], &self.r_star[..n], &self.m_star[..n]);
+        let n = self.rows.len;
+        let (overlap, r_star, m_star) = (&self.overlap[..n], &self.rows.r_star[..n], &self.rows.m_star[..n]);
         let state = &mut self.state[..n];
         let (elastic, normal_damping) = (&mut self.elastic[..n], &mut self.normal_damping[..n]);
         let (stiffness, tangential_damping) = (&mut self.tangential_stiffness[..n], &mut self.tangential_damping[..n]);
@@ -737,12 +861,12 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// The resolved forces and torques, from the geometry and coefficients.
     #[inline(always)]
     fn resolve_all(&mut self, kind: &ContactParameters) {
-        let n = self.len;
+        let n = self.rows.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
         let (nx, ny, overlap) = (&self.unit_x[..n], &self.unit_y[..n], &self.overlap[..n]);
         let (elastic, normal_damping) = (&self.elastic[..n], &self.normal_damping[..n]);
         let (stiffness, tangential_damping) = (&self.tangential_stiffness[..n], &self.tangential_damping[..n]);
-        let (ri, rj) = (&self.ri[..n], &self.rj[..n]);
+        let (ri, rj) = (&self.rows.ri[..n], &self.rows.rj[..n]);
         let (dvx, dvy, spin_i, spin_j) = (&self.dvx[..n], &self.dvy[..n], &self.spin_i[..n], &self.spin_j[..n]);
         let (force_x, force_y) = (&mut self.force_x[..n], &mut self.force_y[..n]);
         let (torque_i, torque_j) = (&mut self.torque_i[..n], &mut self.torque_j[..n]);
@@ -797,7 +921,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (torque, rolling) = (&mut sums.torque[..n], &mut sums.rolling[..n]);
         let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
-        for c in 0..self.len {
+        for c in 0..self.rows.len {
             let (i, j) = self.bodies(c);
             let (i, j) = (i.wrapping_sub(first), j.wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
@@ -816,14 +940,14 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             if rolling_friction > 0.0 {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
-                rolling[i] += resistance * self.ri[c];
+                rolling[i] += resistance * self.rows.ri[c];
                 if PAIRS {
-                    rolling[j] += resistance * self.rj[c];
+                    rolling[j] += resistance * self.rows.rj[c];
                 }
             }
-            springs[self.candidate[c]] = self.spring[c];
+            springs[self.rows.candidate[c]] = self.spring[c];
             if stateful::<S>() {
-                states[self.candidate[c]] = self.state[c];
+                states[self.rows.candidate[c]] = self.state[c];
             }
         }
     }
@@ -837,7 +961,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         contact_force: &mut [f64],
         totals: &mut ContactTotals,
     ) {
-        for c in 0..self.len {
+        for c in 0..self.rows.len {
             let force = ContactForce {
                 normal: self.normal[c],
                 tangential: self.tangential[c],
@@ -849,10 +973,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             if PAIRS {
                 contact_force[j] += magnitude;
             }
-            let pair = kind.pair_properties(self.r_star[c], self.m_star[c]);
+            let pair = kind.pair_properties(self.rows.r_star[c], self.rows.m_star[c]);
             let overlap = self.overlap[c];
             let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
-            totals.add(energy, magnitude, overlap / self.ri[c].min(self.rj[c]));
+            totals.add(energy, magnitude, overlap / self.rows.ri[c].min(self.rows.rj[c]));
         }
     }
 }
@@ -861,6 +985,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 mod tests {
     use super::*;
     use crate::physics::contact::HertzMindlin;
+    use crate::physics::neighbors::NeighborList;
     use crate::physics::particles::{InitialDisk, Particles};
 
     fn kind(allow_tension: bool) -> ContactParameters {
@@ -872,13 +997,14 @@ mod tests {
     /// Touching pairs with assorted geometry and motion: sticking, sliding both ways, separating
     /// fast (normal force clamped or tensile), coincident centres.
     fn table() -> TouchingPairs<()> {
-        let mut t = TouchingPairs { len: 101, ..Default::default() };
-        for c in 0..t.len {
+        let mut t = TouchingPairs::default();
+        t.rows.len = 101;
+        for c in 0..t.rows.len {
             let (a, w) = (c as f64 * 0.37, (c as f64 * 0.91).sin());
             let d = if c == 7 { 0.0 } else { 0.0199 - 1e-6 * (c % 13) as f64 };
             (t.dx[c], t.dy[c]) = (d * a.cos(), d * a.sin());
-            (t.ri[c], t.rj[c]) = (0.01, 0.01 - 1e-5 * (c % 3) as f64);
-            (t.r_star[c], t.m_star[c]) = (0.005, 0.15);
+            (t.rows.ri[c], t.rows.rj[c]) = (0.01, 0.01 - 1e-5 * (c % 3) as f64);
+            (t.rows.r_star[c], t.rows.m_star[c]) = (0.005, 0.15);
             (t.dvx[c], t.dvy[c]) = (3.0 * w * a.cos(), -2.0 * w);
             (t.spin_i[c], t.spin_j[c]) = (0.5 * w, -0.2);
             t.spring[c] = 1e-6 * (c as f64 - 50.0);
@@ -920,13 +1046,25 @@ mod tests {
         let mut states = vec![(); pairs.len()];
         branchy.collect::<true>(&s, &pairs, (&mut springs_branchy, &mut states));
         branch_free.collect::<false>(&s, &pairs, (&mut springs_branch_free, &mut states));
-        let touching = branchy.len;
+        let touching = branchy.rows.len;
         assert!(touching > 10 && touching < pairs.len() - 10, "{touching} of {} touch", pairs.len());
-        assert_eq!(branch_free.len, touching);
+        assert_eq!(branch_free.rows.len, touching);
         let rows = |t: &TouchingPairs<()>| {
-            let columns = [t.dx, t.dy, t.ri, t.rj, t.r_star, t.m_star, t.dvx, t.dvy, t.spin_i, t.spin_j, t.spring];
-            (0..t.len)
-                .map(|c| (t.candidate[c], t.bodies(c), columns.map(|column| column[c].to_bits())))
+            let columns = [
+                t.dx,
+                t.dy,
+                t.rows.ri,
+                t.rows.rj,
+                t.rows.r_star,
+                t.rows.m_star,
+                t.dvx,
+                t.dvy,
+                t.spin_i,
+                t.spin_j,
+                t.spring,
+            ];
+            (0..t.rows.len)
+                .map(|c| (t.rows.candidate[c], t.bodies(c), columns.map(|column| column[c].to_bits())))
                 .collect::<Vec<_>>()
         };
         assert_eq!(rows(&branchy), rows(&branch_free));
@@ -935,10 +1073,65 @@ mod tests {
             springs
                 .iter()
                 .enumerate()
-                .filter(|(k, _)| !branchy.candidate[..touching].contains(k))
+                .filter(|(k, _)| !branchy.rows.candidate[..touching].contains(k))
                 .all(|(_, &s)| s == 0.0)
         };
         assert!(cleared_out_of_contact(&springs_branchy) && cleared_out_of_contact(&springs_branch_free));
+    }
+
+    #[test]
+    fn blocks_gathered_unchanged_give_the_narrow_phase_bits_as_contacts_come_and_go() {
+        // A 16 x 16 lattice of disks that just touch (four blocks of candidates), five of them
+        // wobbling on circles larger than the overlap: their pairs come into and out of contact
+        // from step to step, the other pairs stay touching.
+        let disks: Vec<_> = (0..256)
+            .map(|k| {
+                let w = (k as f64 * 1.3).sin();
+                let (x, y) = (0.05 + 0.01998 * (k % 16) as f64, 0.05 + 0.01998 * (k / 16) as f64);
+                InitialDisk { x, y, r: 0.01, vx: w, vy: -0.5 * w, omega: 3.0 * w, angle: 0.0 }
+            })
+            .collect();
+        let mut particles = Particles::new(&disks, 1000.0, 1.0);
+        let walls = crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
+            width: 1.0,
+            height: 4.0,
+            lid: false,
+        });
+        let team = crate::physics::parallel::Team::new(1);
+        let mut list = NeighborList::<()>::new(crate::physics::config::BroadPhaseKind::Grid, 0.004);
+        list.rebuild(&particles, &walls, &team);
+        let (law, kind) = (HertzMindlin {}, kind(false));
+        let (mut kept, mut totals) = (TouchingPairs::<()>::default(), ContactTotals::default());
+        let mut blocks = 0;
+        for step in 0..80 {
+            for (k, disk) in disks.iter().enumerate() {
+                let (phase, wobble) = (0.3 * step as f64 + k as f64, if k % 50 == 7 { 3e-5 } else { 0.0 });
+                particles.x[k] = disk.x + wobble * phase.cos();
+                particles.y[k] = disk.y + wobble * phase.sin();
+            }
+            // The same step through a table that has no rows of earlier steps.
+            let mut afresh = list.clone();
+            let mut forces = Vec::new();
+            for (table, list) in [(&mut kept, &mut list), (&mut TouchingPairs::default(), &mut afresh)] {
+                let (s, mut f) = particles.split();
+                let walls = (&walls.walls[..], &mut list.walls);
+                table.contacts::<_, false>(&law, [&kind, &kind], &mut list.pairs, walls, &s, &mut f, &mut totals);
+                let columns = [&f.fx, &f.fy, &f.torque].map(|c| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+                forces.push((columns, list.pairs.springs.iter().map(|v| v.to_bits()).collect::<Vec<_>>()));
+                for column in [f.fx, f.fy, f.torque] {
+                    column.fill(0.0);
+                }
+            }
+            assert!(forces[0] == forces[1], "step {step}: forces or springs differ");
+            assert!(forces[0].1.iter().any(|&b| b != 0), "tangential springs");
+            blocks += list.pairs.entries.len().div_ceil(BLOCK);
+        }
+        let unchanged = kept.unchanged_blocks;
+        println!("{unchanged} of {blocks} blocks unchanged");
+        assert!(
+            unchanged >= blocks / 4 && blocks - unchanged >= blocks / 20,
+            "{unchanged} of {blocks} blocks unchanged"
+        );
     }
 
     #[test]
@@ -949,22 +1142,25 @@ mod tests {
             let before = t.spring;
             t.compute_forces::<_, true>(&law, &kind);
             let (mut sliding, mut clamped) = (0, 0);
-            for (c, &spring_before) in before.iter().enumerate().take(t.len) {
+            for (c, &spring_before) in before.iter().enumerate().take(t.rows.len) {
                 // One contact at a time, opaque to the compiler, so it cannot be vectorised.
                 let d = std::hint::black_box(t.dx[c] * t.dx[c] + t.dy[c] * t.dy[c]).sqrt();
                 let (nx, ny) = if d > 0.0 { (t.dx[c] * (1.0 / d), t.dy[c] * (1.0 / d)) } else { (1.0, 0.0) };
                 let motion = Kinematics {
-                    overlap: (t.ri[c] + t.rj[c]) - d,
+                    overlap: (t.rows.ri[c] + t.rows.rj[c]) - d,
                     approach_speed: t.dvx[c] * nx + t.dvy[c] * ny,
                     tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
                 };
-                let coefficients =
-                    law.coefficients(&kind.pair_properties(t.r_star[c], t.m_star[c]), motion.overlap, &mut ());
+                let coefficients = law.coefficients(
+                    &kind.pair_properties(t.rows.r_star[c], t.rows.m_star[c]),
+                    motion.overlap,
+                    &mut (),
+                );
                 let mut spring = spring_before;
                 let force = contact::resolve(&coefficients, &kind.options, &motion, &mut spring, kind.dt);
                 let expect = force.on_first_body(nx, ny);
                 assert_eq!([t.force_x[c].to_bits(), t.force_y[c].to_bits()], expect.map(f64::to_bits), "force {c}");
-                assert_eq!(t.torque_j[c].to_bits(), (force.tangential * t.rj[c]).to_bits(), "torque {c}");
+                assert_eq!(t.torque_j[c].to_bits(), (force.tangential * t.rows.rj[c]).to_bits(), "torque {c}");
                 assert_eq!(t.spring[c].to_bits(), spring.to_bits(), "spring {c}");
                 assert_eq!(t.normal[c].to_bits(), force.normal.to_bits(), "normal {c}");
                 sliding += usize::from(force.tangential.abs() == kind.options.friction * force.normal.max(0.0));

@@ -87,6 +87,19 @@ pub struct Candidates<T, S = ()> {
     fresh: Vec<T>,
     fresh_springs: Vec<f64>,
     fresh_states: Vec<S>,
+    /// Which build the entries are from: unique among all lists of the process, 0 for none.
+    build: u64,
+}
+
+/// The number of the latest build of any candidate list.
+static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+impl<T, S> Candidates<T, S> {
+    /// Which build the entries are from (the same number: the same entries): unique among all
+    /// candidate lists of the process; 0 for a list not built by [`NeighborList::rebuild`].
+    pub fn build(&self) -> u64 {
+        self.build
+    }
 }
 
 impl<T, S> Default for Candidates<T, S> {
@@ -98,6 +111,7 @@ impl<T, S> Default for Candidates<T, S> {
             fresh: Vec::new(),
             fresh_springs: Vec::new(),
             fresh_states: Vec::new(),
+            build: 0,
         }
     }
 }
@@ -151,6 +165,7 @@ impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
         std::mem::swap(&mut self.entries, &mut self.fresh);
         std::mem::swap(&mut self.springs, &mut self.fresh_springs);
         std::mem::swap(&mut self.states, &mut self.fresh_states);
+        self.build = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
     }
 
     /// Gives the entry of `key`, if there is one, the history `(spring, state)`.
