@@ -274,6 +274,14 @@ impl<T: Send> Split for Joined<'_, T> {
     }
 }
 
+impl<S> NeighborList<S> {
+    /// Longest distance a disk can have moved since the last build (m), the rounding of its sum
+    /// aside.
+    pub fn travel(&self) -> f64 {
+        self.travel
+    }
+}
+
 impl<S: Copy + Default + Send + Sync> NeighborList<S> {
     /// An empty list; call [`NeighborList::rebuild`] before use.
     pub fn new(broad_phase: BroadPhaseKind, skin: f64) -> Self {

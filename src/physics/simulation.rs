@@ -341,8 +341,7 @@ impl<L: ContactLaw> Simulation<L> {
         self.touching.contacts::<L, SAMPLE>(
             &self.law,
             [&self.disk_contacts, &self.wall_contacts],
-            &mut self.neighbors.pairs,
-            (&self.walls.walls, &mut self.neighbors.walls),
+            (&self.walls.walls, &mut self.neighbors),
             &s,
             &mut f,
             &mut self.totals,
