@@ -462,7 +462,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                     self.unchanged_blocks += 1;
                 }
             } else {
-                self.narrow_phase(b, short, s, block, (springs, states));
+                self.narrow_phase(b, (short, short), s, block, (springs, states));
                 (self.rows.collected, self.rows.travel) = (self.calls, travel);
             }
             self.compute_forces::<L, true>(law, disk_kind);
@@ -493,7 +493,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         while !rest.entries.is_empty() {
             let (block, after) = rest.cut(1);
             let b = block.first_block;
-            self.narrow_phase(b, short, s, block.entries, (block.springs, block.states));
+            self.narrow_phase(b, (short, false), s, block.entries, (block.springs, block.states));
             self.compute_forces::<L, true>(law, kind);
             // Candidates are sorted by first disk, the second the larger: a block whose first
             // disk is the part's own and that ends before `reaching` has only the part's own disks.
@@ -647,19 +647,22 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         (i as usize, j as usize)
     }
 
-    /// Stage 1 for block `b` of the candidate list, `short` or not (see `collect`).
+    /// Stage 1 for block `b` of the candidate list, `short` or not (see `collect`); `keep`: whether
+    /// the rows are to be kept for the next step (a short list's, on one thread).
     fn narrow_phase(
         &mut self,
         b: usize,
-        short: bool,
+        (short, keep): (bool, bool),
         s: &State<'_>,
         block: &[NeighborPair],
         histories: Histories<'_, S>,
     ) {
-        if short || self.touching_before[b] < SPARSE_BLOCK {
-            self.collect::<true>(s, block, histories);
+        if keep {
+            self.collect::<true, true>(s, block, histories);
+        } else if short || self.touching_before[b] < SPARSE_BLOCK {
+            self.collect::<true, false>(s, block, histories);
         } else {
-            self.collect::<false>(s, block, histories);
+            self.collect::<false, false>(s, block, histories);
         }
         self.touching_before[b] = self.rows.len as u8; // at most BLOCK = 128
     }
@@ -768,8 +771,14 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// to step and the branch costs nearly nothing. In a long list it cannot, and each mispredicted
     /// branch also waits for the loads of both disks' positions, from L3 or memory when the list is
     /// long; without `PREDICTED` there is no branch: every candidate is written to the next row of
-    /// the table, which only a touching one keeps.
-    fn collect<const PREDICTED: bool>(&mut self, s: &State<'_>, block: &[NeighborPair], histories: Histories<'_, S>) {
+    /// the table, which only a touching one keeps. With `KEEP` (and `PREDICTED`), also the pairs
+    /// apart and their clearance, for [`TouchingPairs::gather_unchanged`].
+    fn collect<const PREDICTED: bool, const KEEP: bool>(
+        &mut self,
+        s: &State<'_>,
+        block: &[NeighborPair],
+        histories: Histories<'_, S>,
+    ) {
         let n = s.x.len();
         // Slices of one known length: the assert below covers all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
@@ -790,10 +799,16 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
             let touching = !(d2 >= reach * reach);
             if PREDICTED && !touching {
-                self.rows.apart[apart] = k as u8; // k < BLOCK = 128
-                apart += 1;
-                (nearest, widest) = (nearest.min(d2 - reach * reach), widest.max(reach));
-                farthest = farthest.max(x[i].abs().max(y[i].abs()));
+                if KEEP {
+                    self.rows.apart[apart] = k as u8; // k < BLOCK = 128
+                    apart += 1;
+                    // Neither is NaN here: comparisons, which are one instruction (`f64::min` and
+                    // `max` take more, for NaNs).
+                    let (q, far) = (d2 - reach * reach, x[i].abs() + y[i].abs());
+                    nearest = if q < nearest { q } else { nearest };
+                    widest = if reach > widest { reach } else { widest };
+                    farthest = if far > farthest { far } else { farthest };
+                }
                 // Written only when set, so pairs out of contact leave their cache line clean.
                 if *spring != 0.0 {
                     *spring = 0.0;
@@ -832,7 +847,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             len += usize::from(touching);
         }
         (self.rows.len, self.rows.apart_len) = (len, apart);
-        self.rows.clearance = if PREDICTED { KeptRows::clearance_of(nearest, widest, farthest) } else { 0.0 };
+        self.rows.clearance = if KEEP { KeptRows::clearance_of(nearest, widest, farthest) } else { 0.0 };
     }
 
     /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
@@ -1088,8 +1103,8 @@ mod tests {
         let (mut branchy, mut branch_free) = (TouchingPairs::<()>::default(), TouchingPairs::<()>::default());
         let (mut springs_branchy, mut springs_branch_free) = (springs.clone(), springs);
         let mut states = vec![(); pairs.len()];
-        branchy.collect::<true>(&s, &pairs, (&mut springs_branchy, &mut states));
-        branch_free.collect::<false>(&s, &pairs, (&mut springs_branch_free, &mut states));
+        branchy.collect::<true, true>(&s, &pairs, (&mut springs_branchy, &mut states));
+        branch_free.collect::<false, false>(&s, &pairs, (&mut springs_branch_free, &mut states));
         let touching = branchy.rows.len;
         assert!(touching > 10 && touching < pairs.len() - 10, "{touching} of {} touch", pairs.len());
         assert_eq!(branch_free.rows.len, touching);
