@@ -83,10 +83,24 @@ fn vtk_files_read_by_vtk_equal_the_results_file() {
     assert!(text.contains("4 states of r000 checked, 0 problems"), "{text}");
 }
 
-/// LAMMPS as Debian installs it (`lmp`), or `lmp_serial`.
-fn lammps() -> Command {
+/// Runs LAMMPS as Debian installs it (`lmp`), or `lmp_serial`, with `args` in `folder`, with a
+/// session folder of its own for Open MPI (removed after): in the shared default
+/// (`/tmp/ompi.HOST.UID`) two of this file's tests starting LAMMPS at the same moment made one fail
+/// ("mkdir: File exists"). A short path, as Open MPI puts sockets there.
+fn lammps(args: &[&str], folder: &Path) -> std::process::Output {
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let found = ["lmp", "lmp_serial"].into_iter().find(|name| Command::new(name).arg("-h").output().is_ok());
-    Command::new(found.expect("no LAMMPS (lmp): scripts/test.sh installs Debian's lammps package"))
+    let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let session = std::env::temp_dir().join(format!("demsweep-ompi-{}-{run}", std::process::id()));
+    std::fs::create_dir_all(&session).unwrap();
+    let output = Command::new(found.expect("no LAMMPS (lmp): scripts/test.sh installs Debian's lammps package"))
+        .args(args)
+        .current_dir(folder)
+        .env("OMPI_MCA_orte_tmpdir_base", &session)
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&session).unwrap();
+    output
 }
 
 #[test]
@@ -108,7 +122,7 @@ fn lammps_reads_the_data_file_and_runs_from_it() {
         scene.domain.width
     );
     std::fs::write(out.join("in.restart"), input).unwrap();
-    let run = lammps().args(["-in", "in.restart", "-log", "lammps.log"]).current_dir(&out).output().unwrap();
+    let run = lammps(&["-in", "in.restart", "-log", "lammps.log"], &out);
     let text = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(run.status.success(), "LAMMPS failed:\n{text}");
     assert!(!text.contains("Lost atoms"), "{text}");
@@ -135,11 +149,7 @@ fn lammps_reads_the_data_file_and_runs_from_it() {
 
 /// Runs LAMMPS on `input` in `folder` for `steps` steps; its output, after checking it ran without error.
 fn run_lammps(folder: &Path, input: &str, steps: u64) -> String {
-    let run = lammps()
-        .args(["-var", "steps", &steps.to_string(), "-in", input, "-log", "none"])
-        .current_dir(folder)
-        .output()
-        .unwrap();
+    let run = lammps(&["-var", "steps", &steps.to_string(), "-in", input, "-log", "none"], folder);
     let text = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(run.status.success() && !text.contains("ERROR"), "LAMMPS failed on {input}:\n{text}");
     assert!(!text.contains("Lost atoms"), "{text}");
