@@ -1053,6 +1053,15 @@ mod tests {
         ContactParameters { material, options, rotation: true, dt: 1e-5 }
     }
 
+    /// The walls of an open box 1 m wide, 4 m high.
+    fn open_box() -> crate::physics::walls::BoxWalls {
+        crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
+            width: 1.0,
+            height: 4.0,
+            lid: false,
+        })
+    }
+
     /// Touching pairs with assorted geometry and motion: sticking, sliding both ways, separating
     /// fast (normal force clamped or tensile), coincident centres.
     fn table() -> TouchingPairs<()> {
@@ -1153,11 +1162,7 @@ mod tests {
             })
             .collect();
         let mut particles = Particles::new(&disks, 1000.0, 1.0);
-        let walls = crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
-            width: 1.0,
-            height: 4.0,
-            lid: false,
-        });
+        let walls = open_box();
         let team = crate::physics::parallel::Team::new(1);
         let mut list = NeighborList::<()>::new(crate::physics::config::BroadPhaseKind::Grid, 0.004);
         list.rebuild(&particles, &walls, &team);
@@ -1250,11 +1255,7 @@ mod tests {
             })
             .collect();
         let mut particles = Particles::new(&disks, 1000.0, 1.0);
-        let walls = crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
-            width: 1.0,
-            height: 4.0,
-            lid: false,
-        });
+        let walls = open_box();
         let mut candidates = Candidates::<WallPair>::default();
         let m_star = particles.mass[0];
         candidates.entries = (0..150u32).flat_map(|i| [0, 1].map(|wall| WallPair { i, wall, m_star })).collect();
