@@ -120,6 +120,17 @@ pub(super) fn unit_normal_and_overlap(dx: f64, dy: f64, ri: f64, rj: f64) -> ([f
     (unit, (ri + rj) - d)
 }
 
+/// Whether two disks `d²` apart (squared distance, m²) with radii summing to `reach` touch: the
+/// one test of the narrow phase, whether it takes a block afresh or gathers it unchanged (so both
+/// find the same rows). NaN distances count as touching, so a diverging state reaches the forces.
+/// (Written as a negated comparison, which says just that in one instruction; `< || is_nan`
+/// takes two.)
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+fn touches(d2: f64, reach: f64) -> bool {
+    !(d2 >= reach * reach)
+}
+
 /// Relative motion of a contact with unit normal `n`, `v_i − v_j` = `dv` and spin terms
 /// `ω_i r_i`, `ω_j r_j` (conventions of [`super::contact`]).
 #[inline(always)]
@@ -688,8 +699,6 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let n = s.x.len();
         // Slices of one known length: the asserts below cover all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
-        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN distances touch, as in `collect`
-        let touching = |dx: f64, dy: f64, reach: f64| !(dx * dx + dy * dy >= reach * reach);
         // Two disks come closer by at most twice the longest move of a disk, which the list's
         // travel adds up (plus its rounding, 1e-8 of it): while that is below the clearance, no
         // pair apart can touch, and their tests are skipped.
@@ -703,7 +712,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let pair = &block[usize::from(k)];
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            if touching(x[j] - x[i], y[j] - y[i], r[i] + r[j]) {
+            let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+            if touches(dx * dx + dy * dy, r[i] + r[j]) {
                 return false;
             }
         }
@@ -712,7 +722,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let [i, j] = rows.bodies[c].map(|b| b as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
             let (dx, dy, ri, rj) = (x[j] - x[i], y[j] - y[i], rows.ri[c], rows.rj[c]);
-            if !touching(dx, dy, ri + rj) {
+            if !touches(dx * dx + dy * dy, ri + rj) {
                 return false;
             }
             (self.dx[c], self.dy[c]) = (dx, dy);
@@ -794,10 +804,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let (ri, rj) = (r[i], r[j]);
             let reach = ri + rj;
             let d2 = dx * dx + dy * dy;
-            // NaN distances count as touching, so a diverging state reaches the forces. (Written as
-            // a negated comparison, which says just that in one instruction; `< || is_nan` takes two.)
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            let touching = !(d2 >= reach * reach);
+            let touching = touches(d2, reach);
             if PREDICTED && !touching {
                 if KEEP {
                     self.rows.apart[apart] = k as u8; // k < BLOCK = 128
