@@ -6,8 +6,9 @@
 //!    see `TouchingPairs::collect`). In short lists each block keeps its touching pairs' rows (which
 //!    pairs, their disks, radii, `R*` and `m*`) from step to step: a block whose pairs touch as at
 //!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions,
-//!    velocities and springs (`TouchingPairs::gather_unchanged`), with the same touching test,
-//!    which its pairs apart skip while no disk has moved far enough for them to touch;
+//!    velocities and springs (`TouchingPairs::gather_unchanged`), with the same touching test:
+//!    for its pairs in contact in stage 2's first vector loop, which its pairs apart skip while no
+//!    disk has moved far enough for them to touch;
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
 //!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
 //!    the block, in branch-free loops over the table that the compiler vectorises. Their three
@@ -64,6 +65,13 @@ const PREDICTED_CANDIDATES: usize = 20_000;
 /// branches too: "not touching" is then the rule, which the predictor gets right (falling disks:
 /// 100 000 disks' first 0.03 s took 15 % less time than branch-free).
 const SPARSE_BLOCK: u8 = 16;
+
+/// Where stage 2's normals and overlaps come from: in the table already (walls: the narrow phase
+/// put them there), computed from the centres (disk pairs), or computed and checked (rows gathered
+/// unchanged: whether their pairs all still touch).
+const GIVEN: u8 = 0;
+const COMPUTED: u8 = 1;
+const CHECKED: u8 = 2;
 
 /// Fewest disk-wall candidates evaluated together (see `TouchingPairs::contacts`).
 const WALL_BATCH: usize = 64;
@@ -466,8 +474,13 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             if short {
                 std::mem::swap(&mut self.rows, &mut self.kept[b]);
             }
-            // Sampled steps count every contact afresh (and are rare).
-            if short && !SAMPLE && self.gather_unchanged(s, (build, travel), block, (springs, states)) {
+            // Sampled steps count every contact afresh (and are rare). Rows gathered unchanged
+            // whose pairs no longer all touch go through the narrow phase after all.
+            let unchanged = short
+                && !SAMPLE
+                && self.gather_unchanged(s, (build, travel), block, (springs, states))
+                && self.compute_forces::<L, CHECKED>(law, disk_kind);
+            if unchanged {
                 #[cfg(test)]
                 {
                     self.unchanged_blocks += 1;
@@ -475,8 +488,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             } else {
                 self.narrow_phase(b, (short, short), s, block, (springs, states));
                 (self.rows.collected, self.rows.travel) = (self.calls, travel);
+                self.compute_forces::<L, COMPUTED>(law, disk_kind);
             }
-            self.compute_forces::<L, true>(law, disk_kind);
             self.scatter::<L, SAMPLE, true>(law, disk_kind, (springs, states), f, totals);
             if short {
                 (self.rows.written, self.rows.build) = (self.calls, build);
@@ -505,7 +518,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let (block, after) = rest.cut(1);
             let b = block.first_block;
             self.narrow_phase(b, (short, false), s, block.entries, (block.springs, block.states));
-            self.compute_forces::<L, true>(law, kind);
+            self.compute_forces::<L, COMPUTED>(law, kind);
             // Candidates are sorted by first disk, the second the larger: a block whose first
             // disk is the part's own and that ends before `reaching` has only the part's own disks.
             let end = b * BLOCK + block.entries.len();
@@ -531,7 +544,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         while !rest.entries.is_empty() {
             let (block, after) = rest.cut(1);
             self.collect_walls(s, walls, block.entries, (block.springs, block.states));
-            self.compute_forces::<L, false>(law, kind);
+            self.compute_forces::<L, GIVEN>(law, kind);
             self.keep_histories((block.springs, block.states));
             let mut rows = block.rows;
             let mut stored = 0;
@@ -646,7 +659,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let first = range.start + k * BLOCK;
             let states = states_of(&mut candidates.states, first..first + chunk.len());
             self.collect_walls(s, walls, chunk, (springs, states));
-            self.compute_forces::<L, false>(law, kind);
+            self.compute_forces::<L, GIVEN>(law, kind);
             self.scatter::<L, SAMPLE, false>(law, kind, (springs, states), f, totals);
         }
     }
@@ -682,8 +695,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// step (the rows swapped in, of a list of `build`, the block's candidates `block` of them):
     /// their positions, velocities and histories gathered into the table. Returns false, having
     /// gathered some or none, when the rows are not the block's of the previous call, or a pair
-    /// touches that did not or no longer does (the narrow phase then takes the block). The same
-    /// touching test as `collect`'s, so the same rows in the same order.
+    /// apart now touches (the narrow phase then takes the block). Whether the rows' pairs all
+    /// still touch, stage 2 checks ([`CHECKED`]), in its vector loop; both with the same touching
+    /// test as `collect`'s, so the same rows in the same order.
     fn gather_unchanged(
         &mut self,
         s: &State<'_>,
@@ -721,11 +735,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         for c in 0..rows.len {
             let [i, j] = rows.bodies[c].map(|b| b as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            let (dx, dy, ri, rj) = (x[j] - x[i], y[j] - y[i], rows.ri[c], rows.rj[c]);
-            if !touches(dx * dx + dy * dy, ri + rj) {
-                return false;
-            }
-            (self.dx[c], self.dy[c]) = (dx, dy);
+            let (ri, rj) = (rows.ri[c], rows.rj[c]);
+            (self.dx[c], self.dy[c]) = (x[j] - x[i], y[j] - y[i]);
             (self.dvx[c], self.dvy[c]) = (vx[i] - vx[j], vy[i] - vy[j]);
             (self.spin_i[c], self.spin_j[c]) = (omega[i] * ri, omega[j] * rj);
             let k = rows.candidate[c];
@@ -860,9 +871,14 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Stage 2: normals, overlaps, coefficients and forces of all touching pairs, in the widest
     /// vector instructions the CPU runs well ([`vector::width`]). (Dispatched here rather than
     /// through [`vector::widest`]: behind its closure these loops no longer vectorise.)
-    /// `GEOMETRY`: whether normals and overlaps are to be computed from the centres (disk pairs)
-    /// or are in the table already (walls).
-    fn compute_forces<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
+    /// `GEOMETRY`: where normals and overlaps come from ([`GIVEN`], [`COMPUTED`], [`CHECKED`]).
+    /// Returns whether the rows' pairs all touch (always, unless `CHECKED`; if not, the forces are
+    /// not computed).
+    fn compute_forces<L: ContactLaw<State = S>, const GEOMETRY: u8>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+    ) -> bool {
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         match vector::width() {
@@ -872,42 +888,62 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             Width::Avx2 => return unsafe { self.forces_avx2::<L, GEOMETRY>(law, kind) },
             Width::Baseline => {}
         }
-        self.forces_portable::<L, GEOMETRY>(law, kind);
+        self.forces_portable::<L, GEOMETRY>(law, kind)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx512dq")]
-    fn forces_avx512<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
-        self.forces_portable::<L, GEOMETRY>(law, kind);
+    fn forces_avx512<L: ContactLaw<State = S>, const GEOMETRY: u8>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+    ) -> bool {
+        self.forces_portable::<L, GEOMETRY>(law, kind)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn forces_avx2<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
-        self.forces_portable::<L, GEOMETRY>(law, kind);
+    fn forces_avx2<L: ContactLaw<State = S>, const GEOMETRY: u8>(&mut self, law: &L, kind: &ContactParameters) -> bool {
+        self.forces_portable::<L, GEOMETRY>(law, kind)
     }
 
     #[inline(always)]
-    fn forces_portable<L: ContactLaw<State = S>, const GEOMETRY: bool>(&mut self, law: &L, kind: &ContactParameters) {
-        if GEOMETRY {
-            self.geometry();
+    fn forces_portable<L: ContactLaw<State = S>, const GEOMETRY: u8>(
+        &mut self,
+        law: &L,
+        kind: &ContactParameters,
+    ) -> bool {
+        let all_touch = match GEOMETRY {
+            CHECKED => self.geometry::<true>(),
+            COMPUTED => self.geometry::<false>(),
+            _ => true,
+        };
+        if !all_touch {
+            return false;
         }
         self.coefficients(law, kind);
         self.resolve_all(kind);
+        true
     }
 
     /// Distances, unit normals and overlaps: a loop of its own, short enough that the CPU overlaps
-    /// many contacts' square root and division, which follow one another within a contact.
+    /// many contacts' square root and division, which follow one another within a contact. With
+    /// `CHECK`, returns whether all rows' pairs touch (else true).
     #[inline(always)]
-    fn geometry(&mut self) {
+    fn geometry<const CHECK: bool>(&mut self) -> bool {
         let n = self.rows.len;
         // Equal-length slices: no bounds checks, so the loop vectorises.
         let (dx, dy, ri, rj) = (&self.dx[..n], &self.dy[..n], &self.rows.ri[..n], &self.rows.rj[..n]);
         let (unit_x, unit_y, overlap) = (&mut self.unit_x[..n], &mut self.unit_y[..n], &mut self.overlap[..n]);
+        let mut all_touch = true;
         for c in 0..n {
             let ([ux, uy], o) = unit_normal_and_overlap(dx[c], dy[c], ri[c], rj[c]);
             (unit_x[c], unit_y[c], overlap[c]) = (ux, uy, o);
+            if CHECK {
+                all_touch &= touches(dx[c] * dx[c] + dy[c] * dy[c], ri[c] + rj[c]);
+            }
         }
+        all_touch
     }
 
     /// The law's stiffness and damping at each overlap: a loop of its own, for the same reason.
@@ -1217,7 +1253,7 @@ mod tests {
             let (law, kind) = (HertzMindlin {}, kind(allow_tension));
             let mut t = table();
             let before = t.spring;
-            t.compute_forces::<_, true>(&law, &kind);
+            t.compute_forces::<_, COMPUTED>(&law, &kind);
             let (mut sliding, mut clamped) = (0, 0);
             for (c, &spring_before) in before.iter().enumerate().take(t.rows.len) {
                 // One contact at a time, opaque to the compiler, so it cannot be vectorised.
