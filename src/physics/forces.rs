@@ -6,7 +6,7 @@
 //!    see `TouchingPairs::collect`). In short lists each block keeps its touching pairs' rows (which
 //!    pairs, their disks, radii, `R*` and `m*`) from step to step: a block whose pairs touch as at
 //!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions,
-//!    velocities and springs (`TouchingPairs::gather_unchanged`), with the same touching test:
+//!    velocities (`TouchingPairs::gather_unchanged`; the springs are kept too), with the same touching test:
 //!    for its pairs in contact in stage 2's first vector loop, which its pairs apart skip while no
 //!    disk has moved far enough for them to touch;
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
@@ -179,8 +179,6 @@ pub struct TouchingPairs<S> {
     /// `ω_i r_i` and `ω_j r_j`.
     spin_i: [f64; BLOCK],
     spin_j: [f64; BLOCK],
-    /// Tangential spring, before and after the step.
-    spring: [f64; BLOCK],
     /// The law's contact state, before and after the step.
     state: [S; BLOCK],
     // Computed by the vector stage.
@@ -223,6 +221,10 @@ struct KeptRows {
     rj: [f64; BLOCK],
     r_star: [f64; BLOCK],
     m_star: [f64; BLOCK],
+    /// Tangential spring, before and after the step. Kept too: the list's springs change only at
+    /// a build (a new build number) and by the scatter, which writes them from here, so a block
+    /// gathered unchanged finds its pairs' springs in place.
+    spring: [f64; BLOCK],
     /// The block's candidates out of contact (indices in the block), and how many.
     apart: [u8; BLOCK],
     apart_len: usize,
@@ -262,6 +264,7 @@ impl Default for KeptRows {
             rj: column,
             r_star: column,
             m_star: column,
+            spring: column,
             apart: [0; BLOCK],
             apart_len: 0,
             clearance: 0.0,
@@ -289,7 +292,6 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
             dvy: column,
             spin_i: column,
             spin_j: column,
-            spring: column,
             state: [S::default(); BLOCK],
             unit_x: column,
             unit_y: column,
@@ -478,7 +480,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             // whose pairs no longer all touch go through the narrow phase after all.
             let unchanged = short
                 && !SAMPLE
-                && self.gather_unchanged(s, (build, travel), block, (springs, states))
+                && self.gather_unchanged(s, (build, travel), block, states)
                 && self.compute_forces::<L, CHECKED>(law, disk_kind);
             if unchanged {
                 #[cfg(test)]
@@ -633,7 +635,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     fn keep_histories(&self, (springs, states): Histories<'_, S>) {
         for c in 0..self.rows.len {
             let k = self.rows.candidate[c];
-            springs[k] = self.spring[c];
+            springs[k] = self.rows.spring[c];
             if stateful::<S>() {
                 states[k] = self.state[c];
             }
@@ -703,7 +705,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         s: &State<'_>,
         (build, travel): (u64, f64),
         block: &[NeighborPair],
-        (springs, states): (&[f64], &[S]),
+        states: &[S],
     ) -> bool {
         let rows = &*self.rows;
         let current = rows.written + 1 == self.calls && rows.len + rows.apart_len == block.len();
@@ -731,7 +733,6 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 return false;
             }
         }
-        let springs = &springs[..block.len()];
         for c in 0..rows.len {
             let [i, j] = rows.bodies[c].map(|b| b as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
@@ -739,10 +740,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             (self.dx[c], self.dy[c]) = (x[j] - x[i], y[j] - y[i]);
             (self.dvx[c], self.dvy[c]) = (vx[i] - vx[j], vy[i] - vy[j]);
             (self.spin_i[c], self.spin_j[c]) = (omega[i] * ri, omega[j] * rj);
-            let k = rows.candidate[c];
-            self.spring[c] = springs[k];
             if stateful::<S>() {
-                self.state[c] = states[k];
+                self.state[c] = states[rows.candidate[c]];
             }
         }
         true
@@ -775,7 +774,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             (self.rows.r_star[len], self.rows.m_star[len]) = (r, candidate.m_star);
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
             (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
-            self.spring[len] = *spring;
+            self.rows.spring[len] = *spring;
             if stateful::<S>() {
                 self.state[len] = states[k];
             }
@@ -850,7 +849,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.dvy[len] = vy[i] - vy[j];
             self.spin_i[len] = omega[i] * ri;
             self.spin_j[len] = omega[j] * rj;
-            self.spring[len] = *spring;
+            self.rows.spring[len] = *spring;
             if stateful::<S>() {
                 self.state[len] = states[k];
             }
@@ -973,7 +972,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (dvx, dvy, spin_i, spin_j) = (&self.dvx[..n], &self.dvy[..n], &self.spin_i[..n], &self.spin_j[..n]);
         let (force_x, force_y) = (&mut self.force_x[..n], &mut self.force_y[..n]);
         let (torque_i, torque_j) = (&mut self.torque_i[..n], &mut self.torque_j[..n]);
-        let (normal, tangential, spring) = (&mut self.normal[..n], &mut self.tangential[..n], &mut self.spring[..n]);
+        let (normal, tangential, spring) =
+            (&mut self.normal[..n], &mut self.tangential[..n], &mut self.rows.spring[..n]);
         for c in 0..n {
             let coefficients = Coefficients {
                 normal_force: elastic[c],
@@ -1048,7 +1048,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                     rolling[j] += resistance * self.rows.rj[c];
                 }
             }
-            springs[self.rows.candidate[c]] = self.spring[c];
+            springs[self.rows.candidate[c]] = self.rows.spring[c];
             if stateful::<S>() {
                 states[self.rows.candidate[c]] = self.state[c];
             }
@@ -1078,7 +1078,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             let pair = kind.pair_properties(self.rows.r_star[c], self.rows.m_star[c]);
             let overlap = self.overlap[c];
-            let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.spring[c], &self.state[c]));
+            let energy = contact::elastic_energy(law, &pair, overlap, &force, (self.rows.spring[c], &self.state[c]));
             totals.add(energy, magnitude, overlap / self.rows.ri[c].min(self.rows.rj[c]));
         }
     }
@@ -1118,7 +1118,7 @@ mod tests {
             (t.rows.r_star[c], t.rows.m_star[c]) = (0.005, 0.15);
             (t.dvx[c], t.dvy[c]) = (3.0 * w * a.cos(), -2.0 * w);
             (t.spin_i[c], t.spin_j[c]) = (0.5 * w, -0.2);
-            t.spring[c] = 1e-6 * (c as f64 - 50.0);
+            t.rows.spring[c] = 1e-6 * (c as f64 - 50.0);
         }
         t
     }
@@ -1172,7 +1172,7 @@ mod tests {
                 t.dvy,
                 t.spin_i,
                 t.spin_j,
-                t.spring,
+                t.rows.spring,
             ];
             (0..t.rows.len)
                 .map(|c| (t.rows.candidate[c], t.bodies(c), columns.map(|column| column[c].to_bits())))
@@ -1252,7 +1252,7 @@ mod tests {
         for allow_tension in [false, true] {
             let (law, kind) = (HertzMindlin {}, kind(allow_tension));
             let mut t = table();
-            let before = t.spring;
+            let before = t.rows.spring;
             t.compute_forces::<_, COMPUTED>(&law, &kind);
             let (mut sliding, mut clamped) = (0, 0);
             for (c, &spring_before) in before.iter().enumerate().take(t.rows.len) {
@@ -1274,7 +1274,7 @@ mod tests {
                 let expect = force.on_first_body(nx, ny);
                 assert_eq!([t.force_x[c].to_bits(), t.force_y[c].to_bits()], expect.map(f64::to_bits), "force {c}");
                 assert_eq!(t.torque_j[c].to_bits(), (force.tangential * t.rows.rj[c]).to_bits(), "torque {c}");
-                assert_eq!(t.spring[c].to_bits(), spring.to_bits(), "spring {c}");
+                assert_eq!(t.rows.spring[c].to_bits(), spring.to_bits(), "spring {c}");
                 assert_eq!(t.normal[c].to_bits(), force.normal.to_bits(), "normal {c}");
                 sliding += usize::from(force.tangential.abs() == kind.options.friction * force.normal.max(0.0));
                 clamped += usize::from(force.normal <= 0.0);

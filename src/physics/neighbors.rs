@@ -87,7 +87,8 @@ pub struct Candidates<T, S = ()> {
     fresh: Vec<T>,
     fresh_springs: Vec<f64>,
     fresh_states: Vec<S>,
-    /// Which build the entries are from: unique among all lists of the process, 0 for none.
+    /// Which build the entries are from (and the histories, but for the steps' own updates):
+    /// unique among all lists of the process, 0 for none.
     build: u64,
 }
 
@@ -95,10 +96,16 @@ pub struct Candidates<T, S = ()> {
 static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
 impl<T, S> Candidates<T, S> {
-    /// Which build the entries are from (the same number: the same entries): unique among all
-    /// candidate lists of the process; 0 for a list not built by [`NeighborList::rebuild`].
+    /// Which build the entries are from (the same number: the same entries, whose springs and
+    /// states only the steps changed since): unique among all candidate lists of the process; 0
+    /// for a list not built by [`NeighborList::rebuild`].
     pub fn build(&self) -> u64 {
         self.build
+    }
+
+    /// Draws a new build number (entries built, or histories set from outside the steps).
+    fn renumber(&mut self) {
+        self.build = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
     }
 }
 
@@ -165,13 +172,14 @@ impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
         std::mem::swap(&mut self.entries, &mut self.fresh);
         std::mem::swap(&mut self.springs, &mut self.fresh_springs);
         std::mem::swap(&mut self.states, &mut self.fresh_states);
-        self.build = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        self.renumber();
     }
 
     /// Gives the entry of `key`, if there is one, the history `(spring, state)`.
     fn seed(&mut self, key: Option<(u32, u32)>, (spring, state): (f64, S)) {
         if let Some(k) = key.and_then(|key| self.entries.binary_search_by_key(&key, Keyed::key).ok()) {
             (self.springs[k], self.states[k]) = (spring, state);
+            self.renumber();
         }
     }
 }

@@ -158,6 +158,9 @@ impl<L: ContactLaw> Simulation<L> {
     /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
     pub fn set_threads(&mut self, threads: Threads) {
         self.team = Team::new(threads.used_for(self.particles.len()));
+        // The one-thread table keeps springs from step to step, which steps on several threads
+        // would not update.
+        self.touching = Box::default();
     }
 
     /// The disks.
