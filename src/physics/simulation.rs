@@ -160,7 +160,7 @@ impl<L: ContactLaw> Simulation<L> {
         self.team = Team::new(threads.used_for(self.particles.len()));
         // The one-thread table keeps springs from step to step, which steps on several threads
         // would not update.
-        self.touching = Box::default();
+        *self.touching = TouchingPairs::default();
     }
 
     /// The disks.
