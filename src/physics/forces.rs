@@ -5,10 +5,11 @@
 //!    copied into a small table, one array per quantity (branching on contact in short lists only,
 //!    see `TouchingPairs::collect`). In short lists each block keeps its touching pairs' rows (which
 //!    pairs, their disks, radii, `R*` and `m*`) from step to step: a block whose pairs touch as at
-//!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions,
-//!    velocities (`TouchingPairs::gather_unchanged`; the springs are kept too), with the same touching test:
-//!    for its pairs in contact in stage 2's first vector loop, which its pairs apart skip while no
-//!    disk has moved far enough for them to touch;
+//!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions and
+//!    velocities (`TouchingPairs::gather_unchanged`; the springs are kept with the rows). The
+//!    same touching test decides: for its pairs in contact, in stage 2's geometry loop; for its
+//!    pairs apart, in the gather, which skips them while no disk has moved far enough for them
+//!    to touch;
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
 //!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
 //!    the block, in branch-free loops over the table that the compiler vectorises. Their three
