@@ -339,7 +339,7 @@ fn adams_step<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext) -> Moved 
     let [prev_ax, prev_ay, prev_alpha] = &mut d.previous;
     let (prev_ax, prev_ay) = (&mut prev_ax[..n], &mut prev_ay[..n]);
     // The power first, in a loop of its own: a running sum would keep the update from vectorising.
-    let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
+    let mut power = vector::lane_dot([fx, fy], [vx, vy]);
     let mut longest = vector::LargestSquare::default();
     let mut damping_power = 0.0;
     for i in 0..n {
@@ -368,7 +368,7 @@ fn adams_step<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext) -> Moved 
     if c.rotation {
         let (omega, torque, inv_inertia) = (&mut d.omega[..n], &mut d.torque[..n], &d.inv_inertia[..n]);
         let (angle, prev_alpha) = (&mut d.angle[..n], &mut prev_alpha[..n]);
-        power += vector::lane_sum(n, |i| torque[i] * omega[i]);
+        power += vector::lane_dot([torque], [omega]);
         for i in 0..n {
             if DAMPED {
                 let damping = c.damping.force(torque[i], 0.0, 1.0 / inv_inertia[i], omega[i]);

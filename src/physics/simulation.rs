@@ -277,10 +277,10 @@ impl<L: ContactLaw> Simulation<L> {
         let p = &self.particles;
         let n = p.len();
         let (fx, fy, vx, vy) = (&p.fx[..n], &p.fy[..n], &p.vx[..n], &p.vy[..n]);
-        let mut power = vector::lane_sum(n, |i| fx[i] * vx[i] + fy[i] * vy[i]);
+        let mut power = vector::lane_dot([fx, fy], [vx, vy]);
         if self.context.rotation {
             let (torque, omega) = (&p.torque[..n], &p.omega[..n]);
-            power += vector::lane_sum(n, |i| torque[i] * omega[i]);
+            power += vector::lane_dot([torque], [omega]);
         }
         power
     }

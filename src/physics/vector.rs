@@ -143,19 +143,26 @@ fn avx512<R>(kernel: impl FnOnce() -> R) -> R {
     kernel()
 }
 
-/// `Σ term(i)` for `i` in `0..n`, added up in four interleaved partial sums, combined at the end.
+/// `Σ_i (a_1[i] b_1[i] + … + a_K[i] b_K[i])` over columns of one length (`K ≥ 1`; each term's
+/// products added in that order), added up in four interleaved partial sums, combined at the end.
 /// A single running sum waits for each addition to finish before the next (some four cycles);
-/// four independent ones fill a vector register and keep the adder busy.
+/// four independent ones fill a vector register and keep the adder busy. The columns are taken
+/// four rows at a time as arrays, so the loop has no bounds checks and vectorises; the partial
+/// sums are the same four whatever the vector width, so is the result.
 #[inline(always)]
-pub fn lane_sum(n: usize, term: impl Fn(usize) -> f64) -> f64 {
+pub fn lane_dot<const K: usize>(a: [&[f64]; K], b: [&[f64]; K]) -> f64 {
+    let n = a[0].len();
+    let (a, b) = (a.map(|s| &s[..n]), b.map(|s| &s[..n]));
+    let term = |i: usize| (1..K).fold(a[0][i] * b[0][i], |t, k| t + a[k][i] * b[k][i]);
+    let (a4, b4) = (a.map(|s| s.as_chunks::<4>().0), b.map(|s| s.as_chunks::<4>().0));
+    let whole = n / 4;
     let mut lanes = [0.0; 4];
-    let whole = n - n % 4;
-    for i in (0..whole).step_by(4) {
+    for c in 0..whole {
         for (lane, sum) in lanes.iter_mut().enumerate() {
-            *sum += term(i + lane);
+            *sum += (1..K).fold(a4[0][c][lane] * b4[0][c][lane], |t, k| t + a4[k][c][lane] * b4[k][c][lane]);
         }
     }
-    for i in whole..n {
+    for i in 4 * whole..n {
         lanes[i % 4] += term(i);
     }
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
@@ -188,15 +195,32 @@ impl LargestSquare {
 
 #[cfg(test)]
 mod tests {
-    use super::{LargestSquare, lane_sum};
+    use super::{LargestSquare, lane_dot};
 
     #[test]
-    fn lane_sum_adds_every_term_once_with_any_tail() {
+    fn lane_dot_adds_every_term_once_with_any_tail() {
         for n in 0..11 {
             // Powers of two: every partial sum is exact, so any order gives the exact total.
-            let total = lane_sum(n, |i| f64::from(1u32 << i));
-            assert_eq!(total, f64::from((1u32 << n) - 1), "n = {n}");
+            let (a, b): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (f64::from(1u32 << i), 3.0)).unzip();
+            let c = vec![1.0; n];
+            assert_eq!(lane_dot([&a], [&b]), 3.0 * f64::from((1u32 << n) - 1), "n = {n}");
+            assert_eq!(lane_dot([&a, &c], [&b, &a]), 4.0 * f64::from((1u32 << n) - 1), "n = {n}");
         }
+    }
+
+    #[test]
+    fn lane_dot_sums_each_term_in_its_lane_in_order() {
+        // Lane sums that round: the result is that of adding term i to partial sum i mod 4, the
+        // two products of each term first, then the lanes pairwise.
+        let n = 23;
+        let column = |seed: f64| (0..n).map(|i| (seed * (i as f64 + 1.0)).sin() * 1e3).collect::<Vec<f64>>();
+        let (a0, b0, a1, b1) = (column(1.1), column(2.3), column(0.7), column(5.9));
+        let mut lanes = [0.0; 4];
+        for i in 0..n {
+            lanes[i % 4] += a0[i] * b0[i] + a1[i] * b1[i];
+        }
+        let expected = (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+        assert_eq!(lane_dot([&a0, &a1], [&b0, &b1]).to_bits(), expected.to_bits());
     }
 
     #[test]
