@@ -1012,6 +1012,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// holds all of them, row after row: to both disks (`PAIRS`; the second gets the opposite
     /// force), or to the disk (walls); writes the springs and states back to their candidates
     /// (in the same loop: one pass over the table).
+    ///
+    /// The rows come in runs of one first disk (the list is sorted by it), whose sums are held in
+    /// registers over the run: added to in memory, each row would wait for the previous row's
+    /// store to reach the next load. The same additions in the same order (a pair's second disk
+    /// is never its first), so the same bits.
     #[inline(always)]
     fn add_to<const PAIRS: bool>(
         &self,
@@ -1025,26 +1030,33 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (torque, rolling) = (&mut sums.torque[..n], &mut sums.rolling[..n]);
         let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
+        let (mut held, mut sum) = (usize::MAX, [0.0; 4]);
         for c in 0..self.rows.len {
             let (i, j) = self.bodies(c);
             let (i, j) = (i.wrapping_sub(first), j.wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
+            if i != held {
+                if held < n {
+                    [fx[held], fy[held], torque[held], rolling[held]] = sum;
+                }
+                (held, sum) = (i, [fx[i], fy[i], torque[i], rolling[i]]);
+            }
             let (force_x, force_y) = (self.force_x[c], self.force_y[c]);
-            fx[i] += force_x;
-            fy[i] += force_y;
+            sum[0] += force_x;
+            sum[1] += force_y;
             if PAIRS {
                 fx[j] -= force_x;
                 fy[j] -= force_y;
             }
             if kind.rotation {
-                torque[i] += self.torque_i[c];
+                sum[2] += self.torque_i[c];
                 if PAIRS {
                     torque[j] += self.torque_j[c];
                 }
             }
             if rolling_friction > 0.0 {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
-                rolling[i] += resistance * self.rows.ri[c];
+                sum[3] += resistance * self.rows.ri[c];
                 if PAIRS {
                     rolling[j] += resistance * self.rows.rj[c];
                 }
@@ -1053,6 +1065,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             if stateful::<S>() {
                 states[self.rows.candidate[c]] = self.state[c];
             }
+        }
+        if held < n {
+            [fx[held], fy[held], torque[held], rolling[held]] = sum;
         }
     }
 
