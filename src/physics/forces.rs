@@ -493,7 +493,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 (self.rows.collected, self.rows.travel) = (self.calls, travel);
                 self.compute_forces::<L, COMPUTED>(law, disk_kind);
             }
-            self.scatter::<L, SAMPLE, true>(law, disk_kind, (springs, states), f, totals);
+            if short {
+                self.scatter::<L, SAMPLE, true, true>(law, disk_kind, (springs, states), f, totals);
+            } else {
+                self.scatter::<L, SAMPLE, true, false>(law, disk_kind, (springs, states), f, totals);
+            }
             if short {
                 (self.rows.written, self.rows.build) = (self.calls, build);
                 std::mem::swap(&mut self.rows, &mut self.kept[b]);
@@ -610,7 +614,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     ) {
         if all_own {
             rows.touching[0] = 0;
-            return self.add_to::<true>(kind, sums, histories);
+            return self.add_to::<true, false>(kind, sums, histories);
         }
         self.keep_histories(histories);
         let mut stored = 0;
@@ -663,7 +667,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let states = states_of(&mut candidates.states, first..first + chunk.len());
             self.collect_walls(s, walls, chunk, (springs, states));
             self.compute_forces::<L, GIVEN>(law, kind);
-            self.scatter::<L, SAMPLE, false>(law, kind, (springs, states), f, totals);
+            self.scatter::<L, SAMPLE, false, false>(law, kind, (springs, states), f, totals);
         }
     }
 
@@ -993,8 +997,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     }
 
     /// Stage 3: adds the forces of the touching pairs to both disks (`PAIRS`; walls: to the disk),
-    /// in list order, and stores the springs; with `SAMPLE`, adds the contact sums to `totals`.
-    fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool>(
+    /// in list order, and stores the springs; with `SAMPLE`, adds the contact sums to `totals`;
+    /// `HOLD`: see [`TouchingPairs::add_to`].
+    fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool, const HOLD: bool>(
         &self,
         law: &L,
         kind: &ContactParameters,
@@ -1002,7 +1007,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        self.add_to::<PAIRS>(kind, &mut DiskSums::new(f.fx, f.fy, f.torque, f.rolling), histories);
+        self.add_to::<PAIRS, HOLD>(kind, &mut DiskSums::new(f.fx, f.fy, f.torque, f.rolling), histories);
         if SAMPLE {
             self.sample::<L, PAIRS>(law, kind, f.contact_force, totals);
         }
@@ -1013,12 +1018,14 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// force), or to the disk (walls); writes the springs and states back to their candidates
     /// (in the same loop: one pass over the table).
     ///
-    /// The rows come in runs of one first disk (the list is sorted by it), whose sums are held in
-    /// registers over the run: added to in memory, each row would wait for the previous row's
-    /// store to reach the next load. The same additions in the same order (a pair's second disk
-    /// is never its first), so the same bits.
+    /// The rows come in runs of one first disk (the list is sorted by it). With `HOLD`, its sums
+    /// are held in registers over the run: added to in memory, each row would wait for the
+    /// previous row's store to reach the next load. The same additions in the same order (a pair's
+    /// second disk is never its first), so the same bits. Without, each row is a run of its own:
+    /// the test of a new run is a branch, which the predictor learns in a short list (its blocks'
+    /// rows are the same from step to step), not in a long one.
     #[inline(always)]
-    fn add_to<const PAIRS: bool>(
+    fn add_to<const PAIRS: bool, const HOLD: bool>(
         &self,
         kind: &ContactParameters,
         sums: &mut DiskSums<'_>,
@@ -1035,7 +1042,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let (i, j) = self.bodies(c);
             let (i, j) = (i.wrapping_sub(first), j.wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
-            if i != held {
+            if !HOLD || i != held {
                 if held < n {
                     [fx[held], fy[held], torque[held], rolling[held]] = sum;
                 }
