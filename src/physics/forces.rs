@@ -495,12 +495,10 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             }
             if short {
                 self.scatter::<L, SAMPLE, true, true>(law, disk_kind, (springs, states), f, totals);
-            } else {
-                self.scatter::<L, SAMPLE, true, false>(law, disk_kind, (springs, states), f, totals);
-            }
-            if short {
                 (self.rows.written, self.rows.build) = (self.calls, build);
                 std::mem::swap(&mut self.rows, &mut self.kept[b]);
+            } else {
+                self.scatter::<L, SAMPLE, true, false>(law, disk_kind, (springs, states), f, totals);
             }
         }
         let all = done..wall_candidates.entries.len();
