@@ -9,7 +9,7 @@
 //! box's width in m, its height then set for the same area as the reference deposition's) prints, per
 //! continuation, `order=… ns_per_particle_step=…`, and the share of contacts whose two disks are
 //! more than 512 places apart in memory (one integrator chunk) in each order. The continuations
-//! start without tangential springs (the same for all three), so they time the same kind of steps,
+//! start without tangential springs (the same for all four), so they time the same kind of steps,
 //! not the same trajectory.
 
 use std::time::Instant;
@@ -41,9 +41,10 @@ fn disks_of(s: &Snapshot) -> Vec<InitialDisk> {
 /// Share of the disk-disk contacts of a snapshot whose disks are more than 512 places apart.
 fn far_share(s: &Snapshot) -> f64 {
     let c = &s.contacts;
-    let pairs: Vec<(i64, i64)> =
-        c.first.iter().zip(&c.second).filter(|(_, j)| **j >= 0).map(|(i, j)| (i64::from(*i), *j)).collect();
-    pairs.iter().filter(|(i, j)| (i - j).abs() > 512).count() as f64 / pairs.len().max(1) as f64
+    let disk_pairs = c.first.iter().zip(&c.second).filter(|(_, j)| **j >= 0);
+    let (far, all) =
+        disk_pairs.fold((0, 0), |(far, all), (i, j)| (far + usize::from((i64::from(*i) - j).abs() > 512), all + 1));
+    far as f64 / all.max(1) as f64
 }
 
 fn main() {
@@ -52,7 +53,7 @@ fn main() {
     let number = |k: usize| args.get(k).expect(usage).parse::<f64>().expect(usage);
     let (count, deposit, cont) = (number(0) as usize, number(1), number(2));
     let rounds = args.get(3).map_or(3, |r| r.parse().expect(usage));
-    let threads = Threads { count: args.get(4).map_or(1, |t| t.parse().expect(usage)), min_disks: 8_000 };
+    let threads = Threads::new(args.get(4).map_or(1, |t| t.parse().expect(usage)));
     let run = |scene: &SceneConfig, disks: Option<Vec<InitialDisk>>| {
         run_scene_on(scene, disks, None, threads, &mut |_| Control::Continue).expect("scene runs")
     };
@@ -64,7 +65,8 @@ fn main() {
         }
         scene
     };
-    let first = run(&box_of(deposit), None);
+    let deposit_box = box_of(deposit);
+    let first = run(&deposit_box, None);
     let scene = box_of(cont);
     let as_is = disks_of(&first.final_state);
     let mut strips = as_is.clone();
@@ -75,10 +77,10 @@ fn main() {
     for k in (1..shuffled.len()).rev() {
         shuffled.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
     }
-    let mut columns = placement::generate(&box_of(deposit)).expect("placement");
+    let mut columns = placement::generate(&deposit_box).expect("placement");
     // Placement's order for a box wider than tall: columns.
     order_for_locality(&mut columns, 1.0, 0.0, 2.0 * r_max);
-    let second = run(&box_of(deposit), Some(columns));
+    let second = run(&deposit_box, Some(columns));
     let columns_placed = disks_of(&second.final_state);
     let (far, far_columns) = (far_share(&first.final_state), far_share(&second.final_state));
     println!("after the deposit: far contacts {far:.4}; placed in columns: {far_columns:.4}");
