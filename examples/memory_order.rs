@@ -1,27 +1,28 @@
-//! Whether re-sorting the disks of a large deposition in memory would make its steps faster:
-//! deposits N disks for T1 seconds, then continues from that state for T2 seconds with the disks
-//! (a) in the order they have, (b) re-sorted in strips as placement orders them, and (c) in a random
-//! order (how much memory order matters at all); and (d) from a second deposit whose disks were
-//! placed in columns whatever the box's shape (placement's order for a wide box), as that deposit
-//! left them; alternated over ROUNDS rounds.
+//! What numbering the disks afresh at neighbour-list builds ([`demsweep::physics::memory_order`])
+//! gains in a large deposition: deposits N disks for T1 seconds from the same placement twice, with
+//! the disks' numbering kept and with the engine's default (renumbered where neighbours drifted
+//! apart in memory); then, from the kept deposit's state (mixed by its fall), times T2 seconds with
+//! the numbering kept, with the default, and from the disks shuffled with the default (how quickly
+//! it recovers any order), alternated over ROUNDS rounds.
 //!
 //! `cargo run --release --example memory_order -- N T1 T2 [ROUNDS [THREADS [WIDTH]]]` (WIDTH: the
-//! box's width in m, its height then set for the same area as the reference deposition's) prints, per
-//! continuation, `order=… ns_per_particle_step=…`, and the share of contacts whose two disks are
-//! more than 512 places apart in memory (one integrator chunk) in each order. The continuations
-//! start without tangential springs (the same for all four), so they time the same kind of steps,
-//! not the same trajectory.
+//! box's width in m, its height then set for the same area as the reference deposition's) prints,
+//! per run, `order=… ns_per_particle_step=… renumberings=… far_contacts_at_end=…`, the last being
+//! the share of disk-disk contacts whose disks are more than 512 places apart in memory. The steps
+//! are taken without samples; the continuations start without tangential springs (the same for
+//! all), so they time the same kind of steps, not the same trajectory.
 
 use std::time::Instant;
 
 use demsweep::bench::reference_deposition;
 use demsweep::physics::config::SceneConfig;
+use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::memory_order::{FAR_PLACES, MemoryOrder};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::placement::{self, order_for_locality};
+use demsweep::physics::placement;
 use demsweep::physics::record::Snapshot;
 use demsweep::physics::rng::Rng;
-use demsweep::physics::simulation::Control;
-use demsweep::physics::{Threads, run_scene_on};
+use demsweep::physics::{Simulation, Threads};
 
 /// The disks of a snapshot, in its order.
 fn disks_of(s: &Snapshot) -> Vec<InitialDisk> {
@@ -38,13 +39,34 @@ fn disks_of(s: &Snapshot) -> Vec<InitialDisk> {
         .collect()
 }
 
-/// Share of the disk-disk contacts of a snapshot whose disks are more than 512 places apart.
-fn far_share(s: &Snapshot) -> f64 {
-    let c = &s.contacts;
-    let disk_pairs = c.first.iter().zip(&c.second).filter(|(_, j)| **j >= 0);
-    let (far, all) =
-        disk_pairs.fold((0, 0), |(far, all), (i, j)| (far + usize::from((i64::from(*i) - j).abs() > 512), all + 1));
+/// Share of the disk-disk contacts whose disks sit more than [`FAR_PLACES`] places apart in the
+/// simulation's own numbering.
+fn far_share(sim: &Simulation<HertzMindlin>) -> f64 {
+    let places = sim.numbering().places();
+    let place = |k: usize| places.as_ref().map_or(k as i64, |p| i64::from(p[k]));
+    let c = &sim.snapshot().contacts;
+    let pairs = c.first.iter().zip(&c.second).filter(|(_, j)| **j >= 0);
+    let (far, all) = pairs.fold((0, 0), |(far, all), (&i, &j)| {
+        let apart = (place(i as usize) - place(j as usize)).abs() > i64::from(FAR_PLACES);
+        (far + usize::from(apart), all + 1)
+    });
     far as f64 / all.max(1) as f64
+}
+
+/// Runs `scene` from `disks` on `threads` with `policy`; prints and returns the final state.
+fn timed(scene: &SceneConfig, disks: &[InitialDisk], threads: Threads, policy: MemoryOrder, name: &str) -> Snapshot {
+    let mut sim = Simulation::<HertzMindlin>::new(scene, disks);
+    sim.set_threads(threads);
+    sim.set_memory_order(policy);
+    let steps = scene.total_steps(sim.time_step());
+    let start = Instant::now();
+    for _ in 0..steps {
+        sim.advance(false);
+    }
+    let ns = start.elapsed().as_secs_f64() * 1e9 / (disks.len() as f64 * steps as f64);
+    let (renumberings, far) = (sim.numbering().renumberings(), far_share(&sim));
+    println!("order={name} ns_per_particle_step={ns:.2} renumberings={renumberings} far_contacts_at_end={far:.4}");
+    sim.snapshot()
 }
 
 fn main() {
@@ -54,9 +76,6 @@ fn main() {
     let (count, deposit, cont) = (number(0) as usize, number(1), number(2));
     let rounds = args.get(3).map_or(3, |r| r.parse().expect(usage));
     let threads = Threads::new(args.get(4).map_or(1, |t| t.parse().expect(usage)));
-    let run = |scene: &SceneConfig, disks: Option<Vec<InitialDisk>>| {
-        run_scene_on(scene, disks, None, threads, &mut |_| Control::Continue).expect("scene runs")
-    };
     let box_of = |duration| {
         let mut scene = reference_deposition(count, duration);
         if let Some(width) = args.get(5).map(|w| w.parse::<f64>().expect(usage)) {
@@ -66,34 +85,19 @@ fn main() {
         scene
     };
     let deposit_box = box_of(deposit);
-    let first = run(&deposit_box, None);
-    let scene = box_of(cont);
-    let as_is = disks_of(&first.final_state);
-    let mut strips = as_is.clone();
-    let r_max = as_is.iter().map(|d| d.r).fold(0.0, f64::max);
-    order_for_locality(&mut strips, scene.domain.width, scene.domain.height, 2.0 * r_max);
-    let mut shuffled = as_is.clone();
+    let placed = placement::generate(&deposit_box).expect("placement");
+    let mixed = disks_of(&timed(&deposit_box, &placed, threads, MemoryOrder::KEPT, "deposit_kept"));
+    timed(&deposit_box, &placed, threads, MemoryOrder::default(), "deposit_default");
+    let mut shuffled = mixed.clone();
     let mut rng = Rng::new(7);
     for k in (1..shuffled.len()).rev() {
         shuffled.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
     }
-    let mut columns = placement::generate(&deposit_box).expect("placement");
-    // Placement's order for a box wider than tall: columns.
-    order_for_locality(&mut columns, 1.0, 0.0, 2.0 * r_max);
-    let second = run(&deposit_box, Some(columns));
-    let columns_placed = disks_of(&second.final_state);
-    let (far, far_columns) = (far_share(&first.final_state), far_share(&second.final_state));
-    println!("after the deposit: far contacts {far:.4}; placed in columns: {far_columns:.4}");
+    let scene = box_of(cont);
     for round in 0..rounds {
-        for (name, disks) in
-            [("as_is", &as_is), ("strips", &strips), ("shuffled", &shuffled), ("columns_placed", &columns_placed)]
-        {
-            let start = Instant::now();
-            let rec = run(&scene, Some(disks.clone()));
-            let seconds = start.elapsed().as_secs_f64();
-            let ns = seconds * 1e9 / (count as f64 * rec.steps as f64);
-            let far = far_share(&rec.final_state);
-            println!("round={round} order={name} ns_per_particle_step={ns:.2} far_contacts_at_end={far:.4}");
-        }
+        println!("round={round}");
+        timed(&scene, &mixed, threads, MemoryOrder::KEPT, "kept");
+        timed(&scene, &mixed, threads, MemoryOrder::default(), "default");
+        timed(&scene, &shuffled, threads, MemoryOrder::default(), "shuffled_default");
     }
 }

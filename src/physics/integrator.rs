@@ -14,6 +14,7 @@
 //! each loop compiled without it (`DAMPED = false`), so they pay nothing for it.
 
 use super::config::{DampingConfig, IntegratorKind};
+use super::memory_order::gather;
 use super::parallel::{Split, Team};
 use super::particles::Particles;
 use super::vector;
@@ -127,6 +128,17 @@ impl Integrator {
                     || verlet_drift(d, c),
                 )
             }),
+        }
+    }
+
+    /// Numbers the disks of the stored history afresh, as [`Particles::renumber`] does.
+    pub fn renumber(&mut self, order: &[u32], scratch: &mut Vec<f64>) {
+        if let Integrator::AdamsBashforthMoulton { previous: Some(a) } = self {
+            for column in [&mut a.ax, &mut a.ay, &mut a.alpha] {
+                if !column.is_empty() {
+                    gather(column, order, scratch);
+                }
+            }
         }
     }
 

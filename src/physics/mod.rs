@@ -6,7 +6,8 @@
 //! Reading order for a newcomer:
 //! [`config`] (what a scene is) → [`material`] (pair properties) → [`contact`] (force laws) →
 //! `neighbors` (who touches whom) → `forces` (contact forces of a step, in blocks) →
-//! `contact_list` (the same, one contact at a time) → `integrator` (time stepping), `energy`
+//! `contact_list` (the same, one contact at a time) → `integrator` (time stepping), [`memory_order`]
+//! (where disks live in memory), `energy`
 //! (work and dissipation bookkeeping), `rolling` (rolling resistance) → [`simulation`] (the step
 //! loop) → [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out),
 //! with every per-run quantity's name, unit and computation declared once in [`quantity`].
@@ -27,6 +28,7 @@ mod integrator;
 pub mod key_spec;
 pub mod keys;
 pub mod material;
+pub mod memory_order;
 mod monitor;
 mod neighbors;
 pub mod number;
@@ -47,7 +49,9 @@ pub mod warning;
 
 /// The version of the physics: bumped by every change that changes a run's results, so that runs
 /// stored by another version are not reused as if this one had made them (see `study::identity`).
-pub const PHYSICS_VERSION: u32 = 1;
+/// 2: scenes of 20 000 disks and more are numbered afresh where neighbours drift apart in memory
+/// ([`memory_order`]), which changes the last bits of their results.
+pub const PHYSICS_VERSION: u32 = 2;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};

@@ -11,6 +11,7 @@ use super::config::BroadPhaseKind;
 use super::contact::ContactState;
 use super::contact_record::Partner;
 use super::material::{effective_mass, effective_radius};
+use super::memory_order::{FAR_PLACES, gather};
 use super::parallel::{Span, Split, Team};
 use super::particles::{InitialContact, Particles};
 use super::walls::BoxWalls;
@@ -175,6 +176,23 @@ impl<T: Keyed + Sync, S: Copy + Default + Send + Sync> Candidates<T, S> {
         self.renumber();
     }
 
+    /// Renames the disks of every entry by `rename` and sorts the entries again by key with their
+    /// histories, through the buffers of the next build.
+    fn renumber_disks(&mut self, rename: impl Fn(&T) -> T)
+    where
+        T: Copy,
+    {
+        self.fresh.clear();
+        self.fresh.extend(self.entries.iter().map(rename));
+        let mut sorted: Vec<u32> = (0..self.fresh.len() as u32).collect();
+        sorted.sort_unstable_by_key(|&k| self.fresh[k as usize].key());
+        self.entries.clear();
+        self.entries.extend(sorted.iter().map(|&k| self.fresh[k as usize]));
+        gather(&mut self.springs, &sorted, &mut self.fresh_springs);
+        gather(&mut self.states, &sorted, &mut self.fresh_states);
+        self.renumber();
+    }
+
     /// Gives the entry of `key`, if there is one, the history `(spring, state)`.
     fn seed(&mut self, key: Option<(u32, u32)>, (spring, state): (f64, S)) {
         if let Some(k) = key.and_then(|key| self.entries.binary_search_by_key(&key, Keyed::key).ok()) {
@@ -302,6 +320,19 @@ impl<S: Copy + Default + Send + Sync> NeighborList<S> {
             grid: CellGrid::default(),
             wall_finds: PartFinds::default(),
         }
+    }
+
+    /// The candidate pairs whose disks are more than [`FAR_PLACES`] places apart.
+    pub fn far_pairs(&self) -> usize {
+        self.pairs.entries.iter().filter(|p| p.j - p.i > FAR_PLACES).count()
+    }
+
+    /// Numbers the disks of the lists afresh: disk `i` becomes disk `new_of_old[i]` (a pair keeps
+    /// its smaller index first; its tangential spring and law state read the same either way).
+    pub fn renumber_disks(&mut self, new_of_old: &[u32]) {
+        let new = |i: u32| new_of_old[i as usize];
+        self.pairs.renumber_disks(|p| NeighborPair { i: new(p.i).min(new(p.j)), j: new(p.i).max(new(p.j)), ..*p });
+        self.walls.renumber_disks(|w| WallPair { i: new(w.i), ..*w });
     }
 
     /// Adds a step in which no disk moved farther than `longest` (m); returns whether the list

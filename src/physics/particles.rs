@@ -3,6 +3,7 @@
 use std::f64::consts::PI;
 
 use super::contact_record::Partner;
+use super::memory_order::gather;
 
 /// Initial state of one disk (velocities default to rest).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -116,6 +117,31 @@ impl Particles {
     /// Largest radius (m), 0 without disks.
     pub fn max_radius(&self) -> f64 {
         self.r.iter().cloned().fold(0.0, f64::max)
+    }
+
+    /// Numbers the disks afresh: the `k`-th disk afterwards is disk `order[k]` before (see
+    /// [`super::memory_order`]); `scratch`: a buffer of any content.
+    pub fn renumber(&mut self, order: &[u32], scratch: &mut Vec<f64>) {
+        let columns = [
+            &mut self.x,
+            &mut self.y,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.omega,
+            &mut self.angle,
+            &mut self.r,
+            &mut self.mass,
+            &mut self.inv_mass,
+            &mut self.inv_inertia,
+            &mut self.fx,
+            &mut self.fy,
+            &mut self.torque,
+            &mut self.rolling,
+            &mut self.contact_force,
+        ];
+        for column in columns {
+            gather(column, order, scratch);
+        }
     }
 
     /// Splits into read-only state and writable force accumulators, all slices of length `len()`

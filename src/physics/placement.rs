@@ -1,6 +1,7 @@
 //! Initial positions: seeded random non-overlapping placement, lattices, and radii.
 
 use super::config::{PlacementKind, SceneConfig};
+use super::memory_order::strip_key;
 use super::particles::InitialDisk;
 use super::rng::Rng;
 
@@ -119,7 +120,7 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
 /// vertical deposition keeps: the order stays good while the disks fall and settle (`cell`: the
 /// strips' width, m; `examples/memory_order.rs` measures what a re-sort later would gain).
 pub fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
-    let strip_then_along = |strip: f64, along: f64| ((strip / cell) as u64, along);
+    let strip_then_along = |strip: f64, along: f64| strip_key(strip, along, 0.0, cell);
     if width > height {
         disks.sort_by(|a, b| {
             let (sa, ya) = strip_then_along(a.x, a.y);

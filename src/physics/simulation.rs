@@ -9,13 +9,14 @@ use super::config::SceneConfig;
 use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
 use super::contact_list;
 use super::contact_network::ContactNetwork;
-use super::contact_record::PileContact;
+use super::contact_record::{Partner, PileContact};
 use super::contact_sums::ContactSums;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::energy::EnergyLedger;
 use super::forces::{self, ContactParameters, TouchingPairs};
 use super::integrator::{Integrator, Moved, StepContext};
 use super::material::{ContactMaterial, Materials};
+use super::memory_order::{self, MemoryOrder, Numbering};
 use super::monitor::{FrameSchedule, Monitor};
 use super::neighbors::NeighborList;
 use super::parallel::{Team, Threads};
@@ -28,6 +29,7 @@ use super::time_step::{self, with_time_step};
 use super::vector;
 use super::walls::BoxWalls;
 use super::warning::ValidityWarning;
+use std::borrow::Cow;
 use std::sync::Mutex;
 
 /// What a running simulation tells its caller at every sample.
@@ -62,7 +64,11 @@ pub struct Simulation<L: ContactLaw> {
     /// The scene, with its time step resolved.
     scene: SceneConfig,
     time_step_warning: Option<ValidityWarning>,
+    /// The disks, in the simulation's own numbering.
     particles: Particles,
+    /// Which scene disk each place of `particles` holds, and when it changes.
+    numbering: Numbering,
+    memory_order: MemoryOrder,
     walls: BoxWalls,
     neighbors: NeighborList<L::State>,
     materials: Materials,
@@ -139,6 +145,8 @@ impl<L: ContactLaw> Simulation<L> {
             rolling_removed: rolling::Removed::default(),
             integrator: Integrator::new(scene.integrator.scheme),
             particles,
+            numbering: Numbering::default(),
+            memory_order: MemoryOrder::default(),
             walls,
             materials,
             step: 0,
@@ -147,12 +155,39 @@ impl<L: ContactLaw> Simulation<L> {
             totals: ContactTotals::default(),
         };
         sim.rebuild_neighbors();
-        sim.neighbors.seed_histories(contacts);
+        sim.seed_histories(contacts);
         sim.compute_forces::<true>();
         sim.energy.initial_elastic = sim.totals.elastic;
         // No step reads the rolling resistances at the start: cleared for the first contact stage.
         sim.particles.rolling.fill(0.0);
         sim
+    }
+
+    /// Gives the contacts of `contacts` (in the scene's numbering) their histories.
+    fn seed_histories(&mut self, contacts: &[InitialContact]) {
+        let Some(places) = self.numbering.places() else { return self.neighbors.seed_histories(contacts) };
+        let place = |k: usize| places.get(k).map_or(k, |&p| p as usize);
+        let partner = |partner| match partner {
+            Partner::Disk(j) => Partner::Disk(place(j)),
+            wall => wall,
+        };
+        let renamed: Vec<InitialContact> = contacts
+            .iter()
+            .map(|c| InitialContact { disk: place(c.disk), partner: partner(c.partner), ..*c })
+            .collect();
+        self.neighbors.seed_histories(&renamed);
+    }
+
+    /// Sets when the disks are numbered afresh from the next neighbour-list build on (see
+    /// [`memory_order`]; the default renumbers large scenes whose neighbours have drifted apart in
+    /// memory).
+    pub fn set_memory_order(&mut self, policy: MemoryOrder) {
+        self.memory_order = policy;
+    }
+
+    /// Which scene disk each place of [`Self::particles`] holds.
+    pub fn numbering(&self) -> &Numbering {
+        &self.numbering
     }
 
     /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
@@ -163,9 +198,18 @@ impl<L: ContactLaw> Simulation<L> {
         *self.touching = TouchingPairs::default();
     }
 
-    /// The disks.
+    /// The disks, in the simulation's own numbering ([`Self::numbering`]: the scene's unless a
+    /// large scene was numbered afresh); snapshots give them in the scene's.
     pub fn particles(&self) -> &Particles {
         &self.particles
+    }
+
+    /// The disks in the scene's numbering.
+    fn scene_particles(&self) -> Cow<'_, Particles> {
+        let Some(places) = self.numbering.places() else { return Cow::Borrowed(&self.particles) };
+        let mut p = self.particles.clone();
+        p.renumber(&places, &mut Vec::new());
+        Cow::Owned(p)
     }
 
     /// Steps taken.
@@ -185,7 +229,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// The pre-run stability estimate for this scene.
     pub fn stability(&self) -> StabilityReport {
-        stability::assess(&self.law, &self.scene, &self.particles, &self.materials, &self.walls)
+        stability::assess(&self.law, &self.scene, &self.scene_particles(), &self.materials, &self.walls)
     }
 
     /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
@@ -219,10 +263,27 @@ impl<L: ContactLaw> Simulation<L> {
         (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
     }
 
-    /// Builds the neighbour list afresh from the current positions.
+    /// Builds the neighbour list afresh from the current positions, numbering the disks afresh
+    /// where the memory order asks.
     fn rebuild_neighbors(&mut self) {
         self.neighbors.rebuild(&self.particles, &self.walls, &self.team);
+        let (far, pairs) = (self.neighbors.far_pairs(), self.neighbors.pairs.entries.len());
+        if self.memory_order.due(self.particles.len(), far, pairs, &self.numbering) {
+            self.renumber_disks();
+        }
         self.sums.invalidate();
+    }
+
+    /// Numbers the disks afresh in strips at their current positions (see [`memory_order`]).
+    fn renumber_disks(&mut self) {
+        let p = &mut self.particles;
+        let order = memory_order::strip_order(&p.x, &p.y, 2.0 * p.max_radius());
+        let mut scratch = Vec::new();
+        p.renumber(&order, &mut scratch);
+        self.integrator.renumber(&order, &mut scratch);
+        self.neighbors.renumber_disks(&memory_order::inverse(&order));
+        let left = self.neighbors.far_pairs() as f64 / self.neighbors.pairs.entries.len().max(1) as f64;
+        self.numbering.renumber(&order, left);
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).
@@ -255,7 +316,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Full state now with `contacts` (those of [`Self::contacts`]) as its network.
     fn snapshot_with(&self, contacts: &[PileContact]) -> Snapshot {
-        let p = &self.particles;
+        let p = &*self.scene_particles();
         Snapshot {
             time: self.time(),
             x: p.x.clone(),
@@ -291,11 +352,13 @@ impl<L: ContactLaw> Simulation<L> {
         if d.is_active() { d.power(&self.particles, self.context.gravity, self.context.rotation) } else { 0.0 }
     }
 
-    /// The contacts at the current state with their forces: those the next step's force stage
-    /// would compute from the current springs (see [`contact_list`]).
+    /// The contacts at the current state with their forces, in the scene's numbering: those the
+    /// next step's force stage would compute from the current springs (see [`contact_list`]).
     pub fn contacts(&self) -> Vec<PileContact> {
         let kinds = [&self.disk_contacts, &self.wall_contacts];
-        contact_list::contacts(&self.law, kinds, &self.neighbors, &self.particles, &self.walls)
+        let mut contacts = contact_list::contacts(&self.law, kinds, &self.neighbors, &self.particles, &self.walls);
+        self.numbering.scene_contacts(&mut contacts);
+        contacts
     }
 
     /// The pile measures of the current state (see [`Self::contacts`]).
@@ -305,7 +368,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// The pile measures of the current state with its `contacts`.
     fn pile_metrics_of(&self, contacts: &[PileContact]) -> PileMetrics {
-        let p = &self.particles;
+        let p = &*self.scene_particles();
         let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
         let geometry =
             PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight: p.mass.iter().sum::<f64>() * g, width: self.walls.width };
@@ -359,7 +422,8 @@ impl<L: ContactLaw> Simulation<L> {
         let total_steps = self.scene.total_steps(self.context.dt);
         let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
         let mut frames = FrameSchedule::new(&self.scene, self.context.dt, total_steps);
-        let mut monitor = Monitor::new(&self.particles, &self.walls, self.scene.gravity, self.energy.initial_elastic);
+        let mut monitor =
+            Monitor::new(&self.scene_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
         let mut settle = SettleDetector::new(&self.scene.settle);
         let mut history = History::default();
         let mut recorded_frames = Vec::new();
@@ -429,7 +493,6 @@ impl<L: ContactLaw> Simulation<L> {
 mod tests {
     use super::*;
     use crate::physics::contact::{ContactForce, ContactLawKind, LawVisitor};
-    use crate::physics::contact_record::Partner;
 
     /// Settles a small frictional pile with law `L`, then compares at that state the one-contact
     /// evaluation with the block stages: per-disk force, torque and force-magnitude sums, each
