@@ -15,6 +15,10 @@
 //! 3. big depositions (10 000, 40 000 and 100 000 disks, 0.3 s) on 1 and 2 threads, alternated,
 //!    best of 3 each (the rows `threads_1`, `threads_2`; at 40 000 disks two threads should take at
 //!    most 0.6 of one's time).
+//! 4. memory order: 40 000 disks of the reference deposition given in shuffled order (as a file
+//!    from another code may come), 0.1 s, with the engine's default numbering (renumbered at the
+//!    first build: `src/physics/memory_order.rs`) and with the numbering kept, alternated, best of
+//!    3 each (rows `memory_default`, `memory_kept`).
 //!
 //! Results are printed and written to `results/bench_latest/engine.csv` (git ignores it);
 //! `cargo bench --bench engine -- --update-results` writes the committed `results/bench/engine.csv`
@@ -24,9 +28,12 @@ use std::time::Instant;
 
 use demsweep::bench::{reference_deposition, reference_disks};
 use demsweep::physics::config::{PlacementKind, SceneConfig};
+use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::memory_order::MemoryOrder;
 use demsweep::physics::particles::InitialDisk;
+use demsweep::physics::rng::Rng;
 use demsweep::physics::simulation::Control;
-use demsweep::physics::{Threads, run_scene_on};
+use demsweep::physics::{Simulation, Threads, placement, run_scene_on};
 
 /// Runs a scene once on `threads` threads; returns (ns per particle-step, steps, contacts at the end).
 fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>, threads: usize) -> (f64, u64, u32) {
@@ -38,6 +45,27 @@ fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>, threads: usize
     let seconds = start.elapsed().as_secs_f64();
     let n = rec.final_state.x.len() as f64;
     (seconds * 1e9 / (n * rec.steps as f64), rec.steps, *rec.history.contacts.last().unwrap_or(&0))
+}
+
+/// Runs the Hertz-Mindlin `scene` from `disks` once on one thread with `policy`; returns (ns per
+/// particle-step, steps).
+fn time_policy(scene: &SceneConfig, disks: &[InitialDisk], policy: MemoryOrder) -> (f64, u64) {
+    let mut sim = Simulation::<HertzMindlin>::new(scene, disks);
+    sim.set_memory_order(policy);
+    let start = Instant::now();
+    let rec = sim.run(&mut |_| Control::Continue);
+    (start.elapsed().as_secs_f64() * 1e9 / (disks.len() as f64 * rec.steps as f64), rec.steps)
+}
+
+/// The memory-order case: the reference deposition's `n` disks in shuffled order.
+fn shuffled_deposition(n: usize) -> (SceneConfig, Vec<InitialDisk>) {
+    let scene = reference_deposition(n, 0.1);
+    let mut disks = placement::generate(&scene).expect("placement");
+    let mut rng = Rng::new(7);
+    for k in (1..disks.len()).rev() {
+        disks.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
+    }
+    (scene, disks)
 }
 
 /// The big scenes run on 1 and 2 threads: disks, simulated seconds (the fall and the first impacts).
@@ -83,6 +111,23 @@ fn main() {
                 last.0, best[slot], best[slot], last.1
             );
         }
+    }
+
+    let (scene, disks) = shuffled_deposition(40_000);
+    let policies = [("memory_default", MemoryOrder::default()), ("memory_kept", MemoryOrder::KEPT)];
+    let mut best = [(f64::INFINITY, 0); 2];
+    for _ in 0..3 {
+        for (slot, (_, policy)) in policies.iter().enumerate() {
+            let (ns, steps) = time_policy(&scene, &disks, *policy);
+            best[slot] = (best[slot].0.min(ns), steps);
+        }
+    }
+    println!(
+        "N = 40000 shuffled, 0.1 s: {:.1} ns/particle-step renumbered (the default), {:.1} kept (best of 3)",
+        best[0].0, best[1].0
+    );
+    for ((name, _), (ns, steps)) in policies.iter().zip(best) {
+        csv += &format!("{name},40000,{steps},{ns:.2},{ns:.2},\n");
     }
 
     let durations = std::env::var("DEMSWEEP_BENCH_DURATION").unwrap_or_else(|_| "1.5".into());

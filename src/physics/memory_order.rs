@@ -4,12 +4,12 @@
 //! arrays, those reads miss the caches. Placement numbers disks in strips
 //! ([`super::placement::order_for_locality`]), which a vertical deposition in a wide box keeps. A
 //! long fall in a tall box mixes the strips, though, and a placement file may come in any order.
-//! So at each neighbour-list build the simulation counts the candidate pairs whose disks are more
-//! than [`FAR_PLACES`] places apart. When their share passes [`MemoryOrder::far_share`], in a scene
-//! of at least [`MemoryOrder::min_disks`] disks, it numbers the disks afresh in strips at their
-//! current positions. Every per-disk array, the integrator's history and the list's contact
-//! histories go through the same permutation; outputs (snapshots, contacts, pile measures) are
-//! given in the scene's own numbering ([`Numbering`]).
+//! So before the first step, and at each neighbour-list build, the simulation counts the candidate
+//! pairs whose disks are more than [`FAR_PLACES`] places apart. When their share passes
+//! [`MemoryOrder::far_share`], in a scene of at least [`MemoryOrder::min_disks`] disks, it numbers
+//! the disks afresh in strips at their current positions. Every per-disk array, the integrator's
+//! history and the list's contact histories go through the same permutation; outputs (snapshots,
+//! contacts, pile measures) are given in the scene's own numbering ([`Numbering`]).
 //!
 //! The decision reads only the list, which is the same on any number of threads, so results stay
 //! the same bits whatever the thread count. A renumbering does change the order in which a disk's

@@ -9,7 +9,7 @@ use super::config::SceneConfig;
 use super::contact::{ContactLaw, ContactOptions, RegisteredLaw};
 use super::contact_list;
 use super::contact_network::ContactNetwork;
-use super::contact_record::{Partner, PileContact};
+use super::contact_record::PileContact;
 use super::contact_sums::ContactSums;
 use super::diagnostics::{self, ContactTotals, Sample, SettleDetector};
 use super::energy::EnergyLedger;
@@ -155,7 +155,7 @@ impl<L: ContactLaw> Simulation<L> {
             totals: ContactTotals::default(),
         };
         sim.rebuild_neighbors();
-        sim.seed_histories(contacts);
+        sim.neighbors.seed_histories(contacts);
         sim.compute_forces::<true>();
         sim.energy.initial_elastic = sim.totals.elastic;
         // No step reads the rolling resistances at the start: cleared for the first contact stage.
@@ -163,24 +163,9 @@ impl<L: ContactLaw> Simulation<L> {
         sim
     }
 
-    /// Gives the contacts of `contacts` (in the scene's numbering) their histories.
-    fn seed_histories(&mut self, contacts: &[InitialContact]) {
-        let Some(places) = self.numbering.places() else { return self.neighbors.seed_histories(contacts) };
-        let place = |k: usize| places.get(k).map_or(k, |&p| p as usize);
-        let partner = |partner| match partner {
-            Partner::Disk(j) => Partner::Disk(place(j)),
-            wall => wall,
-        };
-        let renamed: Vec<InitialContact> = contacts
-            .iter()
-            .map(|c| InitialContact { disk: place(c.disk), partner: partner(c.partner), ..*c })
-            .collect();
-        self.neighbors.seed_histories(&renamed);
-    }
-
-    /// Sets when the disks are numbered afresh from the next neighbour-list build on (see
-    /// [`memory_order`]; the default renumbers large scenes whose neighbours have drifted apart in
-    /// memory).
+    /// Sets when the disks are numbered afresh (see [`memory_order`]): before the first step (the
+    /// numbering they came in) and at neighbour-list builds. The default renumbers large scenes
+    /// whose neighbours have drifted apart in memory.
     pub fn set_memory_order(&mut self, policy: MemoryOrder) {
         self.memory_order = policy;
     }
@@ -234,10 +219,15 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
     pub fn advance(&mut self, sample: bool) {
+        if self.step == 0 {
+            // The numbering the disks came in, checked with the policy set by now.
+            self.follow_memory_order();
+        }
         let (power, damping_power, stale) = self.move_disks();
         self.energy.record_step(power, damping_power, self.context.dt);
         if stale {
             self.rebuild_neighbors();
+            self.follow_memory_order();
         }
         if sample {
             self.compute_forces::<true>();
@@ -263,15 +253,19 @@ impl<L: ContactLaw> Simulation<L> {
         (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
     }
 
-    /// Builds the neighbour list afresh from the current positions, numbering the disks afresh
-    /// where the memory order asks.
+    /// Builds the neighbour list afresh from the current positions.
     fn rebuild_neighbors(&mut self) {
         self.neighbors.rebuild(&self.particles, &self.walls, &self.team);
+        self.sums.invalidate();
+    }
+
+    /// Numbers the disks afresh where the memory order asks, judged by the current list.
+    fn follow_memory_order(&mut self) {
         let (far, pairs) = (self.neighbors.far_pairs(), self.neighbors.pairs.entries.len());
         if self.memory_order.due(self.particles.len(), far, pairs, &self.numbering) {
             self.renumber_disks();
+            self.sums.invalidate();
         }
-        self.sums.invalidate();
     }
 
     /// Numbers the disks afresh in strips at their current positions (see [`memory_order`]).
@@ -493,6 +487,7 @@ impl<L: ContactLaw> Simulation<L> {
 mod tests {
     use super::*;
     use crate::physics::contact::{ContactForce, ContactLawKind, LawVisitor};
+    use crate::physics::contact_record::Partner;
 
     /// Settles a small frictional pile with law `L`, then compares at that state the one-contact
     /// evaluation with the block stages: per-disk force, torque and force-magnitude sums, each
