@@ -65,10 +65,7 @@ fn shuffled_pile(n: usize) -> (SceneConfig, Vec<InitialDisk>) {
     scene.placement.kind = PlacementKind::Lattice;
     (scene.placement.lattice_hexagonal, scene.placement.lattice_gap) = (true, 0.0);
     let mut disks = placement::generate(&scene).expect("placement");
-    let mut rng = Rng::new(7);
-    for k in (1..disks.len()).rev() {
-        disks.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
-    }
+    Rng::new(7).shuffle(&mut disks);
     (scene, disks)
 }
 

@@ -24,21 +24,6 @@ use demsweep::physics::record::Snapshot;
 use demsweep::physics::rng::Rng;
 use demsweep::physics::{Simulation, Threads};
 
-/// The disks of a snapshot, in its order.
-fn disks_of(s: &Snapshot) -> Vec<InitialDisk> {
-    (0..s.x.len())
-        .map(|k| InitialDisk {
-            x: s.x[k],
-            y: s.y[k],
-            r: s.r[k],
-            vx: s.vx[k],
-            vy: s.vy[k],
-            omega: s.omega[k],
-            angle: s.angle[k],
-        })
-        .collect()
-}
-
 /// Share of the disk-disk contacts whose disks sit more than [`FAR_PLACES`] places apart in the
 /// simulation's own numbering.
 fn far_share(sim: &Simulation<HertzMindlin>) -> f64 {
@@ -86,13 +71,10 @@ fn main() {
     };
     let deposit_box = box_of(deposit);
     let placed = placement::generate(&deposit_box).expect("placement");
-    let mixed = disks_of(&timed(&deposit_box, &placed, threads, MemoryOrder::KEPT, "deposit_kept"));
+    let mixed = timed(&deposit_box, &placed, threads, MemoryOrder::KEPT, "deposit_kept").initial_disks();
     timed(&deposit_box, &placed, threads, MemoryOrder::default(), "deposit_default");
     let mut shuffled = mixed.clone();
-    let mut rng = Rng::new(7);
-    for k in (1..shuffled.len()).rev() {
-        shuffled.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
-    }
+    Rng::new(7).shuffle(&mut shuffled);
     let scene = box_of(cont);
     for round in 0..rounds {
         println!("round={round}");

@@ -50,18 +50,9 @@ fn settled(s: &SceneConfig, settle: f64) -> Vec<InitialDisk> {
     for _ in 0..(settle / s.integrator.fixed_time_step().unwrap_or_default()).round() as u64 {
         sim.advance(false);
     }
-    let p = sim.particles();
-    let state: Vec<InitialDisk> = (0..p.len())
-        .map(|i| InitialDisk {
-            x: p.x[i],
-            y: p.y[i],
-            r: p.r[i],
-            vx: p.vx[i],
-            vy: p.vy[i],
-            omega: p.omega[i],
-            ..Default::default()
-        })
-        .collect();
+    // The cache keeps no angles: they start at zero whether read back or computed.
+    let state: Vec<InitialDisk> =
+        sim.snapshot().initial_disks().into_iter().map(|d| InitialDisk { angle: 0.0, ..d }).collect();
     let text: String = state
         .iter()
         .map(|d| {

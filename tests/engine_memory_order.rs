@@ -17,10 +17,7 @@ use demsweep::physics::{Simulation, Threads};
 
 /// `items` in an order drawn from `seed`.
 fn shuffled<T>(mut items: Vec<T>, seed: u64) -> Vec<T> {
-    let mut rng = Rng::new(seed);
-    for k in (1..items.len()).rev() {
-        items.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
-    }
+    Rng::new(seed).shuffle(&mut items);
     items
 }
 

@@ -2,7 +2,7 @@
 //!
 //! The contact stages read both disks of every candidate pair. When the two are far apart in the
 //! arrays, those reads miss the caches. Placement numbers disks in strips
-//! ([`super::placement::order_for_locality`]), which a vertical deposition in a wide box keeps. A
+//! (`placement::order_for_locality`, through [`strips`]), which a vertical deposition in a wide box keeps. A
 //! long fall in a tall box mixes the strips, though, and a placement file may come in any order.
 //! So before the first step, and at each neighbour-list build, the simulation counts the candidate
 //! pairs whose disks are more than [`FAR_PLACES`] places apart. When their share passes
@@ -57,13 +57,6 @@ impl Default for MemoryOrder {
     }
 }
 
-/// The sort key of a disk in strips `cell` wide (m) counted from `origin`: its strip, from its
-/// coordinate `across` the strips, then its coordinate `along` its strip.
-#[inline]
-pub fn strip_key(across: f64, along: f64, origin: f64, cell: f64) -> (u64, f64) {
-    (((across - origin) / cell) as u64, along)
-}
-
 /// The order of the disks at `x`, `y` in strips `cell` wide (m) across the longer side of their
 /// extent, each strip along the shorter side: the `k`-th disk of the new numbering is disk
 /// `order[k]` of the old. Ties keep the old order.
@@ -74,9 +67,16 @@ pub fn strip_order(x: &[f64], y: &[f64], cell: f64) -> Vec<u32> {
         (lo, hi - lo)
     };
     let ((x0, width), (y0, height)) = (extent(x), extent(y));
+    strips(x, y, width > height, [x0, y0], cell)
+}
+
+/// The order of the disks at `x`, `y` in strips `cell` wide (m) counted from `origin`: columns
+/// (each from the bottom up) if `columns`, else rows (each from the left), as in [`strip_order`].
+pub fn strips(x: &[f64], y: &[f64], columns: bool, origin: [f64; 2], cell: f64) -> Vec<u32> {
+    let strip = |across: f64, origin: f64| ((across - origin) / cell) as u64;
     let key = |k: u32| {
         let k = k as usize;
-        if width > height { strip_key(x[k], y[k], x0, cell) } else { strip_key(y[k], x[k], y0, cell) }
+        if columns { (strip(x[k], origin[0]), y[k]) } else { (strip(y[k], origin[1]), x[k]) }
     };
     let mut order: Vec<u32> = (0..x.len() as u32).collect();
     order.sort_by(|&a, &b| {

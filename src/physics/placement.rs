@@ -1,7 +1,7 @@
 //! Initial positions: seeded random non-overlapping placement, lattices, and radii.
 
 use super::config::{PlacementKind, SceneConfig};
-use super::memory_order::strip_key;
+use super::memory_order::strips;
 use super::particles::InitialDisk;
 use super::rng::Rng;
 
@@ -118,21 +118,12 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
 /// Orders disks in strips of one cell across the box's longer side, along the shorter side within a
 /// strip, so that neighbours are close in memory. In a wide box the strips are columns, which a
 /// vertical deposition keeps: the order stays good while the disks fall and settle (`cell`: the
-/// strips' width, m; `examples/memory_order.rs` measures what a re-sort later would gain).
-pub fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
-    let strip_then_along = |strip: f64, along: f64| strip_key(strip, along, 0.0, cell);
-    if width > height {
-        disks.sort_by(|a, b| {
-            let (sa, ya) = strip_then_along(a.x, a.y);
-            let (sb, yb) = strip_then_along(b.x, b.y);
-            sa.cmp(&sb).then(ya.total_cmp(&yb))
-        });
-    } else {
-        disks.sort_by(|a, b| {
-            let (sa, xa) = strip_then_along(a.y, a.x);
-            let (sb, xb) = strip_then_along(b.y, b.x);
-            sa.cmp(&sb).then(xa.total_cmp(&xb))
-        });
+/// strips' width, m; the simulation numbers large scenes afresh where it does not: `memory_order`).
+fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
+    let (x, y): (Vec<f64>, Vec<f64>) = disks.iter().map(|d| (d.x, d.y)).unzip();
+    let placed = disks.to_vec();
+    for (disk, k) in disks.iter_mut().zip(strips(&x, &y, width > height, [0.0, 0.0], cell)) {
+        *disk = placed[k as usize];
     }
 }
 

@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::particles::InitialDisk;
 use super::pile::PileMetrics;
 use super::stability::StabilityReport;
 use super::warning::ValidityWarning;
@@ -106,6 +107,23 @@ pub struct Snapshot {
     /// The contacts with their forces.
     #[serde(default)]
     pub contacts: super::contact_network::ContactNetwork,
+}
+
+impl Snapshot {
+    /// The disks of this state as a simulation's starting state, in the scene's numbering.
+    pub fn initial_disks(&self) -> Vec<InitialDisk> {
+        (0..self.x.len())
+            .map(|k| InitialDisk {
+                x: self.x[k],
+                y: self.y[k],
+                r: self.r[k],
+                vx: self.vx[k],
+                vy: self.vy[k],
+                omega: self.omega[k],
+                angle: self.angle[k],
+            })
+            .collect()
+    }
 }
 
 /// One per-disk column of a [`Snapshot`]: the one declaration the state tables of results files

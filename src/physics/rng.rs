@@ -42,6 +42,13 @@ impl Rng {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
+    /// Puts `items` in an order drawn from the stream (Fisher-Yates).
+    pub fn shuffle<T>(&mut self, items: &mut [T]) {
+        for k in (1..items.len()).rev() {
+            items.swap(k, (self.next_u64() % (k as u64 + 1)) as usize);
+        }
+    }
+
     /// Uniform in [lo, hi).
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
@@ -62,5 +69,20 @@ mod tests {
         assert_ne!(Rng::new(8).next_u64(), xs[0]);
         let u = Rng::new(1).unit();
         assert!((0.0..1.0).contains(&u));
+    }
+
+    #[test]
+    fn a_shuffle_is_a_permutation_fixed_by_seed() {
+        let shuffled = |seed| {
+            let mut items: Vec<u32> = (0..100).collect();
+            Rng::new(seed).shuffle(&mut items);
+            items
+        };
+        let (a, mut sorted) = (shuffled(3), shuffled(3));
+        assert_eq!(a, sorted);
+        assert_ne!(a, shuffled(4));
+        assert!(a.iter().zip(0..).filter(|(x, k)| **x == *k).count() < 20, "moved");
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..100).collect::<Vec<u32>>());
     }
 }
