@@ -1,9 +1,9 @@
 //! Renumbering the disks of a large scene so that neighbours stay close in memory.
 //!
 //! The contact stages read both disks of every candidate pair. When the two are far apart in the
-//! arrays, those reads miss the caches. Placement numbers disks in strips
-//! (`placement::order_for_locality`, through [`strips`]), which a vertical deposition in a wide box keeps. A
-//! long fall in a tall box mixes the strips, though, and a placement file may come in any order.
+//! arrays, those reads miss the caches. Placement numbers disks in strips ([`strips`]), which a
+//! vertical deposition in a wide box keeps. A long fall in a tall box mixes the strips, though, and
+//! a placement file may come in any order.
 //! So before the first step, and at each neighbour-list build, the simulation counts the candidate
 //! pairs whose disks are more than [`FAR_PLACES`] places apart. When their share passes
 //! [`MemoryOrder::far_share`], in a scene of at least [`MemoryOrder::min_disks`] disks, it numbers
