@@ -4,8 +4,8 @@
 //! any number of threads. The scenes here start from disks given in shuffled order, so that the
 //! first renumbering moves nearly every disk.
 
-use demsweep::physics::config::SceneConfig;
-use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
+use demsweep::physics::contact::{HertzMindlin, HystereticLinear, RegisteredLaw};
 use demsweep::physics::contact_record::Partner;
 use demsweep::physics::memory_order::MemoryOrder;
 use demsweep::physics::particles::{InitialContact, InitialDisk};
@@ -23,9 +23,19 @@ fn shuffled<T>(mut items: Vec<T>, seed: u64) -> Vec<T> {
 
 /// `scene` from `disks` run on `threads` threads (the parallel path from any size on) with `policy`.
 fn run(scene: &SceneConfig, disks: &[InitialDisk], threads: usize, policy: MemoryOrder) -> RunRecord {
+    run_with::<HertzMindlin>(scene, disks, threads, policy)
+}
+
+/// [`run`] with the scene's law `L`.
+fn run_with<L: RegisteredLaw>(
+    scene: &SceneConfig,
+    disks: &[InitialDisk],
+    threads: usize,
+    policy: MemoryOrder,
+) -> RunRecord {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
-        let mut sim = Simulation::<HertzMindlin>::new(scene, disks);
+        let mut sim = Simulation::<L>::new(scene, disks);
         sim.set_threads(Threads { count: threads, min_disks: 0 });
         sim.set_memory_order(policy);
         sim.run(&mut |_| Control::Continue)
@@ -119,6 +129,24 @@ fn a_pile_renumbered_at_every_build_is_bit_identical_on_1_2_and_3_threads() {
 }
 
 #[test]
+fn verlet_with_rolling_friction_and_a_law_with_state_renumbered_at_every_build_is_bit_identical_on_1_and_2_threads() {
+    // The law's own state goes through the permutation with the springs; Verlet keeps no history.
+    let mut scene = deposition(1100, 1.5, 0.25);
+    scene.integrator.scheme = IntegratorKind::VelocityVerlet;
+    scene.material.rolling_friction = 0.05;
+    scene.contact.law = ContactLawKind::HystereticLinear;
+    let disks = shuffled(placement::generate(&scene).unwrap(), 13);
+    let one = run_with::<HystereticLinear>(&scene, &disks, 1, MemoryOrder::EVERY_BUILD);
+    assert!(one.final_state.contacts.law_state.iter().any(|&s| s > 0.0), "contacts with a law state");
+    let two = run_with::<HystereticLinear>(&scene, &disks, 2, MemoryOrder::EVERY_BUILD);
+    assert!(bits(&two) == bits(&one), "2 threads differ from one");
+    let kept = run_with::<HystereticLinear>(&scene, &disks, 1, MemoryOrder::KEPT);
+    let mean_height = |r: &RunRecord| r.final_state.y.iter().sum::<f64>() / 1100.0;
+    let (a, b) = (mean_height(&one), mean_height(&kept));
+    assert!((a - b).abs() < 0.02 * b, "mean height {a} renumbered, {b} kept");
+}
+
+#[test]
 fn a_large_shuffled_scene_is_renumbered_before_its_first_step_and_its_restart_histories_stay_on_their_contacts() {
     // 20 000 disks on a square lattice, each pressed into its four neighbours, given in shuffled
     // order: nearly every pair is far apart in memory, so the disks are renumbered at once.
@@ -137,18 +165,23 @@ fn a_large_shuffled_scene_is_renumbered_before_its_first_step_and_its_restart_hi
     let mut scene = SceneConfig::default();
     (scene.domain.width, scene.domain.height) = (2.0 * r * columns as f64, 2.0 * r * rows as f64 + 0.1);
     scene.material.friction = 0.5;
-    // A spring on every tenth pair of a site and its right-hand neighbour, named from the right.
+    scene.contact.law = ContactLawKind::HystereticLinear;
+    // The pairs' overlap (m): the lattice's spacing is 1.98 radii.
+    let overlap = 0.02 * r;
+    // A spring, and a largest overlap so far above the present one, on every tenth pair of a site
+    // and its right-hand neighbour, named from the right.
     let seeded: Vec<InitialContact> = (0..site_of.len())
         .filter(|s| s % 10 == 0 && s % columns + 1 < columns)
         .map(|s| InitialContact {
             disk: place_of[s + 1],
             partner: Partner::Disk(place_of[s]),
-            tangential_spring: 1e-8 * (1 + s % 97) as f64,
-            law_state: 0.0,
+            tangential_spring: 1e-7 * (1 + s % 97) as f64,
+            law_state: overlap * (1.0 + 1e-3 * (1 + s % 97) as f64),
         })
         .collect();
     assert!(seeded.len() > 1500);
-    let mut sim = Simulation::with_history(&scene, &disks, &seeded, HertzMindlin {});
+    let law = HystereticLinear::chosen_in(&scene.contact).unwrap().clone();
+    let mut sim = Simulation::with_history(&scene, &disks, &seeded, law);
     assert!(sim.numbering().is_scene_order(), "numbered as given until the first step");
     sim.advance(false);
     assert!(!sim.numbering().is_scene_order(), "renumbered before the first step");
@@ -156,7 +189,7 @@ fn a_large_shuffled_scene_is_renumbered_before_its_first_step_and_its_restart_hi
     let pairs: Vec<_> = contacts
         .iter()
         .filter_map(|c| match c.partner {
-            Partner::Disk(j) => Some(((c.disk, j), c.history.0)),
+            Partner::Disk(j) => Some(((c.disk, j), c.history)),
             Partner::Wall(_) => None,
         })
         .collect();
@@ -164,14 +197,18 @@ fn a_large_shuffled_scene_is_renumbered_before_its_first_step_and_its_restart_hi
     for c in &seeded {
         let Partner::Disk(j) = c.partner else { unreachable!() };
         let key = (c.disk.min(j), c.disk.max(j));
-        let found = pairs.binary_search_by_key(&key, |p| p.0).map(|k| pairs[k].1).expect("a contact");
-        // One step on: the spring has moved by the step's slip only (which its own force drives).
+        let (spring, largest) = pairs.binary_search_by_key(&key, |p| p.0).map(|k| pairs[k].1).expect("a contact");
+        // One step on: the spring has moved by the step's slip only (which its own force drives);
+        // the largest overlap so far is still the seeded one.
         let seeded = c.tangential_spring;
-        assert!((found - seeded).abs() < 1e-2 * seeded, "pair {key:?}: {found}, seeded {seeded}");
+        assert!((spring - seeded).abs() < 1e-2 * seeded, "pair {key:?}: spring {spring}, seeded {seeded}");
+        assert_eq!(largest, c.law_state, "pair {key:?}");
     }
-    // The others have only the slip of one step (some 1e-9 m at most).
-    let with_springs = pairs.iter().filter(|p| p.1.abs() >= 0.5e-8).count();
+    // The others have only the slip of one step (some 1e-8 m at most) and their present overlap.
+    let with_springs = pairs.iter().filter(|p| p.1.0.abs() >= 0.5e-7).count();
     assert_eq!(with_springs, seeded.len(), "no other pair has a spring of the seeded size");
+    let with_states = pairs.iter().filter(|p| p.1.1 > overlap * 1.0005).count();
+    assert_eq!(with_states, seeded.len(), "no other pair has a largest overlap of the seeded size");
     let snapshot = sim.snapshot();
     let moved = disks.iter().zip(&snapshot.x).map(|(d, x)| (x - d.x).abs()).fold(0.0, f64::max);
     assert!(moved < 1e-6, "the snapshot in the scene's numbering: a disk {moved} m from where it was");
