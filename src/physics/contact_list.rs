@@ -10,11 +10,13 @@ use super::particles::Particles;
 use super::walls::BoxWalls;
 
 /// Every touching disk pair (in neighbour-list order), then every disk-wall contact, with the
-/// force the law gives it at this state (springs and law states are left as they are).
+/// force the law gives it at this state (springs and law states are left as they are). The disk
+/// pairs' springs are `pair_springs` (the list's as the steps left them, see
+/// [`super::forces::TouchingPairs::springs_of`]).
 pub(super) fn contacts<L: ContactLaw>(
     law: &L,
     kinds: [&ContactParameters; 2],
-    neighbors: &NeighborList<L::State>,
+    (neighbors, pair_springs): (&NeighborList<L::State>, &[f64]),
     p: &Particles,
     walls: &BoxWalls,
 ) -> Vec<PileContact> {
@@ -32,7 +34,7 @@ pub(super) fn contacts<L: ContactLaw>(
                 [p.vx[i] - p.vx[j], p.vy[i] - p.vy[j]],
                 [p.omega[i] * p.r[i], p.omega[j] * p.r[j]],
             );
-            let history = (pairs.springs[k], pairs.states[k]);
+            let history = (pair_springs[k], pairs.states[k]);
             let force = disk_kind.force_of(law, (pair.r_star, pair.m_star), &motion, history);
             let ratio = overlap / p.r[i].min(p.r[j]);
             contacts.push(pile_contact(i, Partner::Disk(j), normal, (force, history), disk_kind, ratio));

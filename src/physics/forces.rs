@@ -37,6 +37,7 @@ use super::parallel::{Split, Team, split_slice};
 use super::particles::{Forces, State};
 use super::vector::{self, Width};
 use super::walls::Wall;
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Mutex;
 
@@ -163,6 +164,8 @@ pub struct TouchingPairs<S> {
     kept: Vec<Box<KeptRows>>,
     /// Calls of [`TouchingPairs::contacts`] so far (which call each block's rows are from).
     calls: u64,
+    /// Whether some kept rows are [`KeptRows::fresher`] than the list.
+    fresher: bool,
     /// Blocks whose touching pairs were gathered unchanged, and of them those whose pairs apart
     /// were not tested (the tests' view of those paths).
     #[cfg(test)]
@@ -223,9 +226,13 @@ struct KeptRows {
     r_star: [f64; BLOCK],
     m_star: [f64; BLOCK],
     /// Tangential spring, before and after the step. Kept too: the list's springs change only at
-    /// a build (a new build number) and by the scatter, which writes them from here, so a block
-    /// gathered unchanged finds its pairs' springs in place.
+    /// a build (a new build number) and from here, so a block gathered unchanged finds its pairs'
+    /// springs in place.
     spring: [f64; BLOCK],
+    /// Whether `spring` is newer than the list's springs of these pairs: the scatter leaves them
+    /// here only (one store per contact and step less), and they are written back to the list
+    /// before anything reads it (see [`TouchingPairs::write_back_springs`]).
+    fresher: bool,
     /// The block's candidates out of contact (indices in the block), and how many.
     apart: [u8; BLOCK],
     apart_len: usize,
@@ -252,6 +259,15 @@ impl KeptRows {
     }
 }
 
+impl KeptRows {
+    /// Copies the springs to the candidates of their block (`springs`: the block's).
+    fn copy_springs(&self, springs: &mut [f64]) {
+        for c in 0..self.len {
+            springs[self.candidate[c]] = self.spring[c];
+        }
+    }
+}
+
 impl Default for KeptRows {
     fn default() -> Self {
         let column = [0.0; BLOCK];
@@ -266,6 +282,7 @@ impl Default for KeptRows {
             r_star: column,
             m_star: column,
             spring: column,
+            fresher: false,
             apart: [0; BLOCK],
             apart_len: 0,
             clearance: 0.0,
@@ -282,6 +299,7 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
             rows: Box::default(),
             kept: Vec::new(),
             calls: 0,
+            fresher: false,
             #[cfg(test)]
             unchanged_blocks: 0,
             #[cfg(test)]
@@ -431,6 +449,38 @@ pub fn contacts_in_parts<L: ContactLaw>(
 }
 
 impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
+    /// Writes the springs that the kept rows hold newer than `pairs` (the list their steps ran
+    /// on) back to it: before anything but [`TouchingPairs::contacts`] reads or changes the list's
+    /// springs (a rebuild, a renumbering, the parallel path, a new table).
+    pub fn write_back_springs(&mut self, pairs: &mut Candidates<NeighborPair, S>) {
+        if !std::mem::take(&mut self.fresher) {
+            return;
+        }
+        let build = pairs.build();
+        for (rows, springs) in self.kept.iter_mut().zip(pairs.springs.chunks_mut(BLOCK)) {
+            if rows.fresher {
+                debug_assert_eq!(rows.build, build, "kept rows of another list");
+                rows.copy_springs(springs);
+                rows.fresher = false;
+            }
+        }
+    }
+
+    /// The springs of `pairs` as they are now: the list's, with those the kept rows hold newer
+    /// (see [`TouchingPairs::write_back_springs`]).
+    pub fn springs_of<'a>(&self, pairs: &'a Candidates<NeighborPair, S>) -> Cow<'a, [f64]> {
+        if !self.fresher {
+            return Cow::Borrowed(&pairs.springs);
+        }
+        let mut springs = pairs.springs.clone();
+        for (rows, springs) in self.kept.iter().zip(springs.chunks_mut(BLOCK)) {
+            if rows.fresher {
+                rows.copy_springs(springs);
+            }
+        }
+        Cow::Owned(springs)
+    }
+
     /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
     /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
     /// contact sums to `totals`.
@@ -489,13 +539,18 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                     self.unchanged_blocks += 1;
                 }
             } else {
+                // The narrow phase reads the list's springs (the scatter marks the rows fresher).
+                if self.rows.fresher {
+                    self.rows.copy_springs(springs);
+                }
                 self.narrow_phase(b, (short, short), s, block, (springs, states));
                 (self.rows.collected, self.rows.travel) = (self.calls, travel);
                 self.compute_forces::<L, COMPUTED>(law, disk_kind);
             }
             if short {
                 self.scatter::<L, SAMPLE, true, true>(law, disk_kind, (springs, states), f, totals);
-                (self.rows.written, self.rows.build) = (self.calls, build);
+                (self.rows.written, self.rows.build, self.rows.fresher) = (self.calls, build, true);
+                self.fresher = true;
                 std::mem::swap(&mut self.rows, &mut self.kept[b]);
             } else {
                 self.scatter::<L, SAMPLE, true, false>(law, disk_kind, (springs, states), f, totals);
@@ -995,9 +1050,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     }
 
     /// Stage 3: adds the forces of the touching pairs to both disks (`PAIRS`; walls: to the disk),
-    /// in list order, and stores the springs; with `SAMPLE`, adds the contact sums to `totals`;
-    /// `HOLD`: see [`TouchingPairs::add_to`].
-    fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool, const HOLD: bool>(
+    /// in list order, and stores the histories; with `SAMPLE`, adds the contact sums to `totals`;
+    /// `KEPT`: see [`TouchingPairs::add_to`].
+    fn scatter<L: ContactLaw<State = S>, const SAMPLE: bool, const PAIRS: bool, const KEPT: bool>(
         &self,
         law: &L,
         kind: &ContactParameters,
@@ -1005,7 +1060,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
     ) {
-        self.add_to::<PAIRS, HOLD>(kind, &mut DiskSums::new(f.fx, f.fy, f.torque, f.rolling), histories);
+        self.add_to::<PAIRS, KEPT>(kind, &mut DiskSums::new(f.fx, f.fy, f.torque, f.rolling), histories);
         if SAMPLE {
             self.sample::<L, PAIRS>(law, kind, f.contact_force, totals);
         }
@@ -1013,19 +1068,41 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 
     /// Adds the table's forces, torques and rolling resistances to the disks of `sums`, which
     /// holds all of them, row after row: to both disks (`PAIRS`; the second gets the opposite
-    /// force), or to the disk (walls); writes the springs and states back to their candidates
-    /// (in the same loop: one pass over the table).
+    /// force), or to the disk (walls); writes the states back to their candidates, and the
+    /// springs unless the rows are `KEPT` (in the same loop: one pass over the table).
     ///
-    /// The rows come in runs of one first disk (the list is sorted by it). With `HOLD`, its sums
-    /// are held in registers over the run: added to in memory, each row would wait for the
-    /// previous row's store to reach the next load. The same additions in the same order (a pair's
-    /// second disk is never its first), so the same bits. Without, each row is a run of its own:
-    /// the test of a new run is a branch, which the predictor learns in a short list (its blocks'
-    /// rows are the same from step to step), not in a long one.
+    /// The rows come in runs of one first disk (the list is sorted by it). With `KEPT` (a short
+    /// list's rows, the same from step to step), its sums are held in registers over the run:
+    /// added to in memory, each row would wait for the previous row's store to reach the next
+    /// load. The same additions in the same order (a pair's second disk is never its first), so
+    /// the same bits. Without, each row is a run of its own: the test of a new run is a branch,
+    /// which the predictor learns in a short list (its blocks' rows are the same from step to
+    /// step), not in a long one.
+    ///
+    /// Torques and rolling resistances are added by a copy of the loop that has them, so that
+    /// rows without them test nothing.
     #[inline(always)]
-    fn add_to<const PAIRS: bool, const HOLD: bool>(
+    fn add_to<const PAIRS: bool, const KEPT: bool>(
         &self,
         kind: &ContactParameters,
+        sums: &mut DiskSums<'_>,
+        histories: Histories<'_, S>,
+    ) {
+        let rolling_friction = kind.material.rolling_friction;
+        match (kind.rotation, rolling_friction > 0.0) {
+            (false, false) => self.add_rows::<PAIRS, KEPT, false, false>(rolling_friction, sums, histories),
+            (true, false) => self.add_rows::<PAIRS, KEPT, true, false>(rolling_friction, sums, histories),
+            (false, true) => self.add_rows::<PAIRS, KEPT, false, true>(rolling_friction, sums, histories),
+            (true, true) => self.add_rows::<PAIRS, KEPT, true, true>(rolling_friction, sums, histories),
+        }
+    }
+
+    /// [`TouchingPairs::add_to`]'s loop, with torques (`ROTATION`) and rolling resistances
+    /// (`ROLLING`, of `rolling_friction`) or without.
+    #[inline(always)]
+    fn add_rows<const PAIRS: bool, const KEPT: bool, const ROTATION: bool, const ROLLING: bool>(
+        &self,
+        rolling_friction: f64,
         sums: &mut DiskSums<'_>,
         histories: Histories<'_, S>,
     ) {
@@ -1033,14 +1110,13 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         // Slices of one known length: the assert below covers all their bounds checks.
         let (fx, fy) = (&mut sums.fx[..n], &mut sums.fy[..n]);
         let (torque, rolling) = (&mut sums.torque[..n], &mut sums.rolling[..n]);
-        let rolling_friction = kind.material.rolling_friction;
         let (springs, states) = histories;
         let (mut held, mut sum) = (usize::MAX, [0.0; 4]);
         for c in 0..self.rows.len {
             let (i, j) = self.bodies(c);
             let (i, j) = (i.wrapping_sub(first), j.wrapping_sub(first));
             assert!(i < n && j < n, "contact out of range");
-            if !HOLD || i != held {
+            if !KEPT || i != held {
                 if held < n {
                     [fx[held], fy[held], torque[held], rolling[held]] = sum;
                 }
@@ -1053,20 +1129,22 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 fx[j] -= force_x;
                 fy[j] -= force_y;
             }
-            if kind.rotation {
+            if ROTATION {
                 sum[2] += self.torque_i[c];
                 if PAIRS {
                     torque[j] += self.torque_j[c];
                 }
             }
-            if rolling_friction > 0.0 {
+            if ROLLING {
                 let resistance = rolling_friction * self.normal[c].max(0.0);
                 sum[3] += resistance * self.rows.ri[c];
                 if PAIRS {
                     rolling[j] += resistance * self.rows.rj[c];
                 }
             }
-            springs[self.rows.candidate[c]] = self.rows.spring[c];
+            if !KEPT {
+                springs[self.rows.candidate[c]] = self.rows.spring[c];
+            }
             if stateful::<S>() {
                 states[self.rows.candidate[c]] = self.state[c];
             }
@@ -1244,14 +1322,17 @@ mod tests {
                 (particles.x[k], particles.y[k]) = (x, y);
             }
             assert!(!list.note_step(longest), "no build needed");
-            // The same step through a table that has no rows of earlier steps.
+            // The same step through a table that has no rows of earlier steps (and a list with
+            // the springs the kept rows hold newer).
             let mut afresh = list.clone();
+            afresh.pairs.springs = kept.springs_of(&list.pairs).into_owned();
             let mut forces = Vec::new();
             for (table, list) in [(&mut kept, &mut list), (&mut TouchingPairs::default(), &mut afresh)] {
                 let (s, mut f) = particles.split();
                 table.contacts::<_, false>(&law, [&kind, &kind], (&walls.walls, &mut *list), &s, &mut f, &mut totals);
                 let columns = [&f.fx, &f.fy, &f.torque].map(|c| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
-                forces.push((columns, list.pairs.springs.iter().map(|v| v.to_bits()).collect::<Vec<_>>()));
+                let springs = table.springs_of(&list.pairs).iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                forces.push((columns, springs));
                 for column in [f.fx, f.fy, f.torque] {
                     column.fill(0.0);
                 }

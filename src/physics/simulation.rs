@@ -180,6 +180,7 @@ impl<L: ContactLaw> Simulation<L> {
         self.team = Team::new(threads.used_for(self.particles.len()));
         // The one-thread table keeps springs from step to step, which steps on several threads
         // would not update.
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
         *self.touching = TouchingPairs::default();
     }
 
@@ -255,6 +256,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Builds the neighbour list afresh from the current positions.
     fn rebuild_neighbors(&mut self) {
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
         self.neighbors.rebuild(&self.particles, &self.walls, &self.team);
         self.sums.invalidate();
     }
@@ -270,6 +272,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Numbers the disks afresh in strips at their current positions (see [`memory_order`]).
     fn renumber_disks(&mut self) {
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
         let p = &mut self.particles;
         let order = memory_order::strip_order(&p.x, &p.y, 2.0 * p.max_radius());
         let mut scratch = Vec::new();
@@ -350,7 +353,9 @@ impl<L: ContactLaw> Simulation<L> {
     /// next step's force stage would compute from the current springs (see [`contact_list`]).
     pub fn contacts(&self) -> Vec<PileContact> {
         let kinds = [&self.disk_contacts, &self.wall_contacts];
-        let mut contacts = contact_list::contacts(&self.law, kinds, &self.neighbors, &self.particles, &self.walls);
+        let springs = self.touching.springs_of(&self.neighbors.pairs);
+        let lists = (&self.neighbors, &springs[..]);
+        let mut contacts = contact_list::contacts(&self.law, kinds, lists, &self.particles, &self.walls);
         self.numbering.scene_contacts(&mut contacts);
         contacts
     }
@@ -382,6 +387,7 @@ impl<L: ContactLaw> Simulation<L> {
         }
         let (s, mut f) = p.split();
         if !SAMPLE && self.team.parts() > 1 {
+            self.touching.write_back_springs(&mut self.neighbors.pairs);
             let kinds = [&self.disk_contacts, &self.wall_contacts];
             let walls = (&self.walls.walls[..], &mut self.neighbors.walls);
             let (tables, sums) = (&mut self.tables, &mut self.sums);
