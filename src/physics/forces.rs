@@ -182,9 +182,9 @@ pub struct TouchingPairs<S> {
     /// `v_i − v_j`.
     dvx: [f64; BLOCK],
     dvy: [f64; BLOCK],
-    /// `ω_i r_i` and `ω_j r_j`.
-    spin_i: [f64; BLOCK],
-    spin_j: [f64; BLOCK],
+    /// `ω_i` and `ω_j` (a wall: 0); stage 2 takes `ω_i r_i` and `ω_j r_j` four at a time.
+    omega_i: [f64; BLOCK],
+    omega_j: [f64; BLOCK],
     /// The law's contact state, before and after the step.
     state: [S; BLOCK],
     // Computed by the vector stage.
@@ -353,8 +353,8 @@ impl<S: Copy + Default> Default for TouchingPairs<S> {
             dy: column,
             dvx: column,
             dvy: column,
-            spin_i: column,
-            spin_j: column,
+            omega_i: column,
+            omega_j: column,
             state: [S::default(); BLOCK],
             unit_x: column,
             unit_y: column,
@@ -850,10 +850,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         for c in 0..rows.len {
             let [i, j] = rows.bodies[c].map(|b| b as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            let (ri, rj) = (rows.ri[c], rows.rj[c]);
             (self.dx[c], self.dy[c]) = (x[j] - x[i], y[j] - y[i]);
             (self.dvx[c], self.dvy[c]) = (vx[i] - vx[j], vy[i] - vy[j]);
-            (self.spin_i[c], self.spin_j[c]) = (omega[i] * ri, omega[j] * rj);
+            (self.omega_i[c], self.omega_j[c]) = (omega[i], omega[j]);
             if stateful::<S>() {
                 self.state[c] = states[rows.candidate[c]];
             }
@@ -884,10 +883,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.rows.bodies[len] = [candidate.i; 2];
             [self.unit_x[len], self.unit_y[len]] = wall.normal;
             self.overlap[len] = overlap;
-            (self.rows.ri[len], self.rows.rj[len]) = (r, f64::INFINITY);
+            // The disk's radius twice: `ω_j r_j` is 0, the smaller radius the disk's.
+            (self.rows.ri[len], self.rows.rj[len]) = (r, r);
             (self.rows.r_star[len], self.rows.m_star[len]) = (r, candidate.m_star);
             (self.dvx[len], self.dvy[len]) = (s.vx[i], s.vy[i]);
-            (self.spin_i[len], self.spin_j[len]) = (s.omega[i] * r, 0.0);
+            (self.omega_i[len], self.omega_j[len]) = (s.omega[i], 0.0);
             self.rows.spring[len] = *spring;
             if stateful::<S>() {
                 self.state[len] = states[k];
@@ -961,8 +961,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             self.rows.m_star[len] = pair.m_star;
             self.dvx[len] = vx[i] - vx[j];
             self.dvy[len] = vy[i] - vy[j];
-            self.spin_i[len] = omega[i] * ri;
-            self.spin_j[len] = omega[j] * rj;
+            self.omega_i[len] = omega[i];
+            self.omega_j[len] = omega[j];
             self.rows.spring[len] = *spring;
             if stateful::<S>() {
                 self.state[len] = states[k];
@@ -1083,7 +1083,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let (elastic, normal_damping) = (&self.elastic[..n], &self.normal_damping[..n]);
         let (stiffness, tangential_damping) = (&self.tangential_stiffness[..n], &self.tangential_damping[..n]);
         let (ri, rj) = (&self.rows.ri[..n], &self.rows.rj[..n]);
-        let (dvx, dvy, spin_i, spin_j) = (&self.dvx[..n], &self.dvy[..n], &self.spin_i[..n], &self.spin_j[..n]);
+        let (dvx, dvy, omega_i, omega_j) = (&self.dvx[..n], &self.dvy[..n], &self.omega_i[..n], &self.omega_j[..n]);
         let (force_x, force_y) = (&mut self.force_x[..n], &mut self.force_y[..n]);
         let (torque_i, torque_j) = (&mut self.torque_i[..n], &mut self.torque_j[..n]);
         let (normal, tangential, spring) =
@@ -1095,7 +1095,8 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 tangential_stiffness: stiffness[c],
                 tangential_damping: tangential_damping[c],
             };
-            let motion = relative_motion(overlap[c], [nx[c], ny[c]], [dvx[c], dvy[c]], [spin_i[c], spin_j[c]]);
+            let spin = [omega_i[c] * ri[c], omega_j[c] * rj[c]];
+            let motion = relative_motion(overlap[c], [nx[c], ny[c]], [dvx[c], dvy[c]], spin);
             let force = kind.resolve(&coefficients, &motion, &mut spring[c]);
             // Torque `F_t r` on both disks.
             [force_x[c], force_y[c]] = force.on_first_body(nx[c], ny[c]);
@@ -1272,7 +1273,7 @@ mod tests {
             (t.rows.ri[c], t.rows.rj[c]) = (0.01, 0.01 - 1e-5 * (c % 3) as f64);
             (t.rows.r_star[c], t.rows.m_star[c]) = (0.005, 0.15);
             (t.dvx[c], t.dvy[c]) = (3.0 * w * a.cos(), -2.0 * w);
-            (t.spin_i[c], t.spin_j[c]) = (0.5 * w, -0.2);
+            (t.omega_i[c], t.omega_j[c]) = (50.0 * w, -20.0);
             t.rows.spring[c] = 1e-6 * (c as f64 - 50.0);
         }
         t
@@ -1325,8 +1326,8 @@ mod tests {
                 t.rows.m_star,
                 t.dvx,
                 t.dvy,
-                t.spin_i,
-                t.spin_j,
+                t.omega_i,
+                t.omega_j,
                 t.rows.spring,
             ];
             (0..t.rows.len)
@@ -1424,7 +1425,10 @@ mod tests {
                 let motion = Kinematics {
                     overlap: (t.rows.ri[c] + t.rows.rj[c]) - d,
                     approach_speed: t.dvx[c] * nx + t.dvy[c] * ny,
-                    tangential_speed: -t.dvx[c] * ny + t.dvy[c] * nx + t.spin_i[c] + t.spin_j[c],
+                    tangential_speed: -t.dvx[c] * ny
+                        + t.dvy[c] * nx
+                        + t.omega_i[c] * t.rows.ri[c]
+                        + t.omega_j[c] * t.rows.rj[c],
                 };
                 let coefficients = law.coefficients(
                     &kind.pair_properties(t.rows.r_star[c], t.rows.m_star[c]),
