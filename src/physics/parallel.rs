@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Disks from which a run uses the threads it is given: below, one thread does the work faster
-/// than two share it (measured on 2 cores: see docs/performance.md).
+/// than two share it (docs/performance.md).
 pub const PARALLEL_MIN_DISKS: usize = 8_000;
 
 /// How many threads one simulation may use, and from what size on.

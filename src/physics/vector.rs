@@ -58,9 +58,9 @@ impl Width {
     }
 
     /// The width the loops run in unless told otherwise: AVX-512 on CPUs that run 512-bit vectors
-    /// at full width (AMD family 1Ah, Zen 5, and later: the reference scene 12 % faster than in
-    /// AVX2), else AVX2 where the CPU has it (on an Intel CPU with AVX-512 the AVX-512 copies ran
-    /// 5 % slower), else the baseline.
+    /// at full width (AMD family 1Ah, Zen 5, and later), else AVX2 where the CPU has it (Intel
+    /// CPUs with AVX-512 lower their clock for it, so AVX2 is faster there), else the baseline
+    /// (results/bench/performance.md has the figures).
     fn detected() -> Width {
         if Width::Avx512.supported() && full_width_avx512() {
             Width::Avx512
