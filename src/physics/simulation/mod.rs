@@ -1,0 +1,14 @@
+//! The step loop: forces, integration, sampling, monitoring and stopping.
+//!
+//! One step: the integrator advances the state with the forces of the current state, the neighbour
+//! list is refreshed if some disk moved far enough, forces are evaluated at the new state (with
+//! contact sums only on sampled steps), and the integrator finishes the step. Diagnostics,
+//! divergence checks and the settle criterion run on sampled steps only.
+
+mod readout;
+mod setup;
+mod step;
+#[cfg(test)]
+mod tests;
+
+pub use step::{Control, Progress, Simulation};

@@ -1,0 +1,278 @@
+//! The step loop: one step (integrator, neighbour list, forces, integrator again) and the run
+//! from the first sample to the last.
+
+use crate::physics::config::SceneConfig;
+use crate::physics::contact::ContactLaw;
+use crate::physics::contact_sums::ContactSums;
+use crate::physics::diagnostics::{ContactTotals, SettleDetector};
+use crate::physics::energy::EnergyLedger;
+use crate::physics::forces::{self, ContactParameters, TouchingPairs};
+use crate::physics::integrator::{Integrator, Moved, StepContext};
+use crate::physics::material::Materials;
+use crate::physics::memory_order::{self, MemoryOrder, Numbering};
+use crate::physics::monitor::{FrameSchedule, Monitor};
+use crate::physics::neighbors::NeighborList;
+use crate::physics::parallel::{Team, Threads};
+use crate::physics::particles::Particles;
+use crate::physics::record::{History, RunRecord, RunStatus};
+use crate::physics::rolling;
+use crate::physics::walls::BoxWalls;
+use crate::physics::warning::ValidityWarning;
+use std::sync::Mutex;
+
+/// What a running simulation tells its caller at every sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// Steps taken.
+    pub step: u64,
+    /// Simulated time (s).
+    pub time: f64,
+    /// The run's full duration (s).
+    pub duration: f64,
+    /// Current unbalanced force ratio (NaN without contacts).
+    pub unbalanced_force_ratio: f64,
+    /// Current kinetic energy (J).
+    pub kinetic_energy: f64,
+}
+
+/// The caller's answer to a [`Progress`] report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// Keep going.
+    Continue,
+    /// Stop now; the run ends as [`RunStatus::Interrupted`].
+    Stop,
+}
+
+/// One simulation of a scene with contact law `L`: the scene's own law when built by
+/// [`Simulation::new`], any law with [`Simulation::with_law`]. (To run a scene whichever its law,
+/// go through [`crate::physics::run_scene`] or [`super::contact::ContactConfig::dispatch`].)
+pub struct Simulation<L: ContactLaw> {
+    pub(super) law: L,
+    /// The scene, with its time step resolved.
+    pub(super) scene: SceneConfig,
+    pub(super) time_step_warning: Option<ValidityWarning>,
+    /// The disks, in the simulation's own numbering.
+    pub(super) particles: Particles,
+    /// Which scene disk each place of `particles` holds, and when it changes.
+    pub(super) numbering: Numbering,
+    pub(super) memory_order: MemoryOrder,
+    pub(super) walls: BoxWalls,
+    pub(super) neighbors: NeighborList<L::State>,
+    pub(super) materials: Materials,
+    pub(super) disk_contacts: ContactParameters,
+    pub(super) wall_contacts: ContactParameters,
+    pub(super) touching: Box<TouchingPairs<L::State>>,
+    /// The parallel path's tables (one per part) and contact rows (see `contact_sums`).
+    pub(super) tables: Vec<Mutex<TouchingPairs<L::State>>>,
+    pub(super) sums: ContactSums,
+    /// The threads the steps' work is shared with.
+    pub(super) team: Team,
+    /// The integrator's per-chunk reports (scratch).
+    pub(super) moved: Vec<Moved>,
+    pub(super) integrator: Integrator,
+    pub(super) rolling_resistance: bool,
+    /// Scratch of the rolling resistance on several threads.
+    pub(super) rolling_removed: rolling::Removed,
+    pub(super) step: u64,
+    pub(super) context: StepContext,
+    pub(super) energy: EnergyLedger,
+    pub(super) totals: ContactTotals,
+}
+
+impl<L: ContactLaw> Simulation<L> {
+    /// Sets when the disks are numbered afresh (see [`memory_order`]): before the first step (the
+    /// numbering they came in) and at neighbour-list builds. The default renumbers large scenes
+    /// whose neighbours have drifted apart in memory.
+    pub fn set_memory_order(&mut self, policy: MemoryOrder) {
+        self.memory_order = policy;
+    }
+
+    /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
+    pub fn set_threads(&mut self, threads: Threads) {
+        self.team = Team::new(threads.used_for(self.particles.len()));
+        // The one-thread table keeps springs from step to step, which steps on several threads
+        // would not update.
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
+        *self.touching = TouchingPairs::default();
+    }
+
+    /// Advances one time step; `sample` requests contact sums for diagnostics at the new state.
+    pub fn advance(&mut self, sample: bool) {
+        if self.step == 0 {
+            // The numbering the disks came in, checked with the policy set by now.
+            self.follow_memory_order();
+        }
+        let (power, damping_power, stale) = self.move_disks();
+        self.energy.record_step(power, damping_power, self.context.dt);
+        if stale {
+            self.rebuild_neighbors();
+            self.follow_memory_order();
+        }
+        if sample {
+            self.compute_forces::<true>();
+        } else {
+            self.compute_forces::<false>();
+        }
+        self.integrator.finish(&mut self.particles, &self.context, &self.team, &mut self.moved);
+        if self.rolling_resistance {
+            self.energy.remove(rolling::apply(
+                &mut self.particles,
+                self.context.dt,
+                &self.team,
+                &mut self.rolling_removed,
+            ));
+        }
+        self.step += 1;
+    }
+
+    /// The integrator's update. Returns the power of the contact forces and of the numerical damping
+    /// at the start of the step, and whether the neighbour list must be rebuilt.
+    pub(super) fn move_disks(&mut self) -> (f64, f64, bool) {
+        let moved = self.integrator.advance(&mut self.particles, &self.context, &self.team, &mut self.moved);
+        (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
+    }
+
+    /// Builds the neighbour list afresh from the current positions.
+    pub(super) fn rebuild_neighbors(&mut self) {
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
+        self.neighbors.rebuild(&self.particles, &self.walls, &self.team);
+        self.sums.invalidate();
+    }
+
+    /// Numbers the disks afresh where the memory order asks, judged by the current list.
+    pub(super) fn follow_memory_order(&mut self) {
+        let (far, pairs) = (self.neighbors.far_pairs(), self.neighbors.pairs.entries.len());
+        if self.memory_order.due(self.particles.len(), far, pairs, &self.numbering) {
+            self.renumber_disks();
+            self.sums.invalidate();
+        }
+    }
+
+    /// Numbers the disks afresh in strips at their current positions (see [`memory_order`]).
+    pub(super) fn renumber_disks(&mut self) {
+        self.touching.write_back_springs(&mut self.neighbors.pairs);
+        let p = &mut self.particles;
+        let order = memory_order::strip_order(&p.x, &p.y, 2.0 * p.max_radius());
+        let mut scratch = Vec::new();
+        p.renumber(&order, &mut scratch);
+        self.integrator.renumber(&order, &mut scratch);
+        self.neighbors.renumber_disks(&memory_order::inverse(&order));
+        let left = self.neighbors.far_pairs() as f64 / self.neighbors.pairs.entries.len().max(1) as f64;
+        self.numbering.renumber(&order, left);
+    }
+
+    /// Evaluates all forces and torques at the current state. With `SAMPLE`, also fills the
+    /// contact sums and per-disk contact force magnitudes (on one thread; other steps share the
+    /// work between the threads the simulation is given, with the same bits).
+    pub(super) fn compute_forces<const SAMPLE: bool>(&mut self) {
+        // Forces and torques were cleared by the integrator, which read them last, the rolling
+        // resistances by `rolling::apply` (or at the start).
+        let p = &mut self.particles;
+        if SAMPLE {
+            p.contact_force.fill(0.0);
+            self.totals = ContactTotals::default();
+        }
+        let (s, mut f) = p.split();
+        if !SAMPLE && self.team.parts() > 1 {
+            self.touching.write_back_springs(&mut self.neighbors.pairs);
+            let kinds = [&self.disk_contacts, &self.wall_contacts];
+            let walls = (&self.walls.walls[..], &mut self.neighbors.walls);
+            let (tables, sums) = (&mut self.tables, &mut self.sums);
+            forces::contacts_in_parts(
+                tables,
+                &self.law,
+                kinds,
+                &mut self.neighbors.pairs,
+                walls,
+                &s,
+                &mut f,
+                sums,
+                &self.team,
+            );
+            return;
+        }
+        self.touching.contacts::<L, SAMPLE>(
+            &self.law,
+            [&self.disk_contacts, &self.wall_contacts],
+            (&self.walls.walls, &mut self.neighbors),
+            &s,
+            &mut f,
+            &mut self.totals,
+        );
+    }
+
+    /// Runs to the end, to settling, to divergence, or until the observer says stop.
+    pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
+        let stability = self.stability();
+        let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
+        warnings.extend(stability.warnings.iter().cloned());
+        let total_steps = self.scene.total_steps(self.context.dt);
+        let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
+        let mut frames = FrameSchedule::new(&self.scene, self.context.dt, total_steps);
+        let mut monitor =
+            Monitor::new(&self.scene_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
+        let mut settle = SettleDetector::new(&self.scene.settle);
+        let mut history = History::default();
+        let mut recorded_frames = Vec::new();
+        let (status, message) = loop {
+            let s = self.sample();
+            if frames.due(self.step) {
+                recorded_frames.push(self.snapshot());
+            }
+            history.push(&s);
+            monitor.observe(&s);
+            let power_finite = self.energy.power_finite();
+            if let Some(reason) = monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
+                break (RunStatus::Diverged, Some(reason));
+            }
+            let settled = settle.update(&s);
+            let progress = Progress {
+                step: self.step,
+                time: s.time,
+                duration: self.scene.run.duration,
+                unbalanced_force_ratio: s.unbalanced_force_ratio,
+                kinetic_energy: s.kinetic(),
+            };
+            if observer(&progress) == Control::Stop {
+                break (RunStatus::Interrupted, Some(format!("stopped by request at t = {:.6} s", s.time)));
+            }
+            if settled && self.scene.run.stop_at_settle {
+                break (RunStatus::Settled, None);
+            }
+            if self.step >= total_steps {
+                break (if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None);
+            }
+            // Step to the next sample, recording frames on the way; a non-finite power ends early.
+            let next = (self.step + sample_every).min(total_steps);
+            while self.step < next {
+                let frame_due = self.step + 1 < next && frames.due(self.step + 1);
+                self.advance(frame_due || self.step + 1 == next);
+                if frame_due {
+                    recorded_frames.push(self.snapshot());
+                }
+                if !self.energy.power_finite() {
+                    break;
+                }
+            }
+        };
+        warnings.extend(monitor.warnings(&self.scene.limits));
+        let contacts = self.contacts();
+        RunRecord {
+            status,
+            message,
+            warnings,
+            settle_time: settle.settle_time,
+            steps: self.step,
+            time_step: self.context.dt,
+            simulated_time: self.time(),
+            energy_balance_error: monitor.energy_balance_error(),
+            largest_overlap_ratio: monitor.largest_overlap_ratio(),
+            pile: self.pile_metrics_of(&contacts),
+            stability,
+            history,
+            final_state: self.snapshot_with(&contacts),
+            frames: recorded_frames,
+        }
+    }
+}
