@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use crate::output::guard;
+use crate::output::guard::{self, Existing};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
@@ -55,12 +55,7 @@ pub struct TuneSection {
     pub candidates: Vec<Vec<String>>,
 }
 
-/// `<results file name without .h5>_report.html` beside it: `<study name>_report.html` for a study's
-/// results, `<study name>.shard-K-of-N_report.html` for a shard's, so that shards never share a page.
-pub fn report_path(results: &Path) -> PathBuf {
-    let stem = results.file_stem().unwrap_or_default().to_string_lossy();
-    results.with_file_name(format!("{stem}_report.html"))
-}
+pub use crate::output::report_path;
 
 /// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
 pub fn tune_section_path(results: &Path, study_name: &str) -> PathBuf {
@@ -83,10 +78,11 @@ fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSect
 }
 
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
-/// readable runs; returns where it went and the run groups that could not be read (left out).
+/// readable runs, whole or not at all, replacing a file there as `existing` allows; returns where it
+/// went and the run groups that could not be read (left out).
 pub fn write_report(
     results: &Path,
-    out: Option<&Path>,
+    (out, existing): (Option<&Path>, Existing),
     context: &ReportContext,
 ) -> Result<(PathBuf, Vec<DamagedGroup>), OutputError> {
     let file = reader::open(results)?;
@@ -101,6 +97,7 @@ pub fn write_report(
         formats: vec![Format::Svg],
         colour_by: ColourBy::Speed,
         size: CHART_SIZE,
+        force: false,
     };
     let charted: Vec<&SummaryRow> =
         results::select_runs(&rows, &request).map_err(|e| OutputError::new(results, e.reason))?;
@@ -152,7 +149,8 @@ pub fn write_report(
     runs += "</div>";
     page.push(&runs);
     let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
-    guard::write(&path, page.finish().as_bytes(), &[results]).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
+    guard::write_with(&path, &[results], existing, |out| out.write_all(page.finish().as_bytes()))
+        .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
     Ok((path, damaged))
 }
 

@@ -110,6 +110,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
     guard::check_results_replaceable(&results, &shard_files)
         .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
+    crate::output::check_companions(&results, options.force)?;
     let header = if studies {
         combined_header(&shards)
     } else {

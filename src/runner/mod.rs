@@ -306,10 +306,8 @@ fn open_results(
     std::fs::create_dir_all(dir)
         .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
     check_writable(dir)?;
-    // The CSV files are written last: a link there is refused before anything is replaced.
-    for written in [output::csv_path(path), output::points_csv_path(path)] {
-        output::guard::refuse_symlink(&written).map_err(|e| OutputError::new(&written, e.refusal_text()))?;
-    }
+    // The CSV files and report page are written last: checked before anything runs or is replaced.
+    output::check_companions(path, options.force)?;
     let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {
