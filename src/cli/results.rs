@@ -498,7 +498,7 @@ pub fn page_written(results: &Path, page: demsweep::workflow::Page) -> bool {
             true
         }
         Err(e) => {
-            eprintln!("error: no report page (the results are complete): {e}");
+            eprintln!("error: report page (the results are complete): {e}");
             false
         }
     }

@@ -78,7 +78,7 @@ impl ChartOptions {
 }
 
 /// A chart that could not be drawn or written, with the file it was meant for.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct PlotError {
     /// The image file.
     pub path: PathBuf,

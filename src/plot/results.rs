@@ -210,12 +210,14 @@ pub struct SvgCharts {
     pub charts: Vec<(String, String)>,
     /// What was noted.
     pub notes: Vec<String>,
+    /// The charts that could not be drawn and runs that could not be read (also among the notes).
+    pub failures: Vec<PlotError>,
 }
 
 impl SvgCharts {
     /// No chart yet; charts of `size` (pixels).
     pub fn new(size: (u32, u32)) -> Self {
-        Self { size, charts: Vec::new(), notes: Vec::new() }
+        Self { size, charts: Vec::new(), notes: Vec::new(), failures: Vec::new() }
     }
 }
 
@@ -253,6 +255,7 @@ impl ChartSink for SvgCharts {
 
     fn fail(&mut self, error: &PlotError) {
         self.notes.push(format!("chart not drawn: {}", error.reason));
+        self.failures.push(error.clone());
     }
 }
 

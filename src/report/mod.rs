@@ -107,6 +107,7 @@ pub fn write_report(
         elapsed: context.elapsed.or(recorded.map(|(_, wall)| wall)),
     };
     let mut page = html::Page::new(&header.study_name);
+    let mut failures = Vec::new();
     // A tune's page shows its answer first, its warnings grouped by kind, and no study charts: a
     // tune's runs are not a grid, so averages over the levers mean nothing.
     let tune = read_tune_section(results, &header.study_name);
@@ -132,6 +133,7 @@ pub fn write_report(
         let mut pile = Svgs::new();
         results::pile_metric_charts(&mut pile, &header.study_name, &rows);
         page.push(&pile_charts_section(&pile));
+        failures.extend(study.drawn.failures.into_iter().chain(pile.drawn.failures));
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {
@@ -145,13 +147,33 @@ pub fn write_report(
         let mut svgs = Svgs::new();
         results::run_charts(&mut svgs, (&file, results), row, (ColourBy::Speed, false));
         runs += &run_section(row, &svgs);
+        failures.append(&mut svgs.drawn.failures);
     }
     runs += "</div>";
     page.push(&runs);
     let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
     guard::write_with(&path, &[results], existing, |out| out.write_all(page.finish().as_bytes()))
         .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
-    Ok((path, damaged))
+    match failures.is_empty() {
+        true => Ok((path, damaged)),
+        false => Err(unreadable(results, &path, &failures)),
+    }
+}
+
+/// The error of a page written without the charts that `failures` name (a run's stored data that
+/// fails its checksum, a chart that cannot be drawn): the page says so too.
+fn unreadable(results: &Path, page: &Path, failures: &[PlotError]) -> OutputError {
+    let named: Vec<String> = failures.iter().take(5).map(|f| f.reason.clone()).collect();
+    let more = if failures.len() > 5 { format!(" and {} more", failures.len() - 5) } else { String::new() };
+    OutputError::new(
+        results,
+        format!(
+            "{} chart(s) or run(s) left out of the page {} ({}{more})",
+            failures.len(),
+            page.display(),
+            named.join("; ")
+        ),
+    )
 }
 
 /// Charts drawn as SVG documents with what was noted on the way, and a run's frame player.
