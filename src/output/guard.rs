@@ -460,4 +460,62 @@ mod tests {
         assert_eq!(refused.refusal, Refusal::ContainsInput(input.clone()));
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    #[test]
+    fn a_trailing_slash_or_dot_names_the_link_not_the_folder_behind_it() {
+        let dir = temp("slash");
+        let target = dir.join("target");
+        std::fs::create_dir_all(&target).unwrap();
+        std::fs::write(target.join(marker_name("export")), "").unwrap();
+        std::os::unix::fs::symlink(&target, dir.join("link")).unwrap();
+        for written in ["link/", "link/.", "link//"] {
+            let out = dir.join(written);
+            assert_eq!(refuse_symlink(&out).unwrap_err().refusal, Refusal::Symlink, "{written}");
+            assert_eq!(ReplacedFolder::prepare(&out, "export", &[], true).unwrap_err().refusal, Refusal::Symlink);
+        }
+        assert!(target.join(marker_name("export")).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn an_existing_file_is_replaced_only_when_demsweep_wrote_it_or_by_force() {
+        let dir = temp("ours");
+        let file = dir.join("f");
+        let ours = Existing::Ours { force: false };
+        for (text, replaceable) in [
+            ("my notes\n".to_string(), false),
+            ("a,b\r\n1,2\r\n".to_string(), false),
+            ("a,b,c\r\ns,,kg/m3\r\n1,2,3\r\n".to_string(), true),
+            (format!("<html><head>{HTML_MARK}<title>t</title>"), true),
+            (format!("{SVG_MARK}<svg></svg>"), true),
+        ] {
+            std::fs::write(&file, &text).unwrap();
+            assert_eq!(check_replaceable(&file, &[], ours).is_ok(), replaceable, "{text:?}");
+            assert!(check_replaceable(&file, &[], Existing::Ours { force: true }).is_ok());
+            assert!(check_replaceable(&file, &[], Existing::Any).is_ok());
+        }
+        std::fs::write(&file, "mine").unwrap();
+        assert_eq!(write_with(&file, &[], ours, |_| Ok(())).unwrap_err().refusal, Refusal::NotMadeByDemsweep);
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_write_that_fails_leaves_the_earlier_file_and_no_temporary_one() {
+        let dir = temp("whole");
+        let file = dir.join("page.html");
+        write(&file, b"earlier", &[]).unwrap();
+        let failed = write_with(&file, &[], Existing::Any, |out| {
+            out.write_all(b"half")?;
+            Err(std::io::ErrorKind::StorageFull.into())
+        });
+        let error = failed.unwrap_err();
+        assert_eq!(error.path, file);
+        assert!(error.to_string().contains("cannot write: "), "{error}");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "earlier");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
+        write(&file, b"new", &[]).unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -117,6 +117,12 @@ impl StudyPoint {
     }
 }
 
+impl From<guard::GuardError> for PlotError {
+    fn from(e: guard::GuardError) -> Self {
+        PlotError { reason: e.refusal_text(), path: e.path }
+    }
+}
+
 /// What drawing code returns: plotters' errors carry the backend's error type, boxed here.
 type DrawResult<T> = Result<T, Box<dyn Error>>;
 
@@ -191,10 +197,10 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> 
         }
         Canvas::File(path) => path,
     };
-    prepare_file(path, options).map_err(fail)?;
+    prepare_file(path, options)?;
     let (layout, bytes) = match options.format {
         Format::Png => render_rgb(figure, options, path)
-            .and_then(|(layout, pixels)| Ok((layout, encode_png(&[pixels], options, None).map_err(fail)?))),
+            .and_then(|(layout, pixels)| Ok((layout, encode_png(&[pixels], options, (path, None))?))),
         Format::Svg => {
             let mut svg = String::from(guard::SVG_MARK);
             style::register_font();
@@ -203,26 +209,31 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> 
             Ok((layout, svg.into_bytes()))
         }
     }?;
-    write_image(path, &bytes, options).map_err(fail)?;
+    write_image(path, &bytes, options)?;
     Ok(layout)
 }
 
 /// Creates the folder of the image file `path` and checks that the file may be written there.
-fn prepare_file(path: &Path, options: &ChartOptions) -> Result<(), String> {
+fn prepare_file(path: &Path, options: &ChartOptions) -> Result<(), PlotError> {
     if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| format!("cannot create folder: {e}"))?;
+        std::fs::create_dir_all(folder)
+            .map_err(|e| PlotError { path: path.to_path_buf(), reason: format!("cannot create folder: {e}") })?;
     }
-    guard::check_replaceable(path, &[], options.existing).map_err(|e| e.refusal_text())
+    Ok(guard::check_replaceable(path, &[], options.existing)?)
 }
 
 /// Writes an image file whole or not at all (see [`guard::write_with`]).
-fn write_image(path: &Path, bytes: &[u8], options: &ChartOptions) -> Result<(), String> {
-    guard::write_with(path, &[], options.existing, |out| out.write_all(bytes)).map_err(|e| e.refusal_text())
+fn write_image(path: &Path, bytes: &[u8], options: &ChartOptions) -> Result<(), PlotError> {
+    Ok(guard::write_with(path, &[], options.existing, |out| out.write_all(bytes))?)
 }
 
 /// Encodes RGB `frames` of the options' size as a PNG carrying demsweep's mark ([`guard::PNG_MARK`]):
-/// an animated one showing each frame `frame_ms` milliseconds, when given.
-fn encode_png(frames: &[Vec<u8>], options: &ChartOptions, frame_ms: Option<u16>) -> Result<Vec<u8>, String> {
+/// an animated one showing each frame `frame_ms` milliseconds, when given. Errors name `path`.
+fn encode_png(
+    frames: &[Vec<u8>],
+    options: &ChartOptions,
+    (path, frame_ms): (&Path, Option<u16>),
+) -> Result<Vec<u8>, PlotError> {
     let mut bytes = Vec::new();
     let mut encoder = png::Encoder::new(&mut bytes, options.width, options.height);
     encoder.set_color(png::ColorType::Rgb);
@@ -239,7 +250,7 @@ fn encode_png(frames: &[Vec<u8>], options: &ChartOptions, frame_ms: Option<u16>)
         .and_then(|mut writer| {
             frames.iter().try_for_each(|pixels| writer.write_image_data(pixels)).and_then(|()| writer.finish())
         })
-        .map_err(|e| format!("cannot encode the image: {e}"))?;
+        .map_err(|e| PlotError { path: path.to_path_buf(), reason: format!("cannot encode the image: {e}") })?;
     Ok(bytes)
 }
 

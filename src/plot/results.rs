@@ -104,7 +104,7 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
             format!("image size {}x{} is below the smallest {min_width}x{min_height}", request.size.0, request.size.1);
         return Err(PlotError { path: dir, reason });
     }
-    guard::check_files_folder(&dir).map_err(|e| PlotError { path: e.path.clone(), reason: e.refusal_text() })?;
+    guard::check_files_folder(&dir)?;
     let path = &request.results;
     let file = reader::open(path)?;
     let study_name = reader::header(&file, path)?.study_name;

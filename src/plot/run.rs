@@ -68,16 +68,14 @@ pub fn animation<'c>(
         Canvas::File(path) if options.format == Format::Png => path.to_path_buf(),
         other => return snapshot(last, box_size, &last_scale, options, other).map(drop),
     };
-    let fail = |reason: String| PlotError { path: path.clone(), reason };
-    super::prepare_file(&path, options).map_err(fail)?;
+    super::prepare_file(&path, options)?;
     let frames = snapshots
         .iter()
         .map(|(s, scale)| super::render_rgb(&SnapshotFigure { snapshot: s, box_size, scale }, options, &path))
         .map(|drawn| drawn.map(|(_, pixels)| pixels))
         .collect::<Result<Vec<_>, _>>()?;
-    let bytes = super::encode_png(&frames, options, Some(ANIMATION_FRAME_MS))
-        .map_err(|e| fail(format!("cannot write the animation: {e}")))?;
-    super::write_image(&path, &bytes, options).map_err(fail)
+    let bytes = super::encode_png(&frames, options, (&path, Some(ANIMATION_FRAME_MS)))?;
+    super::write_image(&path, &bytes, options)
 }
 
 /// What the disks of a snapshot are coloured by.
