@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::output::OutputError;
+use crate::output::guard::Existing;
 use crate::output::reader::DamagedGroup;
 use crate::report::{self, ReportContext};
 use crate::runner::{self, RunOptions, RunReport, RunnerError};
@@ -69,7 +70,11 @@ pub struct StudyRun {
 pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerError> {
     let mut report = runner::run_plan(plan, options)?;
     report.points = crate::output::SummaryTable::default();
-    let page = report::write_report(&report.results, None, &ReportContext::default());
+    let page = report::write_report(
+        &report.results,
+        (None, Existing::Ours { force: options.force }),
+        &ReportContext::default(),
+    );
     Ok(StudyRun { report, page })
 }
 
@@ -137,6 +142,6 @@ pub fn tune_file(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneRun, 
     let jobs =
         if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
     let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };
-    let page = report::write_report(&outcome.results, None, &context);
+    let page = report::write_report(&outcome.results, (None, Existing::Ours { force: options.force }), &context);
     Ok(TuneRun { report: outcome, recommendation: text, written, section, page })
 }

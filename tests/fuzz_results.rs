@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use demsweep::export::{self, ExportRequest};
+use demsweep::output::guard::Existing;
 use demsweep::output::{reader, stored};
 use demsweep::plot::results::{PlotRequest, plot_results};
 use demsweep::plot::run::ColourBy;
@@ -70,7 +71,10 @@ fn read_everything(results: &Path, plan: &demsweep::study::Plan) -> Vec<String> 
             note("history", demsweep::output::history::to_csv(results, &row.id, &mut Vec::new()).is_ok());
         }
     }
-    note("report", write_report(results, Some(&folder.join("report.html")), &ReportContext::default()).is_ok());
+    note(
+        "report",
+        write_report(results, (Some(&folder.join("report.html")), Existing::Any), &ReportContext::default()).is_ok(),
+    );
     let plot = PlotRequest {
         results: results.to_path_buf(),
         out_dir: Some(folder.join("plots")),
@@ -79,6 +83,7 @@ fn read_everything(results: &Path, plan: &demsweep::study::Plan) -> Vec<String> 
         formats: vec![demsweep::plot::Format::Svg],
         colour_by: ColourBy::ContactForce,
         size: (400, 300),
+        force: false,
     };
     note("plot", plot_results(&plot, &mut |_| {}).is_ok());
     for name in ["vtk", "csv"] {

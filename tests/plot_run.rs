@@ -14,7 +14,7 @@ const VIRIDIS_LOW: &str = "#440154";
 const VIRIDIS_HIGH: &str = "#FEE825";
 
 fn options(width: u32, height: u32, format: Format) -> ChartOptions {
-    ChartOptions { width, height, format, subject: Some("test run".into()) }
+    ChartOptions { width, height, format, subject: Some("test run".into()), ..Default::default() }
 }
 
 #[test]

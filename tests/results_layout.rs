@@ -82,9 +82,11 @@ fn a_flipped_byte_inside_a_stored_final_state_or_history_is_an_error_naming_the_
         message.contains(&format!("run r0001: /{group}/final cannot be read")) && message.contains("fletcher32"),
         "{message}"
     );
-    for args in
-        [vec!["history", path(&history), "r0001"], vec!["plot", path(&history), "--out", path(&dir.join("plots"))]]
-    {
+    for args in [
+        vec!["history", path(&history), "r0001"],
+        vec!["plot", path(&history), "--out", path(&dir.join("plots"))],
+        vec!["report", path(&history), "--out", path(&dir.join("page.html"))],
+    ] {
         let refused = demsweep(&args);
         let message = text(&refused);
         assert!(!refused.status.success(), "{args:?}: {message}");

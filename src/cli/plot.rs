@@ -23,6 +23,9 @@ pub struct PlotArgs {
     /// Image folder (default: plots/ next to the results file).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Replace any file at a chart's path (by default only a chart demsweep drew is replaced).
+    #[arg(long)]
+    force: bool,
     /// Image format.
     #[arg(long, value_enum, default_value_t = FormatArg::Png)]
     format: FormatArg,
@@ -77,6 +80,7 @@ impl PlotArgs {
                 ColourArg::Force => ColourBy::ContactForce,
             },
             size: (self.width, self.height),
+            force: self.force,
         }
     }
 }

@@ -9,6 +9,7 @@ use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 use demsweep::output::SummaryTable;
+use demsweep::output::guard::Existing;
 use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
 use demsweep::plot::{self, ChartOptions};
@@ -120,6 +121,9 @@ pub struct SummaryArgs {
     /// Print every column (one row per run can then be several hundred characters wide).
     #[arg(long, conflicts_with = "metric")]
     all: bool,
+    /// Replace any file at --csv (by default only a CSV table demsweep wrote).
+    #[arg(long, requires = "csv")]
+    force: bool,
 }
 
 #[derive(Args)]
@@ -146,6 +150,9 @@ pub struct CompareArgs {
     /// Image folder for --plot (default: plots/ next to the results file).
     #[arg(long, value_name = "DIR", requires = "plot")]
     out: Option<PathBuf>,
+    /// Replace any file at --csv or a chart's path (by default only files demsweep wrote).
+    #[arg(long)]
+    force: bool,
 }
 
 #[derive(Args)]
@@ -165,6 +172,9 @@ pub struct ReportArgs {
     /// Where to write the page (default: <results file name without .h5>_report.html next to it).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace any file at the page's path (by default only a report page demsweep wrote).
+    #[arg(long)]
+    force: bool,
 }
 
 #[derive(Args)]
@@ -233,9 +243,12 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
     match demsweep::workflow::run_study(plan, &options) {
         Ok(run) => {
             print_report(&run.report);
-            page_written(&run.report.results, run.page);
+            let paged = page_written(&run.report.results, run.page);
             print_missing(&run.report, args);
-            ExitCode::from(run.report.exit_code() as u8)
+            match run.report.exit_code() {
+                0 if !paged => ExitCode::from(FAILED),
+                code => ExitCode::from(code as u8),
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");
@@ -332,7 +345,7 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
     };
     let status = damage_status(&args.results, &damaged);
     if let Some(path) = &args.csv {
-        let written = output::summary::write_csv(path, &table);
+        let written = output::summary::write_csv(path, &table, Existing::Ours { force: args.force });
         return if written.is_ok() { status } else { report_error(written) };
     }
     let known = if args.by_point { points::table_metrics(&table) } else { run_metrics(&table) };
@@ -428,12 +441,15 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
     );
     if let Some(path) = &args.csv {
         outcome = outcome
-            .and_then(|()| output::summary::write_csv(path, &comparison.table(&points)))
+            .and_then(|()| {
+                output::summary::write_csv(path, &comparison.table(&points), Existing::Ours { force: args.force })
+            })
             .map(|()| println!("comparison: {}", path.display()));
     }
     if args.plot {
         let dir = args.out.clone().unwrap_or_else(|| args.results.parent().unwrap_or(Path::new("")).join("plots"));
-        match plot::compare::draw_all(&points, &comparison, &dir, &ChartOptions::default()) {
+        let options = ChartOptions { existing: Existing::Ours { force: args.force }, ..ChartOptions::default() };
+        match plot::compare::draw_all(&points, &comparison, &dir, &options) {
             Ok(written) => written.iter().for_each(|p| println!("wrote {}", p.display())),
             Err(e) => {
                 eprintln!("error: {e}");
@@ -462,7 +478,8 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 
 /// `demsweep report`: the HTML report of a results file.
 pub fn report(args: &ReportArgs) -> ExitCode {
-    match demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default()) {
+    let out = (args.out.as_deref(), Existing::Ours { force: args.force });
+    match demsweep::report::write_report(&args.results, out, &ReportContext::default()) {
         Ok((path, damaged)) => {
             println!("report: {}", path.display());
             damage_status(&args.results, &damaged)
@@ -471,20 +488,19 @@ pub fn report(args: &ReportArgs) -> ExitCode {
     }
 }
 
-/// Writes the report of a results file just written and prints where it went; a report that cannot
-/// be written is a warning (the results are safe).
-pub fn write_report(results: &Path, context: &ReportContext) {
-    page_written(results, demsweep::report::write_report(results, None, context));
-}
-
-/// Says where the report page of `results` went (and which run groups it left out), or why there is none.
-pub fn page_written(results: &Path, page: demsweep::workflow::Page) {
+/// Says where the report page of `results` went (and which run groups it left out), or why there is
+/// none (the results are safe, but the command did not write all it was asked to): false then.
+pub fn page_written(results: &Path, page: demsweep::workflow::Page) -> bool {
     match page {
         Ok((path, damaged)) => {
             println!("report: {}", path.display());
             damage_status(results, &damaged);
+            true
         }
-        Err(e) => eprintln!("warning: no report: {e}"),
+        Err(e) => {
+            eprintln!("error: report page (the results are complete): {e}");
+            false
+        }
     }
 }
 
@@ -509,9 +525,11 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
         report.summary_csv.display(),
         report.points_csv.display()
     );
-    write_report(&report.results, &ReportContext::default());
+    let page = (None, Existing::Ours { force: args.force });
+    let paged =
+        page_written(&report.results, demsweep::report::write_report(&report.results, page, &Default::default()));
     if report.problems.is_empty() {
-        return ExitCode::SUCCESS;
+        return if paged { ExitCode::SUCCESS } else { ExitCode::from(FAILED) };
     }
     eprintln!("error: the merge is incomplete:");
     for problem in &report.problems {

@@ -191,7 +191,7 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         Ok(path) => println!("wrote {}", path.display()),
         Err(e) => eprintln!("warning: no tune section for the report: {e}"),
     }
-    super::results::page_written(&outcome.results, run.page);
+    let paged = super::results::page_written(&outcome.results, run.page);
     for e in &written.chart_errors {
         eprintln!("chart not drawn: {e}");
     }
@@ -205,7 +205,7 @@ pub fn run(args: &TuneArgs) -> ExitCode {
     );
     if !outcome.result.undecidable.is_empty() {
         ExitCode::from(UNDECIDABLE)
-    } else if written.chart_errors.is_empty() {
+    } else if written.chart_errors.is_empty() && paged {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

@@ -1,21 +1,54 @@
 //! Output-path guards: every command that writes output checks its paths here, so that nothing is
 //! deleted or overwritten that demsweep did not make, and never one of its own inputs.
 //!
-//! - A file written ([`create_file`]) is refused when it is a symbolic link, a folder, one of the
-//!   command's inputs, or a results file (HDF5); it is opened without following a link.
+//! - A file written ([`create_file`], [`write_with`]) is refused when it is a symbolic link, a folder,
+//!   one of the command's inputs, or a results file (HDF5); it is opened without following a link.
+//!   Where the command asks ([`Existing::Ours`]), an existing file is replaced only when demsweep
+//!   wrote it ([`made_by_demsweep`]: its report pages, charts and CSV tables say so in their first
+//!   bytes), any plain file only with `--force`.
+//! - [`write_with`] writes a file whole or not at all: into a temporary file in the same folder,
+//!   renamed onto the final name once complete, so that a full disk or a killed command never leaves
+//!   a truncated file under that name.
 //! - A folder replaced as a whole (an export, [`ReplacedFolder`]) is refused when it is `/`, `.`,
 //!   `..`, a home folder, the working folder or above it, or holds an input; `--force` replaces only
 //!   a folder that holds demsweep's marker of the same kind, and an existing `<out>.partial` is
 //!   removed only when it holds that marker too.
+//!
+//! Paths are taken as written less trailing slashes and `.` parts ([`plain`]): `link/` is the link
+//! `link`, refused as such, not the folder it points to.
 
 use std::fmt;
 use std::fs::{File, OpenOptions};
-use std::io::Read;
+use std::io::{Read, Write};
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
 
 /// The first bytes of every HDF5 file (a results file).
 const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
+
+/// The mark in the `<head>` of every report page demsweep writes.
+pub const HTML_MARK: &str = "<meta name=\"generator\" content=\"demsweep\">";
+
+/// The mark that starts every SVG chart file demsweep writes (an XML comment).
+pub const SVG_MARK: &str = "<!-- made by demsweep -->\n";
+
+/// The PNG text chunk (keyword, text) of every PNG chart demsweep writes.
+pub const PNG_MARK: (&str, &str) = ("Software", "demsweep");
+
+/// How many first bytes of a file [`made_by_demsweep`] reads (a points CSV's two header lines fit).
+const MARK_WINDOW: u64 = 256 << 10;
+
+/// What an existing file at an output path may be, to be replaced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Existing {
+    /// Any plain file: the path is in a folder demsweep made for this output.
+    Any,
+    /// A file demsweep wrote ([`made_by_demsweep`]); any plain file with `force`.
+    Ours {
+        /// `--force` was given.
+        force: bool,
+    },
+}
 
 /// Why an output path is refused.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -34,6 +67,8 @@ pub enum Refusal {
     Protected(&'static str),
     /// The path exists and `--force` was not given.
     Exists,
+    /// The file exists, demsweep did not write it, and `--force` was not given.
+    NotMadeByDemsweep,
     /// The folder exists but demsweep did not make it (it lacks the marker).
     NotOurs(&'static str),
     /// `--force` replaces a results file, and this is none (no HDF5 signature).
@@ -63,6 +98,10 @@ impl fmt::Display for Refusal {
             Self::WrongKind(expected) => write!(f, "refused: exists and is not {expected}"),
             Self::Protected(what) => write!(f, "refused: is {what}; choose a new folder for the output"),
             Self::Exists => write!(f, "already exists: pass --force to replace it, or choose another --out"),
+            Self::NotMadeByDemsweep => write!(
+                f,
+                "refused: exists and was not written by demsweep: pass --force to replace it, or choose another path"
+            ),
             Self::NotOurs(kind) => write!(
                 f,
                 "refused: exists but was not written by demsweep {kind} (no {} marker in it): remove it \
@@ -103,8 +142,15 @@ pub fn marker_name(kind: &str) -> String {
     format!(".demsweep-{kind}")
 }
 
+/// `path` as written less trailing slashes and `.` parts (`out/` is `out`, `./a/./b` is `a/b`): the
+/// name a link refusal must see. `..` parts stay (resolving them could pass through a link).
+pub fn plain(path: &Path) -> PathBuf {
+    path.components().collect()
+}
+
 /// Checks that `path` may be written as a file: not a link, folder, input or results file.
 pub fn check_file(path: &Path, inputs: &[&Path]) -> Result<(), GuardError> {
+    let path = &plain(path);
     let Ok(meta) = std::fs::symlink_metadata(path) else { return Ok(()) };
     if meta.file_type().is_symlink() {
         return Err(refuse(path, Refusal::Symlink));
@@ -132,16 +178,77 @@ pub fn check_results_replaceable(path: &Path, inputs: &[&Path]) -> Result<(), Gu
     }
 }
 
+/// Checks that `path` may be written as a file ([`check_file`]) and, when something is there, that
+/// `existing` lets it be replaced.
+pub fn check_replaceable(path: &Path, inputs: &[&Path], existing: Existing) -> Result<(), GuardError> {
+    check_file(path, inputs)?;
+    match existing {
+        Existing::Ours { force: false } if exists(path) && !made_by_demsweep(path) => {
+            Err(refuse(path, Refusal::NotMadeByDemsweep))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Whether the file at `path` is one demsweep wrote, by its first bytes: a report page or chart
+/// with its mark ([`HTML_MARK`], [`SVG_MARK`], [`PNG_MARK`]; report pages of earlier versions by
+/// their title), or a CSV table (a names line, then a units line of as many cells, none a number).
+pub fn made_by_demsweep(path: &Path) -> bool {
+    let mut start = Vec::new();
+    if File::open(path).and_then(|file| file.take(MARK_WINDOW).read_to_end(&mut start)).is_err() {
+        return false;
+    }
+    let png_mark = format!("tEXt{}\0{}", PNG_MARK.0, PNG_MARK.1);
+    let marks = [HTML_MARK, " demsweep report</title>", SVG_MARK, &png_mark];
+    marks.iter().any(|mark| start.windows(mark.len()).any(|w| w == mark.as_bytes())) || is_table_csv(&start)
+}
+
+/// Whether `start` begins as demsweep's CSV tables do: a names line and a units line of as many
+/// cells, none of them a number, each ended by CR LF.
+fn is_table_csv(start: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(start);
+    let mut lines = text.split("\r\n");
+    let (Some(names), Some(units), Some(_)) = (lines.next(), lines.next(), lines.next()) else { return false };
+    let unit = |cell: &str| !cell.contains('\n') && cell.trim().parse::<f64>().is_err();
+    !names.is_empty() && names.split(',').count() == units.split(',').count() && units.split(',').all(unit)
+}
+
 /// Creates (or truncates) the file `path` after [`check_file`], without following a link.
 pub fn create_file(path: &Path, inputs: &[&Path]) -> Result<File, GuardError> {
     check_file(path, inputs)?;
-    open_no_follow(path, true).map_err(|e| refuse(path, Refusal::Io(format!("cannot create: {e}"))))
+    open_no_follow(&plain(path), true).map_err(|e| refuse(path, Refusal::Io(format!("cannot create: {e}"))))
 }
 
-/// Writes `bytes` to the file `path` through [`create_file`].
+/// Writes `bytes` to the file `path` through [`write_with`], replacing any plain file.
 pub fn write(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(), GuardError> {
-    let mut file = create_file(path, inputs)?;
-    std::io::Write::write_all(&mut file, bytes).map_err(|e| refuse(path, Refusal::Io(format!("cannot write: {e}"))))
+    write_with(path, inputs, Existing::Any, |out| out.write_all(bytes))
+}
+
+/// Writes the file `path` whole or not at all, after [`check_replaceable`]: `body` writes into a
+/// temporary file beside it (`.<name>.<pid>.partial`), which is flushed, synced and renamed onto
+/// `path` once complete. On failure the temporary file is removed, `path` stays as it was, and the
+/// error names `path`.
+pub fn write_with(
+    path: &Path,
+    inputs: &[&Path],
+    existing: Existing,
+    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), GuardError> {
+    let path = &plain(path);
+    check_replaceable(path, inputs, existing)?;
+    let Some(name) = path.file_name() else { return Err(refuse(path, Refusal::WrongKind("a file"))) };
+    let temporary = path.with_file_name(format!(".{}.{}.partial", name.to_string_lossy(), std::process::id()));
+    let file =
+        open_no_follow(&temporary, true).map_err(|e| refuse(path, Refusal::Io(format!("cannot create: {e}"))))?;
+    let mut out = std::io::BufWriter::new(file);
+    let written = body(&mut out)
+        .and_then(|()| out.into_inner().map_err(std::io::IntoInnerError::into_error))
+        .and_then(|file| file.sync_data())
+        .and_then(|()| std::fs::rename(&temporary, path));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        refuse(path, Refusal::Io(format!("cannot write: {e}")))
+    })
 }
 
 /// Opens `path` for reading and writing, created if missing and never truncated, without following
@@ -152,7 +259,7 @@ pub fn open_no_follow(path: &Path, truncate: bool) -> std::io::Result<File> {
 
 /// Refuses a symbolic link at `path` (a missing path is fine).
 pub fn refuse_symlink(path: &Path) -> Result<(), GuardError> {
-    match std::fs::symlink_metadata(path) {
+    match std::fs::symlink_metadata(plain(path)) {
         Ok(meta) if meta.file_type().is_symlink() => Err(refuse(path, Refusal::Symlink)),
         _ => Ok(()),
     }
@@ -184,6 +291,7 @@ pub struct ReplacedFolder {
 impl ReplacedFolder {
     /// Checks `out` (see the module) and prepares `<out>.partial` with the marker of `kind` in it.
     pub fn prepare(out: &Path, kind: &'static str, inputs: &[&Path], force: bool) -> Result<Self, GuardError> {
+        let out = &plain(out);
         let Some(name) = out.file_name() else { return Err(refuse(out, Refusal::Protected("`/`, `.` or `..`"))) };
         let mut partial_name = name.to_os_string();
         partial_name.push(".partial");
@@ -239,15 +347,8 @@ fn exists(path: &Path) -> bool {
 fn check_folder_place(out: &Path, inputs: &[&Path]) -> Result<(), GuardError> {
     refuse_symlink(out)?;
     let Some(place) = resolved(out) else { return Ok(()) };
-    if place.parent().is_none() {
-        return Err(refuse(out, Refusal::Protected("the root folder")));
-    }
-    let home = std::env::var_os("HOME").and_then(|h| std::fs::canonicalize(h).ok());
-    if home.is_some_and(|home| home == place) {
-        return Err(refuse(out, Refusal::Protected("a home folder")));
-    }
-    if std::env::current_dir().ok().and_then(|d| std::fs::canonicalize(d).ok()).is_some_and(|d| d.starts_with(&place)) {
-        return Err(refuse(out, Refusal::Protected("the working folder or a folder above it")));
+    if let Some(what) = protected(&place, true) {
+        return Err(refuse(out, Refusal::Protected(what)));
     }
     for input in inputs {
         if std::fs::canonicalize(input).is_ok_and(|input| input.starts_with(&place)) {
@@ -255,6 +356,34 @@ fn check_folder_place(out: &Path, inputs: &[&Path]) -> Result<(), GuardError> {
         }
     }
     Ok(())
+}
+
+/// Refuses a folder that a command writes many files into (charts) when it is `/`, a home folder or
+/// above the working folder: they belong in a folder of their own.
+pub fn check_files_folder(folder: &Path) -> Result<(), GuardError> {
+    let folder = &plain(folder);
+    match resolved(folder).and_then(|place| protected(&place, false)) {
+        Some(what) => Err(refuse(folder, Refusal::Protected(what))),
+        None => Ok(()),
+    }
+}
+
+/// What the resolved folder `place` is, when no output may replace it (or, unless `working`, be
+/// written straight into it): `/`, a home folder, the working folder (with `working`) or one above it.
+fn protected(place: &Path, working: bool) -> Option<&'static str> {
+    if place.parent().is_none() {
+        return Some("the root folder");
+    }
+    let home = std::env::var_os("HOME").and_then(|h| std::fs::canonicalize(h).ok());
+    if home.is_some_and(|home| home == place) {
+        return Some("a home folder");
+    }
+    let cwd = std::env::current_dir().ok().and_then(|d| std::fs::canonicalize(d).ok())?;
+    match cwd.starts_with(place) && (working || cwd != place) {
+        true if working => Some("the working folder or a folder above it"),
+        true => Some("a folder above the working folder"),
+        false => None,
+    }
 }
 
 /// `path` with its parent folder resolved (the path itself may not exist yet); `None` when the
@@ -329,6 +458,64 @@ mod tests {
         std::fs::write(&input, "x").unwrap();
         let refused = ReplacedFolder::prepare(&out, "export", &[&input], true).unwrap_err();
         assert_eq!(refused.refusal, Refusal::ContainsInput(input.clone()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_trailing_slash_or_dot_names_the_link_not_the_folder_behind_it() {
+        let dir = temp("slash");
+        let target = dir.join("target");
+        std::fs::create_dir_all(&target).unwrap();
+        std::fs::write(target.join(marker_name("export")), "").unwrap();
+        std::os::unix::fs::symlink(&target, dir.join("link")).unwrap();
+        for written in ["link/", "link/.", "link//"] {
+            let out = dir.join(written);
+            assert_eq!(refuse_symlink(&out).unwrap_err().refusal, Refusal::Symlink, "{written}");
+            assert_eq!(ReplacedFolder::prepare(&out, "export", &[], true).unwrap_err().refusal, Refusal::Symlink);
+        }
+        assert!(target.join(marker_name("export")).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn an_existing_file_is_replaced_only_when_demsweep_wrote_it_or_by_force() {
+        let dir = temp("ours");
+        let file = dir.join("f");
+        let ours = Existing::Ours { force: false };
+        for (text, replaceable) in [
+            ("my notes\n".to_string(), false),
+            ("a,b\r\n1,2\r\n".to_string(), false),
+            ("a,b,c\r\ns,,kg/m3\r\n1,2,3\r\n".to_string(), true),
+            (format!("<html><head>{HTML_MARK}<title>t</title>"), true),
+            (format!("{SVG_MARK}<svg></svg>"), true),
+        ] {
+            std::fs::write(&file, &text).unwrap();
+            assert_eq!(check_replaceable(&file, &[], ours).is_ok(), replaceable, "{text:?}");
+            assert!(check_replaceable(&file, &[], Existing::Ours { force: true }).is_ok());
+            assert!(check_replaceable(&file, &[], Existing::Any).is_ok());
+        }
+        std::fs::write(&file, "mine").unwrap();
+        assert_eq!(write_with(&file, &[], ours, |_| Ok(())).unwrap_err().refusal, Refusal::NotMadeByDemsweep);
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_write_that_fails_leaves_the_earlier_file_and_no_temporary_one() {
+        let dir = temp("whole");
+        let file = dir.join("page.html");
+        write(&file, b"earlier", &[]).unwrap();
+        let failed = write_with(&file, &[], Existing::Any, |out| {
+            out.write_all(b"half")?;
+            Err(std::io::ErrorKind::StorageFull.into())
+        });
+        let error = failed.unwrap_err();
+        assert_eq!(error.path, file);
+        assert!(error.to_string().contains("cannot write: "), "{error}");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "earlier");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
+        write(&file, b"new", &[]).unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,8 +1,9 @@
 //! The summary of a results file: read it, print it aligned, export it as CSV.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
+use super::guard::Existing;
 use super::table::SummaryTable;
 use super::{OutputError, csv, reader};
 use crate::physics::quantity;
@@ -14,11 +15,10 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
 }
 
 /// Writes a table (the summary or the points) as a CSV file (names and units lines, RFC 4180 quoting, missing
-/// values empty).
-pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
-    let file = super::guard::create_file(path, &[]).map_err(|e| OutputError::new(path, e.refusal_text()))?;
-    let mut out = BufWriter::new(file);
-    csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
+/// values empty), whole or not at all; an existing file is replaced as `existing` allows.
+pub fn write_csv(path: &Path, table: &SummaryTable, existing: Existing) -> Result<(), OutputError> {
+    super::guard::write_with(path, &[], existing, |mut out| csv::write_table(&mut out, table))
+        .map_err(|e| OutputError::new(path, e.refusal_text()))
 }
 
 /// Writes the summary as an aligned text table (headed by labels, [`quantity::label`], columns separated by two spaces, floats to 6

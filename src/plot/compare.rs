@@ -112,13 +112,15 @@ pub fn cost_chart<'c>(
 
 /// Draws `compare_<metric>` for every kept metric and `compare_cost` into `dir` as PNG; returns the
 /// files written. The x axis is the first swept numeric parameter with two or more values (the point
-/// number without one), the series the second.
+/// number without one), the series the second. Refused when `dir` is `/`, a home folder or above the
+/// working folder ([`crate::output::guard::check_files_folder`]).
 pub fn draw_all(
     points: &Points,
     comparison: &Comparison,
     dir: &Path,
     options: &ChartOptions,
 ) -> Result<Vec<PathBuf>, PlotError> {
+    crate::output::guard::check_files_folder(dir)?;
     let axes: Vec<&str> = points
         .coordinates()
         .iter()

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::output::guard::{self, Existing};
 use crate::physics::RunStatus;
 
 pub mod bench;
@@ -52,11 +53,14 @@ pub struct ChartOptions {
     pub format: Format,
     /// What the chart is about (e.g. a run id and its parameters), appended to its title.
     pub subject: Option<String>,
+    /// What an existing file at a chart's path may be, to be replaced (by default a chart demsweep
+    /// drew: every chart file carries its mark, see [`crate::output::guard`]).
+    pub existing: Existing,
 }
 
 impl Default for ChartOptions {
     fn default() -> Self {
-        Self { width: 1000, height: 700, format: Format::Png, subject: None }
+        Self { width: 1000, height: 700, format: Format::Png, subject: None, existing: Existing::Ours { force: false } }
     }
 }
 
@@ -74,7 +78,7 @@ impl ChartOptions {
 }
 
 /// A chart that could not be drawn or written, with the file it was meant for.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct PlotError {
     /// The image file.
     pub path: PathBuf,
@@ -110,6 +114,12 @@ impl StudyPoint {
     /// The settle time of a run that settled; `None` for every other run.
     fn settled_time(&self) -> Option<f64> {
         self.settle_time.filter(|t| self.status == RunStatus::Settled && t.is_finite())
+    }
+}
+
+impl From<guard::GuardError> for PlotError {
+    fn from(e: guard::GuardError) -> Self {
+        PlotError { reason: e.refusal_text(), path: e.path }
     }
 }
 
@@ -179,30 +189,80 @@ fn render<F: Figure>(figure: &F, options: &ChartOptions, canvas: Canvas<'_>) -> 
             options.width, options.height
         )));
     }
-    if let Canvas::File(path) = &canvas {
-        if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-            std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
+    let path = match canvas {
+        Canvas::Svg(svg) => {
+            style::register_font();
+            let root = SVGBackend::with_string(svg, (options.width, options.height)).into_drawing_area();
+            return paint(figure, options, root).map_err(|e| fail(e.to_string()));
         }
-        crate::output::guard::check_file(path, &[]).map_err(|e| fail(e.refusal_text()))?;
-    }
-    style::register_font();
-    let size = (options.width, options.height);
-    let drawn = match (canvas, options.format) {
-        (Canvas::Svg(svg), _) => paint(figure, options, SVGBackend::with_string(svg, size).into_drawing_area()),
-        (Canvas::File(path), Format::Png) => paint(figure, options, BitMapBackend::new(path, size).into_drawing_area()),
-        (Canvas::File(path), Format::Svg) => paint(figure, options, SVGBackend::new(path, size).into_drawing_area()),
+        Canvas::File(path) => path,
     };
-    drawn.map_err(|e| fail(e.to_string()))
+    prepare_file(path, options)?;
+    let (layout, bytes) = match options.format {
+        Format::Png => render_rgb(figure, options, path)
+            .and_then(|(layout, pixels)| Ok((layout, encode_png(&[pixels], options, (path, None))?))),
+        Format::Svg => {
+            let mut svg = String::from(guard::SVG_MARK);
+            style::register_font();
+            let root = SVGBackend::with_string(&mut svg, (options.width, options.height)).into_drawing_area();
+            let layout = paint(figure, options, root).map_err(|e| fail(e.to_string()))?;
+            Ok((layout, svg.into_bytes()))
+        }
+    }?;
+    write_image(path, &bytes, options)?;
+    Ok(layout)
+}
+
+/// Creates the folder of the image file `path` and checks that the file may be written there.
+fn prepare_file(path: &Path, options: &ChartOptions) -> Result<(), PlotError> {
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder)
+            .map_err(|e| PlotError { path: path.to_path_buf(), reason: format!("cannot create folder: {e}") })?;
+    }
+    Ok(guard::check_replaceable(path, &[], options.existing)?)
+}
+
+/// Writes an image file whole or not at all (see [`guard::write_with`]).
+fn write_image(path: &Path, bytes: &[u8], options: &ChartOptions) -> Result<(), PlotError> {
+    Ok(guard::write_with(path, &[], options.existing, |out| out.write_all(bytes))?)
+}
+
+/// Encodes RGB `frames` of the options' size as a PNG carrying demsweep's mark ([`guard::PNG_MARK`]):
+/// an animated one showing each frame `frame_ms` milliseconds, when given. Errors name `path`.
+fn encode_png(
+    frames: &[Vec<u8>],
+    options: &ChartOptions,
+    (path, frame_ms): (&Path, Option<u16>),
+) -> Result<Vec<u8>, PlotError> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, options.width, options.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let (keyword, text) = guard::PNG_MARK;
+    let mut encoded = encoder.add_text_chunk(keyword.into(), text.into());
+    if let Some(ms) = frame_ms {
+        encoded = encoded
+            .and_then(|()| encoder.set_animated(frames.len() as u32, 0))
+            .and_then(|()| encoder.set_frame_delay(ms, 1000));
+    }
+    encoded
+        .and_then(|()| encoder.write_header())
+        .and_then(|mut writer| {
+            frames.iter().try_for_each(|pixels| writer.write_image_data(pixels)).and_then(|()| writer.finish())
+        })
+        .map_err(|e| PlotError { path: path.to_path_buf(), reason: format!("cannot encode the image: {e}") })?;
+    Ok(bytes)
 }
 
 /// Draws `figure` in the options' size into 8-bit RGB pixels (rows top to bottom), e.g. for the
-/// frames of an animation.
-fn render_rgb<F: Figure>(figure: &F, options: &ChartOptions, label: &Path) -> Result<Vec<u8>, PlotError> {
+/// frames of an animation; returns what the drawing returned and the pixels.
+fn render_rgb<F: Figure>(figure: &F, options: &ChartOptions, label: &Path) -> Result<(F::Layout, Vec<u8>), PlotError> {
     let mut pixels = vec![0u8; options.width as usize * options.height as usize * 3];
     style::register_font();
     let root = BitMapBackend::with_buffer(&mut pixels, (options.width, options.height)).into_drawing_area();
-    paint(figure, options, root).map_err(|e| PlotError { path: label.to_path_buf(), reason: e.to_string() })?;
-    Ok(pixels)
+    let layout =
+        paint(figure, options, root).map_err(|e| PlotError { path: label.to_path_buf(), reason: e.to_string() })?;
+    Ok((layout, pixels))
 }
 
 /// Clears `root` to white, draws `figure` and writes the result.

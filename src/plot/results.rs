@@ -14,6 +14,7 @@ use super::compare;
 use super::run::{self, ColourBy, ColourScale};
 use super::study;
 use super::{Canvas, ChartOptions, Format, PlotError, StudyPoint};
+use crate::output::guard::{self, Existing};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
 use crate::output::{OutputError, SummaryRow, SummaryTable};
@@ -48,6 +49,8 @@ pub struct PlotRequest {
     pub colour_by: ColourBy,
     /// Image size (pixels): width, height.
     pub size: (u32, u32),
+    /// Replace any plain file at a chart's path (else only a chart demsweep drew).
+    pub force: bool,
 }
 
 impl PlotRequest {
@@ -91,7 +94,8 @@ impl From<OutputError> for PlotError {
 
 /// Draws the study charts and the per-run charts of the requested runs of a results file, telling
 /// `on_event` about every file written. Fails before drawing anything when the file cannot be read,
-/// a requested run is not in it or the image size is too small.
+/// a requested run is not in it, the image size is too small or the image folder is `/`, a home
+/// folder or above the working folder ([`guard::check_files_folder`]).
 pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) -> Result<PlotReport, PlotError> {
     let dir = request.image_dir();
     let (min_width, min_height) = ChartOptions::MIN_SIZE;
@@ -100,6 +104,7 @@ pub fn plot_results(request: &PlotRequest, on_event: &mut dyn FnMut(Event<'_>)) 
             format!("image size {}x{} is below the smallest {min_width}x{min_height}", request.size.0, request.size.1);
         return Err(PlotError { path: dir, reason });
     }
+    guard::check_files_folder(&dir)?;
     let path = &request.results;
     let file = reader::open(path)?;
     let study_name = reader::header(&file, path)?.study_name;
@@ -205,12 +210,14 @@ pub struct SvgCharts {
     pub charts: Vec<(String, String)>,
     /// What was noted.
     pub notes: Vec<String>,
+    /// The charts that could not be drawn and runs that could not be read (also among the notes).
+    pub failures: Vec<PlotError>,
 }
 
 impl SvgCharts {
     /// No chart yet; charts of `size` (pixels).
     pub fn new(size: (u32, u32)) -> Self {
-        Self { size, charts: Vec::new(), notes: Vec::new() }
+        Self { size, charts: Vec::new(), notes: Vec::new(), failures: Vec::new() }
     }
 }
 
@@ -222,7 +229,13 @@ impl ChartSink for SvgCharts {
         draw: impl Fn(&ChartOptions, Canvas<'_>) -> Result<T, PlotError>,
     ) -> Option<T> {
         let (width, height) = self.size;
-        let options = ChartOptions { width, height, format: Format::Svg, subject: Some(subject.to_string()) };
+        let options = ChartOptions {
+            width,
+            height,
+            format: Format::Svg,
+            subject: Some(subject.to_string()),
+            ..Default::default()
+        };
         let mut svg = String::new();
         match draw(&options, Canvas::Svg(&mut svg)) {
             Ok(value) => {
@@ -242,6 +255,7 @@ impl ChartSink for SvgCharts {
 
     fn fail(&mut self, error: &PlotError) {
         self.notes.push(format!("chart not drawn: {}", error.reason));
+        self.failures.push(error.clone());
     }
 }
 
@@ -274,7 +288,8 @@ impl ChartSink for Drawer<'_> {
         let mut drawn = None;
         for &format in &self.request.formats {
             let (width, height) = self.request.size;
-            let options = ChartOptions { width, height, format, subject: Some(subject.to_string()) };
+            let existing = Existing::Ours { force: self.request.force };
+            let options = ChartOptions { width, height, format, subject: Some(subject.to_string()), existing };
             let path = self.dir.join(format!("{name}.{}", format.extension()));
             match draw(&options, Canvas::File(&path)) {
                 Ok(value) => {
@@ -651,6 +666,7 @@ mod tests {
             formats: vec![Format::Png],
             colour_by: ColourBy::Speed,
             size: (1000, 700),
+            force: false,
         };
         let selected = select_runs(&rows, &request).unwrap();
         assert_eq!(selected.len(), DEFAULT_RUN_LIMIT);

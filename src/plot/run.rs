@@ -68,26 +68,14 @@ pub fn animation<'c>(
         Canvas::File(path) if options.format == Format::Png => path.to_path_buf(),
         other => return snapshot(last, box_size, &last_scale, options, other).map(drop),
     };
-    let fail = |reason: String| PlotError { path: path.clone(), reason };
-    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| fail(format!("cannot create folder: {e}")))?;
-    }
+    super::prepare_file(&path, options)?;
     let frames = snapshots
         .iter()
         .map(|(s, scale)| super::render_rgb(&SnapshotFigure { snapshot: s, box_size, scale }, options, &path))
+        .map(|drawn| drawn.map(|(_, pixels)| pixels))
         .collect::<Result<Vec<_>, _>>()?;
-    let file = crate::output::guard::create_file(&path, &[]).map_err(|e| fail(e.refusal_text()))?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), options.width, options.height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    let encoded = encoder
-        .set_animated(frames.len() as u32, 0)
-        .and_then(|()| encoder.set_frame_delay(ANIMATION_FRAME_MS, 1000))
-        .and_then(|()| encoder.write_header())
-        .and_then(|mut writer| {
-            frames.iter().try_for_each(|pixels| writer.write_image_data(pixels)).and_then(|()| writer.finish())
-        });
-    encoded.map_err(|e| fail(format!("cannot write the animation: {e}")))
+    let bytes = super::encode_png(&frames, options, (&path, Some(ANIMATION_FRAME_MS)))?;
+    super::write_image(&path, &bytes, options)
 }
 
 /// What the disks of a snapshot are coloured by.

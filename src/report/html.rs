@@ -67,7 +67,8 @@ impl Page {
     pub fn new(title: &str) -> Self {
         let html = format!(
             "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
-             <title>{} — demsweep report</title><style>{}</style></head><body><main>",
+             {}<title>{} — demsweep report</title><style>{}</style></head><body><main>",
+            crate::output::guard::HTML_MARK,
             escape(title),
             include_str!("report.css")
         );

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use crate::output::guard;
+use crate::output::guard::{self, Existing};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
@@ -55,12 +55,7 @@ pub struct TuneSection {
     pub candidates: Vec<Vec<String>>,
 }
 
-/// `<results file name without .h5>_report.html` beside it: `<study name>_report.html` for a study's
-/// results, `<study name>.shard-K-of-N_report.html` for a shard's, so that shards never share a page.
-pub fn report_path(results: &Path) -> PathBuf {
-    let stem = results.file_stem().unwrap_or_default().to_string_lossy();
-    results.with_file_name(format!("{stem}_report.html"))
-}
+pub use crate::output::report_path;
 
 /// `<results folder>/<study name>_tune.json`: the tune's section of the report, when the file holds a tune.
 pub fn tune_section_path(results: &Path, study_name: &str) -> PathBuf {
@@ -83,10 +78,11 @@ fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSect
 }
 
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
-/// readable runs; returns where it went and the run groups that could not be read (left out).
+/// readable runs, whole or not at all, replacing a file there as `existing` allows; returns where it
+/// went and the run groups that could not be read (left out).
 pub fn write_report(
     results: &Path,
-    out: Option<&Path>,
+    (out, existing): (Option<&Path>, Existing),
     context: &ReportContext,
 ) -> Result<(PathBuf, Vec<DamagedGroup>), OutputError> {
     let file = reader::open(results)?;
@@ -101,6 +97,7 @@ pub fn write_report(
         formats: vec![Format::Svg],
         colour_by: ColourBy::Speed,
         size: CHART_SIZE,
+        force: false,
     };
     let charted: Vec<&SummaryRow> =
         results::select_runs(&rows, &request).map_err(|e| OutputError::new(results, e.reason))?;
@@ -110,6 +107,7 @@ pub fn write_report(
         elapsed: context.elapsed.or(recorded.map(|(_, wall)| wall)),
     };
     let mut page = html::Page::new(&header.study_name);
+    let mut failures = Vec::new();
     // A tune's page shows its answer first, its warnings grouped by kind, and no study charts: a
     // tune's runs are not a grid, so averages over the levers mean nothing.
     let tune = read_tune_section(results, &header.study_name);
@@ -135,6 +133,7 @@ pub fn write_report(
         let mut pile = Svgs::new();
         results::pile_metric_charts(&mut pile, &header.study_name, &rows);
         page.push(&pile_charts_section(&pile));
+        failures.extend(study.drawn.failures.into_iter().chain(pile.drawn.failures));
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {
@@ -148,12 +147,33 @@ pub fn write_report(
         let mut svgs = Svgs::new();
         results::run_charts(&mut svgs, (&file, results), row, (ColourBy::Speed, false));
         runs += &run_section(row, &svgs);
+        failures.append(&mut svgs.drawn.failures);
     }
     runs += "</div>";
     page.push(&runs);
     let path = out.map_or_else(|| report_path(results), Path::to_path_buf);
-    guard::write(&path, page.finish().as_bytes(), &[results]).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
-    Ok((path, damaged))
+    guard::write_with(&path, &[results], existing, |out| out.write_all(page.finish().as_bytes()))
+        .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
+    match failures.is_empty() {
+        true => Ok((path, damaged)),
+        false => Err(unreadable(results, &path, &failures)),
+    }
+}
+
+/// The error of a page written without the charts that `failures` name (a run's stored data that
+/// fails its checksum, a chart that cannot be drawn): the page says so too.
+fn unreadable(results: &Path, page: &Path, failures: &[PlotError]) -> OutputError {
+    let named: Vec<String> = failures.iter().take(5).map(|f| f.reason.clone()).collect();
+    let more = if failures.len() > 5 { format!(" and {} more", failures.len() - 5) } else { String::new() };
+    OutputError::new(
+        results,
+        format!(
+            "{} chart(s) or run(s) left out of the page {} ({}{more})",
+            failures.len(),
+            page.display(),
+            named.join("; ")
+        ),
+    )
 }
 
 /// Charts drawn as SVG documents with what was noted on the way, and a run's frame player.

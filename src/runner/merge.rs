@@ -91,9 +91,16 @@ struct ShardFile {
 /// An existing merged file is only replaced with `options.force`; the merged file is written under a
 /// temporary name (`<name>.merging.h5`) and renamed when complete, holding the results file's lock.
 pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Result<MergeReport, OutputError> {
-    let mut shards = read_shards(&shard_paths(inputs)?)?;
-    let studies = !one_study(&shards)?;
-    let problems = if studies { combine(&mut shards, options.accept_version)? } else { check_complete(&shards)? };
+    let (mut shards, unreadable) = read_shards(&shard_paths(inputs)?);
+    let studies = match shards.is_empty() {
+        true => true,
+        false => !one_study(&shards)?,
+    };
+    let problems = match (studies, unreadable.first()) {
+        (true, Some(file)) => return Err(file.error.clone()),
+        (true, None) => combine(&mut shards, options.accept_version)?,
+        (false, _) => check_complete(&shards, &unreadable)?,
+    };
     let first = &shards[0].header;
     let name = match &options.name {
         Some(name) => crate::study::name::check_name(name)
@@ -110,6 +117,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
     guard::check_results_replaceable(&results, &shard_files)
         .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
+    crate::output::check_companions(&results, options.force)?;
     let header = if studies {
         combined_header(&shards)
     } else {
@@ -195,20 +203,38 @@ fn is_shard_file_name(name: &str) -> bool {
     name.ends_with(".h5") && name.contains(".shard-") && name.contains("-of-")
 }
 
-fn read_shards(paths: &[PathBuf]) -> Result<Vec<ShardFile>, OutputError> {
-    let shards = paths
-        .iter()
-        .map(|path| {
-            let file = reader::open(path)?;
-            let header = reader::header(&file, path)?;
-            let runs = reader::committed_runs(&file, path)?;
-            if !runs.damaged.is_empty() {
-                return Err(OutputError::new(path, reader::damage_text(&runs.damaged)));
-            }
-            Ok(ShardFile { path: path.clone(), header, rows: runs.rows, groups: runs.groups })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(shards)
+/// A file given that cannot be read (cut short, damaged): a shard of the study is merged as missing.
+struct Unreadable {
+    path: PathBuf,
+    error: OutputError,
+}
+
+/// The files that read, and those that do not (see [`Unreadable`]).
+fn read_shards(paths: &[PathBuf]) -> (Vec<ShardFile>, Vec<Unreadable>) {
+    let read = |path: &PathBuf| {
+        let file = reader::open(path)?;
+        let header = reader::header(&file, path)?;
+        let runs = reader::committed_runs(&file, path)?;
+        if !runs.damaged.is_empty() {
+            return Err(OutputError::new(path, reader::damage_text(&runs.damaged)));
+        }
+        Ok(ShardFile { path: path.clone(), header, rows: runs.rows, groups: runs.groups })
+    };
+    let (mut shards, mut unreadable) = (Vec::new(), Vec::new());
+    for path in paths {
+        match read(path) {
+            Ok(shard) => shards.push(shard),
+            Err(error) => unreadable.push(Unreadable { path: path.clone(), error }),
+        }
+    }
+    (shards, unreadable)
+}
+
+/// The shard `(K, N)` a file's name says it is (`<name>.shard-K-of-N.h5`).
+fn shard_in_name(path: &Path) -> Option<(usize, usize)> {
+    let name = path.file_name()?.to_str()?.strip_suffix(".h5")?;
+    let (k, n) = name.rsplit_once(".shard-")?.1.split_once("-of-")?;
+    Some((k.parse().ok()?, n.parse().ok()?))
 }
 
 fn describe(shard: &ShardFile) -> String {
@@ -221,36 +247,75 @@ fn describe(shard: &ShardFile) -> String {
     )
 }
 
-/// Whether the files are shards of one study split one way (merged as shards), rather than files of
-/// different studies (merged run by run). Shards of one study text whose fingerprints differ (its
-/// input files or the demsweep version changed between them) or that split it differently are
-/// refused, naming both.
+/// Whether the files are shards of one study split one way (merged as shards), rather than whole
+/// files of different studies (merged run by run). A shard merges only with the other shards of its
+/// study: shards whose study text or fingerprint differ (the study edited between them, its input
+/// files or the demsweep version changed) or that split it differently, and a shard given with a
+/// file that is not one, are refused, naming both files and what differs.
 fn one_study(shards: &[ShardFile]) -> Result<bool, OutputError> {
-    let first = &shards[0];
-    let count = |s: &ShardFile| s.header.shard.as_ref().map_or(0, |i| i.spec.count);
-    if shards.iter().any(|s| s.header.shard.is_none() || s.header.study_text != first.header.study_text) {
-        return Ok(false);
+    let Some(first) = shards.iter().find(|s| s.header.shard.is_some()) else { return Ok(false) };
+    let Some((other, why)) = shards.iter().find_map(|s| Some(s).zip(difference(first, s))) else { return Ok(true) };
+    Err(OutputError::new(
+        &other.path,
+        format!(
+            "cannot merge shards of different studies or splits ({why}): run them again from the same study \
+             file and inputs:\n  {}\n  {}",
+            describe(first),
+            describe(other)
+        ),
+    ))
+}
+
+/// A line of a study file as an error shows it: trimmed, control characters escaped, at most 120
+/// characters.
+fn shown(line: &str) -> String {
+    let mut escaped = String::new();
+    for c in line.trim().chars() {
+        match c.is_control() {
+            true => escaped.extend(c.escape_debug()),
+            false => escaped.push(c),
+        }
     }
-    if let Some(other) =
-        shards.iter().find(|s| s.header.fingerprint != first.header.fingerprint || count(s) != count(first))
-    {
-        let why = if other.header.fingerprint == first.header.fingerprint {
-            "they split the study differently".to_string()
-        } else if other.header.demsweep_version != first.header.demsweep_version {
-            format!("demsweep version {} and {}", first.header.demsweep_version, other.header.demsweep_version)
-        } else {
-            "the study's input files (placement.file, placement.contacts) changed between them".to_string()
-        };
-        return Err(OutputError::new(
-            &other.path,
-            format!(
-                "cannot merge shards of different studies or splits ({why}): run them again from the same inputs:\n  {}\n  {}",
-                describe(first),
-                describe(other)
-            ),
-        ));
+    match escaped.char_indices().nth(120) {
+        Some((at, _)) => format!("{}…", &escaped[..at]),
+        None => escaped,
     }
-    Ok(true)
+}
+
+/// What makes `other` not a shard of the same study and split as the shard `first`, in words.
+fn difference(first: &ShardFile, other: &ShardFile) -> Option<String> {
+    let (a, b) = (&first.header, &other.header);
+    let count = |h: &FileHeader| h.shard.as_ref().map(|i| i.spec.count);
+    if b.shard.is_none() {
+        Some("the second is not a shard: a shard merges only with the other shards of its study".to_string())
+    } else if a.study_text != b.study_text {
+        Some(text_difference(&a.study_text, &b.study_text))
+    } else if a.fingerprint != b.fingerprint && a.demsweep_version != b.demsweep_version {
+        Some(format!("demsweep version {} and {}", a.demsweep_version, b.demsweep_version))
+    } else if a.fingerprint != b.fingerprint {
+        Some("the study's input files (placement.file, placement.contacts) changed between them".to_string())
+    } else if count(a) != count(b) {
+        Some("they split the study differently".to_string())
+    } else {
+        None
+    }
+}
+
+/// The first line where two study texts differ: `the study was edited between them (line 7:
+/// `run.duration = 0.2` and `run.duration = 0.15`)`.
+fn text_difference(a: &str, b: &str) -> String {
+    let (mut a_lines, mut b_lines) = (a.lines(), b.lines());
+    let mut line = 1;
+    loop {
+        match (a_lines.next(), b_lines.next()) {
+            (Some(x), Some(y)) if x == y => line += 1,
+            (None, None) => return "the study was edited between them: its line ends differ".to_string(),
+            (x, y) => {
+                let show = |l: Option<&str>| l.map_or("(end of file)".to_string(), |l| format!("`{}`", shown(l)));
+                return format!("the study was edited between them: line {line}: {} and {}", show(x), show(y));
+            }
+        }
+    }
 }
 
 /// The demsweep version that made a run of `file`: recorded on the run, else the file's creator.
@@ -341,8 +406,9 @@ fn combined_header(files: &[ShardFile]) -> FileHeader {
     }
 }
 
-/// No run in two files (an error); the shards missing, incomplete or with failed runs (problems).
-fn check_complete(shards: &[ShardFile]) -> Result<Vec<ShardProblem>, OutputError> {
+/// No run in two files (an error); the shards missing, unreadable, incomplete or with failed runs
+/// (problems). A file that cannot be read is refused unless its name says it is a shard of this split.
+fn check_complete(shards: &[ShardFile], unreadable: &[Unreadable]) -> Result<Vec<ShardProblem>, OutputError> {
     let mut owner: BTreeMap<usize, &Path> = BTreeMap::new();
     for shard in shards {
         for row in &shard.rows {
@@ -355,11 +421,25 @@ fn check_complete(shards: &[ShardFile]) -> Result<Vec<ShardProblem>, OutputError
         }
     }
     let count = shards[0].header.shard.as_ref().map_or(0, |s| s.spec.count);
+    let holds = |shard: &ShardFile, k: usize| shard.header.shard.as_ref().is_some_and(|i| i.spec.index == k);
+    if let Some(file) = unreadable.iter().find(|u| {
+        shard_in_name(&u.path).is_none_or(|(k, n)| n != count || k == 0 || k > n || shards.iter().any(|s| holds(s, k)))
+    }) {
+        return Err(file.error.clone());
+    }
     let mut problems = Vec::new();
     for k in 1..=count {
         let problem = |reason: String| ShardProblem { shard: k, reason };
-        let Some(shard) = shards.iter().find(|s| s.header.shard.as_ref().is_some_and(|i| i.spec.index == k)) else {
-            problems.push(problem(format!("shard {k}/{count}: no file given")));
+        let Some(shard) = shards.iter().find(|s| holds(s, k)) else {
+            problems.push(problem(match unreadable.iter().find(|u| shard_in_name(&u.path) == Some((k, count))) {
+                Some(file) => format!(
+                    "shard {k}/{count} ({}): cannot be read ({}): run it again with --force in place of --resume \
+                     (it starts afresh)",
+                    file.path.display(),
+                    file.error.message
+                ),
+                None => format!("shard {k}/{count}: no file given"),
+            }));
             continue;
         };
         let assigned = shard.header.shard.as_ref().map_or(&[][..], |s| &s.runs[..]);

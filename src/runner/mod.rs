@@ -174,10 +174,13 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
         None => (0..plan.runs.len()).collect(),
     };
     let path = results_path(plan, options);
-    let (_lock, mut writer) = open_results(plan, options, &path, &selected)?;
+    let (_lock, mut writer, header) = open_results(plan, options, &path, &selected)?;
     let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
     let stored = writer.take_existing();
     let reuse = reuse::Reuse::new(plan, &identities, (&selected, options.accept_version), stored, &mut writer)?;
+    if let Some(header) = header {
+        writer.set_header(&header)?;
+    }
     if options.drop_unplanned {
         writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
     }
@@ -295,35 +298,34 @@ pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
 }
 
 /// Takes the results file's lock, then creates the file, or opens it to resume after checking it
-/// holds this study (and shard). The lock is held until the returned guard is dropped.
+/// holds this study (and shard); with the header a resumed file of an edited study takes once its
+/// stored runs are accepted. The lock is held until the returned guard is dropped.
 fn open_results(
     plan: &Plan,
     options: &RunOptions,
     path: &Path,
     selected: &[usize],
-) -> Result<(ResultsLock, ResultsWriter), RunnerError> {
+) -> Result<(ResultsLock, ResultsWriter, Option<FileHeader>), RunnerError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)
         .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
     check_writable(dir)?;
-    // The CSV files are written last: a link there is refused before anything is replaced.
-    for written in [output::csv_path(path), output::points_csv_path(path)] {
-        output::guard::refuse_symlink(&written).map_err(|e| OutputError::new(&written, e.refusal_text()))?;
-    }
+    // The CSV files and report page are written last: checked before anything runs or is replaced.
+    output::check_companions(path, options.force)?;
     let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {
-        let (mut writer, header) = ResultsWriter::open(path, plan.output.clone())?;
+        let (mut writer, header) =
+            ResultsWriter::open(path, plan.output.clone()).map_err(|e| cannot_resume(path, e))?;
         check_same_study(path, &header, plan, options.shard, writer.has_identities())?;
-        if header.fingerprint != plan.fingerprint {
-            writer.set_header(&FileHeader {
-                study_text: plan.study_text.clone(),
-                fingerprint: plan.fingerprint.clone(),
-                planned_runs: plan.runs.len(),
-                shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
-                ..header
-            })?;
-        }
+        // The header is the study's once its stored runs are accepted (see `run_plan`).
+        let header = (header.fingerprint != plan.fingerprint).then(|| FileHeader {
+            study_text: plan.study_text.clone(),
+            fingerprint: plan.fingerprint.clone(),
+            planned_runs: plan.runs.len(),
+            shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
+            ..header
+        });
         // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
         let damaged = writer.forget_damaged()?;
         writer.forget_failed()?;
@@ -331,7 +333,7 @@ fn open_results(
         if !damaged.is_empty() {
             eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
         }
-        return Ok((lock, writer));
+        return Ok((lock, writer, header));
     }
     if exists && !options.force {
         return Err(OutputError::new(
@@ -354,7 +356,23 @@ fn open_results(
         planned_runs: plan.runs.len(),
         shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
     };
-    Ok((lock, ResultsWriter::create(path, &header, plan.output.clone())?))
+    Ok((lock, ResultsWriter::create(path, &header, plan.output.clone())?, None))
+}
+
+/// A results file that cannot be opened to resume: when it is one (cut short by a full disk or a
+/// copy that stopped, or damaged), the error says how to go on.
+fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
+    match output::guard::is_hdf5(path) {
+        true => OutputError::new(
+            path,
+            format!(
+                "cannot be continued: {}: the file was cut short or is damaged; run it again from the start with \
+                 --force in place of --resume (this replaces the file: move it away first to keep it)",
+                error.message
+            ),
+        ),
+        false => error,
+    }
 }
 
 /// Fails early, naming the directory, when files cannot be created in it.

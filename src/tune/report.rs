@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use super::judge::broken_by_reference;
 use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, SearchResult, State};
 use super::{TuneSpec, seed_text};
-use crate::output::csv;
+use crate::output::{csv, guard};
 use crate::physics::number::short;
 use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
@@ -512,22 +512,21 @@ pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str)
     let mut written = Written::default();
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let csv = dir.join(format!("{}_candidates.csv", spec.name));
-    write_records(&candidate_records(spec, result), &csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    write_records(&candidate_records(spec, result), &csv).map_err(|e| e.to_string())?;
     written.files.push(csv);
     let skipped = dir.join(format!("{}_skipped.csv", spec.name));
-    write_records(&skipped_records(spec, result), &skipped).map_err(|e| format!("{}: {e}", skipped.display()))?;
+    write_records(&skipped_records(spec, result), &skipped).map_err(|e| e.to_string())?;
     written.files.push(skipped);
     if let Some(k) = result.recommended {
         let best = dir.join(format!("{}_best.toml", spec.name));
-        std::fs::write(&best, best_study(spec, result, k)).map_err(|e| format!("{}: {e}", best.display()))?;
+        guard::write(&best, best_study(spec, result, k).as_bytes(), &[]).map_err(|e| e.to_string())?;
         written.files.push(best);
         let change = dir.join(format!("{}_scene_change.toml", spec.name));
-        std::fs::write(&change, scene_change(spec, &result.candidates[k]))
-            .map_err(|e| format!("{}: {e}", change.display()))?;
+        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[]).map_err(|e| e.to_string())?;
         written.files.push(change);
     }
     let note = dir.join(format!("{}_recommendation.txt", spec.name));
-    std::fs::write(&note, format!("{text}\n")).map_err(|e| format!("{}: {e}", note.display()))?;
+    guard::write(&note, format!("{text}\n").as_bytes(), &[]).map_err(|e| e.to_string())?;
     written.files.push(note);
     let plots = dir.join("plots");
     let options = ChartOptions { format: Format::Png, subject: Some(spec.name.clone()), ..Default::default() };
@@ -601,14 +600,14 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         .collect()
 }
 
-/// Writes CSV records, the first one the column names (followed by their units line).
-fn write_records(records: &[Vec<String>], path: &Path) -> std::io::Result<()> {
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    if let Some((names, rows)) = records.split_first() {
+/// Writes CSV records, the first one the column names (followed by their units line), whole or not
+/// at all ([`guard::write_with`]).
+fn write_records(records: &[Vec<String>], path: &Path) -> Result<(), guard::GuardError> {
+    guard::write_with(path, &[], guard::Existing::Any, |mut out| {
+        let Some((names, rows)) = records.split_first() else { return Ok(()) };
         csv::write_named_header(&mut out, names)?;
-        rows.iter().try_for_each(|row| csv::write_record(&mut out, row))?;
-    }
-    std::io::Write::flush(&mut out)
+        rows.iter().try_for_each(|row| csv::write_record(&mut *out, row))
+    })
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.
