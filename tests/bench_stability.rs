@@ -4,10 +4,11 @@ mod bench_common;
 
 use bench_common::*;
 use demsweep::bench::placed_disks;
-use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
+use demsweep::bench::stability_map::{Outcome, StabilityMapOptions, stability_map};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::config::IntegratorKind;
 use demsweep::physics::predict_stability as assess;
+use demsweep::physics::record::RunStatus;
 use demsweep::physics::warning::WarningKind;
 
 fn small_scene() -> SceneConfig {
@@ -52,17 +53,25 @@ fn tiny_stability_map_finds_blow_ups_and_warns_before_each() {
         per_halving: 1,
         count: 8,
         duration: 0.15,
+        restart_at: Some(0.08),
         out_dir: dir.clone(),
     };
     let (rows, boundaries) = stability_map(&options).unwrap();
     assert_eq!(boundaries.len(), 8);
     assert!(rows.iter().any(|r| r.blew_up()) && rows.iter().any(|r| !r.blew_up()));
-    for r in rows.iter().filter(|r| r.blew_up()) {
-        assert!(r.warned, "{:?} blew up at dt/t_c = {} without a warning", r.column, r.dt_over_contact_time);
-        assert!(!r.message.is_empty() && !r.failure().is_empty());
+    // Failures are blow-ups of the run or of its restart, and limit cycles, each warned before the run.
+    assert!(rows.iter().any(|r| r.outcome() == Outcome::LimitCycle), "a run that never comes to rest is a failure");
+    for r in rows.iter().filter(|r| r.failed()) {
+        let case = format!("{:?} at dt/t_c = {}: {:?}", r.column, r.dt_over_contact_time, r.outcome());
+        assert!(r.warned, "{case} without a warning");
+        assert!(!r.failure().is_empty(), "{case}");
+        assert_eq!(r.message.is_empty(), r.status != RunStatus::Diverged, "{case}: {}", r.message);
     }
-    // Every frictionless column has a stable time step, and blows up at t_c.
-    for b in boundaries.iter().filter(|b| b.column.friction == 0.0) {
+    for r in rows.iter().filter(|r| r.simulated_time > 0.08) {
+        assert!(r.restart.is_some(), "{:?} at dt/t_c = {} restarted at 0.08 s", r.column, r.dt_over_contact_time);
+    }
+    // Every lightly damped frictionless column has a step that does not fail, and blows up at t_c.
+    for b in boundaries.iter().filter(|b| b.column.friction == 0.0 && b.column.beta < 1.0) {
         assert!(b.largest_stable.is_some(), "{:?}", b.column);
         assert!(b.smallest_unstable.is_some_and(|dt| dt <= b.contact_time), "{:?}", b.column);
     }
