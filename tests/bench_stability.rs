@@ -5,6 +5,7 @@ mod bench_common;
 use bench_common::*;
 use demsweep::bench::placed_disks;
 use demsweep::bench::stability_map::{Outcome, StabilityMapOptions, stability_map};
+use demsweep::bench::stable_step::{StableStepOptions, stable_step};
 use demsweep::physics::SceneConfig;
 use demsweep::physics::config::IntegratorKind;
 use demsweep::physics::predict_stability as assess;
@@ -77,5 +78,29 @@ fn tiny_stability_map_finds_blow_ups_and_warns_before_each() {
     }
     assert_eq!(csv_lines(&dir.join("stability_map.csv")).len(), rows.len() + 2, "names, units, then the rows");
     assert!(std::fs::read(dir.join("stability_map.png")).unwrap().starts_with(b"\x89PNG"));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn the_stable_step_bench_tells_a_settling_step_from_a_limit_cycle_straight_and_restarted() {
+    let dir = fresh_dir("stable_step");
+    let options = StableStepOptions {
+        schemes: vec![(IntegratorKind::AdamsBashforthMoulton, vec![0.03, 0.4])],
+        restitutions: vec![0.4],
+        seeds: 1,
+        count: 40,
+        restart_at: 0.3,
+        duration: 1.5,
+        out_dir: dir.clone(),
+    };
+    let rows = stable_step(&options).unwrap();
+    assert_eq!(rows.len(), 2);
+    let (fine, coarse) = (&rows[0], &rows[1]);
+    assert!(fine.settles(), "{fine:?}");
+    assert!(coarse.settles_finer && !coarse.settles(), "{coarse:?}");
+    assert!(coarse.step_ratio > 1.0, "the restart's own contact time is longer: {coarse:?}");
+    assert_eq!(csv_lines(&dir.join("stable_step.csv")).len(), rows.len() + 2, "names, units, then the rows");
+    let summary = std::fs::read_to_string(dir.join("stable_step.md")).unwrap();
+    assert!(summary.contains("| adams_bashforth_moulton | 0.4 |") && summary.contains("| 0.03 |"), "{summary}");
     std::fs::remove_dir_all(dir).unwrap();
 }

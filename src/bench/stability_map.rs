@@ -150,6 +150,11 @@ pub enum Outcome {
 }
 
 impl Outcome {
+    /// Its place from best to worst.
+    pub fn rank(self) -> usize {
+        self as usize
+    }
+
     /// In a table.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -163,7 +168,7 @@ impl Outcome {
 
 /// How one run ended: `tolerance` is its energy balance tolerance, `settles_finer` whether a smaller
 /// step of its column settled.
-fn outcome(status: RunStatus, energy_balance_error: f64, tolerance: f64, settles_finer: bool) -> Outcome {
+pub(super) fn outcome(status: RunStatus, energy_balance_error: f64, tolerance: f64, settles_finer: bool) -> Outcome {
     match status {
         RunStatus::Diverged => Outcome::BlowUp,
         _ if energy_balance_error.abs() > tolerance => Outcome::LimitCycle,

@@ -112,8 +112,8 @@ pub fn damping_ratio(damping_rate: f64, contact_time: f64) -> f64 {
     damping_rate * contact_time / std::f64::consts::TAU
 }
 
-/// The largest Δt / t_c at which every deposition of the measurement (`demsweep bench stability`,
-/// results/bench/stability_restarts.md) settled with its energy balance within tolerance, straight
+/// The largest Δt / t_c at which every deposition of the measurement (`demsweep bench stable-step`,
+/// results/bench/stable_step.md) settled with its energy balance within tolerance, straight
 /// through and restarted mid-deposition from its own state, by damping ratio ζ: `(ζ, Adams-Bashforth-
 /// Moulton, velocity Verlet)`. Past it a pile keeps rattling (a limit cycle) or blows up.
 const MEASURED_STABLE_FRACTIONS: [(f64, f64, f64); 7] = [
