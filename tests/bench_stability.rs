@@ -104,3 +104,34 @@ fn the_stable_step_bench_tells_a_settling_step_from_a_limit_cycle_straight_and_r
     assert!(summary.contains("| adams_bashforth_moulton | 0.4 |") && summary.contains("| 0.03 |"), "{summary}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn the_stable_step_prediction_is_the_same_for_every_placement_seed_and_knows_the_damping() {
+    // What tune clips lever ranges on holds for the seeds it runs, not only the reference's.
+    let mut s = small_scene();
+    s.integrator.contact_time_fraction = Some(0.1);
+    s.material.restitution = Some(0.1);
+    let report = |s: &SceneConfig| assess(s, &placed_disks(s).unwrap());
+    let first = report(&s);
+    let warned = |r: &demsweep::physics::stability::StabilityReport| {
+        r.warnings.iter().any(|w| w.kind == WarningKind::IntegratorStability)
+    };
+    assert!(warned(&first), "{:?}", first.warnings);
+    let kinds =
+        |r: &demsweep::physics::stability::StabilityReport| r.warnings.iter().map(|w| w.kind).collect::<Vec<_>>();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    for seed in 1..6 {
+        s.placement.seed = seed;
+        let other = report(&s);
+        assert!(close(other.damping_ratio, first.damping_ratio), "seed {seed}: {other:?}");
+        assert!(close(other.stable_fraction, first.stable_fraction), "seed {seed}: {other:?}");
+        assert_eq!(kinds(&other), kinds(&first), "seed {seed}");
+    }
+    // Lighter damping and velocity Verlet each allow a larger step.
+    s.material.restitution = Some(0.5);
+    let light = report(&s);
+    assert!(light.damping_ratio < first.damping_ratio && light.stable_fraction > first.stable_fraction);
+    s.integrator.scheme = IntegratorKind::VelocityVerlet;
+    assert!(report(&s).stable_fraction > light.stable_fraction);
+    assert!((light.safe_time_step / light.contact_time - light.stable_fraction).abs() < 1e-9, "{light:?}");
+}

@@ -328,6 +328,22 @@ mod tests {
     use crate::physics::config::DomainConfig;
 
     #[test]
+    fn the_stable_step_falls_with_strong_damping_and_is_smaller_for_the_paper_integrator() {
+        let (paper, verlet) = (IntegratorKind::AdamsBashforthMoulton, IntegratorKind::VelocityVerlet);
+        for ratio in [0.0, 0.02, 0.1, 0.3, 0.6, 1.0, 5.0] {
+            let (a, v) = (stable_contact_time_fraction(paper, ratio), stable_contact_time_fraction(verlet, ratio));
+            assert!(a > 0.0 && a < v, "ζ = {ratio}: {a} vs {v}");
+        }
+        // Between measured damping ratios the limit is interpolated; past the last it falls as 1/ζ.
+        let last = MEASURED_STABLE_FRACTIONS[MEASURED_STABLE_FRACTIONS.len() - 1];
+        let at = |ratio| stable_contact_time_fraction(paper, ratio);
+        assert!((at(last.0) - STABLE_STEP_MARGIN * last.1).abs() < 1e-12);
+        assert!((at(2.0 * last.0) - 0.5 * at(last.0)).abs() < 1e-12);
+        let (a, b) = (MEASURED_STABLE_FRACTIONS[4], MEASURED_STABLE_FRACTIONS[5]);
+        assert!((at(0.5 * (a.0 + b.0)) - STABLE_STEP_MARGIN * 0.5 * (a.1 + b.1)).abs() < 1e-12);
+    }
+
+    #[test]
     fn disks_land_on_the_disk_below_not_on_the_floor() {
         let walls = BoxWalls::new(&DomainConfig { width: 1.0, height: 2.0, lid: false });
         let g = [0.0, -9.81];
