@@ -123,7 +123,7 @@ const MEASURED_STABLE_FRACTIONS: [(f64, f64, f64); 7] = [
     (0.252, 0.1, 0.15),
     (0.328, 0.085, 0.15),
     (0.534, 0.06, 0.1),
-    (0.693, 0.04, 0.1),
+    (0.693, 0.04, 0.07),
 ];
 
 /// The share of the measured stable step ([`MEASURED_STABLE_FRACTIONS`]) a scene may use without a
@@ -255,18 +255,23 @@ pub fn assess<L: ContactLaw>(
     report
 }
 
+/// Relative rounding within which a step resolved at a fraction of the contact time counts as at it:
+/// the step and the assessment compute the contact time separately, to the last bits.
+const RESOLVED_AT_LIMIT: f64 = 1e-9;
+
 fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec<ValidityWarning> {
     let limits = &scene.limits;
     let warning = |kind, value, limit| ValidityWarning::new(kind, value, limit);
     let mut w = Vec::new();
-    if r.dt_over_contact_time > limits.contact_time_fraction {
+    let past = |fraction: f64| r.dt_over_contact_time > fraction * (1.0 + RESOLVED_AT_LIMIT);
+    if past(limits.contact_time_fraction) {
         w.push(ValidityWarning {
             impact_speed: Some(r.impact_speed),
             safe_time_step: Some(r.safe_time_step),
             ..warning(WarningKind::ContactTimeFraction, r.dt_over_contact_time, limits.contact_time_fraction)
         });
     }
-    if r.dt_over_contact_time > r.stable_fraction {
+    if past(r.stable_fraction) {
         w.push(ValidityWarning {
             safe_time_step: Some(r.safe_time_step),
             ..warning(WarningKind::IntegratorStability, r.dt_over_contact_time, r.stable_fraction)
