@@ -75,3 +75,32 @@ fn results_larger_than_the_free_disk_space_are_warned_with_the_figures() {
     assert!(warning.starts_with("huge_output.toml: the results of 100000 runs need about 2.5 PB"), "{warning}");
     assert!(warning.contains(&format!("but {} has ", dir.path.display())) && warning.ends_with(" free"), "{warning}");
 }
+
+#[test]
+fn a_heavily_damped_paper_integrator_at_a_tenth_of_the_contact_time_is_warned() {
+    // Restitution 0.1 at 0.1 of the contact time: under the paper's integrator the pile never comes to
+    // rest, though Δt/t_c and Δt × damping rate are each within their own limits.
+    let scene = |scheme: &str, fraction: f64| {
+        format!(
+            "[scene]\nparticles.count = 20\nrun.duration = 0.01\nmaterial.restitution = 0.1\n\
+             integrator.scheme = \"{scheme}\"\nintegrator.contact_time_fraction = {fraction}\n"
+        )
+    };
+    let stable_step = |w: &&StudyError| w.reason.contains("the stable step of the integrator (integrator.scheme)");
+    let warnings = plan("damped_ab2", &scene("adams_bashforth_moulton", 0.1)).warnings;
+    let warned: Vec<&StudyError> = warnings.iter().filter(stable_step).collect();
+    assert_eq!(warned.len(), 1, "{warnings:#?}");
+    assert!(
+        warned[0].reason.starts_with("predicted: time step is 0.09") && warned[0].reason.contains(", past 0.0"),
+        "{}",
+        warned[0]
+    );
+    assert!(!warnings.iter().any(|w| w.reason.contains("limits.contact_time_fraction")), "{warnings:#?}");
+    assert!(!warnings.iter().any(|w| w.reason.contains("limits.damping_rate_fraction")), "{warnings:#?}");
+    // A smaller step, or the lighter damping of restitution 0.7 at a smaller step, passes.
+    let warnings = plan("damped_ab2_small", &scene("adams_bashforth_moulton", 0.03)).warnings;
+    assert!(!warnings.iter().any(|w| stable_step(&w)), "{warnings:#?}");
+    let light = scene("adams_bashforth_moulton", 0.06).replace("restitution = 0.1", "restitution = 0.7");
+    let warnings = plan("light_ab2", &light).warnings;
+    assert!(!warnings.iter().any(|w| stable_step(&w)), "{warnings:#?}");
+}

@@ -3,7 +3,10 @@
 //! Each submodule exposes one function that takes a small options struct (so tests can run tiny
 //! versions), returns its rows and writes CSV and Markdown into a given directory:
 //! - [`accuracy`]: work-precision of both integrators over time steps `t_c/5 … t_c/400`;
-//! - [`stability_map`]: where runs blow up over time step × stiffness × damping, against the prediction;
+//! - [`stability_map`]: where runs blow up or never come to rest over time step × stiffness × damping,
+//!   restarts included, against the prediction;
+//! - [`stable_step`]: the largest step of each integrator at which depositions settle, straight through
+//!   and restarted, by damping ratio;
 //! - [`stress`]: edge-case scenes, each ending with a clear status and message;
 //! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts;
 //! - [`tune`]: `demsweep tune` against a brute-force ladder of time steps on the reference's seeds.
@@ -11,6 +14,7 @@
 pub mod accuracy;
 pub mod skipping;
 pub mod stability_map;
+pub mod stable_step;
 pub mod stress;
 pub mod tune;
 

@@ -1,4 +1,4 @@
-//! Stability map: where runs blow up over time step × stiffness × damping, per integrator, and how
+//! Stability map: where runs fail over time step × stiffness × damping, per integrator, and how
 //! that compares with the engine's pre-run prediction ([`crate::physics::stability::assess`]).
 //!
 //! The scene is a small pour (a few dozen disks dropped into a narrow box with friction), so every
@@ -8,18 +8,22 @@
 //! from `t_c / coarsest_ratio` down to `t_c / finest_ratio` (`t_c`: the predicted Hertz contact time
 //! of the scene's hardest impact) but stop three grid points below both the predicted safe step and
 //! the first observed blow-up: cases far inside the stable region add nothing to the boundary and
-//! cost the most. A run blows up when it ends as `diverged` (NaN, energy growth, or an overlap
-//! beyond `limits.max_overlap_ratio`).
+//! cost the most. A case fails when its run, or the same run restarted mid-way from its own state
+//! (disks and contact history, the step at the same fraction of the restart's own contact time), blows
+//! up — ends as `diverged` (NaN, energy growth, or an overlap beyond `limits.max_overlap_ratio`) — or
+//! is caught in a limit cycle: its energy balance is off by more than `limits.energy_balance_tolerance`,
+//! or it never settles where a smaller step of its column does (a pile that keeps rattling).
 
 use std::path::PathBuf;
 
 use rayon::prelude::*;
 
 use super::{CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, scheme_name, write_csv, write_file};
-use crate::physics::RunStatus;
-use crate::physics::config::{IntegratorKind, SceneConfig};
+use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use crate::physics::material::restitution_from_beta;
 use crate::physics::particles::InitialDisk;
+use crate::physics::simulation::Control;
+use crate::physics::{RunStatus, run_scene_with_history};
 use crate::plot::ChartOptions;
 use crate::plot::bench::{MapPanel, stability_map_chart};
 
@@ -44,6 +48,8 @@ pub struct StabilityMapOptions {
     pub count: usize,
     /// Longest simulated time of one case (s); stable cases stop when settled.
     pub duration: f64,
+    /// When each case is also restarted from its own state (s); `None`: no restarts.
+    pub restart_at: Option<f64>,
     /// Where `stability_map.csv` and `stability_map.md` go.
     pub out_dir: PathBuf,
 }
@@ -60,6 +66,7 @@ impl Default for StabilityMapOptions {
             per_halving: 2,
             count: 24,
             duration: 0.4,
+            restart_at: Some(0.2),
             out_dir: PathBuf::from(super::LATEST_DIR),
         }
     }
@@ -107,18 +114,107 @@ pub struct MapRow {
     pub message: String,
     /// Simulated time reached (s).
     pub simulated_time: f64,
+    /// Largest error of the energy balance, over the energy available.
+    pub energy_balance_error: f64,
+    /// The scene's `limits.energy_balance_tolerance`.
+    pub energy_balance_tolerance: f64,
+    /// The run restarted mid-way from its own state; `None` when not restarted (it ended first).
+    pub restart: Option<Restart>,
+    /// Whether a smaller step of the same column settled (a run that did not settle is then caught
+    /// in a limit cycle, not slow); set once the column is complete.
+    pub settles_finer: bool,
+}
+
+/// How a case's run went when restarted mid-way from its own state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Restart {
+    /// Its time step (s): the case's Δt / t_c of the restart's own contact time.
+    pub time_step: f64,
+    /// How it ended.
+    pub status: RunStatus,
+    /// Largest error of its energy balance, over the energy available.
+    pub energy_balance_error: f64,
+}
+
+/// How a case ended, its run and its restart together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// Settled with its energy balance within tolerance.
+    Settles,
+    /// Did not settle in its duration, and no smaller step of its column did either.
+    Unsettled,
+    /// Never settled where a smaller step did, or its energy balance is off.
+    LimitCycle,
+    /// Diverged.
+    BlowUp,
+}
+
+impl Outcome {
+    /// Its place from best to worst.
+    pub fn rank(self) -> usize {
+        self as usize
+    }
+
+    /// In a table.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Outcome::Settles => "settles",
+            Outcome::Unsettled => "unsettled",
+            Outcome::LimitCycle => "limit_cycle",
+            Outcome::BlowUp => "blow_up",
+        }
+    }
+}
+
+/// How one run ended: `tolerance` is its energy balance tolerance, `settles_finer` whether a smaller
+/// step of its column settled.
+pub(super) fn outcome(status: RunStatus, energy_balance_error: f64, tolerance: f64, settles_finer: bool) -> Outcome {
+    match status {
+        RunStatus::Diverged => Outcome::BlowUp,
+        _ if energy_balance_error.abs() > tolerance => Outcome::LimitCycle,
+        RunStatus::Settled => Outcome::Settles,
+        _ if settles_finer => Outcome::LimitCycle,
+        _ => Outcome::Unsettled,
+    }
 }
 
 impl MapRow {
-    /// Whether the run blew up.
+    /// Whether the run or its restart blew up.
     pub fn blew_up(&self) -> bool {
-        self.status == RunStatus::Diverged
+        self.outcome() == Outcome::BlowUp
     }
 
-    /// What ended a blown-up run: `nan`, `overlap` or `energy_growth` (empty when it did not blow up).
+    /// How the case ended: the worse of its run and its restart.
+    pub fn outcome(&self) -> Outcome {
+        let tolerance = self.energy_balance_tolerance;
+        let run = outcome(self.status, self.energy_balance_error, tolerance, self.settles_finer);
+        let restart = self
+            .restart
+            .as_ref()
+            .map_or(Outcome::Settles, |r| outcome(r.status, r.energy_balance_error, tolerance, self.settles_finer));
+        let rank = |o: Outcome| {
+            [Outcome::Settles, Outcome::Unsettled, Outcome::LimitCycle, Outcome::BlowUp].iter().position(|x| *x == o)
+        };
+        if rank(restart) > rank(run) { restart } else { run }
+    }
+
+    /// Whether the case failed: blew up or caught in a limit cycle.
+    pub fn failed(&self) -> bool {
+        matches!(self.outcome(), Outcome::BlowUp | Outcome::LimitCycle)
+    }
+
+    /// Whether its run, and its restart if any, settled with the energy balance within tolerance.
+    fn settled(&self) -> bool {
+        self.outcome() == Outcome::Settles
+    }
+
+    /// What ended a failed case: `nan`, `overlap`, `energy_growth` (a blow-up of the run; `restart`
+    /// when only the restart blew up) or `limit_cycle` (empty when it did not fail).
     pub fn failure(&self) -> &'static str {
         match self.message.split_whitespace().next() {
-            _ if !self.blew_up() => "",
+            _ if !self.failed() => "",
+            _ if !self.blew_up() => "limit_cycle",
+            _ if self.status != RunStatus::Diverged => "restart",
             Some("non-finite") => "nan",
             Some("overlap") => "overlap",
             _ => "energy_growth",
@@ -141,6 +237,11 @@ impl CsvRow for MapRow {
         ("safe_time_step", "s"),
         ("warned", ""),
         ("status", ""),
+        ("energy_balance_error", ""),
+        ("restart_time_step", "s"),
+        ("restart_status", ""),
+        ("restart_energy_balance_error", ""),
+        ("outcome", ""),
         ("failure", ""),
         ("simulated_time", "s"),
         ("message", ""),
@@ -161,6 +262,11 @@ impl CsvRow for MapRow {
             format!("{:.4e}", self.safe_time_step),
             self.warned.to_string(),
             self.status.as_str().into(),
+            format!("{:.3e}", self.energy_balance_error),
+            self.restart.as_ref().map_or(String::new(), |r| format!("{:.4e}", r.time_step)),
+            self.restart.as_ref().map_or(String::new(), |r| r.status.as_str().into()),
+            self.restart.as_ref().map_or(String::new(), |r| format!("{:.3e}", r.energy_balance_error)),
+            self.outcome().as_str().into(),
             self.failure().into(),
             format!("{:.5}", self.simulated_time),
             self.message.clone(),
@@ -180,15 +286,15 @@ pub struct Boundary {
     pub damping_rate: f64,
     /// Predicted safe time step (s).
     pub safe_time_step: f64,
-    /// Largest time step below which no case blew up (s); `None` when the smallest blew up.
+    /// Largest time step below which no case failed (s); `None` when the smallest failed.
     pub largest_stable: Option<f64>,
-    /// Smallest time step that blew up (s); `None` when none did.
+    /// Smallest time step that failed (s); `None` when none did.
     pub smallest_unstable: Option<f64>,
-    /// What ended the blow-up at the smallest time step that blew up (see [`MapRow::failure`]).
+    /// What ended the smallest time step that failed (see [`MapRow::failure`]).
     pub failure: &'static str,
-    /// Cases that blew up without a pre-run warning.
-    pub unwarned_blow_ups: usize,
-    /// Cases warned about that ran without blowing up.
+    /// Cases that failed without a pre-run warning.
+    pub unwarned_failures: usize,
+    /// Cases warned about that settled, restart included.
     pub warned_stable: usize,
 }
 
@@ -246,21 +352,37 @@ fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapR
     let mut stable_below = 0;
     for ratio in ratio_grid(options.coarsest_ratio, options.finest_ratio, options.per_halving) {
         scene.integrator.time_step = Some(contact_time / ratio);
-        let row = map_case(column, &scene, &disks)?;
+        let row = map_case(column, &scene, &disks, options.restart_at)?;
         let predicted_safe = row.time_step <= row.safe_time_step;
-        stable_below = if row.blew_up() || !predicted_safe { 0 } else { stable_below + 1 };
+        let steady = !row.failed() || row.outcome() == Outcome::Unsettled;
+        stable_below = if steady && predicted_safe { stable_below + 1 } else { 0 };
         rows.push(row);
         if stable_below > 2 {
             break;
         }
     }
+    // From the finest step up: whether a smaller step than each settled.
+    let mut settles_finer = false;
+    for row in rows.iter_mut().rev() {
+        row.settles_finer = settles_finer;
+        settles_finer |= row.settled();
+    }
     Ok(rows)
 }
 
-/// Runs one case.
-fn map_case(column: &Column, scene: &SceneConfig, disks: &[InitialDisk]) -> Result<MapRow, String> {
+/// Runs one case, and restarts it at `restart_at` (s) from its own state if it runs that long.
+fn map_case(
+    column: &Column,
+    scene: &SceneConfig,
+    disks: &[InitialDisk],
+    restart_at: Option<f64>,
+) -> Result<MapRow, String> {
     let rec = super::run(scene, disks)?;
     let st = &rec.stability;
+    let restart = match restart_at {
+        Some(at) if rec.simulated_time > at => Some(restarted(scene, disks, at, st.dt_over_contact_time)?),
+        _ => None,
+    };
     Ok(MapRow {
         column: *column,
         restitution: restitution_from_beta(column.beta),
@@ -275,7 +397,29 @@ fn map_case(column: &Column, scene: &SceneConfig, disks: &[InitialDisk]) -> Resu
         status: rec.status,
         message: rec.message.unwrap_or_default(),
         simulated_time: rec.simulated_time,
+        energy_balance_error: rec.energy_balance_error,
+        energy_balance_tolerance: scene.limits.energy_balance_tolerance,
+        restart,
+        settles_finer: false,
     })
+}
+
+/// `scene` run from `disks` to `at` (s), then restarted from its state (disks and contact history)
+/// for the rest of its duration with the step at `fraction` of the restart's own contact time.
+fn restarted(scene: &SceneConfig, disks: &[InitialDisk], at: f64, fraction: f64) -> Result<Restart, String> {
+    let mut first = scene.clone();
+    (first.run.duration, first.run.stop_at_settle) = (at, false);
+    let state = super::run(&first, disks)?.final_state;
+    let mut rest = scene.clone();
+    rest.placement.kind = PlacementKind::File;
+    (rest.placement.file, rest.placement.contacts) = (Some("state.csv".into()), Some("state_contacts.csv".into()));
+    rest.run.duration = scene.run.duration - at;
+    let restart_disks = state.initial_disks();
+    rest.integrator.time_step = Some(fraction * crate::physics::predict_stability(&rest, &restart_disks).contact_time);
+    let observe = &mut |_: &_| Control::Continue;
+    let rec = run_scene_with_history(&rest, Some(restart_disks), Some(&state.initial_contacts()), observe)
+        .map_err(|e| e.to_string())?;
+    Ok(Restart { time_step: rec.time_step, status: rec.status, energy_balance_error: rec.energy_balance_error })
 }
 
 /// The boundary of one column from its rows.
@@ -283,8 +427,8 @@ fn boundary(rows: &[MapRow], key: &Column) -> Boundary {
     let mut column: Vec<&MapRow> = rows.iter().filter(|r| r.column == *key).collect();
     column.sort_by(|a, b| a.time_step.total_cmp(&b.time_step));
     let first = column[0];
-    let smallest_unstable = column.iter().find(|r| r.blew_up());
-    let largest_stable = column.iter().take_while(|r| !r.blew_up()).map(|r| r.time_step).fold(None, |_, dt| Some(dt));
+    let smallest_unstable = column.iter().find(|r| r.failed());
+    let largest_stable = column.iter().take_while(|r| !r.failed()).map(|r| r.time_step).fold(None, |_, dt| Some(dt));
     Boundary {
         column: *key,
         contact_time: first.contact_time,
@@ -293,8 +437,8 @@ fn boundary(rows: &[MapRow], key: &Column) -> Boundary {
         largest_stable,
         smallest_unstable: smallest_unstable.map(|r| r.time_step),
         failure: smallest_unstable.map_or("", |r| r.failure()),
-        unwarned_blow_ups: column.iter().filter(|r| r.blew_up() && !r.warned).count(),
-        warned_stable: column.iter().filter(|r| !r.blew_up() && r.warned).count(),
+        unwarned_failures: column.iter().filter(|r| r.failed() && !r.warned).count(),
+        warned_stable: column.iter().filter(|r| r.settled() && r.warned).count(),
     }
 }
 
@@ -317,7 +461,7 @@ fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]
             let cases = rows
                 .iter()
                 .filter(|r| of_panel(&r.column))
-                .map(|r| (beta_index(r.column.beta), r.dt_over_contact_time, r.blew_up()))
+                .map(|r| (beta_index(r.column.beta), r.dt_over_contact_time, r.failed()))
                 .collect();
             let predicted = options
                 .betas
@@ -338,7 +482,7 @@ fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]
     let size = ChartOptions {
         width: 600 * options.frictions.len().max(1) as u32,
         height: 450 * options.schemes.len().max(1) as u32 + 40,
-        subject: Some("dots: stable, crosses: blew up, line: predicted safe step".into()),
+        subject: Some("dots: stable, crosses: blew up or never came to rest, line: predicted safe step".into()),
         ..Default::default()
     };
     let path = options.out_dir.join("stability_map.png");
@@ -365,10 +509,10 @@ fn summary(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundar
         "safe dt×rate",
         "stable dt/t_c",
         "stable dt×rate",
-        "blow-up dt/t_c",
-        "blow-up dt×rate",
+        "failed dt/t_c",
+        "failed dt×rate",
         "failure",
-        "unwarned blow-ups",
+        "unwarned failures",
         "warned but stable",
     ];
     let table: Vec<Vec<String>> = boundaries
@@ -388,25 +532,31 @@ fn summary(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundar
             ];
             cells.extend(safe.into_iter().chain(stable).chain(unstable));
             cells.push(b.failure.to_string());
-            cells.push(b.unwarned_blow_ups.to_string());
+            cells.push(b.unwarned_failures.to_string());
             cells.push(b.warned_stable.to_string());
             cells
         })
         .collect();
-    let blow_ups = rows.iter().filter(|r| r.blew_up()).count();
-    let unwarned: usize = boundaries.iter().map(|b| b.unwarned_blow_ups).sum();
+    let count = |o: Outcome| rows.iter().filter(|r| r.outcome() == o).count();
+    let (blow_ups, cycles, unsettled) = (count(Outcome::BlowUp), count(Outcome::LimitCycle), count(Outcome::Unsettled));
+    let unwarned: usize = boundaries.iter().map(|b| b.unwarned_failures).sum();
     let margin = boundaries
         .iter()
         .filter_map(|b| b.smallest_unstable.map(|dt| dt / b.safe_time_step))
         .filter(|m| *m >= 1.0)
         .fold(f64::INFINITY, f64::min);
+    let restarts = options
+        .restart_at
+        .map_or("no restarts".to_string(), |at| format!("each restarted at {at} s from its own state"));
     format!(
         "# Stability map\n\nRegenerate: `demsweep bench stability --update-results` (writes `stability_map.csv`, \
-         `stability_map.md`, `stability_map.png`).\n\n{} cases ({} disks poured into a 0.12 m box, up to {} s each), {blow_ups} blew up, \
-         {unwarned} of them without a pre-run warning. Where a column blows up only above the predicted safe \
-         step, the smallest blow-up is {margin:.2} times that step or more.\n\n\
-         Columns: the engine's predicted safe time step, the largest time step below which no case blew up, and the \
-         smallest that blew up, each as Δt/t_c and Δt × damping rate (t_c and rate: the engine's prediction for the \
+         `stability_map.md`, `stability_map.png`).\n\n{} cases ({} disks poured into a 0.12 m box, up to {} s each, \
+         {restarts}): {blow_ups} blew up and {cycles} never came to rest where a smaller step did or broke the energy \
+         balance (limit cycles), {unwarned} of these without a pre-run warning; {unsettled} did not settle at any \
+         step of their column. Where a column fails only above the predicted safe step, the smallest failure is \
+         {margin:.2} times that step or more.\n\n\
+         Columns: the engine's predicted safe time step, the largest time step below which no case failed, and the \
+         smallest that failed, each as Δt/t_c and Δt × damping rate (t_c and rate: the engine's prediction for the \
          scene's hardest impact). Every case is in `stability_map.csv`.\n\n{}\n",
         rows.len(),
         options.count,

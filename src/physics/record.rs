@@ -2,7 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::particles::InitialDisk;
+use super::contact_record::Partner;
+use super::particles::{InitialContact, InitialDisk};
 use super::pile::PileMetrics;
 use super::stability::StabilityReport;
 use super::warning::ValidityWarning;
@@ -121,6 +122,23 @@ impl Snapshot {
                 vy: self.vy[k],
                 omega: self.omega[k],
                 angle: self.angle[k],
+            })
+            .collect()
+    }
+
+    /// The contact history of this state as a simulation's starting history (a restart from it).
+    pub fn initial_contacts(&self) -> Vec<InitialContact> {
+        let c = &self.contacts;
+        let partner = |second: i64| match usize::try_from(second) {
+            Ok(disk) => Partner::Disk(disk),
+            Err(_) => Partner::Wall((-1 - second) as usize),
+        };
+        (0..c.len())
+            .map(|k| InitialContact {
+                disk: c.first[k] as usize,
+                partner: partner(c.second[k]),
+                tangential_spring: c.tangential_spring[k],
+                law_state: c.law_state[k],
             })
             .collect()
     }

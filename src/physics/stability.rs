@@ -6,7 +6,11 @@
 //! undamped head-on impact gives the contact time `t_c` and the largest overlap, and the law's normal
 //! damping gives the largest damping rate `c_n / m*`. Explicit schemes need `Δt ≪ t_c` to resolve a
 //! contact and `Δt · c_n/m* < 1` (Adams-Bashforth 2's real stability interval) or `< 2` (velocity
-//! Verlet) to keep the damping stable.
+//! Verlet) to keep the damping stable. Below both, a pile can still fail to come to rest: its
+//! contacts keep rattling (a limit cycle) at a step the single impact tolerates, the sooner the
+//! stronger the damping. [`stable_contact_time_fraction`] is each scheme's largest step that lets a
+//! deposition settle, straight through and restarted from its own state, measured as a function of
+//! the damping ratio ([`damping_ratio`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +37,13 @@ pub struct StabilityReport {
     pub static_overlap_ratio: f64,
     /// Largest normal damping rate `c_n/m*` during that impact, plus the viscous damping rate (1/s).
     pub damping_rate: f64,
+    /// Damping ratio of that impact's contact plus the viscous damping ([`damping_ratio`]).
+    #[serde(default)]
+    pub damping_ratio: f64,
+    /// The integrator's largest stable Δt / t_c at that damping ratio, with its margin
+    /// ([`stable_contact_time_fraction`]).
+    #[serde(default)]
+    pub stable_fraction: f64,
     /// Δt / t_c.
     pub dt_over_contact_time: f64,
     /// Δt · c_n/m*.
@@ -93,6 +104,50 @@ pub fn damping_stability_limit(kind: IntegratorKind) -> f64 {
         IntegratorKind::AdamsBashforthMoulton => 1.0,
         IntegratorKind::VelocityVerlet => 2.0,
     }
+}
+
+/// Damping ratio ζ of a contact of duration `contact_time` (s) damped at `damping_rate` (1/s):
+/// `rate · t_c / 2π`, the linear spring-dashpot's `ζ` (`rate = 2ζω`, `t_c = π/ω`) for light damping.
+pub fn damping_ratio(damping_rate: f64, contact_time: f64) -> f64 {
+    damping_rate * contact_time / std::f64::consts::TAU
+}
+
+/// The largest Δt / t_c at which every deposition of the measurement (`demsweep bench stable-step`,
+/// results/bench/stable_step.md) settled with its energy balance within tolerance, straight
+/// through and restarted mid-deposition from its own state, by damping ratio ζ: `(ζ, Adams-Bashforth-
+/// Moulton, velocity Verlet)`. Past it a pile keeps rattling (a limit cycle) or blows up.
+const MEASURED_STABLE_FRACTIONS: [(f64, f64, f64); 7] = [
+    (0.0, 0.04, 0.25),
+    (0.039, 0.07, 0.25),
+    (0.132, 0.085, 0.25),
+    (0.252, 0.1, 0.15),
+    (0.328, 0.085, 0.15),
+    (0.534, 0.06, 0.1),
+    (0.693, 0.04, 0.07),
+];
+
+/// The share of the measured stable step ([`MEASURED_STABLE_FRACTIONS`]) a scene may use without a
+/// warning: the margin for scenes and seeds the measurement did not see.
+pub const STABLE_STEP_MARGIN: f64 = 0.8;
+
+/// The largest Δt / t_c the scheme `kind` keeps stable at damping ratio `ratio`, with the
+/// [`STABLE_STEP_MARGIN`]: linear between the measured damping ratios; past the last, inversely
+/// with the damping ratio (where `Δt` times the damping rate is what limits the step).
+pub fn stable_contact_time_fraction(kind: IntegratorKind, ratio: f64) -> f64 {
+    let column = |row: &(f64, f64, f64)| match kind {
+        IntegratorKind::AdamsBashforthMoulton => row.1,
+        IntegratorKind::VelocityVerlet => row.2,
+    };
+    let table = &MEASURED_STABLE_FRACTIONS;
+    let last = &table[table.len() - 1];
+    let measured = match table.windows(2).find(|pair| ratio <= pair[1].0) {
+        Some([low, high]) => {
+            let t = ((ratio - low.0) / (high.0 - low.0)).clamp(0.0, 1.0);
+            column(low) + t * (column(high) - column(low))
+        }
+        _ => column(last) * last.0 / ratio,
+    };
+    STABLE_STEP_MARGIN * measured
 }
 
 /// Speed of the hardest impact: initial speed plus a fall to the box's lowest point (to the body
@@ -180,15 +235,19 @@ pub fn assess<L: ContactLaw>(
     let static_overlap = static_floor_overlap(law, scene, p, materials);
     let limits = &scene.limits;
     let damping_limit = limits.damping_rate_fraction * damping_stability_limit(scene.integrator.scheme);
+    let ratio = damping_ratio(impact.damping_rate, impact.contact_time);
+    let stable_fraction = stable_contact_time_fraction(scene.integrator.scheme, ratio);
     let mut report = StabilityReport {
         impact_speed: speed,
         contact_time: impact.contact_time,
         impact_overlap_ratio: impact.max_overlap / rmin,
         static_overlap_ratio: static_overlap / p.max_radius(),
         damping_rate: impact.damping_rate,
+        damping_ratio: ratio,
+        stable_fraction,
         dt_over_contact_time: dt / impact.contact_time,
         dt_times_damping_rate: dt * impact.damping_rate,
-        safe_time_step: (limits.contact_time_fraction * impact.contact_time)
+        safe_time_step: (limits.contact_time_fraction.min(stable_fraction) * impact.contact_time)
             .min(damping_time_step_limit(scene, impact.damping_rate)),
         warnings: Vec::new(),
     };
@@ -196,15 +255,26 @@ pub fn assess<L: ContactLaw>(
     report
 }
 
+/// Relative rounding within which a step resolved at a fraction of the contact time counts as at it:
+/// the step and the assessment compute the contact time separately, to the last bits.
+const RESOLVED_AT_LIMIT: f64 = 1e-9;
+
 fn warnings(scene: &SceneConfig, r: &StabilityReport, damping_limit: f64) -> Vec<ValidityWarning> {
     let limits = &scene.limits;
     let warning = |kind, value, limit| ValidityWarning::new(kind, value, limit);
     let mut w = Vec::new();
-    if r.dt_over_contact_time > limits.contact_time_fraction {
+    let past = |fraction: f64| r.dt_over_contact_time > fraction * (1.0 + RESOLVED_AT_LIMIT);
+    if past(limits.contact_time_fraction) {
         w.push(ValidityWarning {
             impact_speed: Some(r.impact_speed),
             safe_time_step: Some(r.safe_time_step),
             ..warning(WarningKind::ContactTimeFraction, r.dt_over_contact_time, limits.contact_time_fraction)
+        });
+    }
+    if past(r.stable_fraction) {
+        w.push(ValidityWarning {
+            safe_time_step: Some(r.safe_time_step),
+            ..warning(WarningKind::IntegratorStability, r.dt_over_contact_time, r.stable_fraction)
         });
     }
     if r.dt_times_damping_rate > damping_limit {
@@ -261,6 +331,22 @@ pub fn static_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, force: f64)
 mod tests {
     use super::*;
     use crate::physics::config::DomainConfig;
+
+    #[test]
+    fn the_stable_step_falls_with_strong_damping_and_is_smaller_for_the_paper_integrator() {
+        let (paper, verlet) = (IntegratorKind::AdamsBashforthMoulton, IntegratorKind::VelocityVerlet);
+        for ratio in [0.0, 0.02, 0.1, 0.3, 0.6, 1.0, 5.0] {
+            let (a, v) = (stable_contact_time_fraction(paper, ratio), stable_contact_time_fraction(verlet, ratio));
+            assert!(a > 0.0 && a < v, "ζ = {ratio}: {a} vs {v}");
+        }
+        // Between measured damping ratios the limit is interpolated; past the last it falls as 1/ζ.
+        let last = MEASURED_STABLE_FRACTIONS[MEASURED_STABLE_FRACTIONS.len() - 1];
+        let at = |ratio| stable_contact_time_fraction(paper, ratio);
+        assert!((at(last.0) - STABLE_STEP_MARGIN * last.1).abs() < 1e-12);
+        assert!((at(2.0 * last.0) - 0.5 * at(last.0)).abs() < 1e-12);
+        let (a, b) = (MEASURED_STABLE_FRACTIONS[4], MEASURED_STABLE_FRACTIONS[5]);
+        assert!((at(0.5 * (a.0 + b.0)) - STABLE_STEP_MARGIN * 0.5 * (a.1 + b.1)).abs() < 1e-12);
+    }
 
     #[test]
     fn disks_land_on_the_disk_below_not_on_the_floor() {

@@ -17,6 +17,9 @@ pub enum WarningKind {
     TimeStepCapped,
     /// Predicted: time step over the contact time of the hardest impact.
     ContactTimeFraction,
+    /// Predicted: time step over the contact time, against the integrator's measured stable step at the
+    /// scene's damping ratio (see [`super::stability::stable_contact_time_fraction`]).
+    IntegratorStability,
     /// Predicted: time step times the largest damping rate, against the integrator's stability limit.
     DampingRate,
     /// Predicted: largest overlap of the hardest impact, over the radius.
@@ -31,9 +34,10 @@ pub enum WarningKind {
 
 impl WarningKind {
     /// Every kind, in the order warnings are listed.
-    pub const ALL: [WarningKind; 7] = [
+    pub const ALL: [WarningKind; 8] = [
         WarningKind::TimeStepCapped,
         WarningKind::ContactTimeFraction,
+        WarningKind::IntegratorStability,
         WarningKind::DampingRate,
         WarningKind::ImpactOverlap,
         WarningKind::StaticOverlap,
@@ -41,9 +45,10 @@ impl WarningKind {
         WarningKind::EnergyBalance,
     ];
 
-    /// The `limits.*` key that sets the limit.
+    /// The key that sets the limit: a `limits.*` key, or the scheme whose measured stable step it is.
     pub fn limit_key(self) -> &'static str {
         match self {
+            WarningKind::IntegratorStability => "integrator.scheme",
             WarningKind::TimeStepCapped | WarningKind::DampingRate => "limits.damping_rate_fraction",
             WarningKind::ContactTimeFraction => "limits.contact_time_fraction",
             WarningKind::ImpactOverlap | WarningKind::StaticOverlap | WarningKind::Overlap => {
@@ -64,6 +69,7 @@ impl WarningKind {
         match self {
             WarningKind::TimeStepCapped => "time step capped by the damping rate",
             WarningKind::ContactTimeFraction => "time step over the contact time",
+            WarningKind::IntegratorStability => "time step past the integrator's stable step",
             WarningKind::DampingRate => "time step times the damping rate",
             WarningKind::ImpactOverlap => "predicted impact overlap",
             WarningKind::StaticOverlap => "predicted static overlap at the floor",
@@ -120,6 +126,12 @@ impl fmt::Display for ValidityWarning {
                 f,
                 "time step is {value} of the contact time{impact} (limit {limit} = {key}): contacts are \
                  under-resolved and the run may blow up{below}"
+            ),
+            WarningKind::IntegratorStability => write!(
+                f,
+                "time step is {value} of the contact time, past {limit}, the stable step of the integrator \
+                 ({key}) at the scene's damping ratio (restitution, beta, damping.viscous): piles may never come to rest \
+                 (their contacts keep rattling) or blow up{below}"
             ),
             WarningKind::DampingRate => write!(
                 f,
