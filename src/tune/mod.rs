@@ -91,6 +91,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         seed: s.seed,
         initial: s.initial,
         standards: spec.standards.len(),
+        path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
         max_spend: s.max_spend,
         cut_runs: s.objective == Objective::ParticleSteps,
     }

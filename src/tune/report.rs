@@ -30,10 +30,7 @@ pub struct Written {
 
 /// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
 pub fn settings(spec: &TuneSpec, candidate: &Candidate) -> String {
-    let values = match candidate.standard {
-        Some(k) => spec.standards[k].values.clone(),
-        None => spec.values(&candidate.point),
-    };
+    let values = spec.setting_values(&candidate.point, candidate.standard);
     let text = values.iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ");
     match candidate.standard {
         Some(k) => format!("the standard setting \"{}\" ({text})", spec.standards[k].name),
@@ -572,33 +569,37 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         _ => None,
     };
     let reference_values = spec.reference_values();
-    let at = |c: &Candidate, key: &str| -> Option<f64> {
-        let values = match c.standard {
-            Some(k) => spec.standards[k].values.clone(),
-            None => spec.values(&c.point),
-        };
-        match values.iter().find(|(k, _)| k == key) {
-            Some((_, v)) => number(v),
-            None => reference_values.iter().find(|(k, _, _)| k == key).and_then(|(_, v, _)| number(v)),
-        }
-    };
+    let at = |c: &Candidate, d: usize| lever_values(spec, c)[d].as_ref().and_then(number);
     spec.levers
         .iter()
-        .map(|lever| {
+        .enumerate()
+        .map(|(d, lever)| {
             let points = result
                 .candidates
                 .iter()
                 .filter(|c| !c.runs.is_empty())
                 .filter_map(|c| {
                     let a = result.assess(c);
-                    Some((at(c, &lever.key)?, a.cost / reference, a.state == State::Feasible))
+                    Some((at(c, d)?, a.cost / reference, a.state == State::Feasible))
                 })
                 .collect();
-            let best = result.recommended.and_then(|k| at(&result.candidates[k], &lever.key));
+            let best = result.recommended.and_then(|k| at(&result.candidates[k], d));
             let reference = reference_values.iter().find(|(k, _, _)| *k == lever.key).and_then(|(_, v, _)| number(v));
             LeverSeries { name: lever.key.clone(), log: lever.is_log(), points, best, reference }
         })
         .collect()
+}
+
+/// Each lever's value in a candidate's runs: the value it sets, else the reference's (a standard
+/// setting sets only some levers); None where the reference has none.
+fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
+    let set = spec.setting_values(&cand.point, cand.standard);
+    let reference = spec.reference_values();
+    let value = |key: &str| {
+        let given = set.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+        given.or_else(|| reference.iter().find(|(k, _, _)| k == key).map(|(_, v, _)| v.clone()))
+    };
+    spec.levers.iter().map(|l| value(&l.key)).collect()
 }
 
 /// Writes CSV records, the first one the column names (followed by their units line).
@@ -624,28 +625,13 @@ pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String
     std::iter::once(header).chain(skipped).collect()
 }
 
-/// The recommendation as a change to the tune file: the `[scene]` keys to set (and those to take
-/// out, where a ladder setting replaces how the time step is chosen).
+/// The recommendation as a change to the tune file: the `[scene]` keys to set, levers only.
 pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
-    let (values, removed) = match cand.standard {
-        Some(k) => (spec.standards[k].values.clone(), spec.standards[k].removed.clone()),
-        None => (spec.values(&cand.point), Vec::new()),
-    };
+    let values = spec.setting_values(&cand.point, cand.standard);
     let mut text = format!(
         "# The recommendation of `demsweep tune {}` as a change to its [scene] table: set these keys\n",
         spec.path.display()
     );
-    let present = |key: &str| {
-        let mut here = Some(&spec.base);
-        let parts: Vec<&str> = key.split('.').collect();
-        for part in &parts[..parts.len() - 1] {
-            here = here.and_then(|t| t.get(*part)).and_then(toml::Value::as_table);
-        }
-        here.is_some_and(|t| t.contains_key(parts[parts.len() - 1]))
-    };
-    for key in removed.iter().filter(|k| present(k)) {
-        let _ = writeln!(text, "# remove: {key} (it would take precedence)");
-    }
     text.push_str("[scene]\n");
     for (key, value) in values {
         let _ = writeln!(text, "{} = {}", key, value.to_toml());
@@ -700,17 +686,11 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<Stri
     for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
         let a = result.assess(cand);
         let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
-        let values = match cand.standard {
-            Some(s) => spec.standards[s].values.clone(),
-            None => spec.values(&cand.point),
-        };
-        row.extend(spec.levers.iter().map(|l| {
-            values
+        row.extend(
+            lever_values(spec, cand)
                 .iter()
-                .find(|(k, _)| *k == l.key)
-                .map(|(_, v)| crate::output::table::param_text(v))
-                .unwrap_or_default()
-        }));
+                .map(|v| v.as_ref().map(crate::output::table::param_text).unwrap_or_default()),
+        );
         let number = |x: f64| if x.is_finite() { format!("{x:?}") } else { String::new() };
         row.extend([a.n.to_string(), number(a.cost), number(a.cost / reference.mean)]);
         for k in 0..spec.keep.len() {

@@ -9,8 +9,8 @@
 //!    reference mean (or the absolute tolerance). The reference's own validity figures are recorded:
 //!    a check it breaks holds every candidate to no worse than it. A reference that diverges or does
 //!    not settle stops the tune; so does a kept metric its spread cannot decide ([`decidability`]).
-//! 2. **The time-step path** ([`Search::path`]), before anything else: the first standard setting
-//!    (the time step alone at its largest valid fraction) and, below it, the same setting with a
+//! 2. **The time-step path** ([`Search::path`]), when a time-step key is a lever, before anything
+//!    else: the first standard setting (the time-step lever alone at its largest valid value) and, below it, the same setting with a
 //!    smaller time step, down to the reference's (valid and equivalent by definition). A rung whose
 //!    runs break a measured check steps down by the fitted error model ([`cure_factor`]); one that
 //!    differs bisects (geometric mean) towards the last good rung or the reference, until the two
@@ -179,7 +179,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The time-step path (see the module documentation): ends with its answer recommended, or
     /// with why there is none.
     fn path(&mut self) -> Result<(), TuneError> {
-        if self.config.standards == 0 {
+        if !self.config.path || self.config.standards == 0 {
             return Ok(());
         }
         let mut step = PathStep::Rung(1.0, None);
@@ -342,7 +342,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn explore_ladder(&mut self) -> Result<(), TuneError> {
         let c = self.config;
         let search_end = c.budget.saturating_sub(3 * c.verify_seeds);
-        for k in 1..c.standards {
+        for k in usize::from(c.path)..c.standards {
             if self.affordable() == 0 {
                 break;
             }
