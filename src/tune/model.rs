@@ -376,7 +376,7 @@ pub enum State {
     Feasible,
     /// Not acceptable: why.
     Infeasible(Rejection),
-    /// Its runs were cut at their cost cap: it could no longer win (nothing is known of its pile).
+    /// Its runs were cut at their cost cap once it could no longer win, before they settled.
     Cut,
     /// Not decided yet: more seeds needed.
     Undecided,

@@ -15,7 +15,7 @@ use crate::study::{OutputOptions, ParamValue};
 
 /// Significant digits lever values are rounded to (clean values in the best study, and candidates
 /// that differ by less are the same candidate).
-const DIGITS: i32 = 4;
+pub(super) const DIGITS: i32 = 4;
 
 /// The range of one lever.
 #[derive(Clone, Debug, PartialEq)]
