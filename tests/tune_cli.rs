@@ -212,3 +212,36 @@ fn a_tolerance_the_reference_cannot_decide_stops_after_the_reference_with_its_ow
     assert!(said.contains("pile_height") && said.contains("smallest decidable tolerance"), "{said}");
     assert!(stdout.contains("4 runs (4 made now"), "only the 4 reference runs ran: {stdout}");
 }
+
+#[test]
+fn a_tune_without_a_time_step_lever_changes_no_time_step_key() {
+    // The time step is fixed at 7e-6 s; the levers are damping only.
+    let dir = runner_common::scratch("tune_contract");
+    let levers = "\"material.restitution\" = { linear = [0.2, 0.8] }\n\"damping.local\" = { linear = [0.0, 0.3] }";
+    let file = write_tune(
+        &dir,
+        &TUNE.replace(
+            "\"material.restitution\" = { linear = [0.2, 0.8] }\n\"integrator.time_step\" = { log = [5e-6, 2.5e-5] }",
+            levers,
+        ),
+    );
+    let plan = demsweep(&["plan", file.to_str().unwrap()]);
+    let planned = text(&plan.stdout);
+    assert_eq!(plan.status.code(), Some(0), "{}", text(&plan.stderr));
+    assert!(planned.contains("  local damping 0.2") && !planned.contains("time step at"), "{planned}");
+    let out = dir.join("out");
+    let run = tune(&file, &out, &["--jobs", "2"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let summary = std::fs::read_to_string(out.join("tiny_tune_summary.csv")).unwrap();
+    let mut lines = summary.lines();
+    let column = lines.next().unwrap().split(',').position(|c| c == "time_step").expect("a time_step column");
+    let steps: Vec<f64> = lines.skip(1).map(|l| l.split(',').nth(column).unwrap().parse().unwrap()).collect();
+    assert!(steps.len() > 10 && steps.iter().all(|&dt| dt == 7e-6), "every run at the fixed step: {steps:?}");
+    if let Ok(change) = std::fs::read_to_string(out.join("tiny_tune_scene_change.toml")) {
+        let keys: Vec<&str> = change.lines().filter(|l| !l.starts_with('#') && l.contains(" = ")).collect();
+        assert!(
+            keys.iter().all(|l| l.starts_with("material.restitution") || l.starts_with("damping.local")),
+            "{change}"
+        );
+    }
+}

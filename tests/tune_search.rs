@@ -170,6 +170,7 @@ fn config() -> SearchConfig {
         seed: 11,
         initial: None,
         standards: 0,
+        path: true,
         max_spend: 1e9,
         cut_runs: false,
     }

@@ -96,7 +96,10 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         };
         println!("  {}: {range}", lever.key);
     }
-    println!("standard settings, evaluated first:");
+    match spec.standards.is_empty() {
+        true => println!("standard settings: none (no lever has a standard value)"),
+        false => println!("standard settings (standard values of the levers), evaluated first:"),
+    }
     for standard in &spec.standards {
         println!("  {}", standard.name);
     }

@@ -119,7 +119,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     }
     if sink.is_empty() {
         spec.warnings = validity::clip_levers(&mut spec);
-        spec.standards = ladder::standard_settings(&spec.reference);
+        spec.standards = ladder::standard_settings(&spec.reference, &spec.levers);
     }
     sink.into_result(spec)
 }

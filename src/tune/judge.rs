@@ -88,7 +88,8 @@ pub fn broken_by_reference(reference_checks: &[CheckFigure]) -> Vec<&CheckFigure
 }
 
 /// Judges runs against the reference's runs: failures first, then validity (see
-/// [`check_figures`]), then every kept metric (margins absolute). Runs cut at their cost cap make the
+/// [`check_figures`]), then every kept metric (margins absolute). A run that failed (diverged, did
+/// not settle in its whole duration) makes it infeasible; else runs cut at their cost cap make the
 /// candidate [`State::Cut`].
 pub fn assess(
     reference: &[Outcome],
@@ -103,11 +104,11 @@ pub fn assess(
     let checks = check_figures(runs, reference_checks);
     let base =
         Assessment { n: runs.len(), cost, tests: Vec::new(), checks, worst: f64::INFINITY, state: State::Undecided };
+    if let Some(failure) = runs.iter().find_map(|o| o.failure.clone().filter(|_| !o.is_cut())) {
+        return Assessment { state: State::Infeasible(Rejection::Failed(failure)), ..base };
+    }
     if runs.iter().any(Outcome::is_cut) {
         return Assessment { state: State::Cut, ..base };
-    }
-    if let Some(failure) = runs.iter().find_map(|o| o.failure.clone()) {
-        return Assessment { state: State::Infeasible(Rejection::Failed(failure)), ..base };
     }
     if let Some(broken) = base.checks.iter().find(|c| !c.passes) {
         return Assessment { state: State::Infeasible(Rejection::Invalid(*broken)), ..base };

@@ -1,7 +1,10 @@
-//! The ladder of standard settings tune tries (common practice: the time step at the contact-time
-//! limit, the same with local damping, a fraction of the Rayleigh time) and the rungs of the time-step
-//! path ([`stepped_down`]): the same setting with a smaller fraction of its time scale.
+//! The ladder of standard settings tune tries first: the standard values of the levers it is given
+//! (common practice: the time step at its largest valid value, local damping 0.2, a fifth of the
+//! Rayleigh time), each only where its key is a lever, and the rungs of the time-step path
+//! ([`stepped_down`]): the same setting with a smaller time step. A standard setting sets lever keys
+//! only, so a tune never changes a key the user fixed.
 
+use super::spec::{Lever, LeverRange};
 use crate::physics::SceneConfig;
 use crate::study::ParamValue;
 
@@ -11,52 +14,101 @@ pub const STANDARD_LOCAL_DAMPING: f64 = 0.2;
 /// The fraction of the Rayleigh time of the ladder's Rayleigh rung (common practice, EDEM).
 pub const STANDARD_RAYLEIGH_FRACTION: f64 = 0.2;
 
-/// A standard setting: the reference scene with a few keys set and others removed.
+/// The keys that set a time step: an absolute step and the fractions of a time scale.
+pub const TIME_STEP_KEYS: [&str; 3] =
+    ["integrator.time_step", "integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
+
+/// A standard setting: the reference scene with a few of the levers set to standard values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StandardSetting {
-    /// In words, e.g. `time step at the contact-time limit`.
+    /// In words, e.g. `time step at its largest valid value (integrator.contact_time_fraction = 0.1)`.
     pub name: String,
-    /// Keys set (dotted scene keys).
+    /// Lever keys set (dotted scene keys).
     pub values: Vec<(String, ParamValue)>,
-    /// Keys removed first (a time-step choice that would take precedence).
-    pub removed: Vec<String>,
 }
 
-/// The ladder: the time step at the largest valid contact-time fraction (`limits.contact_time_fraction`
-/// of the reference), the same with local damping 0.2, and 20 % of the Rayleigh time.
-pub fn standard_settings(reference: &SceneConfig) -> Vec<StandardSetting> {
-    let fraction = reference.limits.contact_time_fraction;
-    let contact = ("integrator.contact_time_fraction".to_string(), ParamValue::Float(fraction));
-    let not_contact = vec!["integrator.time_step".to_string(), "integrator.rayleigh_fraction".to_string()];
-    vec![
-        StandardSetting {
-            name: format!("time step at the contact-time limit ({fraction} of the contact time)"),
-            values: vec![contact.clone()],
-            removed: not_contact.clone(),
-        },
-        StandardSetting {
-            name: format!(
-                "time step at the contact-time limit with local damping {STANDARD_LOCAL_DAMPING} (Yade's default)"
-            ),
-            values: vec![contact, ("damping.local".to_string(), ParamValue::Float(STANDARD_LOCAL_DAMPING))],
-            removed: not_contact,
-        },
-        StandardSetting {
-            name: format!("time step at {} % of the Rayleigh time", 100.0 * STANDARD_RAYLEIGH_FRACTION),
-            values: vec![("integrator.rayleigh_fraction".to_string(), ParamValue::Float(STANDARD_RAYLEIGH_FRACTION))],
-            removed: vec!["integrator.time_step".to_string(), "integrator.contact_time_fraction".to_string()],
-        },
-    ]
+/// The lever that sets the time step, when one does (the first written).
+pub fn time_step_lever(levers: &[Lever]) -> Option<&Lever> {
+    levers.iter().find(|l| TIME_STEP_KEYS.contains(&l.key.as_str()))
 }
 
-/// The keys of the fractions of a time scale that set a time step.
-const TIME_STEP_FRACTIONS: [&str; 2] = ["integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
+/// The ladder over `levers`: the time-step lever at its largest valid value (the top of the time-step
+/// path, first when there is one), local damping [`STANDARD_LOCAL_DAMPING`] (with that time step),
+/// and [`STANDARD_RAYLEIGH_FRACTION`] of the Rayleigh time; each standard value taken to the nearest
+/// value of its lever's range, and a rung only where its levers are given.
+pub fn standard_settings(reference: &SceneConfig, levers: &[Lever]) -> Vec<StandardSetting> {
+    let lever = |key: &str| levers.iter().find(|l| l.key == key);
+    let mut ladder = Vec::new();
+    let top = time_step_lever(levers).and_then(|l| {
+        let limit = match l.key.as_str() {
+            "integrator.contact_time_fraction" => reference.limits.contact_time_fraction,
+            _ => f64::INFINITY,
+        };
+        Some((l.key.clone(), at_most(l, limit)?))
+    });
+    if let Some((key, value)) = &top {
+        ladder.push(StandardSetting {
+            name: format!("time step at its largest valid value ({key} = {value})"),
+            values: vec![(key.clone(), value.clone())],
+        });
+    }
+    if let Some(damping) = lever("damping.local").and_then(|l| nearest(l, STANDARD_LOCAL_DAMPING)) {
+        let with_step = match &top {
+            Some((key, value)) => format!(" at that time step ({key} = {value})"),
+            None => String::new(),
+        };
+        ladder.push(StandardSetting {
+            name: format!("local damping {damping} (Yade's default {STANDARD_LOCAL_DAMPING}){with_step}"),
+            values: top.iter().cloned().chain([("damping.local".to_string(), damping)]).collect(),
+        });
+    }
+    let rayleigh = lever("integrator.rayleigh_fraction").and_then(|l| nearest(l, STANDARD_RAYLEIGH_FRACTION));
+    if let Some(fraction) = rayleigh.filter(|f| top.as_ref().is_none_or(|(_, v)| v != f)) {
+        ladder.push(StandardSetting {
+            name: format!("time step at {fraction} of the Rayleigh time"),
+            values: vec![("integrator.rayleigh_fraction".to_string(), fraction)],
+        });
+    }
+    ladder
+}
 
-/// Standard setting `setting` with the fraction of the time scale that sets its time step multiplied
-/// by `factor` and rounded down to two significant digits; None when no fraction sets it (or the
-/// product rounds to zero).
+/// The numeric values of a list lever.
+fn listed(values: &[ParamValue]) -> impl Iterator<Item = (f64, &ParamValue)> {
+    values.iter().filter_map(|v| match v {
+        ParamValue::Float(x) => Some((*x, v)),
+        ParamValue::Int(i) => Some((*i as f64, v)),
+        _ => None,
+    })
+}
+
+/// The largest value of the lever's range at most `x`, when there is one.
+fn at_most(lever: &Lever, x: f64) -> Option<ParamValue> {
+    match &lever.range {
+        LeverRange::List(values) => {
+            listed(values).filter(|(v, _)| *v <= x).max_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, v)| v.clone())
+        }
+        LeverRange::Linear { low, .. } | LeverRange::Log { low, .. } if x < *low => None,
+        _ => nearest(lever, x),
+    }
+}
+
+/// The value of the lever's range nearest `x`.
+fn nearest(lever: &Lever, x: f64) -> Option<ParamValue> {
+    match &lever.range {
+        LeverRange::List(values) => {
+            listed(values).min_by(|a, b| (a.0 - x).abs().total_cmp(&(b.0 - x).abs())).map(|(_, v)| v.clone())
+        }
+        LeverRange::Linear { low, high, .. } | LeverRange::Log { low, high, .. } => {
+            let clamped = ParamValue::Float(x.clamp(*low, *high));
+            Some(lever.value(lever.coordinate(&clamped)?))
+        }
+    }
+}
+
+/// Standard setting `setting` with the key that sets its time step multiplied by `factor` and rounded
+/// down to two significant digits; None when no key sets it (or the product rounds to zero).
 pub fn stepped_down(setting: &StandardSetting, factor: f64) -> Option<StandardSetting> {
-    let position = setting.values.iter().position(|(key, _)| TIME_STEP_FRACTIONS.contains(&key.as_str()))?;
+    let position = setting.values.iter().position(|(key, _)| TIME_STEP_KEYS.contains(&key.as_str()))?;
     let ParamValue::Float(fraction) = setting.values[position].1 else { return None };
     let scaled = fraction * factor;
     let scale = 10f64.powi(1 - scaled.log10().floor() as i32);
@@ -69,7 +121,6 @@ pub fn stepped_down(setting: &StandardSetting, factor: f64) -> Option<StandardSe
     Some(StandardSetting {
         name: format!("{}, with {} lowered to {stepped}", setting.name, setting.values[position].0),
         values,
-        removed: setting.removed.clone(),
     })
 }
 
@@ -77,12 +128,39 @@ pub fn stepped_down(setting: &StandardSetting, factor: f64) -> Option<StandardSe
 mod tests {
     use super::*;
 
+    fn lever(key: &str, range: LeverRange) -> Lever {
+        Lever { key: key.into(), path: key.split('.').map(String::from).collect(), range }
+    }
+
     #[test]
     fn a_stepped_down_rung_rounds_its_fraction_down() {
-        let ladder = standard_settings(&SceneConfig::default());
+        let levers =
+            [lever("integrator.contact_time_fraction", LeverRange::Linear { low: 0.01, high: 0.2, integer: false })];
+        let ladder = standard_settings(&SceneConfig::default(), &levers);
+        assert_eq!(ladder[0].values, vec![(levers[0].key.clone(), ParamValue::Float(0.1))], "at the limit");
         let stepped = stepped_down(&ladder[0], 0.8 / 1.08).unwrap();
         assert_eq!(stepped.values[0].1, ParamValue::Float(0.074));
-        assert_eq!(stepped.removed, ladder[0].removed);
         assert!(stepped_down(&StandardSetting { values: Vec::new(), ..ladder[0].clone() }, 0.5).is_none());
+    }
+
+    #[test]
+    fn the_ladder_sets_only_the_levers_it_is_given() {
+        let scene = SceneConfig::default();
+        let damping = lever("damping.local", LeverRange::Linear { low: 0.0, high: 0.1, integer: false });
+        let restitution = lever("material.restitution", LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
+        let ladder = standard_settings(&scene, &[restitution.clone(), damping.clone()]);
+        assert_eq!(ladder.len(), 1, "{ladder:?}");
+        assert_eq!(
+            ladder[0].values,
+            vec![("damping.local".to_string(), ParamValue::Float(0.1))],
+            "clamped to the range"
+        );
+        assert!(standard_settings(&scene, &[restitution]).is_empty());
+        let step =
+            lever("integrator.time_step", LeverRange::List(vec![ParamValue::Float(1e-6), ParamValue::Float(4e-6)]));
+        let ladder = standard_settings(&scene, &[step, damping]);
+        let keys: Vec<Vec<&str>> = ladder.iter().map(|s| s.values.iter().map(|(k, _)| k.as_str()).collect()).collect();
+        assert_eq!(keys, vec![vec!["integrator.time_step"], vec!["integrator.time_step", "damping.local"]]);
+        assert_eq!(ladder[0].values[0].1, ParamValue::Float(4e-6), "the largest listed step");
     }
 }

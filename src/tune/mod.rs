@@ -91,6 +91,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         seed: s.seed,
         initial: s.initial,
         standards: spec.standards.len(),
+        path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
         max_spend: s.max_spend,
         cut_runs: s.objective == Objective::ParticleSteps,
     }
@@ -361,6 +362,10 @@ fn typed_warnings(results: &Path) -> Result<HashMap<usize, Vec<ValidityWarning>>
 const MEASURED: [(WarningKind, &str); 2] =
     [(WarningKind::EnergyBalance, "energy_balance_error"), (WarningKind::Overlap, "largest_overlap_ratio")];
 
+/// The share of its cap a run's particle-steps reach when the cap stopped it (the cap rounds up to
+/// whole steps).
+const CAP_REACHED: f64 = 0.999;
+
 /// The summary's rows by run index.
 struct Rows<'a> {
     table: &'a SummaryTable,
@@ -405,17 +410,21 @@ impl<'a> Rows<'a> {
         }
         let status = RunStatus::parse(&self.text("status", row));
         let message = self.text("message", row);
-        let failure = match (status, job.cap) {
-            (Some(RunStatus::Settled), _) => None,
-            (Some(RunStatus::NotSettled), Some(cap)) => Some(RunFailure::Cut { cap }),
-            (Some(RunStatus::NotSettled), None) => Some(RunFailure::NotSettled),
-            (Some(RunStatus::Diverged), _) => Some(RunFailure::Diverged(message)),
-            _ => Some(RunFailure::Error(message)),
-        };
         let mut particle_steps = self.number("particle_steps", row);
         if particle_steps.is_nan() {
             particle_steps = self.number("steps", row) * run.scene.particles.count as f64;
         }
+        // A run that did not settle was cut only when it reached its cap; one that ran its whole
+        // duration below the cap failed.
+        let failure = match (status, job.cap) {
+            (Some(RunStatus::Settled), _) => None,
+            (Some(RunStatus::NotSettled), Some(cap)) if particle_steps >= CAP_REACHED * cap => {
+                Some(RunFailure::Cut { cap })
+            }
+            (Some(RunStatus::NotSettled), _) => Some(RunFailure::NotSettled),
+            (Some(RunStatus::Diverged), _) => Some(RunFailure::Diverged(message)),
+            _ => Some(RunFailure::Error(message)),
+        };
         let cost = match spec.search.objective {
             Objective::ParticleSteps => particle_steps,
             Objective::WallTime => self.number("wall_time", row),

@@ -35,9 +35,11 @@ pub struct SearchConfig {
     pub seed: u64,
     /// Points of the initial design (None: from the dimension and the budget).
     pub initial: Option<usize>,
-    /// Standard settings the evaluator knows (the ladder). The first is the time step alone at its
-    /// largest valid fraction: the top of the time-step path.
+    /// Standard settings the evaluator knows (the ladder).
     pub standards: usize,
+    /// Whether the first standard setting is the time step alone at its largest valid value: the top
+    /// of the time-step path (a time-step key is a lever).
+    pub path: bool,
     /// Most the whole tune may spend, in mean reference runs' cost.
     pub max_spend: f64,
     /// Whether runs that can no longer win are cut at a cost cap (see [`Job::cap`]).
@@ -374,7 +376,7 @@ pub enum State {
     Feasible,
     /// Not acceptable: why.
     Infeasible(Rejection),
-    /// Its runs were cut at their cost cap: it could no longer win (nothing is known of its pile).
+    /// Its runs were cut at their cost cap once it could no longer win, before they settled.
     Cut,
     /// Not decided yet: more seeds needed.
     Undecided,

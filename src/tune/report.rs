@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::judge::broken_by_reference;
-use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, SearchResult, State};
+use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, RunFailure, SearchResult, State};
 use super::{TuneSpec, seed_text};
 use crate::output::{csv, guard};
 use crate::physics::number::short;
@@ -30,10 +30,7 @@ pub struct Written {
 
 /// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
 pub fn settings(spec: &TuneSpec, candidate: &Candidate) -> String {
-    let values = match candidate.standard {
-        Some(k) => spec.standards[k].values.clone(),
-        None => spec.values(&candidate.point),
-    };
+    let values = spec.setting_values(&candidate.point, candidate.standard);
     let text = values.iter().map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ");
     match candidate.standard {
         Some(k) => format!("the standard setting \"{}\" ({text})", spec.standards[k].name),
@@ -41,15 +38,19 @@ pub fn settings(spec: &TuneSpec, candidate: &Candidate) -> String {
     }
 }
 
-/// The time step a candidate's runs actually use, and what it is of the contact time.
+/// The time step a candidate's runs actually use, and what it is of the contact time (unless its
+/// settings give that fraction: one figure per fraction).
 fn resolved_time_step(spec: &TuneSpec, candidate: &Candidate) -> String {
     let Ok(scene) = super::candidate_scene(spec, candidate) else { return String::new() };
     let disks = spec.initial.as_deref().map(Vec::as_slice);
     let dt = crate::physics::scene_time_step(&scene, disks).dt;
+    let given = spec.setting_values(&candidate.point, candidate.standard);
     let fraction = super::validity::predicted_report(&scene, disks).map(|r| r.dt_over_contact_time);
     match fraction {
-        Ok(f) => format!("time step {} s ({} of the contact time)", short(dt), short(f)),
-        Err(_) => format!("time step {} s", short(dt)),
+        Ok(f) if !given.iter().any(|(k, _)| k == "integrator.contact_time_fraction") => {
+            format!("time step {} s ({} of the contact time)", short(dt), short(f))
+        }
+        _ => format!("time step {} s", short(dt)),
     }
 }
 
@@ -84,18 +85,54 @@ pub fn spend(result: &SearchResult) -> f64 {
     runs.map(|o| o.cost).sum::<f64>() / reference
 }
 
-/// Runs by role, in words that add up: `211 runs: 10 reference, 9 standard settings, ...`.
+/// Runs by role, in words that add up: `211 runs: 10 reference, 9 standard settings (2 cut once they
+/// could no longer win), 180 search (12 cut …, 3 failed: did not settle), 12 verification`.
 pub fn run_counts(result: &SearchResult) -> String {
-    let standard: usize = result.candidates.iter().filter(|c| c.standard.is_some()).map(|c| c.runs.len()).sum();
-    let search: usize = result.candidates.iter().filter(|c| c.standard.is_none()).map(|c| c.runs.len()).sum();
+    let runs = |standard: bool| -> Vec<&Outcome> {
+        let of = result.candidates.iter().filter(|c| c.standard.is_some() == standard);
+        of.flat_map(|c| &c.runs).collect()
+    };
+    let (standard, search) = (runs(true), runs(false));
     let verify: usize = result.candidates.iter().map(|c| c.verification.len()).sum();
-    let cut = result.candidates.iter().flat_map(|c| &c.runs).filter(|o| o.is_cut()).count();
+    let search_text = match search.len() {
+        0 => "no search run was made".to_string(),
+        n => format!("{n} search{}", ended(&search)),
+    };
     format!(
-        "{} runs: {} reference, {standard} standard settings, {search} search ({cut} of them cut once they could no \
-         longer win), {verify} verification",
-        result.reference.len() + standard + search + verify,
-        result.reference.len()
+        "{} runs: {} reference, {} standard settings{}, {search_text}, {verify} verification",
+        result.reference.len() + standard.len() + search.len() + verify,
+        result.reference.len(),
+        standard.len(),
+        ended(&standard)
     )
+}
+
+/// How many of `runs` were cut and how many failed, and why: ` (2 cut once they could no longer
+/// win; 3 failed: 2 did not settle, 1 diverged)`; empty when none.
+fn ended(runs: &[&Outcome]) -> String {
+    let cut = runs.iter().filter(|o| o.is_cut()).count();
+    let mut why: Vec<(String, usize)> = Vec::new();
+    for failure in runs.iter().filter_map(|o| o.failure.as_ref()).filter(|f| !matches!(f, RunFailure::Cut { .. })) {
+        let name = match failure {
+            RunFailure::NotSettled => "did not settle",
+            RunFailure::Diverged(_) => "diverged",
+            _ => "failed to run",
+        };
+        match why.iter_mut().find(|(n, _)| n == name) {
+            Some((_, count)) => *count += 1,
+            None => why.push((name.to_string(), 1)),
+        }
+    }
+    let failed: usize = why.iter().map(|(_, c)| c).sum();
+    let mut parts = Vec::new();
+    if cut > 0 {
+        parts.push(format!("{cut} cut once they could no longer win"));
+    }
+    if failed > 0 {
+        let each: Vec<String> = why.iter().map(|(n, c)| format!("{c} {n}")).collect();
+        parts.push(format!("{failed} failed: {}", each.join(", ")));
+    }
+    if parts.is_empty() { String::new() } else { format!(" ({})", parts.join("; ")) }
 }
 
 /// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
@@ -134,7 +171,11 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 resolved_time_step(spec, cand)
             );
             if cand.standard.is_some() {
-                text.push_str("The search found nothing cheaper than this standard setting: it is the answer.\n");
+                let searched = result.candidates.iter().any(|c| c.standard.is_none() && !c.runs.is_empty());
+                text.push_str(match searched {
+                    true => "The search found nothing cheaper than this standard setting: it is the answer.\n",
+                    false => "No search run was made: this standard setting is the answer.\n",
+                });
             }
             let _ = writeln!(
                 text,
@@ -479,7 +520,9 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
     match &a.state {
         State::NotRun(reason) => format!("not run: {reason}"),
         State::Feasible => "acceptable during the search, but the budget ran out before it was verified".into(),
-        State::Cut => "cut: its runs were stopped once it could no longer win (nothing is known of its pile)".into(),
+        State::Cut => {
+            "cut: its runs were stopped at their cost cap once it could no longer win, before they settled".into()
+        }
         State::Infeasible(reason @ (Rejection::Failed(_) | Rejection::Invalid(_))) => reason.to_string(),
         _ => {
             let worst = a
@@ -571,33 +614,37 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         _ => None,
     };
     let reference_values = spec.reference_values();
-    let at = |c: &Candidate, key: &str| -> Option<f64> {
-        let values = match c.standard {
-            Some(k) => spec.standards[k].values.clone(),
-            None => spec.values(&c.point),
-        };
-        match values.iter().find(|(k, _)| k == key) {
-            Some((_, v)) => number(v),
-            None => reference_values.iter().find(|(k, _, _)| k == key).and_then(|(_, v, _)| number(v)),
-        }
-    };
+    let at = |c: &Candidate, d: usize| lever_values(spec, c)[d].as_ref().and_then(number);
     spec.levers
         .iter()
-        .map(|lever| {
+        .enumerate()
+        .map(|(d, lever)| {
             let points = result
                 .candidates
                 .iter()
                 .filter(|c| !c.runs.is_empty())
                 .filter_map(|c| {
                     let a = result.assess(c);
-                    Some((at(c, &lever.key)?, a.cost / reference, a.state == State::Feasible))
+                    Some((at(c, d)?, a.cost / reference, a.state == State::Feasible))
                 })
                 .collect();
-            let best = result.recommended.and_then(|k| at(&result.candidates[k], &lever.key));
+            let best = result.recommended.and_then(|k| at(&result.candidates[k], d));
             let reference = reference_values.iter().find(|(k, _, _)| *k == lever.key).and_then(|(_, v, _)| number(v));
             LeverSeries { name: lever.key.clone(), log: lever.is_log(), points, best, reference }
         })
         .collect()
+}
+
+/// Each lever's value in a candidate's runs: the value it sets, else the reference's (a standard
+/// setting sets only some levers); None where the reference has none.
+fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
+    let set = spec.setting_values(&cand.point, cand.standard);
+    let reference = spec.reference_values();
+    let value = |key: &str| {
+        let given = set.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+        given.or_else(|| reference.iter().find(|(k, _, _)| k == key).map(|(_, v, _)| v.clone()))
+    };
+    spec.levers.iter().map(|l| value(&l.key)).collect()
 }
 
 /// Writes CSV records, the first one the column names (followed by their units line), whole or not
@@ -623,28 +670,13 @@ pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String
     std::iter::once(header).chain(skipped).collect()
 }
 
-/// The recommendation as a change to the tune file: the `[scene]` keys to set (and those to take
-/// out, where a ladder setting replaces how the time step is chosen).
+/// The recommendation as a change to the tune file: the `[scene]` keys to set, levers only.
 pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
-    let (values, removed) = match cand.standard {
-        Some(k) => (spec.standards[k].values.clone(), spec.standards[k].removed.clone()),
-        None => (spec.values(&cand.point), Vec::new()),
-    };
+    let values = spec.setting_values(&cand.point, cand.standard);
     let mut text = format!(
         "# The recommendation of `demsweep tune {}` as a change to its [scene] table: set these keys\n",
         spec.path.display()
     );
-    let present = |key: &str| {
-        let mut here = Some(&spec.base);
-        let parts: Vec<&str> = key.split('.').collect();
-        for part in &parts[..parts.len() - 1] {
-            here = here.and_then(|t| t.get(*part)).and_then(toml::Value::as_table);
-        }
-        here.is_some_and(|t| t.contains_key(parts[parts.len() - 1]))
-    };
-    for key in removed.iter().filter(|k| present(k)) {
-        let _ = writeln!(text, "# remove: {key} (it would take precedence)");
-    }
     text.push_str("[scene]\n");
     for (key, value) in values {
         let _ = writeln!(text, "{} = {}", key, value.to_toml());
@@ -699,17 +731,11 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<Stri
     for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
         let a = result.assess(cand);
         let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
-        let values = match cand.standard {
-            Some(s) => spec.standards[s].values.clone(),
-            None => spec.values(&cand.point),
-        };
-        row.extend(spec.levers.iter().map(|l| {
-            values
+        row.extend(
+            lever_values(spec, cand)
                 .iter()
-                .find(|(k, _)| *k == l.key)
-                .map(|(_, v)| crate::output::table::param_text(v))
-                .unwrap_or_default()
-        }));
+                .map(|v| v.as_ref().map(crate::output::table::param_text).unwrap_or_default()),
+        );
         let number = |x: f64| if x.is_finite() { format!("{x:?}") } else { String::new() };
         row.extend([a.n.to_string(), number(a.cost), number(a.cost / reference.mean)]);
         for k in 0..spec.keep.len() {
@@ -781,4 +807,57 @@ pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
         spec.name
     );
     format!("{header}{}", toml::to_string(&doc).unwrap_or_default())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tune::model::{Origin, PathEnd};
+
+    fn candidate(id: usize, standard: Option<usize>, runs: Vec<Outcome>) -> Candidate {
+        Candidate {
+            id,
+            point: if standard.is_some() { Vec::new() } else { vec![0.5] },
+            standard,
+            identity: id.to_string(),
+            origin: if standard.is_some() { Origin::Standard } else { Origin::Initial },
+            predicted_invalid: None,
+            runs,
+            verification: Vec::new(),
+            verify_seeds: Vec::new(),
+            relative_cost: Some(0.5),
+            stepped_from: None,
+        }
+    }
+
+    fn result(candidates: Vec<Candidate>) -> SearchResult {
+        SearchResult {
+            reference: vec![Outcome::settled(1.0, vec![1.0]); 4],
+            margins: vec![0.1],
+            reference_checks: Vec::new(),
+            candidates,
+            recommended: None,
+            runs: 0,
+            budget: 100,
+            undecidable: Vec::new(),
+            path: (Vec::new(), PathEnd::NotRun),
+        }
+    }
+
+    #[test]
+    fn run_counts_say_which_runs_failed_and_why_and_when_no_search_run_was_made() {
+        let unsettled = Outcome { failure: Some(RunFailure::NotSettled), ..Outcome::settled(2.0, vec![1.0]) };
+        let cut = Outcome { failure: Some(RunFailure::Cut { cap: 1.0 }), ..Outcome::settled(1.0, vec![1.0]) };
+        let standard = candidate(1, Some(0), vec![unsettled.clone(), unsettled.clone(), cut.clone()]);
+        let counts = run_counts(&result(vec![standard.clone()]));
+        assert_eq!(
+            counts,
+            "7 runs: 4 reference, 3 standard settings (1 cut once they could no longer win; 2 failed: 2 did not \
+             settle), no search run was made, 0 verification"
+        );
+        let searched = result(vec![standard, candidate(2, None, vec![cut.clone(), cut])]);
+        assert!(run_counts(&searched).contains(", 2 search (2 cut once they could no longer win), "));
+        let a = searched.assess(&searched.candidates[0]);
+        assert!(matches!(a.state, State::Infeasible(Rejection::Failed(RunFailure::NotSettled))), "{:?}", a.state);
+    }
 }

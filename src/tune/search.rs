@@ -9,8 +9,8 @@
 //!    reference mean (or the absolute tolerance). The reference's own validity figures are recorded:
 //!    a check it breaks holds every candidate to no worse than it. A reference that diverges or does
 //!    not settle stops the tune; so does a kept metric its spread cannot decide ([`decidability`]).
-//! 2. **The time-step path** ([`Search::path`]), before anything else: the first standard setting
-//!    (the time step alone at its largest valid fraction) and, below it, the same setting with a
+//! 2. **The time-step path** ([`Search::path`]), when a time-step key is a lever, before anything
+//!    else: the first standard setting (the time-step lever alone at its largest valid value) and, below it, the same setting with a
 //!    smaller time step, down to the reference's (valid and equivalent by definition). A rung whose
 //!    runs break a measured check steps down by the fitted error model ([`cure_factor`]); one that
 //!    differs bisects (geometric mean) towards the last good rung or the reference, until the two
@@ -57,6 +57,24 @@ const VERIFY_ROUNDS: usize = 4;
 /// A batch is priced this much above its predicted cost against the spend limit: settle times spread.
 const PRICE_MARGIN: f64 = 1.1;
 
+/// An undecided candidate whose mean cost is below this share of the incumbent's would win by a clear
+/// margin: past `max_seeds` it gets the seeds that decide it (sequential testing).
+const CLEAR_MARGIN: f64 = 0.9;
+
+/// A candidate decided sequentially gets at most this many times `max_seeds` search seeds.
+const SEQUENTIAL_SEEDS: usize = 4;
+
+/// The share of what the spend limit leaves after the reference that the time-step path may spend
+/// when other levers wait for the rest.
+const PATH_SHARE: f64 = 0.5;
+
+/// A lever whose end moves a setting's predicted cost by less than this fraction leaves the cheap
+/// corner at the centre of its range.
+const CORNER_SLOPE: f64 = 0.05;
+
+/// Most tries of the cheap corner, each halfway nearer the centre than the one predicted invalid.
+const CORNER_TRIES: usize = 4;
+
 /// Runs the search.
 pub fn search<E: Evaluator>(config: &SearchConfig, evaluator: &mut E) -> Result<SearchResult, TuneError> {
     Search::new(config, evaluator).run()
@@ -73,6 +91,8 @@ struct Search<'a, E> {
     spent: f64,
     /// The next fresh seed of a verification.
     next_seed: u64,
+    /// The most the spend may reach while the time-step path runs (cost units).
+    path_limit: f64,
 }
 
 /// What the time-step path does next.
@@ -103,7 +123,17 @@ impl<'a, E: Evaluator> Search<'a, E> {
             path: (Vec::new(), PathEnd::NotRun),
         };
         let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
-        Self { config, evaluator, result, seen: HashSet::new(), shift, halton_index: 1, spent: 0.0, next_seed }
+        Self {
+            config,
+            evaluator,
+            result,
+            seen: HashSet::new(),
+            shift,
+            halton_index: 1,
+            spent: 0.0,
+            next_seed,
+            path_limit: f64::INFINITY,
+        }
     }
 
     fn run(mut self) -> Result<SearchResult, TuneError> {
@@ -120,7 +150,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         if initial > 0 {
-            let fresh = self.explore(initial.max(2), Origin::Initial);
+            let mut fresh = self.explore(initial.max(2), Origin::Initial);
+            fresh.extend(self.cheap_corner());
             self.evaluate_new(&fresh, search_end)?;
             self.pattern_search(search_end)?;
         }
@@ -176,12 +207,26 @@ impl<'a, E: Evaluator> Search<'a, E> {
         self.result.runs + runs <= self.config.budget && self.spent + price <= self.config.max_spend * reference
     }
 
+    /// [`Self::fits_price`], and within the time-step path's share of the spend while none of its rungs
+    /// is valid and equivalent in the search: a path whose rungs fail ends early and leaves the rest to
+    /// the other levers.
+    fn fits_path(&self, runs: usize, price: f64) -> bool {
+        let reference = self.result.reference_cost();
+        let result = &self.result;
+        let found = result.path.0.iter().any(|&k| result.assess(&result.candidates[k]).state == State::Feasible);
+        let within = found || self.spent + PRICE_MARGIN * price * reference <= self.path_limit;
+        self.fits_price(runs, price) && within
+    }
+
     /// The time-step path (see the module documentation): ends with its answer recommended, or
     /// with why there is none.
     fn path(&mut self) -> Result<(), TuneError> {
-        if self.config.standards == 0 {
+        if !self.config.path || self.config.standards == 0 {
             return Ok(());
         }
+        let share = if self.config.dims > 1 { PATH_SHARE } else { 1.0 };
+        let left = self.config.max_spend * self.result.reference_cost() - self.spent;
+        self.path_limit = self.spent + share * left.max(0.0);
         let mut step = PathStep::Rung(1.0, None);
         let mut rungs: Vec<(f64, usize)> = Vec::new();
         let end = loop {
@@ -204,7 +249,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 PathStep::Verify(k) => match self.verify_candidate(k)? {
                     Some(passed) => {
                         if passed {
-                            self.result.recommended = Some(k);
+                            self.accept(k);
                         }
                         self.path_next(&rungs, Some(k), false)
                     }
@@ -213,6 +258,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             };
         };
         self.result.path.1 = self.result.recommended.map_or(end, PathEnd::Verified);
+        self.path_limit = f64::INFINITY;
         Ok(())
     }
 
@@ -258,7 +304,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 n if a.state == State::Undecided && n < c.max_seeds => c.seeds.min(c.max_seeds - n),
                 _ => return Ok(true),
             };
-            if !self.fits(more, self.result.candidates[k].relative_cost) {
+            if !self.fits_path(more, more as f64 * self.result.candidates[k].relative_cost.unwrap_or(1.0)) {
                 return Ok(false);
             }
             let cap = self.config.cut_runs.then(|| self.result.reference_cost());
@@ -306,7 +352,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let (rung_cost, best_cost) = (rung_cost.unwrap_or(1.0), best_cost.unwrap_or(0.0));
         let (seeds, verify) = (self.config.seeds, self.config.verify_seeds);
         let price = seeds as f64 * rung_cost + verify as f64 * rung_cost.max(best_cost);
-        match self.fits_price(seeds + verify, price) {
+        match self.fits_path(seeds + verify, price) {
             true => PathStep::Rung(next, from),
             false => verify_best(),
         }
@@ -342,11 +388,10 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn explore_ladder(&mut self) -> Result<(), TuneError> {
         let c = self.config;
         let search_end = c.budget.saturating_sub(3 * c.verify_seeds);
-        for k in 1..c.standards {
-            if self.affordable() == 0 {
-                break;
-            }
-            if let Some(index) = self.propose_standard(k, Origin::Standard) {
+        for k in usize::from(c.path)..c.standards {
+            if let Some(index) = self.propose_standard(k, Origin::Standard)
+                && self.fits_candidate(index)
+            {
                 self.run_more(&[(index, c.seeds)])?;
                 self.step_down(index)?;
             }
@@ -412,36 +457,59 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
     }
 
-    /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping two
-    /// verification rounds. A candidate's run is priced at the cheapest candidate still in the running
-    /// (feasible, or undecided with every run valid), a verification run at the dearest of them, the
-    /// one that may have to be verified (without any: both at the mean of the runs so far, else the
-    /// reference's).
+    /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping a
+    /// verification round of the candidate that would be verified. Runs are priced at the cheapest
+    /// candidate still in the running, else at the shortest settle time measured at the reference's time
+    /// step: a gate; each candidate is priced on its own when it runs ([`Self::evaluate_new`]).
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = self.result.reference_cost();
-        let running = self.running_costs();
-        let tried: Vec<f64> = self.result.candidates.iter().flat_map(|c| &c.runs).map(|o| o.cost).collect();
-        let fallback = if tried.is_empty() { reference } else { stats::describe(&tried).mean };
-        let unit = running.iter().copied().reduce(f64::min).unwrap_or(fallback);
-        let verification = running.iter().copied().reduce(f64::max).unwrap_or(fallback);
-        let left = c.max_spend * reference - self.spent - (2 * c.verify_seeds) as f64 * verification;
+        let running = self.running_costs().into_iter().reduce(f64::min);
+        let fastest = self.settle_factors().into_iter().map(|(_, f)| f).fold(1.0, f64::min);
+        let unit = running.unwrap_or(fastest * reference);
+        let left = c.max_spend * reference - self.spent - c.verify_seeds as f64 * unit;
         if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
     }
 
-    /// The mean costs of the candidates still in the running (feasible, or undecided with every run
-    /// settled and valid) that are cheaper than the reference and not failed on fresh seeds.
+    /// How many more search seeds candidate `cand` gets: an undecided one `seeds` at a time up to
+    /// `max_seeds`; past that, one that would beat the incumbent by a clear margin ([`CLEAR_MARGIN`])
+    /// gets the seeds its runs so far say decide it ([`runs_to_decide`]), up to [`SEQUENTIAL_SEEDS`]
+    /// times `max_seeds` and within the spend limit. None: it gets no more (decided, or it cannot be).
+    fn more_seeds(&self, cand: &Candidate) -> Option<usize> {
+        let c = self.config;
+        let a = self.result.assess(cand);
+        if a.state != State::Undecided || a.n == 0 {
+            return None;
+        }
+        if a.n < c.max_seeds {
+            return Some(c.seeds.min(c.max_seeds - a.n));
+        }
+        if a.cost >= CLEAR_MARGIN * self.incumbent().1 {
+            return None;
+        }
+        let needed = runs_to_decide(&self.result.reference, &cand.runs, &self.result.margins)?;
+        let more = needed.saturating_sub(a.n).clamp(1, c.max_seeds);
+        let price = more as f64 * a.cost / self.result.reference_cost();
+        (needed <= SEQUENTIAL_SEEDS * c.max_seeds && self.fits_price(more, price)).then_some(more)
+    }
+
+    /// Whether a candidate is still in the running: feasible, or undecided with more seeds to come
+    /// ([`Self::more_seeds`]); cheaper than the reference and not failed on fresh seeds.
+    fn in_running(&self, cand: &Candidate) -> bool {
+        let failed = self.result.assess_verification(cand).is_some_and(|a| a.state != State::Feasible);
+        let a = self.result.assess(cand);
+        let open = match a.state {
+            State::Feasible => true,
+            State::Undecided => self.more_seeds(cand).is_some(),
+            _ => false,
+        };
+        !failed && open && a.cost < self.result.reference_cost()
+    }
+
+    /// The mean costs of the candidates still in the running ([`Self::in_running`]).
     fn running_costs(&self) -> Vec<f64> {
-        let reference = self.result.reference_cost();
-        let failed = |c: &Candidate| self.result.assess_verification(c).is_some_and(|a| a.state != State::Feasible);
-        self.result
-            .candidates
-            .iter()
-            .filter(|cand| !failed(cand))
-            .map(|cand| self.result.assess(cand))
-            .filter(|a| matches!(a.state, State::Feasible | State::Undecided) && a.cost < reference)
-            .map(|a| a.cost)
-            .collect()
+        let running = self.result.candidates.iter().filter(|c| self.in_running(c));
+        running.map(|c| self.result.assess(c).cost).collect()
     }
 
     /// A new candidate unless one resolves to the same runs; one predicted invalid (past a limit the
@@ -552,28 +620,142 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// Runs `seeds` runs of each new candidate (in order, as many whole candidates as fit below `end`);
     /// returns how many candidates ran.
+    /// Runs `seeds` runs of each new candidate, cheapest predicted first (see [`Self::expected_cost`]),
+    /// as many as fit below `end` and the spend limit (each with room to verify it, see
+    /// [`Self::fits_candidate`]); returns how many candidates ran.
     fn evaluate_new(&mut self, fresh: &[usize], end: usize) -> Result<usize, TuneError> {
         let seeds = self.config.seeds;
-        let fit = (end.saturating_sub(self.result.runs) / seeds).min(self.affordable());
-        let chosen: Vec<(usize, usize)> = fresh.iter().take(fit).map(|&k| (k, seeds)).collect();
+        let mut order = fresh.to_vec();
+        order.sort_by(|&a, &b| self.expected_cost(a).total_cmp(&self.expected_cost(b)).then(a.cmp(&b)));
+        let (mut chosen, mut price) = (Vec::new(), 0.0);
+        for k in order {
+            let cost = seeds as f64 * self.expected_cost(k);
+            let runs = (chosen.len() + 1) * seeds;
+            if self.result.runs + runs <= end && self.fits_price(runs, price + cost + self.reservation(k)) {
+                chosen.push((k, seeds));
+                price += cost;
+            }
+        }
         self.run_more(&chosen)?;
         Ok(chosen.len())
     }
 
+    /// Whether candidate `k`'s first seeds fit the spend limit with room to verify it.
+    fn fits_candidate(&self, k: usize) -> bool {
+        let seeds = self.config.seeds;
+        self.fits_price(seeds, seeds as f64 * self.expected_cost(k) + self.reservation(k))
+    }
+
+    /// What a verification round would cost (in reference runs) when candidate `k` may be the one
+    /// verified: the dearer of its round and that of the cheapest candidate in the running not yet
+    /// verified (on as many seeds as its search runs, at least `verify_seeds`).
+    fn reservation(&self, k: usize) -> f64 {
+        let reference = self.result.reference_cost();
+        let seeds = self.config.verify_seeds;
+        let pending = self
+            .result
+            .candidates
+            .iter()
+            .filter(|c| c.verification.is_empty() && self.in_running(c))
+            .map(|c| (self.result.assess(c).cost / reference, c.runs.len().max(seeds) as f64))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let own = seeds as f64 * self.expected_cost(k);
+        pending.map_or(own, |(cost, n)| own.max(cost * n))
+    }
+
+    /// A candidate's predicted cost in reference runs: its time step's ([`Candidate::relative_cost`])
+    /// times the settle time the settled runs so far predict at its point (the log-linear fit of
+    /// measured cost over predicted, [`Self::settle_fit`]; without one, the mean settle time measured,
+    /// else the reference's).
+    fn expected_cost(&self, k: usize) -> f64 {
+        let cand = &self.result.candidates[k];
+        let factors: Vec<f64> = self.settle_factors().into_iter().map(|(_, f)| f).collect();
+        let mean = if factors.is_empty() { 1.0 } else { stats::describe(&factors).mean };
+        let settle = match (self.settle_fit(), cand.standard) {
+            (Some(b), None) => (b[0] + cand.point.iter().zip(&b[1..]).map(|(x, c)| x * c).sum::<f64>()).exp(),
+            _ => mean,
+        };
+        cand.relative_cost.unwrap_or(1.0) * settle.clamp(0.05, 20.0)
+    }
+
+    /// The least a candidate may cost in reference runs: its time step's cost at the shortest settle
+    /// time measured so far (relative to the reference's, at most 1).
+    fn optimistic_cost(&self, cand: &Candidate) -> f64 {
+        let fastest = self.settle_factors().into_iter().map(|(_, f)| f).fold(1.0, f64::min);
+        cand.relative_cost.unwrap_or(1.0) * fastest
+    }
+
+    /// Per settled candidate (every run settled): its point and its mean cost over its time step's
+    /// predicted cost, the settle time relative to the reference's.
+    fn settle_factors(&self) -> Vec<(Vec<f64>, f64)> {
+        let reference = self.result.reference_cost();
+        self.result
+            .candidates
+            .iter()
+            .filter(|c| !c.runs.is_empty() && c.runs.iter().all(|o| o.failure.is_none()))
+            .map(|c| {
+                let mean = c.runs.iter().map(|o| o.cost).sum::<f64>() / c.runs.len() as f64;
+                (c.point.clone(), mean / (reference * c.relative_cost.unwrap_or(1.0)))
+            })
+            .collect()
+    }
+
+    /// The log-linear fit of the settle factors ([`Self::settle_factors`]) over the points of the
+    /// lever space.
+    fn settle_fit(&self) -> Option<Vec<f64>> {
+        let rows: Vec<(Vec<f64>, f64)> =
+            self.settle_factors().into_iter().filter(|(p, _)| p.len() == self.config.dims).collect();
+        fit::log_linear(&rows, self.config.dims)
+    }
+
+    /// The point a DEM engineer tries first: every lever at the end of its range that the predicted
+    /// time step (fitted over every point screened) and the measured settle times say is cheaper
+    /// ([`CORNER_SLOPE`]: a lever that moves neither stays at the centre); while predicted invalid,
+    /// halfway nearer the centre. Returns the runnable candidate, if one is new.
+    fn cheap_corner(&mut self) -> Option<usize> {
+        let dims = self.config.dims;
+        let rows: Vec<(Vec<f64>, f64)> = self
+            .result
+            .candidates
+            .iter()
+            .filter(|c| c.standard.is_none())
+            .filter_map(|c| Some((c.point.clone(), c.relative_cost?)))
+            .collect();
+        let time_step = fit::log_linear(&rows, dims)?;
+        let settle = self.settle_fit().unwrap_or_else(|| vec![0.0; dims + 1]);
+        let mut corner: Vec<f64> = (0..dims)
+            .map(|d| match time_step[d + 1] + settle[d + 1] {
+                slope if slope.abs() < CORNER_SLOPE => 0.5,
+                slope if slope < 0.0 => 1.0,
+                _ => 0.0,
+            })
+            .collect();
+        for _ in 0..CORNER_TRIES {
+            let before = self.result.candidates.len();
+            if let Some(k) = self.propose(&corner, Origin::Initial) {
+                return Some(k);
+            }
+            if self.result.candidates.len() == before {
+                return None;
+            }
+            corner.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5));
+        }
+        None
+    }
+
     /// Gives more seeds to undecided candidates that could still win; false when there are none.
     fn extra_seeds(&mut self, end: usize) -> Result<bool, TuneError> {
-        let c = self.config;
         let (_, incumbent_cost) = self.incumbent();
-        let mut chosen = Vec::new();
-        let mut room = end.saturating_sub(self.result.runs).min(self.affordable() * c.seeds);
+        let reference = self.result.reference_cost();
+        let (mut chosen, mut runs, mut price) = (Vec::new(), 0, 0.0);
         for (k, cand) in self.result.candidates.iter().enumerate() {
             let a = self.result.assess(cand);
-            if a.state == State::Undecided && a.n < c.max_seeds && a.cost < incumbent_cost {
-                let more = c.seeds.min(c.max_seeds - a.n);
-                if more <= room {
-                    chosen.push((k, more));
-                    room -= more;
-                }
+            let Some(more) = self.more_seeds(cand).filter(|_| a.cost < incumbent_cost) else { continue };
+            let cost = more as f64 * a.cost / reference;
+            let reserve = (a.n + more).max(self.config.verify_seeds) as f64 * a.cost / reference;
+            if self.result.runs + runs + more <= end && self.fits_price(runs + more, price + cost + reserve) {
+                chosen.push((k, more));
+                (runs, price) = (runs + more, price + cost);
             }
         }
         if chosen.is_empty() {
@@ -625,13 +807,16 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn far_too_dear(&self, k: usize) -> bool {
         let reference = self.result.reference_cost();
         let cand = &self.result.candidates[k];
-        cand.relative_cost.is_some_and(|r| r * reference > FAR_TOO_DEAR * self.likely_cost())
+        cand.relative_cost.is_some() && self.optimistic_cost(cand) * reference > FAR_TOO_DEAR * self.likely_cost()
     }
 
-    /// Whether `cand` is predicted dearer than the cheapest candidate still in the running.
+    /// Whether `cand` is predicted dearer than the cheapest candidate still in the running, even at
+    /// the shortest settle time measured so far.
     fn predicted_dear(&self, cand: &Candidate) -> bool {
         let reference = self.result.reference_cost();
-        self.config.cut_runs && cand.relative_cost.is_some_and(|r| r * reference > self.likely_cost())
+        self.config.cut_runs
+            && cand.relative_cost.is_some()
+            && self.optimistic_cost(cand) * reference > self.likely_cost()
     }
 
     /// Runs `more` further search seeds of each candidate, as one batch; a new candidate predicted
@@ -726,20 +911,41 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn verify(&mut self, keep: impl Fn(&Candidate) -> bool) -> Result<(), TuneError> {
         let mut tried = HashSet::new();
         let mut limit = f64::INFINITY;
-        let bound =
-            self.result.recommended.map_or(f64::INFINITY, |k| self.result.assess(&self.result.candidates[k]).cost);
+        let bound = self.answer_cost();
         while let Some(k) = self.next_to_verify(&tried, limit, |c| keep(c) && self.result.assess(c).cost < bound) {
             tried.insert(k);
             match self.verify_candidate(k)? {
                 Some(true) => {
-                    self.result.recommended = Some(k);
-                    return Ok(());
+                    if self.accept(k) {
+                        return Ok(());
+                    }
                 }
-                Some(false) => limit = 0.9 * self.result.assess(&self.result.candidates[k]).worst,
+                Some(false) => {
+                    let cand = &self.result.candidates[k];
+                    if self.result.assess_verification(cand).is_some_and(|a| a.state != State::Undecided) {
+                        limit = 0.9 * self.result.assess(cand).worst;
+                    }
+                }
                 None => return Ok(()),
             }
         }
         Ok(())
+    }
+
+    /// The verified cost of the answer so far (infinite without one).
+    fn answer_cost(&self) -> f64 {
+        let verified = |k: usize| self.result.assess_runs(&self.result.candidates[k].verification).cost;
+        self.result.recommended.map_or(f64::INFINITY, verified)
+    }
+
+    /// Makes candidate `k`, which passed its verification, the answer when its verified cost is below
+    /// the answer so far's: the answer is the cheapest verified candidate. Whether it did.
+    fn accept(&mut self, k: usize) -> bool {
+        let cheaper = self.result.assess_runs(&self.result.candidates[k].verification).cost < self.answer_cost();
+        if cheaper {
+            self.result.recommended = Some(k);
+        }
+        cheaper
     }
 
     /// The next candidate to verify: feasible in the search, cheaper than the reference, not tried,
@@ -767,14 +973,16 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// or the spend limit leaves no room.
     fn verify_candidate(&mut self, k: usize) -> Result<Option<bool>, TuneError> {
         let c = self.config;
+        // A candidate the search decided on more seeds than a round has is verified on as many.
+        let size = c.verify_seeds.max(self.result.candidates[k].runs.len());
         for round in 0..VERIFY_ROUNDS {
             let cost = self.result.assess(&self.result.candidates[k]).cost / self.result.reference_cost();
-            if !self.fits(c.verify_seeds, Some(cost)) {
+            if !self.fits(size, Some(cost)) {
                 return Ok(None);
             }
             let cand = &self.result.candidates[k];
-            let seeds: Vec<u64> = (self.next_seed..self.next_seed + c.verify_seeds as u64).collect();
-            self.next_seed += c.verify_seeds as u64;
+            let seeds: Vec<u64> = (self.next_seed..self.next_seed + size as u64).collect();
+            self.next_seed += size as u64;
             let jobs: Vec<Job> = seeds
                 .iter()
                 .map(|&seed| Job {
@@ -792,10 +1000,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             cand.verify_seeds.extend(seeds);
             let result = &self.result;
             let runs = &result.candidates[k].verification;
-            let soon = || {
-                runs_to_decide(&result.reference, runs, &result.margins)
-                    .is_some_and(|n| n <= runs.len() + 2 * c.verify_seeds)
-            };
+            let soon =
+                || runs_to_decide(&result.reference, runs, &result.margins).is_some_and(|n| n <= runs.len() + 2 * size);
             match result.assess_runs(runs).state {
                 State::Feasible => return Ok(Some(true)),
                 State::Undecided if round == 0 || soon() => continue,

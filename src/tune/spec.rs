@@ -15,7 +15,7 @@ use crate::study::{OutputOptions, ParamValue};
 
 /// Significant digits lever values are rounded to (clean values in the best study, and candidates
 /// that differ by less are the same candidate).
-const DIGITS: i32 = 4;
+pub(super) const DIGITS: i32 = 4;
 
 /// The range of one lever.
 #[derive(Clone, Debug, PartialEq)]
@@ -225,17 +225,7 @@ pub struct TuneSpec {
 impl TuneSpec {
     /// The scene with `values` set on the base scene.
     pub fn scene(&self, values: &[(String, ParamValue)]) -> Result<SceneConfig, String> {
-        self.edited_scene(values, &[])
-    }
-
-    /// The scene of a standard setting.
-    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, String> {
-        self.edited_scene(&standard.values, &standard.removed)
-    }
-
-    /// The base scene with the keys `removed` taken out, then `values` set.
-    fn edited_scene(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<SceneConfig, String> {
-        let tree = self.edited_tree(values, removed)?;
+        let tree = self.edited_tree(values)?;
         let mut scene: SceneConfig = toml::Value::Table(tree).try_into().map_err(|e| e.message().to_string())?;
         if let Some(disks) = &self.initial {
             scene.particles.count = disks.len();
@@ -246,20 +236,27 @@ impl TuneSpec {
         Ok(scene)
     }
 
-    /// The scene as written with `removed` taken out, then `values` set; a standard setting's when
-    /// `standard` is given, else the levers at `point`.
+    /// The scene of a standard setting.
+    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, String> {
+        self.scene(&standard.values)
+    }
+
+    /// The scene as written with lever values set: a standard setting's when `standard` is given,
+    /// else those at `point`.
     pub fn setting_tree(&self, point: &[f64], standard: Option<usize>) -> Result<toml::Table, String> {
+        self.edited_tree(&self.setting_values(point, standard))
+    }
+
+    /// The lever values a setting sets: a standard setting's, or those at `point`.
+    pub fn setting_values(&self, point: &[f64], standard: Option<usize>) -> Vec<(String, ParamValue)> {
         match standard {
-            Some(k) => self.edited_tree(&self.standards[k].values, &self.standards[k].removed),
-            None => self.edited_tree(&self.values(point), &[]),
+            Some(k) => self.standards[k].values.clone(),
+            None => self.values(point),
         }
     }
 
-    fn edited_tree(&self, values: &[(String, ParamValue)], removed: &[String]) -> Result<toml::Table, String> {
+    fn edited_tree(&self, values: &[(String, ParamValue)]) -> Result<toml::Table, String> {
         let mut tree = self.base.clone();
-        for key in removed {
-            remove_path(&mut tree, key);
-        }
         for (key, value) in values {
             let path: KeyPath = key.split('.').map(String::from).collect();
             set_path(&mut tree, &path, value.to_toml())?;
@@ -294,20 +291,6 @@ impl TuneSpec {
                 Some((lever.key.clone(), value, coordinate))
             })
             .collect()
-    }
-}
-
-/// Removes a dotted key from a TOML tree (nothing when it is not there).
-fn remove_path(tree: &mut toml::Table, key: &str) {
-    match key.split_once('.') {
-        Some((head, rest)) => {
-            if let Some(toml::Value::Table(inner)) = tree.get_mut(head) {
-                remove_path(inner, rest);
-            }
-        }
-        None => {
-            tree.remove(key);
-        }
     }
 }
 

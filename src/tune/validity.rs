@@ -3,12 +3,11 @@
 //! clipped where they reach past a limit ([`clip_levers`]).
 
 use super::model::ScreenError;
-use super::spec::{LeverRange, TuneSpec};
+use super::spec::{DIGITS, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
 use crate::physics::warning::ValidityWarning;
 use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step};
-use crate::study::ParamValue;
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
 const CLIP_STEPS: usize = 24;
@@ -92,11 +91,9 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         if named.is_empty() {
             continue;
         }
-        let number = |u: f64| match lever.value(u) {
-            ParamValue::Float(x) => x,
-            other => other.to_string().parse().unwrap_or(f64::NAN),
-        };
-        let (new_low, new_high) = (number(ends.0), number(ends.1));
+        // The ends as found, rounded inwards so that the clipped range stays within the limit.
+        let raw = |u: f64| if log { low * (high / low).powf(u) } else { low + (high - low) * u };
+        let (new_low, new_high) = (round_inward(raw(ends.0), true), round_inward(raw(ends.1), false));
         spec.levers[d].range = if log {
             LeverRange::Log { low: new_low, high: new_high, integer }
         } else {
@@ -111,4 +108,35 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         ));
     }
     warnings
+}
+
+/// `x` rounded to the lever digits, up (`up`) or down: a clipped range's end moved inwards.
+fn round_inward(x: f64, up: bool) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(DIGITS - 1 - x.abs().log10().floor() as i32);
+    let scaled = x * scale;
+    // A value a hair past a round number (from the bisection's arithmetic) stays on it.
+    let nearest = scaled.round();
+    let rounded = if (scaled - nearest).abs() < 1e-9 {
+        nearest
+    } else if up {
+        scaled.ceil()
+    } else {
+        scaled.floor()
+    };
+    format!("{:.*e}", (DIGITS - 1) as usize, rounded / scale).parse().unwrap_or(rounded / scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_clipped_end_rounds_inwards() {
+        assert_eq!(round_inward(0.100_09, false), 0.1);
+        assert_eq!(round_inward(0.010_001, true), 0.010_01);
+        assert_eq!(round_inward(2.7e9 + 1e-3, true), 2.7e9);
+    }
 }

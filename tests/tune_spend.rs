@@ -1,0 +1,217 @@
+//! Where the tune spends: on stand-ins whose cost is its time step's times a settle time, the search
+//! evaluates damping levers that leave the time step alone, a time-step path whose rungs all fail
+//! leaves spend for the other levers, and a cheap corner that needs more than `max_seeds` seeds to
+//! decide gets them and is the answer.
+
+use demsweep::tune::model::{
+    Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchResult, State, TuneError,
+};
+use demsweep::tune::search::search;
+
+/// A function of a point of the lever space.
+type Field = fn(&[f64]) -> f64;
+
+/// A reference run costs 100 (time step 1, settle time 1, metric 1 with spread 0.01). A setting at
+/// point `p` has time step `1 / step_cost(p)` and settle time `settle(p)`: a run costs
+/// `100 · step_cost · settle`; its metric is `1 + offset(p)` plus Gaussian noise of sd `spread(p)`. A
+/// run at a point where `settles` is false never settles and costs five times as much, unless cut.
+/// Standard setting k is the point `standards[k].0` with its time step divided by `standards[k].1`
+/// (`step_down` adds the same point with a smaller step).
+struct StandIn {
+    step_cost: Field,
+    settle: Field,
+    offset: Field,
+    spread: Field,
+    settles: fn(&[f64], bool) -> bool,
+    standards: Vec<(Vec<f64>, f64)>,
+    jobs: Vec<Job>,
+}
+
+impl StandIn {
+    fn new() -> Self {
+        Self {
+            step_cost: |_| 1.0,
+            settle: |_| 1.0,
+            offset: |_| 0.0,
+            spread: |_| 0.01,
+            settles: |_, _| true,
+            standards: Vec::new(),
+            jobs: Vec::new(),
+        }
+    }
+
+    /// The point, the time step's cost factor and whether it is a standard setting.
+    fn setting(&self, point: &[f64], standard: Option<usize>) -> (Vec<f64>, f64, bool) {
+        match standard {
+            Some(k) => {
+                let (p, scale) = &self.standards[k];
+                (p.clone(), (self.step_cost)(p) / scale, true)
+            }
+            None => (point.to_vec(), (self.step_cost)(point), false),
+        }
+    }
+}
+
+fn hash(mut x: u64) -> u64 {
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    x ^ (x >> 33)
+}
+
+fn normal(key: u64) -> f64 {
+    let u1 = ((hash(key) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let u2 = ((hash(key ^ 0x5555) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+impl Evaluator for StandIn {
+    fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
+        let (p, step, _) = self.setting(point, standard);
+        Screen {
+            identity: format!("{p:?} {step}"),
+            predicted: Ok(Vec::new()),
+            resolved: Vec::new(),
+            relative_cost: Some(step),
+        }
+    }
+
+    fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
+        let (p, scale) = self.standards[standard].clone();
+        self.standards.push((p, scale * factor));
+        Some(self.standards.len() - 1)
+    }
+
+    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError> {
+        self.jobs.extend(jobs.iter().cloned());
+        Ok(jobs
+            .iter()
+            .map(|job| {
+                if job.role == Role::Reference {
+                    return Outcome::settled(100.0, vec![1.0 + 0.01 * normal(job.seed)]);
+                }
+                let (p, step, standard) = self.setting(&job.point, job.standard);
+                let key =
+                    p.iter().fold(step.to_bits(), |h, x| hash(h ^ x.to_bits())) ^ job.seed.wrapping_mul(0x9e37_79b9);
+                let metric = 1.0 + (self.offset)(&p) + (self.spread)(&p) * normal(key);
+                let settles = (self.settles)(&p, standard);
+                let cost = 100.0 * step * if settles { (self.settle)(&p) } else { 5.0 };
+                let mut outcome = Outcome::settled(cost, vec![metric]);
+                if !settles {
+                    outcome.failure = Some(RunFailure::NotSettled);
+                }
+                if let Some(cap) = job.cap.filter(|&cap| cost > cap) {
+                    (outcome.cost, outcome.failure) = (cap, Some(RunFailure::Cut { cap }));
+                }
+                outcome
+            })
+            .collect())
+    }
+}
+
+fn config() -> SearchConfig {
+    SearchConfig {
+        dims: 2,
+        levels: vec![None, None],
+        tolerances: vec![(0.05, true)],
+        metrics: vec!["pile_height".to_string()],
+        seeds: 3,
+        max_seeds: 8,
+        reference_seeds: 6,
+        verify_seeds: 8,
+        budget: 400,
+        seed: 5,
+        initial: None,
+        standards: 0,
+        path: false,
+        max_spend: 20.0,
+        cut_runs: true,
+    }
+}
+
+/// Every candidate in a line, for failure messages.
+fn dump(result: &SearchResult) -> String {
+    let lines = result.candidates.iter().map(|c| {
+        let a = result.assess(c);
+        let v = result.assess_verification(c).map(|v| format!("{} {:.3}", v.state.name(), v.cost / 100.0));
+        format!("{} {:?} s{:?} n{} {:.3} {:?} {:?}", c.id, c.point, c.standard, a.n, a.cost / 100.0, a.state, v)
+    });
+    lines.collect::<Vec<_>>().join("\n")
+}
+
+/// The answer's verified mean cost over the reference's, and the answer.
+fn answer(result: &SearchResult) -> (f64, &demsweep::tune::model::Candidate) {
+    let best = &result.candidates[result.recommended.unwrap_or_else(|| panic!("no answer:\n{}", dump(result)))];
+    let verified = result.assess_verification(best).expect("verified");
+    assert_eq!(verified.state, State::Feasible);
+    (verified.cost / result.reference_cost(), best)
+}
+
+#[test]
+fn a_damping_only_tune_evaluates_damping_settings() {
+    // Two damping levers: the time step never moves; more of either settles sooner. The standard
+    // setting (local damping 0.2, at the centre) settles at 0.65 of the reference; more damping is
+    // cheaper and as good.
+    let stand_in =
+        StandIn { settle: |p| 1.0 - 0.5 * p[0] - 0.2 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let result = search(&SearchConfig { standards: 1, max_spend: 30.0, ..config() }, &mut stand_in).unwrap();
+    let evaluated = result.candidates.iter().filter(|c| c.standard.is_none() && !c.runs.is_empty()).count();
+    assert!(evaluated >= 3, "the damping levers were searched: {evaluated} settings\n{}", dump(&result));
+    let (cost, best) = answer(&result);
+    assert!(best.standard.is_none() && cost < 0.55, "a cheaper damping setting is the answer: {cost}");
+}
+
+#[test]
+fn a_time_step_path_whose_rungs_all_fail_leaves_spend_for_the_other_levers() {
+    // The time step at its largest value never settles, nor does any smaller step the path tries; the
+    // other lever (the second coordinate, a damping) settles sooner where it is larger.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.5 * p[0],
+        settle: |p| 1.0 - 0.4 * p[1],
+        settles: |_, standard| !standard,
+        standards: vec![(vec![1.0, 0.5], 1.0)],
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let result = search(&SearchConfig { standards: 1, path: true, ..config() }, &mut stand_in).unwrap();
+    assert!(!result.path.0.is_empty(), "the path ran: {:?}\n{}", result.path, dump(&result));
+    assert!(
+        result
+            .path
+            .0
+            .iter()
+            .all(|&k| matches!(result.assess(&result.candidates[k]).state, State::Infeasible(_) | State::Cut))
+    );
+    let evaluated = result.candidates.iter().filter(|c| c.standard.is_none() && !c.runs.is_empty()).count();
+    assert!(evaluated >= 3, "the other levers were evaluated: {evaluated} settings");
+    let (cost, best) = answer(&result);
+    assert!(best.standard.is_none() && cost < 0.8, "{cost}");
+}
+
+#[test]
+fn a_cheap_corner_that_needs_more_than_max_seeds_to_decide_is_found() {
+    // The stiffness-like first lever halves the time step's cost at its top end (1 - 0.6 x); the
+    // second, a damping, shortens the settle time. Every setting keeps the pile, but above x = 0.85
+    // the metric spreads ten times more from seed to seed: about 15 seeds decide it, past max_seeds = 8.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.6 * p[0],
+        settle: |p| 1.0 - 0.3 * p[1],
+        spread: |p| if p[0] > 0.85 { 0.1 } else { 0.01 },
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { max_spend: 40.0, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let (cost, best) = answer(&result);
+    assert!(best.point[0] > 0.85, "the cheap corner is the answer: {:?} at {cost}", best.point);
+    assert!(best.runs.len() > config.max_seeds, "it got the seeds that decide it: {}", best.runs.len());
+    let spent: f64 = result
+        .reference
+        .iter()
+        .chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)))
+        .map(|o| o.cost)
+        .sum();
+    assert!(spent <= config.max_spend * 100.0, "{spent}");
+}
