@@ -271,9 +271,37 @@ struct CheckArgs {
     study: PathBuf,
 }
 
-/// Parses the command line and runs the subcommand.
+/// Parses the command line and runs the subcommand; a failed write to standard output makes a
+/// successful command fail, naming it.
 pub fn main() -> ExitCode {
-    match Cli::parse().command {
+    let code = match Cli::try_parse() {
+        Ok(cli) => dispatch(cli.command),
+        Err(e) => usage(&e),
+    };
+    match demsweep::output::terminal::stdout_failure() {
+        None => code,
+        Some(e) => {
+            errln!("error: {e}");
+            if code == ExitCode::SUCCESS { ExitCode::FAILURE } else { code }
+        }
+    }
+}
+
+/// Prints clap's help, version or usage error through the text edge; its exit status (0 for help and
+/// version, 2 for a usage error).
+fn usage(error: &clap::Error) -> ExitCode {
+    let text = error.render().to_string();
+    if error.use_stderr() {
+        errln!("{}", text.trim_end());
+    } else {
+        outln!("{}", text.trim_end());
+    }
+    ExitCode::from(error.exit_code().clamp(0, 255) as u8)
+}
+
+/// Runs one subcommand.
+fn dispatch(command: Command) -> ExitCode {
+    match command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
         Command::Run(args) => match load_or_report(args.study(), args.out()) {
@@ -305,16 +333,16 @@ pub fn main() -> ExitCode {
 fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
     let (plan, space) = workflow::load_study(path, out).map_err(|e| {
         match e {
-            LoadError::TuneFile(_) => eprintln!("error: {e}"),
+            LoadError::TuneFile(_) => errln!("error: {e}"),
             LoadError::Invalid(errors) => {
-                eprintln!("{errors}");
-                eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+                errln!("{errors}");
+                errln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
             }
         }
         ExitCode::from(INVALID_STUDY)
     })?;
     for warning in plan.warnings.iter().map(ToString::to_string).chain(space) {
-        eprintln!("warning: {warning}");
+        errln!("warning: {warning}");
     }
     Ok(plan)
 }
@@ -331,7 +359,7 @@ fn check(args: &CheckArgs) -> ExitCode {
                 1 => " (1 warning above)".into(),
                 n => format!(" ({n} warnings above)"),
             };
-            println!("ok: {}{warnings}", runs(plan.runs.len()));
+            outln!("ok: {}{warnings}", runs(plan.runs.len()));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -348,17 +376,17 @@ fn plan(args: &PlanArgs) -> ExitCode {
         Err(code) => return code,
     };
     let cores = args.cores.unwrap_or_else(machine_cores).max(1);
-    println!(
+    outln!(
         "study {} ({}), fingerprint {}, {} runs",
         plan.name,
         plan.study_path.display(),
         plan.fingerprint,
         plan.runs.len()
     );
-    print!("{}", run_table(&plan));
+    out!("{}", run_table(&plan));
     let total = plan.total_cost();
     let seconds = total * SECONDS_PER_PARTICLE_STEP;
-    println!(
+    outln!(
         "total {total:.3e} particle-steps (upper bound: runs stop when settled); about {} on 1 core, {} on {cores} cores",
         duration(seconds),
         duration(seconds / cores as f64),
@@ -378,7 +406,7 @@ fn machine_cores() -> usize {
 fn note_long_cost(plan: &Plan, cores: usize) {
     let seconds = plan.total_cost() * SECONDS_PER_PARTICLE_STEP / cores.max(1) as f64;
     if seconds > LONG_SWEEP {
-        eprintln!(
+        errln!(
             "note: {}: about {} on {cores} cores ({:.4e} particle-steps; runs that settle stop sooner): see `demsweep plan {}`",
             plan.study_path.display(),
             duration(seconds),
@@ -424,11 +452,11 @@ fn keys(args: &KeysArgs) -> ExitCode {
     let keys: Vec<_> =
         demsweep::physics::keys::scene_keys().into_iter().filter(|k| k.path.starts_with(prefix)).collect();
     if keys.is_empty() {
-        eprintln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
+        errln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
         return ExitCode::FAILURE;
     }
     if args.markdown {
-        print!("{}", demsweep::physics::keys::markdown_table(&keys));
+        out!("{}", demsweep::physics::keys::markdown_table(&keys));
         return ExitCode::SUCCESS;
     }
     let width = keys.iter().map(|k| k.path.len() + k.default.len() + 3).max().unwrap_or(0);
@@ -436,7 +464,7 @@ fn keys(args: &KeysArgs) -> ExitCode {
         let setting = format!("{} = {}", k.path, k.default);
         let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
         let range = if k.range.is_empty() { String::new() } else { format!(" ({})", k.range) };
-        println!("{setting:<width$}  {}{unit}{range}", k.description);
+        outln!("{setting:<width$}  {}{unit}{range}", k.description);
     }
     ExitCode::SUCCESS
 }

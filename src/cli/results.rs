@@ -1,6 +1,5 @@
 //! The result commands: `run`, `summary`, `history` and `merge`.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -30,7 +29,7 @@ pub(super) fn damage_status(results: &Path, damaged: &[output::reader::DamagedGr
     if damaged.is_empty() {
         return ExitCode::SUCCESS;
     }
-    eprintln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
+    errln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
     ExitCode::from(DAMAGED)
 }
 
@@ -211,7 +210,7 @@ impl RunArgs {
 pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
     let stop = Arc::new(AtomicBool::new(false));
     if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
-        eprintln!("warning: {e}");
+        errln!("warning: {e}");
     }
     let options = RunOptions {
         jobs: args.jobs.unwrap_or(0),
@@ -238,7 +237,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
             ExitCode::from(run.report.exit_code() as u8)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::from(FAILED)
         }
     }
@@ -249,7 +248,7 @@ fn print_report(report: &RunReport) {
         Some(ColumnData::Text(statuses)) => status_counts(statuses),
         _ => String::new(),
     };
-    println!(
+    outln!(
         "{} of {} runs recorded{counts}; {} run now, {} already done",
         report.summary.len(),
         report.selected,
@@ -257,11 +256,11 @@ fn print_report(report: &RunReport) {
         report.already_done
     );
     let (wall, writer) = (report.wall_time.as_secs_f64(), report.writer_time.as_secs_f64());
-    println!(
+    outln!(
         "wall time {wall:.2} s; writing results took {writer:.3} s ({:.1} % of it, in its own thread)",
         100.0 * writer / wall.max(f64::MIN_POSITIVE)
     );
-    println!(
+    outln!(
         "results: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
@@ -275,7 +274,7 @@ fn print_missing(report: &RunReport, args: &RunArgs) {
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
-        eprintln!(
+        errln!(
             "{} runs not recorded{}: continue with `demsweep run {}{out}{shard} --resume`",
             report.missing(),
             if report.interrupted { " (interrupted)" } else { "" },
@@ -283,7 +282,7 @@ fn print_missing(report: &RunReport, args: &RunArgs) {
         );
     }
     if report.failed() > 0 {
-        eprintln!(
+        errln!(
             "{} runs failed with an error: see the status and message columns; `--resume` runs them again",
             report.failed()
         );
@@ -296,18 +295,18 @@ fn print_warnings(report: &RunReport) {
     if digest.groups.is_empty() {
         return;
     }
-    eprintln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
+    errln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
     for group in digest.groups.iter().take(WARNING_KINDS_SHOWN) {
         let runs = match group.runs {
             1 => format!("1 run ({})", group.first_run),
             n => format!("{n} runs (first {})", group.first_run),
         };
-        eprintln!("  {runs}: {}", group.example);
+        errln!("  {runs}: {}", group.example);
     }
     if digest.groups.len() > WARNING_KINDS_SHOWN {
-        eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
+        errln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
-    eprintln!(
+    errln!(
         "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `warnings` table",
         report.results.display()
     );
@@ -347,8 +346,8 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
         Ok(view) => view,
         Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
     };
-    let printed = print(&shown);
-    if printed.is_ok() { status } else { report_error(printed) }
+    print(&shown);
+    status
 }
 
 /// The numeric columns of a per-run summary table after its status (the metrics a view may show).
@@ -386,9 +385,10 @@ fn default_metrics(known: &[&str]) -> Vec<String> {
 }
 
 /// Prints a table aligned on stdout.
-fn print(table: &SummaryTable) -> Result<(), output::OutputError> {
-    output::summary::print_aligned(&mut std::io::stdout().lock(), table)
-        .map_err(|e| output::OutputError::io(std::path::Path::new("<stdout>"), e))
+fn print(table: &SummaryTable) {
+    let mut text = Vec::new();
+    let _ = output::summary::print_aligned(&mut text, table); // writing to memory cannot fail
+    out!("{}", String::from_utf8_lossy(&text));
 }
 
 /// `demsweep compare`: every point against the reference; exit 2 for an unknown point or metric.
@@ -406,37 +406,36 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
         Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
     };
     let reference = comparison.reference;
-    println!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());
+    outln!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());
     let kept: Vec<String> = comparison
         .kept
         .iter()
         .map(|k| format!("{} within {} (±{})", k.tolerance.metric, k.tolerance.relative, short_float(k.margin)))
         .collect();
-    println!("kept (relative tolerance of the reference mean): {}", kept.join(", "));
+    outln!("kept (relative tolerance of the reference mean): {}", kept.join(", "));
     for note in &comparison.notes {
-        println!("note: {note}");
+        outln!("note: {note}");
     }
     let (decisions, costs) = comparison.printed(&points);
     let acceptable = comparison.points.iter().filter(|p| p.acceptable()).count();
-    let mut outcome = print(&decisions).and_then(|()| {
-        println!();
-        print(&costs)
-    });
-    println!(
+    print(&decisions);
+    outln!();
+    print(&costs);
+    outln!(
         "{acceptable} of {} points acceptable (every kept metric equivalent: its 90 % interval inside ± margin)",
         comparison.points.len()
     );
-    if let Some(path) = &args.csv {
-        outcome = outcome
-            .and_then(|()| output::summary::write_csv(path, &comparison.table(&points)))
-            .map(|()| println!("comparison: {}", path.display()));
-    }
+    let outcome = match &args.csv {
+        Some(path) => output::summary::write_csv(path, &comparison.table(&points))
+            .map(|()| outln!("comparison: {}", path.display())),
+        None => Ok(()),
+    };
     if args.plot {
         let dir = args.out.clone().unwrap_or_else(|| args.results.parent().unwrap_or(Path::new("")).join("plots"));
         match plot::compare::draw_all(&points, &comparison, &dir, &ChartOptions::default()) {
-            Ok(written) => written.iter().for_each(|p| println!("wrote {}", p.display())),
+            Ok(written) => written.iter().for_each(|p| outln!("wrote {}", p.display())),
             Err(e) => {
-                eprintln!("error: {e}");
+                errln!("error: {e}");
                 return ExitCode::from(FAILED);
             }
         }
@@ -446,16 +445,16 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
 
 /// Reports bad input (an unknown point or metric) with exit status 2.
 fn bad_input(error: &output::OutputError) -> ExitCode {
-    eprintln!("error: {error}");
+    errln!("error: {error}");
     ExitCode::from(BAD_INPUT)
 }
 
-/// `demsweep history`: one run's histories as CSV on stdout (a closed pipe, as with `| head`, is no error).
+/// `demsweep history`: one run's histories as CSV on stdout.
 pub fn history(args: &HistoryArgs) -> ExitCode {
     let mut csv = Vec::new();
     let outcome = output::history::to_csv(&args.results, &args.run_id, &mut csv);
     if outcome.is_ok() {
-        let _ = std::io::stdout().lock().write_all(&csv);
+        out!("{}", String::from_utf8_lossy(&csv));
     }
     report_error(outcome)
 }
@@ -464,7 +463,7 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 pub fn report(args: &ReportArgs) -> ExitCode {
     match demsweep::report::write_report(&args.results, args.out.as_deref(), &ReportContext::default()) {
         Ok((path, damaged)) => {
-            println!("report: {}", path.display());
+            outln!("report: {}", path.display());
             damage_status(&args.results, &damaged)
         }
         Err(e) => report_error(Err(e)),
@@ -481,10 +480,10 @@ pub fn write_report(results: &Path, context: &ReportContext) {
 pub fn page_written(results: &Path, page: demsweep::workflow::Page) {
     match page {
         Ok((path, damaged)) => {
-            println!("report: {}", path.display());
+            outln!("report: {}", path.display());
             damage_status(results, &damaged);
         }
-        Err(e) => eprintln!("warning: no report: {e}"),
+        Err(e) => errln!("warning: no report: {e}"),
     }
 }
 
@@ -503,7 +502,7 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
             format!("merged {} of {} runs from {} of {count} shards", report.runs, report.planned_runs, report.shards)
         }
     };
-    println!(
+    outln!(
         "{merged}\nresults: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
@@ -513,11 +512,11 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
     if report.problems.is_empty() {
         return ExitCode::SUCCESS;
     }
-    eprintln!("error: the merge is incomplete:");
+    errln!("error: the merge is incomplete:");
     for problem in &report.problems {
-        eprintln!("  {}", problem.reason);
+        errln!("  {}", problem.reason);
     }
-    eprintln!("{}", rerun_commands(args, &report));
+    errln!("{}", rerun_commands(args, &report));
     ExitCode::from(FAILED)
 }
 
@@ -563,7 +562,7 @@ fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::from(FAILED)
         }
     }

@@ -329,7 +329,11 @@ fn open_results(
         writer.forget_failed()?;
         // A warning about stored results, not progress: shown whatever the progress display.
         if !damaged.is_empty() {
-            eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
+            crate::output::terminal::err(format_args!(
+                "warning: {}: {}; they run now\n",
+                path.display(),
+                output::reader::damage_text(&damaged)
+            ));
         }
         return Ok((lock, writer));
     }
