@@ -12,7 +12,9 @@ use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
 use demsweep::plot::{self, ChartOptions};
 use demsweep::report::ReportContext;
-use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, interrupt};
+use demsweep::runner::{
+    self, CommitPolicy, EXIT_PARTIAL, ProgressMode, RunCounts, RunOptions, RunReport, SweepOutcome, interrupt,
+};
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::{self, Points};
 
@@ -73,6 +75,9 @@ pub struct RunArgs {
     /// `kill -9` loses at most the runs of this interval and one commit.
     #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
     commit_interval: Duration,
+    /// Treat the study's warnings as errors: run nothing (exit status 2), for scripts and CI.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// A positive number of seconds.
@@ -204,6 +209,11 @@ impl RunArgs {
     pub fn out(&self) -> Option<&std::path::Path> {
         self.out.as_deref()
     }
+
+    /// Whether warnings are errors.
+    pub fn strict(&self) -> bool {
+        self.strict
+    }
 }
 
 /// `demsweep run`: exit 0 when every run finished, 1 on failed or missing runs, 130 after Ctrl-C.
@@ -234,7 +244,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
             print_report(&run.report);
             page_written(&run.report.results, run.page);
             print_missing(&run.report, args);
-            ExitCode::from(run.report.exit_code() as u8)
+            sweep_status(&run.report.counts(), run.report.interrupted)
         }
         Err(e) => {
             errln!("error: {e}");
@@ -287,6 +297,17 @@ fn print_missing(report: &RunReport, args: &RunArgs) {
             report.failed()
         );
     }
+}
+
+/// Says how many runs failed, if any; the exit status of the sweep's [`SweepOutcome`].
+fn sweep_status(counts: &RunCounts, interrupted: bool) -> ExitCode {
+    let outcome = SweepOutcome::of(counts, interrupted);
+    match outcome {
+        SweepOutcome::Failed => errln!("error: {counts}: no run gave a result (exit status 1)"),
+        SweepOutcome::Partial => errln!("warning: {counts} (exit status {EXIT_PARTIAL})"),
+        SweepOutcome::Complete | SweepOutcome::Interrupted => {}
+    }
+    ExitCode::from(outcome.exit_code() as u8)
 }
 
 /// The warnings of the runs just run, one line per kind (the first few), then where to find the rest.
@@ -510,7 +531,10 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
     );
     write_report(&report.results, &ReportContext::default());
     if report.problems.is_empty() {
-        return ExitCode::SUCCESS;
+        return match output::summary::read(&report.results) {
+            Ok(merged) => sweep_status(&RunCounts::of_summary(report.planned_runs, &merged), false),
+            Err(e) => report_error(Err(e)),
+        };
     }
     errln!("error: the merge is incomplete:");
     for problem in &report.problems {

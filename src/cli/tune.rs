@@ -43,8 +43,8 @@ pub struct TuneArgs {
 
 /// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
 /// The warnings of a valid file (clipped lever ranges, the reference scene's predicted validity
-/// warnings) go to stderr; returns them with the spec.
-pub fn load_or_report(path: &Path) -> Result<(TuneSpec, usize), ExitCode> {
+/// warnings) go to stderr, and are errors when `strict`; returns their number with the spec.
+pub fn load_or_report(path: &Path, strict: bool) -> Result<(TuneSpec, usize), ExitCode> {
     let (spec, warnings) = workflow::load_tune(path).map_err(|errors| {
         errln!("{errors}");
         errln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
@@ -53,12 +53,13 @@ pub fn load_or_report(path: &Path) -> Result<(TuneSpec, usize), ExitCode> {
     for warning in &warnings {
         errln!("warning: {}: {warning}", path.display());
     }
+    super::refuse_warnings(path, warnings.len(), strict)?;
     Ok((spec, warnings.len()))
 }
 
 /// `demsweep check` of a tune file.
-pub fn check(path: &Path) -> ExitCode {
-    match load_or_report(path) {
+pub fn check(path: &Path, strict: bool) -> ExitCode {
+    match load_or_report(path, strict) {
         Ok((spec, warnings)) => {
             let above = match warnings {
                 0 => String::new(),
@@ -79,7 +80,7 @@ pub fn check(path: &Path) -> ExitCode {
 
 /// `demsweep plan` of a tune file: levers, seeds and the budget's cost bound.
 pub fn plan(path: &Path, cores: usize) -> ExitCode {
-    let spec = match load_or_report(path) {
+    let spec = match load_or_report(path, false) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
@@ -150,7 +151,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
 
 /// `demsweep tune FILE`.
 pub fn run(args: &TuneArgs) -> ExitCode {
-    let mut spec = match load_or_report(&args.file) {
+    let mut spec = match load_or_report(&args.file, false) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
