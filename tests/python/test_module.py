@@ -233,7 +233,7 @@ def test_the_commands_warnings_are_demsweep_warnings_a_notebook_can_make_errors(
     assert all(w.filename == __file__ for w in caught), "the warning points at the caller"
     with warnings.catch_warnings():
         warnings.simplefilter("error", demsweep.DemsweepWarning)
-        with pytest.raises(demsweep.DemsweepWarning, match="youngs_modulus"):
+        with pytest.raises(demsweep.DemsweepWarning, match="Pa"):
             demsweep.run_batch([soft])
 
 
