@@ -59,7 +59,8 @@ enum Command {
                       levers, disks that do not fit, unreadable placement files). Warnings do not fail the \
                       check: what the pre-run validity estimate predicts, and values implausible in their SI \
                       unit (units are SI: `material.youngs_modulus = 10` is 10 Pa; the warning says what it \
-                      would be in GPa). Prints \"ok: N runs\" and exits 0 when the file is valid, else exits 2. \
+                      would be in GPa). Prints \"ok: N runs\" and exits 0 when the file is valid, else exits 2 \
+                      (with --strict, also when there is a warning). \
                       Every scene key with its default, unit and range: `demsweep keys`.",
         after_help = "Examples:\n  demsweep check studies/damping_sweep.toml && echo valid\n  \
                       demsweep check studies/tune_deposition.toml"
@@ -72,8 +73,12 @@ enum Command {
                       frames; layout in docs/results.md) and OUT/<study name>_summary.csv (one \
                       row per run). Finished runs are committed as they finish, so nothing finished is lost \
                       to a crash or kill: continue with --resume. Ctrl-C, SIGTERM and SIGHUP stop cleanly \
-                      (exit 130); a second signal quits at once. Exit status 0 when every run finished (settled, not settled or \
-                      diverged), 1 when a run failed or is missing, 2 for an invalid study.",
+                      (exit 130); a second signal quits at once.\n\nExit status:\n  0    every run recorded (settled or not \
+                      settled)\n  1    no run gave a result (every one diverged, failed with an error or is missing), \
+                      or the results could not be written\n  2    the study is invalid (with --strict: or has a \
+                      warning); nothing was run\n  4    some runs diverged, failed with an error or are missing \
+                      (how many is printed); the others are recorded\n  130  interrupted (finished runs are kept; \
+                      continue with --resume)",
         after_help = "Examples:\n  demsweep run studies/damping_sweep.toml\n  \
                       demsweep run studies/damping_sweep.toml --jobs 8 --out /scratch/damping\n  \
                       demsweep run studies/damping_sweep.toml --resume\n  \
@@ -134,7 +139,8 @@ enum Command {
                       (but for the creation time and wall times), copying one run at a time. Refuses shards \
                       of one study whose input files or demsweep version differ, and runs present in two shards. Missing shards, missing runs and \
                       runs that failed with an error do not stop it: it merges what there is, lists them, \
-                      prints the commands that run those shards again and merge again, and exits 1. Results files \
+                      prints the commands that run those shards again and merge again, and exits 1. A complete merge exits \
+                      as `run` does: 0, or 4 when some runs diverged, 1 when every one did. Results files \
                       of different studies merge run by run: each run identity (settings, input files, physics \
                       version) once, renumbered r0000, ... in the order given; files written before run \
                       identities and files of different physics versions are refused.",
@@ -269,14 +275,45 @@ struct KeysArgs {
 struct CheckArgs {
     /// The study file (TOML).
     study: PathBuf,
+    /// Treat warnings as errors (exit status 2), for scripts and CI.
+    #[arg(long)]
+    strict: bool,
 }
 
-/// Parses the command line and runs the subcommand.
+/// Parses the command line and runs the subcommand; a failed write to standard output makes a
+/// successful command fail, naming it.
 pub fn main() -> ExitCode {
-    match Cli::parse().command {
+    let code = match Cli::try_parse() {
+        Ok(cli) => dispatch(cli.command),
+        Err(e) => usage(&e),
+    };
+    match demsweep::output::terminal::stdout_failure() {
+        None => code,
+        Some(e) => {
+            errln!("error: {e}");
+            if code == ExitCode::SUCCESS { ExitCode::FAILURE } else { code }
+        }
+    }
+}
+
+/// Prints clap's help, version or usage error through the text edge; its exit status (0 for help and
+/// version, 2 for a usage error).
+fn usage(error: &clap::Error) -> ExitCode {
+    let text = error.render().to_string();
+    if error.use_stderr() {
+        errln!("{}", text.trim_end());
+    } else {
+        outln!("{}", text.trim_end());
+    }
+    ExitCode::from(error.exit_code().clamp(0, 255) as u8)
+}
+
+/// Runs one subcommand.
+fn dispatch(command: Command) -> ExitCode {
+    match command {
         Command::Plan(args) => plan(&args),
         Command::Check(args) => check(&args),
-        Command::Run(args) => match load_or_report(args.study(), args.out()) {
+        Command::Run(args) => match load_or_report(args.study(), args.out(), args.strict()) {
             Ok(plan) => {
                 note_long_cost(&plan, args.jobs().unwrap_or(usize::MAX).min(machine_cores()));
                 results::run(&args, &plan)
@@ -292,7 +329,7 @@ pub fn main() -> ExitCode {
         Command::Report(args) => results::report(&args),
         Command::Keys(args) => keys(&args),
         Command::Bench(args) => bench::bench(&args),
-        Command::Slurm(args) => match load_or_report(args.study(), args.out()) {
+        Command::Slurm(args) => match load_or_report(args.study(), args.out(), false) {
             Ok(plan) => slurm::slurm(&args, &plan),
             Err(code) => code,
         },
@@ -301,29 +338,42 @@ pub fn main() -> ExitCode {
 }
 
 /// The study's plan, its warnings printed to stderr (with one about the space its results need in
-/// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid study.
-fn load_or_report(path: &Path, out: Option<&Path>) -> Result<Plan, ExitCode> {
+/// `out`, default `results/<name>/`); or its problems printed and the exit status for an invalid
+/// study, which warnings are too when `strict`.
+fn load_or_report(path: &Path, out: Option<&Path>, strict: bool) -> Result<Plan, ExitCode> {
     let (plan, space) = workflow::load_study(path, out).map_err(|e| {
         match e {
-            LoadError::TuneFile(_) => eprintln!("error: {e}"),
+            LoadError::TuneFile(_) => errln!("error: {e}"),
             LoadError::Invalid(errors) => {
-                eprintln!("{errors}");
-                eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+                errln!("{errors}");
+                errln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
             }
         }
         ExitCode::from(INVALID_STUDY)
     })?;
-    for warning in plan.warnings.iter().map(ToString::to_string).chain(space) {
-        eprintln!("warning: {warning}");
+    let warnings: Vec<String> = plan.warnings.iter().map(ToString::to_string).chain(space).collect();
+    for warning in &warnings {
+        errln!("warning: {warning}");
     }
+    refuse_warnings(path, warnings.len(), strict)?;
     Ok(plan)
+}
+
+/// With --strict, `warnings` (printed above) are errors: says so; the exit status of an invalid study.
+fn refuse_warnings(path: &Path, warnings: usize, strict: bool) -> Result<(), ExitCode> {
+    if !strict || warnings == 0 {
+        return Ok(());
+    }
+    let n = if warnings == 1 { "1 warning".to_string() } else { format!("{warnings} warnings") };
+    errln!("error: {}: {n} above, errors under --strict; nothing was run", path.display());
+    Err(ExitCode::from(INVALID_STUDY))
 }
 
 fn check(args: &CheckArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
-        return tune::check(&args.study);
+        return tune::check(&args.study, args.strict);
     }
-    match load_or_report(&args.study, None) {
+    match load_or_report(&args.study, None, args.strict) {
         Ok(plan) => {
             note_long_cost(&plan, machine_cores());
             let warnings = match plan.warnings.len() {
@@ -331,7 +381,7 @@ fn check(args: &CheckArgs) -> ExitCode {
                 1 => " (1 warning above)".into(),
                 n => format!(" ({n} warnings above)"),
             };
-            println!("ok: {}{warnings}", runs(plan.runs.len()));
+            outln!("ok: {}{warnings}", runs(plan.runs.len()));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -343,22 +393,22 @@ fn plan(args: &PlanArgs) -> ExitCode {
         let cores = args.cores.unwrap_or_else(machine_cores).max(1);
         return tune::plan(&args.study, cores);
     }
-    let plan = match load_or_report(&args.study, None) {
+    let plan = match load_or_report(&args.study, None, false) {
         Ok(plan) => plan,
         Err(code) => return code,
     };
     let cores = args.cores.unwrap_or_else(machine_cores).max(1);
-    println!(
+    outln!(
         "study {} ({}), fingerprint {}, {} runs",
         plan.name,
         plan.study_path.display(),
         plan.fingerprint,
         plan.runs.len()
     );
-    print!("{}", run_table(&plan));
+    out!("{}", run_table(&plan));
     let total = plan.total_cost();
     let seconds = total * SECONDS_PER_PARTICLE_STEP;
-    println!(
+    outln!(
         "total {total:.3e} particle-steps (upper bound: runs stop when settled); about {} on 1 core, {} on {cores} cores",
         duration(seconds),
         duration(seconds / cores as f64),
@@ -378,7 +428,7 @@ fn machine_cores() -> usize {
 fn note_long_cost(plan: &Plan, cores: usize) {
     let seconds = plan.total_cost() * SECONDS_PER_PARTICLE_STEP / cores.max(1) as f64;
     if seconds > LONG_SWEEP {
-        eprintln!(
+        errln!(
             "note: {}: about {} on {cores} cores ({:.4e} particle-steps; runs that settle stop sooner): see `demsweep plan {}`",
             plan.study_path.display(),
             duration(seconds),
@@ -424,11 +474,11 @@ fn keys(args: &KeysArgs) -> ExitCode {
     let keys: Vec<_> =
         demsweep::physics::keys::scene_keys().into_iter().filter(|k| k.path.starts_with(prefix)).collect();
     if keys.is_empty() {
-        eprintln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
+        errln!("error: no scene key starts with `{prefix}`: `demsweep keys` lists them all");
         return ExitCode::FAILURE;
     }
     if args.markdown {
-        print!("{}", demsweep::physics::keys::markdown_table(&keys));
+        out!("{}", demsweep::physics::keys::markdown_table(&keys));
         return ExitCode::SUCCESS;
     }
     let width = keys.iter().map(|k| k.path.len() + k.default.len() + 3).max().unwrap_or(0);
@@ -436,7 +486,7 @@ fn keys(args: &KeysArgs) -> ExitCode {
         let setting = format!("{} = {}", k.path, k.default);
         let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
         let range = if k.range.is_empty() { String::new() } else { format!(" ({})", k.range) };
-        println!("{setting:<width$}  {}{unit}{range}", k.description);
+        outln!("{setting:<width$}  {}{unit}{range}", k.description);
     }
     ExitCode::SUCCESS
 }

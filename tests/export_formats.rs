@@ -246,7 +246,7 @@ fn a_settled_pile_opens_in_pandas_and_restarts_from_its_csv_settled_with_its_met
     let text = format!("{}{}", String::from_utf8_lossy(&check.stdout), String::from_utf8_lossy(&check.stderr));
     assert!(check.status.success(), "pandas check failed (scripts/test.sh installs pandas and h5py):\n{text}");
     assert!(text.contains("r000: 30 disks and") && text.contains(", 0 problems"), "{text}");
-    let disks = demsweep::study::initial_csv::read(&csv, 1.0).unwrap();
+    let disks = demsweep::study::initial_csv::read(&csv, 1.0, csv.parent().unwrap()).unwrap();
     let state = first.final_state.unwrap();
     assert_eq!(disks.len(), state.x.len());
     for (i, d) in disks.iter().enumerate() {
@@ -324,9 +324,9 @@ fn a_pile_restarted_with_its_contacts_file_keeps_every_pile_metric() {
         let run = stored::read_run(&file, &results, row).unwrap();
         assert_eq!(row.status, RunStatus::Settled, "{law:?}");
         let state = run.final_state.unwrap();
-        let disks = demsweep::study::initial_csv::read(&csv.join(format!("{}_final.csv", row.id)), 1.0).unwrap();
+        let disks = demsweep::study::initial_csv::read(&csv.join(format!("{}_final.csv", row.id)), 1.0, &csv).unwrap();
         let contacts_file = csv.join(format!("{}_final_contacts.csv", row.id));
-        let contacts = demsweep::study::initial_csv::read_contacts(&contacts_file, disks.len(), 3).unwrap();
+        let contacts = demsweep::study::initial_csv::read_contacts(&contacts_file, disks.len(), 3, &csv).unwrap();
         assert_eq!(contacts.len(), state.contacts.len());
         let springs = state.contacts.tangential_spring.iter().filter(|s| **s != 0.0).count();
         let law_states = state.contacts.law_state.iter().filter(|s| **s != 0.0).count();

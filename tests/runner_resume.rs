@@ -78,7 +78,7 @@ fn resume_runs_again_the_runs_that_failed_with_an_error() {
     plan.runs[2].scene.integrator.time_step = Some(-1.0); // fails when the run starts (no study check in between)
     let dir = runner_common::scratch("resume_failed");
     let first = run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
-    assert_eq!((first.failed(), first.exit_code()), (1, 1));
+    assert_eq!((first.failed(), first.exit_code()), (1, demsweep::runner::EXIT_PARTIAL));
 
     plan.runs[2].scene = good_scene;
     let mut again = runner_common::options(&dir, 2);

@@ -102,3 +102,20 @@ fn run_on_a_tune_file_points_to_tune() {
     );
     assert_eq!(text(&out.stderr).trim_end(), expected);
 }
+
+#[test]
+fn strict_makes_warnings_errors_for_check_and_run() {
+    let dir = StudyDir::new("cli-strict");
+    let study = dir.write("soft.toml", &format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.1, 0.3]\n"));
+    let study = study.to_str().unwrap();
+    assert_eq!(demsweep(&["check", study]).status.code(), Some(0), "warnings alone pass");
+    let out = dir.path.join("out");
+    for args in [vec!["check", study, "--strict"], vec!["run", study, "--strict", "--out", out.to_str().unwrap()]] {
+        let refused = demsweep(&args);
+        let stderr = text(&refused.stderr);
+        assert_eq!(refused.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains("soft.toml: 1 warning above, errors under --strict; nothing was run"), "{stderr}");
+        assert!(refused.stdout.is_empty(), "{args:?}");
+    }
+    assert!(!out.exists(), "a refused run writes nothing");
+}

@@ -32,6 +32,7 @@ from ._native import DemsweepError, ResultsError, StudyError, scene_study
 
 __all__ = [
     "DemsweepError",
+    "DemsweepWarning",
     "Results",
     "ResultsError",
     "StudyError",
@@ -48,6 +49,18 @@ __all__ = [
 UNITS: dict[str, str] = _native.units()
 
 
+class DemsweepWarning(UserWarning):
+    """What ``demsweep check`` and ``demsweep run`` warn about: implausible values, predicted
+    validity problems, runs that diverged or failed. A notebook can silence these or make them
+    errors: ``warnings.simplefilter("error", demsweep.DemsweepWarning)``."""
+
+
+def _issue(texts, stacklevel: int = 3) -> None:
+    """Issues each text as a DemsweepWarning pointing at the caller's caller (``stacklevel``)."""
+    for text in texts:
+        warnings.warn(text, DemsweepWarning, stacklevel=stacklevel)
+
+
 def _frame(columns: dict) -> pd.DataFrame:
     frame = pd.DataFrame(columns)
     frame.attrs["units"] = _native.column_units([str(c) for c in frame.columns])  # the CSV's units line
@@ -58,19 +71,23 @@ def run(scene, seeds=None, jobs: int = 0) -> pd.DataFrame:
     """Runs one scene; one row per run (columns as in ``demsweep summary``).
 
     ``seeds``: None for one run with the scene's ``placement.seed``; a number n for n replicates
-    (seeds ``placement.seed``, +1, ...); a list for one run per placement seed.
+    (seeds ``placement.seed``, +1, ...); a list for one run per placement seed. What ``demsweep
+    check`` warns about, and runs that diverged or failed, are issued as ``DemsweepWarning``.
     """
-    return _frame(_native.run(scene, seeds, jobs))
+    table, said = _native.run(scene, seeds, jobs)
+    _issue(said)
+    return _frame(table)
 
 
 def run_batch(scenes, seeds=None, jobs: int = 0) -> list[pd.DataFrame]:
     """Runs many scenes together on ``jobs`` worker threads (0: one per core); a DataFrame per scene."""
-    return [_frame(table) for table in _native.run_batch(list(scenes), seeds, jobs)]
+    tables, said = _native.run_batch(list(scenes), seeds, jobs)
+    _issue(said)
+    return [_frame(table) for table in tables]
 
 
 def _warn(answer: dict) -> dict:
-    for text in answer["warnings"] + answer.get("notes", []):
-        warnings.warn(text, stacklevel=3)
+    _issue(answer["warnings"] + answer.get("notes", []), stacklevel=4)
     return answer
 
 

@@ -12,11 +12,12 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use demsweep::output::SummaryRow;
 use demsweep::output::table::ColumnData;
 use demsweep::output::{self, Field, OutputError, SummaryTable, layout, reader, stored};
 use demsweep::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
 use demsweep::physics::record::{DISK_FIELDS, Snapshot};
-use demsweep::runner::{self, ProgressMode, RunOptions};
+use demsweep::runner::{self, ProgressMode, RunCounts, RunOptions};
 use demsweep::study::{self, PlannedRun, Seeds, StudyErrors};
 use demsweep::tune::TuneOptions;
 use demsweep::workflow::{self, LoadError};
@@ -225,7 +226,8 @@ fn columns<'py>(py: Python<'py>, table: &SummaryTable) -> PyResult<Bound<'py, Py
 }
 
 /// `run_batch(scenes, seeds=None, jobs=0)`: every run of every scene on `jobs` worker threads (0 =
-/// one per core); one summary table (a dict of columns) per scene, in order.
+/// one per core); one summary table (a dict of columns) per scene, in order, and the warnings (the
+/// scenes', and how many runs failed).
 #[pyfunction]
 #[pyo3(signature = (scenes, seeds=None, jobs=0))]
 fn run_batch<'py>(
@@ -233,20 +235,27 @@ fn run_batch<'py>(
     scenes: Vec<Bound<'py, PyAny>>,
     seeds: Option<&Bound<'py, PyAny>>,
     jobs: usize,
-) -> PyResult<Vec<Bound<'py, PyDict>>> {
+) -> PyResult<(Vec<Bound<'py, PyDict>>, Vec<String>)> {
     let plans = plans(py, &scenes, &seeds_of(seeds)?, true)?;
     let runs: Vec<&PlannedRun> = plans.iter().flat_map(|p| &p.runs).collect();
     let stop = AtomicBool::new(false);
     let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
+    let rows: Option<Vec<_>> = rows.into_iter().collect();
+    let rows = rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
+    let warnings = warnings(&plans, &rows);
     let mut rows = rows.into_iter();
-    plans
-        .iter()
-        .map(|plan| {
-            let taken: Option<Vec<_>> = rows.by_ref().take(plan.runs.len()).collect();
-            let taken = taken.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
-            columns(py, &SummaryTable::from_rows(&taken))
-        })
-        .collect()
+    let tables = plans.iter().map(|plan| {
+        let taken: Vec<_> = rows.by_ref().take(plan.runs.len()).collect();
+        columns(py, &SummaryTable::from_rows(&taken))
+    });
+    Ok((tables.collect::<PyResult<_>>()?, warnings))
+}
+
+/// The warnings of `plans` and, when some of their `rows` diverged or failed, how many.
+fn warnings(plans: &[study::Plan], rows: &[SummaryRow]) -> Vec<String> {
+    let counts = RunCounts::of(rows.len(), rows.iter().map(|row| row.status.as_str()));
+    let failed = (counts.failed() > 0).then(|| counts.to_string());
+    plans.iter().flat_map(|plan| plan.warnings.iter().map(ToString::to_string)).chain(failed).collect()
 }
 
 /// `scene_study(scene, seeds=None)`: the study text a scene runs as (what `demsweep check` checks).
@@ -256,7 +265,8 @@ fn scene_study(py: Python<'_>, scene: &Bound<'_, PyAny>, seeds: Option<&Bound<'_
     Ok(study::scene_study(scene_table(py, scene, &scene_label(None))?, &seeds_of(seeds)?))
 }
 
-/// `run(scene, seeds=None, jobs=0)`: the runs of one scene; its summary table (a dict of columns).
+/// `run(scene, seeds=None, jobs=0)`: the runs of one scene; its summary table (a dict of columns)
+/// and the warnings (the scene's, and how many runs failed).
 #[pyfunction]
 #[pyo3(signature = (scene, seeds=None, jobs=0))]
 fn run<'py>(
@@ -264,13 +274,14 @@ fn run<'py>(
     scene: Bound<'py, PyAny>,
     seeds: Option<&Bound<'py, PyAny>>,
     jobs: usize,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
     let plans = plans(py, std::slice::from_ref(&scene), &seeds_of(seeds)?, false)?;
     let runs: Vec<&PlannedRun> = plans[0].runs.iter().collect();
     let stop = AtomicBool::new(false);
     let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
     let rows: Option<Vec<_>> = rows.into_iter().collect();
-    columns(py, &SummaryTable::from_rows(&rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?))
+    let rows = rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
+    Ok((columns(py, &SummaryTable::from_rows(&rows))?, warnings(&plans, &rows)))
 }
 
 fn progress_mode(name: &str) -> PyResult<ProgressMode> {
@@ -311,7 +322,9 @@ fn run_study<'py>(
     };
     let run = detached(py, &stop, || workflow::run_study(&plan, &options))?.map_err(results_error)?;
     let report = &run.report;
-    let warnings: Vec<String> = plan.warnings.iter().map(ToString::to_string).chain(space).collect();
+    let counts = report.counts();
+    let failed = (counts.failed() > 0 && !report.interrupted).then(|| counts.to_string());
+    let warnings: Vec<String> = plan.warnings.iter().map(ToString::to_string).chain(space).chain(failed).collect();
     let answer = PyDict::new(py);
     answer.set_item("results", &report.results)?;
     answer.set_item("summary_csv", &report.summary_csv)?;

@@ -145,14 +145,14 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Strin
     let mut rows = Vec::new();
     for path in &options.tunes {
         let mut spec = tune::load(path).map_err(|e| e.to_string())?;
-        eprintln!("bench tune: {} — tune", spec.name);
+        crate::output::terminal::err(format_args!("bench tune: {} — tune\n", spec.name));
         let tune_dir = options.work_dir.join(&spec.name).join("tune");
         let tune_options =
             TuneOptions { jobs: options.jobs, out_dir: Some(tune_dir.clone()), force: true, ..Default::default() };
         let report = tune::tune(&mut spec, &tune_options).map_err(|e| e.to_string())?;
         let result = &report.result;
         let paragraph = crate::tune::report::paragraph(&spec, result);
-        eprintln!("{paragraph}");
+        crate::output::terminal::err(format_args!("{paragraph}\n"));
         let written = crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
         std::fs::create_dir_all(&options.out_dir).map_err(|e| format!("{}: {e}", options.out_dir.display()))?;
         for chart in written.files.iter().filter(|f| f.extension().is_some_and(|e| e == "png")) {
@@ -217,7 +217,7 @@ fn nan_ratio() -> stats::Ratio {
 /// seeds give the same runs): every rung, its standing, and the cheapest valid, equivalent one (cost
 /// ratio, setting), with the runs made.
 fn ladder(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -> Result<Ladder, String> {
-    eprintln!("bench tune: {} — ladder", spec.name);
+    crate::output::terminal::err(format_args!("bench tune: {} — ladder\n", spec.name));
     let ladder_options = TuneOptions {
         jobs: options.jobs,
         out_dir: Some(options.work_dir.join(&spec.name).join("ladder")),

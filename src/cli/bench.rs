@@ -95,7 +95,7 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
     match result.and_then(|summary| print_file(&out.join(summary))) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("bench: {error}");
+            errln!("bench: {error}");
             ExitCode::FAILURE
         }
     }
@@ -114,6 +114,6 @@ fn skipping_options(study: &Path, out_dir: PathBuf) -> Result<SkippingOptions, S
 
 fn print_file(path: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    print!("{text}");
+    out!("{text}");
     Ok(())
 }

@@ -49,7 +49,7 @@ pub fn run(args: &ExportArgs) -> ExitCode {
     let started = Instant::now();
     match export(&request) {
         Ok(summary) => {
-            println!(
+            outln!(
                 "exported {} runs: {} files, {:.1} MB in {} ({:.2} s)",
                 summary.runs,
                 summary.files,
@@ -60,7 +60,7 @@ pub fn run(args: &ExportArgs) -> ExitCode {
             super::results::damage_status(&args.results, &summary.damaged)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::FAILURE
         }
     }

@@ -1,6 +1,5 @@
 //! `demsweep plot`: PNG and SVG charts of a results file (see `demsweep::plot::results`).
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -85,37 +84,33 @@ impl PlotArgs {
     }
 }
 
-/// Prints a line on stdout; a closed pipe (as with `| head`) does not stop the plotting.
-fn say(line: std::fmt::Arguments<'_>) {
-    let _ = writeln!(std::io::stdout(), "{line}");
-}
-
 /// `demsweep plot`: prints each file written; exit 1 when a chart could not be drawn, 3 when run
 /// groups are damaged (left out).
 pub fn plot(args: &PlotArgs) -> ExitCode {
     let request = args.request();
     let outcome = plot_results(&request, &mut |event| match event {
-        Event::Wrote(path) => say(format_args!("wrote {}", path.display())),
-        Event::Note(text) => say(format_args!("note: {text}")),
-        Event::Failed(error) => eprintln!("error: {error}"),
+        Event::Wrote(path) => outln!("wrote {}", path.display()),
+        Event::Note(text) => outln!("note: {text}"),
+        Event::Failed(error) => errln!("error: {error}"),
     });
     let report = match outcome {
         Ok(report) => report,
         Err(error) => {
-            eprintln!("error: {error}");
+            errln!("error: {error}");
             return ExitCode::FAILURE;
         }
     };
     if report.runs_charted < report.runs_total && args.runs.is_empty() {
-        say(format_args!(
+        outln!(
             "per-run charts for {} of {} runs (at most {DEFAULT_RUN_LIMIT}, spread over the study): \
              choose runs with --run ID, or draw all with --all-runs",
-            report.runs_charted, report.runs_total
-        ));
+            report.runs_charted,
+            report.runs_total
+        );
     }
-    say(format_args!("{} files in {}", report.written, request.image_dir().display()));
+    outln!("{} files in {}", report.written, request.image_dir().display());
     if report.failed > 0 {
-        eprintln!("{} chart(s) or run(s) failed: see the errors above", report.failed);
+        errln!("{} chart(s) or run(s) failed: see the errors above", report.failed);
         return ExitCode::FAILURE;
     }
     super::results::damage_status(&request.results, &report.damaged)

@@ -1,6 +1,5 @@
 //! The result commands: `run`, `summary`, `history` and `merge`.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -14,7 +13,9 @@ use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
 use demsweep::plot::{self, ChartOptions};
 use demsweep::report::ReportContext;
-use demsweep::runner::{self, CommitPolicy, ProgressMode, RunOptions, RunReport, interrupt};
+use demsweep::runner::{
+    self, CommitPolicy, EXIT_PARTIAL, ProgressMode, RunCounts, RunOptions, RunReport, SweepOutcome, interrupt,
+};
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::{self, Points};
 
@@ -31,7 +32,7 @@ pub(super) fn damage_status(results: &Path, damaged: &[output::reader::DamagedGr
     if damaged.is_empty() {
         return ExitCode::SUCCESS;
     }
-    eprintln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
+    errln!("warning: {}: {}", results.display(), output::reader::damage_text(damaged));
     ExitCode::from(DAMAGED)
 }
 
@@ -75,6 +76,9 @@ pub struct RunArgs {
     /// `kill -9` loses at most the runs of this interval and one commit.
     #[arg(long, value_name = "SECONDS", default_value = "2", value_parser = seconds)]
     commit_interval: Duration,
+    /// Treat the study's warnings as errors: run nothing (exit status 2), for scripts and CI.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// A positive number of seconds.
@@ -215,13 +219,18 @@ impl RunArgs {
     pub fn out(&self) -> Option<&std::path::Path> {
         self.out.as_deref()
     }
+
+    /// Whether warnings are errors.
+    pub fn strict(&self) -> bool {
+        self.strict
+    }
 }
 
 /// `demsweep run`: exit 0 when every run finished, 1 on failed or missing runs, 130 after Ctrl-C.
 pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
     let stop = Arc::new(AtomicBool::new(false));
     if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
-        eprintln!("warning: {e}");
+        errln!("warning: {e}");
     }
     let options = RunOptions {
         jobs: args.jobs.unwrap_or(0),
@@ -245,13 +254,13 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
             print_report(&run.report);
             let paged = page_written(&run.report.results, run.page);
             print_missing(&run.report, args);
-            match run.report.exit_code() {
-                0 if !paged => ExitCode::from(FAILED),
-                code => ExitCode::from(code as u8),
+            if !paged {
+                return ExitCode::from(FAILED);
             }
+            sweep_status(&run.report.counts(), run.report.interrupted)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::from(FAILED)
         }
     }
@@ -262,7 +271,7 @@ fn print_report(report: &RunReport) {
         Some(ColumnData::Text(statuses)) => status_counts(statuses),
         _ => String::new(),
     };
-    println!(
+    outln!(
         "{} of {} runs recorded{counts}; {} run now, {} already done",
         report.summary.len(),
         report.selected,
@@ -270,11 +279,11 @@ fn print_report(report: &RunReport) {
         report.already_done
     );
     let (wall, writer) = (report.wall_time.as_secs_f64(), report.writer_time.as_secs_f64());
-    println!(
+    outln!(
         "wall time {wall:.2} s; writing results took {writer:.3} s ({:.1} % of it, in its own thread)",
         100.0 * writer / wall.max(f64::MIN_POSITIVE)
     );
-    println!(
+    outln!(
         "results: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
@@ -288,7 +297,7 @@ fn print_missing(report: &RunReport, args: &RunArgs) {
     if report.missing() > 0 {
         let shard = args.shard.map_or(String::new(), |s| format!(" --shard {s}"));
         let out = args.out.as_ref().map_or(String::new(), |d| format!(" --out {}", d.display()));
-        eprintln!(
+        errln!(
             "{} runs not recorded{}: continue with `demsweep run {}{out}{shard} --resume`",
             report.missing(),
             if report.interrupted { " (interrupted)" } else { "" },
@@ -296,11 +305,22 @@ fn print_missing(report: &RunReport, args: &RunArgs) {
         );
     }
     if report.failed() > 0 {
-        eprintln!(
+        errln!(
             "{} runs failed with an error: see the status and message columns; `--resume` runs them again",
             report.failed()
         );
     }
+}
+
+/// Says how many runs failed, if any; the exit status of the sweep's [`SweepOutcome`].
+fn sweep_status(counts: &RunCounts, interrupted: bool) -> ExitCode {
+    let outcome = SweepOutcome::of(counts, interrupted);
+    match outcome {
+        SweepOutcome::Failed => errln!("error: {counts}: no run gave a result (exit status 1)"),
+        SweepOutcome::Partial => errln!("warning: {counts} (exit status {EXIT_PARTIAL})"),
+        SweepOutcome::Complete | SweepOutcome::Interrupted => {}
+    }
+    ExitCode::from(outcome.exit_code() as u8)
 }
 
 /// The warnings of the runs just run, one line per kind (the first few), then where to find the rest.
@@ -309,18 +329,18 @@ fn print_warnings(report: &RunReport) {
     if digest.groups.is_empty() {
         return;
     }
-    eprintln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
+    errln!("warnings: {} kind(s) in {} of {} runs run now:", digest.groups.len(), digest.runs, report.ran);
     for group in digest.groups.iter().take(WARNING_KINDS_SHOWN) {
         let runs = match group.runs {
             1 => format!("1 run ({})", group.first_run),
             n => format!("{n} runs (first {})", group.first_run),
         };
-        eprintln!("  {runs}: {}", group.example);
+        errln!("  {runs}: {}", group.example);
     }
     if digest.groups.len() > WARNING_KINDS_SHOWN {
-        eprintln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
+        errln!("  ... and {} more kind(s)", digest.groups.len() - WARNING_KINDS_SHOWN);
     }
-    eprintln!(
+    errln!(
         "each run's warnings: `demsweep summary {}` (warnings column), each one's kind, value, limit and time in each run group's `warnings` table",
         report.results.display()
     );
@@ -360,8 +380,8 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
         Ok(view) => view,
         Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
     };
-    let printed = print(&shown);
-    if printed.is_ok() { status } else { report_error(printed) }
+    print(&shown);
+    status
 }
 
 /// The numeric columns of a per-run summary table after its status (the metrics a view may show).
@@ -399,9 +419,10 @@ fn default_metrics(known: &[&str]) -> Vec<String> {
 }
 
 /// Prints a table aligned on stdout.
-fn print(table: &SummaryTable) -> Result<(), output::OutputError> {
-    output::summary::print_aligned(&mut std::io::stdout().lock(), table)
-        .map_err(|e| output::OutputError::io(std::path::Path::new("<stdout>"), e))
+fn print(table: &SummaryTable) {
+    let mut text = Vec::new();
+    let _ = output::summary::print_aligned(&mut text, table); // writing to memory cannot fail
+    out!("{}", String::from_utf8_lossy(&text));
 }
 
 /// `demsweep compare`: every point against the reference; exit 2 for an unknown point or metric.
@@ -419,23 +440,22 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
         Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
     };
     let reference = comparison.reference;
-    println!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());
+    outln!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());
     let kept: Vec<String> = comparison
         .kept
         .iter()
         .map(|k| format!("{} within {} (±{})", k.tolerance.metric, k.tolerance.relative, short_float(k.margin)))
         .collect();
-    println!("kept (relative tolerance of the reference mean): {}", kept.join(", "));
+    outln!("kept (relative tolerance of the reference mean): {}", kept.join(", "));
     for note in &comparison.notes {
-        println!("note: {note}");
+        outln!("note: {note}");
     }
     let (decisions, costs) = comparison.printed(&points);
     let acceptable = comparison.points.iter().filter(|p| p.acceptable()).count();
-    let mut outcome = print(&decisions).and_then(|()| {
-        println!();
-        print(&costs)
-    });
-    println!(
+    print(&decisions);
+    outln!();
+    print(&costs);
+    outln!(
         "{acceptable} of {} points acceptable (every kept metric equivalent: its 90 % interval inside ± margin)",
         comparison.points.len()
     );
@@ -444,15 +464,15 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
             .and_then(|()| {
                 output::summary::write_csv(path, &comparison.table(&points), Existing::Ours { force: args.force })
             })
-            .map(|()| println!("comparison: {}", path.display()));
+            .map(|()| outln!("comparison: {}", path.display()));
     }
     if args.plot {
         let dir = args.out.clone().unwrap_or_else(|| args.results.parent().unwrap_or(Path::new("")).join("plots"));
         let options = ChartOptions { existing: Existing::Ours { force: args.force }, ..ChartOptions::default() };
         match plot::compare::draw_all(&points, &comparison, &dir, &options) {
-            Ok(written) => written.iter().for_each(|p| println!("wrote {}", p.display())),
+            Ok(written) => written.iter().for_each(|p| outln!("wrote {}", p.display())),
             Err(e) => {
-                eprintln!("error: {e}");
+                errln!("error: {e}");
                 return ExitCode::from(FAILED);
             }
         }
@@ -462,16 +482,16 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
 
 /// Reports bad input (an unknown point or metric) with exit status 2.
 fn bad_input(error: &output::OutputError) -> ExitCode {
-    eprintln!("error: {error}");
+    errln!("error: {error}");
     ExitCode::from(BAD_INPUT)
 }
 
-/// `demsweep history`: one run's histories as CSV on stdout (a closed pipe, as with `| head`, is no error).
+/// `demsweep history`: one run's histories as CSV on stdout.
 pub fn history(args: &HistoryArgs) -> ExitCode {
     let mut csv = Vec::new();
     let outcome = output::history::to_csv(&args.results, &args.run_id, &mut csv);
     if outcome.is_ok() {
-        let _ = std::io::stdout().lock().write_all(&csv);
+        out!("{}", String::from_utf8_lossy(&csv));
     }
     report_error(outcome)
 }
@@ -481,7 +501,7 @@ pub fn report(args: &ReportArgs) -> ExitCode {
     let out = (args.out.as_deref(), Existing::Ours { force: args.force });
     match demsweep::report::write_report(&args.results, out, &ReportContext::default()) {
         Ok((path, damaged)) => {
-            println!("report: {}", path.display());
+            outln!("report: {}", path.display());
             damage_status(&args.results, &damaged)
         }
         Err(e) => report_error(Err(e)),
@@ -493,12 +513,12 @@ pub fn report(args: &ReportArgs) -> ExitCode {
 pub fn page_written(results: &Path, page: demsweep::workflow::Page) -> bool {
     match page {
         Ok((path, damaged)) => {
-            println!("report: {}", path.display());
+            outln!("report: {}", path.display());
             damage_status(results, &damaged);
             true
         }
         Err(e) => {
-            eprintln!("error: report page (the results are complete): {e}");
+            errln!("error: report page (the results are complete): {e}");
             false
         }
     }
@@ -519,7 +539,7 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
             format!("merged {} of {} runs from {} of {count} shards", report.runs, report.planned_runs, report.shards)
         }
     };
-    println!(
+    outln!(
         "{merged}\nresults: {}\nsummary: {}\npoints: {}",
         report.results.display(),
         report.summary_csv.display(),
@@ -529,13 +549,19 @@ pub fn merge(args: &MergeArgs) -> ExitCode {
     let paged =
         page_written(&report.results, demsweep::report::write_report(&report.results, page, &Default::default()));
     if report.problems.is_empty() {
-        return if paged { ExitCode::SUCCESS } else { ExitCode::from(FAILED) };
+        if !paged {
+            return ExitCode::from(FAILED);
+        }
+        return match output::summary::read(&report.results) {
+            Ok(merged) => sweep_status(&RunCounts::of_summary(report.planned_runs, &merged), false),
+            Err(e) => report_error(Err(e)),
+        };
     }
-    eprintln!("error: the merge is incomplete:");
+    errln!("error: the merge is incomplete:");
     for problem in &report.problems {
-        eprintln!("  {}", problem.reason);
+        errln!("  {}", problem.reason);
     }
-    eprintln!("{}", rerun_commands(args, &report));
+    errln!("{}", rerun_commands(args, &report));
     ExitCode::from(FAILED)
 }
 
@@ -581,7 +607,7 @@ fn report_error(outcome: Result<(), output::OutputError>) -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::from(FAILED)
         }
     }

@@ -58,7 +58,7 @@ pub fn slurm(args: &SlurmArgs, plan: &Plan) -> ExitCode {
     match array_job(args, plan).and_then(|job| write_and_submit(args, &job)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             ExitCode::from(FAILED)
         }
     }
@@ -97,7 +97,7 @@ fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
 fn warn_if_build_folder(exe: &Path) {
     // Cargo keeps its build state in `.fingerprint/` beside the binaries of a profile folder.
     if exe.parent().is_some_and(|profile| profile.join(".fingerprint").is_dir()) {
-        eprintln!(
+        errln!(
             "warning: the jobs will run {}, a cargo build folder's binary, which the next cargo build replaces \
              under queued jobs: install demsweep (cargo install --locked --path .) and run `demsweep slurm` from the PATH, \
              or pass --demsweep PATH",
@@ -115,10 +115,10 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
     if args.print {
         for path in [&scripts.array, &scripts.merge] {
             let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            println!("==> {} <==\n{text}", path.display());
+            outln!("==> {} <==\n{text}", path.display());
         }
     }
-    println!(
+    outln!(
         "wrote {} ({} array tasks, one per shard) and {}",
         scripts.array.display(),
         job.shards,
@@ -129,12 +129,14 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
         return Ok(());
     }
     let ids = slurm::submit(&scripts)?;
-    println!(
+    outln!(
         "submitted array job {} ({} tasks) and merge job {} (starts when every task ended)",
-        ids.array_id, job.shards, ids.merge_id
+        ids.array_id,
+        job.shards,
+        ids.merge_id
     );
-    println!("watch: squeue -j {},{}; logs in {}", ids.array_id, ids.merge_id, job.log_dir().display());
-    println!(
+    outln!("watch: squeue -j {},{}; logs in {}", ids.array_id, ids.merge_id, job.log_dir().display());
+    outln!(
         "results: {}; if a task fails, see docs/cluster.md",
         job.out_dir.join(format!("{}.h5", job.study_name)).display()
     );
@@ -142,7 +144,7 @@ fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
 }
 
 fn print_how_to_submit(scripts: &Scripts) {
-    println!(
+    outln!(
         "submit with:\n  ARRAY=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$ARRAY {}\n\
          (or run this command again with --submit)",
         scripts.array.display(),

@@ -43,29 +43,30 @@ pub struct TuneArgs {
 
 /// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
 /// The warnings of a valid file (clipped lever ranges, the reference scene's predicted validity
-/// warnings) go to stderr; returns them with the spec.
-pub fn load_or_report(path: &Path) -> Result<(TuneSpec, usize), ExitCode> {
+/// warnings) go to stderr, and are errors when `strict`; returns their number with the spec.
+pub fn load_or_report(path: &Path, strict: bool) -> Result<(TuneSpec, usize), ExitCode> {
     let (spec, warnings) = workflow::load_tune(path).map_err(|errors| {
-        eprintln!("{errors}");
-        eprintln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
+        errln!("{errors}");
+        errln!("{}: {} problem(s); nothing was run", path.display(), errors.0.len());
         ExitCode::from(INVALID_STUDY)
     })?;
     for warning in &warnings {
-        eprintln!("warning: {}: {warning}", path.display());
+        errln!("warning: {}: {warning}", path.display());
     }
+    super::refuse_warnings(path, warnings.len(), strict)?;
     Ok((spec, warnings.len()))
 }
 
 /// `demsweep check` of a tune file.
-pub fn check(path: &Path) -> ExitCode {
-    match load_or_report(path) {
+pub fn check(path: &Path, strict: bool) -> ExitCode {
+    match load_or_report(path, strict) {
         Ok((spec, warnings)) => {
             let above = match warnings {
                 0 => String::new(),
                 1 => " (1 warning above)".into(),
                 n => format!(" ({n} warnings above)"),
             };
-            println!(
+            outln!(
                 "ok: tune file, {} levers, {} kept metrics, budget {} runs{above}",
                 spec.levers.len(),
                 spec.keep.len(),
@@ -79,13 +80,13 @@ pub fn check(path: &Path) -> ExitCode {
 
 /// `demsweep plan` of a tune file: levers, seeds and the budget's cost bound.
 pub fn plan(path: &Path, cores: usize) -> ExitCode {
-    let spec = match load_or_report(path) {
+    let spec = match load_or_report(path, false) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
     let s = &spec.search;
-    println!("tune {} ({}), fingerprint {}", spec.name, spec.path.display(), spec.fingerprint);
-    println!("levers:");
+    outln!("tune {} ({}), fingerprint {}", spec.name, spec.path.display(), spec.fingerprint);
+    outln!("levers:");
     for lever in &spec.levers {
         let range = match &lever.range {
             tune::LeverRange::Linear { low, high, .. } => format!("linear {low} .. {high}"),
@@ -94,21 +95,21 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
                 format!("one of {}", values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(", "))
             }
         };
-        println!("  {}: {range}", lever.key);
+        outln!("  {}: {range}", lever.key);
     }
     match spec.standards.is_empty() {
-        true => println!("standard settings: none (no lever has a standard value)"),
-        false => println!("standard settings (standard values of the levers), evaluated first:"),
+        true => outln!("standard settings: none (no lever has a standard value)"),
+        false => outln!("standard settings (standard values of the levers), evaluated first:"),
     }
     for standard in &spec.standards {
-        println!("  {}", standard.name);
+        outln!("  {}", standard.name);
     }
-    println!("keep:");
+    outln!("keep:");
     for keep in &spec.keep {
         let kind = if keep.absolute { "absolute" } else { "relative" };
-        println!("  {}: within ±{} ({kind})", keep.metric, keep.tolerance);
+        outln!("  {}: within ±{} ({kind})", keep.metric, keep.tolerance);
     }
-    println!(
+    outln!(
         "search: objective {}, {} seeds per candidate (up to {}), reference {} seeds, verification {} fresh seeds, \
          budget {} runs and {} reference depositions, seed {}",
         s.objective.name(),
@@ -140,7 +141,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
     }
     let bound = dearest * s.budget as f64;
     let seconds = bound * super::SECONDS_PER_PARTICLE_STEP;
-    println!(
+    outln!(
         "reference run: {reference_cost:.3e} particle-steps at most (full duration); budget bound {bound:.3e} \
          particle-steps ({} runs x {dearest:.3e}, the dearest lever extreme): about {} on 1 core, {} on {cores} cores \
          (runs stop when settled, so far less)",
@@ -153,13 +154,13 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
 
 /// `demsweep tune FILE`.
 pub fn run(args: &TuneArgs) -> ExitCode {
-    let mut spec = match load_or_report(&args.file) {
+    let mut spec = match load_or_report(&args.file, false) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
     let stop = Arc::new(AtomicBool::new(false));
     if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
-        eprintln!("warning: {e}");
+        errln!("warning: {e}");
     }
     let options = TuneOptions {
         jobs: args.jobs.unwrap_or(0),
@@ -174,31 +175,31 @@ pub fn run(args: &TuneArgs) -> ExitCode {
     let run = match workflow::tune_file(&mut spec, &options) {
         Ok(run) => run,
         Err(TuneRunError::Tune(TuneError::Interrupted)) => {
-            eprintln!("tune: {}", TuneError::Interrupted);
+            errln!("tune: {}", TuneError::Interrupted);
             return ExitCode::from(interrupt::EXIT_INTERRUPTED as u8);
         }
         Err(e) => {
-            eprintln!("tune: {e}");
+            errln!("tune: {e}");
             return ExitCode::FAILURE;
         }
     };
     let (outcome, written) = (&run.report, &run.written);
-    println!();
-    println!("{}", run.recommendation);
-    println!();
-    println!("wrote {}", outcome.results.display());
+    outln!();
+    outln!("{}", run.recommendation);
+    outln!();
+    outln!("wrote {}", outcome.results.display());
     for file in &written.files {
-        println!("wrote {}", file.display());
+        outln!("wrote {}", file.display());
     }
     match &run.section {
-        Ok(path) => println!("wrote {}", path.display()),
-        Err(e) => eprintln!("warning: no tune section for the report: {e}"),
+        Ok(path) => outln!("wrote {}", path.display()),
+        Err(e) => errln!("warning: no tune section for the report: {e}"),
     }
     let paged = super::results::page_written(&outcome.results, run.page);
     for e in &written.chart_errors {
-        eprintln!("chart not drawn: {e}");
+        errln!("chart not drawn: {e}");
     }
-    println!(
+    outln!(
         "{} runs ({} made now, {} from the file), {:.3e} particle-steps, {:.1} s",
         outcome.ran + outcome.reused,
         outcome.ran,

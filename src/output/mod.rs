@@ -23,6 +23,7 @@ mod sink;
 pub mod stored;
 pub mod summary;
 pub mod table;
+pub mod terminal;
 mod writer;
 
 pub use compound::Field;

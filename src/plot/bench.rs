@@ -54,7 +54,7 @@ pub fn stability_map_chart<'c>(
 /// A logarithmic axis range covering the positive values with a factor-of-1.5 margin.
 fn log_range(values: impl IntoIterator<Item = f64>) -> std::ops::Range<f64> {
     match style::finite_bounds(values.into_iter().filter(|v| *v > 0.0)) {
-        Some((lo, hi)) => lo / 1.5..hi * 1.5,
+        Some((lo, hi)) => style::log_span(lo / 1.5, hi * 1.5),
         None => 0.1..1.0,
     }
 }

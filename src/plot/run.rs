@@ -261,7 +261,7 @@ impl Figure for EnergyFigure<'_> {
             Line::new("elastic", style::series_colour(2), elastic, |v| v >= lo),
         ];
         let caption = ("kinetic and elastic energy, log scale", style::AXIS_DESC_SIZE);
-        let mut chart = time_chart(&lower, caption, time, ((lo..hi).log_scale(), &energy_label))?;
+        let mut chart = time_chart(&lower, caption, time, (style::log_span(lo, hi).log_scale(), &energy_label))?;
         draw_lines(&mut chart, &detail)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
@@ -290,6 +290,7 @@ impl Figure for UbfFigure<'_> {
         let (lo, hi) = style::finite_bounds(positive).unwrap_or((1e-3, 1.0));
         // At least two decades, so that the log axis has labelled ticks.
         let lo = lo.min(hi / 100.0);
+        let axis = style::log_span(lo / 3.0, hi * 3.0);
         let time = time_range(h);
         let title = options.title("Unbalanced force ratio");
         let caption = (title.as_str(), style::TITLE_SIZE);
@@ -297,10 +298,10 @@ impl Figure for UbfFigure<'_> {
             root,
             caption,
             time.clone(),
-            ((lo / 3.0..hi * 3.0).log_scale(), &quantity::label("unbalanced_force_ratio")),
+            (axis.clone().log_scale(), &quantity::label("unbalanced_force_ratio")),
         )?;
         draw_lines(&mut chart, std::slice::from_ref(&ubf))?;
-        self.draw_markers(&mut chart, time, lo / 3.0..hi * 3.0)?;
+        self.draw_markers(&mut chart, time, axis)?;
         // Early times (no or few contacts) and low ratios: the lower left is usually empty.
         style::draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)
     }

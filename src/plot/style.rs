@@ -161,6 +161,19 @@ pub(super) fn finite_bounds(values: impl IntoIterator<Item = f64>) -> Option<(f6
         .fold(None, |acc, v| Some(acc.map_or((v, v), |(lo, hi): (f64, f64)| (lo.min(v), hi.max(v)))))
 }
 
+/// The smallest and largest value a logarithmic axis spans. Its key points are found by multiplying
+/// by ten from the lower end to the upper: both must be finite and non-zero, with room to spare.
+const LOG_AXIS_LIMITS: (f64, f64) = (1e-300, 1e300);
+
+/// `lo..hi` made drawable as a logarithmic axis: within [`LOG_AXIS_LIMITS`] and increasing (a single
+/// value gets a decade either side), whatever the values (zero, subnormal, infinite or NaN).
+pub(super) fn log_span(lo: f64, hi: f64) -> Range<f64> {
+    let (min, max) = LOG_AXIS_LIMITS;
+    let limited = |v: f64| if v.is_nan() { 1.0 } else { v.clamp(min, max) };
+    let (lo, hi) = (limited(lo.min(hi)), limited(hi.max(lo)));
+    if lo < hi { lo..hi } else { lo / 10.0..hi * 10.0 }
+}
+
 /// An axis range covering `bounds` with `margin` (a fraction of the span) on both sides;
 /// a single value gets a unit-sized range around it, no value the range 0..1.
 pub(super) fn padded(bounds: Option<(f64, f64)>, margin: f64) -> Range<f64> {

@@ -182,7 +182,7 @@ impl Figure for LeverFigure<'_> {
             let ok = feasible_colour().filled();
             let other = NOT_SETTLED.filled();
             if series.log && xlo > 0.0 {
-                lever_panel(&cell, series, ((xlo / 1.2)..(xhi * 1.2)).log_scale(), y.clone(), (ok, other))?;
+                lever_panel(&cell, series, style::log_span(xlo / 1.2, xhi * 1.2).log_scale(), y.clone(), (ok, other))?;
             } else {
                 let pad = ((xhi - xlo) * 0.05).max(1e-12);
                 lever_panel(&cell, series, (xlo - pad)..(xhi + pad), y.clone(), (ok, other))?;

@@ -14,10 +14,10 @@ pub fn install_ctrl_c(stop: Arc<AtomicBool>) -> Result<(), String> {
         if stop.swap(true, Ordering::SeqCst) {
             std::process::exit(EXIT_INTERRUPTED);
         }
-        eprintln!(
+        crate::output::terminal::err(format_args!(
             "\ninterrupt (Ctrl-C, SIGTERM or SIGHUP): stopping running simulations and saving finished runs \
-             (signal again to quit now)"
-        );
+             (signal again to quit now)\n"
+        ));
     })
     .map_err(|e| format!("cannot install the Ctrl-C/SIGTERM/SIGHUP handler: {e}"))
 }

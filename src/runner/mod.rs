@@ -16,6 +16,7 @@ mod execute;
 pub mod interrupt;
 pub mod merge;
 mod notes;
+mod outcome;
 mod progress;
 mod reuse;
 pub mod shard;
@@ -24,19 +25,19 @@ mod writer_thread;
 
 pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
 pub use notes::{RunNote, WorkerCap};
+pub use outcome::{EXIT_PARTIAL, RunCounts, SweepOutcome};
 pub use progress::ProgressMode;
 pub use warnings::WarningDigest;
 pub use writer_thread::CommitPolicy;
 
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
-use crate::output::table::ColumnData;
 use crate::output::{
     self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
 };
+use crate::physics::Threads;
 use crate::physics::parallel::PARALLEL_MIN_DISKS;
 use crate::physics::vector::{self, Width};
-use crate::physics::{RunStatus, Threads};
 use crate::study::{Plan, PlannedRun, RunIdentity};
 use progress::ProgressView;
 
@@ -103,27 +104,27 @@ pub struct RunReport {
 impl RunReport {
     /// Recorded runs whose status is `error`.
     pub fn failed(&self) -> usize {
-        match self.summary.column("status").map(|c| &c.data) {
-            Some(ColumnData::Text(statuses)) => statuses.iter().filter(|s| *s == RunStatus::Error.as_str()).count(),
-            _ => 0,
-        }
+        self.counts().errored
     }
 
     /// Selected runs not in the file (interrupted, or lost to an error).
     pub fn missing(&self) -> usize {
-        self.selected.saturating_sub(self.summary.len())
+        self.counts().missing()
     }
 
-    /// Process exit code: 0 when every run finished (settled, not settled or diverged), 130 when
-    /// interrupted, 1 when some run failed with an error or is missing.
+    /// How many runs were selected and how the recorded ones ended.
+    pub fn counts(&self) -> RunCounts {
+        RunCounts::of_summary(self.selected, &self.summary)
+    }
+
+    /// How the sweep ended (see [`SweepOutcome`]).
+    pub fn outcome(&self) -> SweepOutcome {
+        SweepOutcome::of(&self.counts(), self.interrupted)
+    }
+
+    /// Process exit code of [`Self::outcome`]: 0 complete, 4 partial, 1 failed, 130 interrupted.
     pub fn exit_code(&self) -> i32 {
-        if self.interrupted {
-            interrupt::EXIT_INTERRUPTED
-        } else if self.failed() > 0 || self.missing() > 0 {
-            1
-        } else {
-            0
-        }
+        self.outcome().exit_code()
     }
 }
 
@@ -331,7 +332,11 @@ fn open_results(
         writer.forget_failed()?;
         // A warning about stored results, not progress: shown whatever the progress display.
         if !damaged.is_empty() {
-            eprintln!("warning: {}: {}; they run now", path.display(), output::reader::damage_text(&damaged));
+            crate::output::terminal::err(format_args!(
+                "warning: {}: {}; they run now\n",
+                path.display(),
+                output::reader::damage_text(&damaged)
+            ));
         }
         return Ok((lock, writer, header));
     }

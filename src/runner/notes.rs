@@ -74,7 +74,7 @@ impl RunNote {
     /// Prints the notes a sweep into `results` shows with the `progress` display, as `note:` lines.
     pub fn print_all(notes: &[RunNote], results: &Path, progress: ProgressMode) {
         for note in notes.iter().filter(|n| n.about_stored_runs() || progress != ProgressMode::Quiet) {
-            eprintln!("note: {}", note.line(results));
+            crate::output::terminal::err(format_args!("note: {}\n", note.line(results)));
         }
     }
 }

@@ -97,7 +97,7 @@ impl ProgressView {
             if !row.message.is_empty() {
                 line.push_str(&format!("  ({})", row.message));
             }
-            println!("{line}");
+            crate::output::terminal::out(format_args!("{line}\n"));
         }
     }
 

@@ -39,28 +39,79 @@ const CONTACT_COLUMNS: [Column; 4] = [("first", ""), ("second", ""), ("tangentia
 /// Largest placement (or contact) file read (bytes): a million disks with every column take about 100 MB.
 pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
 
-/// Reads the disks of a placement CSV (at most [`MAX_PLACEMENT_BYTES`], a leading byte-order mark
-/// skipped); errors name the file, line and column.
-pub fn read(path: &Path, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
-    parse(&read_text(path)?, default_radius).map_err(|e| format!("{}: {e}", path.display()))
+/// Whether errors about a file's content may quote its text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quoting {
+    /// The file is the user's own (in the study's folder): errors quote the cell at fault.
+    Quoted,
+    /// The file lies outside the study's folder (`/etc/shadow`, `/proc/self/environ`, or a link to
+    /// them): errors name line and column only, so that no study can print another file's content.
+    Withheld,
+}
+
+impl Quoting {
+    /// [`Quoting::Quoted`] for a file that lies (links resolved) in `folder`, else withheld.
+    pub fn of(path: &Path, folder: &Path) -> Self {
+        let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
+        let inside = match (path.canonicalize(), folder.canonicalize()) {
+            (Ok(path), Ok(folder)) => path.starts_with(folder),
+            _ => false,
+        };
+        if inside { Self::Quoted } else { Self::Withheld }
+    }
+
+    /// `text` in quotes when it may be quoted, else `withheld`.
+    fn show(self, text: &str, withheld: &str) -> String {
+        match self {
+            Self::Quoted => format!("\"{text}\""),
+            Self::Withheld => withheld.to_string(),
+        }
+    }
+}
+
+/// Reads the disks of a placement CSV (a regular file of at most [`MAX_PLACEMENT_BYTES`], a leading
+/// byte-order mark skipped); errors name the file, line and column, quoting the file only when it
+/// lies in the study's `folder`.
+pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, String> {
+    parse(&read_text(path)?, default_radius, Quoting::of(path, folder)).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Reads the contact history of a contact CSV for a placement of `disks` disks in a box of `walls`
-/// walls; errors name the file, line and column.
-pub fn read_contacts(path: &Path, disks: usize, walls: usize) -> Result<Vec<InitialContact>, String> {
-    parse_contacts(&read_text(path)?, disks, walls).map_err(|e| format!("{}: {e}", path.display()))
+/// walls; errors as [`read`]'s.
+pub fn read_contacts(path: &Path, disks: usize, walls: usize, folder: &Path) -> Result<Vec<InitialContact>, String> {
+    parse_contacts(&read_text(path)?, disks, walls, Quoting::of(path, folder))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// The text of a regular file (a FIFO, device or folder is refused before it is opened: reading one
+/// would wait for a writer or never end).
 fn read_text(path: &Path) -> Result<String, String> {
-    super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(|e| format!("{}: cannot read: {e}", path.display()))
+    let cannot = |why: String| format!("{}: cannot read: {why}", path.display());
+    let kind = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?.file_type();
+    if !kind.is_file() {
+        return Err(cannot(format!("not a regular file ({})", file_kind(kind))));
+    }
+    super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(cannot)
+}
+
+/// What a file that is not a regular file is, in words.
+fn file_kind(kind: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    match kind {
+        k if k.is_dir() => "a folder",
+        k if k.is_fifo() => "a named pipe",
+        k if k.is_socket() => "a socket",
+        k if k.is_char_device() || k.is_block_device() => "a device",
+        _ => "not a plain file",
+    }
 }
 
 /// Parses placement CSV text; disks without an `r` column get `default_radius`.
 /// Errors name the line (1-based) and, for a bad value, the column number and name.
-pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
+pub fn parse(text: &str, default_radius: f64, quoting: Quoting) -> Result<Vec<InitialDisk>, String> {
     let mut defaults = [0.0; COLUMNS.len()];
     defaults[2] = default_radius;
-    let rows = Table::parse(text, &COLUMNS, REQUIRED)?;
+    let rows = Table::parse(text, (&COLUMNS, REQUIRED), quoting)?;
     if rows.rows.is_empty() {
         return Err(format!("line {}: the file has a header but no disks", rows.header_line));
     }
@@ -76,8 +127,8 @@ pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, String
 }
 
 /// Parses contact CSV text for `disks` disks and `walls` walls; errors name the line and column.
-pub fn parse_contacts(text: &str, disks: usize, walls: usize) -> Result<Vec<InitialContact>, String> {
-    let rows = Table::parse(text, &CONTACT_COLUMNS, 3)?;
+pub fn parse_contacts(text: &str, disks: usize, walls: usize, quoting: Quoting) -> Result<Vec<InitialContact>, String> {
+    let rows = Table::parse(text, (&CONTACT_COLUMNS, 3), quoting)?;
     let contacts = rows.rows.iter().map(|(number, values)| {
         let [first, second, tangential_spring, law_state] = rows.values(values, &[0.0; 4]);
         let at = |column: usize, why: String| format!("line {number}{}: {why}", rows.at(column));
@@ -123,11 +174,12 @@ struct Table<'a> {
     /// The header's line number.
     header_line: usize,
     rows: Vec<(usize, Vec<f64>)>,
+    quoting: Quoting,
 }
 
 impl<'a> Table<'a> {
     /// Reads the header and the rows (every value a finite number).
-    fn parse(text: &str, columns: &'a [Column], required: usize) -> Result<Self, String> {
+    fn parse(text: &str, (columns, required): (&'a [Column], usize), quoting: Quoting) -> Result<Self, String> {
         let mut lines = text
             .lines()
             .enumerate()
@@ -138,8 +190,9 @@ impl<'a> Table<'a> {
             let example = names(&columns[..required]).join(",");
             return Err(format!("line 1: empty file: expected a header line like `{example}`"));
         };
-        let header = header_columns(header, columns, required).map_err(|e| format!("line {header_line}: {e}"))?;
-        let mut table = Self { columns, header, header_line, rows: Vec::new() };
+        let header =
+            header_columns(header, (columns, required), quoting).map_err(|e| format!("line {header_line}{e}"))?;
+        let mut table = Self { columns, header, header_line, rows: Vec::new(), quoting };
         if let Some((number, line)) = lines.next_if(|(_, line)| is_units_line(line)) {
             table.check_units(line).map_err(|e| format!("line {number}{e}"))?;
         }
@@ -167,11 +220,8 @@ impl<'a> Table<'a> {
             Some(position) => {
                 let (name, unit) = self.columns[self.header[position]];
                 let si = if unit.is_empty() { "dimensionless" } else { unit };
-                Err(format!(
-                    ", column {} ({name}): unit \"{}\": values are read in SI ({si})",
-                    position + 1,
-                    cells[position]
-                ))
+                let given = self.quoting.show(cells[position], "given");
+                Err(format!(", column {} ({name}): unit {given}: values are read in SI ({si})", position + 1))
             }
         }
     }
@@ -184,7 +234,8 @@ impl<'a> Table<'a> {
         }
         let values = fields.iter().enumerate().map(|(position, field)| {
             let at = || format!(", column {} ({})", position + 1, self.columns[self.header[position]].0);
-            let value: f64 = field.parse().map_err(|_| format!("{}: \"{field}\" is not a number", at()))?;
+            let not_a_number = || format!("{}: {} is not a number", at(), self.quoting.show(field, "the value"));
+            let value: f64 = field.parse().map_err(|_| not_a_number())?;
             if !value.is_finite() {
                 return Err(format!("{}: must be finite, got {field}", at()));
             }
@@ -209,26 +260,34 @@ impl<'a> Table<'a> {
     }
 }
 
-/// Index into `columns` of each header field; the first `required` columns must be there.
-fn header_columns(header: &str, columns: &[Column], required: usize) -> Result<Vec<usize>, String> {
+/// Index into `columns` of each header field; the first `required` columns must be there. Errors
+/// start with what follows the line number (", column ..." or ": ...").
+fn header_columns(
+    header: &str,
+    (columns, required): (&[Column], usize),
+    quoting: Quoting,
+) -> Result<Vec<usize>, String> {
     let mut found = Vec::new();
-    for name in header.split(',').map(str::trim) {
+    for (position, name) in header.split(',').map(str::trim).enumerate() {
+        let at = position + 1;
         let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
             let (must, may) = columns.split_at(required);
             return Err(format!(
-                "unknown column \"{name}\" (expected {} and optionally {})",
+                ", column {at}: unknown column {} (expected {} and optionally {})",
+                quoting.show(name, "name"),
                 names(must).join(", "),
                 names(may).join(", ")
             ));
         };
-        if found.contains(&k) {
-            return Err(format!("column \"{name}\" appears twice"));
+        if let Some(first) = found.iter().position(|&f| f == k) {
+            let name = quoting.show(name, "name");
+            return Err(format!(", column {at}: column {name} appears twice (first at column {})", first + 1));
         }
         found.push(k);
     }
     if let Some(missing) = columns[..required].iter().enumerate().find(|(k, _)| !found.contains(k)) {
         let list = names(&columns[..required]).join(", ");
-        return Err(format!("the header has no \"{}\" column ({list} are required)", missing.1.0));
+        return Err(format!(": the header has no \"{}\" column ({list} are required)", missing.1.0));
     }
     Ok(found)
 }
@@ -249,18 +308,18 @@ mod tests {
 
     #[test]
     fn optional_columns_in_any_order_and_default_radius() {
-        let disks = parse("# initial state\ny, omega, x\n0.5,2,0.1\n\n0.25,0,0.3\n", 0.01).unwrap();
+        let disks = parse("# initial state\ny, omega, x\n0.5,2,0.1\n\n0.25,0,0.3\n", 0.01, Quoting::Quoted).unwrap();
         assert_eq!(disks.len(), 2);
         assert_eq!(disks[0], InitialDisk { x: 0.1, y: 0.5, r: 0.01, omega: 2.0, ..Default::default() });
         assert_eq!(disks[1].x, 0.3);
-        let with_r = parse("x,y,r,vx,vy\n1,2,0.5,-1,3e-1\n", 0.01).unwrap();
+        let with_r = parse("x,y,r,vx,vy\n1,2,0.5,-1,3e-1\n", 0.01, Quoting::Quoted).unwrap();
         assert_eq!(with_r[0], InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 0.3, ..Default::default() });
     }
 
     #[test]
     fn reads_the_export_header_and_skips_id_and_contact_force() {
         let text = "# exported\nid,x,y,r,vx,vy,omega,angle,contact_force\n7,1,2,0.5,-1,3,4,-6.5,9.5\n";
-        let disks = parse(text, 0.01).unwrap();
+        let disks = parse(text, 0.01, Quoting::Quoted).unwrap();
         assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
     }
 
@@ -268,25 +327,26 @@ mod tests {
     fn a_units_line_under_the_header_is_checked_and_skipped() {
         let text =
             "id,x,y,r,vx,vy,omega,angle,contact_force\r\n,m,m,m,m/s,m/s,rad/s,rad,N\r\n7,1,2,0.5,-1,3,4,-6.5,9.5\r\n";
-        let disks = parse(text, 0.01).unwrap();
+        let disks = parse(text, 0.01, Quoting::Quoted).unwrap();
         assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
-        assert_eq!(parse("x,y\n,\n1,2\n", 0.01).unwrap().len(), 1, "empty unit cells are allowed");
+        assert_eq!(parse("x,y\n,\n1,2\n", 0.01, Quoting::Quoted).unwrap().len(), 1, "empty unit cells are allowed");
         assert_eq!(
-            parse("x,y,r\nmm,m,\n1,2,3\n", 0.01).unwrap_err(),
+            parse("x,y,r\nmm,m,\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err(),
             "line 2, column 1 (x): unit \"mm\": values are read in SI (m)"
         );
         assert_eq!(
-            parse("x,y\nm,m,m\n1,2\n", 0.01).unwrap_err(),
+            parse("x,y\nm,m,m\n1,2\n", 0.01, Quoting::Quoted).unwrap_err(),
             "line 2: the units line has 3 fields but the header has 2"
         );
-        let contacts = parse_contacts("first,second,tangential_spring\n,,m\n0,1,5e-8\n", 2, 3).unwrap();
+        let contacts =
+            parse_contacts("first,second,tangential_spring\n,,m\n0,1,5e-8\n", 2, 3, Quoting::Quoted).unwrap();
         assert_eq!(contacts.len(), 1);
         assert_eq!(
-            parse_contacts("first,second,tangential_spring\n,,N\n0,1,5e-8\n", 2, 3).unwrap_err(),
+            parse_contacts("first,second,tangential_spring\n,,N\n0,1,5e-8\n", 2, 3, Quoting::Quoted).unwrap_err(),
             "line 2, column 3 (tangential_spring): unit \"N\": values are read in SI (m)"
         );
         assert_eq!(
-            parse("x,y\n1,abc\n", 0.01).unwrap_err(),
+            parse("x,y\n1,abc\n", 0.01, Quoting::Quoted).unwrap_err(),
             "line 2, column 2 (y): \"abc\" is not a number",
             "a data line with a number"
         );
@@ -295,7 +355,7 @@ mod tests {
     #[test]
     fn contact_rows_name_both_bodies_and_their_history() {
         let text = "# exported\nfirst,second,tangential_spring,law_state\n0,2,1e-7,3e-5\n1,-1,-2e-7,0\n2,-4,0,0\n";
-        let contacts = parse_contacts(text, 3, 4).unwrap();
+        let contacts = parse_contacts(text, 3, 4, Quoting::Quoted).unwrap();
         let contact = |disk, partner, tangential_spring, law_state| InitialContact {
             disk,
             partner,
@@ -310,14 +370,16 @@ mod tests {
                 contact(2, Partner::Wall(3), 0.0, 0.0)
             ]
         );
-        let without_law_state = parse_contacts("second,first,tangential_spring\n1,0,5e-8\n", 2, 3).unwrap();
+        let without_law_state =
+            parse_contacts("second,first,tangential_spring\n1,0,5e-8\n", 2, 3, Quoting::Quoted).unwrap();
         assert_eq!(without_law_state, [contact(0, Partner::Disk(1), 5e-8, 0.0)]);
     }
 
     #[test]
     fn contact_errors_name_line_column_and_range() {
         let header = "first,second,tangential_spring\n";
-        let err = |rows: &str, disks| parse_contacts(&format!("{header}{rows}"), disks, 3).unwrap_err();
+        let err =
+            |rows: &str, disks| parse_contacts(&format!("{header}{rows}"), disks, 3, Quoting::Quoted).unwrap_err();
         assert_eq!(
             err("0,1,0\n0,30,0\n", 30),
             "line 3, column 2 (second): disk 30 is out of range: the placement file has 30 disks (0 to 29)"
@@ -332,29 +394,47 @@ mod tests {
         );
         assert_eq!(err("0,1.5,0\n", 30), "line 2, column 2 (second): 1.5 is not a whole number");
         assert_eq!(err("2,2,0\n", 30), "line 2, column 2 (second): a disk (2) cannot touch itself");
-        assert!(parse_contacts("first,second\n0,1\n", 2, 3).unwrap_err().contains("no \"tangential_spring\" column"));
-        assert_eq!(parse_contacts(header, 2, 3), Ok(vec![]), "a pile without contacts has no history");
+        assert!(
+            parse_contacts("first,second\n0,1\n", 2, 3, Quoting::Quoted)
+                .unwrap_err()
+                .contains("no \"tangential_spring\" column")
+        );
+        assert_eq!(parse_contacts(header, 2, 3, Quoting::Quoted), Ok(vec![]), "a pile without contacts has no history");
     }
 
     #[test]
     fn errors_name_line_and_column() {
-        let err = parse("x,y,vx\n1,2,0\n1,2,abc\n", 0.01).unwrap_err();
+        let err = parse("x,y,vx\n1,2,0\n1,2,abc\n", 0.01, Quoting::Quoted).unwrap_err();
         assert_eq!(err, "line 3, column 3 (vx): \"abc\" is not a number");
-        let err = parse("x,y\n\n1,2,3\n", 0.01).unwrap_err();
+        let err = parse("x,y\n\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err();
         assert_eq!(err, "line 3: has 3 fields but the header has 2");
-        let err = parse("x,y,r\n1,2,-0.1\n", 0.01).unwrap_err();
+        let err = parse("x,y,r\n1,2,-0.1\n", 0.01, Quoting::Quoted).unwrap_err();
         assert_eq!(err, "line 2, column 3 (r): a radius must be > 0, got -0.1");
-        let err = parse("x,y\n1,inf\n", 0.01).unwrap_err();
+        let err = parse("x,y\n1,inf\n", 0.01, Quoting::Quoted).unwrap_err();
         assert_eq!(err, "line 2, column 2 (y): must be finite, got inf");
     }
 
     #[test]
     fn header_problems_and_empty_files() {
-        assert_eq!(parse("x,radius\n", 0.01).unwrap_err().split(':').next(), Some("line 1"));
-        assert!(parse("x,radius\n1,2\n", 0.01).unwrap_err().contains("unknown column \"radius\""));
-        assert!(parse("x,r\n1,2\n", 0.01).unwrap_err().contains("no \"y\" column"));
-        assert!(parse("x,y,x\n", 0.01).unwrap_err().contains("column \"x\" appears twice"));
-        assert_eq!(parse("x,y\n", 0.01).unwrap_err(), "line 1: the file has a header but no disks");
-        assert!(parse("\n# nothing\n", 0.01).unwrap_err().contains("empty file"));
+        assert_eq!(parse("x,radius\n", 0.01, Quoting::Quoted).unwrap_err().split(':').next(), Some("line 1, column 2"));
+        assert!(parse("x,radius\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().contains("unknown column \"radius\""));
+        assert!(parse("x,r\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().contains("no \"y\" column"));
+        assert!(parse("x,y,x\n", 0.01, Quoting::Quoted).unwrap_err().contains("column \"x\" appears twice"));
+        assert_eq!(parse("x,y\n", 0.01, Quoting::Quoted).unwrap_err(), "line 1: the file has a header but no disks");
+        assert!(parse("\n# nothing\n", 0.01, Quoting::Quoted).unwrap_err().contains("empty file"));
+    }
+
+    #[test]
+    fn a_withheld_file_is_never_quoted() {
+        let withheld = |text: &str| parse(text, 0.01, Quoting::Withheld).unwrap_err();
+        assert_eq!(
+            withheld("x,secret\n"),
+            "line 1, column 2: unknown column name (expected x, y and optionally r, vx, vy, omega, angle, id, contact_force)"
+        );
+        assert_eq!(withheld("x,y,x\n"), "line 1, column 3: column name appears twice (first at column 1)");
+        assert_eq!(withheld("x,y\nm,secret\n1,2\n"), "line 2, column 2 (y): unit given: values are read in SI (m)");
+        assert_eq!(withheld("x,y\n1,2\n3,secret\n"), "line 3, column 2 (y): the value is not a number");
+        let contacts = parse_contacts("first,secret\n", 2, 3, Quoting::Withheld).unwrap_err();
+        assert!(contacts.starts_with("line 1, column 2: unknown column name"), "{contacts}");
     }
 }

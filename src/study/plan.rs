@@ -331,7 +331,7 @@ impl<'a> Planner<'a> {
         let disks = self
             .initial_files
             .entry((path.clone(), radius.to_bits()))
-            .or_insert_with(|| initial_csv::read(&path, radius).map(Arc::new))
+            .or_insert_with(|| initial_csv::read(&path, radius, &self.study_dir).map(Arc::new))
             .clone()
             .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
         scene.particles.count = disks.len();
@@ -353,7 +353,7 @@ impl<'a> Planner<'a> {
         let contacts = self
             .contact_files
             .entry((path.clone(), disks, walls))
-            .or_insert_with(|| initial_csv::read_contacts(&path, disks, walls).map(Arc::new))
+            .or_insert_with(|| initial_csv::read_contacts(&path, disks, walls, &self.study_dir).map(Arc::new))
             .clone()
             .map_err(|reason| vec![self.problem(point, "placement.contacts", reason)])?;
         Ok(Some(contacts))

@@ -80,8 +80,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         }
     }
     if let (PlacementKind::File, Some(name)) = (spec.reference.placement.kind, &spec.reference.placement.file) {
-        let csv = file.path.parent().unwrap_or(Path::new("")).join(name);
-        match initial_csv::read(&csv, spec.reference.particles.radius) {
+        let folder = file.path.parent().unwrap_or(Path::new(""));
+        match initial_csv::read(&folder.join(name), spec.reference.particles.radius, folder) {
             Ok(disks) => {
                 spec.reference.particles.count = disks.len();
                 spec.initial = Some(Arc::new(disks));

@@ -329,7 +329,10 @@ impl Evaluator for RunEvaluator<'_> {
             outcomes.push(outcome);
         }
         if self.options.verbose {
-            println!("{}", batch_line(self.batches, jobs, reused, self.plan.runs.len()));
+            crate::output::terminal::out(format_args!(
+                "{}\n",
+                batch_line(self.batches, jobs, reused, self.plan.runs.len())
+            ));
         }
         Ok(outcomes)
     }

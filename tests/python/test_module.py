@@ -8,6 +8,7 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -214,3 +215,30 @@ def test_ctrl_c_stops_the_runs_and_raises_keyboard_interrupt(tiny):
     child.send_signal(signal.SIGINT)
     _, stderr = child.communicate(timeout=120)  # a guard against a hang, not a timing target
     assert child.returncode != 0 and "KeyboardInterrupt" in stderr, stderr
+
+
+def test_the_commands_warnings_are_demsweep_warnings_a_notebook_can_make_errors(tiny, tmp_path):
+    soft = dict(tiny, material=dict(tiny["material"], youngs_modulus=10.0))  # 10 Pa: "did you mean"
+    study = tmp_path / "soft.toml"
+    study.write_text(demsweep.scene_study(soft))
+    checked = demsweep_command("check", study)
+    assert checked.returncode == 0, checked.stderr
+    said = {line.split("soft.toml:", 1)[1] for line in checked.stderr.splitlines() if line.startswith("warning: ")}
+    assert any("youngs_modulus" in text for text in said), checked.stderr
+    with pytest.warns(demsweep.DemsweepWarning) as caught:
+        demsweep.run(soft)
+    issued = {str(w.message).split("<scene>:", 1)[-1] for w in caught}
+    assert said <= issued, f"the command's warnings {said} are not all issued: {issued}"
+    assert all(issubclass(w.category, UserWarning) for w in caught)
+    assert all(w.filename == __file__ for w in caught), "the warning points at the caller"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", demsweep.DemsweepWarning)
+        with pytest.raises(demsweep.DemsweepWarning, match="Pa"):
+            demsweep.run_batch([soft])
+
+
+def test_runs_that_diverge_are_counted_in_a_warning(tiny):
+    coarse = dict(tiny, integrator={"time_step": 1e-3}, run={"duration": 0.05})  # 100x the contact time
+    with pytest.warns(demsweep.DemsweepWarning, match=r"2 of 2 runs failed \(2 diverged\)"):
+        runs = demsweep.run(coarse, seeds=2)
+    assert list(runs["status"]) == ["diverged", "diverged"]
