@@ -459,6 +459,7 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
         "{acceptable} of {} points acceptable (every kept metric equivalent: its 90 % interval inside ± margin)",
         comparison.points.len()
     );
+    let mut outcome = Ok(());
     if let Some(path) = &args.csv {
         outcome = outcome
             .and_then(|()| {
