@@ -13,12 +13,14 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
     reader::summary(&file, path)
 }
 
-/// Writes a table (the summary or the points) as a CSV file (names and units lines, RFC 4180 quoting, missing
-/// values empty).
+/// Writes a table (the summary or the points) as a CSV file (the names line, RFC 4180 quoting, missing
+/// values empty) and its metadata sidecar (units, datatypes: [`csv::write_metadata`]).
 pub fn write_csv(path: &Path, table: &SummaryTable) -> Result<(), OutputError> {
-    let file = super::guard::create_file(path, &[]).map_err(|e| OutputError::new(path, e.refusal_text()))?;
+    let refused = |e: super::guard::GuardError| OutputError::new(path, e.refusal_text());
+    let file = super::guard::create_file(path, &[]).map_err(refused)?;
     let mut out = BufWriter::new(file);
-    csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))
+    csv::write_table(&mut out, table).and_then(|()| out.flush()).map_err(|e| OutputError::io(path, e))?;
+    csv::write_metadata(path, &csv::table_columns(table)).map_err(refused)
 }
 
 /// Writes the summary as an aligned text table (headed by labels, [`quantity::label`], columns separated by two spaces, floats to 6

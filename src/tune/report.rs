@@ -601,14 +601,13 @@ fn lever_series(spec: &TuneSpec, result: &SearchResult) -> Vec<LeverSeries> {
         .collect()
 }
 
-/// Writes CSV records, the first one the column names (followed by their units line).
+/// Writes CSV records, the first one the column names, and their metadata sidecar (units, datatypes).
 fn write_records(records: &[Vec<String>], path: &Path) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    if let Some((names, rows)) = records.split_first() {
-        csv::write_named_header(&mut out, names)?;
-        rows.iter().try_for_each(|row| csv::write_record(&mut out, row))?;
-    }
-    std::io::Write::flush(&mut out)
+    records.iter().try_for_each(|row| csv::write_record(&mut out, row))?;
+    std::io::Write::flush(&mut out)?;
+    let Some((names, rows)) = records.split_first() else { return Ok(()) };
+    csv::write_metadata(path, &csv::ColumnMeta::declared_from_rows(names, rows)).map_err(std::io::Error::other)
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.
