@@ -1,8 +1,8 @@
 //! Placement files: initial disk states as CSV with a header line. Columns `x,y` (m) are required;
 //! `r` (m), `vx,vy` (m/s), `omega` (rad/s) and `angle` (rad) are optional, in any order; `id` and
 //! `contact_force` (written by `demsweep export --format csv`) are allowed and not read. Blank lines
-//! and lines starting with `#` are skipped. A units line may follow the header (as in every CSV
-//! demsweep writes: no cell a number); each of its cells is empty or the column's SI unit.
+//! and lines starting with `#` are skipped. A units line may follow the header (as in the CSV
+//! files older versions of demsweep wrote: no cell a number); each of its cells is empty or the column's SI unit.
 //!
 //! Contact files (`placement.contacts`, written by the same export as `<run>_<state>_contacts.csv`):
 //! the contact history of a restart, one row per contact, columns `first` (a disk: its row in the
@@ -215,11 +215,9 @@ fn header_columns(header: &str, columns: &[Column], required: usize) -> Result<V
     for name in header.split(',').map(str::trim) {
         let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
             let (must, may) = columns.split_at(required);
-            return Err(format!(
-                "unknown column \"{name}\" (expected {} and optionally {})",
-                names(must).join(", "),
-                names(may).join(", ")
-            ));
+            let list = || format!("expected {} and optionally {}", names(must).join(", "), names(may).join(", "));
+            let hint = super::errors::did_you_mean(name, names(columns)).unwrap_or_else(list);
+            return Err(format!("unknown column \"{name}\" ({hint})"));
         };
         if found.contains(&k) {
             return Err(format!("column \"{name}\" appears twice"));
