@@ -371,11 +371,12 @@ fn reference_answer(points: &Points, verdict: &ReferenceVerdict) -> String {
     )
 }
 
-/// The answer without a comparable reference: the point of the lowest mean cost, and that its pile
-/// was not compared (`named`: the study names a reference that could not be compared).
+/// The answer without a comparable reference: the point with settled runs of the lowest mean
+/// cost, and that its pile was not compared (`named`: the study names a reference that could not be compared).
 fn cheapest_answer(points: &Points, named: bool) -> String {
     let cost = if points.metric_names().contains(&"particle_steps") { "particle_steps" } else { "steps" };
     let cheapest = (0..points.len())
+        .filter(|&p| points.describe(p, "settle_time").n > 0)
         .map(|p| (p, points.describe(p, cost)))
         .filter(|(_, d)| d.mean.is_finite())
         .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean));
@@ -385,7 +386,7 @@ fn cheapest_answer(points: &Points, named: bool) -> String {
         "the study names no reference point (<code>[report] reference</code>, docs/studies.md)"
     };
     let Some((point, d)) = cheapest else {
-        return format!("No grid point has a {cost} figure to compare; the pile was not compared: {why}.");
+        return format!("No grid point has a settled run, so none is the fastest; the pile was not compared: {why}.");
     };
     format!(
         "<b>{}</b> is the fastest grid point: {} {cost} per run (mean ± 95 % half-width). The pile was not compared: \
@@ -699,6 +700,7 @@ mod tests {
                 column("index", ColumnData::Int((0..n as i64).collect())),
                 column("material.friction", ColumnData::Float(friction)),
                 column("status", ColumnData::Text(vec!["settled".into(); n])),
+                column("settle_time", ColumnData::Float(vec![0.5; n])),
                 column("packing_fraction_interior", ColumnData::Float(packing)),
                 column("particle_steps", ColumnData::Float(cost.clone())),
                 column("wall_time", ColumnData::Float(wall)),
@@ -768,6 +770,9 @@ mod tests {
         let text = answer(&summary(), None);
         assert!(text.contains("<b>material.friction=0.4</b> is the fastest grid point"), "{text}");
         assert!(text.contains("The pile was not compared: the study names no reference point"), "{text}");
+        let mut unsettled = summary();
+        unsettled.columns.retain(|c| c.name != "settle_time");
+        assert!(answer(&unsettled, None).contains("No grid point has a settled run, so none is the fastest"));
     }
 
     #[test]

@@ -177,6 +177,9 @@ fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, String> {
     Ok(by_id(atoms))
 }
 
+/// A disk's coordinate from a dump's row.
+type Coordinate = Box<dyn Fn(&[f64]) -> f64>;
+
 /// The index and name of the first of `options` among a dump's column `names`.
 fn find_column(names: &[&str], options: &[&'static str]) -> Option<(usize, &'static str)> {
     options.iter().find_map(|o| names.iter().position(|n| n == o).map(|k| (k, *o)))
@@ -200,10 +203,7 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let (atoms_line, header) = snapshot[atoms_at];
     let names: Vec<&str> = header.trim_start_matches("ITEM: ATOMS").split_whitespace().collect();
     let column = |options: &[&'static str]| find_column(&names, options);
-    let position = |axis: usize,
-                    plain: [&'static str; 2],
-                    scaled: [&'static str; 2]|
-     -> Result<Box<dyn Fn(&[f64]) -> f64>, String> {
+    let position = |axis: usize, plain: [&'static str; 2], scaled: [&'static str; 2]| -> Result<Coordinate, String> {
         if let Some((k, _)) = column(&plain) {
             return Ok(Box::new(move |row: &[f64]| row[k]));
         }
