@@ -283,7 +283,14 @@ struct CheckArgs {
 /// Parses the command line and runs the subcommand; a failed write to standard output makes a
 /// successful command fail, naming it.
 pub fn main() -> ExitCode {
-    let code = match Cli::try_parse() {
+    main_with(std::env::args_os())
+}
+
+/// Parses `args` (the program's name first, as `std::env::args_os` gives them) and runs the
+/// subcommand: the Python module's `demsweep` console command runs the CLI this way. A failure to
+/// write standard output fails the command, naming it.
+pub fn main_with<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>(args: I) -> ExitCode {
+    let code = match Cli::try_parse_from(args) {
         Ok(cli) => dispatch(cli.command),
         Err(e) => usage(&e),
     };
@@ -382,6 +389,7 @@ fn check(args: &CheckArgs) -> ExitCode {
                 n => format!(" ({n} warnings above)"),
             };
             outln!("ok: {}{warnings}", runs(plan.runs.len()));
+            size_notes(&plan).iter().for_each(|note| outln!("{note}"));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -436,6 +444,40 @@ fn note_long_cost(plan: &Plan, cores: usize) {
             plan.study_path.display()
         );
     }
+}
+
+/// What each distinct `particles.size_distribution` of the plan gives its disks: the count of each
+/// class of a discrete mixture, or the range and mean drawn with the first run's placement seed.
+fn size_notes(plan: &Plan) -> Vec<String> {
+    use demsweep::physics::number::significant;
+    let mut seen = Vec::new();
+    let mut notes = Vec::new();
+    for run in &plan.runs {
+        let p = &run.scene.particles;
+        let Some(distribution) = p.size_distribution.as_ref().filter(|d| !seen.contains(&(*d, p.count))) else {
+            continue;
+        };
+        seen.push((distribution, p.count));
+        let drawn = distribution.drawn(p.count, run.scene.placement.seed);
+        let m = |x: f64| format!("{} m", significant(x, 3));
+        let what = if drawn.classes.is_empty() {
+            let seed = run.scene.placement.seed;
+            format!(
+                "{} disks, {}: with placement seed {seed} (run {}) radii {} to {}, mean {}",
+                drawn.count,
+                drawn.kind.name(),
+                run.id,
+                m(drawn.min),
+                m(drawn.max),
+                m(drawn.mean)
+            )
+        } else {
+            let classes: Vec<String> = drawn.classes.iter().map(|(r, n)| format!("{n} of radius {}", m(*r))).collect();
+            format!("{} disks: {} (in an order drawn with each run's placement seed)", drawn.count, classes.join(", "))
+        };
+        notes.push(format!("particles.size_distribution: {what}"));
+    }
+    notes
 }
 
 /// One aligned line per run: id, swept parameters, disks, steps, particle-steps.

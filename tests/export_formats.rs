@@ -145,6 +145,42 @@ fn lammps_reads_the_data_file_and_runs_from_it() {
         assert!((atom[4] / mass - 1.0).abs() < 1e-12, "atom {i}: mass {} vs {mass}", atom[4]);
         assert_eq!([atom[5], atom[6], atom[7]], [state.vx[i], state.vy[i], state.omega[i]], "atom {i}");
     }
+    // The dump LAMMPS wrote is a placement demsweep reads back (`placement.kind = "lammps"`).
+    let read = demsweep::study::lammps_file::read(&out.join("read.dump"), 1.0, &out).unwrap();
+    assert_eq!(read, pile(&state), "the pile LAMMPS dumped is the exported one");
+}
+
+/// The disks of a state as a placement reads them (every angle 0: LAMMPS keeps none).
+fn pile(state: &Snapshot) -> Vec<demsweep::physics::particles::InitialDisk> {
+    (0..state.x.len())
+        .map(|i| demsweep::physics::particles::InitialDisk {
+            x: state.x[i],
+            y: state.y[i],
+            r: state.r[i],
+            vx: state.vx[i],
+            vy: state.vy[i],
+            omega: state.omega[i],
+            angle: 0.0,
+        })
+        .collect()
+}
+
+#[test]
+fn a_study_places_the_pile_of_its_own_lammps_export() {
+    let (results, dir) = results("export_lammps_back", 0.3);
+    let out = dir.join("lammps");
+    export(&request(&results, lammps_format(), &["r000"], out.clone())).unwrap();
+    let study = out.join("back.toml");
+    let text = "[scene]\ndomain.width = 0.12\ndomain.height = 0.2\nrun.duration = 0.01\n\
+                placement.kind = \"lammps\"\nplacement.file = \"r000_final.data\"\n";
+    std::fs::write(&study, text).unwrap();
+    let plan = demsweep::study::load(&study).unwrap_or_else(|e| panic!("{e}"));
+    let state = final_state(&results, "r000");
+    assert_eq!(plan.runs[0].scene.particles.count, state.x.len());
+    assert_eq!(plan.runs[0].initial.as_deref().unwrap(), &pile(&state)[..], "positions, radii, velocities, spins");
+    std::fs::write(out.join("r000_final.data"), "LAMMPS data file\n\n3 atoms\n").unwrap();
+    let refused = demsweep::study::load(&study).unwrap_err().to_string();
+    assert!(refused.contains("scene.placement.file") && refused.contains("no `Atoms` section"), "{refused}");
 }
 
 /// Runs LAMMPS on `input` in `folder` for `steps` steps; its output, after checking it ran without error.

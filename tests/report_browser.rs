@@ -153,9 +153,11 @@ fn the_column_picker_fits_the_page(seen: &Value) {
 fn the_answer_comes_first(seen: &Value, results: &Path) {
     assert_eq!(seen["first_section"], "verdict", "{seen}");
     assert_eq!(seen["verdict_in_first_screen"], true, "{seen}");
+    assert_eq!(seen["stray_markup"], Value::Array(Vec::new()), "no markup shows as text: {seen}");
     let file = demsweep::output::reader::open(results).unwrap();
     let summary = demsweep::output::reader::summary(&file, results).unwrap();
     let points = demsweep::stats::points::Points::new(&summary);
+    the_answer_is_the_fastest_equivalent_point(seen, &points);
     let mut means: Vec<(f64, String)> = (0..points.len())
         .map(|p| (points.describe(p, "settle_time").mean, points.label(p)))
         .filter(|(mean, _)| mean.is_finite())
@@ -166,6 +168,24 @@ fn the_answer_comes_first(seen: &Value, results: &Path) {
     assert_eq!(shown, expected, "the settled points, fastest first: {seen}");
     assert!(!shown.is_empty(), "the test's points settle: {seen}");
     the_reference_verdict_is_in_the_answer(seen, &points);
+}
+
+/// The first paragraph answers the study's question as `demsweep compare` decides it: the fastest
+/// point (by cost ratio) faster than the reference that makes an equivalent pile, or none of them
+/// and the nearest miss.
+fn the_answer_is_the_fastest_equivalent_point(seen: &Value, points: &demsweep::stats::points::Points) {
+    assert_eq!(seen["answer_id"], "answer", "{seen}");
+    let text = seen["answer"].as_str().unwrap_or_default();
+    let comparison = demsweep::stats::compare::compare(points, "material.restitution=0.5", &[]).unwrap();
+    let faster: Vec<_> = comparison.points.iter().filter(|p| p.cost.ratio < 1.0).collect();
+    let best = faster.iter().filter(|p| p.acceptable()).min_by(|a, b| a.cost.ratio.total_cmp(&b.cost.ratio));
+    let expected = match (best, faster.len()) {
+        (Some(p), _) => format!("{} is the fastest grid point that makes the same pile", points.label(p.point)),
+        (None, 0) => "No grid point is faster than the reference".to_string(),
+        (None, n) => format!("None of the {n} faster grid points makes the same pile"),
+    };
+    assert!(text.starts_with(&expected), "expected `{expected}…`: {seen}");
+    assert!(text.contains("(material.restitution=0.5)"), "names the reference: {text}");
 }
 
 /// The study's reference point is compared in the answer's section, each other point judged as
@@ -235,7 +255,8 @@ fn each_run_with_frames_has_a_player_that_draws_the_stored_frames() {
     let with_frames = STUDY
         .replace("run.duration = 1.5", "run.duration = 0.3\nrun.frame_interval = 0.05")
         .replace("frames = false", "frames = true")
-        .replace("replicates = 3", "replicates = 1");
+        .replace("replicates = 3", "replicates = 1")
+        .replace("[report]\nreference = { \"material.restitution\" = 0.5 }\n", "");
     std::fs::write(&study, with_frames).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_demsweep"))
         .args(["run", study.to_str().unwrap(), "--out", dir.to_str().unwrap(), "--progress", "quiet"])
@@ -247,6 +268,9 @@ fn each_run_with_frames_has_a_player_that_draws_the_stored_frames() {
     assert_eq!(seen["console_errors"], Value::Array(Vec::new()), "{seen}");
     assert_eq!(seen["requests"], Value::Array(Vec::new()), "no network request: {seen}");
     assert_eq!(seen["player_count"], 3, "a player per run");
+    // Without a reference point, the answer is the fastest point, its pile not compared.
+    let answer = seen["answer"].as_str().unwrap_or_default();
+    assert!(answer.contains("pile was not compared: the study names no reference point"), "{seen}");
     for player in seen["players"].as_array().unwrap() {
         // Frames at 0, 0.05, …, 0.3 s (the last is the final state's step).
         assert_eq!(player["frames"], 7, "{player}");

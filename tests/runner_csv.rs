@@ -54,7 +54,8 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
     assert!(report.summary_csv.ends_with("csv_summary.csv"));
     assert!(text.ends_with("\r\n"));
     let records = parse_csv(&text);
-    // The names line, then the units line (the swept key in its unit too, docs/results.md).
+    // The names line, then the values; the units in the CSVW sidecar beside it (the swept key in its
+    // unit too, docs/results.md).
     let expected = [
         ("run_id", ""),
         ("index", ""),
@@ -95,9 +96,16 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
     ];
     let col = |name: &str| expected.iter().position(|c| c.0 == name).unwrap();
     assert_eq!(records[0], expected.map(|c| c.0));
-    assert_eq!(records[1], expected.map(|c| c.1));
-    let records = &records[1..];
-    assert_eq!(records.len(), 4);
+    let sidecar = report.summary_csv.with_file_name("csv_summary.csv-metadata.json");
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(sidecar).unwrap()).unwrap();
+    assert_eq!(meta["url"], "csv_summary.csv");
+    let columns = meta["tableSchema"]["columns"].as_array().unwrap();
+    let listed: Vec<(&str, &str)> =
+        columns.iter().map(|c| (c["titles"].as_str().unwrap(), c["schema:unitText"].as_str().unwrap_or(""))).collect();
+    assert_eq!(listed, expected);
+    let datatype = |name: &str| columns[col(name)]["datatype"].as_str().unwrap();
+    assert_eq!([datatype("run_id"), datatype("steps"), datatype("settle_time")], ["string", "integer", "double"]);
+    assert_eq!(records.len(), 4, "the names line, then one line per run");
     let statuses: Vec<&str> = records[1..].iter().map(|r| r[col("status")].as_str()).collect();
     assert_eq!(statuses, ["not_settled", "diverged", "error"]);
     assert_eq!(records[2][col("integrator.time_step")], "0.002");
@@ -137,11 +145,15 @@ fn points_csv_and_the_points_group_agree() {
     assert_eq!(records[0].len(), names.len());
     assert_eq!(records[0], names, "the names line holds the bare names, as /points does");
     assert_eq!(records[0][..3], ["material.restitution", "n", "settled"]);
-    // A statistic of a quantity with a unit is in that unit; a count has none.
-    let unit = |column: &str| records[1][names.iter().position(|n| *n == column).unwrap()].as_str();
+    // A statistic of a quantity with a unit is in that unit (the CSVW sidecar's); a count has none.
+    let sidecar = std::fs::read_to_string(format!("{}-metadata.json", report.points_csv.display())).unwrap();
+    let meta: serde_json::Value = serde_json::from_str(&sidecar).unwrap();
+    let column = |name: &str| &meta["tableSchema"]["columns"][names.iter().position(|n| *n == name).unwrap()];
+    let unit = |name: &str| column(name)["schema:unitText"].as_str().unwrap_or("");
     assert_eq!([unit("settle_time_ci95"), unit("pile_height_mean"), unit("settle_time_n")], ["s", "m", ""]);
-    assert_eq!(records.len(), 2 + 4);
-    for (i, record) in records[2..].iter().enumerate() {
+    assert_eq!([&column("settle_time_n")["datatype"], &column("runs")["datatype"]], ["integer", "string"]);
+    assert_eq!(records.len(), 1 + 4);
+    for (i, record) in records[1..].iter().enumerate() {
         let cells: Vec<String> = stored.columns.iter().map(|c| c.data.text(i)).collect();
         assert_eq!(record, &cells, "point {i}");
     }

@@ -119,3 +119,35 @@ fn strict_makes_warnings_errors_for_check_and_run() {
     }
     assert!(!out.exists(), "a refused run writes nothing");
 }
+
+#[test]
+fn check_states_what_a_size_distribution_gives_and_placement_draws_it() {
+    let dir = StudyDir::new("cli-sizes");
+    let scene = "[scene]\nparticles.count = 90\ndomain.width = 0.3\ndomain.height = 0.3\nrun.duration = 0.01\n";
+    let mix = "particles.size_distribution = { kind = \"discrete\", radii = [0.004, 0.006], fractions = [1, 3] }\n";
+    let study = dir.write("mix.toml", &format!("{scene}{mix}[sweep]\nreplicates = 2\n"));
+    let out = demsweep(&["check", study.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let expected = "particles.size_distribution: 90 disks: 23 of radius 0.004 m, 67 of radius 0.006 m";
+    assert!(text(&out.stdout).contains(expected), "{}", text(&out.stdout));
+    let plan = study_support::plan("sizes", &format!("{scene}{mix}[sweep]\nreplicates = 2\n"));
+    for run in &plan.runs {
+        let disks = demsweep::physics::placement::generate(&run.scene).unwrap();
+        assert_eq!(disks.iter().filter(|d| d.r == 0.004).count(), 23, "{}", run.id);
+        assert_eq!(disks.iter().filter(|d| d.r == 0.006).count(), 67, "{}", run.id);
+    }
+    let normal =
+        "particles.size_distribution = { kind = \"normal\", mean = 0.005, std = 0.001, min = 0.003, max = 0.007 }\n";
+    let study = dir.write("normal.toml", &format!("{scene}{normal}"));
+    let out = demsweep(&["check", study.to_str().unwrap()]);
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("particles.size_distribution: 90 disks, normal: with placement seed 12345"), "{stdout}");
+    let both = dir.write("both.toml", &format!("{scene}particles.radius_max = 0.02\n{normal}"));
+    let out = demsweep(&["check", both.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("give either particles.radius_max or particles.size_distribution"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -42,8 +42,38 @@ fn unknown_scene_key() {
         5,
         "scene.material.poison_ratio",
     );
-    assert!(e.reason.starts_with("unknown field `poison_ratio`, expected one of"), "{e}");
+    assert_eq!(e.reason, "unknown field `poison_ratio`: did you mean `poisson_ratio`?", "{e}");
     assert!(e.to_string().contains("unknown.toml:5:1: scene.material.poison_ratio: unknown field"), "{e}");
+    let far = single_error("far", "[scene]\nparticles.count = 20\nmaterial.colour = 1\n", 3, "scene.material.colour");
+    assert!(far.reason.starts_with("unknown field `colour`, expected one of `density`"), "no near field: {far}");
+}
+
+#[test]
+fn misspelt_words_suggest_the_nearest_valid_one() {
+    let choice = single_error(
+        "choice",
+        "[scene]\nparticles.count = 20\nplacement.kind = \"randon\"\n",
+        3,
+        "scene.placement.kind",
+    );
+    assert_eq!(choice.reason, "unknown variant `randon`: did you mean `random`?", "{choice}");
+    let table = single_error("table", &format!("{SMALL_SCENE}[outptu]\nframes = true\n"), 5, "outptu");
+    assert_eq!(table.reason, "unknown key (did you mean `output`?)", "{table}");
+    let report = format!("{SMALL_SCENE}[sweep]\n\"material.friction\" = [0.2, 0.6]\n[report]\nreferense = 1\n");
+    assert_eq!(
+        single_error("report", &report, 8, "report.referense").reason,
+        "unknown key (did you mean `reference`?)"
+    );
+}
+
+#[test]
+fn a_misspelt_sweep_axis_is_one_error_not_a_knock_on_one_about_the_reference() {
+    let text = format!(
+        "{SMALL_SCENE}[sweep]\n\"material.restitutin\" = [0.1, 0.5]\n\"material.friction\" = [0.2, 0.6]\n\
+         [report]\nreference = {{ \"material.restitution\" = 0.1, \"material.friction\" = 0.2 }}\n"
+    );
+    let e = single_error("axis_typo", &text, SWEEP_LINE, "sweep.\"material.restitutin\"");
+    assert_eq!(e.reason, "unknown field `restitutin`: did you mean `restitution`?", "{e}");
 }
 
 #[test]
@@ -51,6 +81,14 @@ fn wrong_type_names_the_expected_one() {
     let e = single_error("type", "[scene]\nparticles.count = \"many\"\n", 2, "scene.particles.count");
     assert!(e.reason.contains("invalid type: string \"many\""), "{e}");
     assert_eq!(e.location.unwrap().column, 11, "points at `count` in `particles.count`");
+}
+
+#[test]
+fn a_refused_value_is_one_error_not_a_second_one_about_its_default() {
+    // 30 disks fit a 5 cm box; the default count that stands in for the refused 30.0 does not.
+    let text = "[scene]\nparticles.count = 30.0\ndomain.width = 0.05\n";
+    let e = single_error("count_float", text, 2, "scene.particles.count");
+    assert!(e.reason.contains("expected a whole number"), "{e}");
 }
 
 #[test]

@@ -101,7 +101,10 @@ fn a_tiny_tune_runs_end_to_end() {
         header[0]
             .starts_with("candidate,origin,material.restitution,integrator.time_step,n,particle_steps_mean,cost_ratio")
     );
-    assert!(header[1].starts_with(",,,s,,,,"), "the units line: {}", header[1]);
+    let sidecar = std::fs::read_to_string(out.join("tiny_tune_candidates.csv-metadata.json")).unwrap();
+    let meta: serde_json::Value = serde_json::from_str(&sidecar).unwrap();
+    assert_eq!(meta["tableSchema"]["columns"][3]["schema:unitText"], "s", "the time step's unit: {sidecar}");
+    assert!(header[1].starts_with("0,reference,"), "the values follow the names: {}", header[1]);
     assert_eq!(csv.lines().filter(|l| l.ends_with(",true")).count(), 1, "one recommended row");
     // The best study is a runnable study.
     let best = out.join("tiny_tune_best.toml");

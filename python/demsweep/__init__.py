@@ -13,28 +13,46 @@ as pandas DataFrames and its arrays as NumPy arrays. Guide: docs/python.md of th
 
 Units are SI, one per quantity: ``UNITS`` maps every summary column, history series and disk field
 to its unit; each DataFrame's ``attrs["units"]`` holds its columns' units (swept keys' included), as
-the units line of a CSV file does. Refused studies and scenes raise
+the metadata sidecar of a CSV file does. Refused studies and scenes raise
 ``StudyError`` with the text ``demsweep check`` prints; unreadable results raise ``ResultsError``.
 """
 
 from __future__ import annotations
 
-import json
-import os
-import pathlib
-import warnings
+import json as _json
+import os as _os
+import pathlib as _pathlib
+import typing as _typing
+import warnings as _warnings
 
-import numpy as np
-import pandas as pd
+import numpy as _np
+import pandas as _pd
 
 from . import _native
 from ._native import DemsweepError, ResultsError, StudyError, scene_study
 
+#: The version of the demsweep library this module was built from (as ``demsweep --version``).
+__version__: str = _native.__version__
+
+#: A scene: a dict of the keys of a study's ``[scene]`` (nested, or dotted as in TOML:
+#: ``{"material.friction": 0.3}``), or TOML text of them.
+Scene = _typing.Union[str, _typing.Mapping[str, _typing.Any]]
+#: Placement seeds: None (the scene's own), a number of replicates, or a list of seeds.
+Seeds = _typing.Union[None, int, _typing.Sequence[int]]
+#: A path, as ``os.fspath`` takes it.
+PathLike = _typing.Union[str, "_os.PathLike[str]"]
+#: A run of a results file: its id (``"r0007"``) or its index.
+RunKey = _typing.Union[str, int]
+
 __all__ = [
     "DemsweepError",
     "DemsweepWarning",
+    "PathLike",
     "Results",
     "ResultsError",
+    "RunKey",
+    "Scene",
+    "Seeds",
     "StudyError",
     "UNITS",
     "open",
@@ -55,19 +73,19 @@ class DemsweepWarning(UserWarning):
     errors: ``warnings.simplefilter("error", demsweep.DemsweepWarning)``."""
 
 
-def _issue(texts, stacklevel: int = 3) -> None:
+def _issue(texts: _typing.Iterable[str], stacklevel: int = 3) -> None:
     """Issues each text as a DemsweepWarning pointing at the caller's caller (``stacklevel``)."""
     for text in texts:
-        warnings.warn(text, DemsweepWarning, stacklevel=stacklevel)
+        _warnings.warn(text, DemsweepWarning, stacklevel=stacklevel)
 
 
-def _frame(columns: dict) -> pd.DataFrame:
-    frame = pd.DataFrame(columns)
-    frame.attrs["units"] = _native.column_units([str(c) for c in frame.columns])  # the CSV's units line
+def _frame(columns: dict[str, _typing.Any]) -> _pd.DataFrame:
+    frame = _pd.DataFrame(columns)
+    frame.attrs["units"] = _native.column_units([str(c) for c in frame.columns])  # the CSV sidecar's units
     return frame
 
 
-def run(scene, seeds=None, jobs: int = 0) -> pd.DataFrame:
+def run(scene: Scene, seeds: Seeds = None, jobs: int = 0) -> _pd.DataFrame:
     """Runs one scene; one row per run (columns as in ``demsweep summary``).
 
     ``seeds``: None for one run with the scene's ``placement.seed``; a number n for n replicates
@@ -79,20 +97,20 @@ def run(scene, seeds=None, jobs: int = 0) -> pd.DataFrame:
     return _frame(table)
 
 
-def run_batch(scenes, seeds=None, jobs: int = 0) -> list[pd.DataFrame]:
+def run_batch(scenes: _typing.Iterable[Scene], seeds: Seeds = None, jobs: int = 0) -> list[_pd.DataFrame]:
     """Runs many scenes together on ``jobs`` worker threads (0: one per core); a DataFrame per scene."""
     tables, said = _native.run_batch(list(scenes), seeds, jobs)
     _issue(said)
     return [_frame(table) for table in tables]
 
 
-def _warn(answer: dict) -> dict:
+def _warn(answer: dict[str, _typing.Any]) -> dict[str, _typing.Any]:
     _issue(answer["warnings"] + answer.get("notes", []), stacklevel=4)
     return answer
 
 
-def run_study(path, out=None, resume: bool = False, force: bool = False, jobs: int = 0,
-              progress: str = "quiet") -> dict:
+def run_study(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,
+              jobs: int = 0, progress: str = "quiet") -> dict[str, _typing.Any]:
     """``demsweep run PATH``: the results file, CSV files and report page; returns what it did.
 
     Keys: ``results`` (the HDF5 file, for ``open``), ``summary_csv``, ``points_csv``, ``report``,
@@ -101,70 +119,73 @@ def run_study(path, out=None, resume: bool = False, force: bool = False, jobs: i
     that run again and why, stored runs the study no longer plans; both also issued as Python
     warnings) and ``run_warnings``.
     """
-    return _warn(_native.run_study(os.fspath(path), _path(out), resume, force, jobs, progress))
+    return _warn(_native.run_study(_os.fspath(path), _path(out), resume, force, jobs, progress))
 
 
-def tune(path, out=None, resume: bool = False, force: bool = False, jobs: int = 0,
-         verbose: bool = False) -> dict:
+def tune(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,
+         jobs: int = 0, verbose: bool = False) -> dict[str, _typing.Any]:
     """``demsweep tune PATH``; returns ``results``, ``recommendation`` (the paragraph),
     ``recommended`` (its settings, or None), ``files``, ``report``, ``ran``, ``reused``,
     ``particle_steps`` and ``warnings``."""
-    return _warn(_native.tune(os.fspath(path), _path(out), resume, force, jobs, verbose))
+    return _warn(_native.tune(_os.fspath(path), _path(out), resume, force, jobs, verbose))
 
 
-def _path(path):
-    return None if path is None else os.fspath(path)
+def _path(path: PathLike | None) -> str | None:
+    return None if path is None else _os.fspath(path)
 
 
-def _arrays(state: dict | None) -> dict | None:
+def _arrays(state: dict[str, _typing.Any] | None) -> dict[str, _typing.Any] | None:
     if state is None:
         return None
-    return {k: _arrays(v) if isinstance(v, dict) else v if k == "time" else np.asarray(v)
+    return {k: _arrays(v) if isinstance(v, dict) else v if k == "time" else _np.asarray(v)
             for k, v in state.items()}
 
 
 class Results:
     """A results file read through the library's readers; ``run`` is a run id or a run index."""
 
-    def __init__(self, path):
-        self._file = _native.Results(os.fspath(path))
+    def __init__(self, path: PathLike) -> None:
+        self._file = _native.Results(_os.fspath(path))
 
     @property
-    def path(self) -> pathlib.Path:
+    def path(self) -> _pathlib.Path:
         """The results file."""
         return self._file.path
 
     @property
-    def summary(self) -> pd.DataFrame:
+    def summary(self) -> _pd.DataFrame:
         """One row per run: identity, swept parameters, status, outcome and final values."""
         return _frame(self._file.summary())
 
     @property
-    def points(self) -> pd.DataFrame:
+    def points(self) -> _pd.DataFrame:
         """One row per grid point: n, status counts and each metric's mean, std, ci95, min, max."""
         return _frame(self._file.points())
 
-    def history(self, run) -> dict | None:
+    def history(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's sampled series (``t`` and the rest, see ``UNITS``) as arrays, or None."""
         return _arrays(self._file.history(run))
 
-    def final(self, run) -> dict | None:
+    def final(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's final state: ``time``, one array per disk field, ``contacts`` (arrays)."""
         return _arrays(self._file.final_state(run))
 
-    def frames(self, run) -> list[dict]:
+    def frames(self, run: RunKey) -> list[dict[str, _typing.Any]]:
         """The run's recorded frames, in time order, each like ``final``."""
-        return [_arrays(frame) for frame in self._file.frames(run)]
+        return [_arrays(frame) or {} for frame in self._file.frames(run)]
 
-    def scene(self, run) -> dict:
+    def scene(self, run: RunKey) -> dict[str, _typing.Any]:
         """The run's complete scene, every key of a study's ``[scene]``."""
-        return json.loads(self._file.scene_json(run))
+        return _json.loads(self._file.scene_json(run))
 
     def __repr__(self) -> str:
         return f"demsweep.Results({self.path!r})"
 
 
-def open(path) -> Results:  # noqa: A001 - the module's reader, like io.open
+def open(path: PathLike) -> Results:  # noqa: A001 - the module's reader, like io.open
     """Opens a results file (``.h5``) written by ``run_study``, ``tune`` or the command line, or the
     one results file in a folder (``results/<study name>``), as the commands do."""
     return Results(path)
+
+
+del annotations  # the __future__ import's name: not one of the module's

@@ -26,6 +26,15 @@ use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeE
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
 
+/// The `demsweep` command-line interface (src/cli.rs and src/cli/), compiled into the module from
+/// the same source as the `demsweep` binary, so that `pip install .` gives the command too (the
+/// wheel's console entry point calls [`main`]).
+#[path = "../../src"]
+#[allow(dead_code)] // the binary's `cli::main` reads the process's arguments; the module passes its own
+mod command {
+    pub mod cli;
+}
+
 create_exception!(_native, DemsweepError, PyException, "Any error the demsweep library reports.");
 create_exception!(
     _native,
@@ -89,9 +98,9 @@ fn to_toml(value: &Bound<'_, PyAny>, key: &mut Vec<String>) -> Result<toml::Valu
                 return fail(key, format!("keys must be strings, not {}", type_name(&k)));
             };
             key.push(name.clone());
-            let item = to_toml(&v, key);
+            let item = to_toml(&v, key).and_then(|item| insert_dotted(&mut table, &name, item, key));
             key.pop();
-            table.insert(name, item?);
+            item?;
         }
         return Ok(toml::Value::Table(table));
     }
@@ -116,6 +125,41 @@ fn to_toml(value: &Bound<'_, PyAny>, key: &mut Vec<String>) -> Result<toml::Valu
             type_name(value)
         ),
     )
+}
+
+/// Sets `item` at the dotted key `name` of `table` (`"material.friction"` is `friction` in the table
+/// `material`, as TOML's dotted keys); tables given both ways merge, a value given twice is an error
+/// naming `key` (the path to `name`).
+fn insert_dotted(
+    table: &mut toml::Table,
+    name: &str,
+    item: toml::Value,
+    key: &[String],
+) -> Result<(), (String, String)> {
+    let (head, rest) = match name.split_once('.') {
+        Some((head, rest)) if !head.is_empty() && !rest.is_empty() => (head, Some(rest)),
+        _ => (name, None),
+    };
+    let twice = || (key.join("."), format!("`{name}` is given twice (as a dotted key and in a dict)"));
+    match (rest, table.get_mut(head)) {
+        (None, None) => {
+            table.insert(head.to_string(), item);
+            Ok(())
+        }
+        (None, Some(toml::Value::Table(existing))) => match item {
+            toml::Value::Table(more) => more.into_iter().try_for_each(|(k, v)| insert_dotted(existing, &k, v, key)),
+            _ => Err(twice()),
+        },
+        (None, Some(_)) => Err(twice()),
+        (Some(rest), None) => {
+            let mut inner = toml::Table::new();
+            insert_dotted(&mut inner, rest, item, key)?;
+            table.insert(head.to_string(), toml::Value::Table(inner));
+            Ok(())
+        }
+        (Some(rest), Some(toml::Value::Table(existing))) => insert_dotted(existing, rest, item, key),
+        (Some(_), Some(_)) => Err(twice()),
+    }
 }
 
 fn type_name(value: &Bound<'_, PyAny>) -> String {
@@ -517,9 +561,26 @@ impl Results {
     }
 }
 
+/// `main(argv)`: runs the `demsweep` command with `argv` (the program's name first, as `sys.argv`)
+/// and ends the process with its exit status, as the `demsweep` binary does: the console entry
+/// point of the wheel. SIGPIPE and SIGINT get their command-line defaults first (a closed pipe ends
+/// the command quietly; Ctrl-C stops a sweep as it does the binary's).
+#[pyfunction]
+fn main(py: Python<'_>, argv: Vec<String>) -> PyResult<()> {
+    #[allow(unsafe_code)]
+    // SAFETY: the process is about to become the command; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    let code = py.detach(|| command::cli::main_with(argv));
+    let status = (0..=u8::MAX).find(|&k| std::process::ExitCode::from(k) == code).unwrap_or(1);
+    std::process::exit(i32::from(status))
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("DemsweepError", py.get_type::<DemsweepError>())?;
     m.add("StudyError", py.get_type::<StudyError>())?;
     m.add("ResultsError", py.get_type::<ResultsError>())?;
@@ -531,5 +592,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tune, m)?)?;
     m.add_function(wrap_pyfunction!(units, m)?)?;
     m.add_function(wrap_pyfunction!(column_units, m)?)?;
+    m.add_function(wrap_pyfunction!(main, m)?)?;
     Ok(())
 }

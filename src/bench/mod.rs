@@ -73,15 +73,18 @@ pub trait CsvRow {
     }
 }
 
-/// Writes rows as CSV (RFC 4180, the names and units lines of [`csv`]).
+/// Writes rows as CSV (RFC 4180, the names line of [`csv`]) with its metadata sidecar (each column's
+/// unit and datatype).
 pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
     let mut text = Vec::new();
-    let (names, units): (Vec<&str>, Vec<&str>) = R::COLUMNS.iter().copied().unzip();
-    csv::write_header(&mut text, &names, &units).expect("writing to memory");
-    for row in rows {
-        csv::write_record(&mut text, &row.values()).expect("writing to memory");
-    }
-    write_file(path, &String::from_utf8_lossy(&text))
+    let names: Vec<&str> = R::COLUMNS.iter().map(|(name, _)| *name).collect();
+    let values: Vec<Vec<String>> = rows.iter().map(CsvRow::values).collect();
+    csv::write_record(&mut text, &names).expect("writing to memory");
+    values.iter().for_each(|row| csv::write_record(&mut text, row).expect("writing to memory"));
+    write_file(path, &String::from_utf8_lossy(&text))?;
+    let mut columns = csv::ColumnMeta::declared_from_rows(&names, &values);
+    columns.iter_mut().zip(R::COLUMNS).for_each(|(column, (_, unit))| column.unit = unit.to_string());
+    csv::write_metadata(path, &columns).map_err(|e| e.to_string())
 }
 
 /// Writes a text file, creating its folder; the error names the path.

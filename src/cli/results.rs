@@ -394,7 +394,9 @@ fn run_metrics(summary: &SummaryTable) -> Vec<&str> {
 /// `known`), then the warning count.
 fn run_view(summary: &SummaryTable, known: &[&str], metrics: &[&str]) -> Result<SummaryTable, String> {
     if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
-        return Err(format!("no metric `{unknown}` in the summary table; the metrics are: {}", known.join(", ")));
+        let list = || format!("the metrics are: {}", known.join(", "));
+        let hint = demsweep::study::did_you_mean(unknown, known.iter().copied()).unwrap_or_else(list);
+        return Err(format!("no metric `{unknown}` in the summary table; {hint}"));
     }
     let column = |name: &str| summary.columns.iter().find(|c| c.name == name).cloned();
     let status = summary.columns.iter().position(|c| c.name == "status").map_or(0, |k| k + 1);
@@ -637,7 +639,8 @@ mod tests {
     /// `summary --help` names every column `summary` prints by default, old files' fallbacks too.
     #[test]
     fn summary_help_lists_the_default_columns() {
-        let help = crate::cli::Cli::command().find_subcommand("summary").unwrap().get_long_about().unwrap().to_string();
+        let help =
+            super::super::Cli::command().find_subcommand("summary").unwrap().get_long_about().unwrap().to_string();
         let pile = compare::DEFAULT_KEEP.iter().chain(&compare::FALLBACK_KEEP).map(|(m, _)| *m);
         let all: Vec<&str> = ["settle_time", "particle_steps", "steps", "wall_time"].into_iter().chain(pile).collect();
         let newer = |m: &&str| *m == "particle_steps" || compare::DEFAULT_KEEP.iter().any(|(k, _)| k == m);

@@ -2,9 +2,9 @@
 //! columns `placement.kind = "file"` reads (it skips `id` and `contact_force`, which are there for the
 //! reader); beside it the contacts' history, one row per contact,
 //! `first,second,tangential_spring,law_state`, which `placement.contacts` reads. Both files are CSV
-//! as demsweep writes every CSV (RFC 4180; the names line, then the units line, then the values:
-//! `pandas.read_csv(path, skiprows=[1])`); what they are — the run, the time, each column's unit and
-//! meaning — is also in a JSON file beside them.
+//! as demsweep writes every CSV (RFC 4180; the names line, then the values: `pandas.read_csv(path)`),
+//! each with its CSVW metadata sidecar (each column's unit, datatype and meaning); what the state is —
+//! the run, the time — is in a JSON file beside them.
 
 use std::io::Write;
 use std::path::Path;
@@ -44,10 +44,26 @@ pub const CONTACT_COLUMNS: [Column; 4] = [
     ("law_state", "", "the contact law's state (hysteretic_linear: the largest overlap, m; 0 for other laws)"),
 ];
 
-/// Writes the header lines of `columns`: their names, then their units.
+/// Writes the names line of `columns`.
 fn header(out: &mut dyn Write, columns: &[Column]) -> std::io::Result<()> {
-    let (names, units): (Vec<&str>, Vec<&str>) = columns.iter().map(|c| (c.0, c.1)).unzip();
-    csv::write_header(out, &names, &units)
+    let names: Vec<&str> = columns.iter().map(|c| c.0).collect();
+    csv::write_record(out, &names)
+}
+
+/// Writes the CSVW sidecar of the file `name` in `folder` whose columns are `columns` (the disk ids
+/// and the contacts' ends are integers, the rest reals).
+fn write_metadata(folder: &Path, name: &str, columns: &[Column]) -> Result<(), WriteError> {
+    let integer = ["id", "first", "second"];
+    let meta: Vec<csv::ColumnMeta> = columns
+        .iter()
+        .map(|(name, unit, description)| csv::ColumnMeta {
+            name: name.to_string(),
+            unit: unit.to_string(),
+            datatype: if integer.contains(name) { csv::Datatype::Integer } else { csv::Datatype::Double },
+            description: description.to_string(),
+        })
+        .collect();
+    csv::write_metadata(&folder.join(name), &meta).map_err(WriteError::Create)
 }
 
 /// Writes each state's `<run>_<label>.csv` (the disks), `<run>_<label>_contacts.csv` and
@@ -67,6 +83,7 @@ fn write_state(folder: &Path, state: &State) -> Result<(), WriteError> {
         }
         Ok(())
     })?;
+    write_metadata(folder, &format!("{stem}.csv"), &DISK_COLUMNS)?;
     let c = &s.contacts;
     super::write_file(folder, &format!("{stem}_contacts.csv"), |out: &mut dyn Write| {
         header(out, &CONTACT_COLUMNS)?;
@@ -75,6 +92,7 @@ fn write_state(folder: &Path, state: &State) -> Result<(), WriteError> {
         }
         Ok(())
     })?;
+    write_metadata(folder, &format!("{stem}_contacts.csv"), &CONTACT_COLUMNS)?;
     let table = |file: String, rows: usize, columns: &[Column]| {
         let columns: Vec<_> = columns
             .iter()

@@ -1,13 +1,16 @@
 //! RFC 4180 CSV: comma separated, CRLF line ends, fields quoted when they contain `"`, `,` or a line break.
 //!
-//! Every CSV file demsweep writes starts with two header lines: the columns' names (the names the
-//! HDF5 files and the Python module use), then their SI units (an empty cell for a dimensionless or
-//! text column); the values follow. `pandas.read_csv(path, skiprows=[1])` reads the names alone,
-//! `header=[0, 1]` both lines.
+//! Every CSV file demsweep writes has one header line, the columns' bare names (the names the HDF5
+//! files and the Python module use), then the values: `pandas.read_csv(path)` and a spreadsheet read
+//! numbers as numbers. What each column is — its unit, datatype and meaning — is in a sidecar beside
+//! the file, `<file>.csv-metadata.json`, in the W3C "CSV on the Web" metadata vocabulary (CSVW: the
+//! file name a CSVW processor looks for first; columns' `titles`, `datatype`, `dc:description`, and
+//! the unit as schema.org's `schema:unitText`, a property of CSVW's default context).
 
 use std::io::{self, Write};
+use std::path::{Path, PathBuf};
 
-use super::table::SummaryTable;
+use super::table::{ColumnData, SummaryTable};
 use crate::physics::quantity;
 
 /// Quotes a field when RFC 4180 requires it.
@@ -21,26 +24,154 @@ pub fn write_record<W: Write + ?Sized, S: AsRef<str>>(out: &mut W, fields: &[S])
     write!(out, "{}\r\n", line.join(","))
 }
 
-/// Writes the two header lines: `names`, then `units` (one per name, empty where none).
-pub fn write_header<W: Write + ?Sized, N: AsRef<str>, U: AsRef<str>>(
-    out: &mut W,
-    names: &[N],
-    units: &[U],
-) -> io::Result<()> {
-    write_record(out, names)?;
-    write_record(out, units)
+/// A column's values as CSVW names their XML Schema datatype.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Datatype {
+    /// Whole numbers.
+    Integer,
+    /// Real numbers (`NaN`, `INF` included).
+    Double,
+    /// `true` or `false`.
+    Boolean,
+    /// Text.
+    String,
 }
 
-/// Writes the header lines of columns named `names`, each with its [`quantity::unit`].
-pub fn write_named_header<W: Write, N: AsRef<str>>(out: &mut W, names: &[N]) -> io::Result<()> {
-    let units: Vec<&str> = names.iter().map(|n| quantity::unit(n.as_ref()).unwrap_or("")).collect();
-    write_header(out, names, &units)
+impl Datatype {
+    /// The CSVW name (`integer`, `double`, `boolean`, `string`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Datatype::Integer => "integer",
+            Datatype::Double => "double",
+            Datatype::Boolean => "boolean",
+            Datatype::String => "string",
+        }
+    }
+
+    /// The narrowest datatype every non-empty cell reads as (an empty cell is a missing value);
+    /// text when every cell is empty.
+    pub fn of_cells<'a>(cells: impl IntoIterator<Item = &'a str>) -> Datatype {
+        let mut present = cells.into_iter().filter(|c| !c.is_empty()).peekable();
+        if present.peek().is_none() {
+            return Datatype::String;
+        }
+        let fits = |cell: &str, kind: Datatype| match kind {
+            Datatype::Integer => cell.parse::<i64>().is_ok(),
+            Datatype::Double => cell.parse::<f64>().is_ok(),
+            Datatype::Boolean => cell == "true" || cell == "false",
+            Datatype::String => true,
+        };
+        let mut candidates = vec![Datatype::Integer, Datatype::Double, Datatype::Boolean, Datatype::String];
+        for cell in present {
+            candidates.retain(|&kind| fits(cell, kind));
+        }
+        candidates[0]
+    }
+
+    /// The datatype of a table column.
+    fn of_column(data: &ColumnData) -> Datatype {
+        match data {
+            ColumnData::Float(_) => Datatype::Double,
+            ColumnData::Int(_) => Datatype::Integer,
+            ColumnData::Bool(_) => Datatype::Boolean,
+            ColumnData::Text(_) => Datatype::String,
+        }
+    }
 }
 
-/// Writes the table: its header lines (see [`write_named_header`]), then its rows; missing values are empty cells.
+/// What the sidecar says about a column.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColumnMeta {
+    /// The bare name, as in the header line.
+    pub name: String,
+    /// SI unit symbol; empty when dimensionless or not a quantity.
+    pub unit: String,
+    /// Its values' datatype.
+    pub datatype: Datatype,
+    /// What it is; empty when nothing declares it.
+    pub description: String,
+}
+
+impl ColumnMeta {
+    /// A column named `name` whose unit and description are the ones demsweep declares for that name
+    /// ([`quantity::unit`], [`quantity::description`]).
+    pub fn declared(name: &str, datatype: Datatype) -> Self {
+        let unit = quantity::unit(name).unwrap_or("").to_string();
+        let description = quantity::description(name).unwrap_or("").to_string();
+        ColumnMeta { name: name.to_string(), unit, datatype, description }
+    }
+
+    /// Declared columns named `names`, each one's datatype read from its cells in `rows`.
+    pub fn declared_from_rows<N: AsRef<str>, S: AsRef<str>>(names: &[N], rows: &[Vec<S>]) -> Vec<Self> {
+        let datatype = |k: usize| Datatype::of_cells(rows.iter().filter_map(|row| row.get(k)).map(AsRef::as_ref));
+        names.iter().enumerate().map(|(k, name)| Self::declared(name.as_ref(), datatype(k))).collect()
+    }
+}
+
+/// The sidecar of the CSV file at `csv`: `<csv>-metadata.json` (`summary.csv` →
+/// `summary.csv-metadata.json`, the file-specific metadata a CSVW processor locates first).
+pub fn metadata_path(csv: &Path) -> PathBuf {
+    let mut name = csv.file_name().unwrap_or_default().to_os_string();
+    name.push("-metadata.json");
+    csv.with_file_name(name)
+}
+
+/// A CSVW column name: the bare name with every character a URI template variable name cannot hold
+/// (other than letters, digits, `_` and inner `.`) percent-encoded.
+fn csvw_name(name: &str) -> String {
+    let mut encoded = String::new();
+    for (k, c) in name.char_indices() {
+        let inner_dot = c == '.' && k > 0 && k + 1 < name.len() && !name[k + 1..].starts_with('.');
+        if c.is_ascii_alphanumeric() || (c == '_' && k > 0) || inner_dot {
+            encoded.push(c);
+        } else {
+            let mut bytes = [0; 4];
+            c.encode_utf8(&mut bytes).bytes().for_each(|b| encoded.push_str(&format!("%{b:02X}")));
+        }
+    }
+    encoded
+}
+
+/// The CSVW metadata of the table in the file `url` (a name relative to the sidecar) whose columns
+/// are `columns`: one header line, CRLF line ends, an empty cell a missing value.
+pub fn metadata(url: &str, columns: &[ColumnMeta]) -> serde_json::Value {
+    let column = |c: &ColumnMeta| {
+        let mut entry =
+            serde_json::json!({"name": csvw_name(&c.name), "titles": c.name, "datatype": c.datatype.name()});
+        if !c.unit.is_empty() {
+            entry["schema:unitText"] = c.unit.clone().into();
+        }
+        if !c.description.is_empty() {
+            entry["dc:description"] = c.description.clone().into();
+        }
+        entry
+    };
+    serde_json::json!({
+        "@context": "http://www.w3.org/ns/csvw",
+        "url": url,
+        "dc:creator": "demsweep",
+        "dialect": {"header": true, "lineTerminators": ["\r\n", "\n"]},
+        "tableSchema": {"columns": columns.iter().map(column).collect::<Vec<_>>()},
+    })
+}
+
+/// Writes the sidecar of the CSV file at `csv` (see [`metadata_path`], [`metadata`]).
+pub fn write_metadata(csv: &Path, columns: &[ColumnMeta]) -> Result<(), super::guard::GuardError> {
+    let url = csv.file_name().unwrap_or_default().to_string_lossy();
+    let mut text = serde_json::to_string_pretty(&metadata(&url, columns)).expect("JSON of strings");
+    text.push('\n');
+    super::guard::write(&metadata_path(csv), text.as_bytes(), &[])
+}
+
+/// The columns of `table`, declared (see [`ColumnMeta::declared`]) with their datatypes.
+pub fn table_columns(table: &SummaryTable) -> Vec<ColumnMeta> {
+    table.columns.iter().map(|c| ColumnMeta::declared(&c.name, Datatype::of_column(&c.data))).collect()
+}
+
+/// Writes the table: its names line, then its rows; missing values are empty cells.
 pub fn write_table<W: Write>(out: &mut W, table: &SummaryTable) -> io::Result<()> {
     let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
-    write_named_header(out, &names)?;
+    write_record(out, &names)?;
     for i in 0..table.len() {
         let cells: Vec<String> = table.columns.iter().map(|c| c.data.text(i)).collect();
         write_record(out, &cells)?;
@@ -53,11 +184,45 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_header_is_the_names_then_their_units() {
-        let mut out = Vec::new();
-        write_named_header(&mut out, &["run_id", "material.youngs_modulus", "settle_time", "packing_fraction"])
-            .unwrap();
-        let text = String::from_utf8(out).unwrap();
-        assert_eq!(text, "run_id,material.youngs_modulus,settle_time,packing_fraction\r\n,Pa,s,\r\n");
+    fn the_datatype_is_the_narrowest_every_cell_reads_as() {
+        assert_eq!(Datatype::of_cells(["1", "", "-3"]), Datatype::Integer);
+        assert_eq!(Datatype::of_cells(["1", "2.5", "NaN"]), Datatype::Double);
+        assert_eq!(Datatype::of_cells(["true", "false", ""]), Datatype::Boolean);
+        assert_eq!(Datatype::of_cells(["r0000", "1"]), Datatype::String);
+        assert_eq!(Datatype::of_cells(["", ""]), Datatype::String);
+    }
+
+    #[test]
+    fn the_sidecar_names_each_column_its_unit_and_datatype() {
+        let columns = vec![
+            ColumnMeta::declared("run_id", Datatype::String),
+            ColumnMeta::declared("material.youngs_modulus", Datatype::Double),
+            ColumnMeta::declared("settle_time", Datatype::Double),
+        ];
+        let meta = metadata("s_summary.csv", &columns);
+        assert_eq!(meta["@context"], "http://www.w3.org/ns/csvw");
+        assert_eq!(meta["url"], "s_summary.csv");
+        let listed = meta["tableSchema"]["columns"].as_array().unwrap();
+        assert_eq!(listed[0]["titles"], "run_id");
+        assert!(listed[0].get("schema:unitText").is_none(), "no unit for text: {}", listed[0]);
+        assert_eq!(listed[1]["name"], "material.youngs_modulus");
+        assert_eq!(listed[1]["schema:unitText"], "Pa");
+        assert_eq!(
+            (listed[2]["schema:unitText"].as_str(), listed[2]["datatype"].as_str()),
+            (Some("s"), Some("double"))
+        );
+        assert!(listed[2]["dc:description"].as_str().is_some_and(|d| !d.is_empty()));
+    }
+
+    #[test]
+    fn csvw_names_encode_what_a_uri_template_variable_cannot_hold() {
+        assert_eq!(csvw_name("contact.linear.kn"), "contact.linear.kn");
+        assert_eq!(csvw_name("wall time"), "wall%20time");
+        assert_eq!(csvw_name("_x."), "%5Fx%2E");
+    }
+
+    #[test]
+    fn the_sidecar_sits_beside_the_file() {
+        assert_eq!(metadata_path(Path::new("out/s_points.csv")), Path::new("out/s_points.csv-metadata.json"));
     }
 }

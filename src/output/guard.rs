@@ -32,6 +32,10 @@ pub const HTML_MARK: &str = "<meta name=\"generator\" content=\"demsweep\">";
 /// The mark that starts every SVG chart file demsweep writes (an XML comment).
 pub const SVG_MARK: &str = "<!-- made by demsweep -->\n";
 
+/// The mark of the CSV metadata sidecars demsweep writes (CSV on the Web's `dc:creator`, as
+/// `output::csv::metadata` writes it).
+pub const SIDECAR_MARK: &str = "\"dc:creator\": \"demsweep\"";
+
 /// The PNG text chunk (keyword, text) of every PNG chart demsweep writes.
 pub const PNG_MARK: (&str, &str) = ("Software", "demsweep");
 
@@ -190,17 +194,34 @@ pub fn check_replaceable(path: &Path, inputs: &[&Path], existing: Existing) -> R
     }
 }
 
-/// Whether the file at `path` is one demsweep wrote, by its first bytes: a report page or chart
-/// with its mark ([`HTML_MARK`], [`SVG_MARK`], [`PNG_MARK`]; report pages of earlier versions by
-/// their title), or a CSV table (a names line, then a units line of as many cells, none a number).
+/// Whether the file at `path` is one demsweep wrote, by its first bytes: a report page, chart or
+/// CSV metadata sidecar with its mark ([`HTML_MARK`], [`SVG_MARK`], [`PNG_MARK`], [`SIDECAR_MARK`];
+/// report pages of earlier versions by their title), a CSV table whose sidecar
+/// (`NAME.csv-metadata.json`) has demsweep's mark, or a CSV table of earlier versions (a names
+/// line, then a units line of as many cells, none a number).
 pub fn made_by_demsweep(path: &Path) -> bool {
-    let mut start = Vec::new();
-    if File::open(path).and_then(|file| file.take(MARK_WINDOW).read_to_end(&mut start)).is_err() {
-        return false;
-    }
+    let Some(start) = first_bytes(path) else { return false };
     let png_mark = format!("tEXt{}\0{}", PNG_MARK.0, PNG_MARK.1);
-    let marks = [HTML_MARK, " demsweep report</title>", SVG_MARK, &png_mark];
-    marks.iter().any(|mark| start.windows(mark.len()).any(|w| w == mark.as_bytes())) || is_table_csv(&start)
+    let marks = [HTML_MARK, " demsweep report</title>", SVG_MARK, &png_mark, SIDECAR_MARK];
+    marks.iter().any(|mark| contains(&start, mark)) || is_table_csv(&start) || has_our_sidecar(path)
+}
+
+/// The first [`MARK_WINDOW`] bytes of the file at `path`; None when it cannot be read.
+fn first_bytes(path: &Path) -> Option<Vec<u8>> {
+    let mut start = Vec::new();
+    File::open(path).and_then(|file| file.take(MARK_WINDOW).read_to_end(&mut start)).ok().map(|_| start)
+}
+
+/// Whether `bytes` hold `mark`.
+fn contains(bytes: &[u8], mark: &str) -> bool {
+    bytes.windows(mark.len()).any(|w| w == mark.as_bytes())
+}
+
+/// Whether the CSV metadata sidecar of `path` (`NAME-metadata.json` beside it) has demsweep's mark.
+fn has_our_sidecar(path: &Path) -> bool {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push("-metadata.json");
+    first_bytes(&path.with_file_name(name)).is_some_and(|start| contains(&start, SIDECAR_MARK))
 }
 
 /// Whether `start` begins as demsweep's CSV tables do: a names line and a units line of as many

@@ -6,7 +6,8 @@ use std::path::Path;
 use super::{OutputError, compound, csv, reader};
 
 /// Writes the histories of run `run_id` of a results file as CSV: one column per series (the fields
-/// of the run's `history` table, headed `name (unit)`), one line per sample.
+/// of the run's `history` table, headed by their bare names; the units are the results file's), one
+/// line per sample.
 pub fn to_csv<W: Write>(path: &Path, run_id: &str, out: &mut W) -> Result<(), OutputError> {
     let file = reader::open(path)?;
     let run = reader::find_run(&file, path, run_id)?;
@@ -20,7 +21,7 @@ pub fn to_csv<W: Write>(path: &Path, run_id: &str, out: &mut W) -> Result<(), Ou
         .map_err(|e| reader::damaged_data(path, run_id, &format!("{run}/history"), &e))?;
     let write_err = |e| OutputError::io(Path::new("<output>"), e);
     let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
-    csv::write_named_header(out, &names).map_err(write_err)?;
+    csv::write_record(out, &names).map_err(write_err)?;
     for i in 0..columns.first().map_or(0, |(_, c)| c.len()) {
         let cells: Vec<String> = columns.iter().map(|(_, c)| c.text(i)).collect();
         csv::write_record(out, &cells).map_err(write_err)?;

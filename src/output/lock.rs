@@ -1,11 +1,14 @@
 //! The writer's lock on a results file: one process at a time creates, overwrites, resumes or
 //! merges into `<results>.lock`'s results file. The lock is an OS advisory lock on the file
 //! `<results>.lock` (released by the kernel however the process ends, `kill -9` included); the
-//! file's text says who holds it. The file stays after the lock is released: removing it would let
-//! two processes lock two different files of the same name.
+//! file's text says who holds it. The holder removes the file before releasing the lock, so a
+//! finished run leaves none (one killed leaves an empty one, which the next run takes). A process
+//! that locked a file just removed by its holder finds that the path no longer names it, and tries
+//! again: two processes never hold locks on two different files of the same name.
 
 use std::fs::{File, TryLockError};
 use std::io::{Read, Seek, Write};
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
@@ -15,7 +18,11 @@ use super::header::utc_now;
 #[derive(Debug)]
 pub struct ResultsLock {
     file: File,
+    path: PathBuf,
 }
+
+/// How many times a lock is tried while its file keeps being removed under it by other holders.
+const ATTEMPTS: usize = 100;
 
 /// The lock file of a results file: `<results>.lock`.
 pub fn lock_path(results: &Path) -> PathBuf {
@@ -28,33 +35,59 @@ impl ResultsLock {
     /// Takes the lock of `results` without waiting; the refusal names who holds it and what to do.
     pub fn acquire(results: &Path) -> Result<Self, OutputError> {
         let path = lock_path(results);
-        super::guard::refuse_symlink(&path).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
-        let mut file = super::guard::open_no_follow(&path, false)
-            .map_err(|e| OutputError::new(&path, format!("cannot create the lock file: {e}")))?;
-        match file.try_lock() {
-            Ok(()) => {}
-            Err(TryLockError::WouldBlock) => {
-                let mut holder = String::new();
-                let _ = file.read_to_string(&mut holder);
-                return Err(refusal(results, holder.trim()));
-            }
-            Err(TryLockError::Error(e)) => {
-                return Err(OutputError::new(
-                    &path,
-                    format!("cannot lock (does this file system support locks?): {e}"),
-                ));
+        for _ in 0..ATTEMPTS {
+            let file = lock_file(results, &path)?;
+            if names(&path, &file) {
+                return Self::hold(file, path);
             }
         }
+        Err(OutputError::new(&path, "cannot lock: the lock file keeps being removed by other processes"))
+    }
+
+    /// Writes who holds the locked `file` into it.
+    fn hold(mut file: File, path: PathBuf) -> Result<Self, OutputError> {
         let holder = format!("pid {} on {} since {}\n", std::process::id(), hostname(), utc_now());
         let written = file.set_len(0).and_then(|()| file.rewind()).and_then(|()| file.write_all(holder.as_bytes()));
         written.map_err(|e| OutputError::io(&path, e))?;
-        Ok(Self { file })
+        Ok(Self { file, path })
+    }
+}
+
+/// Opens (creating it if missing) and locks the lock file at `path` of `results`; refused when another
+/// process holds it.
+fn lock_file(results: &Path, path: &Path) -> Result<File, OutputError> {
+    super::guard::refuse_symlink(path).map_err(|e| OutputError::new(path, e.refusal_text()))?;
+    let mut file = super::guard::open_no_follow(path, false)
+        .map_err(|e| OutputError::new(path, format!("cannot create the lock file: {e}")))?;
+    match file.try_lock() {
+        Ok(()) => Ok(file),
+        Err(TryLockError::WouldBlock) => {
+            let mut holder = String::new();
+            let _ = file.read_to_string(&mut holder);
+            Err(refusal(results, holder.trim()))
+        }
+        Err(TryLockError::Error(e)) => {
+            Err(OutputError::new(path, format!("cannot lock (does this file system support locks?): {e}")))
+        }
+    }
+}
+
+/// Whether `path` names the open `file` (and not another file, or none, since it was opened).
+fn names(path: &Path, file: &File) -> bool {
+    match (std::fs::symlink_metadata(path), file.metadata()) {
+        (Ok(at_path), Ok(open)) => at_path.dev() == open.dev() && at_path.ino() == open.ino(),
+        _ => false,
     }
 }
 
 impl Drop for ResultsLock {
+    /// Removes the lock file (when its path still names it), then releases the lock by closing it.
     fn drop(&mut self) {
-        let _ = self.file.set_len(0);
+        if names(&self.path, &self.file) {
+            let _ = std::fs::remove_file(&self.path);
+        } else {
+            let _ = self.file.set_len(0);
+        }
     }
 }
 
@@ -94,8 +127,27 @@ mod tests {
         let pid = format!("pid {} on ", std::process::id());
         assert!(refused.message.contains(&pid) && refused.message.contains("--resume"), "{refused}");
         drop(first);
-        assert!(std::fs::read_to_string(lock_path(&results)).unwrap().is_empty(), "released: no holder named");
+        assert!(!lock_path(&results).exists(), "released: no lock file left");
         drop(ResultsLock::acquire(&results).unwrap());
+        assert!(!lock_path(&results).exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_lock_on_a_file_its_holder_removed_is_taken_again_on_the_new_file() {
+        let dir = std::env::temp_dir().join(format!("demsweep-relock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let results = dir.join("s.h5");
+        let path = lock_path(&results);
+        let stale = lock_file(&results, &path).unwrap(); // locked, then its file removed under it
+        std::fs::remove_file(&path).unwrap();
+        assert!(!names(&path, &stale));
+        let taken = ResultsLock::acquire(&results).unwrap();
+        assert!(names(&path, &taken.file), "the lock is on the file the path names");
+        drop(stale);
+        let refused = ResultsLock::acquire(&results).unwrap_err();
+        assert!(refused.message.contains("is being written by"), "{refused}");
+        drop(taken);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

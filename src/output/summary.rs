@@ -14,11 +14,13 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
     reader::summary(&file, path)
 }
 
-/// Writes a table (the summary or the points) as a CSV file (names and units lines, RFC 4180 quoting, missing
-/// values empty), whole or not at all; an existing file is replaced as `existing` allows.
+/// Writes a table (the summary or the points) as a CSV file (the names line, RFC 4180 quoting,
+/// missing values empty), whole or not at all, and its metadata sidecar (units, datatypes:
+/// [`csv::write_metadata`]); an existing file is replaced as `existing` allows.
 pub fn write_csv(path: &Path, table: &SummaryTable, existing: Existing) -> Result<(), OutputError> {
-    super::guard::write_with(path, &[], existing, |mut out| csv::write_table(&mut out, table))
-        .map_err(|e| OutputError::new(path, e.refusal_text()))
+    let refused = |e: super::guard::GuardError| OutputError::new(path, e.refusal_text());
+    super::guard::write_with(path, &[], existing, |mut out| csv::write_table(&mut out, table)).map_err(refused)?;
+    csv::write_metadata(path, &csv::table_columns(table)).map_err(refused)
 }
 
 /// Writes the summary as an aligned text table (headed by labels, [`quantity::label`], columns separated by two spaces, floats to 6

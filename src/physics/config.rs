@@ -9,6 +9,7 @@ use super::key_spec::scene_section;
 use super::number::exact;
 
 pub use super::contact::{ContactConfig, ContactLawKind};
+pub use super::size_distribution::SizeDistribution;
 
 scene_section! {
 /// One simulation's complete input. Every field has a default (see [`Default`]).
@@ -75,7 +76,8 @@ pub struct DomainConfig {
 }
 
 scene_section! {
-/// Disk count and radii. Radii: all `radius`; or uniform in `[radius, radius_max]`; or the list `radii`.
+/// Disk count and radii. Radii: all `radius`; or uniform in `[radius, radius_max]`; or the list
+/// `radii`; or drawn from `size_distribution`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ParticlesConfig {
@@ -91,6 +93,10 @@ pub struct ParticlesConfig {
     /// Explicit radius per disk (m); its length must equal `count`.
     #[key(unit: "m", range: "each > 0")]
     pub radii: Option<Vec<f64>>,
+    /// A size distribution of the radii, drawn with the placement seed: a discrete mixture by
+    /// number, area or mass fraction; uniform; truncated normal or lognormal (docs/studies.md).
+    #[key(range: "a table: kind and its keys")]
+    pub size_distribution: Option<SizeDistribution>,
     /// Disk thickness `h` (m): mass = density·π·R²·h (paper eq 4 with unit height).
     #[key(unit: "m", range: "> 0", plausible: Some((1e-7, 100.0)))]
     pub thickness: f64,
@@ -98,15 +104,24 @@ pub struct ParticlesConfig {
 }
 
 /// How initial positions are made.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PlacementKind {
     /// Seeded random sequential placement without overlaps (the paper's generator).
     Random,
     /// Rows of touching-free disks filled from the floor up.
     Lattice,
-    /// Explicit initial states read by the caller (e.g. a CSV file) and passed to the simulation.
+    /// Explicit initial states read by the caller from a CSV file and passed to the simulation.
     File,
+    /// Explicit initial states read by the caller from a LAMMPS data or dump file.
+    Lammps,
+}
+
+impl PlacementKind {
+    /// Whether the disks come from `placement.file` (read by the caller) rather than a generator.
+    pub fn reads_file(self) -> bool {
+        matches!(self, PlacementKind::File | PlacementKind::Lammps)
+    }
 }
 
 scene_section! {
@@ -115,7 +130,7 @@ scene_section! {
 #[serde(deny_unknown_fields, default)]
 pub struct PlacementConfig {
     /// Which generator.
-    #[key(one_of: &["random", "lattice", "file"])]
+    #[key(one_of: &["random", "lattice", "file", "lammps"])]
     pub kind: PlacementKind,
     /// Seed for random placement and random radii; same seed, same positions on every platform.
     #[key(range: ">= 0")]
@@ -126,9 +141,9 @@ pub struct PlacementConfig {
     /// Lattice: hexagonal (true) or square (false) rows.
     #[key(range: "true or false")]
     pub lattice_hexagonal: bool,
-    /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega,angle` columns (read by
-    /// the caller).
-    #[key(range: "a CSV path")]
+    /// File placement: path of a CSV with `x,y` and optional `r,vx,vy,omega,angle` columns, or
+    /// (`kind = "lammps"`) of a LAMMPS data or dump file (read by the caller).
+    #[key(range: "a CSV or LAMMPS file path")]
     pub file: Option<String>,
     /// File placement: path of a CSV with the contacts' history (tangential springs, law states) to
     /// start from, as `demsweep export --format csv` writes it (read by the caller; a restart).
@@ -394,7 +409,7 @@ impl Default for DomainConfig {
 
 impl Default for ParticlesConfig {
     fn default() -> Self {
-        Self { count: 300, radius: 0.01, radius_max: None, radii: None, thickness: 1.0 }
+        Self { count: 300, radius: 0.01, radius_max: None, radii: None, size_distribution: None, thickness: 1.0 }
     }
 }
 
@@ -550,7 +565,7 @@ impl SceneConfig {
         c.positive("domain.width", d.width);
         c.positive("domain.height", d.height);
         let p = &self.particles;
-        if p.count == 0 && self.placement.kind != PlacementKind::File {
+        if p.count == 0 && !self.placement.kind.reads_file() {
             c.fail("particles.count", "a scene needs at least one disk, got 0");
         }
         c.positive("particles.radius", p.radius);
@@ -564,6 +579,12 @@ impl SceneConfig {
             );
         }
         c.exclusive("particles.radius_max", p.radius_max.is_some(), "particles.radii", p.radii.is_some());
+        let distribution = p.size_distribution.is_some();
+        c.exclusive("particles.radius_max", p.radius_max.is_some(), "particles.size_distribution", distribution);
+        c.exclusive("particles.radii", p.radii.is_some(), "particles.size_distribution", distribution);
+        for issue in p.size_distribution.iter().flat_map(SizeDistribution::issues) {
+            c.fail(&format!("particles.size_distribution.{}", issue.key), issue.reason);
+        }
         if let Some(radii) = &p.radii {
             if radii.len() != p.count {
                 c.fail("particles.radii", format!("has {} entries but particles.count is {}", radii.len(), p.count));
@@ -579,10 +600,10 @@ impl SceneConfig {
                 format!("{} m is narrower than the largest disk diameter {} m", exact(d.width), exact(2.0 * largest)),
             );
         }
-        if self.placement.kind == PlacementKind::File && self.placement.file.is_none() {
-            c.fail("placement.file", "placement.kind = \"file\" needs placement.file (a CSV path)");
+        if self.placement.kind.reads_file() && self.placement.file.is_none() {
+            c.fail("placement.file", "placement.kind = \"file\" or \"lammps\" needs placement.file (a file path)");
         }
-        if self.placement.kind != PlacementKind::File && self.placement.contacts.is_some() {
+        if !self.placement.kind.reads_file() && self.placement.contacts.is_some() {
             c.fail("placement.contacts", "a contact history needs its disks: set placement.kind = \"file\"");
         }
         c.non_negative("placement.lattice_gap", self.placement.lattice_gap);
@@ -715,10 +736,11 @@ impl SceneConfig {
     /// The largest disk radius the configuration can produce (m).
     pub fn largest_radius(&self) -> f64 {
         let p = &self.particles;
-        match (&p.radii, p.radius_max) {
-            (Some(radii), _) => radii.iter().cloned().fold(0.0, f64::max),
-            (None, Some(rmax)) => rmax,
-            (None, None) => p.radius,
+        match (&p.radii, p.radius_max, &p.size_distribution) {
+            (Some(radii), _, _) => radii.iter().cloned().fold(0.0, f64::max),
+            (None, Some(rmax), _) => rmax,
+            (None, None, Some(distribution)) => distribution.bounds().1,
+            (None, None, None) => p.radius,
         }
     }
 
@@ -730,6 +752,10 @@ impl SceneConfig {
     /// The smallest disk radius the configuration can produce (m).
     pub fn smallest_radius(&self) -> f64 {
         let p = &self.particles;
-        p.radii.as_ref().map_or(p.radius, |radii| radii.iter().cloned().fold(f64::INFINITY, f64::min))
+        match (&p.radii, &p.size_distribution) {
+            (Some(radii), _) => radii.iter().cloned().fold(f64::INFINITY, f64::min),
+            (None, Some(distribution)) => distribution.bounds().0,
+            (None, None) => p.radius,
+        }
     }
 }

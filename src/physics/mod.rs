@@ -41,6 +41,7 @@ pub mod record;
 pub mod rng;
 mod rolling;
 pub mod simulation;
+pub mod size_distribution;
 pub mod stability;
 pub mod time_step;
 pub mod vector;

@@ -25,10 +25,11 @@ impl std::error::Error for PlacementError {}
 /// Radii of all disks: equal, uniform in `[radius, radius_max]` (drawn first from `rng`), or listed.
 pub fn radii(scene: &SceneConfig, rng: &mut Rng) -> Vec<f64> {
     let p = &scene.particles;
-    match (&p.radii, p.radius_max) {
-        (Some(list), _) => list.clone(),
-        (None, Some(rmax)) => (0..p.count).map(|_| rng.range(p.radius, rmax)).collect(),
-        (None, None) => vec![p.radius; p.count],
+    match (&p.radii, p.radius_max, &p.size_distribution) {
+        (Some(list), _, _) => list.clone(),
+        (None, Some(rmax), _) => (0..p.count).map(|_| rng.range(p.radius, rmax)).collect(),
+        (None, None, Some(distribution)) => distribution.sample(p.count, rng),
+        (None, None, None) => vec![p.radius; p.count],
     }
 }
 
@@ -40,7 +41,7 @@ pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError>
     match scene.placement.kind {
         PlacementKind::Random => random(scene, &radii, &mut rng),
         PlacementKind::Lattice => lattice(scene, &radii),
-        PlacementKind::File => Err(PlacementError {
+        PlacementKind::File | PlacementKind::Lammps => Err(PlacementError {
             key: "placement.file".into(),
             reason: "file placement needs the initial states read from the file".into(),
         }),

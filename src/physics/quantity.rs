@@ -1,7 +1,7 @@
 //! Every per-run quantity, declared once: name, unit, description and how it is computed.
 //!
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units (HDF5
-//! attributes, the CSV files' units line and the labels people read: [`unit`], [`label`]), the
+//! attributes, the CSV files' metadata sidecars and the labels people read: [`unit`], [`label`]), the
 //! history tables, `compare --keep`, tune's `[keep]`, `summary --metric` and the column table of
 //! docs/results.md all read these tables; nothing else lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
 //! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
@@ -256,12 +256,19 @@ pub fn column_quantity(column: &str) -> Option<Declaration> {
 /// The SI unit of a named column wherever demsweep stores or reads it (`""`: dimensionless): a
 /// per-run quantity or a statistic of one (`settle_time_ci95`), a history series, a disk field of a
 /// state, or a scene key (a swept column such as `material.youngs_modulus`); `None` for anything
-/// else (text, run ids, counts of runs). Every CSV file's units line and every [`label`] read it.
+/// else (text, run ids, counts of runs). Every CSV file's metadata sidecar and every [`label`] read it.
 pub fn unit(name: &str) -> Option<&'static str> {
     let series = || HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.unit);
     let disk_field = || DISK_FIELDS.iter().find(|f| f.name == name).map(|f| f.unit);
     let key = || super::keys::scene_keys().into_iter().find(|k| k.path == name).map(|k| k.unit);
     column_quantity(name).map(|q| q.unit).or_else(series).or_else(disk_field).or_else(key)
+}
+
+/// What a column named after a per-run quantity or a history series holds, in one sentence; `None`
+/// for anything else (a statistic of a quantity included).
+pub fn description(name: &str) -> Option<&'static str> {
+    let series = || HISTORY_SERIES.iter().find(|s| s.quantity.name == name).map(|s| s.quantity.description);
+    find(name).map(|q| q.description).or_else(series)
 }
 
 /// The one way a name is shown with its unit to people (plot axes, report and terminal table

@@ -14,7 +14,7 @@
 //! With the step tied to the contact time, a stiffer material gets a smaller step (Hertz:
 //! `dt ∝ E^(−2/5)`), so a stiffness sweep changes the cost of a run as users expect.
 
-use super::config::{PlacementKind, SceneConfig};
+use super::config::SceneConfig;
 use super::contact::ContactLaw;
 use super::material::{Elastic, Materials};
 use super::particles::InitialDisk;
@@ -75,7 +75,7 @@ fn hardest_impact<L: ContactLaw>(
     let g = scene.gravity;
     let walls = BoxWalls::new(&scene.domain);
     let (radius, speed) = match disks {
-        Some(disks) if scene.placement.kind == PlacementKind::File && !disks.is_empty() => {
+        Some(disks) if scene.placement.kind.reads_file() && !disks.is_empty() => {
             let column = |f: fn(&InitialDisk) -> f64| disks.iter().map(f).collect::<Vec<f64>>();
             let drops = stability::landing_drops(&column(|d| d.x), &column(|d| d.y), &column(|d| d.r), &walls, g);
             let falls = disks.iter().zip(drops).map(|(d, drop)| d.vx.hypot(d.vy) + (2.0 * drop).sqrt());

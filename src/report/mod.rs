@@ -262,6 +262,7 @@ const VERDICT_POINTS: usize = 5;
 /// when the study names a reference point (`spec`), which points are equivalent to it.
 fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
     let points = Points::new(summary);
+    let answer = first_answer(&points, spec);
     let reference = spec.map_or(String::new(), |spec| reference_section(&points, spec));
     let mut settled: Vec<(usize, Describe)> = (0..points.len())
         .map(|p| (p, points.describe(p, "settle_time")))
@@ -269,8 +270,8 @@ fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
         .collect();
     if settled.is_empty() {
         return format!(
-            "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">No grid point has a settled run: nothing settles in \
-             this sweep (see how the runs ended below).</p>{reference}"
+            "<h2 id=\"verdict\">The answer</h2>{answer}<p class=\"verdict\">No grid point has a settled run: nothing \
+             settles in this sweep (see how the runs ended below).</p>{reference}"
         );
     }
     settled.sort_by(|a, b| a.1.mean.total_cmp(&b.1.mean));
@@ -309,14 +310,132 @@ fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
         ),
     };
     format!(
-        "<h2 id=\"verdict\">The answer</h2><p class=\"verdict\">Fastest-settling grid points (mean settle time over the \
-         settled runs, ± the 95 % confidence half-width). {summary_line} Whether a faster point makes the same pile: \
-         <code>demsweep compare</code> against your usual point (docs/compare.md).</p>\
+        "<h2 id=\"verdict\">The answer</h2>{answer}<p class=\"verdict\">Fastest-settling grid points (mean settle time \
+         over the settled runs, ± the 95 % confidence half-width). {summary_line}</p>\
          <table class=\"verdict\"><thead><tr><th>grid point</th><th>{}</th><th>settled runs</th>\
          <th>{}</th><th></th></tr></thead><tbody>{rows}</tbody></table>{reference}",
         escape(&quantity::label("settle_time")),
         escape(&quantity::label("particle_steps_mean")),
     )
+}
+
+/// The study's question answered in one paragraph (`<p id="answer">`). With a reference point
+/// (`spec`): the cheapest grid point faster than the reference (by the cost ratio) that makes an
+/// equivalent pile, or, when none of the faster points does, the nearest miss and the metric that
+/// moved most. Without one: the cheapest point, and that its pile was not compared.
+fn first_answer(points: &Points, spec: Option<&str>) -> String {
+    let text = match spec.map(|spec| ReferenceVerdict::new(points, spec)) {
+        Some(Ok(verdict)) => reference_answer(points, &verdict),
+        Some(Err(_)) | None => cheapest_answer(points, spec.is_some()),
+    };
+    format!("<p class=\"verdict answer\" id=\"answer\">{text}</p>")
+}
+
+/// The answer against the reference point (see [`first_answer`]).
+fn reference_answer(points: &Points, verdict: &ReferenceVerdict) -> String {
+    let comparison = &verdict.comparison;
+    let reference = escape(&points.label(comparison.reference));
+    let cost = &comparison.cost_column;
+    let faster: Vec<usize> = (0..comparison.points.len()).filter(|&i| comparison.points[i].cost.ratio < 1.0).collect();
+    let costs = |p: &compare::PointComparison| {
+        let ratios = format!(
+            "{} of the reference's {cost} and {} of its wall time",
+            compare::ratio(&p.cost),
+            compare::ratio(&p.wall_time)
+        );
+        (ratios, if ratios_disagree(p) { vec![points.label(p.point)] } else { Vec::new() })
+    };
+    if let Some(&best) = verdict.equivalent.iter().find(|i| faster.contains(i)) {
+        let point = &comparison.points[best];
+        let (ratios, disagreeing) = costs(point);
+        return format!(
+            "<b>{}</b> is the fastest grid point that makes the same pile as the reference ({reference}): every kept \
+             metric is equivalent, at {ratios}.{}",
+            escape(&points.label(point.point)),
+            disagreement(&disagreeing, cost)
+        );
+    }
+    let deviation = |i: &usize| comparison.points[*i].deviation(&comparison.kept);
+    let Some(&miss) = faster.iter().min_by(|a, b| deviation(a).total_cmp(&deviation(b))) else {
+        return format!(
+            "No grid point is faster than the reference ({reference}) by {cost}: keep the reference's settings."
+        );
+    };
+    let point = &comparison.points[miss];
+    let moved = (0..comparison.kept.len())
+        .max_by(|&a, &b| {
+            let share = |k: usize| point.tests[k].difference.abs() / comparison.kept[k].margin;
+            share(a).total_cmp(&share(b))
+        })
+        .map_or(String::new(), |k| {
+            let (kept, test) = (&comparison.kept[k], &point.tests[k]);
+            let decision = match test.decision {
+                Decision::Different => "different",
+                _ => "not shown equivalent (more seeds would decide)",
+            };
+            format!(
+                ": its {} moved by {} from the reference's {} (the margin is ± {}), {decision}",
+                escape(&kept.tolerance.metric),
+                number(test.difference),
+                number(kept.reference.mean),
+                number(kept.margin)
+            )
+        });
+    let (ratios, disagreeing) = costs(point);
+    format!(
+        "None of the {} faster grid points makes the same pile as the reference ({reference}). The nearest miss is \
+         <b>{}</b>, at {ratios}{moved}.{}",
+        faster.len(),
+        escape(&points.label(point.point)),
+        disagreement(&disagreeing, cost)
+    )
+}
+
+/// The answer without a comparable reference: the point with settled runs of the lowest mean
+/// cost, and that its pile was not compared (`named`: the study names a reference that could not be compared).
+fn cheapest_answer(points: &Points, named: bool) -> String {
+    let cost = if points.metric_names().contains(&"particle_steps") { "particle_steps" } else { "steps" };
+    let cheapest = (0..points.len())
+        .filter(|&p| points.describe(p, "settle_time").n > 0)
+        .map(|p| (p, points.describe(p, cost)))
+        .filter(|(_, d)| d.mean.is_finite())
+        .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean));
+    let why = if named {
+        "the study's reference point could not be compared (see below)"
+    } else {
+        "the study names no reference point (<code>[report] reference</code>, docs/studies.md)"
+    };
+    let Some((point, d)) = cheapest else {
+        return format!("No grid point has a settled run, so none is the fastest; the pile was not compared: {why}.");
+    };
+    format!(
+        "<b>{}</b> is the fastest grid point: {} {cost} per run (mean ± 95 % half-width). The pile was not compared: \
+         {why}, so whether it makes the same pile as your usual settings is not known.",
+        escape(&points.label(point)),
+        escape(&crate::stats::points::plus_minus(Some(d.mean), Some(d.half_width_95))),
+    )
+}
+
+/// Which ratio to trust, for the points (`labels`) whose cost and wall-time ratios disagree; empty
+/// when there are none.
+fn disagreement(labels: &[String], cost: &str) -> String {
+    if labels.is_empty() {
+        return String::new();
+    }
+    format!(
+        " <span class=\"note\">For {}, the {cost} and wall-time ratios disagree (their 95 % intervals do not \
+         overlap): trust the {cost} ratio. It counts the work done (disks × time steps), the same on any machine; \
+         wall time also counts whatever else the machine was running, which on a shared or busy machine moves it by \
+         more than the difference. Wall time is worth a second look only where the work per step differs (another \
+         contact law, many more contacts), measured on an idle machine.</span>",
+        escape(&labels.join(", "))
+    )
+}
+
+/// Whether a point's cost and wall-time ratios disagree: their 95 % intervals do not overlap.
+fn ratios_disagree(point: &compare::PointComparison) -> bool {
+    let (c, w) = (&point.cost, &point.wall_time);
+    c.high < w.low || w.high < c.low
 }
 
 /// The points compared with the study's reference point (`demsweep compare`, default tolerances),
@@ -393,13 +512,19 @@ fn reference_section(points: &Points, spec: &str) -> String {
             .flat_map(|(list, judged)| list.iter().map(move |i| row(i, judged)))
             .collect();
     let notes: String = comparison.notes.iter().map(|n| format!(" {}.", escape(n))).collect();
+    let disagreeing: Vec<String> =
+        comparison.points.iter().filter(|p| ratios_disagree(p)).map(|p| points.label(p.point)).collect();
+    let disagreeing = match disagreement(&disagreeing, cost) {
+        note if note.is_empty() => note,
+        note => format!("<p class=\"note\" id=\"ratios-disagree\">{}</p>", note.trim_start()),
+    };
     format!(
         "<h3 id=\"reference\">Against the reference point</h3><p class=\"verdict\" id=\"reference-verdict\">Reference: \
          {}. {} of {} other grid points make an equivalent pile (TOST, 90 % intervals of the difference inside \
          the margins: {}); {} differ, {} are undecided (more seeds would decide).{notes} Cost: {cost} and wall time \
          relative to the reference, with 95 % intervals.</p><table class=\"verdict\" id=\"reference-table\"><thead><tr>\
          <th>grid point</th>{metric_headers}<th>{cost_header} ratio</th><th>wall time ratio</th><th>pile</th></tr></thead>\
-         <tbody>{rows}</tbody></table>",
+         <tbody>{rows}</tbody></table>{disagreeing}",
         escape(&points.label(comparison.reference)),
         verdict.equivalent.len(),
         comparison.points.len(),
@@ -487,7 +612,7 @@ fn points_section(summary: &SummaryTable, charted: &[&str], points_csv: &Path) -
     let statuses: String =
         RunStatus::RECORDED.iter().map(|s| format!("<option value=\"{s}\">with {s} runs</option>")).collect();
     format!(
-        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse. Tick a header group under \"columns\" to show its columns./p>{left_out}\
+        "<h2 id=\"grid-points\">Grid points</h2><p class=\"note\">One row per grid point (the runs that differ only by placement seed): mean ± 95 % confidence half-width over its runs, in the unit of its column's header (hover over a header for what it is). Click a column header to sort; click again to reverse. Tick a header group under \"columns\" to show its columns.</p>{left_out}\
          <div class=\"controls\"><label>show <select id=\"status-filter\"><option value=\"\">all points</option>{statuses}</select></label>\
          <span id=\"column-groups\" title=\"Show or hide a header group's columns.\">columns:</span></div>\
          <div class=\"scroll\"><table id=\"points\">{}<tbody></tbody></table></div>\
@@ -573,13 +698,19 @@ mod tests {
     /// Six runs at each friction 0.2, 0.4, 0.6: the packing fraction of 0.4 within 0.1 % of 0.2's
     /// at half the particle-steps, that of 0.6 10 % higher.
     fn summary() -> SummaryTable {
-        let (mut friction, mut packing, mut cost) = (Vec::new(), Vec::new(), Vec::new());
-        for (point, (mu, level, steps)) in [(0.2, 0.80, 2e6), (0.4, 0.8004, 1e6), (0.6, 0.88, 2e6)].iter().enumerate() {
+        summary_of(&[(0.2, 0.80, 2e6, 1.0), (0.4, 0.8004, 1e6, 1.0), (0.6, 0.88, 2e6, 1.0)])
+    }
+
+    /// Six runs at each (friction, packing fraction, particle-steps, wall seconds per 1e7 particle-steps).
+    fn summary_of(grid: &[(f64, f64, f64, f64)]) -> SummaryTable {
+        let (mut friction, mut packing, mut cost, mut wall) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (point, (mu, level, steps, speed)) in grid.iter().enumerate() {
             for seed in 0..6 {
                 let noise = [-2.0, 1.0, 0.5, -0.5, 1.5, -0.5][(seed + point) % 6] * 1e-4;
                 friction.push(*mu);
                 packing.push(level + noise);
                 cost.push(steps * (1.0 + noise));
+                wall.push(steps * (1.0 + noise) * 1e-7 * speed);
             }
         }
         let n = friction.len();
@@ -589,9 +720,10 @@ mod tests {
                 column("index", ColumnData::Int((0..n as i64).collect())),
                 column("material.friction", ColumnData::Float(friction)),
                 column("status", ColumnData::Text(vec!["settled".into(); n])),
+                column("settle_time", ColumnData::Float(vec![0.5; n])),
                 column("packing_fraction_interior", ColumnData::Float(packing)),
                 column("particle_steps", ColumnData::Float(cost.clone())),
-                column("wall_time", ColumnData::Float(cost.iter().map(|c| c * 1e-7).collect())),
+                column("wall_time", ColumnData::Float(wall)),
             ],
         }
     }
@@ -611,5 +743,67 @@ mod tests {
         let html = super::verdict(&summary, Some("friction=0.2"));
         assert!(html.contains("1 of 2 other grid points make an equivalent pile"), "{html}");
         assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().contains("no point has"));
+    }
+
+    /// The text of the page's first answer.
+    fn answer(summary: &SummaryTable, spec: Option<&str>) -> String {
+        let html = super::verdict(summary, spec);
+        let start = html.find("<p class=\"verdict answer\" id=\"answer\">").expect("the answer paragraph");
+        html[start..].split("</p>").next().unwrap().to_string()
+    }
+
+    #[test]
+    fn the_answer_is_the_fastest_point_that_makes_the_same_pile() {
+        let text = answer(&summary(), Some("friction=0.2"));
+        assert!(
+            text.contains("<b>material.friction=0.4</b> is the fastest grid point that makes the same pile"),
+            "{text}"
+        );
+        let rounded = "0.500000 [0.499919, 0.500081] of the reference's particle_steps"; // half-width 8.1e-5
+        assert!(
+            text.contains(rounded) && !text.contains("disagree"),
+            "the cost ratio, rounded to its interval: {text}"
+        );
+        let html = super::verdict(&summary(), Some("friction=0.2"));
+        assert!(html.find("id=\"answer\"").unwrap() < html.find("Fastest-settling").unwrap_or(usize::MAX), "first");
+    }
+
+    #[test]
+    fn without_an_equivalent_faster_point_the_answer_names_the_nearest_miss_and_what_moved() {
+        // 0.4 and 0.6 are faster than 0.2; both piles differ, 0.4's less.
+        let grid = [(0.2, 0.80, 2e6, 1.0), (0.4, 0.84, 1e6, 1.0), (0.6, 0.90, 1.5e6, 1.0)];
+        let text = answer(&summary_of(&grid), Some("friction=0.2"));
+        assert!(
+            text.starts_with("<p class=\"verdict answer\" id=\"answer\">None of the 2 faster grid points"),
+            "{text}"
+        );
+        assert!(text.contains("The nearest miss is <b>material.friction=0.4</b>"), "{text}");
+        assert!(text.contains("its packing_fraction_interior moved by 0.04"), "{text}");
+        let slower = [(0.2, 0.80, 1e6, 1.0), (0.4, 0.80, 2e6, 1.0)];
+        assert!(
+            answer(&summary_of(&slower), Some("friction=0.2")).contains("No grid point is faster than the reference")
+        );
+    }
+
+    #[test]
+    fn without_a_reference_the_answer_is_the_fastest_point_and_says_the_pile_was_not_compared() {
+        let text = answer(&summary(), None);
+        assert!(text.contains("<b>material.friction=0.4</b> is the fastest grid point"), "{text}");
+        assert!(text.contains("The pile was not compared: the study names no reference point"), "{text}");
+        let mut unsettled = summary();
+        unsettled.columns.retain(|c| c.name != "settle_time");
+        assert!(answer(&unsettled, None).contains("No grid point has a settled run, so none is the fastest"));
+    }
+
+    #[test]
+    fn where_wall_time_and_particle_steps_disagree_the_page_says_which_to_trust() {
+        // 0.4 takes half the particle-steps but, on a busy machine, three times the wall time per step.
+        let grid = [(0.2, 0.80, 2e6, 1.0), (0.4, 0.8004, 1e6, 3.0), (0.6, 0.88, 2e6, 1.0)];
+        let html = super::verdict(&summary_of(&grid), Some("friction=0.2"));
+        let text = answer(&summary_of(&grid), Some("friction=0.2"));
+        assert!(text.contains("the particle_steps and wall-time ratios disagree"), "{text}");
+        assert!(text.contains("trust the particle_steps ratio"), "{text}");
+        assert!(html.contains("id=\"ratios-disagree\""), "beside the table too");
+        assert!(!super::verdict(&summary(), Some("friction=0.2")).contains("disagree"), "agreeing ratios: no note");
     }
 }

@@ -40,6 +40,22 @@
     return a >= 1e-3 && a < 1e6 ? String(Number(x.toPrecision(4))) : x.toExponential(3);
   }
 
+  // mean ± half-width, rounded to the half-width's second significant digit (as the Rust side's
+  // stats::points::plus_minus), in a power of ten outside [1e-3, 1e6).
+  function plusMinus(m, h) {
+    var size = Math.max(Math.abs(m), h);
+    var scale = size === 0 || (size >= 1e-3 && size < 1e6) ? 0 : Math.floor(Math.log10(size));
+    var step = h > 0 ? h : size * 1e-4;
+    if (!(step > 0)) return number(m) + " \u00b1\u00a00";
+    var digit = Math.floor(Math.log10(step / Math.pow(10, scale))) - 1;
+    function at(x) {
+      var unit = Math.pow(10, digit);
+      return (Math.round(x / Math.pow(10, scale) / unit) * unit + 0).toFixed(Math.max(0, -digit));
+    }
+    var text = at(m) + " \u00b1\u00a0" + at(h);
+    return scale === 0 ? text : "(" + text + ")e" + scale;
+  }
+
   function cell(value, column) {
     if (value === null || value === undefined) return "<td class=\"missing\">\u2013</td>";
     if (column.kind === "run") {
@@ -51,7 +67,7 @@
       return "<td class=\"runs\" title=\"" + escape(value[1]) + "\">" + shown + more + "</td>";
     }
     if (column.kind === "text") return "<td>" + escape(value) + "</td>";
-    var text = Array.isArray(value) ? number(value[0]) + (value[1] === null ? "" : " \u00b1\u00a0" + number(value[1])) : number(value);
+    var text = Array.isArray(value) ? (value[1] === null ? number(value[0]) : plusMinus(value[0], value[1])) : number(value);
     return "<td class=\"num\">" + text + "</td>";
   }
 

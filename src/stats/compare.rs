@@ -151,7 +151,9 @@ fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>
             Some(_) => "this file was written before it existed",
             None => "not a per-run quantity or numeric summary column",
         };
-        return Err(format!("`{}`: {why}; the metrics of this file are: {}", unknown.metric, available.join(", ")));
+        let list = || format!("the metrics of this file are: {}", available.join(", "));
+        let hint = crate::study::did_you_mean(&unknown.metric, available.iter().copied()).unwrap_or_else(list);
+        return Err(format!("`{}`: {why}; {hint}", unknown.metric));
     }
     if !keep.is_empty() {
         return Ok((keep.to_vec(), Vec::new()));
@@ -230,7 +232,11 @@ fn coordinate_name(points: &Points, key: &str) -> Result<String, String> {
     let suffix = format!(".{key}");
     match names.iter().filter(|n| n.ends_with(&suffix)).collect::<Vec<_>>()[..] {
         [name] => Ok(name.to_string()),
-        _ => Err(format!("`{key}` is not a swept parameter; the swept parameters are: {}", names.join(", "))),
+        _ => {
+            let list = || format!("the swept parameters are: {}", names.join(", "));
+            let hint = crate::study::did_you_mean(key, names.iter().copied()).unwrap_or_else(list);
+            Err(format!("`{key}` is not a swept parameter; {hint}"))
+        }
     }
 }
 
@@ -328,22 +334,31 @@ fn signed(x: f64) -> String {
 }
 
 /// `[low, high]`, or `-` when the interval is unknown.
-fn interval(low: f64, high: f64, show: fn(f64) -> String) -> String {
+fn interval(low: f64, high: f64, show: impl Fn(f64) -> String) -> String {
     if low.is_finite() && high.is_finite() { format!("[{}, {}]", show(low), show(high)) } else { "-".to_string() }
 }
 
-/// `1.23 [1.1, 1.4]`.
+/// `1.16 [0.98, 1.35]`: the ratio and its 95 % interval, rounded to two significant digits of the
+/// interval's half-width ([`super::points::rounded`]).
 pub fn ratio(r: &Ratio) -> String {
-    let value = plus_minus(Some(r.ratio), None);
-    match interval(r.low, r.high, short_float) {
-        unknown if unknown == "-" => value,
-        known => format!("{value} {known}"),
+    if !(r.low.is_finite() && r.high.is_finite()) {
+        return plus_minus(Some(r.ratio), None);
     }
+    let (_, digit) = super::points::rounded(1.0, (r.high - r.low) / 2.0);
+    let at = |x: f64| super::points::at_digit(x, digit);
+    format!("{} {}", at(r.ratio), interval(r.low, r.high, at))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ratios_are_rounded_to_their_interval() {
+        assert_eq!(ratio(&Ratio { ratio: 1.16, low: 0.9834, high: 1.3467 }), "1.16 [0.98, 1.35]");
+        assert_eq!(ratio(&Ratio { ratio: 0.85123, low: 0.8411, high: 0.8613 }), "0.851 [0.841, 0.861]");
+        assert_eq!(ratio(&Ratio { ratio: 0.85123, low: f64::NAN, high: f64::NAN }), "0.85123");
+    }
 
     #[test]
     fn default_metrics_are_declared_quantities() {

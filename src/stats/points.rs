@@ -205,10 +205,9 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Str
             Some(_) => "this file was written before it existed",
             None => "not a per-run quantity or numeric summary column",
         };
-        return Err(format!(
-            "no metric `{unknown}` in the points table ({why}); the metrics are: {}",
-            known.join(", ")
-        ));
+        let list = || format!("the metrics are: {}", known.join(", "));
+        let hint = crate::study::did_you_mean(unknown, known.iter().copied()).unwrap_or_else(list);
+        return Err(format!("no metric `{unknown}` in the points table ({why}); {hint}"));
     }
     let end = points.columns.iter().position(|c| c.name == "n").map_or(0, |n| n + 1 + RunStatus::RECORDED.len());
     let mut columns: Vec<Column> = points.columns[..end.min(points.columns.len())].to_vec();
@@ -224,11 +223,50 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Str
     Ok(SummaryTable { columns })
 }
 
-/// `mean ± half` to 6 significant digits; `mean` alone without a half-width, `-` without a mean.
+/// `mean ± half` rounded to its interval (see [`rounded`]); `mean` alone to 6 significant digits
+/// without a half-width, `-` without a mean.
 pub fn plus_minus(mean: Option<f64>, half: Option<f64>) -> String {
     match (mean.filter(|m| m.is_finite()), half.filter(|h| h.is_finite())) {
         (None, _) => "-".to_string(),
         (Some(m), None) => short_float(m),
-        (Some(m), Some(h)) => format!("{} ± {}", short_float(m), short_float(h)),
+        (Some(m), Some(h)) => {
+            let (scale, digit) = rounded(m.abs().max(h), h);
+            let at = |x: f64| at_digit(x / 10f64.powi(scale), digit);
+            let text = format!("{} ± {}", at(m), at(h));
+            if scale == 0 { text } else { format!("({text})e{scale}") }
+        }
+    }
+}
+
+/// How values with an interval of half-width `half` are written, the largest of them of size
+/// `size`: the power of ten they are shown in (0 within [1e-3, 1e6)) and, in it, the power of ten of
+/// the last digit shown: the half-width's second significant digit (`0.368243 ± 0.0478264` is
+/// `0.368 ± 0.048`); a zero or unknown half-width keeps 6 significant digits of `size`.
+pub fn rounded(size: f64, half: f64) -> (i32, i32) {
+    let scale = if size == 0.0 || (1e-3..1e6).contains(&size) { 0 } else { size.log10().floor() as i32 };
+    let step = if half.is_finite() && half > 0.0 { half } else { size * 1e-4 };
+    (scale, (step / 10f64.powi(scale)).log10().floor() as i32 - 1)
+}
+
+/// `x` rounded to the digit of power of ten `digit` (`12345.6` at 1 is `12350`, `0.36824` at −3 `0.368`).
+pub fn at_digit(x: f64, digit: i32) -> String {
+    let step = 10f64.powi(digit);
+    let decimals = (-digit).max(0) as usize;
+    format!("{:.decimals$}", (x / step).round() * step + 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn intervals_are_rounded_to_two_significant_digits_of_the_half_width() {
+        assert_eq!(plus_minus(Some(0.368243), Some(0.0478264)), "0.368 ± 0.048");
+        assert_eq!(plus_minus(Some(12345.6), Some(234.5)), "12350 ± 230");
+        assert_eq!(plus_minus(Some(2.5), Some(0.0)), "2.50000 ± 0.00000");
+        assert_eq!(plus_minus(Some(3.2047e-5), Some(1.13e-6)), "(3.20 ± 0.11)e-5");
+        assert_eq!(plus_minus(Some(-0.0001), Some(0.05)), "0.000 ± 0.050", "no negative zero");
+        assert_eq!(plus_minus(Some(0.5), None), "0.5");
+        assert_eq!(plus_minus(None, Some(0.1)), "-");
     }
 }

@@ -275,7 +275,9 @@ pub(crate) struct RangeEnds {
 pub(crate) fn range_ends(table: &toml::Table, extra: &[&str], shape: &str) -> Result<RangeEnds, String> {
     let known = |k: &str| ["linear", "log"].contains(&k) || extra.contains(&k);
     if let Some(unknown) = table.keys().find(|k| !known(k)) {
-        return Err(format!("unknown key \"{unknown}\" ({shape})"));
+        let valid = ["linear", "log"].iter().chain(extra).copied();
+        let hint = super::errors::did_you_mean(unknown, valid).map_or(String::new(), |hint| format!("{hint} "));
+        return Err(format!("unknown key \"{unknown}\" ({hint}{shape})"));
     }
     let (spacing, ends) = match (table.get("linear"), table.get("log")) {
         (Some(ends), None) => (Spacing::Linear, ends),

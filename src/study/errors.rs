@@ -157,6 +157,39 @@ pub(crate) fn plain_types(message: &str) -> String {
     }
 }
 
+/// The valid word nearest to `word` when it is near enough to be a slip of the keyboard: within a
+/// Damerau-Levenshtein distance (an insertion, deletion, substitution or swap of neighbours each
+/// counts one; letter case is ignored) of a third of the valid word's length, at least 1; the first
+/// of equally near words.
+pub fn nearest<'a>(word: &str, valid: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let word = word.to_lowercase();
+    valid
+        .into_iter()
+        .map(|candidate| (strsim::damerau_levenshtein(&word, &candidate.to_lowercase()), candidate))
+        .filter(|(distance, candidate)| *distance <= (candidate.chars().count() / 3).max(1))
+        .min_by_key(|(distance, _)| *distance)
+        .map(|(_, candidate)| candidate)
+}
+
+/// "did you mean `x`?" for the valid word `x` nearest to `word` ([`nearest`]); `None` when none is near.
+pub fn did_you_mean<'a>(word: &str, valid: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    nearest(word, valid).map(|meant| format!("did you mean `{meant}`?"))
+}
+
+/// A deserializer's ``unknown field `x`, expected …`` or ``unknown variant `x`, expected …`` with
+/// the list of valid words replaced by the one `x` most likely meant ([`nearest`]); unchanged when
+/// none is near.
+pub(crate) fn suggest_nearest(message: &str) -> String {
+    let Some((head, list)) = message.split_once(", expected ") else { return message.to_string() };
+    let unknown = ["unknown field `", "unknown variant `"].iter().find_map(|start| head.strip_prefix(start));
+    let Some(word) = unknown.and_then(|rest| rest.strip_suffix('`')) else { return message.to_string() };
+    let valid = list.split('`').skip(1).step_by(2);
+    match did_you_mean(word, valid) {
+        Some(hint) => format!("{head}: {hint}"),
+        None => message.to_string(),
+    }
+}
+
 /// `message` with the float of its ``floating point `…` `` written as [`exact`] where serde's text
 /// is long (`15.0` stays: it says the value was a float).
 fn short_float(message: &str) -> String {
@@ -307,6 +340,23 @@ mod tests {
         );
         assert_eq!(plain_types("expected f64s"), "expected f64s", "whole words only");
         assert_eq!(plain_types("unknown field `x`, expected one of `a`"), "unknown field `x`, expected one of `a`");
+    }
+
+    #[test]
+    fn the_nearest_valid_word_is_suggested_for_a_slip() {
+        let fields = ["density", "youngs_modulus", "poisson_ratio", "restitution", "friction", "rolling_friction"];
+        assert_eq!(nearest("frictoin", fields), Some("friction"));
+        assert_eq!(nearest("Restitutin", fields), Some("restitution"));
+        assert_eq!(nearest("rolling_frict", fields), Some("rolling_friction"));
+        assert_eq!(nearest("frict", fields), None, "too far from every field");
+        assert_eq!(nearest("colour", fields), None);
+        let message = "unknown field `frictoin`, expected one of `density`, `friction`, `rolling_friction`";
+        assert_eq!(suggest_nearest(message), "unknown field `frictoin`: did you mean `friction`?");
+        let variant = "unknown variant `randon`, expected one of `random`, `lattice`, `file`";
+        assert_eq!(suggest_nearest(variant), "unknown variant `randon`: did you mean `random`?");
+        assert_eq!(suggest_nearest("unknown field `bb`, expected `a` or `b`"), "unknown field `bb`: did you mean `b`?");
+        let far = "unknown field `colour`, expected one of `density`, `friction`";
+        assert_eq!(suggest_nearest(far), far, "no suggestion: the list stays");
     }
 
     #[test]

@@ -1,8 +1,8 @@
 //! Placement files: initial disk states as CSV with a header line. Columns `x,y` (m) are required;
 //! `r` (m), `vx,vy` (m/s), `omega` (rad/s) and `angle` (rad) are optional, in any order; `id` and
 //! `contact_force` (written by `demsweep export --format csv`) are allowed and not read. Blank lines
-//! and lines starting with `#` are skipped. A units line may follow the header (as in every CSV
-//! demsweep writes: no cell a number); each of its cells is empty or the column's SI unit.
+//! and lines starting with `#` are skipped. A units line may follow the header (as in the CSV
+//! files older versions of demsweep wrote: no cell a number); each of its cells is empty or the column's SI unit.
 //!
 //! Contact files (`placement.contacts`, written by the same export as `<run>_<state>_contacts.csv`):
 //! the contact history of a restart, one row per contact, columns `first` (a disk: its row in the
@@ -85,7 +85,7 @@ pub fn read_contacts(path: &Path, disks: usize, walls: usize, folder: &Path) -> 
 
 /// The text of a regular file (a FIFO, device or folder is refused before it is opened: reading one
 /// would wait for a writer or never end).
-fn read_text(path: &Path) -> Result<String, String> {
+pub(super) fn read_text(path: &Path) -> Result<String, String> {
     let cannot = |why: String| format!("{}: cannot read: {why}", path.display());
     let kind = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?.file_type();
     if !kind.is_file() {
@@ -272,12 +272,9 @@ fn header_columns(
         let at = position + 1;
         let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
             let (must, may) = columns.split_at(required);
-            return Err(format!(
-                ", column {at}: unknown column {} (expected {} and optionally {})",
-                quoting.show(name, "name"),
-                names(must).join(", "),
-                names(may).join(", ")
-            ));
+            let list = || format!("expected {} and optionally {}", names(must).join(", "), names(may).join(", "));
+            let hint = super::errors::did_you_mean(name, names(columns)).unwrap_or_else(list);
+            return Err(format!(", column {at}: unknown column {} ({hint})", quoting.show(name, "name")));
         };
         if let Some(first) = found.iter().position(|&f| f == k) {
             let name = quoting.show(name, "name");

@@ -9,6 +9,7 @@ pub(crate) mod errors;
 pub(crate) mod file;
 pub mod identity;
 pub mod initial_csv;
+pub mod lammps_file;
 pub mod name;
 pub(crate) mod plan;
 pub mod reference;
@@ -21,7 +22,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 pub use axes::MAX_RUNS;
-pub use errors::{Location, StudyError, StudyErrors, warning_kind};
+pub use errors::{Location, StudyError, StudyErrors, did_you_mean, nearest, warning_kind};
 pub use identity::{IdentityChange, RunIdentity};
 
 use crate::physics::SceneConfig;

@@ -8,9 +8,11 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
-use super::errors::{ErrorSink, StudyError, StudyErrors, plain_types};
+use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
-use super::{OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, name, reference, resources};
+use super::{
+    OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
+};
 use crate::physics::config::PlacementKind;
 use crate::physics::number::short;
 use crate::physics::particles::{InitialContact, InitialDisk};
@@ -28,15 +30,20 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
     let mut sink = ErrorSink::default();
     sink.extend(check_top_level(file, doc, ("a study", &TABLES)));
     let (base, scene_errors) = split_leaves::<SceneConfig>(file, doc, "scene");
+    let refused: Vec<String> = scene_errors.iter().map(|e| e.key.clone()).collect();
     sink.extend(scene_errors);
     let (output, output_errors) = split_leaves::<OutputOptions>(file, doc, "output");
     sink.extend(output_errors);
     let (sweep, sweep_errors) = axes::parse(doc, file);
     sink.extend(sweep_errors);
-    sink.extend(sweep.axes.iter().flat_map(|axis| check_axis(file, &base, axis, sweep.replicates)));
-    sink.extend(reference::check(file, doc, &sweep));
+    let axis_errors: Vec<Vec<StudyError>> =
+        sweep.axes.iter().map(|axis| check_axis(file, &base, axis, sweep.replicates)).collect();
+    let faulty: Vec<bool> = axis_errors.iter().map(|e| !e.is_empty()).collect();
+    sink.extend(axis_errors.into_iter().flatten());
+    sink.extend(reference::check(file, doc, &sweep, &faulty));
     if !sink.is_empty() {
-        sink.extend(check_base_scene(file, doc, &base));
+        // A refused value's key is checked with its default standing in: what that finds is not the user's.
+        sink.extend(check_base_scene(file, doc, &base).into_iter().filter(|e| !refused.contains(&e.key)));
         return Err(sink.into_errors());
     }
     let mut planner = Planner::new(file, doc, &base, &sweep);
@@ -66,7 +73,9 @@ pub(crate) fn check_top_level(file: &StudyFile, doc: &Document, (what, tables): 
             "name" | "description" => None,
             k if !tables.contains(&k) => {
                 let known: Vec<String> = tables.iter().map(|t| format!("[{t}]")).collect();
-                Some(format!("unknown key ({what} has name, description, {})", known.join(", ")))
+                let list = || format!("{what} has name, description, {}", known.join(", "));
+                let valid = ["name", "description"].into_iter().chain(tables.iter().copied());
+                Some(format!("unknown key ({})", did_you_mean(k, valid).unwrap_or_else(list)))
             }
             _ => None,
         };
@@ -117,7 +126,7 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
 
 /// A deserializer's message about the value at `path` of a `T` in the study's words: a value of
 /// the wrong type for a choice lists the choices, Rust type names become what to write
-/// ([`plain_types`]).
+/// ([`plain_types`]), an unknown key or choice names the valid one nearest to it ([`suggest_nearest`]).
 fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
     if message.contains("unit variant") {
         let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
@@ -128,7 +137,7 @@ fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
             return format!("must be {choices} (a string in quotes)");
         }
     }
-    plain_types(message)
+    suggest_nearest(&plain_types(message))
 }
 
 /// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
@@ -210,8 +219,8 @@ struct Planner<'a> {
     base: &'a toml::Table,
     sweep: &'a Sweep,
     study_dir: PathBuf,
-    /// Placement files read so far, by path and default radius.
-    initial_files: HashMap<(PathBuf, u64), InitialStates>,
+    /// Placement files read so far, by path, kind and default radius.
+    initial_files: HashMap<(PathBuf, PlacementKind, u64), InitialStates>,
     /// Contact files read so far, by path and the disks and walls they were checked against.
     contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, String>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
@@ -323,15 +332,15 @@ impl<'a> Planner<'a> {
         point: &RunPoint,
         scene: &mut SceneConfig,
     ) -> Result<Option<Arc<Vec<InitialDisk>>>, Vec<StudyError>> {
-        let (PlacementKind::File, Some(name)) = (scene.placement.kind, &scene.placement.file) else {
+        let (true, Some(name)) = (scene.placement.kind.reads_file(), &scene.placement.file) else {
             return Ok(None);
         };
         let path = self.study_dir.join(name);
-        let radius = scene.particles.radius;
+        let (kind, radius) = (scene.placement.kind, scene.particles.radius);
         let disks = self
             .initial_files
-            .entry((path.clone(), radius.to_bits()))
-            .or_insert_with(|| initial_csv::read(&path, radius, &self.study_dir).map(Arc::new))
+            .entry((path.clone(), kind, radius.to_bits()))
+            .or_insert_with(|| lammps_file::read_placement(kind, &path, radius, &self.study_dir).map(Arc::new))
             .clone()
             .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
         scene.particles.count = disks.len();

@@ -3,7 +3,7 @@
 
 use super::ParamValue;
 use super::axes::{self, Sweep};
-use super::errors::StudyError;
+use super::errors::{StudyError, did_you_mean};
 use super::file::{Document, StudyFile, dotted, leaves};
 
 /// The keys of `[report]`.
@@ -11,7 +11,9 @@ const KEYS: [&str; 1] = ["reference"];
 
 /// The problems of `[report]`: unknown keys, a reference that is not a table, keys that are not
 /// swept parameters, values that are not among their axis's values, swept dimensions left unnamed.
-pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep) -> Vec<StudyError> {
+/// While an axis is `faulty` (its own error reported), a key matching no axis and a dimension left
+/// unnamed are not problems of their own: the reference may well name what the axis meant.
+pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep, faulty: &[bool]) -> Vec<StudyError> {
     let Some(report) = doc.section("report").and_then(|r| r.as_table()) else {
         return Vec::new();
     };
@@ -22,7 +24,8 @@ pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep) -> Vec<Stud
     let mut errors = Vec::new();
     for key in report.keys().filter(|k| !KEYS.contains(&k.as_str())) {
         let (span, name) = at(&["report", key]);
-        errors.push(file.error(span, name, format!("unknown key ([report] has {})", KEYS.join(", "))));
+        let hint = did_you_mean(key, KEYS).unwrap_or_else(|| format!("[report] has {}", KEYS.join(", ")));
+        errors.push(file.error(span, name, format!("unknown key ({hint})")));
     }
     let Some(reference) = report.get("reference") else {
         return errors;
@@ -40,6 +43,9 @@ pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep) -> Vec<Stud
         let key = path.join(".");
         let (span, name) = (doc.nearest_span(&full_path(&path)), format!("report.reference.{}", dotted(&path)));
         let Some(axis) = sweep.axes.iter().position(|a| a.path.join(".") == key && !is_seed(&key)) else {
+            if faulty.contains(&true) {
+                continue;
+            }
             let reason = format!("`{key}` is not a swept parameter; the swept parameters are: {}", swept.join(", "));
             errors.push(file.error(span, name, reason));
             continue;
@@ -59,7 +65,7 @@ pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep) -> Vec<Stud
         }
         matched[axis] = Some(hits);
     }
-    if errors.is_empty() {
+    if errors.is_empty() && !faulty.contains(&true) {
         errors.extend(unnamed_or_mismatched(sweep, &matched).map(|reason| file.error(span, name, reason)));
     }
     errors
@@ -135,7 +141,7 @@ mod tests {
         let doc = Document::parse(&file).unwrap();
         let (sweep, sweep_errors) = axes::parse(&doc, &file);
         assert!(sweep_errors.is_empty());
-        check(&file, &doc, &sweep).iter().map(|e| format!("{}: {}", e.key, e.reason)).collect()
+        check(&file, &doc, &sweep, &[false, false]).iter().map(|e| format!("{}: {}", e.key, e.reason)).collect()
     }
 
     #[test]

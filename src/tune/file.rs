@@ -5,15 +5,14 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::physics::SceneConfig;
-use crate::physics::config::PlacementKind;
 use crate::physics::number::exact;
 use crate::physics::placement;
 use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
-use crate::study::errors::{ErrorSink, StudyError, StudyErrors};
+use crate::study::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text};
 use crate::study::plan::{self, fingerprint, split_leaves};
-use crate::study::{OutputOptions, ParamValue, initial_csv};
+use crate::study::{OutputOptions, ParamValue, lammps_file};
 
 use super::ladder;
 use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
@@ -79,9 +78,14 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
             return Err(sink.into_errors());
         }
     }
-    if let (PlacementKind::File, Some(name)) = (spec.reference.placement.kind, &spec.reference.placement.file) {
+    if let (true, Some(name)) = (spec.reference.placement.kind.reads_file(), &spec.reference.placement.file) {
         let folder = file.path.parent().unwrap_or(Path::new(""));
-        match initial_csv::read(&folder.join(name), spec.reference.particles.radius, folder) {
+        match lammps_file::read_placement(
+            spec.reference.placement.kind,
+            &folder.join(name),
+            spec.reference.particles.radius,
+            folder,
+        ) {
             Ok(disks) => {
                 spec.reference.particles.count = disks.len();
                 spec.initial = Some(Arc::new(disks));
@@ -267,7 +271,11 @@ fn parse_keep(file: &StudyFile, doc: &Document) -> (Vec<Keep>, Vec<StudyError>) 
         let span = doc.span(&["keep".to_string(), metric.clone()]);
         let label = format!("keep.{}", quoted_key(metric));
         if !known.contains(metric) {
-            let reason = format!("unknown pile metric; one of {}", known.join(", "));
+            let list = || format!("one of {}", known.join(", "));
+            let reason = format!(
+                "unknown pile metric; {}",
+                did_you_mean(metric, known.iter().map(String::as_str)).unwrap_or_else(list)
+            );
             errors.push(file.error(span, label, reason));
             continue;
         }

@@ -647,14 +647,14 @@ fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
     spec.levers.iter().map(|l| value(&l.key)).collect()
 }
 
-/// Writes CSV records, the first one the column names (followed by their units line), whole or not
-/// at all ([`guard::write_with`]).
+/// Writes CSV records, the first one the column names, whole or not at all ([`guard::write_with`]),
+/// and their metadata sidecar (units, datatypes).
 fn write_records(records: &[Vec<String>], path: &Path) -> Result<(), guard::GuardError> {
-    guard::write_with(path, &[], guard::Existing::Any, |mut out| {
-        let Some((names, rows)) = records.split_first() else { return Ok(()) };
-        csv::write_named_header(&mut out, names)?;
-        rows.iter().try_for_each(|row| csv::write_record(&mut *out, row))
-    })
+    guard::write_with(path, &[], guard::Existing::Any, |out| {
+        records.iter().try_for_each(|row| csv::write_record(&mut *out, row))
+    })?;
+    let Some((names, rows)) = records.split_first() else { return Ok(()) };
+    csv::write_metadata(path, &csv::ColumnMeta::declared_from_rows(names, rows))
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.

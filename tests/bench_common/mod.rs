@@ -15,3 +15,11 @@ pub fn fresh_dir(name: &str) -> PathBuf {
 pub fn csv_lines(path: &std::path::Path) -> Vec<String> {
     std::fs::read_to_string(path).unwrap().lines().map(String::from).collect()
 }
+
+/// The units of a CSV file's columns as its CSVW sidecar states them (empty where none).
+pub fn units(path: &std::path::Path) -> Vec<String> {
+    let sidecar = format!("{}-metadata.json", path.display());
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(sidecar).unwrap()).unwrap();
+    let columns = meta["tableSchema"]["columns"].as_array().unwrap().iter();
+    columns.map(|c| c["schema:unitText"].as_str().unwrap_or("").to_string()).collect()
+}

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Reads a `demsweep export --format csv` folder with `pandas.read_csv` as docs/results.md says
-(`skiprows=[1]` for the values, the line under the names for the units) and compares it with the
-results file read by h5py.
+(no options for the values, the CSVW sidecar `<file>.csv-metadata.json` for the units) and compares
+it with the results file read by h5py.
 
 Usage: check_csv.py EXPORT_DIR RESULTS.h5 RUN_GROUP RUN_ID
 
@@ -42,15 +42,17 @@ def main(folder, h5_path, group_path, run_id):
         if not all({"name", "unit", "description"} <= set(c) for c in columns):
             problems.append(f"{part}: the JSON file's columns lack a unit or a description: {columns}")
     paths = {part: f"{folder}/{sidecar[part]['file']}" for part in ("disks", "contacts")}
-    disks, contacts = (pd.read_csv(paths[part], skiprows=[1]) for part in ("disks", "contacts"))
+    disks, contacts = (pd.read_csv(paths[part]) for part in ("disks", "contacts"))
     for table, part in ((disks, "disks"), (contacts, "contacts")):
         expected = [c["name"] for c in sidecar[part]["columns"]]
         if list(table.columns) != expected:
             problems.append(f"{part}: pandas reads the columns {list(table.columns)}, the JSON file says {expected}")
-        units = pd.read_csv(paths[part], nrows=1, dtype=str, keep_default_na=False).iloc[0].to_dict()
+        with open(f"{paths[part]}-metadata.json") as file:
+            csvw = json.load(file)["tableSchema"]["columns"]
+        units = {c["titles"]: c.get("schema:unitText", "") for c in csvw}
         expected_units = {c["name"]: c["unit"] for c in sidecar[part]["columns"]}
         if units != expected_units:
-            problems.append(f"{part}: the units line says {units}, the JSON file says {expected_units}")
+            problems.append(f"{part}: the CSVW sidecar says {units}, the JSON file says {expected_units}")
         if len(table) != sidecar[part]["rows"]:
             problems.append(f"{part}: {len(table)} rows, the JSON file says {sidecar[part]['rows']}")
     with h5py.File(h5_path, "r") as f:

@@ -2,6 +2,7 @@
 same files."""
 
 import io
+import json
 import pathlib
 import signal
 import subprocess
@@ -31,9 +32,10 @@ def test_run_gives_what_the_command_gives_for_the_same_study(tiny, tmp_path):
     ran = demsweep_command("run", study, "--out", tmp_path / "out", "--progress", "quiet")
     assert ran.returncode == 0, ran.stderr
     summary = tmp_path / "out" / "scene_summary.csv"
-    command = pd.read_csv(summary, skiprows=[1], keep_default_na=False, na_values=[""], dtype={"message": str})
-    units = pd.read_csv(summary, nrows=1, dtype=str, keep_default_na=False).iloc[0].to_dict()
-    assert {c: units[c] for c in runs.attrs["units"]} == runs.attrs["units"], "the CSV's units line is the module's"
+    command = pd.read_csv(summary, keep_default_na=False, na_values=[""], dtype={"message": str})
+    columns = json.loads((tmp_path / "out" / "scene_summary.csv-metadata.json").read_text())["tableSchema"]["columns"]
+    units = {c["titles"]: c.get("schema:unitText", "") for c in columns}
+    assert {c: units[c] for c in runs.attrs["units"]} == runs.attrs["units"], "the CSV's sidecar units are the module's"
     command["message"] = command["message"].fillna("")  # an empty CSV field reads as missing
     assert list(command.columns) == list(runs.columns)
     pd.testing.assert_frame_equal(without_wall_time(runs), without_wall_time(command), check_dtype=False, check_exact=True)
@@ -93,6 +95,39 @@ def test_toml_syntax_and_python_values_toml_cannot_hold(tiny):
         demsweep.run(42)
 
 
+def test_one_mistake_is_one_error(tiny):
+    # 30 disks fit a 5 cm box; the default count that would stand in for the refused 30.0 does not.
+    bad = dict(tiny, particles={"count": 30.0, "radius": 0.002}, domain={"width": 0.05, "height": 0.15})
+    with pytest.raises(demsweep.StudyError) as raised:
+        demsweep.run(bad)
+    assert [p["key"] for p in raised.value.problems] == ["scene.particles.count"], raised.value.problems
+    assert "expected a whole number" in str(raised.value)
+    with pytest.raises(demsweep.StudyError, match=r"did you mean `friction`\?") as raised:
+        demsweep.run(dict(tiny, material={"frictoin": 0.3}))
+    assert len(raised.value.problems) == 1, raised.value.problems
+
+
+def test_dotted_keys_in_a_dict_are_toml_dotted_keys(tiny):
+    flat = {f"{table}.{key}": value for table, values in tiny.items() for key, value in values.items()}
+    mixed = {table: values for table, values in tiny.items() if table != "material"}
+    mixed["material"] = {"restitution": 0.5, "youngs_modulus": 5e10}
+    mixed["material.friction"] = 0.5  # beside the table it goes into
+    expected = without_wall_time(demsweep.run(tiny))
+    for scene in (flat, mixed):
+        pd.testing.assert_frame_equal(without_wall_time(demsweep.run(scene)), expected)
+    with pytest.raises(demsweep.StudyError, match="given twice"):
+        demsweep.run(dict(tiny, **{"material.friction": 0.2}))
+
+
+def test_the_namespace_is_the_api_and_says_its_version():
+    public = {name for name in dir(demsweep) if not name.startswith("_")}
+    assert public == set(demsweep.__all__), public ^ set(demsweep.__all__)
+    assert not {"np", "pd", "os", "json", "annotations"} & set(dir(demsweep))
+    assert all(hasattr(demsweep, name) for name in demsweep.__all__)
+    printed = demsweep_command("--version")
+    assert printed.returncode == 0 and printed.stdout.split()[-1] == demsweep.__version__, printed.stdout
+
+
 STUDY = f"""name = "tiny_sweep"
 [scene]
 {dotted_toml(TINY)}run.frame_times = [0.05, 0.1]
@@ -119,7 +154,7 @@ def test_open_reads_the_runs_of_the_summary_in_a_grown_file(tmp_path):
     for run in ("r0000", "r0001"):
         listed = demsweep_command("history", again["results"], run)
         assert listed.returncode == 0, listed.stderr
-        command = pd.read_csv(io.StringIO(listed.stdout), skiprows=[1])  # names, then units
+        command = pd.read_csv(io.StringIO(listed.stdout))
         assert np.array_equal(results.history(run)["potential"], command["potential"]), run
         assert results.scene(run)["material"]["friction"] == 0.6
     with pytest.raises(demsweep.ResultsError, match="no run `r0002`"):
@@ -138,7 +173,7 @@ def test_run_study_and_open_read_what_the_command_reads(tmp_path):
     summary = results.summary
     printed = demsweep_command("summary", done["results"], "--csv", tmp_path / "s.csv")
     assert printed.returncode == 0, printed.stderr
-    command = pd.read_csv(tmp_path / "s.csv", skiprows=[1], keep_default_na=False, na_values=[""])
+    command = pd.read_csv(tmp_path / "s.csv", keep_default_na=False, na_values=[""])
     assert list(command.columns) == list(summary.columns), "one name per column in the CSV and the module"
     assert np.array_equal(summary["settle_time"], command["settle_time"], equal_nan=True)
     assert list(summary["material.friction"]) == [0.3, 0.3, 0.6, 0.6]
@@ -146,12 +181,12 @@ def test_run_study_and_open_read_what_the_command_reads(tmp_path):
 
     history = results.history("r0002")
     listed = demsweep_command("history", done["results"], "r0002")
-    command = pd.read_csv(io.StringIO(listed.stdout), skiprows=[1])
+    command = pd.read_csv(io.StringIO(listed.stdout))
     assert sorted(command.columns) == sorted(history), "the same series names"
     assert np.array_equal(history["t"], command["t"])
     assert np.array_equal(history["potential"], command["potential"])
-    units = pd.read_csv(io.StringIO(listed.stdout), nrows=1, dtype=str, keep_default_na=False).iloc[0]
-    assert (units["t"], units["potential"], units["contacts"]) == ("s", "J", "")
+    assert command["contacts"].dtype == np.int64, "numbers as numbers, with no options"
+    assert (demsweep.UNITS["t"], demsweep.UNITS["potential"], demsweep.UNITS["contacts"]) == ("s", "J", "")
 
     final = results.final(3)
     assert final["x"].shape == (30,) and np.all(final["r"] == 0.005)

@@ -121,6 +121,10 @@ def main():
         answer = page.locator("#verdict + p.verdict")
         box = answer.bounding_box() if answer.count() else None
         out["verdict_in_first_screen"] = box is not None and box["y"] + box["height"] <= 900
+        # The first answer: the paragraph right under the heading, as text.
+        out["answer"] = answer.inner_text() if answer.count() else None
+        out["answer_id"] = answer.get_attribute("id") if answer.count() else None
+        out["stray_markup"] = [bit for bit in ("/p>", "<p", "</") if bit in page.inner_text("body")]
         verdict_rows = page.locator("table.verdict:not(#reference-table) tbody tr")
         out["verdict_points"] = [
             [verdict_rows.nth(k).locator("td").nth(c).inner_text() for c in range(2)] for k in range(verdict_rows.count())

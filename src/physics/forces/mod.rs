@@ -28,11 +28,14 @@
 //! and the overlap in place of the geometry loop's), each disk's between the blocks, once no later
 //! block can touch the disk (see [`TouchingPairs::contacts`]).
 //!
-//! One file per stage: [`table`] (the table and the one-thread block loop), [`narrow_phase`]
-//! (stage 1 and the kept rows), [`stages`] (stage 2), [`scatter`] (stage 3), [`walls`] (disk-wall
-//! contacts) and [`parts`] (the parallel path). `super::contact_list` evaluates one contact at a
+//! One file per stage: [`table`] (the table), [`blocks`] (the one-thread block loop),
+//! [`narrow_phase`] (stage 1) with [`kept_rows`] (what a block keeps from step to step), [`stages`]
+//! (stage 2), [`scatter`] (stage 3), [`walls`] (disk-wall contacts) and [`parts`] (the parallel
+//! path). `super::contact_list` evaluates one contact at a
 //! time with the same functions and is the readable reference for what the stages compute.
 
+mod blocks;
+mod kept_rows;
 mod narrow_phase;
 mod parts;
 mod scatter;
