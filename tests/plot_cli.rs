@@ -61,7 +61,8 @@ fn run_study(name: &str) -> PathBuf {
     std::fs::write(&study, STUDY).unwrap();
     let out = dir.join("results");
     let run = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--progress", "quiet"]);
-    assert!(run.status.success(), "{}", text(&run));
+    // Some runs diverge by design: a partial sweep's exit status.
+    assert_eq!(run.status.code(), Some(demsweep::runner::EXIT_PARTIAL), "{}", text(&run));
     out.join("tiny.h5")
 }
 
