@@ -1,5 +1,25 @@
 //! Command line: one enum variant and one function per subcommand.
 
+// Everything the command prints goes through `demsweep::output::terminal` (escaped; a write to a
+// closed pipe or a full disk never ends the process midway): hence these macros instead of
+// `println!`. Defined before the child modules, so that they have them too.
+
+/// `print!` through the text edge, to standard output.
+macro_rules! out {
+    ($($arg:tt)*) => { demsweep::output::terminal::out(format_args!($($arg)*)) };
+}
+
+/// `println!` through the text edge, to standard output.
+macro_rules! outln {
+    () => { demsweep::output::terminal::out(format_args!("\n")) };
+    ($($arg:tt)*) => { demsweep::output::terminal::out(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
+/// `eprintln!` through the text edge, to standard error.
+macro_rules! errln {
+    ($($arg:tt)*) => { demsweep::output::terminal::err(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
