@@ -58,7 +58,12 @@ pub fn standard_settings(reference: &SceneConfig, levers: &[Lever]) -> Vec<Stand
             None => String::new(),
         };
         ladder.push(StandardSetting {
-            name: format!("local damping {damping} (Yade's default {STANDARD_LOCAL_DAMPING}){with_step}"),
+            name: match damping == ParamValue::Float(STANDARD_LOCAL_DAMPING) {
+                true => format!("local damping {damping} (Yade's default){with_step}"),
+                false => format!(
+                    "local damping {damping} (Yade's default {STANDARD_LOCAL_DAMPING}, within the range){with_step}"
+                ),
+            },
             values: top.iter().cloned().chain([("damping.local".to_string(), damping)]).collect(),
         });
     }
