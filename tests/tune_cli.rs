@@ -59,7 +59,9 @@ fn a_tiny_tune_runs_end_to_end() {
     // The answer is a point of the lever space or a standard setting (verified before the search).
     let answer = said.strip_prefix("Recommendation for tiny_tune: ").expect("a recommendation");
     assert!(answer.starts_with("material.restitution = ") || answer.starts_with("the standard setting"), "{stdout}");
-    assert!(said.contains("of the reference (95 % interval") && said.contains("Verified on 3 fresh placement seeds"));
+    assert!(said.contains("of the reference (95 % interval"), "{said}");
+    let verified = said.split("Verified on ").nth(1).and_then(|rest| rest.split(' ').next()?.parse::<usize>().ok());
+    assert!(verified.is_some_and(|seeds| seeds >= 3), "verified on fresh seeds, at least verify_seeds of them: {said}");
     for name in [
         "tiny_tune.h5",
         "tiny_tune_summary.csv",

@@ -4,7 +4,7 @@
 //! ([`stepped_down`]): the same setting with a smaller time step. A standard setting sets lever keys
 //! only, so a tune never changes a key the user fixed.
 
-use super::spec::{Lever, LeverRange};
+use super::spec::{Lever, LeverRange, StandardSetting};
 use crate::physics::SceneConfig;
 use crate::study::ParamValue;
 
@@ -17,15 +17,6 @@ pub const STANDARD_RAYLEIGH_FRACTION: f64 = 0.2;
 /// The keys that set a time step: an absolute step and the fractions of a time scale.
 pub const TIME_STEP_KEYS: [&str; 3] =
     ["integrator.time_step", "integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
-
-/// A standard setting: the reference scene with a few of the levers set to standard values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StandardSetting {
-    /// In words, e.g. `time step at its largest valid value (integrator.contact_time_fraction = 0.1)`.
-    pub name: String,
-    /// Lever keys set (dotted scene keys).
-    pub values: Vec<(String, ParamValue)>,
-}
 
 /// The lever that sets the time step, when one does (the first written).
 pub fn time_step_lever(levers: &[Lever]) -> Option<&Lever> {

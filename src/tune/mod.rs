@@ -23,8 +23,8 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 pub use file::{is_tune_file, keepable_metrics, load};
-pub use ladder::StandardSetting;
 pub use model::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, TuneError};
+pub use spec::StandardSetting;
 pub use spec::{Keep, Lever, LeverRange, Objective, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};

@@ -7,7 +7,6 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use super::ladder::StandardSetting;
 use crate::physics::SceneConfig;
 use crate::physics::particles::InitialDisk;
 use crate::study::file::{KeyPath, set_path};
@@ -189,6 +188,15 @@ impl SearchOptions {
     pub fn verify_seeds(&self) -> usize {
         self.verify_seeds.unwrap_or(self.max_seeds)
     }
+}
+
+/// A standard setting: the reference scene with a few of the levers set to standard values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StandardSetting {
+    /// In words, e.g. `time step at its largest valid value (integrator.contact_time_fraction = 0.1)`.
+    pub name: String,
+    /// Lever keys set (dotted scene keys).
+    pub values: Vec<(String, ParamValue)>,
 }
 
 /// A checked tune file.
