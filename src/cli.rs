@@ -24,8 +24,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use exit::INVALID_STUDY;
 
 mod bench;
+mod exit;
 mod export;
 mod plot;
 use demsweep::study::Plan;
@@ -34,9 +36,6 @@ use demsweep::workflow::{self, LoadError};
 mod results;
 mod slurm;
 mod tune;
-
-/// Exit status when the study file is invalid.
-const INVALID_STUDY: u8 = 2;
 
 /// Single-threaded cost of one particle-step assumed by the wall-time estimate (s).
 const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;

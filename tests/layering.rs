@@ -218,6 +218,7 @@ fn named_paths(code: &str, module: &[String], files: &BTreeMap<ModulePath, PathB
                 found.extend(paths_at(tree).into_iter().map(|p| [module.to_vec(), p].concat()));
             }
         }
+        found.extend(child_paths(statement, module, files));
         for start in ["crate::", "super::", "self::"] {
             for (at, _) in statement.match_indices(start) {
                 let boundary = statement[..at].chars().last().is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_'));
@@ -233,6 +234,26 @@ fn named_paths(code: &str, module: &[String], files: &BTreeMap<ModulePath, PathB
                 found.extend(paths_at(tree).into_iter().map(|p| [base.clone(), p].concat()));
             }
         }
+    }
+    found
+}
+
+/// The paths in `statement` that start with a bare child module of `module` (`summary::write_csv(…)`
+/// in `output/mod.rs`): a name right after no `::`, `.` or identifier character, followed by `::`.
+fn child_paths(statement: &str, module: &[String], files: &BTreeMap<ModulePath, PathBuf>) -> Vec<ModulePath> {
+    let mut found = Vec::new();
+    for (at, _) in statement.match_indices("::") {
+        let before = &statement[..at];
+        let name_start = before.rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+        let name = &before[name_start..];
+        let preceded = before[..name_start].trim_end().chars().last();
+        if name.is_empty() || preceded.is_some_and(|c| c == ':' || c == '.' || c.is_ascii_alphanumeric()) {
+            continue;
+        }
+        if !files.contains_key(&[module, &[name.to_string()]].concat()) {
+            continue;
+        }
+        found.extend(paths_at(&statement[name_start..]).into_iter().map(|p| [module.to_vec(), p].concat()));
     }
     found
 }

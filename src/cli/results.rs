@@ -19,10 +19,9 @@ use demsweep::runner::{
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::{self, Points};
 
-/// Exit status of a command that failed (bad results file, refused output, I/O error).
-const FAILED: u8 = 1;
+use super::exit::FAILED;
 /// Exit status for bad input: an unknown point or metric.
-const BAD_INPUT: u8 = 2;
+const BAD_INPUT: u8 = super::exit::INVALID_STUDY;
 /// Exit status of `summary`, `report` and `plot` on a results file with damaged run groups (what
 /// could be read is shown; `run --resume` runs the damaged runs again).
 pub(super) const DAMAGED: u8 = 3;

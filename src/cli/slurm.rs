@@ -7,8 +7,7 @@ use clap::Args;
 use demsweep::slurm::{self, ArrayJob, Scripts};
 use demsweep::study::Plan;
 
-/// Exit status when the scripts cannot be written or submitted.
-const FAILED: u8 = 1;
+use super::exit::FAILED;
 
 #[derive(Args)]
 pub struct SlurmArgs {

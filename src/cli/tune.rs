@@ -11,7 +11,7 @@ use demsweep::runner::interrupt;
 use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec};
 use demsweep::workflow::{self, TuneRunError};
 
-use super::INVALID_STUDY;
+use super::exit::INVALID_STUDY;
 
 /// Exit status of a tune that stopped because a kept metric's tolerance cannot be decided.
 pub const UNDECIDABLE: u8 = 3;

@@ -14,6 +14,7 @@ use plotters::prelude::*;
 
 use crate::output::guard::{self, Existing};
 use crate::physics::RunStatus;
+use style::DrawResult;
 
 pub mod bench;
 pub mod compare;
@@ -122,9 +123,6 @@ impl From<guard::GuardError> for PlotError {
         PlotError { reason: e.refusal_text(), path: e.path }
     }
 }
-
-/// What drawing code returns: plotters' errors carry the backend's error type, boxed here.
-type DrawResult<T> = Result<T, Box<dyn Error>>;
 
 /// A picture that can be drawn on any plotters backend.
 trait Figure {

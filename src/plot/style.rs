@@ -9,7 +9,8 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::register_font as register_plotters_font;
 
-use super::DrawResult;
+/// What drawing code returns: plotters' errors carry the backend's error type, boxed here.
+pub(super) type DrawResult<T> = Result<T, Box<dyn std::error::Error>>;
 
 /// Font family name every chart uses (registered from the bundled file).
 pub(super) const FONT: &str = "sans-serif";
