@@ -24,9 +24,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use exit::INVALID_STUDY;
+use estimate::{SECONDS_PER_PARTICLE_STEP, duration};
+use exit::{INVALID_STUDY, refuse_warnings};
 
 mod bench;
+mod estimate;
 mod exit;
 mod export;
 mod plot;
@@ -36,9 +38,6 @@ use demsweep::workflow::{self, LoadError};
 mod results;
 mod slurm;
 mod tune;
-
-/// Single-threaded cost of one particle-step assumed by the wall-time estimate (s).
-const SECONDS_PER_PARTICLE_STEP: f64 = 50e-9;
 
 #[derive(Parser)]
 #[command(
@@ -385,16 +384,6 @@ fn load_or_report(path: &Path, out: Option<&Path>, strict: bool) -> Result<Plan,
     Ok(plan)
 }
 
-/// With --strict, `warnings` (printed above) are errors: says so; the exit status of an invalid study.
-fn refuse_warnings(path: &Path, warnings: usize, strict: bool) -> Result<(), ExitCode> {
-    if !strict || warnings == 0 {
-        return Ok(());
-    }
-    let n = if warnings == 1 { "1 warning".to_string() } else { format!("{warnings} warnings") };
-    errln!("error: {}: {n} above, errors under --strict; nothing was run", path.display());
-    Err(ExitCode::from(INVALID_STUDY))
-}
-
 fn check(args: &CheckArgs) -> ExitCode {
     if demsweep::tune::is_tune_file(&args.study) {
         return tune::check(&args.study, args.strict);
@@ -555,16 +544,6 @@ fn keys(args: &KeysArgs) -> ExitCode {
 /// `1 run`, `18 runs`.
 fn runs(n: usize) -> String {
     if n == 1 { "1 run".into() } else { format!("{n} runs") }
-}
-
-/// Seconds in words: `42 s`, `12.5 min`, `3.2 h`.
-fn duration(seconds: f64) -> String {
-    match seconds {
-        s if s < 10.0 => format!("{s:.1} s"),
-        s if s < 90.0 => format!("{s:.0} s"),
-        s if s < 5400.0 => format!("{:.1} min", s / 60.0),
-        s => format!("{:.1} h", s / 3600.0),
-    }
 }
 
 #[cfg(test)]

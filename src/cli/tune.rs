@@ -11,7 +11,8 @@ use demsweep::runner::interrupt;
 use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec};
 use demsweep::workflow::{self, TuneRunError};
 
-use super::exit::INVALID_STUDY;
+use super::estimate::{SECONDS_PER_PARTICLE_STEP, duration};
+use super::exit::{INVALID_STUDY, refuse_warnings};
 
 /// Exit status of a tune that stopped because a kept metric's tolerance cannot be decided.
 pub const UNDECIDABLE: u8 = 3;
@@ -53,7 +54,7 @@ pub fn load_or_report(path: &Path, strict: bool) -> Result<(TuneSpec, usize), Ex
     for warning in &warnings {
         errln!("warning: {}: {warning}", path.display());
     }
-    super::refuse_warnings(path, warnings.len(), strict)?;
+    refuse_warnings(path, warnings.len(), strict)?;
     Ok((spec, warnings.len()))
 }
 
@@ -140,14 +141,14 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         }
     }
     let bound = dearest * s.budget as f64;
-    let seconds = bound * super::SECONDS_PER_PARTICLE_STEP;
+    let seconds = bound * SECONDS_PER_PARTICLE_STEP;
     outln!(
         "reference run: {reference_cost:.3e} particle-steps at most (full duration); budget bound {bound:.3e} \
          particle-steps ({} runs x {dearest:.3e}, the dearest lever extreme): about {} on 1 core, {} on {cores} cores \
          (runs stop when settled, so far less)",
         s.budget,
-        super::duration(seconds),
-        super::duration(seconds / cores as f64)
+        duration(seconds),
+        duration(seconds / cores as f64)
     );
     ExitCode::SUCCESS
 }

@@ -9,7 +9,6 @@ use crate::output::guard::{self, ReplacedFolder};
 use crate::output::reader::{self, DamagedGroup};
 use crate::output::row::SummaryRow;
 use crate::output::stored::{self, StoredRun};
-use crate::physics::record::Snapshot;
 
 /// Every export format. A new one is a file of this module and a row here.
 pub const FORMATS: &[&Format] = &[&vtk::FORMAT, &lammps::FORMAT, &csv::FORMAT];

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::errors::StudyError;
 use crate::physics::SceneConfig;
 use crate::physics::particles::{InitialContact, InitialDisk};
 
