@@ -55,3 +55,25 @@ pub(crate) fn write_file(
     let written = body(&mut buffer).and_then(|()| std::io::Write::flush(&mut buffer));
     written.map_err(|source| WriteError::Write { path, source })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_that_cannot_be_created_or_written_is_a_typed_error_naming_it() {
+        let missing = std::env::temp_dir().join(format!("demsweep-export-missing-{}", std::process::id()));
+        let created = write_file(&missing, "r0000_final.csv", |out| out.write_all(b"x"));
+        assert!(
+            matches!(&created, Err(WriteError::Create(e)) if e.path == missing.join("r0000_final.csv")),
+            "{created:?}"
+        );
+        // A writer whose bytes do not go in (the disk full): the file is created, then the write fails.
+        let folder = std::env::temp_dir();
+        let name = format!("demsweep-export-full-{}.csv", std::process::id());
+        let full = write_file(&folder, &name, |_| Err(std::io::ErrorKind::StorageFull.into()));
+        std::fs::remove_file(folder.join(&name)).unwrap();
+        let Err(WriteError::Write { path, source }) = &full else { panic!("{full:?}") };
+        assert_eq!((path, source.kind()), (&folder.join(&name), std::io::ErrorKind::StorageFull));
+    }
+}

@@ -134,3 +134,25 @@ impl Plan {
         self.runs.iter().map(|r| r.estimated_cost).sum()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn param_values_display_as_written() {
+        let shown: Vec<String> = [
+            ParamValue::Float(0.7),
+            ParamValue::Float(1e9),
+            ParamValue::Float(2.5e-5),
+            ParamValue::Float(0.0),
+            ParamValue::Float(150.0),
+            ParamValue::Int(12),
+            ParamValue::Text("linear".into()),
+        ]
+        .iter()
+        .map(|v| v.to_string())
+        .collect();
+        assert_eq!(shown, ["0.7", "1e9", "2.5e-5", "0.0", "150.0", "12", "\"linear\""]);
+    }
+}
