@@ -3,13 +3,17 @@
 //! A study file's base scene and each swept run deserialize into [`SceneConfig`]; unknown keys are
 //! rejected by serde, impossible values by [`SceneConfig::validate`], which names the key path.
 
+use std::collections::HashSet;
+
 use serde::{Deserialize, Serialize};
 
 use super::key_spec::scene_section;
 use super::number::exact;
 
 pub use super::contact::{ContactConfig, ContactLawKind};
+pub use super::scheme::IntegratorKind;
 pub use super::size_distribution::SizeDistribution;
+pub use super::stage::{StageConfig, StageEnd};
 
 scene_section! {
 /// One simulation's complete input. Every field has a default (see [`Default`]).
@@ -55,6 +59,10 @@ pub struct SceneConfig {
     /// How contacts are found.
     #[key(table: Some(NeighborConfig::KEYS))]
     pub neighbors: NeighborConfig,
+    /// A deposition protocol: stages run in order before the scene's own physics, each changing a
+    /// few keys until a condition ends it (`[[scene.stages]]`; none by default).
+    #[key(table: Some(StageConfig::KEYS))]
+    pub stages: Vec<StageConfig>,
 }
 }
 
@@ -214,16 +222,6 @@ pub struct WallMaterialConfig {
     #[key(range: ">= 0")]
     pub rolling_friction: Option<f64>,
 }
-}
-
-/// Time integration scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IntegratorKind {
-    /// The paper's scheme: Adams-Bashforth 2 velocities (AB1 first step), Adams-Moulton 2 positions.
-    AdamsBashforthMoulton,
-    /// Velocity Verlet, as in LAMMPS and LIGGGHTS.
-    VelocityVerlet,
 }
 
 /// Time step used when none of `time_step`, `contact_time_fraction` and `rayleigh_fraction` is given (s).
@@ -397,6 +395,7 @@ impl Default for SceneConfig {
             settle: SettleConfig::default(),
             limits: LimitsConfig::default(),
             neighbors: NeighborConfig::default(),
+            stages: Vec::new(),
         }
     }
 }
@@ -557,6 +556,7 @@ impl SceneConfig {
         self.check_geometry(&mut c);
         self.check_material(&mut c);
         self.check_time(&mut c);
+        c.0.extend(stage_issues(self));
         if c.0.is_empty() { Ok(()) } else { Err(c.0) }
     }
 
@@ -758,4 +758,60 @@ impl SceneConfig {
             (None, None) => p.radius,
         }
     }
+}
+
+impl SceneConfig {
+    /// The scene as `stage` runs it: this scene with the stage's keys in place (and no stages).
+    pub fn in_stage(&self, stage: &StageConfig) -> SceneConfig {
+        let mut s = SceneConfig { stages: Vec::new(), ..self.clone() };
+        let d = &stage.damping;
+        s.damping.local = d.local.unwrap_or(s.damping.local);
+        s.damping.local_gravity = d.local_gravity.unwrap_or(s.damping.local_gravity);
+        s.damping.viscous = d.viscous.unwrap_or(s.damping.viscous);
+        if stage.material.given() {
+            (s.material.beta, s.material.restitution) = (stage.material.beta, stage.material.restitution);
+        }
+        if stage.wall_material.given() {
+            (s.wall_material.beta, s.wall_material.restitution) =
+                (stage.wall_material.beta, stage.wall_material.restitution);
+        }
+        let i = &stage.integrator;
+        s.integrator.scheme = i.scheme.unwrap_or(s.integrator.scheme);
+        if i.time_step.is_some() || i.contact_time_fraction.is_some() || i.rayleigh_fraction.is_some() {
+            (s.integrator.time_step, s.integrator.contact_time_fraction, s.integrator.rayleigh_fraction) =
+                (i.time_step, i.contact_time_fraction, i.rayleigh_fraction);
+        }
+        s
+    }
+}
+
+/// Every problem of `scene`'s stages, each naming its key as a study file writes it
+/// (`stages.NAME.damping.local`; `stages[K]` for a stage without a usable name).
+fn stage_issues(scene: &SceneConfig) -> Vec<ConfigIssue> {
+    let mut issues = Vec::new();
+    let mut names = HashSet::new();
+    for (k, stage) in scene.stages.iter().enumerate() {
+        let bare =
+            !stage.name.is_empty() && stage.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        let label = if bare { format!("stages.{}", stage.name) } else { format!("stages[{k}]") };
+        let mut fail = |key: &str, reason: String| {
+            let key = if key.is_empty() { label.clone() } else { format!("{label}.{key}") };
+            issues.push(ConfigIssue { key, reason });
+        };
+        if !bare {
+            fail("name", format!("a stage needs a name of letters, digits, _ or - (got {:?})", stage.name));
+        } else if !names.insert(stage.name.as_str()) {
+            fail("name", format!("two stages are named {:?}", stage.name));
+        }
+        for (key, reason) in stage.until.problems() {
+            fail(&if key.is_empty() { "until".to_string() } else { format!("until.{key}") }, reason);
+        }
+        let set = stage.keys();
+        for issue in scene.in_stage(stage).validate().err().unwrap_or_default() {
+            if set.contains(&issue.key.as_str()) {
+                fail(&issue.key, issue.reason);
+            }
+        }
+    }
+    issues
 }

@@ -13,14 +13,17 @@ pub(super) struct FrameSchedule {
 }
 
 impl FrameSchedule {
-    /// The frame steps of a scene run with time step `dt` (s).
-    pub(super) fn new(scene: &SceneConfig, dt: f64, total_steps: u64) -> Self {
+    /// The frame steps of a scene run with time step `dt` (s) from step and time (s) `origin` on,
+    /// up to `last_step` (frames before `origin` are not its).
+    pub(super) fn new(scene: &SceneConfig, origin: (u64, f64), dt: f64, last_step: u64) -> Self {
         let mut times = scene.run.frame_times.clone();
         if let Some(interval) = scene.run.frame_interval {
             let count = (scene.run.duration / interval).floor() as u64;
             times.extend((0..=count).map(|k| k as f64 * interval));
         }
-        let mut steps: Vec<u64> = times.iter().map(|t| ((t / dt).round() as u64).min(total_steps)).collect();
+        let (first, start) = origin;
+        let step_of = |t: f64| (first + ((t - start) / dt).round() as u64).min(last_step);
+        let mut steps: Vec<u64> = times.iter().filter(|t| **t >= start).map(|t| step_of(*t)).collect();
         steps.sort_unstable();
         steps.dedup();
         Self { steps, next: 0 }

@@ -215,6 +215,18 @@ pub struct RunRecord {
     pub final_state: Snapshot,
     /// States recorded at the requested frame times.
     pub frames: Vec<Snapshot>,
+    /// When each stage before the physical one ended, in order (none for a scene without stages).
+    #[serde(default)]
+    pub stage_ends: Vec<StageEndTime>,
+}
+
+/// When one stage of a deposition protocol ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StageEndTime {
+    /// The stage's name.
+    pub name: String,
+    /// Simulated time at its end (s); `None` when the run ended before the stage did.
+    pub time: Option<f64>,
 }
 
 impl RunRecord {

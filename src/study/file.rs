@@ -173,18 +173,48 @@ fn collect_leaves<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Ve
     }
 }
 
-/// Sets `path` in `table` to `value`, creating missing tables on the way.
+/// Sets `path` in `table` to `value`, creating missing tables on the way. In an array of tables
+/// with names (`[[scene.stages]]`), the next key of the path names the table.
 pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), String> {
     let (last, parents) = path.split_last().ok_or("an empty key path")?;
     let mut here = table;
-    for (depth, key) in parents.iter().enumerate() {
-        match here.entry(key.clone()).or_insert_with(|| toml::Value::Table(toml::Table::new())) {
-            toml::Value::Table(inner) => here = inner,
+    let mut depth = 0;
+    while depth < parents.len() {
+        let key = &parents[depth];
+        here = match here.entry(key.clone()).or_insert_with(|| toml::Value::Table(toml::Table::new())) {
+            toml::Value::Table(inner) => inner,
+            toml::Value::Array(items) => {
+                depth += 1;
+                let name = path.get(depth).ok_or("an empty key path")?;
+                let index = named(items, name).ok_or_else(|| no_such_name(&path[..depth], name, items))?;
+                items[index].as_table_mut().expect("a named table")
+            }
             other => return Err(format!("{} is a {}, not a table", dotted(&path[..=depth]), other.type_str())),
-        }
+        };
+        depth += 1;
+    }
+    if depth > parents.len() {
+        return Err(format!("{} names a table of {}, not a value", dotted(path), dotted(&path[..depth - 1])));
     }
     here.insert(last.clone(), value);
     Ok(())
+}
+
+/// Where in `items` the table whose `name` is `name` is.
+fn named(items: &[toml::Value], name: &str) -> Option<usize> {
+    items.iter().position(|t| t.is_table() && t.get("name").and_then(|n| n.as_str()) == Some(name))
+}
+
+/// Why `name` names none of `items` (the array at `array`).
+fn no_such_name(array: &[String], name: &str, items: &[toml::Value]) -> String {
+    let names: Vec<String> =
+        items.iter().filter_map(|item| item.get("name").and_then(|n| n.as_str())).map(|n| format!("{n:?}")).collect();
+    let known = if names.is_empty() {
+        "it has no named tables".to_string()
+    } else {
+        format!("its names: {}", names.join(", "))
+    };
+    format!("{} has no table named {name:?} ({known})", dotted(array))
 }
 
 /// A table holding only `value` at `path`.
@@ -192,6 +222,27 @@ pub(crate) fn tree_with(path: &[String], value: toml::Value) -> toml::Table {
     let mut table = toml::Table::new();
     set_path(&mut table, path, value).expect("a fresh table has no values in the way");
     table
+}
+
+/// [`tree_with`] for checking a value of `base` on its own: a named table of an array on the way
+/// (a stage of `[[scene.stages]]`) is copied from `base` whole, so the value is checked in it.
+pub(crate) fn tree_within(base: &toml::Table, path: &[String], value: toml::Value) -> toml::Table {
+    let mut here = base;
+    for (depth, key) in path.iter().enumerate() {
+        match here.get(key) {
+            Some(toml::Value::Table(inner)) => here = inner,
+            Some(toml::Value::Array(items)) => {
+                let Some(index) = path.get(depth + 1).and_then(|name| named(items, name)) else { break };
+                let mut item = items[index].as_table().expect("a named table").clone();
+                if set_path(&mut item, &path[depth + 2..], value.clone()).is_err() {
+                    break;
+                }
+                return tree_with(&path[..=depth], toml::Value::Array(vec![toml::Value::Table(item)]));
+            }
+            _ => break,
+        }
+    }
+    tree_with(path, value)
 }
 
 /// A key path as written in TOML: segments joined by dots, quoted where they are not bare keys.

@@ -9,7 +9,7 @@ use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
-use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with};
+use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
@@ -163,7 +163,7 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
         .values
         .iter()
         .filter_map(|v| {
-            let tree = toml::Value::Table(tree_with(&axis.path, v.to_toml()));
+            let tree = toml::Value::Table(tree_within(base, &axis.path, v.to_toml()));
             tree.try_into::<SceneConfig>().err().map(|e| (v, explain::<SceneConfig>(&axis.path, e.message())))
         })
         .collect();

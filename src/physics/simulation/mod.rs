@@ -5,6 +5,7 @@
 //! contact sums only on sampled steps), and the integrator finishes the step. Diagnostics,
 //! divergence checks and the settle criterion run on sampled steps only.
 
+mod protocol;
 mod readout;
 mod setup;
 mod step;

@@ -47,12 +47,14 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Simulated time (s).
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.context.dt
+        let (step, time) = self.protocol.origin;
+        time + (self.step - step) as f64 * self.context.dt
     }
 
     /// The pre-run stability estimate for this scene.
     pub fn stability(&self) -> StabilityReport {
-        stability::assess(&self.law, &self.scene, &self.scene_particles(), &self.materials, &self.walls)
+        let physical = self.protocol.physical();
+        stability::assess(&physical.law, &self.scene, &self.scene_particles(), &physical.materials, &self.walls)
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).

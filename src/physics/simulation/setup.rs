@@ -1,6 +1,7 @@
 //! Building a simulation: the scene's time step resolved, disks, walls, materials and contact
 //! classes set up, the neighbour list built and the forces evaluated at the initial state.
 
+use super::protocol::Protocol;
 use super::step::Simulation;
 use crate::physics::config::SceneConfig;
 use crate::physics::contact::{ContactLaw, ContactOptions, RegisteredLaw};
@@ -9,13 +10,13 @@ use crate::physics::diagnostics::ContactTotals;
 use crate::physics::energy::EnergyLedger;
 use crate::physics::forces::ContactParameters;
 use crate::physics::integrator::{Integrator, StepContext};
-use crate::physics::material::{ContactMaterial, Materials};
+use crate::physics::material::ContactMaterial;
 use crate::physics::memory_order::{MemoryOrder, Numbering};
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::Team;
 use crate::physics::particles::{InitialContact, InitialDisk, Particles};
 use crate::physics::rolling;
-use crate::physics::time_step::{self, with_time_step};
+use crate::physics::time_step::with_time_step;
 use crate::physics::walls::BoxWalls;
 
 impl<L: RegisteredLaw> Simulation<L> {
@@ -40,9 +41,10 @@ impl<L: ContactLaw> Simulation<L> {
     /// bodies are too far apart to touch are dropped. The history is set once, at the first
     /// neighbour-list build: the step loop does not know of it.
     pub fn with_history(scene: &SceneConfig, disks: &[InitialDisk], contacts: &[InitialContact], law: L) -> Self {
-        let resolved = time_step::resolve(&law, scene, Some(disks));
-        let scene = &with_time_step(scene, resolved.dt);
-        let materials = Materials::from_scene(scene);
+        let protocol = Protocol::new(scene, &law, disks);
+        let first = protocol.now();
+        let scene = &with_time_step(scene, protocol.physical().dt);
+        let materials = first.materials;
         let particles = Particles::new(disks, materials.density, scene.particles.thickness);
         let walls = BoxWalls::new(&scene.domain);
         let tangential = materials.particle.friction > 0.0 || materials.wall.friction > 0.0;
@@ -52,13 +54,13 @@ impl<L: ContactLaw> Simulation<L> {
             material: *m,
             options: ContactOptions { allow_tension: scene.contact.allow_tension, tangential, friction: m.friction },
             rotation,
-            dt: resolved.dt,
+            dt: first.dt,
         };
         let skin = scene.neighbors.skin_ratio * particles.max_radius();
         let mut sim = Self {
             law,
             scene: scene.clone(),
-            time_step_warning: resolved.warning,
+            time_step_warning: protocol.physical().time_step_warning.clone(),
             neighbors: NeighborList::new(scene.neighbors.broad_phase, skin),
             disk_contacts: kind(&materials.particle),
             wall_contacts: kind(&materials.wall),
@@ -69,16 +71,16 @@ impl<L: ContactLaw> Simulation<L> {
             moved: Vec::new(),
             rolling_resistance: materials.particle.rolling_friction > 0.0 || materials.wall.rolling_friction > 0.0,
             rolling_removed: rolling::Removed::default(),
-            integrator: Integrator::new(scene.integrator.scheme),
+            integrator: Integrator::new(first.scheme),
             particles,
             numbering: Numbering::default(),
             memory_order: MemoryOrder::default(),
             walls,
-            materials,
             step: 0,
-            context: StepContext { dt: resolved.dt, gravity: scene.gravity, rotation, damping: scene.damping },
+            context: StepContext { dt: first.dt, gravity: scene.gravity, rotation, damping: first.damping },
             energy: EnergyLedger::default(),
             totals: ContactTotals::default(),
+            protocol,
         };
         sim.rebuild_neighbors();
         sim.neighbors.seed_histories(contacts);

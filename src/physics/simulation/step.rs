@@ -1,6 +1,7 @@
 //! The step loop: one step (integrator, neighbour list, forces, integrator again) and the run
 //! from the first sample to the last.
 
+use super::protocol::Protocol;
 use crate::physics::config::SceneConfig;
 use crate::physics::contact::ContactLaw;
 use crate::physics::contact_sums::ContactSums;
@@ -8,7 +9,6 @@ use crate::physics::diagnostics::{ContactTotals, SettleDetector};
 use crate::physics::energy::EnergyLedger;
 use crate::physics::forces::{self, ContactParameters, TouchingPairs};
 use crate::physics::integrator::{Integrator, Moved, StepContext};
-use crate::physics::material::Materials;
 use crate::physics::memory_order::{self, MemoryOrder, Numbering};
 use crate::physics::monitor::{FrameSchedule, Monitor};
 use crate::physics::neighbors::NeighborList;
@@ -59,7 +59,6 @@ pub struct Simulation<L: ContactLaw> {
     pub(super) memory_order: MemoryOrder,
     pub(super) walls: BoxWalls,
     pub(super) neighbors: NeighborList<L::State>,
-    pub(super) materials: Materials,
     pub(super) disk_contacts: ContactParameters,
     pub(super) wall_contacts: ContactParameters,
     pub(super) touching: Box<TouchingPairs<L::State>>,
@@ -78,6 +77,8 @@ pub struct Simulation<L: ContactLaw> {
     pub(super) context: StepContext,
     pub(super) energy: EnergyLedger,
     pub(super) totals: ContactTotals,
+    /// The run's stages and where it is in them.
+    pub(super) protocol: Protocol<L>,
 }
 
 impl<L: ContactLaw> Simulation<L> {
@@ -202,14 +203,13 @@ impl<L: ContactLaw> Simulation<L> {
         );
     }
 
-    /// Runs to the end, to settling, to divergence, or until the observer says stop.
+    /// Runs to the end, to settling, to divergence, or until the observer says stop; through the
+    /// scene's stages first, if it has any (settling counts in the physical stage only).
     pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
         let stability = self.stability();
         let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
         warnings.extend(stability.warnings.iter().cloned());
-        let total_steps = self.scene.total_steps(self.context.dt);
-        let sample_every = ((self.scene.run.sample_interval / self.context.dt).round() as u64).max(1);
-        let mut frames = FrameSchedule::new(&self.scene, self.context.dt, total_steps);
+        let mut segment = self.segment();
         let mut monitor =
             Monitor::new(&self.scene_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
         let mut settle = SettleDetector::new(&self.scene.settle);
@@ -217,7 +217,7 @@ impl<L: ContactLaw> Simulation<L> {
         let mut recorded_frames = Vec::new();
         let (status, message) = loop {
             let s = self.sample();
-            if frames.due(self.step) {
+            if segment.frames.due(self.step) {
                 recorded_frames.push(self.snapshot());
             }
             history.push(&s);
@@ -226,7 +226,11 @@ impl<L: ContactLaw> Simulation<L> {
             if let Some(reason) = monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
                 break (RunStatus::Diverged, Some(reason));
             }
-            let settled = settle.update(&s);
+            while self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
+                self.next_stage();
+                segment = self.segment();
+            }
+            let settled = self.protocol.in_physical_stage() && settle.update(&s);
             let progress = Progress {
                 step: self.step,
                 time: s.time,
@@ -240,13 +244,14 @@ impl<L: ContactLaw> Simulation<L> {
             if settled && self.scene.run.stop_at_settle {
                 break (RunStatus::Settled, None);
             }
-            if self.step >= total_steps {
+            if self.step >= segment.last_step {
                 break (if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None);
             }
-            // Step to the next sample, recording frames on the way; a non-finite power ends early.
-            let next = (self.step + sample_every).min(total_steps);
+            // Step to the next sample (or the stage's end), recording frames on the way; a
+            // non-finite power ends early.
+            let next = (self.step + segment.sample_every).min(segment.last_step).min(self.protocol.time_limit);
             while self.step < next {
-                let frame_due = self.step + 1 < next && frames.due(self.step + 1);
+                let frame_due = self.step + 1 < next && segment.frames.due(self.step + 1);
                 self.advance(frame_due || self.step + 1 == next);
                 if frame_due {
                     recorded_frames.push(self.snapshot());
@@ -264,7 +269,7 @@ impl<L: ContactLaw> Simulation<L> {
             warnings,
             settle_time: settle.settle_time,
             steps: self.step,
-            time_step: self.context.dt,
+            time_step: self.protocol.physical().dt,
             simulated_time: self.time(),
             energy_balance_error: monitor.energy_balance_error(),
             largest_overlap_ratio: monitor.largest_overlap_ratio(),
@@ -273,6 +278,28 @@ impl<L: ContactLaw> Simulation<L> {
             history,
             final_state: self.snapshot_with(&contacts),
             frames: recorded_frames,
+            stage_ends: self.protocol.end_times(),
         }
     }
+
+    /// The step counts of the current stage: its sampling, its frames, the run's last step.
+    fn segment(&self) -> Segment {
+        let (dt, origin) = (self.context.dt, self.protocol.origin);
+        let last_step = origin.0 + ((self.scene.run.duration - origin.1) / dt).round().max(1.0) as u64;
+        Segment {
+            sample_every: ((self.scene.run.sample_interval / dt).round() as u64).max(1),
+            frames: FrameSchedule::new(&self.scene, origin, dt, last_step),
+            last_step,
+        }
+    }
+}
+
+/// The step counts of one stage of a run (its time step's).
+struct Segment {
+    /// Steps between samples.
+    sample_every: u64,
+    /// The steps at which frames are recorded.
+    frames: FrameSchedule,
+    /// The step at which the run's duration is reached.
+    last_step: u64,
 }

@@ -1,0 +1,174 @@
+//! A run's stages (see [`crate::physics::stage`]): the settings each stage runs with, resolved
+//! before the first step, when a stage is over, and the switch to the next.
+
+use super::step::Simulation;
+use crate::physics::config::{DampingConfig, IntegratorKind, SceneConfig, StageEnd};
+use crate::physics::contact::ContactLaw;
+use crate::physics::diagnostics::Sample;
+use crate::physics::integrator::Integrator;
+use crate::physics::material::Materials;
+use crate::physics::particles::InitialDisk;
+use crate::physics::record::StageEndTime;
+use crate::physics::time_step::{self, with_time_step};
+use crate::physics::warning::ValidityWarning;
+
+/// What one stage runs with.
+pub(super) struct StageSettings<L> {
+    /// The stage's name; `None` for the scene's own, physical stage.
+    pub(super) name: Option<String>,
+    /// When it ends; `None` for the physical stage, which ends at settle.
+    pub(super) until: Option<StageEnd>,
+    pub(super) law: L,
+    pub(super) dt: f64,
+    pub(super) time_step_warning: Option<ValidityWarning>,
+    pub(super) damping: DampingConfig,
+    pub(super) scheme: IntegratorKind,
+    pub(super) materials: Materials,
+}
+
+impl<L: ContactLaw> StageSettings<L> {
+    /// The settings of `scene` (a stage's scene or the physical one) with `law`, its time step
+    /// resolved from the run's initial `disks`.
+    fn of(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
+        let resolved = time_step::resolve(law, scene, Some(disks));
+        Self {
+            name: None,
+            until: None,
+            law: law.clone(),
+            dt: resolved.dt,
+            time_step_warning: resolved.warning,
+            damping: scene.damping,
+            scheme: scene.integrator.scheme,
+            materials: Materials::from_scene(&with_time_step(scene, resolved.dt)),
+        }
+    }
+}
+
+/// The stages of a run and where it is in them.
+pub(super) struct Protocol<L> {
+    /// Every stage in order, the physical one last.
+    pub(super) stages: Vec<StageSettings<L>>,
+    /// The stage running now.
+    pub(super) current: usize,
+    /// The step and time (s) the current stage began at.
+    pub(super) origin: (u64, f64),
+    /// The step at which the current stage's `until.time` ends it (`u64::MAX`: none).
+    pub(super) time_limit: u64,
+    /// When each finished stage ended (s).
+    pub(super) ended: Vec<f64>,
+}
+
+impl<L: ContactLaw> Protocol<L> {
+    /// The stages of `scene` (its `stages`, then itself) with `law`, from the initial `disks`.
+    pub(super) fn new(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
+        let mut stages: Vec<StageSettings<L>> = scene
+            .stages
+            .iter()
+            .map(|stage| StageSettings {
+                name: Some(stage.name.clone()),
+                until: Some(stage.until.clone()),
+                ..StageSettings::of(&scene.in_stage(stage), law, disks)
+            })
+            .collect();
+        stages.push(StageSettings::of(scene, law, disks));
+        let mut protocol = Self { stages, current: 0, origin: (0, 0.0), time_limit: u64::MAX, ended: Vec::new() };
+        protocol.time_limit = protocol.limit_of_current();
+        protocol
+    }
+
+    /// The settings running now.
+    pub(super) fn now(&self) -> &StageSettings<L> {
+        &self.stages[self.current]
+    }
+
+    /// The physical stage's settings.
+    pub(super) fn physical(&self) -> &StageSettings<L> {
+        self.stages.last().expect("a protocol ends with the physical stage")
+    }
+
+    /// Whether the physical stage is running.
+    pub(super) fn in_physical_stage(&self) -> bool {
+        self.current + 1 == self.stages.len()
+    }
+
+    fn limit_of_current(&self) -> u64 {
+        let stage = self.now();
+        match stage.until.as_ref().and_then(|u| u.time) {
+            Some(t) => self.origin.0 + (t / stage.dt).round().max(1.0) as u64,
+            None => u64::MAX,
+        }
+    }
+
+    /// Whether the current stage is over at `step` with sample `s` (`in_contact`: whether every
+    /// disk touches something).
+    pub(super) fn stage_over(&self, step: u64, s: &Sample, disks: usize, in_contact: impl FnOnce() -> bool) -> bool {
+        let Some(until) = &self.now().until else { return false };
+        step >= self.time_limit
+            || until.unbalanced_force_ratio.is_some_and(|limit| s.unbalanced_force_ratio < limit)
+            || until.kinetic_energy_per_disk.is_some_and(|limit| s.kinetic() / (disks as f64) < limit)
+            || (until.all_in_contact && in_contact())
+    }
+
+    /// When each stage before the physical one ended (`None`: the run ended first).
+    pub(super) fn end_times(&self) -> Vec<StageEndTime> {
+        let before = &self.stages[..self.stages.len() - 1];
+        before
+            .iter()
+            .enumerate()
+            .map(|(k, stage)| StageEndTime {
+                name: stage.name.clone().unwrap_or_default(),
+                time: self.ended.get(k).copied(),
+            })
+            .collect()
+    }
+}
+
+impl<L: ContactLaw> Simulation<L> {
+    /// Ends the current stage now and continues with the next one's settings. The state carries
+    /// over as it is (positions, velocities, spins, springs, law states); the forces of this state
+    /// are evaluated afresh when the contact materials change, as a restart from it would. A
+    /// multistep scheme starts afresh when the step or the scheme changes (its history holds
+    /// accelerations of the old step), and continues otherwise.
+    pub(super) fn next_stage(&mut self) {
+        let time = self.time();
+        let protocol = &mut self.protocol;
+        protocol.ended.push(time);
+        let before = (protocol.now().dt, protocol.now().scheme, protocol.now().materials);
+        protocol.current += 1;
+        protocol.origin = (self.step, time);
+        protocol.time_limit = protocol.limit_of_current();
+        let next = protocol.now();
+        let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
+        self.context.dt = dt;
+        self.context.damping = next.damping;
+        self.law = next.law.clone();
+        (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
+        if before.2 != materials {
+            self.forces_afresh();
+        }
+        (self.disk_contacts.dt, self.wall_contacts.dt) = (dt, dt);
+        if (before.0, before.1) != (dt, scheme) {
+            self.integrator = Integrator::new(scheme);
+        }
+    }
+
+    /// Evaluates the forces of the current state again, with the springs as they are: the contact
+    /// stage's spring update is held still by a zero step (the Coulomb limit still applies).
+    fn forces_afresh(&mut self) {
+        let steps = (self.disk_contacts.dt, self.wall_contacts.dt);
+        (self.disk_contacts.dt, self.wall_contacts.dt) = (0.0, 0.0);
+        let p = &mut self.particles;
+        for column in [&mut p.fx, &mut p.fy, &mut p.torque, &mut p.rolling] {
+            column.fill(0.0);
+        }
+        self.compute_forces::<true>();
+        // The next step's contact stage sums the rolling resistances anew.
+        self.particles.rolling.fill(0.0);
+        (self.disk_contacts.dt, self.wall_contacts.dt) = steps;
+    }
+
+    /// Whether every disk touches a disk or a wall (as of the last sampled step).
+    pub(super) fn all_in_contact(&self) -> bool {
+        self.particles.contact_force.iter().all(|f| *f > 0.0)
+    }
+}
