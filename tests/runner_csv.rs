@@ -77,6 +77,7 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         ("final_ubf", ""),
         ("energy_balance_error", ""),
         ("largest_overlap_ratio", ""),
+        ("physics_start_time", "s"),
         ("pile_height", "m"),
         ("packing_fraction", ""),
         ("packing_fraction_interior", ""),

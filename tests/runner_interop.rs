@@ -65,6 +65,7 @@ fn run_group(
         ("final_ubf", last(|r| &r.history.unbalanced_force_ratio)),
         ("energy_balance_error", record.map_or(nan, |r| r.energy_balance_error)),
         ("largest_overlap_ratio", record.map_or(nan, |r| r.largest_overlap_ratio)),
+        ("physics_start_time", record.map_or(nan, |r| r.stage_ends.last().map_or(0.0, |e| e.time.unwrap_or(nan)))),
         ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];

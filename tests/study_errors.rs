@@ -133,7 +133,7 @@ fn swept_poisson_ratio_outside_its_range_names_value_and_run() {
     let e = single_error("nu", &text, 7, "sweep.\"material.poisson_ratio\"");
     assert_eq!((e.value.as_deref(), e.run.as_deref(), e.runs_affected), (Some("0.7"), Some("r0001"), 2));
     assert!(e.to_string().ends_with(
-        "nu.toml:7:1: sweep.\"material.poisson_ratio\": value 0.7 (run r0001 and 1 more runs): \
+        "nu.toml:7:1: sweep.\"material.poisson_ratio\": value 0.7 (run r0001 and 1 more run): \
          Poisson's ratio must lie in (-1, 0.5], got 0.7"
     ));
 }

@@ -64,7 +64,7 @@ macro_rules! last_sample {
 }
 
 /// Final values of a run taken from its record (before the pile metrics in the summary).
-pub const FINAL_VALUES: [Quantity<RunValue>; 10] = [
+pub const FINAL_VALUES: [Quantity<RunValue>; 11] = [
     Quantity {
         name: "time_step",
         unit: "s",
@@ -109,6 +109,12 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 10] = [
         unit: "",
         description: "Largest overlap over the sampled steps, over the smaller radius of its pair.",
         value: |r| r.largest_overlap_ratio,
+    },
+    Quantity {
+        name: "physics_start_time",
+        unit: "s",
+        description: "When the scene's own physics began: 0 without stages, else when the last stage of its protocol ended; empty if the run ended first.",
+        value: |r| r.stage_ends.last().map_or(0.0, |end| end.time.unwrap_or(f64::NAN)),
     },
 ];
 

@@ -91,6 +91,7 @@ impl fmt::Display for StudyError {
         if let Some(run) = &self.run {
             match self.runs_affected {
                 0 | 1 => write!(f, " (run {run})")?,
+                2 => write!(f, " (run {run} and 1 more run)")?,
                 n => write!(f, " (run {run} and {} more runs)", n - 1)?,
             }
         }

@@ -36,8 +36,16 @@ pub(super) fn build(file: &StudyFile, doc: &Document) -> Result<Plan, StudyError
     sink.extend(output_errors);
     let (sweep, sweep_errors) = axes::parse(doc, file);
     sink.extend(sweep_errors);
-    let axis_errors: Vec<Vec<StudyError>> =
-        sweep.axes.iter().map(|axis| check_axis(file, &base, axis, sweep.replicates)).collect();
+    // An axis inside a refused value (a stage of a refused `[[scene.stages]]`) has nothing to set.
+    let inside_refused = |axis: &Axis| {
+        let key = format!("scene.{}", dotted(&axis.path));
+        refused.iter().any(|r| key.strip_prefix(r.as_str()).is_some_and(|rest| rest.starts_with('.')))
+    };
+    let axis_errors: Vec<Vec<StudyError>> = sweep
+        .axes
+        .iter()
+        .map(|axis| if inside_refused(axis) { Vec::new() } else { check_axis(file, &base, axis, sweep.replicates) })
+        .collect();
     let faulty: Vec<bool> = axis_errors.iter().map(|e| !e.is_empty()).collect();
     sink.extend(axis_errors.into_iter().flatten());
     sink.extend(reference::check(file, doc, &sweep, &faulty));

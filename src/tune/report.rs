@@ -678,10 +678,26 @@ pub fn scene_change(spec: &TuneSpec, cand: &Candidate) -> String {
         spec.path.display()
     );
     text.push_str("[scene]\n");
-    for (key, value) in values {
+    for (key, value) in values.iter().filter(|(key, _)| in_stage(key).is_none()) {
         let _ = writeln!(text, "{} = {}", key, value.to_toml());
     }
+    // A stage's keys belong in its own [[scene.stages]] table, which a [scene] table cannot name.
+    let mut stages: Vec<&str> = values.iter().filter_map(|(key, _)| Some(in_stage(key)?.0)).collect();
+    stages.dedup();
+    for stage in stages {
+        let _ = writeln!(text, "# and in the stage named {stage:?} (its [[scene.stages]] table):");
+        for (key, value) in &values {
+            if let Some((_, inner)) = in_stage(key).filter(|(name, _)| *name == stage) {
+                let _ = writeln!(text, "#   {} = {}", inner, value.to_toml());
+            }
+        }
+    }
     text
+}
+
+/// The stage and the key within it of a stage's key (`stages.NAME.KEY`).
+fn in_stage(key: &str) -> Option<(&str, &str)> {
+    key.strip_prefix("stages.")?.split_once('.')
 }
 
 /// The candidates table (`<name>_candidates.csv`): the column names, the reference, then every setting

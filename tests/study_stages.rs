@@ -1,0 +1,161 @@
+//! Deposition protocols in study and tune files: a stage's keys swept and tuned by name, bad
+//! protocols refused with the file, line and key.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+mod runner_common;
+mod tune_common;
+
+const STUDY: &str = r#"name = "protocol"
+[scene.domain]
+width = 0.15
+height = 0.25
+[scene.particles]
+count = 60
+radius = 0.004
+radius_max = 0.006
+[scene.material]
+restitution = 0.4
+[scene.integrator]
+time_step = 2e-5
+[scene.run]
+duration = 1.5
+
+[[scene.stages]]
+name = "fill"
+until.time = 0.2
+damping.local = 0.5
+
+[sweep]
+"stages.fill.damping.local" = [0.2, 0.6]
+"stages.fill.until.time" = [0.1, 0.25]
+"#;
+
+fn demsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The summary CSV's rows as maps from column to text.
+fn summary(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines.map(|l| header.iter().map(|h| h.to_string()).zip(l.split(',').map(String::from)).collect()).collect()
+}
+
+#[test]
+fn a_sweep_over_a_stages_keys_runs_each_protocol_and_reports_when_its_physics_began() {
+    let dir = runner_common::scratch("stages_swept");
+    let study = write(&dir, "protocol.toml", STUDY);
+    let out = dir.join("out");
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let rows = summary(&out.join("protocol_summary.csv"));
+    assert_eq!(rows.len(), 4);
+    for row in &rows {
+        let until: f64 = row["stages.fill.until.time"].parse().unwrap();
+        let began: f64 = row["physics_start_time"].parse().unwrap();
+        assert!((began - until).abs() < 1e-9, "physics began at {began} s, the fill lasted {until} s");
+        let settled: f64 = row["settle_time"].parse().unwrap();
+        assert!(settled >= began, "settled at {settled} s, before the physics began at {began} s");
+        assert_eq!(row["status"], "settled");
+    }
+    let damping: Vec<&str> = rows.iter().map(|r| r["stages.fill.damping.local"].as_str()).collect();
+    assert_eq!(damping, ["0.2", "0.2", "0.6", "0.6"]);
+}
+
+#[test]
+fn bad_protocols_are_refused_with_file_line_and_key() {
+    let dir = runner_common::scratch("stages_refused");
+    let no_until_sweep = ("\"stages.fill.until.time\" = [0.1, 0.25]\n", "");
+    let cases: [(&[(&str, &str)], &str); 5] = [
+        (
+            &[("damping.local = 0.5", "material.youngs_modulus = 1e7")],
+            "scene.stages: unknown field `youngs_modulus`, expected `beta` or `restitution`",
+        ),
+        (
+            &[("until.time = 0.2\n", ""), no_until_sweep],
+            "scene.stages.fill.until (run r0000 and 1 more run): a stage needs a condition that ends it",
+        ),
+        (
+            &[("until.time = 0.2", "until.time = -0.2"), no_until_sweep],
+            "scene.stages.fill.until.time (run r0000 and 1 more run): must be a finite number > 0, got -0.2",
+        ),
+        (
+            &[("\"stages.fill.damping.local\"", "\"stages.fil.damping.local\"")],
+            "sweep.\"stages.fil.damping.local\": cannot sweep this key: scene.stages has no table named \"fil\" (its names: \"fill\")",
+        ),
+        (
+            &[(
+                "damping.local = 0.5\n",
+                "damping.local = 0.5\n[[scene.stages]]\nname = \"fill\"\nuntil.all_in_contact = true\n",
+            )],
+            "scene.stages.fill.name (run r0000 and 3 more runs): two stages are named \"fill\"",
+        ),
+    ];
+    for (edits, expected) in cases {
+        let edited = edits.iter().fold(STUDY.to_string(), |text, (from, to)| text.replacen(from, to, 1));
+        let file = write(&dir, "bad.toml", &edited);
+        let check = demsweep(&["check", file.to_str().unwrap()]);
+        let stderr = text(&check.stderr);
+        assert_eq!(check.status.code(), Some(2), "{edits:?}: {stderr}");
+        let line =
+            stderr.lines().find(|l| l.contains(expected)).unwrap_or_else(|| panic!("{expected}\nnot in\n{stderr}"));
+        let location = line.strip_prefix(&format!("{}:", file.display())).expect("the file first");
+        let at: Vec<&str> = location.splitn(3, ':').collect();
+        assert!(at[0].parse::<usize>().is_ok_and(|l| l >= 16), "a line of the stages or the sweep: {line}");
+        assert_eq!(stderr.lines().filter(|l| l.contains("invalid type")).count(), 0, "no follow-on errors: {stderr}");
+    }
+}
+
+#[test]
+fn a_tune_over_a_stages_keys_changes_only_its_levers_and_names_the_stage() {
+    let dir = runner_common::scratch("stages_tuned");
+    let tune = tune_common::TUNE
+        .replace("[levers]\n", "[[scene.stages]]\nname = \"fill\"\nuntil.time = 0.05\ndamping.local = 0.3\n\n[levers]\n")
+        .replace(
+            "\"integrator.time_step\" = { log = [5e-6, 2.5e-5] }",
+            "\"stages.fill.damping.local\" = { linear = [0.0, 0.7] }\n\"stages.fill.until.time\" = { linear = [0.02, 0.2] }",
+        );
+    let file = write(&dir, "tiny_tune.toml", &tune);
+    let out = dir.join("out");
+    let run = demsweep(&["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "2"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let candidates = std::fs::read_to_string(out.join("tiny_tune_candidates.csv")).unwrap();
+    let header = candidates.lines().next().unwrap();
+    assert!(
+        header.starts_with("candidate,origin,material.restitution,stages.fill.damping.local,stages.fill.until.time,n,"),
+        "{header}"
+    );
+    let change = std::fs::read_to_string(out.join("tiny_tune_scene_change.toml")).unwrap();
+    let keys: Vec<&str> = change
+        .lines()
+        .filter(|l| !l.starts_with('#') && l.contains(" = "))
+        .map(|l| l.split(" = ").next().unwrap())
+        .collect();
+    assert_eq!(keys, ["material.restitution"], "{change}");
+    assert!(change.contains("# and in the stage named \"fill\""), "{change}");
+    for key in ["#   damping.local = ", "#   until.time = "] {
+        assert!(change.contains(key), "{key} in\n{change}");
+    }
+    // The runnable study of the answer is a valid study with the stage as tuned.
+    let best = out.join("tiny_tune_best.toml");
+    let check = demsweep(&["check", best.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stderr));
+    let best: toml::Table = toml::from_str(&std::fs::read_to_string(&best).unwrap()).unwrap();
+    let stage = &best["scene"]["stages"][0];
+    assert_eq!(stage["name"].as_str(), Some("fill"));
+    let tuned = stage["damping"]["local"].as_float().unwrap();
+    assert!((0.0..=0.7).contains(&tuned), "{tuned}");
+}
