@@ -9,7 +9,17 @@ use demsweep::physics::SceneConfig;
 use demsweep::physics::keys::{Key, markdown_table, scene_keys};
 use serde_json::Value;
 
-/// The dotted paths of the leaves of a serialized scene (an empty table has none).
+/// The default scene with one stage (named `s`, ending after 1 s), as JSON: the keys of a stage are
+/// listed as `stages.KEY`, those of its first.
+fn scene() -> Value {
+    let mut scene = serde_json::to_value(SceneConfig::default()).unwrap();
+    let stage: demsweep::physics::config::StageConfig = toml::from_str("name = \"s\"\nuntil.time = 1.0").unwrap();
+    scene["stages"] = serde_json::json!([stage]);
+    scene
+}
+
+/// The dotted paths of the leaves of a serialized scene (an empty table has none; an array of
+/// tables has its first table's).
 fn leaves(value: &Value, prefix: &str, out: &mut Vec<String>) {
     match value {
         Value::Object(fields) => {
@@ -17,15 +27,27 @@ fn leaves(value: &Value, prefix: &str, out: &mut Vec<String>) {
                 leaves(field, &format!("{prefix}{name}."), out);
             }
         }
+        Value::Array(items) if items.first().is_some_and(Value::is_object) => leaves(&items[0], prefix, out),
         _ => out.push(prefix.trim_end_matches('.').to_string()),
     }
 }
 
-/// The default scene with `path` set to `value`, if it deserializes.
+/// The key `validate` names for listed key `path` (a stage's keys under its name).
+fn validated_key(path: &str) -> String {
+    path.strip_prefix("stages.").map_or(path.to_string(), |rest| format!("stages.s.{rest}"))
+}
+
+/// The value at key `part` of `v` (the first table of an array of tables).
+fn step<'a>(v: &'a mut Value, part: &str) -> &'a mut Value {
+    let inner = v.get_mut(part).unwrap();
+    if inner.is_array() { &mut inner[0] } else { inner }
+}
+
+/// The scene of [`scene`] with `path` set to `value`, if it deserializes.
 fn with(path: &str, value: Value) -> Option<SceneConfig> {
-    let mut scene = serde_json::to_value(SceneConfig::default()).unwrap();
+    let mut scene = scene();
     let (parents, last) = path.rsplit_once('.').map_or(("", path), |(p, l)| (p, l));
-    let table = parents.split('.').filter(|p| !p.is_empty()).fold(&mut scene, |v, part| v.get_mut(part).unwrap());
+    let table = parents.split('.').filter(|p| !p.is_empty()).fold(&mut scene, step);
     table[last] = value;
     // A law's parameters (`contact.<law>.<name>`) are those of the chosen law.
     if let ["contact", law, _] = path.split('.').collect::<Vec<_>>()[..] {
@@ -38,7 +60,7 @@ fn with(path: &str, value: Value) -> Option<SceneConfig> {
 /// naming the key.
 fn refused(path: &str, value: f64) -> bool {
     let Some(scene) = with(path, serde_json::json!(value)) else { return true };
-    scene.validate().is_err_and(|issues| issues.iter().any(|i| i.key == path))
+    scene.validate().is_err_and(|issues| issues.iter().any(|i| i.key == validated_key(path)))
 }
 
 /// Values just outside the bounds a range states (`> 0`, `>= 1`, `(-1, 0.5]`, `[0, 1)`).
@@ -63,7 +85,7 @@ fn outside(range: &str) -> Vec<f64> {
 #[test]
 fn every_serialized_key_is_listed_and_nothing_else() {
     let mut serialized = Vec::new();
-    leaves(&serde_json::to_value(SceneConfig::default()).unwrap(), "", &mut serialized);
+    leaves(&scene(), "", &mut serialized);
     let mut listed: Vec<String> = scene_keys().into_iter().map(|k| k.path).collect();
     serialized.sort();
     listed.sort();
