@@ -196,12 +196,14 @@ mod tests {
 
     #[test]
     fn bad_stages_name_their_keys() {
-        let mut scene = SceneConfig::default();
-        scene.stages = vec![
-            stage("name = \"fill\"\nuntil.time = -1\ndamping.local = 1.5\n"),
-            stage("name = \"fill\"\n"),
-            stage("name = \"a b\"\nuntil.all_in_contact = true\nmaterial.restitution = 0.5\nmaterial.beta = 0.1\n"),
-        ];
+        let scene = SceneConfig {
+            stages: vec![
+                stage("name = \"fill\"\nuntil.time = -1\ndamping.local = 1.5\n"),
+                stage("name = \"fill\"\n"),
+                stage("name = \"a b\"\nuntil.all_in_contact = true\nmaterial.restitution = 0.5\nmaterial.beta = 0.1\n"),
+            ],
+            ..Default::default()
+        };
         let keys: Vec<String> = scene.validate().unwrap_err().into_iter().map(|i| i.key).collect();
         assert_eq!(
             keys,

@@ -9,6 +9,7 @@ mod protocol;
 mod readout;
 mod setup;
 mod step;
+mod switch;
 #[cfg(test)]
 mod tests;
 

@@ -1,11 +1,9 @@
 //! A run's stages (see [`crate::physics::stage`]): the settings each stage runs with, resolved
 //! before the first step, when a stage is over, and the switch to the next.
 
-use super::step::Simulation;
 use crate::physics::config::{DampingConfig, IntegratorKind, SceneConfig, StageEnd};
 use crate::physics::contact::ContactLaw;
 use crate::physics::diagnostics::Sample;
-use crate::physics::integrator::Integrator;
 use crate::physics::material::Materials;
 use crate::physics::particles::InitialDisk;
 use crate::physics::record::StageEndTime;
@@ -91,6 +89,14 @@ impl<L: ContactLaw> Protocol<L> {
         self.current + 1 == self.stages.len()
     }
 
+    /// Ends the current stage at `step` and time `time` (s) and begins the next.
+    pub(super) fn begin_next(&mut self, step: u64, time: f64) {
+        self.ended.push(time);
+        self.current += 1;
+        self.origin = (step, time);
+        self.time_limit = self.limit_of_current();
+    }
+
     fn limit_of_current(&self) -> u64 {
         let stage = self.now();
         match stage.until.as_ref().and_then(|u| u.time) {
@@ -120,55 +126,5 @@ impl<L: ContactLaw> Protocol<L> {
                 time: self.ended.get(k).copied(),
             })
             .collect()
-    }
-}
-
-impl<L: ContactLaw> Simulation<L> {
-    /// Ends the current stage now and continues with the next one's settings. The state carries
-    /// over as it is (positions, velocities, spins, springs, law states); the forces of this state
-    /// are evaluated afresh when the contact materials change, as a restart from it would. A
-    /// multistep scheme starts afresh when the step or the scheme changes (its history holds
-    /// accelerations of the old step), and continues otherwise.
-    pub(super) fn next_stage(&mut self) {
-        let time = self.time();
-        let protocol = &mut self.protocol;
-        protocol.ended.push(time);
-        let before = (protocol.now().dt, protocol.now().scheme, protocol.now().materials);
-        protocol.current += 1;
-        protocol.origin = (self.step, time);
-        protocol.time_limit = protocol.limit_of_current();
-        let next = protocol.now();
-        let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
-        self.context.dt = dt;
-        self.context.damping = next.damping;
-        self.law = next.law.clone();
-        (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
-        if before.2 != materials {
-            self.forces_afresh();
-        }
-        (self.disk_contacts.dt, self.wall_contacts.dt) = (dt, dt);
-        if (before.0, before.1) != (dt, scheme) {
-            self.integrator = Integrator::new(scheme);
-        }
-    }
-
-    /// Evaluates the forces of the current state again, with the springs as they are: the contact
-    /// stage's spring update is held still by a zero step (the Coulomb limit still applies).
-    fn forces_afresh(&mut self) {
-        let steps = (self.disk_contacts.dt, self.wall_contacts.dt);
-        (self.disk_contacts.dt, self.wall_contacts.dt) = (0.0, 0.0);
-        let p = &mut self.particles;
-        for column in [&mut p.fx, &mut p.fy, &mut p.torque, &mut p.rolling] {
-            column.fill(0.0);
-        }
-        self.compute_forces::<true>();
-        // The next step's contact stage sums the rolling resistances anew.
-        self.particles.rolling.fill(0.0);
-        (self.disk_contacts.dt, self.wall_contacts.dt) = steps;
-    }
-
-    /// Whether every disk touches a disk or a wall (as of the last sampled step).
-    pub(super) fn all_in_contact(&self) -> bool {
-        self.particles.contact_force.iter().all(|f| *f > 0.0)
     }
 }

@@ -1,0 +1,52 @@
+//! The switch from one stage of a run to the next (see [`super::protocol`]).
+
+use super::step::Simulation;
+use crate::physics::contact::ContactLaw;
+use crate::physics::integrator::Integrator;
+
+impl<L: ContactLaw> Simulation<L> {
+    /// Ends the current stage now and continues with the next one's settings. The state carries
+    /// over as it is (positions, velocities, spins, springs, law states); the forces of this state
+    /// are evaluated afresh when the contact materials change, as a restart from it would. A
+    /// multistep scheme starts afresh when the step or the scheme changes (its history holds
+    /// accelerations of the old step), and continues otherwise.
+    pub(super) fn next_stage(&mut self) {
+        let time = self.time();
+        let protocol = &mut self.protocol;
+        let before = (protocol.now().dt, protocol.now().scheme, protocol.now().materials);
+        protocol.begin_next(self.step, time);
+        let next = protocol.now();
+        let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
+        self.context.dt = dt;
+        self.context.damping = next.damping;
+        self.law = next.law.clone();
+        (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
+        if before.2 != materials {
+            self.forces_afresh();
+        }
+        (self.disk_contacts.dt, self.wall_contacts.dt) = (dt, dt);
+        if (before.0, before.1) != (dt, scheme) {
+            self.integrator = Integrator::new(scheme);
+        }
+    }
+
+    /// Evaluates the forces of the current state again, with the springs as they are: the contact
+    /// stage's spring update is held still by a zero step (the Coulomb limit still applies).
+    fn forces_afresh(&mut self) {
+        let steps = (self.disk_contacts.dt, self.wall_contacts.dt);
+        (self.disk_contacts.dt, self.wall_contacts.dt) = (0.0, 0.0);
+        let p = &mut self.particles;
+        for column in [&mut p.fx, &mut p.fy, &mut p.torque, &mut p.rolling] {
+            column.fill(0.0);
+        }
+        self.compute_forces::<true>();
+        // The next step's contact stage sums the rolling resistances anew.
+        self.particles.rolling.fill(0.0);
+        (self.disk_contacts.dt, self.wall_contacts.dt) = steps;
+    }
+
+    /// Whether every disk touches a disk or a wall (as of the last sampled step).
+    pub(super) fn all_in_contact(&self) -> bool {
+        self.particles.contact_force.iter().all(|f| *f > 0.0)
+    }
+}
