@@ -13,6 +13,11 @@ use plot_helpers::{number, out_dir, png_size, run as run_tiny, svg_elements, tin
 const VIRIDIS_LOW: &str = "#440154";
 const VIRIDIS_HIGH: &str = "#FEE825";
 
+/// The UBF chart's marks of a scene without stages.
+fn marks(threshold: f64, settle_time: Option<f64>) -> run::UbfMarks {
+    run::UbfMarks { threshold, settle_time, physics_start: None }
+}
+
 fn options(width: u32, height: u32, format: Format) -> ChartOptions {
     ChartOptions { width, height, format, subject: Some("test run".into()), ..Default::default() }
 }
@@ -30,7 +35,7 @@ fn png_charts_have_the_requested_pixel_size() {
         let ubf = dir.join(format!("ubf_{width}.png"));
         let pile = dir.join(format!("pile_{width}.png"));
         run::energy_chart(&record.history, &opts, &energy).unwrap();
-        run::ubf_chart(&record.history, scene.settle.ubf_threshold, record.settle_time, &opts, &ubf).unwrap();
+        run::ubf_chart(&record.history, marks(scene.settle.ubf_threshold, record.settle_time), &opts, &ubf).unwrap();
         run::snapshot(frame, (scene.domain.width, scene.domain.height), &scale, &opts, &pile).unwrap();
         for path in [energy, ubf, pile] {
             assert_eq!(png_size(&path), (width, height), "{}", path.display());
@@ -202,14 +207,32 @@ fn ubf_chart_leaves_out_samples_without_contacts_and_zeros() {
     let history = History { time, unbalanced_force_ratio: ratio, ..Default::default() };
     let dir = out_dir("ubf_gaps");
     let path = dir.join("ubf.svg");
-    run::ubf_chart(&history, 0.03, Some(0.08), &options(1000, 700, Format::Svg), &path).unwrap();
+    run::ubf_chart(&history, marks(0.03, Some(0.08)), &options(1000, 700, Format::Svg), &path).unwrap();
     // Three stretches of two samples each, then the two-point legend sample.
     assert_eq!(ubf_polylines(&path), vec![2, 2, 2, 2]);
 
     let no_contacts = History { unbalanced_force_ratio: vec![nan; 10], ..history };
     let path = dir.join("ubf_no_contacts.svg");
-    run::ubf_chart(&no_contacts, 0.03, None, &options(1000, 700, Format::Svg), &path).unwrap();
+    run::ubf_chart(&no_contacts, marks(0.03, None), &options(1000, 700, Format::Svg), &path).unwrap();
     assert!(ubf_polylines(&path).is_empty());
+}
+
+#[test]
+fn ubf_chart_marks_where_a_protocols_stages_end() {
+    let time: Vec<f64> = (0..10).map(|i| f64::from(i) * 0.01).collect();
+    let ratio = vec![0.9, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.004, 0.003];
+    let history = History { time, unbalanced_force_ratio: ratio, ..Default::default() };
+    let dir = out_dir("ubf_stages");
+    let with = |physics_start: Option<f64>, name: &str| {
+        let path = dir.join(name);
+        let marks = run::UbfMarks { physics_start, ..marks(0.01, Some(0.06)) };
+        run::ubf_chart(&history, marks, &options(1000, 700, Format::Svg), &path).unwrap();
+        std::fs::read_to_string(path).unwrap()
+    };
+    assert!(with(Some(0.03), "staged.svg").contains("stages end, physics from 0.03 s"));
+    for (start, name) in [(None, "plain.svg"), (Some(0.0), "no_stages.svg")] {
+        assert!(!with(start, name).contains("stages end"), "{start:?}");
+    }
 }
 
 #[test]
@@ -227,7 +250,7 @@ fn diverged_run_plots_without_panicking() {
     let box_size = (scene.domain.width, scene.domain.height);
     let scale = ColourScale::fitted(ColourBy::ContactForce, [&record.final_state]);
     run::energy_chart(&record.history, &opts, &dir.join("energy.png")).unwrap();
-    run::ubf_chart(&record.history, scene.settle.ubf_threshold, None, &opts, &dir.join("ubf.png")).unwrap();
+    run::ubf_chart(&record.history, marks(scene.settle.ubf_threshold, None), &opts, &dir.join("ubf.png")).unwrap();
     run::snapshot(&record.final_state, box_size, &scale, &opts, &dir.join("pile.png")).unwrap();
     for name in ["energy.png", "ubf.png", "pile.png"] {
         assert_eq!(png_size(&dir.join(name)), (800, 600));
@@ -238,7 +261,7 @@ fn diverged_run_plots_without_panicking() {
 
     let empty = History::default();
     run::energy_chart(&empty, &opts, &dir.join("empty_energy.png")).unwrap();
-    run::ubf_chart(&empty, 0.01, None, &opts, &dir.join("empty_ubf.png")).unwrap();
+    run::ubf_chart(&empty, marks(0.01, None), &opts, &dir.join("empty_ubf.png")).unwrap();
 }
 
 #[test]

@@ -136,6 +136,11 @@ impl SummaryRow {
         if self.identity.is_empty() { &self.id } else { &self.identity }
     }
 
+    /// The final value or pile metric `name` (see `quantity`), if there is one of that name.
+    pub fn final_value(&self, name: &str) -> Option<f64> {
+        quantity::final_value_declarations().position(|q| q.name == name).map(|k| self.final_values[k])
+    }
+
     /// Whether the run finished (settled, not settled or diverged), as opposed to failing.
     pub fn is_finished(&self) -> bool {
         self.status != RunStatus::Error

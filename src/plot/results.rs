@@ -421,11 +421,12 @@ pub fn run_charts(
     match &stored.history {
         Some(history) => {
             sink.chart(&format!("{}_energy", row.id), &subject, |o, c| run::energy_chart(history, o, c));
-            let threshold = stored.scene.settle.ubf_threshold;
-            let settle_time = row.settle_time;
-            sink.chart(&format!("{}_ubf", row.id), &subject, |o, c| {
-                run::ubf_chart(history, threshold, settle_time, o, c)
-            });
+            let marks = run::UbfMarks {
+                threshold: stored.scene.settle.ubf_threshold,
+                settle_time: row.settle_time,
+                physics_start: row.final_value("physics_start_time"),
+            };
+            sink.chart(&format!("{}_ubf", row.id), &subject, |o, c| run::ubf_chart(history, marks, o, c));
         }
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
     }

@@ -23,17 +23,27 @@ pub fn energy_chart<'c>(
     render(&EnergyFigure { history }, options, canvas.into())
 }
 
+/// What the unbalanced force ratio chart marks besides the ratio.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UbfMarks {
+    /// The settle threshold.
+    pub threshold: f64,
+    /// When the run settled (s), if it did.
+    pub settle_time: Option<f64>,
+    /// When the scene's own physics began after the stages of its protocol (s); `None` or 0: no stages.
+    pub physics_start: Option<f64>,
+}
+
 /// Draws the unbalanced force ratio against time on a log scale onto `canvas`, with the settle
-/// threshold and, if the run settled, its settle time (s) marked. Samples without contacts (NaN)
-/// and zeros are left out.
+/// threshold, the settle time (s) if the run settled, and the end of its protocol's stages if it
+/// has any marked. Samples without contacts (NaN) and zeros are left out.
 pub fn ubf_chart<'c>(
     history: &History,
-    threshold: f64,
-    settle_time: Option<f64>,
+    marks: UbfMarks,
     options: &ChartOptions,
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&UbfFigure { history, threshold, settle_time }, options, canvas.into())
+    render(&UbfFigure { history, marks }, options, canvas.into())
 }
 
 /// Draws the disks of `snapshot` to scale inside the box `box_size` = (width, height) (m),
@@ -270,8 +280,7 @@ impl Figure for EnergyFigure<'_> {
 /// Unbalanced force ratio against time, log scale.
 struct UbfFigure<'a> {
     history: &'a History,
-    threshold: f64,
-    settle_time: Option<f64>,
+    marks: UbfMarks,
 }
 
 impl Figure for UbfFigure<'_> {
@@ -286,7 +295,7 @@ impl Figure for UbfFigure<'_> {
             Line::new("unbalanced force ratio", style::series_colour(0), (&h.time, &h.unbalanced_force_ratio), |v| {
                 v > 0.0
             });
-        let positive = ubf.values().chain([self.threshold]).filter(|v| *v > 0.0);
+        let positive = ubf.values().chain([self.marks.threshold]).filter(|v| *v > 0.0);
         let (lo, hi) = style::finite_bounds(positive).unwrap_or((1e-3, 1.0));
         // At least two decades, so that the log axis has labelled ticks.
         let lo = lo.min(hi / 100.0);
@@ -308,7 +317,8 @@ impl Figure for UbfFigure<'_> {
 }
 
 impl UbfFigure<'_> {
-    /// The threshold (dashed horizontal line) and the settle time (vertical line, or a note that there is none).
+    /// The threshold (dashed horizontal line), the settle time (vertical line, or a note that there
+    /// is none) and the start of the physics after a protocol's stages (dotted vertical line).
     fn draw_markers<DB, CT>(
         &self,
         chart: &mut ChartContext<'_, DB, CT>,
@@ -321,13 +331,20 @@ impl UbfFigure<'_> {
         CT: CoordTranslate<From = (f64, f64)>,
     {
         let threshold_style = BLACK.stroke_width(LINE_WIDTH);
-        let threshold = [(time.start, self.threshold), (time.end, self.threshold)];
+        let threshold = [(time.start, self.marks.threshold), (time.end, self.marks.threshold)];
         chart
             .draw_series(DashedLineSeries::new(threshold, 10, 6, threshold_style))?
-            .label(format!("settle threshold {}", style::short_number(self.threshold)))
+            .label(format!("settle threshold {}", style::short_number(self.marks.threshold)))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], threshold_style));
+        if let Some(t) = self.marks.physics_start.filter(|t| *t > 0.0) {
+            let stages_style = style::series_colour(3).stroke_width(LINE_WIDTH);
+            chart
+                .draw_series(DashedLineSeries::new([(t, ubf.start), (t, ubf.end)], 3, 4, stages_style))?
+                .label(format!("stages end, physics from {} s", style::short_number(t)))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], stages_style));
+        }
         let settle_style = style::series_colour(2).stroke_width(LINE_WIDTH + 1);
-        match self.settle_time {
+        match self.marks.settle_time {
             Some(t) => {
                 chart
                     .draw_series(LineSeries::new([(t, ubf.start), (t, ubf.end)], settle_style))?
