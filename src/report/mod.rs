@@ -678,7 +678,10 @@ fn tune_section(tune: &TuneSection) -> String {
 fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
     let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
     let notes: String = svgs.drawn.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();
-    let settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
+    let mut settle = row.settle_time.map_or("not settled".to_string(), |t| format!("settled at {} s", number(t)));
+    if let Some(t) = row.final_value("physics_start_time").filter(|t| *t > 0.0) {
+        settle = format!("its protocol's stages ended at {} s; {settle}", number(t));
+    }
     format!(
         "<section id=\"run-{id}\"><h3>{}</h3><p class=\"note\">{settle}; {} steps; {} s of computing; {} warnings</p><div class=\"grid2\">{charts}{}</div>{notes}</section>",
         escape(&results::run_subject(row)),
