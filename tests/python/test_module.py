@@ -277,3 +277,14 @@ def test_runs_that_diverge_are_counted_in_a_warning(tiny):
     with pytest.warns(demsweep.DemsweepWarning, match=r"2 of 2 runs failed \(2 diverged\)"):
         runs = demsweep.run(coarse, seeds=2)
     assert list(runs["status"]) == ["diverged", "diverged"]
+
+
+def test_a_scene_with_stages_runs_its_protocol_first(tiny):
+    fill = {"name": "fill", "until": {"time": 0.05}, "damping": {"local": 0.5}}
+    runs = demsweep.run(dict(tiny, stages=[fill]), seeds=2)
+    assert list(runs["physics_start_time"]) == [0.05, 0.05]
+    assert (runs["settle_time"] >= 0.05).all()
+    plain = demsweep.run(tiny, seeds=2)
+    assert list(plain["physics_start_time"]) == [0.0, 0.0]
+    with pytest.raises(demsweep.StudyError, match="a stage needs a condition that ends it"):
+        demsweep.run(dict(tiny, stages=[{"name": "fill", "damping": {"local": 0.5}}]))
