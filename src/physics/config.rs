@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::key_spec::scene_section;
-use super::number::exact;
+use super::number::{exact, significant};
 
 pub use super::contact::{ContactConfig, ContactLawKind};
 pub use super::size_distribution::SizeDistribution;
@@ -656,7 +656,7 @@ impl SceneConfig {
                 format!(
                     "{} m leaves {} m of domain.height = {} m for the disks, less than the largest diameter {} m",
                     exact(p.lowered_by),
-                    exact(room),
+                    significant(room, 6),
                     exact(self.domain.height),
                     exact(2.0 * largest)
                 ),
