@@ -31,6 +31,7 @@ mod bench;
 mod estimate;
 mod exit;
 mod export;
+mod fill;
 mod plot;
 use demsweep::study::Plan;
 use demsweep::workflow::{self, LoadError};
@@ -397,7 +398,7 @@ fn check(args: &CheckArgs) -> ExitCode {
                 n => format!(" ({n} warnings above)"),
             };
             outln!("ok: {}{warnings}", runs(plan.runs.len()));
-            size_notes(&plan).iter().for_each(|note| outln!("{note}"));
+            size_notes(&plan).iter().chain(&fill::fill_notes(&plan)).for_each(|note| outln!("{note}"));
             ExitCode::SUCCESS
         }
         Err(code) => code,

@@ -151,3 +151,29 @@ fn check_states_what_a_size_distribution_gives_and_placement_draws_it() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn a_study_sweeps_the_placement_kind_and_check_says_how_full_a_dropped_pile_is() {
+    let dir = StudyDir::new("cli-dropped");
+    let sweep = "[sweep]\n\"placement.kind\" = [\"random\", \"dropped\"]\nreplicates = 2\n";
+    let study = dir.write("kinds.toml", &format!("{SMALL_SCENE}{sweep}"));
+    let out = demsweep(&["check", study.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let note =
+        stdout.lines().find(|l| l.starts_with("placement.kind = \"dropped\": 20 disks rest up to ")).expect(&stdout);
+    assert!(note.ends_with("(placement seed 12345, run r0002)"), "one note for both seeds: {stdout}");
+    let results = dir.path.join("out");
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", results.to_str().unwrap(), "--progress", "quiet"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let summary = std::fs::read_to_string(results.join("kinds_summary.csv")).unwrap();
+    let mut lines = summary.lines().map(|l| l.split(',').collect::<Vec<_>>());
+    let names = lines.next().unwrap();
+    let column = |name: &str| names.iter().position(|n| *n == name).unwrap();
+    let (kind, potential) = (column("placement.kind"), column("final_potential"));
+    let rows: Vec<(String, f64)> = lines.map(|row| (row[kind].to_string(), row[potential].parse().unwrap())).collect();
+    let kinds: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(kinds, ["random", "random", "dropped", "dropped"]);
+    // Dropped disks start on the floor: after 10 ms, far less height (potential energy) than falling ones.
+    assert!(rows[2].1.max(rows[3].1) < 0.2 * rows[0].1.min(rows[1].1), "{rows:?}");
+}

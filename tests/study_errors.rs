@@ -429,3 +429,33 @@ fn an_endless_file_is_refused_as_a_device_or_by_size() {
     let errors = errors_at(Path::new("/dev/zero"));
     assert!(errors[0].reason.ends_with("the file is larger than the 4 MiB allowed"), "{}", errors[0]);
 }
+
+#[test]
+fn bad_dropped_and_lowered_placements_name_their_key() {
+    let reason = |line: &str, key: &str| single_error("placement", &format!("{SMALL_SCENE}{line}\n"), 5, key).reason;
+    let lowered = "scene.placement.lowered_by";
+    assert_eq!(reason("placement.lowered_by = -0.1", lowered), "must be a finite number >= 0, got -0.1");
+    assert_eq!(
+        reason("placement.lowered_by = 0.595", lowered),
+        "0.595 m leaves 0.005 m of domain.height = 0.6 m for the disks, less than the largest diameter 0.02 m"
+    );
+    let dropped = "placement.kind = \"dropped\"\nplacement.lowered_by = 0.1";
+    let e = single_error("lowered_dropped", &format!("{SMALL_SCENE}{dropped}\n"), 6, lowered);
+    assert!(e.reason.starts_with("lowers a random or lattice placement: dropped disks start at rest"), "{e}");
+    let sideways = reason("placement.kind = \"dropped\"\ngravity = [1.0, -9.81]", "scene.placement.kind");
+    assert_eq!(
+        sideways,
+        "dropped placement rests each disk on what lies below it: it needs gravity = [0, g] with g < 0, got [1, -9.81]"
+    );
+}
+
+#[test]
+fn a_dropped_pile_above_the_box_is_refused_at_the_swept_kind() {
+    // One row of 20 touching disks fits the 0.4 m box: the lattice passes, the dropped pile does not.
+    let low = "domain.height = 0.03\nplacement.lattice_gap = 0\n";
+    let text = format!("{SMALL_SCENE}{low}[sweep]\n\"placement.kind\" = [\"lattice\", \"dropped\"]\n");
+    let e = single_error("too_low", &text, SWEEP_LINE + 2, "sweep.\"placement.kind\"");
+    assert!(e.reason.starts_with("dropped placement fit only "), "{e}");
+    assert!(e.reason.contains(" of 20 disks in the 0.4 m wide box below domain.height = 0.03 m"), "{e}");
+    assert!(e.to_string().contains("(run r0001)"), "{e}");
+}

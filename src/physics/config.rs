@@ -8,7 +8,7 @@ use std::collections::HashSet;
 use serde::{Deserialize, Serialize};
 
 use super::key_spec::scene_section;
-use super::number::exact;
+use super::number::{exact, significant};
 
 pub use super::contact::{ContactConfig, ContactLawKind};
 pub use super::scheme::IntegratorKind;
@@ -119,6 +119,10 @@ pub enum PlacementKind {
     Random,
     /// Rows of touching-free disks filled from the floor up.
     Lattice,
+    /// Each disk, in an order and at an x drawn from the seed, falls straight down onto the pile and
+    /// rolls to rest on the floor, or on two disks or a disk and a wall (sequential deposition):
+    /// a pile at rest, with none of the impacts.
+    Dropped,
     /// Explicit initial states read by the caller from a CSV file and passed to the simulation.
     File,
     /// Explicit initial states read by the caller from a LAMMPS data or dump file.
@@ -138,7 +142,7 @@ scene_section! {
 #[serde(deny_unknown_fields, default)]
 pub struct PlacementConfig {
     /// Which generator.
-    #[key(one_of: &["random", "lattice", "file", "lammps"])]
+    #[key(one_of: &["random", "lattice", "dropped", "file", "lammps"])]
     pub kind: PlacementKind,
     /// Seed for random placement and random radii; same seed, same positions on every platform.
     #[key(range: ">= 0")]
@@ -160,6 +164,11 @@ pub struct PlacementConfig {
     /// Random placement tries per disk before giving up.
     #[key(range: ">= 1")]
     pub max_attempts: u32,
+    /// Random or lattice placement: the disks are placed between this height and `domain.height`,
+    /// then moved down by it, falling at `√(2 g lowered_by)` (g: gravity's magnitude): the impacts
+    /// of that pour without the time of its free fall (m; 0: they start at rest where placed).
+    #[key(unit: "m", range: ">= 0")]
+    pub lowered_by: f64,
 }
 }
 
@@ -422,6 +431,7 @@ impl Default for PlacementConfig {
             file: None,
             contacts: None,
             max_attempts: 10_000,
+            lowered_by: 0.0,
         }
     }
 }
@@ -610,10 +620,48 @@ impl SceneConfig {
         if self.placement.max_attempts == 0 {
             c.fail("placement.max_attempts", "must be at least 1");
         }
+        self.check_lowering(c, largest);
         c.finite("gravity[0]", self.gravity[0]);
         c.finite("gravity[1]", self.gravity[1]);
         let n = &self.neighbors;
         c.positive("neighbors.skin_ratio", n.skin_ratio);
+    }
+
+    /// Dropped placement and a lowered start move disks along −y: both need gravity straight down.
+    fn check_lowering(&self, c: &mut Checker, largest: f64) {
+        let (p, g) = (&self.placement, self.gravity);
+        let down = g[0] == 0.0 && g[1] < 0.0;
+        let gravity = format!("gravity = [0, g] with g < 0, got [{}, {}]", exact(g[0]), exact(g[1]));
+        if p.kind == PlacementKind::Dropped && !down {
+            c.fail(
+                "placement.kind",
+                format!("dropped placement rests each disk on what lies below it: it needs {gravity}"),
+            );
+        }
+        c.non_negative("placement.lowered_by", p.lowered_by);
+        if !p.lowered_by.is_finite() || p.lowered_by <= 0.0 {
+            return;
+        }
+        let room = self.domain.height - p.lowered_by;
+        if !matches!(p.kind, PlacementKind::Random | PlacementKind::Lattice) {
+            c.fail(
+                "placement.lowered_by",
+                "lowers a random or lattice placement: dropped disks start at rest on the pile, file disks with their own velocities",
+            );
+        } else if !down {
+            c.fail("placement.lowered_by", format!("lowers the disks along gravity straight down: it needs {gravity}"));
+        } else if largest.is_finite() && room < 2.0 * largest {
+            c.fail(
+                "placement.lowered_by",
+                format!(
+                    "{} m leaves {} m of domain.height = {} m for the disks, less than the largest diameter {} m",
+                    exact(p.lowered_by),
+                    significant(room, 6),
+                    exact(self.domain.height),
+                    exact(2.0 * largest)
+                ),
+            );
+        }
     }
 
     fn check_material(&self, c: &mut Checker) {

@@ -1,52 +1,10 @@
-//! Initial positions: seeded random non-overlapping placement, lattices, and radii.
+//! Seeded random sequential placement without overlaps, and the memory order of placed disks.
 
-use super::config::{PlacementKind, SceneConfig};
-use super::memory_order::strips;
-use super::particles::InitialDisk;
-use super::rng::Rng;
-
-/// Why disks could not be placed.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct PlacementError {
-    /// Key path the problem belongs to.
-    pub key: String,
-    /// What went wrong, with how many disks fit.
-    pub reason: String,
-}
-
-impl std::fmt::Display for PlacementError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.key, self.reason)
-    }
-}
-
-impl std::error::Error for PlacementError {}
-
-/// Radii of all disks: equal, uniform in `[radius, radius_max]` (drawn first from `rng`), or listed.
-pub fn radii(scene: &SceneConfig, rng: &mut Rng) -> Vec<f64> {
-    let p = &scene.particles;
-    match (&p.radii, p.radius_max, &p.size_distribution) {
-        (Some(list), _, _) => list.clone(),
-        (None, Some(rmax), _) => (0..p.count).map(|_| rng.range(p.radius, rmax)).collect(),
-        (None, None, Some(distribution)) => distribution.sample(p.count, rng),
-        (None, None, None) => vec![p.radius; p.count],
-    }
-}
-
-/// Generated initial disks of a scene whose placement is `random` or `lattice`.
-/// `file` placement is the caller's: it reads the states and passes them to the simulation.
-pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError> {
-    let mut rng = Rng::new(scene.placement.seed);
-    let radii = radii(scene, &mut rng);
-    match scene.placement.kind {
-        PlacementKind::Random => random(scene, &radii, &mut rng),
-        PlacementKind::Lattice => lattice(scene, &radii),
-        PlacementKind::File | PlacementKind::Lammps => Err(PlacementError {
-            key: "placement.file".into(),
-            reason: "file placement needs the initial states read from the file".into(),
-        }),
-    }
-}
+use super::error::PlacementError;
+use crate::physics::config::SceneConfig;
+use crate::physics::memory_order::strips;
+use crate::physics::particles::InitialDisk;
+use crate::physics::rng::Rng;
 
 /// Uniform grid of buckets over the box, for overlap checks during placement.
 struct Buckets {
@@ -120,7 +78,7 @@ pub fn random(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<I
 /// strip, so that neighbours are close in memory. In a wide box the strips are columns, which a
 /// vertical deposition keeps: the order stays good while the disks fall and settle (`cell`: the
 /// strips' width, m; the simulation numbers large scenes afresh where it does not: `memory_order`).
-fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
+pub fn order_for_locality(disks: &mut [InitialDisk], width: f64, height: f64, cell: f64) {
     let (x, y): (Vec<f64>, Vec<f64>) = disks.iter().map(|d| (d.x, d.y)).unzip();
     let placed = disks.to_vec();
     for (disk, k) in disks.iter_mut().zip(strips(&x, &y, width > height, [0.0, 0.0], cell)) {
@@ -146,51 +104,10 @@ fn too_full(scene: &SceneConfig, radii: &[f64], placed: usize, why: &str) -> Pla
     }
 }
 
-/// Rows of disks from the floor up, spaced by the largest diameter plus `lattice_gap` of it;
-/// hexagonal rows are offset by half a spacing and packed closer vertically.
-pub fn lattice(scene: &SceneConfig, radii: &[f64]) -> Result<Vec<InitialDisk>, PlacementError> {
-    let (w, h) = (scene.domain.width, scene.domain.height);
-    let rmax = radii.iter().cloned().fold(0.0, f64::max);
-    let spacing = 2.0 * rmax * (1.0 + scene.placement.lattice_gap);
-    let hex = scene.placement.lattice_hexagonal;
-    let row_height = if hex { spacing * 3f64.sqrt() / 2.0 } else { spacing };
-    let margin = rmax * (1.0 + scene.placement.lattice_gap);
-    let mut disks = Vec::with_capacity(radii.len());
-    let mut row = 0usize;
-    while disks.len() < radii.len() {
-        let y = margin + row as f64 * row_height;
-        let shift = if hex && row % 2 == 1 { 0.5 * spacing } else { 0.0 };
-        let per_row = ((w - 2.0 * margin - shift) / spacing).floor() as i64 + 1;
-        if y + rmax > h || per_row < 1 {
-            return Err(PlacementError {
-                key: "particles.count".into(),
-                reason: format!(
-                    "the lattice fits only {} of {} disks in the {w} m x {h} m box: lower the count, \
-                     enlarge the box or reduce placement.lattice_gap",
-                    disks.len(),
-                    radii.len()
-                ),
-            });
-        }
-        for col in 0..per_row as usize {
-            if disks.len() == radii.len() {
-                break;
-            }
-            let x = margin + shift + col as f64 * spacing;
-            disks.push(InitialDisk { x, y, r: radii[disks.len()], ..Default::default() });
-        }
-        row += 1;
-    }
-    Ok(disks)
-}
-
 #[cfg(test)]
 mod tests {
-    use super::*;
-
-    fn overlapping(d: &[InitialDisk]) -> bool {
-        d.iter().enumerate().any(|(i, a)| d[i + 1..].iter().any(|b| (a.x - b.x).hypot(a.y - b.y) < a.r + b.r))
-    }
+    use crate::physics::config::SceneConfig;
+    use crate::physics::placement::{generate, worst_overlap};
 
     #[test]
     fn random_placement_is_seeded_and_overlap_free() {
@@ -199,7 +116,7 @@ mod tests {
         let b = generate(&scene).unwrap();
         assert_eq!(a, b);
         assert_eq!(a.len(), 300);
-        assert!(!overlapping(&a));
+        assert_eq!(worst_overlap(&a), 0.0);
         let mut other = scene.clone();
         other.placement.seed += 1;
         assert_ne!(generate(&other).unwrap(), a);
@@ -213,16 +130,5 @@ mod tests {
         let err = generate(&scene).unwrap_err();
         assert_eq!(err.key, "particles.count");
         assert!(err.reason.contains("of 2000 disks"), "{}", err.reason);
-    }
-
-    #[test]
-    fn lattice_fills_rows_without_overlap() {
-        let mut scene = SceneConfig::default();
-        scene.placement.kind = PlacementKind::Lattice;
-        scene.placement.lattice_hexagonal = true;
-        let d = generate(&scene).unwrap();
-        assert_eq!(d.len(), 300);
-        assert!(!overlapping(&d));
-        assert!(d.iter().all(|p| p.x >= p.r && p.x <= 0.4 - p.r && p.y >= p.r));
     }
 }
