@@ -33,3 +33,6 @@ pub use table::{
     HertzMindlin, HystereticLinear, LinearSpringDashpot, NoParameters, NormalKind, RollingKind, TangentialKind,
 };
 pub use tangential::{LinearTangential, MindlinTangential};
+
+#[cfg(test)]
+mod tests;

@@ -41,7 +41,11 @@ pub trait SubModel: Sized {
 impl<N: SubModel, D: SubModel, T: SubModel> Composed<N, D, T> {
     /// The law of `contact`'s models (whichever they are) with its parameters.
     pub fn from_contact(contact: &ContactConfig) -> Self {
-        Self { normal: N::from_contact(contact), damping: D::from_contact(contact), tangential: T::from_contact(contact) }
+        Self {
+            normal: N::from_contact(contact),
+            damping: D::from_contact(contact),
+            tangential: T::from_contact(contact),
+        }
     }
 }
 

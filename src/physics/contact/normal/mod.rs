@@ -4,7 +4,7 @@ mod hertz;
 mod hysteretic;
 mod linear;
 
-pub(super) use hertz::contact_radius;
 pub use hertz::HertzNormal;
+pub(super) use hertz::contact_radius;
 pub use hysteretic::{HystereticNormal, LargestOverlap};
 pub use linear::LinearNormal;

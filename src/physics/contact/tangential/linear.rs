@@ -10,7 +10,13 @@ pub struct LinearTangential;
 
 impl TangentialModel for LinearTangential {
     #[inline(always)]
-    fn stiffness<N: NormalModel>(&self, normal: &N, _: &PairProperties, _: f64, normal_stiffness: Stiffness) -> Stiffness {
+    fn stiffness<N: NormalModel>(
+        &self,
+        normal: &N,
+        _: &PairProperties,
+        _: f64,
+        normal_stiffness: Stiffness,
+    ) -> Stiffness {
         Stiffness::whole(normal.tangential_stiffness_ratio() * normal_stiffness.value())
     }
 }
