@@ -1,17 +1,17 @@
 //! Contact force laws, composed of sub-models.
 //!
-//! A law ([`ContactLaw`], in [`law`]) says how stiff and how damped a contact is at a given overlap
-//! and how much elastic energy it stores; [`law`]'s shared machinery turns that into forces. Each
+//! A law ([`ContactLaw`], in `law`) says how stiff and how damped a contact is at a given overlap
+//! and how much elastic energy it stores; `law`'s shared machinery turns that into forces. Each
 //! law is a [`Composed`] of a normal spring ([`normal`]), a damping ([`damping`]) and a tangential
 //! spring ([`tangential`]); rolling resistance ([`rolling`]) acts beside it. The table of [`table`]
-//! lists every model and the presets `contact.law` names ([`registry`] declares it).
+//! lists every model and the presets `contact.law` names (`registry` declares it).
 
 mod composed;
 pub mod damping;
 mod impact;
 mod law;
 pub mod normal;
-pub mod registry;
+mod registry;
 pub mod rolling;
 mod sub_model;
 pub mod table;
@@ -25,12 +25,12 @@ pub use law::{
     resolve,
 };
 pub use normal::{HertzNormal, HystereticNormal, LargestOverlap, LinearNormal};
-pub use registry::{AnyState, LawVisitor, RegisteredLaw, SubModel};
 pub use rolling::{ConstantTorque, NoRolling};
 pub use sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
 pub use table::{
-    AnyDamping, AnyLaw, AnyNormal, AnyRolling, AnyTangential, Composition, ContactConfig, ContactLawKind, DampingKind,
-    HertzMindlin, HystereticLinear, LinearSpringDashpot, NoParameters, NormalKind, RollingKind, TangentialKind,
+    AnyDamping, AnyLaw, AnyNormal, AnyRolling, AnyState, AnyTangential, Composition, ContactConfig, ContactLawKind,
+    DampingKind, HertzMindlin, HystereticLinear, LawVisitor, LinearSpringDashpot, NoParameters, NormalKind,
+    RegisteredLaw, RollingKind, SubModel, TangentialKind,
 };
 pub use tangential::{LinearTangential, MindlinTangential};
 

@@ -1,78 +1,16 @@
 //! How the table of contact models ([`super::table`]) is declared: `contact_models!` turns its rows
 //! into the choice keys (`contact.law`, `contact.normal`, `contact.damping`, `contact.tangential`,
-//! `contact.rolling`), the parameter tables (`[contact.<table>]`), [`ContactConfig`] and its one
-//! dispatch from configuration to law. Every caller that needs the scene's law (the simulation,
-//! time-step and stability estimates, tune's screen, benchmarks) goes through that dispatch, so a
-//! model added to the table is used everywhere.
+//! `contact.rolling`), the parameter tables (`[contact.<table>]`),
+//! [`ContactConfig`](super::table::ContactConfig) and its one dispatch from configuration to law.
+//! Every caller that needs the scene's law (the simulation, time-step and stability estimates,
+//! tune's screen, benchmarks) goes through that dispatch, so a model added to the table is used
+//! everywhere.
 //!
 //! `contact.law` is a preset: it names a normal spring, a damping and a tangential spring; each of
 //! `contact.normal`, `contact.damping` and `contact.tangential` that is given replaces the preset's.
-//! A composition that is a preset runs that preset's compiled law (a [`Composed`] of the models'
-//! own types); any other runs [`AnyLaw`], whose models are chosen per contact class at run time.
-
-use super::composed::Composed;
-use super::law::{ContactLaw, ContactState};
-
-#[allow(unused_imports)]
-use super::table::ContactConfig;
-
-/// Work done with the scene's law, whichever it is (a generic closure).
-pub trait LawVisitor {
-    /// What the work returns.
-    type Output;
-    /// Does the work with `law`.
-    fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output;
-}
-
-/// A law that can be found in a [`ContactConfig`].
-pub trait RegisteredLaw: ContactLaw {
-    /// This law with the parameters of `contact`, if `contact` chooses it.
-    fn chosen_in(contact: &ContactConfig) -> Option<Self>;
-}
-
-/// A sub-model of the table: built from a [`ContactConfig`]'s parameter tables.
-pub trait SubModel: Sized {
-    /// This model with its parameters from `contact`.
-    fn from_contact(contact: &ContactConfig) -> Self;
-    /// Whether `contact` chooses this model (always, for the run-time choice of the kind's models).
-    fn chosen(contact: &ContactConfig) -> bool;
-}
-
-impl<N: SubModel, D: SubModel, T: SubModel> Composed<N, D, T> {
-    /// The law of `contact`'s models (whichever they are) with its parameters.
-    pub fn from_contact(contact: &ContactConfig) -> Self {
-        Self {
-            normal: N::from_contact(contact),
-            damping: D::from_contact(contact),
-            tangential: T::from_contact(contact),
-        }
-    }
-}
-
-impl<N, D, T> RegisteredLaw for Composed<N, D, T>
-where
-    N: SubModel + super::sub_model::NormalModel,
-    D: SubModel + super::sub_model::DampingModel,
-    T: SubModel + super::sub_model::TangentialModel,
-{
-    fn chosen_in(contact: &ContactConfig) -> Option<Self> {
-        (N::chosen(contact) && D::chosen(contact) && T::chosen(contact)).then(|| Self::from_contact(contact))
-    }
-}
-
-/// The per-contact state of a normal spring chosen at run time: the number its own state is
-/// ([`ContactState::to_number`]; 0 for a spring without state).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AnyState(pub f64);
-
-impl ContactState for AnyState {
-    fn to_number(self) -> f64 {
-        self.0
-    }
-    fn from_number(value: f64) -> Self {
-        Self(value)
-    }
-}
+//! A composition that is a preset runs that preset's compiled law (a [`Composed`](super::Composed)
+//! of the models' own types); any other runs [`AnyLaw`](super::table::AnyLaw), whose models are
+//! chosen when the law is built.
 
 /// A model's parameters from `contact`: its table, or its defaults when it has none.
 macro_rules! parameters {
@@ -96,7 +34,7 @@ macro_rules! table_name {
 }
 
 /// A choice key's enum (`$kind`) over the rows of one kind, the run-time choice among them
-/// (`$any`) and each row's [`SubModel`] (`$choice`: the [`ContactConfig`] method that says which
+/// (`$any`) and each row's [`SubModel`](super::table::SubModel) (`$choice`: the [`ContactConfig`](super::table::ContactConfig) method that says which
 /// the scene has, `$key` the choice key).
 macro_rules! model_kind {
     ($what:literal, $key:ident, $kind:ident, $any:ident, $choice:ident, $($(#[doc = $doc:literal])* $variant:ident($name:ident $(, $table:ident)?): $ty:ty,)+) => {
@@ -140,7 +78,7 @@ macro_rules! model_kind {
                 pub const KIND: $kind = $kind::$variant;
             }
 
-            impl $crate::physics::contact::registry::SubModel for $ty {
+            impl SubModel for $ty {
                 fn from_contact(contact: &ContactConfig) -> Self {
                     $crate::physics::contact::registry::parameters!(contact, $ty $(, $table)?)
                 }
@@ -150,10 +88,10 @@ macro_rules! model_kind {
             }
         )+
 
-        impl $crate::physics::contact::registry::SubModel for $any {
+        impl SubModel for $any {
             fn from_contact(contact: &ContactConfig) -> Self {
                 match contact.$choice() {
-                    $($kind::$variant => Self::$variant(<$ty as $crate::physics::contact::registry::SubModel>::from_contact(contact)),)+
+                    $($kind::$variant => Self::$variant(<$ty as SubModel>::from_contact(contact)),)+
                 }
             }
             fn chosen(_: &ContactConfig) -> bool {
@@ -163,11 +101,11 @@ macro_rules! model_kind {
     };
 }
 
-/// The table: each kind's rows (`Variant(name[, table]): Type`, `table` the [`ContactConfig`]
+/// The table: each kind's rows (`Variant(name[, table]): Type`, `table` the [`ContactConfig`](super::table::ContactConfig)
 /// field of its parameters when it has any), the rolling rows, then the presets
 /// (`Variant(name[, table]): Alias = Normal + Damping + Tangential`). Makes the kinds' enums and
-/// run-time choices ([`model_kind!`]), the run-time choices' sub-model traits, `ContactLawKind`,
-/// the preset laws' type aliases, [`ContactConfig`] with its keys, and its dispatch.
+/// run-time choices (`model_kind!`), the run-time choices' sub-model traits, `ContactLawKind`,
+/// the preset laws' type aliases, [`ContactConfig`](super::table::ContactConfig) with its keys, and its dispatch.
 macro_rules! contact_models {
     (
         normal { $($(#[doc = $ndoc:literal])* $nv:ident($nname:ident $(, $ntable:ident)?): $nty:ty,)+ }
@@ -373,7 +311,7 @@ macro_rules! contact_models {
             ];
 
             /// Runs `visitor` with the scene's law: the one dispatch from configuration to law. A
-            /// preset's composition runs the preset's own compiled law, any other [`AnyLaw`].
+            /// preset's composition runs the preset's own compiled law, any other [`AnyLaw`](super::table::AnyLaw).
             pub fn dispatch<V: LawVisitor>(&self, visitor: V) -> V::Output {
                 match self.preset() {
                     $(Some(ContactLawKind::$pv) => visitor.visit(&<$alias>::from_contact(self)),)+

@@ -1,5 +1,5 @@
 //! The table of contact models: one row per model, by kind, then the presets `contact.law` names.
-//! Adding a model is a file implementing its kind's trait ([`super::sub_model`]) plus one row here
+//! Adding a model is a file implementing its kind's trait ([`super::NormalModel`], …) plus one row here
 //! (with `, table` and a `[contact.<table>]` field name when it has parameters: its serde fields,
 //! defaults for all).
 
@@ -7,13 +7,71 @@ use serde::{Deserialize, Serialize};
 
 use super::composed::Composed;
 use super::damping::{PaperDamping, ViscoelasticDamping, ViscousDamping};
-use super::law::{ContactState, PairProperties};
+use super::law::{ContactLaw, ContactState, PairProperties};
 use super::normal::{HertzNormal, HystereticNormal, LinearNormal};
-use super::registry::{AnyState, LawVisitor, SubModel, contact_models};
+use super::registry::contact_models;
 use super::rolling::{ConstantTorque, NoRolling};
 use super::sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
 use super::tangential::{LinearTangential, MindlinTangential};
 use crate::physics::key_spec::{KeyDoc, KeySpec, scene_section};
+
+/// Work done with the scene's law, whichever it is (a generic closure).
+pub trait LawVisitor {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `law`.
+    fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output;
+}
+
+/// A law that can be found in a [`ContactConfig`].
+pub trait RegisteredLaw: ContactLaw {
+    /// This law with the parameters of `contact`, if `contact` chooses it.
+    fn chosen_in(contact: &ContactConfig) -> Option<Self>;
+}
+
+/// A sub-model of the table: built from a [`ContactConfig`]'s parameter tables.
+pub trait SubModel: Sized {
+    /// This model with its parameters from `contact`.
+    fn from_contact(contact: &ContactConfig) -> Self;
+    /// Whether `contact` chooses this model (always, for the run-time choice of the kind's models).
+    fn chosen(contact: &ContactConfig) -> bool;
+}
+
+impl<N: SubModel, D: SubModel, T: SubModel> Composed<N, D, T> {
+    /// The law of `contact`'s models (whichever they are) with its parameters.
+    pub fn from_contact(contact: &ContactConfig) -> Self {
+        Self {
+            normal: N::from_contact(contact),
+            damping: D::from_contact(contact),
+            tangential: T::from_contact(contact),
+        }
+    }
+}
+
+impl<N, D, T> RegisteredLaw for Composed<N, D, T>
+where
+    N: SubModel + NormalModel,
+    D: SubModel + DampingModel,
+    T: SubModel + TangentialModel,
+{
+    fn chosen_in(contact: &ContactConfig) -> Option<Self> {
+        (N::chosen(contact) && D::chosen(contact) && T::chosen(contact)).then(|| Self::from_contact(contact))
+    }
+}
+
+/// The per-contact state of a normal spring chosen at run time: the number its own state is
+/// ([`ContactState::to_number`]; 0 for a spring without state).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AnyState(pub f64);
+
+impl ContactState for AnyState {
+    fn to_number(self) -> f64 {
+        self.0
+    }
+    fn from_number(value: f64) -> Self {
+        Self(value)
+    }
+}
 
 contact_models! {
     normal {

@@ -29,7 +29,7 @@ impl<L: RegisteredLaw> Simulation<L> {
 }
 
 impl<L: ContactLaw> Simulation<L> {
-    /// A simulation of `scene` with contact law `law` (whatever `scene.contact.law` says: for laws
+    /// A simulation of `scene` with contact law `law` (whatever `scene.contact` says: for laws
     /// outside the registry), at time zero with forces evaluated at the initial state.
     pub fn with_law(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
         Self::with_history(scene, disks, &[], law)
