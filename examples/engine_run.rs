@@ -10,7 +10,9 @@
 //! final positions, velocities, spins and angles (equal fingerprints: bit-identical final states).
 //! `DEMSWEEP_VECTOR=baseline|avx2|avx512` runs the hot loops in that width (default: as detected);
 //! `DEMSWEEP_PARALLEL_MIN_DISKS` sets from how many disks THREADS are used (default 8 000);
-//! `ENGINE_RUN_VERLET=1` runs the scene with velocity Verlet instead of the paper's integrator.
+//! `ENGINE_RUN_VERLET=1` runs the scene with velocity Verlet instead of the paper's integrator;
+//! `ENGINE_RUN_LAW=NAME` with that `contact.law` (e.g. `linear`, `hysteretic_linear`);
+//! `ENGINE_RUN_ROLLING=μ0` with that `material.rolling_friction`.
 
 use std::time::Instant;
 
@@ -45,6 +47,12 @@ fn main() {
     }
     if std::env::var("ENGINE_RUN_VERLET").is_ok() {
         s.integrator.scheme = IntegratorKind::VelocityVerlet;
+    }
+    if let Ok(law) = std::env::var("ENGINE_RUN_LAW") {
+        s.contact.law = toml::Value::String(law).try_into().expect("ENGINE_RUN_LAW: a contact.law name");
+    }
+    if let Ok(rolling) = std::env::var("ENGINE_RUN_ROLLING") {
+        s.material.rolling_friction = rolling.parse().expect("ENGINE_RUN_ROLLING: a number");
     }
     let threads: usize = args.get(2).map_or(1, |t| t.parse().expect(usage));
     let pool_threads: usize = args.get(3).map_or(threads, |t| t.parse().expect(usage));

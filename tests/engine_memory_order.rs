@@ -180,7 +180,7 @@ fn a_large_shuffled_scene_is_renumbered_before_its_first_step_and_its_restart_hi
         })
         .collect();
     assert!(seeded.len() > 1500);
-    let law = *HystereticLinear::chosen_in(&scene.contact).unwrap();
+    let law = HystereticLinear::chosen_in(&scene.contact).unwrap();
     let mut sim = Simulation::with_history(&scene, &disks, &seeded, law);
     assert!(sim.numbering().is_scene_order(), "numbered as given until the first step");
     sim.advance(false);

@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use demsweep::physics::config::{ContactLawKind, IntegratorKind};
-use demsweep::physics::contact::{HertzMindlin, HystereticLinear, LinearSpringDashpot};
+use demsweep::physics::contact::{HertzMindlin, HystereticLinear, HystereticNormal, LinearNormal, LinearSpringDashpot};
 use demsweep::physics::material::restitution_from_beta;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::run_scene;
@@ -122,8 +122,7 @@ fn linear_wall_impact(beta: f64, allow_tension: bool) -> (f64, f64) {
     let gap = 0.01 * R;
     let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
     scene.contact.law = ContactLawKind::Linear;
-    scene.contact.linear =
-        LinearSpringDashpot { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
+    scene.contact.linear = LinearNormal { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
     let mut sim = Simulation::<LinearSpringDashpot>::new(&scene, &disks);
     let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
     while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
@@ -318,7 +317,7 @@ fn hysteretic_wall_impact(ratio: f64, dt: f64) -> (f64, f64) {
     scene.material.beta = Some(0.0);
     scene.material.friction = 0.0;
     scene.contact.law = ContactLawKind::HystereticLinear;
-    scene.contact.hysteretic_linear = HystereticLinear {
+    scene.contact.hysteretic_linear = HystereticNormal {
         loading_stiffness: Some(LINEAR_STIFFNESS),
         unloading_stiffness_ratio: ratio,
         ..Default::default()

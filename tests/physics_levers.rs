@@ -6,7 +6,7 @@ mod common;
 
 use common::{SCHEMES, free_scene, reference_disks, reference_scene};
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
-use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
+use demsweep::physics::contact::{HertzMindlin, LinearNormal, LinearSpringDashpot};
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::{Control, Simulation};
@@ -24,7 +24,7 @@ fn oscillator(scheme: IntegratorKind, alpha: f64) -> Simulation<LinearSpringDash
     let mut s = free_scene(1e9, scheme, 2.0 * std::f64::consts::PI / omega / 4000.0);
     s.gravity = [0.0, -G];
     s.contact.law = ContactLawKind::Linear;
-    s.contact.linear = LinearSpringDashpot { normal_stiffness: Some(k), tangential_stiffness_ratio: 0.0 };
+    s.contact.linear = LinearNormal { normal_stiffness: Some(k), tangential_stiffness_ratio: 0.0 };
     s.damping.local = alpha;
     // Amplitude a third of the static overlap: the contact never opens.
     let speed = omega * static_overlap / 3.0;

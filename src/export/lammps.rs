@@ -20,7 +20,7 @@ use std::path::Path;
 use super::{Format, RunToExport, State, WriteError};
 use crate::physics::SceneConfig;
 use crate::physics::config::IntegratorKind;
-use crate::physics::contact::{Coefficients, LawVisitor, PairProperties, RegisteredLaw};
+use crate::physics::contact::{Coefficients, LawVisitor, NormalKind, PairProperties, RegisteredLaw};
 use crate::physics::material::{ContactMaterial, Materials, effective_mass, restitution_from_beta};
 use crate::physics::quantity;
 use crate::physics::record::Snapshot;
@@ -113,24 +113,14 @@ impl Typical {
     }
 }
 
-/// The law's name and its coefficients when loaded to 1 % of R* for a pair.
+/// The law's coefficients when loaded to 1 % of R* for a pair, and that overlap.
 struct Loading<'a>(&'a PairProperties);
 
 impl LawVisitor for Loading<'_> {
-    type Output = (&'static str, Coefficients, f64);
+    type Output = (Coefficients, f64);
     fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output {
         let overlap = 0.01 * self.0.r_star;
-        (law.name(), law.loading_coefficients(self.0, overlap), overlap)
-    }
-}
-
-/// The law's `contact.law` name.
-struct Name;
-
-impl LawVisitor for Name {
-    type Output = &'static str;
-    fn visit<L: RegisteredLaw>(self, law: &L) -> &'static str {
-        law.name()
+        (law.loading_coefficients(self.0, overlap), overlap)
     }
 }
 
@@ -144,7 +134,8 @@ fn granular_model(
     notes: &mut Vec<String>,
 ) -> String {
     let pair = typical.pair(material, wall);
-    let (law, loading, overlap) = scene.contact.dispatch(Loading(&pair));
+    let (loading, overlap) = scene.contact.dispatch(Loading(&pair));
+    let law = scene.contact.law_name();
     let what = if wall { "disk-wall" } else { "disk-disk" };
     let tangential_ratio = loading.tangential_damping / loading.normal_damping;
     if law == "hertz_mindlin" {
@@ -174,7 +165,7 @@ fn granular_model(
         )
     } else {
         let mut stiffness = loading.normal_force / overlap;
-        if law != "linear" {
+        if scene.contact.normal_kind() != NormalKind::Linear {
             // The state's own secant stiffness keeps the pile at rest as it is (a plastic law's
             // overlaps are larger than its loading stiffness would hold).
             let why = match secant {
@@ -285,7 +276,7 @@ fn input_script(scene: &SceneConfig, state: &State, time_step: f64) -> String {
         run = state.run,
         label = state.label,
         time = s.time,
-        law = scene.contact.dispatch(Name),
+        law = scene.contact.law_name(),
         thickness = scene.particles.thickness,
     )
 }

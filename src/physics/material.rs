@@ -59,7 +59,8 @@ pub struct ContactMaterial {
     pub beta: f64,
     /// Sliding friction μ.
     pub friction: f64,
-    /// Rolling friction μ0.
+    /// Rolling-resistance coefficient: the moment is this times `F_n R` (the material's rolling
+    /// friction μ0 through `contact.rolling`'s model).
     pub rolling_friction: f64,
 }
 
@@ -101,14 +102,14 @@ impl Materials {
             g_star: effective_shear_modulus(&disk, &disk),
             beta,
             friction: m.friction,
-            rolling_friction: m.rolling_friction,
+            rolling_friction: scene.contact.rolling_coefficient(m.rolling_friction),
         };
         let wall = ContactMaterial {
             e_star: effective_youngs_modulus(&disk, &wall),
             g_star: effective_shear_modulus(&disk, &wall),
             beta: beta_of(w.beta, w.restitution).unwrap_or(beta),
             friction: w.friction.unwrap_or(m.friction),
-            rolling_friction: w.rolling_friction.unwrap_or(m.rolling_friction),
+            rolling_friction: scene.contact.rolling_coefficient(w.rolling_friction.unwrap_or(m.rolling_friction)),
         };
         Self { particle, wall, density: m.density }
     }

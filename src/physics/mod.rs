@@ -12,7 +12,7 @@
 //! loop) → [`diagnostics`], [`stability`], [`time_step`], [`pile`] and [`record`] (what comes out),
 //! with every per-run quantity's name, unit and computation declared once in [`quantity`].
 //! [`run_scene`], [`scene_time_step`] and [`predict_stability`] do their work with whichever law
-//! the scene names, through the law table's one dispatch ([`contact::registry`]).
+//! the scene names, through the contact models table's one dispatch ([`contact::table`]).
 
 pub mod config;
 pub mod contact;

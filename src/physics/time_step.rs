@@ -125,7 +125,8 @@ mod tests {
         soft.material.youngs_modulus = 1e7;
         let mut stiff = scene();
         stiff.material.youngs_modulus = 1e9;
-        let ratio = resolve(&HertzMindlin {}, &soft, None).dt / resolve(&HertzMindlin {}, &stiff, None).dt;
+        let ratio =
+            resolve(&HertzMindlin::default(), &soft, None).dt / resolve(&HertzMindlin::default(), &stiff, None).dt;
         assert!((ratio - 100f64.powf(0.4)).abs() < 1e-3 * ratio, "ratio {ratio}");
     }
 
@@ -138,7 +139,7 @@ mod tests {
         let v = (2.0 * 9.81 * (0.6 - 2.0 * 0.01_f64)).sqrt();
         let e_star = m.particle.e_star;
         let formula = 2.87 * (mass * mass / (r * e_star * e_star * v)).powf(0.2);
-        let dt = resolve(&HertzMindlin {}, &s, None).dt;
+        let dt = resolve(&HertzMindlin::default(), &s, None).dt;
         assert!((dt / 0.1 - formula).abs() < 0.01 * formula, "t_c {} vs {formula}", dt / 0.1);
     }
 
@@ -148,18 +149,18 @@ mod tests {
         s.integrator.rayleigh_fraction = Some(0.2);
         let e = Elastic::new(1e9, Some(0.3), None);
         let expected = 0.2 * std::f64::consts::PI * 0.01 * (1000.0 / e.shear_modulus).sqrt() / (0.1631 * 0.3 + 0.8766);
-        assert!((resolve(&HertzMindlin {}, &s, None).dt - expected).abs() < 1e-15);
+        assert!((resolve(&HertzMindlin::default(), &s, None).dt - expected).abs() < 1e-15);
     }
 
     #[test]
     fn strong_viscous_damping_caps_the_step_and_says_so() {
         let mut s = scene();
         s.damping.viscous = 1e5;
-        let resolved = resolve(&HertzMindlin {}, &s, None);
+        let resolved = resolve(&HertzMindlin::default(), &s, None);
         let limit = 0.5 * 1.0 / 1e5;
         assert!(resolved.dt < limit && resolved.dt > 0.9 * limit, "{}", resolved.dt);
         assert_eq!(resolved.warning.unwrap().kind, WarningKind::TimeStepCapped);
-        assert!(resolve(&HertzMindlin {}, &scene(), None).warning.is_none());
+        assert!(resolve(&HertzMindlin::default(), &scene(), None).warning.is_none());
     }
 
     #[test]
@@ -168,6 +169,6 @@ mod tests {
         a.particles.radius_max = Some(0.015);
         let mut b = a.clone();
         b.placement.seed += 1;
-        assert_eq!(resolve(&HertzMindlin {}, &a, None), resolve(&HertzMindlin {}, &b, None));
+        assert_eq!(resolve(&HertzMindlin::default(), &a, None), resolve(&HertzMindlin::default(), &b, None));
     }
 }

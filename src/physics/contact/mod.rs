@@ -1,262 +1,38 @@
-//! Contact force laws.
+//! Contact force laws, composed of sub-models.
 //!
-//! A law only says how stiff and how damped a contact is at a given overlap
-//! ([`ContactLaw::coefficients`]) and how much elastic energy it stores; the shared machinery here
-//! turns that into forces: damping, the `Fn ≥ 0` clamp, the tangential spring with its history and
-//! the Coulomb limit. A law may keep per-contact state of its own ([`ContactLaw::State`], e.g. the
-//! largest overlap of a plastic law), carried with the contact from its first touch to its end.
-//!
-//! A new law is one new file implementing [`ContactLaw`] (its parameters are the struct's fields,
-//! read from `[contact.<name>]`) plus one line in the table of [`registry`].
-//!
-//! Sign conventions (spec): `n` is the unit normal from body i to body j, `t = (-n_y, n_x)`;
-//! the approach speed `v_n = (v_i - v_j)·n` is positive when the bodies close in; the force on i is
-//! `-F_n n + F_t t` (on j the opposite) and the torque from the tangential force is `F_t R` on each.
+//! A law ([`ContactLaw`], in `law`) says how stiff and how damped a contact is at a given overlap
+//! and how much elastic energy it stores; `law`'s shared machinery turns that into forces. Each
+//! law is a [`Composed`] of a normal spring ([`normal`]), a damping ([`damping`]) and a tangential
+//! spring ([`tangential`]); rolling resistance ([`rolling`]) acts beside it. The table of [`table`]
+//! lists every model and the presets `contact.law` names (`registry` declares it).
 
-mod hertz_mindlin;
-mod hysteretic;
-mod linear;
-pub mod registry;
+mod composed;
+pub mod damping;
+mod impact;
+mod law;
+pub mod normal;
+mod registry;
+pub mod rolling;
+mod sub_model;
+pub mod table;
+pub mod tangential;
 
-pub use hertz_mindlin::HertzMindlin;
-pub use hysteretic::HystereticLinear;
-pub use linear::LinearSpringDashpot;
-pub use registry::{ContactConfig, ContactLawKind, LawVisitor, RegisteredLaw};
+pub use composed::Composed;
+pub use damping::{PaperDamping, ViscoelasticDamping, ViscousDamping};
+pub use impact::{ImpactEstimate, estimate_impact};
+pub use law::{
+    Coefficients, ContactForce, ContactLaw, ContactOptions, ContactState, Kinematics, PairProperties, elastic_energy,
+    resolve,
+};
+pub use normal::{HertzNormal, HystereticNormal, LargestOverlap, LinearNormal};
+pub use rolling::{ConstantTorque, NoRolling};
+pub use sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
+pub use table::{
+    AnyDamping, AnyLaw, AnyNormal, AnyRolling, AnyState, AnyTangential, Composition, ContactConfig, ContactLawKind,
+    DampingKind, HertzMindlin, HystereticLinear, LawVisitor, LinearSpringDashpot, NoParameters, NormalKind,
+    RegisteredLaw, RollingKind, SubModel, TangentialKind,
+};
+pub use tangential::{LinearTangential, MindlinTangential};
 
-/// Effective properties of one contact (walls: infinite radius and mass, so `R* = R_i`, `m* = m_i`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairProperties {
-    /// Effective Young's modulus E* (Pa).
-    pub e_star: f64,
-    /// Effective shear modulus G* (Pa).
-    pub g_star: f64,
-    /// Effective radius R* (m).
-    pub r_star: f64,
-    /// Effective mass m* (kg).
-    pub m_star: f64,
-    /// Damping factor β.
-    pub beta: f64,
-}
-
-/// Stiffness and damping of a contact at one overlap.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coefficients {
-    /// Elastic normal force (N), ≥ 0.
-    pub normal_force: f64,
-    /// Normal damping coefficient (N·s/m): damping force = coefficient × approach speed.
-    pub normal_damping: f64,
-    /// Tangential spring stiffness (N/m).
-    pub tangential_stiffness: f64,
-    /// Tangential damping coefficient (N·s/m).
-    pub tangential_damping: f64,
-}
-
-/// A normal-tangential contact force law.
-pub trait ContactLaw: Clone + Send + Sync + 'static {
-    /// Per-contact history of the law's own besides the tangential spring (`()` for none): it
-    /// starts as `Default` when two bodies first touch and is dropped when they part.
-    type State: ContactState;
-    /// Stiffness and damping at overlap `overlap > 0` (m), updating the contact's `state`.
-    fn coefficients(&self, pair: &PairProperties, overlap: f64, state: &mut Self::State) -> Coefficients;
-    /// Elastic energy stored by the normal spring at overlap `overlap` in `state` (J).
-    fn normal_elastic_energy(&self, pair: &PairProperties, overlap: f64, state: &Self::State) -> f64;
-    /// Short name for reports: the law's `contact.law` value.
-    fn name(&self) -> &'static str;
-    /// Problems with the law's parameters, as (key within `[contact.<name>]`, reason).
-    fn problems(&self) -> Vec<(&'static str, String)> {
-        Vec::new()
-    }
-
-    /// Coefficients of a fresh contact pressed monotonically to `overlap` (for estimates).
-    fn loading_coefficients(&self, pair: &PairProperties, overlap: f64) -> Coefficients {
-        self.coefficients(pair, overlap, &mut Self::State::default())
-    }
-}
-
-/// A law's per-contact state ([`ContactLaw::State`]) as results and restart files hold it: one
-/// number per contact.
-pub trait ContactState: Copy + Default + PartialEq + Send + Sync + std::fmt::Debug {
-    /// The state as a number (0 for a law without state).
-    fn to_number(self) -> f64;
-    /// The state a number of [`Self::to_number`] stands for.
-    fn from_number(value: f64) -> Self;
-}
-
-impl ContactState for () {
-    fn to_number(self) -> f64 {
-        0.0
-    }
-    fn from_number(_: f64) -> Self {}
-}
-
-/// Contact options shared by all laws.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactOptions {
-    /// Keep a negative (tensile) total normal force instead of clamping it to zero.
-    pub allow_tension: bool,
-    /// Compute tangential forces (false when there is no friction: skips that work).
-    pub tangential: bool,
-    /// Sliding friction coefficient μ.
-    pub friction: f64,
-}
-
-/// Relative motion of a contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Kinematics {
-    /// Overlap δ > 0 (m).
-    pub overlap: f64,
-    /// Approach speed `v_n` (m/s), positive when closing.
-    pub approach_speed: f64,
-    /// Relative tangential speed of the contact points `v_t` (m/s).
-    pub tangential_speed: f64,
-}
-
-/// The resolved force of one contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactForce {
-    /// Total normal force `F_n` (N); repulsive when positive.
-    pub normal: f64,
-    /// Tangential force `F_t` along `t` on body i (N).
-    pub tangential: f64,
-    /// Tangential spring stiffness used (N/m), for the spring's stored energy.
-    pub tangential_stiffness: f64,
-}
-
-impl ContactForce {
-    /// Magnitude of the contact force vector (N). (A plain square root: contact forces are far
-    /// from overflowing when squared, and `hypot`'s guard against it is a slow library call.)
-    #[inline]
-    pub fn magnitude(&self) -> f64 {
-        (self.normal * self.normal + self.tangential * self.tangential).sqrt()
-    }
-
-    /// The force vector on body i, `−F_n n + F_t t` with `t = (−n_y, n_x)`, for the unit normal
-    /// `(nx, ny)` from i to j (on j: the same with `−n`, which is the opposite vector).
-    #[inline(always)]
-    pub fn on_first_body(&self, nx: f64, ny: f64) -> [f64; 2] {
-        [-self.normal * nx - self.tangential * ny, -self.normal * ny + self.tangential * nx]
-    }
-}
-
-/// Resolves one contact with coefficients `c` (from [`ContactLaw::coefficients`] at `k.overlap`):
-/// normal force with damping and clamp, tangential spring update (`spring` is the accumulated
-/// tangential displacement ξ, m) with the Coulomb limit `|F_t| ≤ μ F_n`.
-///
-/// Written without data-dependent branches (both outcomes computed, one selected), so that a loop
-/// over many contacts vectorises.
-#[inline(always)]
-pub fn resolve(c: &Coefficients, options: &ContactOptions, k: &Kinematics, spring: &mut f64, dt: f64) -> ContactForce {
-    let damped = c.normal_force + c.normal_damping * k.approach_speed;
-    let normal = if options.allow_tension { damped } else { damped.max(0.0) };
-    let mut tangential = 0.0;
-    if options.tangential {
-        let stretched = *spring + k.tangential_speed * dt;
-        let damping = -c.tangential_damping * k.tangential_speed;
-        let trial = -c.tangential_stiffness * stretched + damping;
-        let limit = options.friction * normal.max(0.0);
-        // Sliding (spec fix of eq 13): the force sits on the Coulomb limit and the spring is cut
-        // back to carry at most the limit. It is never enlarged to it: when the trial force passes
-        // the limit through its damping part (strong β), enlarging the spring would store energy
-        // that no work put there, and the contact would hand it back as motion.
-        let sliding = trial.abs() > limit;
-        let spring_limit = if c.tangential_stiffness > 0.0 { limit / c.tangential_stiffness } else { 0.0 };
-        *spring = if sliding { stretched.max(-spring_limit).min(spring_limit) } else { stretched };
-        tangential = if sliding { limit.copysign(trial) } else { trial };
-    }
-    ContactForce { normal, tangential, tangential_stiffness: c.tangential_stiffness }
-}
-
-/// Elastic energy of a contact: the law's normal spring plus the tangential spring ½ S_t ξ² (J).
-#[inline]
-pub fn elastic_energy<L: ContactLaw>(
-    law: &L,
-    pair: &PairProperties,
-    overlap: f64,
-    force: &ContactForce,
-    history: (f64, &L::State),
-) -> f64 {
-    let (spring, state) = history;
-    law.normal_elastic_energy(pair, overlap, state) + 0.5 * force.tangential_stiffness * spring * spring
-}
-
-/// Outcome of a simulated head-on impact, used for time-step estimates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ImpactEstimate {
-    /// Contact duration (s).
-    pub duration: f64,
-    /// Largest overlap of the damped impact (m).
-    pub max_overlap: f64,
-    /// Largest normal damping rate `c_n / m*` during the impact (1/s).
-    pub max_damping_rate: f64,
-}
-
-/// Integrates a head-on impact at `speed` with any law (fine steps), so stability estimates work
-/// for every law without law-specific formulas: duration from the undamped impact, damping rate at its deepest overlap,
-/// the largest overlap from the damped one.
-pub fn estimate_impact<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> ImpactEstimate {
-    let undamped = PairProperties { beta: 0.0, ..*pair };
-    let mut state = L::State::default();
-    let elastic = |d: f64, state: &mut L::State| {
-        if d > 0.0 { law.coefficients(&undamped, d, state).normal_force } else { 0.0 }
-    };
-    // First guess of the duration from a linear spring at the overlap where all energy is stored.
-    let mut dt = 1e-3 * guess_duration(law, &undamped, speed);
-    let (mut d, mut v, mut t, mut dmax) = (0.0_f64, speed, 0.0_f64, 0.0_f64);
-    let mut steps = 0;
-    // Until the bodies part: the overlap is gone, or (a plastic law) the force has vanished on the way out.
-    let mut touching = true;
-    while (touching || t == 0.0) && steps < 100_000 {
-        // RK4 stages at trial overlaps on a copy of the state; the state follows the accepted step.
-        let accel = |d: f64| -elastic(d, &mut state.clone()) / pair.m_star;
-        let (k1d, k1v) = (v, accel(d));
-        let (k2d, k2v) = (v + 0.5 * dt * k1v, accel(d + 0.5 * dt * k1d));
-        let (k3d, k3v) = (v + 0.5 * dt * k2v, accel(d + 0.5 * dt * k2d));
-        let (k4d, k4v) = (v + dt * k3v, accel(d + dt * k3d));
-        d += dt / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
-        v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-        t += dt;
-        dmax = dmax.max(d);
-        touching = d > 0.0 && (v > 0.0 || elastic(d, &mut state) > 0.0);
-        steps += 1;
-        if steps == 10 && dmax <= 0.0 {
-            dt *= 10.0;
-        }
-    }
-    let damped_overlap = if pair.beta > 0.0 { damped_max_overlap(law, pair, speed, dt) } else { dmax };
-    let at_max = law.loading_coefficients(pair, dmax);
-    ImpactEstimate { duration: t, max_overlap: damped_overlap, max_damping_rate: at_max.normal_damping / pair.m_star }
-}
-
-/// Largest overlap of the damped impact (semi-implicit Euler with step `dt`, until it recedes).
-fn damped_max_overlap<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64, dt: f64) -> f64 {
-    let (mut d, mut v, mut state) = (0.0_f64, speed, L::State::default());
-    for _ in 0..1_000_000 {
-        let c = law.coefficients(pair, d.max(1e-300), &mut state);
-        v -= (c.normal_force + c.normal_damping * v).max(0.0) / pair.m_star * dt;
-        if v <= 0.0 {
-            break;
-        }
-        d += v * dt;
-    }
-    d
-}
-
-/// Rough contact duration: bisect the overlap that stores the impact energy, then π/ω of the secant.
-fn guess_duration<L: ContactLaw>(law: &L, pair: &PairProperties, speed: f64) -> f64 {
-    let energy = 0.5 * pair.m_star * speed * speed;
-    let loaded = |d: f64| {
-        let mut state = L::State::default();
-        law.coefficients(pair, d, &mut state);
-        law.normal_elastic_energy(pair, d, &state)
-    };
-    let (mut lo, mut hi) = (0.0_f64, pair.r_star.max(1e-12));
-    while loaded(hi) < energy && hi < 1e6 {
-        hi *= 2.0;
-    }
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if loaded(mid) < energy { lo = mid } else { hi = mid }
-    }
-    let stiffness = law.loading_coefficients(pair, hi).normal_force / hi;
-    std::f64::consts::PI * (pair.m_star / stiffness).sqrt()
-}
+#[cfg(test)]
+mod tests;

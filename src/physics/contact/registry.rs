@@ -1,137 +1,325 @@
-//! The table of contact laws: `contact.law` names one, `[contact.<name>]` holds its parameters,
-//! and [`ContactConfig::dispatch`] is the one place that turns the choice into a law. Every caller
-//! that needs the scene's law (the simulation, time-step and stability estimates, tune's screen,
-//! benchmarks) goes through it, so a law added here is used everywhere.
+//! How the table of contact models ([`super::table`]) is declared: `contact_models!` turns its rows
+//! into the choice keys (`contact.law`, `contact.normal`, `contact.damping`, `contact.tangential`,
+//! `contact.rolling`), the parameter tables (`[contact.<table>]`),
+//! [`ContactConfig`](super::table::ContactConfig) and its one dispatch from configuration to law.
+//! Every caller that needs the scene's law (the simulation, time-step and stability estimates,
+//! tune's screen, benchmarks) goes through that dispatch, so a model added to the table is used
+//! everywhere.
 //!
-//! Adding a law: a file implementing [`ContactLaw`](super::ContactLaw) whose parameters are its
-//! serde fields (defaults for all), then one line in the `contact_laws!` table at the bottom.
+//! `contact.law` is a preset: it names a normal spring, a damping and a tangential spring; each of
+//! `contact.normal`, `contact.damping` and `contact.tangential` that is given replaces the preset's.
+//! A composition that is a preset runs that preset's compiled law (a [`Composed`](super::Composed)
+//! of the models' own types); any other runs [`AnyLaw`](super::table::AnyLaw), whose models are
+//! chosen when the law is built.
 
-use serde::{Deserialize, Serialize};
-
-use super::{ContactLaw, HertzMindlin, HystereticLinear, LinearSpringDashpot};
-use crate::physics::key_spec::{KeyDoc, KeySpec};
-
-/// Work done with the scene's law, whichever it is (a generic closure).
-pub trait LawVisitor {
-    /// What the work returns.
-    type Output;
-    /// Does the work with `law`.
-    fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output;
+/// A model's parameters from `contact`: its table, or its defaults when it has none.
+macro_rules! parameters {
+    ($contact:ident, $ty:ty) => {{
+        let _ = $contact;
+        <$ty>::default()
+    }};
+    ($contact:ident, $ty:ty, $table:ident) => {
+        $contact.$table
+    };
 }
 
-/// A law of the table: it can be found in a [`ContactConfig`].
-pub trait RegisteredLaw: ContactLaw {
-    /// This law, if it is the one `contact` chooses.
-    fn chosen_in(contact: &ContactConfig) -> Option<&Self>;
+/// The name of a model's parameter table, if it has one.
+macro_rules! table_name {
+    () => {
+        None
+    };
+    ($table:ident) => {
+        Some(stringify!($table))
+    };
 }
 
-macro_rules! contact_laws {
-    ($($(#[doc = $doc:literal])* $variant:ident($field:ident): $law:ty,)+) => {
-        /// Which contact force law (`contact.law`).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// A choice key's enum (`$kind`) over the rows of one kind, the run-time choice among them
+/// (`$any`) and each row's [`SubModel`](super::table::SubModel) (`$choice`: the [`ContactConfig`](super::table::ContactConfig) method that says which
+/// the scene has, `$key` the choice key).
+macro_rules! model_kind {
+    ($what:literal, $key:ident, $kind:ident, $any:ident, $choice:ident, $($(#[doc = $doc:literal])* $variant:ident($name:ident $(, $table:ident)?): $ty:ty,)+) => {
+        #[doc = concat!("Which ", $what, " (`contact.", stringify!($key), "`).")]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
         #[serde(rename_all = "snake_case")]
-        pub enum ContactLawKind {
+        pub enum $kind {
             $($(#[doc = $doc])* $variant,)+
         }
 
-        /// `[contact]`: the law, the options every law shares, and each law's parameters in a table
-        /// of its own (`[contact.linear]`, …), so that a sweep may switch laws.
+        impl $kind {
+            /// Every model of the kind, in table order.
+            pub const ALL: &[Self] = &[$(Self::$variant,)+];
+            /// Their names, as the key takes them.
+            pub const NAMES: &[&str] = &[$(stringify!($name),)+];
+
+            /// The model's name, as the key takes it.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Self::$variant => stringify!($name),)+
+                }
+            }
+
+            /// The `[contact.<table>]` of the model's parameters, if it has any.
+            pub fn table(self) -> Option<&'static str> {
+                match self {
+                    $(Self::$variant => $crate::physics::contact::registry::table_name!($($table)?),)+
+                }
+            }
+        }
+
+        #[doc = concat!("Any ", $what, ", chosen when the law is built (for compositions no preset has).")]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum $any {
+            $($(#[doc = $doc])* $variant($ty),)+
+        }
+
+        $(
+            impl $ty {
+                /// The model's row of the table.
+                pub const KIND: $kind = $kind::$variant;
+            }
+
+            impl SubModel for $ty {
+                fn from_contact(contact: &ContactConfig) -> Self {
+                    $crate::physics::contact::registry::parameters!(contact, $ty $(, $table)?)
+                }
+                fn chosen(contact: &ContactConfig) -> bool {
+                    contact.$choice() == Self::KIND
+                }
+            }
+        )+
+
+        impl SubModel for $any {
+            fn from_contact(contact: &ContactConfig) -> Self {
+                match contact.$choice() {
+                    $($kind::$variant => Self::$variant(<$ty as SubModel>::from_contact(contact)),)+
+                }
+            }
+            fn chosen(_: &ContactConfig) -> bool {
+                true
+            }
+        }
+    };
+}
+
+/// The table: each kind's rows (`Variant(name[, table]): Type`, `table` the [`ContactConfig`](super::table::ContactConfig)
+/// field of its parameters when it has any), the rolling rows, then the presets
+/// (`Variant(name[, table]): Alias = Normal + Damping + Tangential`). Makes the kinds' enums and
+/// run-time choices (`model_kind!`), the run-time choices' sub-model traits, `ContactLawKind`,
+/// the preset laws' type aliases, [`ContactConfig`](super::table::ContactConfig) with its keys, and its dispatch.
+macro_rules! contact_models {
+    (
+        normal { $($(#[doc = $ndoc:literal])* $nv:ident($nname:ident $(, $ntable:ident)?): $nty:ty,)+ }
+        damping { $($(#[doc = $ddoc:literal])* $dv:ident($dname:ident $(, $dtable:ident)?): $dty:ty,)+ }
+        tangential { $($(#[doc = $tdoc:literal])* $tv:ident($tname:ident $(, $ttable:ident)?): $tty:ty,)+ }
+        rolling { $($(#[doc = $rdoc:literal])* $rv:ident($rname:ident $(, $rtable:ident)?): $rty:ty,)+ }
+        presets {
+            $($(#[doc = $pdoc:literal])* $pv:ident($pname:ident $(, $ptable:ident)?): $alias:ident = $pn:ident + $pd:ident + $pt:ident,)+
+        }
+    ) => {
+        $crate::physics::contact::registry::model_kind!("normal spring", normal, NormalKind, AnyNormal, normal_kind,
+            $($(#[doc = $ndoc])* $nv($nname $(, $ntable)?): $nty,)+);
+        $crate::physics::contact::registry::model_kind!("damping", damping, DampingKind, AnyDamping, damping_kind,
+            $($(#[doc = $ddoc])* $dv($dname $(, $dtable)?): $dty,)+);
+        $crate::physics::contact::registry::model_kind!("tangential spring", tangential, TangentialKind, AnyTangential,
+            tangential_kind, $($(#[doc = $tdoc])* $tv($tname $(, $ttable)?): $tty,)+);
+        $crate::physics::contact::registry::model_kind!("rolling resistance", rolling, RollingKind, AnyRolling, rolling_kind,
+            $($(#[doc = $rdoc])* $rv($rname $(, $rtable)?): $rty,)+);
+
+        impl NormalModel for AnyNormal {
+            type State = AnyState;
+
+            #[inline(always)]
+            fn load(&self, p: &PairProperties, overlap: f64, state: &mut AnyState) -> (f64, Stiffness) {
+                match self {
+                    $(Self::$nv(model) => {
+                        let mut own = <<$nty as NormalModel>::State as ContactState>::from_number(state.0);
+                        let load = model.load(p, overlap, &mut own);
+                        state.0 = own.to_number();
+                        load
+                    })+
+                }
+            }
+            fn elastic_energy(&self, p: &PairProperties, overlap: f64, state: &AnyState) -> f64 {
+                match self {
+                    $(Self::$nv(model) => model.elastic_energy(p, overlap, &ContactState::from_number(state.0)),)+
+                }
+            }
+            fn tangential_stiffness_ratio(&self) -> f64 {
+                match self {
+                    $(Self::$nv(model) => model.tangential_stiffness_ratio(),)+
+                }
+            }
+            fn hertzian(&self) -> bool {
+                match self {
+                    $(Self::$nv(model) => model.hertzian(),)+
+                }
+            }
+            fn problems(&self) -> Problems {
+                match self {
+                    $(Self::$nv(model) => model.problems(),)+
+                }
+            }
+        }
+
+        impl DampingModel for AnyDamping {
+            #[inline(always)]
+            fn coefficient(&self, p: &PairProperties, spring: Stiffness) -> f64 {
+                match self {
+                    $(Self::$dv(model) => model.coefficient(p, spring),)+
+                }
+            }
+            fn problems(&self) -> Problems {
+                match self {
+                    $(Self::$dv(model) => model.problems(),)+
+                }
+            }
+        }
+
+        impl TangentialModel for AnyTangential {
+            #[inline(always)]
+            fn stiffness<N: NormalModel>(&self, normal: &N, p: &PairProperties, overlap: f64, s: Stiffness) -> Stiffness {
+                match self {
+                    $(Self::$tv(model) => model.stiffness(normal, p, overlap, s),)+
+                }
+            }
+            fn unfit_with<N: NormalModel>(&self, normal: &N) -> Option<&'static str> {
+                match self {
+                    $(Self::$tv(model) => model.unfit_with(normal),)+
+                }
+            }
+        }
+
+        impl RollingModel for AnyRolling {
+            fn coefficient(&self, rolling_friction: f64) -> f64 {
+                match self {
+                    $(Self::$rv(model) => model.coefficient(rolling_friction),)+
+                }
+            }
+        }
+
+        $($(#[doc = $pdoc])* pub type $alias = Composed<$pn, $pd, $pt>;)+
+
+        /// Which preset law (`contact.law`): a normal spring, a damping and a tangential spring.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum ContactLawKind {
+            $($(#[doc = $pdoc])* $pv,)+
+        }
+
+        impl ContactLawKind {
+            /// Every preset, in table order.
+            pub const ALL: &[Self] = &[$(Self::$pv,)+];
+            /// Their names, as `contact.law` takes them.
+            pub const NAMES: &[&str] = &[$(stringify!($pname),)+];
+
+            /// The preset's name, as `contact.law` takes it.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Self::$pv => stringify!($pname),)+
+                }
+            }
+
+            /// The models the preset composes.
+            pub fn composition(self) -> Composition {
+                match self {
+                    $(Self::$pv => Composition { normal: <$pn>::KIND, damping: <$pd>::KIND, tangential: <$pt>::KIND },)+
+                }
+            }
+        }
+
+        /// `[contact]`: the law (a preset) and the sub-models that replace the preset's, the options
+        /// every law shares, and each model's parameters in a table of its own (`[contact.linear]`,
+        /// …), so that a sweep may switch models.
         #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
         #[serde(deny_unknown_fields, default)]
         pub struct ContactConfig {
-            /// The force law.
+            /// The force law: a preset of normal spring, damping and tangential spring.
             pub law: ContactLawKind,
+            /// The normal spring, replacing the law's.
+            pub normal: Option<NormalKind>,
+            /// The damping of both springs, replacing the law's.
+            pub damping: Option<DampingKind>,
+            /// The tangential spring, replacing the law's.
+            pub tangential: Option<TangentialKind>,
+            /// The rolling resistance.
+            pub rolling: RollingKind,
             /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
             pub allow_tension: bool,
-            $($(#[doc = $doc])* pub $field: $law,)+
+            $($(#[doc = concat!("Parameters of `", stringify!($pname), "`.")] pub $ptable: NoParameters,)?)+
+            $($(#[doc = concat!("Parameters of `", stringify!($nname), "`.")] pub $ntable: $nty,)?)+
+            $($(#[doc = concat!("Parameters of `", stringify!($dname), "`.")] pub $dtable: $dty,)?)+
+            $($(#[doc = concat!("Parameters of `", stringify!($tname), "`.")] pub $ttable: $tty,)?)+
+            $($(#[doc = concat!("Parameters of `", stringify!($rname), "`.")] pub $rtable: $rty,)?)+
+        }
+
+        impl Default for ContactConfig {
+            fn default() -> Self {
+                Self {
+                    law: ContactLawKind::ALL[0],
+                    normal: None,
+                    damping: None,
+                    tangential: None,
+                    rolling: RollingKind::ALL[0],
+                    allow_tension: false,
+                    $($($ptable: NoParameters::default(),)?)+
+                    $($($ntable: <$nty>::default(),)?)+
+                    $($($dtable: <$dty>::default(),)?)+
+                    $($($ttable: <$tty>::default(),)?)+
+                    $($($rtable: <$rty>::default(),)?)+
+                }
+            }
         }
 
         impl ContactConfig {
-            /// The `[contact]` keys (`physics::keys`): the law, the shared options, each law's table.
+            /// The `[contact]` keys (`physics::keys`): the choices, the shared option, each table.
             pub const KEYS: &'static [KeyDoc] = &[
-                KeyDoc { name: "law", doc: &["The force law."], spec: KeySpec { one_of: &[$(stringify!($field)),+], ..KeySpec::NONE } },
+                KeyDoc {
+                    name: "law",
+                    doc: &["The force law: a preset of `normal`, `damping` and `tangential`, which replace its own when given."],
+                    spec: KeySpec { one_of: ContactLawKind::NAMES, ..KeySpec::NONE },
+                },
+                KeyDoc {
+                    name: "normal",
+                    doc: &["The normal spring; none: the law's."],
+                    spec: KeySpec { one_of: NormalKind::NAMES, ..KeySpec::NONE },
+                },
+                KeyDoc {
+                    name: "damping",
+                    doc: &["The damping of both springs; none: the law's."],
+                    spec: KeySpec { one_of: DampingKind::NAMES, ..KeySpec::NONE },
+                },
+                KeyDoc {
+                    name: "tangential",
+                    doc: &["The tangential spring (with the Coulomb cap); none: the law's."],
+                    spec: KeySpec { one_of: TangentialKind::NAMES, ..KeySpec::NONE },
+                },
+                KeyDoc {
+                    name: "rolling",
+                    doc: &["The rolling resistance."],
+                    spec: KeySpec { one_of: RollingKind::NAMES, ..KeySpec::NONE },
+                },
                 KeyDoc {
                     name: "allow_tension",
                     doc: &["Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`."],
                     spec: KeySpec { range: "true or false", ..KeySpec::NONE },
                 },
-                $(KeyDoc { name: stringify!($field), doc: &[$($doc),*], spec: KeySpec { table: Some(<$law>::KEYS), ..KeySpec::NONE } },)+
+                $($(KeyDoc { name: stringify!($ptable), doc: &[concat!("Parameters of `", stringify!($pname), "`.")], spec: KeySpec { table: Some(NoParameters::KEYS), ..KeySpec::NONE } },)?)+
+                $($(KeyDoc { name: stringify!($ntable), doc: &[concat!("Parameters of `", stringify!($nname), "`.")], spec: KeySpec { table: Some(<$nty>::KEYS), ..KeySpec::NONE } },)?)+
+                $($(KeyDoc { name: stringify!($dtable), doc: &[concat!("Parameters of `", stringify!($dname), "`.")], spec: KeySpec { table: Some(<$dty>::KEYS), ..KeySpec::NONE } },)?)+
+                $($(KeyDoc { name: stringify!($ttable), doc: &[concat!("Parameters of `", stringify!($tname), "`.")], spec: KeySpec { table: Some(<$tty>::KEYS), ..KeySpec::NONE } },)?)+
+                $($(KeyDoc { name: stringify!($rtable), doc: &[concat!("Parameters of `", stringify!($rname), "`.")], spec: KeySpec { table: Some(<$rty>::KEYS), ..KeySpec::NONE } },)?)+
             ];
-        }
 
-        impl Default for ContactConfig {
-            fn default() -> Self {
-                Self { law: ContactLawKind::HertzMindlin, allow_tension: false, $($field: <$law>::default(),)+ }
-            }
-        }
-
-        impl ContactLawKind {
-            /// Every law of the table.
-            pub const ALL: &[ContactLawKind] = &[$(ContactLawKind::$variant,)+];
-        }
-
-        impl ContactConfig {
-            /// Runs `visitor` with the chosen law: the one dispatch from configuration to law.
+            /// Runs `visitor` with the scene's law: the one dispatch from configuration to law. A
+            /// preset's composition runs the preset's own compiled law, any other [`AnyLaw`](super::table::AnyLaw).
             pub fn dispatch<V: LawVisitor>(&self, visitor: V) -> V::Output {
-                match self.law {
-                    $(ContactLawKind::$variant => visitor.visit(&self.$field),)+
+                match self.preset() {
+                    $(Some(ContactLawKind::$pv) => visitor.visit(&<$alias>::from_contact(self)),)+
+                    None => visitor.visit(&AnyLaw::from_contact(self)),
                 }
             }
         }
-
-        $(impl RegisteredLaw for $law {
-            fn chosen_in(contact: &ContactConfig) -> Option<&Self> {
-                (contact.law == ContactLawKind::$variant).then_some(&contact.$field)
-            }
-        })+
     };
 }
 
-contact_laws! {
-    /// The paper's Hertz-Mindlin law with the spec's fixes (the default).
-    HertzMindlin(hertz_mindlin): HertzMindlin,
-    /// Linear spring-dashpot (Cundall-Strack) with Coulomb friction.
-    Linear(linear): LinearSpringDashpot,
-    /// Hysteretic linear spring (Walton-Braun): plastic loading, stiffer elastic unloading.
-    HystereticLinear(hysteretic_linear): HystereticLinear,
-}
-
-impl ContactConfig {
-    /// Problems with the chosen law's parameters, as (full key, reason).
-    pub fn problems(&self) -> Vec<(String, String)> {
-        struct Problems;
-        impl LawVisitor for Problems {
-            type Output = Vec<(String, String)>;
-            fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output {
-                let section = format!("contact.{}", law.name());
-                law.problems().into_iter().map(|(key, reason)| (format!("{section}.{key}"), reason)).collect()
-            }
-        }
-        self.dispatch(Problems)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn each_law_is_found_under_its_own_name() {
-        struct Name;
-        impl LawVisitor for Name {
-            type Output = &'static str;
-            fn visit<L: RegisteredLaw>(self, law: &L) -> &'static str {
-                law.name()
-            }
-        }
-        for &law in ContactLawKind::ALL {
-            let contact = ContactConfig { law, ..Default::default() };
-            let value = toml::Value::try_from(law).expect("a law name");
-            let name = contact.dispatch(Name);
-            assert_eq!(value.as_str(), Some(name));
-            // Its parameter table is the field of the same name.
-            let table = toml::Value::try_from(&contact).expect("serialises");
-            assert!(table.get(name).is_some_and(toml::Value::is_table), "[contact.{name}]");
-        }
-    }
-}
+pub(super) use {contact_models, model_kind, parameters, table_name};

@@ -124,7 +124,7 @@ fn blocks_gathered_unchanged_give_the_narrow_phase_bits_as_contacts_come_and_go(
     let team = crate::physics::parallel::Team::new(1);
     let mut list = NeighborList::<()>::new(crate::physics::config::BroadPhaseKind::Grid, 0.004);
     list.rebuild(&particles, &walls, &team);
-    let (law, kind) = (HertzMindlin {}, kind(false));
+    let (law, kind) = (HertzMindlin::default(), kind(false));
     let (mut kept, mut totals) = (TouchingPairs::<()>::default(), ContactTotals::default());
     let mut blocks = 0;
     for step in 0..80 {
@@ -167,7 +167,7 @@ fn blocks_gathered_unchanged_give_the_narrow_phase_bits_as_contacts_come_and_go(
 #[test]
 fn vector_stage_equals_one_contact_at_a_time_bit_for_bit() {
     for allow_tension in [false, true] {
-        let (law, kind) = (HertzMindlin {}, kind(allow_tension));
+        let (law, kind) = (HertzMindlin::default(), kind(allow_tension));
         let mut t = table();
         let before = t.rows.spring;
         t.compute_forces::<_, COMPUTED>(&law, &kind);
@@ -222,7 +222,7 @@ fn wall_contacts_equal_one_contact_at_a_time_bit_for_bit() {
     candidates.springs = (0..300).map(|k| 1e-6 * ((k % 7) as f64 - 3.0)).collect();
     candidates.states = vec![(); 300];
     let before = candidates.springs.clone();
-    let (law, kind) = (HertzMindlin {}, kind(false));
+    let (law, kind) = (HertzMindlin::default(), kind(false));
     let (s, mut f) = particles.split();
     let mut totals = ContactTotals::default();
     let mut t = TouchingPairs::<()>::default();

@@ -21,16 +21,16 @@ use crate::physics::walls::BoxWalls;
 
 impl<L: RegisteredLaw> Simulation<L> {
     /// A simulation of `scene` from `disks` at time zero, with forces evaluated at the initial
-    /// state. Panics unless `L` is the law `scene.contact.law` names.
+    /// state. Panics unless `L` is the law of the models `scene.contact` names.
     pub fn new(scene: &SceneConfig, disks: &[InitialDisk]) -> Self {
         let law = L::chosen_in(&scene.contact)
-            .unwrap_or_else(|| panic!("scene.contact.law is {:?}, not the Simulation's law", scene.contact.law));
-        Self::with_law(scene, disks, law.clone())
+            .unwrap_or_else(|| panic!("scene.contact is {}, not the Simulation's law", scene.contact.law_name()));
+        Self::with_law(scene, disks, law)
     }
 }
 
 impl<L: ContactLaw> Simulation<L> {
-    /// A simulation of `scene` with contact law `law` (whatever `scene.contact.law` says: for laws
+    /// A simulation of `scene` with contact law `law` (whatever `scene.contact` says: for laws
     /// outside the registry), at time zero with forces evaluated at the initial state.
     pub fn with_law(scene: &SceneConfig, disks: &[InitialDisk], law: L) -> Self {
         Self::with_history(scene, disks, &[], law)

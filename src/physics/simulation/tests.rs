@@ -1,7 +1,7 @@
 use super::Simulation;
 use crate::physics::config::SceneConfig;
 use crate::physics::contact::RegisteredLaw;
-use crate::physics::contact::{ContactForce, ContactLawKind, LawVisitor};
+use crate::physics::contact::{ContactForce, ContactLawKind, DampingKind, LawVisitor, NormalKind};
 use crate::physics::contact_record::Partner;
 use crate::physics::particles::InitialDisk;
 
@@ -85,4 +85,13 @@ fn one_contact_evaluation_gives_the_block_stages_forces_to_the_bit_for_every_law
         scene.contact.law = law;
         scene.contact.dispatch(Check(&scene));
     }
+    // Compositions no preset has, run by the law whose models are chosen at run time.
+    scene.contact.law = ContactLawKind::Linear;
+    scene.contact.damping = Some(DampingKind::Paper);
+    assert_eq!(scene.contact.preset(), None);
+    scene.contact.dispatch(Check(&scene));
+    scene.contact.normal = Some(NormalKind::HystereticLinear);
+    scene.contact.damping = Some(DampingKind::Viscoelastic);
+    scene.contact.viscoelastic.dissipation_time = 1e-5;
+    scene.contact.dispatch(Check(&scene));
 }

@@ -1,23 +1,24 @@
-//! Hysteretic linear spring (Walton & Braun 1986): a plastic contact whose restitution comes from
-//! unloading along a stiffer spring than it was loaded on.
+//! The hysteretic linear spring (Walton & Braun 1986): a plastic contact whose restitution comes
+//! from unloading along a stiffer spring than it was loaded on.
 
 use serde::{Deserialize, Serialize};
 
 use crate::physics::key_spec::scene_section;
 use crate::physics::number::exact;
 
-use super::linear::{stiffness_or_hertz_secant, stiffness_problems};
-use super::{Coefficients, ContactLaw, ContactState, PairProperties};
+use super::super::law::{ContactState, PairProperties};
+use super::super::sub_model::{NormalModel, Problems, Stiffness};
+use super::linear::{ratio_problems, stiffness_or_hertz_secant, stiffness_problems};
 
 scene_section! {
 /// Loading along `F = k₁ δ`, unloading and reloading along `F = k₂ (δ − δ₀)` with
 /// `δ₀ = δ_max (1 − k₁/k₂)` and `δ_max` the largest overlap so far (the contact's own state):
 /// `F = max(0, min(k₁ δ, k₂ (δ − δ₀)))`. A head-on impact without dashpot rebounds with
-/// restitution `√(k₁/k₂)` after `π/2 (√(m*/k₁) + √(m*/k₂))`. The material's β adds a dashpot
-/// `2 β √(k₁ m*)`; tangential stiffness `ratio · k₁`. Parameters: `[contact.hysteretic_linear]`.
+/// restitution `√(k₁/k₂)` after `π/2 (√(m*/k₁) + √(m*/k₂))`. Damping and tangential models scale
+/// with k₁. Parameters: `[contact.hysteretic_linear]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
-pub struct HystereticLinear {
+pub struct HystereticNormal {
     /// Loading stiffness k₁ (N/m); `None`: the Hertz secant stiffness at an overlap of 1 % of R*.
     #[key(unit: "N/m", range: "> 0", plausible: Some((1e-3, 1e13)))]
     pub loading_stiffness: Option<f64>,
@@ -30,7 +31,7 @@ pub struct HystereticLinear {
 }
 }
 
-impl Default for HystereticLinear {
+impl Default for HystereticNormal {
     fn default() -> Self {
         Self { loading_stiffness: None, unloading_stiffness_ratio: 4.0, tangential_stiffness_ratio: 2.0 / 7.0 }
     }
@@ -49,7 +50,7 @@ impl ContactState for LargestOverlap {
     }
 }
 
-impl HystereticLinear {
+impl HystereticNormal {
     /// The unloading branch's elastic force at `overlap` with `δ_max` = `largest` (N, may be < 0).
     #[inline]
     fn unloading_force(&self, k1: f64, overlap: f64, largest: f64) -> f64 {
@@ -58,39 +59,31 @@ impl HystereticLinear {
     }
 }
 
-impl ContactLaw for HystereticLinear {
+impl NormalModel for HystereticNormal {
     type State = LargestOverlap;
 
-    #[inline]
-    fn coefficients(&self, p: &PairProperties, overlap: f64, state: &mut LargestOverlap) -> Coefficients {
+    #[inline(always)]
+    fn load(&self, p: &PairProperties, overlap: f64, state: &mut LargestOverlap) -> (f64, Stiffness) {
         let k1 = stiffness_or_hertz_secant(self.loading_stiffness, p);
         state.0 = state.0.max(overlap);
         // With δ ≤ δ_max the unloading line lies below the loading line: one expression for both.
-        let kt = self.tangential_stiffness_ratio * k1;
-        Coefficients {
-            normal_force: self.unloading_force(k1, overlap, state.0).max(0.0),
-            normal_damping: 2.0 * p.beta * (k1 * p.m_star).sqrt(),
-            tangential_stiffness: kt,
-            tangential_damping: 2.0 * p.beta * (kt * p.m_star).sqrt(),
-        }
+        (self.unloading_force(k1, overlap, state.0).max(0.0), Stiffness::whole(k1))
     }
 
     #[inline]
-    fn normal_elastic_energy(&self, p: &PairProperties, overlap: f64, state: &LargestOverlap) -> f64 {
+    fn elastic_energy(&self, p: &PairProperties, overlap: f64, state: &LargestOverlap) -> f64 {
         let k1 = stiffness_or_hertz_secant(self.loading_stiffness, p);
         let force = self.unloading_force(k1, overlap, state.0.max(overlap)).max(0.0);
         0.5 * force * force / (k1 * self.unloading_stiffness_ratio)
     }
 
-    fn name(&self) -> &'static str {
-        "hysteretic_linear"
+    fn tangential_stiffness_ratio(&self) -> f64 {
+        self.tangential_stiffness_ratio
     }
 
-    fn problems(&self) -> Vec<(&'static str, String)> {
-        let mut problems = stiffness_problems(
-            ("loading_stiffness", self.loading_stiffness),
-            ("tangential_stiffness_ratio", self.tangential_stiffness_ratio),
-        );
+    fn problems(&self) -> Problems {
+        let mut problems = stiffness_problems(("loading_stiffness", self.loading_stiffness));
+        problems.extend(ratio_problems(("tangential_stiffness_ratio", self.tangential_stiffness_ratio)));
         let ratio = self.unloading_stiffness_ratio;
         if !(ratio.is_finite() && ratio >= 1.0) {
             problems.push((
@@ -112,9 +105,9 @@ mod tests {
 
     #[test]
     fn unloading_follows_the_stiffer_line_and_reloading_retraces_it() {
-        let law = HystereticLinear { loading_stiffness: Some(100.0), ..Default::default() };
+        let spring = HystereticNormal { loading_stiffness: Some(100.0), ..Default::default() };
         let mut state = LargestOverlap::default();
-        let force = |d: f64, s: &mut LargestOverlap| law.coefficients(&pair(), d, s).normal_force;
+        let force = |d: f64, s: &mut LargestOverlap| spring.load(&pair(), d, s).0;
         assert_eq!(force(0.01, &mut state), 1.0);
         // Back to δ₀ = δ_max (1 − 1/4) = 7.5 mm the force is gone; halfway it is k₂ (δ − δ₀).
         assert!(force(0.0075, &mut state).abs() < 1e-12);

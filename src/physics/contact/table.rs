@@ -1,0 +1,204 @@
+//! The table of contact models: one row per model, by kind, then the presets `contact.law` names.
+//! Adding a model is a file implementing its kind's trait ([`super::NormalModel`], …) plus one row here
+//! (with `, table` and a `[contact.<table>]` field name when it has parameters: its serde fields,
+//! defaults for all).
+
+use serde::{Deserialize, Serialize};
+
+use super::composed::Composed;
+use super::damping::{PaperDamping, ViscoelasticDamping, ViscousDamping};
+use super::law::{ContactLaw, ContactState, PairProperties};
+use super::normal::{HertzNormal, HystereticNormal, LinearNormal};
+use super::registry::contact_models;
+use super::rolling::{ConstantTorque, NoRolling};
+use super::sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
+use super::tangential::{LinearTangential, MindlinTangential};
+use crate::physics::key_spec::{KeyDoc, KeySpec, scene_section};
+
+/// Work done with the scene's law, whichever it is (a generic closure).
+pub trait LawVisitor {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `law`.
+    fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output;
+}
+
+/// A law that can be found in a [`ContactConfig`].
+pub trait RegisteredLaw: ContactLaw {
+    /// This law with the parameters of `contact`, if `contact` chooses it.
+    fn chosen_in(contact: &ContactConfig) -> Option<Self>;
+}
+
+/// A sub-model of the table: built from a [`ContactConfig`]'s parameter tables.
+pub trait SubModel: Sized {
+    /// This model with its parameters from `contact`.
+    fn from_contact(contact: &ContactConfig) -> Self;
+    /// Whether `contact` chooses this model (always, for the run-time choice of the kind's models).
+    fn chosen(contact: &ContactConfig) -> bool;
+}
+
+impl<N: SubModel, D: SubModel, T: SubModel> Composed<N, D, T> {
+    /// The law of `contact`'s models (whichever they are) with its parameters.
+    pub fn from_contact(contact: &ContactConfig) -> Self {
+        Self {
+            normal: N::from_contact(contact),
+            damping: D::from_contact(contact),
+            tangential: T::from_contact(contact),
+        }
+    }
+}
+
+impl<N, D, T> RegisteredLaw for Composed<N, D, T>
+where
+    N: SubModel + NormalModel,
+    D: SubModel + DampingModel,
+    T: SubModel + TangentialModel,
+{
+    fn chosen_in(contact: &ContactConfig) -> Option<Self> {
+        (N::chosen(contact) && D::chosen(contact) && T::chosen(contact)).then(|| Self::from_contact(contact))
+    }
+}
+
+/// The per-contact state of a normal spring chosen at run time: the number its own state is
+/// ([`ContactState::to_number`]; 0 for a spring without state).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AnyState(pub f64);
+
+impl ContactState for AnyState {
+    fn to_number(self) -> f64 {
+        self.0
+    }
+    fn from_number(value: f64) -> Self {
+        Self(value)
+    }
+}
+
+contact_models! {
+    normal {
+        /// Hertz spring `F = 4/3 E* √R* δ^{3/2}` (eqs 6, 8), from the materials' constants.
+        Hertz(hertz, hertz): HertzNormal,
+        /// Linear spring `F = k_n δ`.
+        Linear(linear, linear): LinearNormal,
+        /// Hysteretic linear spring (Walton-Braun): plastic loading, stiffer elastic unloading.
+        HystereticLinear(hysteretic_linear, hysteretic_linear): HystereticNormal,
+    }
+    damping {
+        /// The paper's `2√(5/6) β √(S m*)` (eqs 7, 12).
+        Paper(paper): PaperDamping,
+        /// Viscous at damping ratio β, `2 β √(S m*)`.
+        Viscous(viscous): ViscousDamping,
+        /// Viscoelastic (Kuwabara-Kono), `A S` with a dissipation time A.
+        Viscoelastic(viscoelastic, viscoelastic): ViscoelasticDamping,
+    }
+    tangential {
+        /// Mindlin's `S_t = 8 G* √(R* δ)` (eq 11, fixed), with the Hertz spring.
+        Mindlin(mindlin): MindlinTangential,
+        /// A fixed fraction of the normal stiffness (the normal spring's `tangential_stiffness_ratio`).
+        Linear(linear): LinearTangential,
+    }
+    rolling {
+        /// EDEM's constant directional torque `μ0 F_n R` (the default).
+        ConstantTorque(constant_torque): ConstantTorque,
+        /// None, whatever the rolling friction.
+        None(none): NoRolling,
+    }
+    presets {
+        /// The paper's Hertz-Mindlin law with the spec's fixes (the default).
+        HertzMindlin(hertz_mindlin, hertz_mindlin): HertzMindlin = HertzNormal + PaperDamping + MindlinTangential,
+        /// Linear spring-dashpot (Cundall-Strack) with Coulomb friction.
+        Linear(linear): LinearSpringDashpot = LinearNormal + ViscousDamping + LinearTangential,
+        /// Hysteretic linear spring (Walton-Braun) with the linear law's dashpot and tangential spring.
+        HystereticLinear(hysteretic_linear): HystereticLinear = HystereticNormal + ViscousDamping + LinearTangential,
+    }
+}
+
+/// The law of a composition no preset has: every model chosen when the law is built.
+pub type AnyLaw = Composed<AnyNormal, AnyDamping, AnyTangential>;
+
+scene_section! {
+/// The table of a preset whose models take their parameters from their own tables: empty, kept so
+/// that files that list it stay valid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoParameters {}
+}
+
+/// The models of a law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Composition {
+    /// The normal spring.
+    pub normal: NormalKind,
+    /// The damping of both springs.
+    pub damping: DampingKind,
+    /// The tangential spring.
+    pub tangential: TangentialKind,
+}
+
+impl ContactConfig {
+    /// The scene's normal spring: `normal`, else the law's.
+    pub fn normal_kind(&self) -> NormalKind {
+        self.normal.unwrap_or(self.law.composition().normal)
+    }
+
+    /// The scene's damping: `damping`, else the law's.
+    pub fn damping_kind(&self) -> DampingKind {
+        self.damping.unwrap_or(self.law.composition().damping)
+    }
+
+    /// The scene's tangential spring: `tangential`, else the law's.
+    pub fn tangential_kind(&self) -> TangentialKind {
+        self.tangential.unwrap_or(self.law.composition().tangential)
+    }
+
+    /// The scene's rolling resistance.
+    pub fn rolling_kind(&self) -> RollingKind {
+        self.rolling
+    }
+
+    /// The scene's models.
+    pub fn composition(&self) -> Composition {
+        Composition { normal: self.normal_kind(), damping: self.damping_kind(), tangential: self.tangential_kind() }
+    }
+
+    /// The preset whose models the scene's are, if one is.
+    pub fn preset(&self) -> Option<ContactLawKind> {
+        let composition = self.composition();
+        ContactLawKind::ALL.iter().copied().find(|law| law.composition() == composition)
+    }
+
+    /// The law's name for reports: its preset's, else its models' (`linear+paper+linear`).
+    pub fn law_name(&self) -> String {
+        match self.preset() {
+            Some(law) => law.name().to_string(),
+            None => {
+                let c = self.composition();
+                format!("{}+{}+{}", c.normal.name(), c.damping.name(), c.tangential.name())
+            }
+        }
+    }
+
+    /// The rolling-resistance coefficient `c` (moment `c F_n R`) of a material of rolling friction μ0.
+    pub fn rolling_coefficient(&self, rolling_friction: f64) -> f64 {
+        AnyRolling::from_contact(self).coefficient(rolling_friction)
+    }
+
+    /// Problems with the chosen models' parameters and with their combination, as (full key, reason).
+    pub fn problems(&self) -> Vec<(String, String)> {
+        let c = self.composition();
+        let normal = AnyNormal::from_contact(self);
+        let in_table = |table: Option<&str>, problems: Problems| {
+            let table = table.unwrap_or("?").to_string();
+            problems.into_iter().map(move |(key, reason)| (format!("contact.{table}.{key}"), reason))
+        };
+        let mut problems: Vec<_> = in_table(c.normal.table(), normal.problems()).collect();
+        problems.extend(in_table(c.damping.table(), AnyDamping::from_contact(self).problems()));
+        if let Some(reason) = AnyTangential::from_contact(self).unfit_with(&normal) {
+            let (tangential, spring) = (c.tangential.name(), c.normal.name());
+            problems.push((
+                "contact.tangential".to_string(),
+                format!("\"{tangential}\" {reason}; contact.normal is \"{spring}\" (with it use \"linear\")"),
+            ));
+        }
+        problems
+    }
+}
