@@ -146,3 +146,16 @@ fn a_dropped_pile_of_stiff_disks_stays_at_rest() {
     // take the pile's weight (softer disks compress the pile more and start local collapses).
     assert!(moved < 0.2, "a disk moved {moved} radii");
 }
+
+#[test]
+fn a_dropped_pile_is_predicted_to_make_no_hard_impact() {
+    let impact = |kind| {
+        let mut s = SceneConfig::default();
+        (s.placement.kind, s.material.youngs_modulus) = (kind, 2e8);
+        let disks = placement::generate(&s).unwrap();
+        let report = demsweep::physics::predict_stability(&s, &disks);
+        report.warnings.iter().any(|w| w.kind == demsweep::physics::warning::WarningKind::ImpactOverlap)
+    };
+    assert!(impact(PlacementKind::Random), "disks falling from up to 0.6 m overlap too much on soft contacts");
+    assert!(!impact(PlacementKind::Dropped), "dropped disks rest on the pile: they fall through no height");
+}

@@ -151,11 +151,14 @@ pub fn stable_contact_time_fraction(kind: IntegratorKind, ratio: f64) -> f64 {
 }
 
 /// Speed of the hardest impact: initial speed plus a fall to the box's lowest point (to the body
-/// below, for a file placement: see [`landing_drops`]), at least the speed of a fall through one radius.
+/// below, for a file or dropped placement, whose disks may rest on each other: see
+/// [`landing_drops`]), at least the speed of a fall through one radius.
 pub fn impact_speed(p: &Particles, walls: &BoxWalls, g: [f64; 2], placement: PlacementKind) -> f64 {
     let gmag = g[0].hypot(g[1]);
     let drops = match placement {
-        PlacementKind::File | PlacementKind::Lammps => landing_drops(&p.x, &p.y, &p.r, walls, g),
+        PlacementKind::File | PlacementKind::Lammps | PlacementKind::Dropped => {
+            landing_drops(&p.x, &p.y, &p.r, walls, g)
+        }
         _ => (0..p.len()).map(|i| floor_drop(walls, g, [p.x[i], p.y[i]], p.r[i])).collect(),
     };
     let fastest = drops.iter().enumerate().map(|(i, drop)| p.vx[i].hypot(p.vy[i]) + (2.0 * drop).sqrt());

@@ -73,7 +73,7 @@ pub fn dropped(scene: &SceneConfig, radii: &[f64], rng: &mut Rng) -> Result<Vec<
             let why = format!("a disk of radius {} m does not fit across it with the placement's gap", short(r));
             return Err(too_high(scene, &disks, radii.len(), &why));
         }
-        let Some((x, y)) = pile.drop(rng.range(grown, w - grown), grown) else {
+        let Some((x, y)) = pile.land(rng.range(grown, w - grown), grown) else {
             let why = format!("the next disk found no rest in {MOST_MOVES} moves");
             return Err(too_high(scene, &disks, radii.len(), &why));
         };
@@ -127,7 +127,7 @@ impl Pile {
     }
 
     /// Moves a disk of radius `r` dropped at `x` from above the pile to its rest.
-    fn drop(&self, x: f64, r: f64) -> Rest {
+    fn land(&self, x: f64, r: f64) -> Rest {
         let (mut x, mut y) = (x, f64::INFINITY);
         let mut left = None;
         let mut rolling = None;
