@@ -12,7 +12,8 @@
 //! `DEMSWEEP_PARALLEL_MIN_DISKS` sets from how many disks THREADS are used (default 8 000);
 //! `ENGINE_RUN_VERLET=1` runs the scene with velocity Verlet instead of the paper's integrator;
 //! `ENGINE_RUN_LAW=NAME` with that `contact.law` (e.g. `linear`, `hysteretic_linear`);
-//! `ENGINE_RUN_ROLLING=μ0` with that `material.rolling_friction`.
+//! `ENGINE_RUN_ROLLING=μ0` with that `material.rolling_friction`; `ENGINE_RUN_CONTACT=TOML` with
+//! that `[contact]` table (e.g. `damping = "viscous"`: a composition no preset has).
 
 use std::time::Instant;
 
@@ -50,6 +51,9 @@ fn main() {
     }
     if let Ok(law) = std::env::var("ENGINE_RUN_LAW") {
         s.contact.law = toml::Value::String(law).try_into().expect("ENGINE_RUN_LAW: a contact.law name");
+    }
+    if let Ok(contact) = std::env::var("ENGINE_RUN_CONTACT") {
+        s.contact = toml::from_str(&contact).expect("ENGINE_RUN_CONTACT: a [contact] table");
     }
     if let Ok(rolling) = std::env::var("ENGINE_RUN_ROLLING") {
         s.material.rolling_friction = rolling.parse().expect("ENGINE_RUN_ROLLING: a number");

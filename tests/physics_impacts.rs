@@ -5,7 +5,8 @@ mod common;
 
 use common::*;
 use demsweep::physics::config::{ContactLawKind, IntegratorKind};
-use demsweep::physics::contact::{HertzMindlin, HystereticLinear, HystereticNormal, LinearNormal, LinearSpringDashpot};
+use demsweep::physics::contact::normal::{HystereticNormal, LinearNormal};
+use demsweep::physics::contact::{HertzMindlin, HystereticLinear, LinearSpringDashpot};
 use demsweep::physics::material::restitution_from_beta;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::run_scene;

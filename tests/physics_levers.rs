@@ -6,7 +6,8 @@ mod common;
 
 use common::{SCHEMES, free_scene, reference_disks, reference_scene};
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
-use demsweep::physics::contact::{HertzMindlin, LinearNormal, LinearSpringDashpot};
+use demsweep::physics::contact::normal::LinearNormal;
+use demsweep::physics::contact::{HertzMindlin, LinearSpringDashpot};
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::{Control, Simulation};

@@ -670,8 +670,7 @@ fn contacts_named(scene: &SceneConfig, kind: WarningKind) -> String {
     if !matches!(kind, WarningKind::ImpactOverlap | WarningKind::StaticOverlap) {
         return String::new();
     }
-    let law = serde_json::to_value(scene.contact.law).ok().and_then(|v| v.as_str().map(str::to_string));
-    format!(" ({}, E = {:.3e} Pa)", law.unwrap_or_default(), scene.material.youngs_modulus)
+    format!(" ({}, E = {:.3e} Pa)", scene.contact.law_name(), scene.material.youngs_modulus)
 }
 
 #[cfg(test)]

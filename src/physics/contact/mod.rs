@@ -18,21 +18,17 @@ pub mod table;
 pub mod tangential;
 
 pub use composed::Composed;
-pub use damping::{PaperDamping, ViscoelasticDamping, ViscousDamping};
 pub use impact::{ImpactEstimate, estimate_impact};
 pub use law::{
     Coefficients, ContactForce, ContactLaw, ContactOptions, ContactState, Kinematics, PairProperties, elastic_energy,
     resolve,
 };
-pub use normal::{HertzNormal, HystereticNormal, LargestOverlap, LinearNormal};
-pub use rolling::{ConstantTorque, NoRolling};
 pub use sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
 pub use table::{
     AnyDamping, AnyLaw, AnyNormal, AnyRolling, AnyState, AnyTangential, Composition, ContactConfig, ContactLawKind,
     DampingKind, HertzMindlin, HystereticLinear, LawVisitor, LinearSpringDashpot, NoParameters, NormalKind,
     RegisteredLaw, RollingKind, SubModel, TangentialKind,
 };
-pub use tangential::{LinearTangential, MindlinTangential};
 
 #[cfg(test)]
 mod tests;
