@@ -71,6 +71,20 @@ fn a_sweep_over_a_stages_keys_runs_each_protocol_and_reports_when_its_physics_be
         assert!(settled >= began, "settled at {settled} s, before the physics began at {began} s");
         assert_eq!(row["status"], "settled");
     }
+    for row in &rows {
+        assert_eq!(row["stage_end_time.fill"], row["physics_start_time"], "one stage: its end is the physics' start");
+    }
+    // The summary made again from the results file has the same stage columns.
+    let again = dir.join("again.csv");
+    let made = demsweep(&["summary", out.join("protocol.h5").to_str().unwrap(), "--csv", again.to_str().unwrap()]);
+    assert_eq!(made.status.code(), Some(0), "{}", text(&made.stderr));
+    let from_file = summary(&again);
+    let column = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
+        rows.iter().map(|r| r["stage_end_time.fill"].clone()).collect()
+    };
+    assert_eq!(column(&from_file), column(&rows));
+    let sidecar = std::fs::read_to_string(out.join("protocol_summary.csv-metadata.json")).unwrap();
+    assert!(sidecar.contains("\"titles\": \"stage_end_time.fill\""), "{sidecar}");
     let damping: Vec<&str> = rows.iter().map(|r| r["stages.fill.damping.local"].as_str()).collect();
     assert_eq!(damping, ["0.2", "0.2", "0.6", "0.6"]);
 }

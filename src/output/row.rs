@@ -38,6 +38,8 @@ pub struct SummaryRow {
     pub cpu_time: f64,
     /// Final values (NaN for failed runs), in the order of [`quantity::final_value_declarations`].
     pub final_values: [f64; FINAL_VALUE_COUNT],
+    /// When each stage of the scene's protocol ended (s; NaN where the run ended first), in order.
+    pub stage_ends: Vec<(String, f64)>,
     /// The run's identity (`crate::study::RunIdentity`: what its results depend on); empty for runs of
     /// files written before identities.
     pub identity: String,
@@ -104,6 +106,7 @@ impl SummaryRow {
             wall_time: 0.0,
             cpu_time: f64::NAN,
             final_values: quantity::final_values(record),
+            stage_ends: record.stage_ends.iter().map(|e| (e.name.clone(), e.time.unwrap_or(f64::NAN))).collect(),
             identity: String::new(),
             made_by: DEMSWEEP_VERSION.to_string(),
         }
@@ -125,6 +128,7 @@ impl SummaryRow {
             wall_time: 0.0,
             cpu_time: f64::NAN,
             final_values: [f64::NAN; FINAL_VALUE_COUNT],
+            stage_ends: Vec::new(),
             identity: String::new(),
             made_by: DEMSWEEP_VERSION.to_string(),
         }

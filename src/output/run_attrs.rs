@@ -10,6 +10,9 @@
 //!              particle_steps); attribute `units` (field order)
 //! parameters   compound, one row: each swept key path, typed (float64, int64, uint8 0/1, text);
 //!              attribute `units` (field order, the keys' SI units); absent when nothing is swept
+//! stage_end_times  compound, one row: when each stage of the scene's protocol ended, float64 (s,
+//!              NaN where the run ended first), by stage name in order; attribute `units`;
+//!              absent for a scene without stages
 //! warnings     compound, one row per validity warning: kind (text, e.g. `energy_balance`), value,
 //!              limit, time, impact_speed, safe_time_step (NaN where the warning has none; see
 //!              [`ValidityWarning`]); absent when the run has none
@@ -54,6 +57,7 @@ pub const FORMAT: &str = "results_format";
 pub const SCENE_JSON: &str = "scene.json";
 const PARAMETERS: &str = "parameters";
 const WARNINGS: &str = "warnings";
+const STAGE_END_TIMES: &str = "stage_end_times";
 /// The per-run values table of a run group.
 pub const VALUES: &str = "values";
 /// The fields of the warnings table after `kind`.
@@ -124,6 +128,14 @@ pub fn stage_tables(g: &mut StagedGroup<'_>, row: &SummaryRow) {
             b.set_attr(super::layout::UNITS, AttrValue::StringArray(units.collect()));
         });
     }
+    if !row.stage_ends.is_empty() {
+        let ends: Vec<(&str, Cell)> = row.stage_ends.iter().map(|(name, t)| (name.as_str(), Cell::Float(*t))).collect();
+        g.create_dataset(STAGE_END_TIMES, |b| {
+            compound::stage(b, &ends.iter().map(|(n, c)| (*n, c.field())).collect::<Vec<_>>());
+            let unit = quantity::STAGE_END_TIME.unit.to_string();
+            b.set_attr(super::layout::UNITS, AttrValue::StringArray(vec![unit; ends.len()]));
+        });
+    }
     if !row.warnings.is_empty() {
         let kinds: Vec<String> = row.warnings.iter().map(|w| kind_name(w.kind)).collect();
         let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
@@ -175,6 +187,13 @@ pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, String> {
             }
             Err(_) => Vec::new(),
         };
+        row.stage_ends = match group.dataset(STAGE_END_TIMES) {
+            Ok(dataset) => {
+                let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{STAGE_END_TIMES}`: {e}"))?;
+                columns.into_iter().map(|(name, column)| (name, first_number(&column))).collect()
+            }
+            Err(_) => Vec::new(),
+        };
         row.warnings = table(WARNINGS)?.map_or(Ok(Vec::new()), |t| warnings(&t))?;
         return Ok(row);
     }
@@ -187,6 +206,11 @@ pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, String> {
         None => legacy::fill_from_attrs(&mut row, &attrs)?,
     }
     Ok(row)
+}
+
+/// A one-row table column's number; NaN when it has none.
+fn first_number(column: &ColumnData) -> f64 {
+    if column.is_empty() { f64::NAN } else { column.number(0).unwrap_or(f64::NAN) }
 }
 
 /// The row's index, id, status, message and identity from a run group's attributes.

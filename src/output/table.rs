@@ -163,6 +163,7 @@ impl SummaryTable {
         for (k, declared) in quantity::final_value_declarations().enumerate() {
             columns.push(column(declared.name, floats(&|r| r.final_values[k])));
         }
+        columns.extend(stage_end_columns(&rows));
         columns.push(column("warnings", ints(&|r| r.warnings.len() as i64)));
         columns.push(column("message", texts(&|r| r.message.clone())));
         columns.push(column(IDENTITY, texts(&|r| r.identity.clone())));
@@ -234,12 +235,21 @@ impl SummaryTable {
                     wall_time: number(wall_time, i)?,
                     cpu_time: number(cpu_time, i).unwrap_or(f64::NAN),
                     final_values,
+                    stage_ends: self.stage_ends(i),
                     identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
                     made_by: String::new(),
                 };
                 Some((row, usize::try_from(warnings[i]).ok()?))
             })
             .collect()
+    }
+
+    /// Row `i`'s stage end times, from the `stage_end_time.NAME` columns (NaN: the run ended first,
+    /// or, in a table of several protocols, it has no such stage).
+    fn stage_ends(&self, i: usize) -> Vec<(String, f64)> {
+        let prefix = format!("{}.", quantity::STAGE_END_TIME.name);
+        let stage = |c: &Column| Some((c.name.strip_prefix(&prefix)?.to_string(), c.data.number(i)?));
+        self.columns.iter().filter_map(stage).collect()
     }
 
     /// The same table without the timing columns (for comparing runs made at different times):
@@ -266,6 +276,19 @@ fn outcome_column(rows: &[&SummaryRow], k: usize) -> ColumnData {
 
 fn column(name: &str, data: ColumnData) -> Column {
     Column { name: name.to_string(), data }
+}
+
+/// One column per protocol stage (first-appearance order): its end time, NaN where a run has no such stage.
+fn stage_end_columns(rows: &[&SummaryRow]) -> Vec<Column> {
+    let mut names: Vec<&str> = Vec::new();
+    for (name, _) in rows.iter().flat_map(|r| &r.stage_ends) {
+        if !names.contains(&name.as_str()) {
+            names.push(name);
+        }
+    }
+    let time = |r: &SummaryRow, name: &str| r.stage_ends.iter().find(|(n, _)| n == name).map_or(f64::NAN, |(_, t)| *t);
+    let end_times = |name: &str| ColumnData::Float(rows.iter().map(|r| time(r, name)).collect());
+    names.iter().map(|name| column(&quantity::stage_end_column(name), end_times(name))).collect()
 }
 
 /// One column per swept key path (first-appearance order), typed by its values.

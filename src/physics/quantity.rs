@@ -242,9 +242,19 @@ pub fn per_run() -> impl Iterator<Item = Declaration> {
     OUTCOME.into_iter().chain(final_value_declarations())
 }
 
-/// The per-run quantity called `name`.
+/// The per-run quantity called `name`; a column `stage_end_time.NAME` is [`STAGE_END_TIME`].
 pub fn find(name: &str) -> Option<Declaration> {
-    per_run().find(|q| q.name == name)
+    let stage = || name.strip_prefix(STAGE_END_TIME.name).filter(|rest| rest.starts_with('.')).map(|_| STAGE_END_TIME);
+    per_run().find(|q| q.name == name).or_else(stage)
+}
+
+/// When a stage of a scene's protocol ended: one column per stage, `stage_end_time.NAME`.
+pub const STAGE_END_TIME: Declaration =
+    declared("stage_end_time", "s", "When the protocol stage the column names ended; empty if the run ended first.");
+
+/// The column of the end time of the stage called `stage`.
+pub fn stage_end_column(stage: &str) -> String {
+    format!("{}.{stage}", STAGE_END_TIME.name)
 }
 
 /// The statistics a column may hold of a per-run quantity, in its unit, by suffix: over runs

@@ -285,6 +285,8 @@ def test_a_scene_with_stages_runs_its_protocol_first(tiny):
     step = tiny["integrator"]["time_step"]
     assert list(runs["physics_start_time"]) == pytest.approx([0.05, 0.05], abs=step)
     assert (runs["settle_time"] >= 0.05).all()
+    assert list(runs["stage_end_time.fill"]) == list(runs["physics_start_time"])
+    assert runs.attrs["units"]["stage_end_time.fill"] == "s"
     plain = demsweep.run(tiny, seeds=2)
     assert list(plain["physics_start_time"]) == [0.0, 0.0]
     with pytest.raises(demsweep.StudyError, match="a stage needs a condition that ends it"):
