@@ -183,6 +183,8 @@ fn bundled_studies_load() {
     let damping = load("damping_sweep.toml");
     assert_eq!(damping.runs.len(), 5 * 2 * 8, "5 restitutions x 2 frictions x 8 seeds");
     assert!(damping.runs.iter().all(|r| r.scene.run.stop_at_settle));
+    let said: Vec<String> = damping.warnings.iter().map(ToString::to_string).collect();
+    assert!(said.is_empty(), "the README's first study runs without warnings: {said:?}");
     let sf = load("stiffness_friction.toml");
     assert_eq!(sf.runs.len(), 9);
     assert_eq!(sf.runs[8].scene.material.youngs_modulus, 2e11);
