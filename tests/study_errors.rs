@@ -92,6 +92,17 @@ fn a_refused_value_is_one_error_not_a_second_one_about_its_default() {
 }
 
 #[test]
+fn a_time_step_too_small_to_finish_is_refused_once() {
+    let e = single_error(
+        "tiny_dt",
+        "[scene]\nparticles.count = 20\nintegrator.time_step = 5e-324\n",
+        1,
+        "scene.run.duration",
+    );
+    assert!(e.reason.starts_with("needs inf steps of integrator.time_step"), "{}", e.reason);
+}
+
+#[test]
 fn non_positive_time_step() {
     let e = single_error(
         "dt",

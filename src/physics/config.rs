@@ -762,8 +762,10 @@ impl SceneConfig {
         if let Some(t) = r.frame_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
             c.fail("run.frame_times", format!("frame times must be >= 0, found {}", exact(*t)));
         }
-        let steps = r.duration / i.fixed_time_step().unwrap_or(f64::INFINITY);
-        if steps.is_finite() && steps > 1e12 {
+        let dt = i.fixed_time_step().unwrap_or(f64::INFINITY);
+        let steps = r.duration / dt;
+        // (A step or duration refused above is not counted again.)
+        if dt > 0.0 && r.duration.is_finite() && steps > 1e12 {
             c.fail("run.duration", format!("needs {steps:.3e} steps of integrator.time_step; at most 1e12"));
         }
         let s = &self.settle;
@@ -856,8 +858,11 @@ fn stage_issues(scene: &SceneConfig) -> Vec<ConfigIssue> {
         }
         let set = stage.keys();
         for issue in scene.in_stage(stage).validate().err().unwrap_or_default() {
-            if set.contains(&issue.key.as_str()) {
-                fail(&issue.key, issue.reason);
+            // Too many steps of the stage's own time step: that step is the key at fault.
+            let step = "integrator.time_step";
+            let key = if issue.key == "run.duration" && set.contains(&step) { step } else { issue.key.as_str() };
+            if set.contains(&key) {
+                fail(key, issue.reason);
             }
         }
     }

@@ -201,6 +201,7 @@ mod tests {
                 stage("name = \"fill\"\nuntil.time = -1\ndamping.local = 1.5\n"),
                 stage("name = \"fill\"\n"),
                 stage("name = \"a b\"\nuntil.all_in_contact = true\nmaterial.restitution = 0.5\nmaterial.beta = 0.1\n"),
+                stage("name = \"tiny\"\nuntil.time = 0.1\nintegrator.time_step = 5e-324\n"),
             ],
             ..Default::default()
         };
@@ -214,6 +215,7 @@ mod tests {
                 "stages.fill.until",
                 "stages[2].name",
                 "stages[2].material.restitution",
+                "stages.tiny.integrator.time_step",
             ]
         );
     }
