@@ -503,7 +503,7 @@ fn run_table(plan: &Plan) -> String {
         let cost = [
             run.scene.particles.count.to_string(),
             format!("{:.3e}", run.time_step),
-            run.scene.total_steps(run.time_step).to_string(),
+            format!("{:.0}", run.estimated_cost / run.scene.particles.count.max(1) as f64),
             format!("{:.3e}", run.estimated_cost),
         ];
         std::iter::once(run.id.clone()).chain(values).chain(cost).collect::<Vec<_>>()

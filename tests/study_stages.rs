@@ -173,3 +173,15 @@ fn a_tune_over_a_stages_keys_changes_only_its_levers_and_names_the_stage() {
     let tuned = stage["damping"]["local"].as_float().unwrap();
     assert!((0.0..=0.7).contains(&tuned), "{tuned}");
 }
+
+#[test]
+fn the_planned_cost_is_an_upper_bound_at_the_smallest_step_of_the_stages() {
+    let dir = runner_common::scratch("stages_cost");
+    let plain = demsweep::study::load(&write(&dir, "plain.toml", STUDY)).unwrap();
+    let finer = STUDY.replacen("until.time = 0.2\n", "until.time = 0.2\nintegrator.time_step = 1e-5\n", 1);
+    let finer = demsweep::study::load(&write(&dir, "finer.toml", &finer)).unwrap();
+    for (a, b) in plain.runs.iter().zip(&finer.runs) {
+        assert_eq!(a.time_step, b.time_step, "the physics' own step");
+        assert_eq!(b.estimated_cost, 2.0 * a.estimated_cost, "the whole duration at half the step");
+    }
+}

@@ -92,8 +92,9 @@ pub struct PlannedRun {
 }
 
 impl PlannedRun {
-    /// A run of a (validated) scene, with its time step resolved and its cost estimated (and no
-    /// contact history: set `initial_contacts` for a restart).
+    /// A run of a (validated) scene, with its time step resolved and its cost estimated (the whole
+    /// duration at the smallest step of its stages; no contact history: set `initial_contacts` for a
+    /// restart).
     pub fn new(
         id: String,
         index: usize,
@@ -101,8 +102,12 @@ impl PlannedRun {
         scene: SceneConfig,
         initial: Option<Arc<Vec<InitialDisk>>>,
     ) -> Self {
-        let time_step = crate::physics::scene_time_step(&scene, initial.as_deref().map(Vec::as_slice)).dt;
-        let estimated_cost = scene.particles.count as f64 * scene.total_steps(time_step) as f64;
+        let disks = initial.as_deref().map(Vec::as_slice);
+        let time_step = crate::physics::scene_time_step(&scene, disks).dt;
+        // An upper bound: the whole duration at the smallest step of the scene's stages.
+        let stage_step = |stage| crate::physics::scene_time_step(&scene.in_stage(stage), disks).dt;
+        let smallest = scene.stages.iter().map(stage_step).fold(time_step, f64::min);
+        let estimated_cost = scene.particles.count as f64 * scene.total_steps(smallest) as f64;
         Self { id, index, parameters, scene, initial, initial_contacts: None, time_step, estimated_cost }
     }
 }
