@@ -47,3 +47,18 @@ fn a_lowered_start_is_the_higher_pour_after_its_free_fall() {
         assert!(dx.abs() < 1e-12 && dy.abs() < 1e-9 && dv.abs() < 1e-9, "disk {i}: off by ({dx}, {dy}), {dv} m/s");
     }
 }
+
+/// The validity prediction of a lowered start sees the impacts of the higher pour it stands for: a
+/// disk falling at v from height d lands at √(v² + 2 g d), not v + √(2 g d).
+#[test]
+fn a_lowered_start_is_predicted_to_land_as_fast_as_the_higher_pour() {
+    let s = lowered();
+    let mut pour = s.clone();
+    pour.placement.lowered_by = 0.0;
+    let speed = |scene: &SceneConfig| {
+        let disks = placement::generate(scene).unwrap();
+        demsweep::physics::predict_stability(scene, &disks).impact_speed
+    };
+    let (lowered, poured) = (speed(&s), speed(&pour));
+    assert!((lowered / poured - 1.0).abs() < 0.02, "lowered start {lowered} m/s, the pour {poured} m/s");
+}

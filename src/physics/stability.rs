@@ -150,7 +150,7 @@ pub fn stable_contact_time_fraction(kind: IntegratorKind, ratio: f64) -> f64 {
     STABLE_STEP_MARGIN * measured
 }
 
-/// Speed of the hardest impact: initial speed plus a fall to the box's lowest point (to the body
+/// Speed of the hardest impact: initial speed and a fall to the box's lowest point (to the body
 /// below, for a file or dropped placement, whose disks may rest on each other: see
 /// [`landing_drops`]), at least the speed of a fall through one radius.
 pub fn impact_speed(p: &Particles, walls: &BoxWalls, g: [f64; 2], placement: PlacementKind) -> f64 {
@@ -161,7 +161,13 @@ pub fn impact_speed(p: &Particles, walls: &BoxWalls, g: [f64; 2], placement: Pla
         }
         _ => (0..p.len()).map(|i| floor_drop(walls, g, [p.x[i], p.y[i]], p.r[i])).collect(),
     };
-    let fastest = drops.iter().enumerate().map(|(i, drop)| p.vx[i].hypot(p.vy[i]) + (2.0 * drop).sqrt());
+    // A generated placement's disks fall freely from where they start (a lowered start's at the speed
+    // of the height it skipped): energy gives √(v² + 2 g d). A file's velocities may be anything
+    // (a pile in motion): their sum with the fall's speed bounds it.
+    let landing = |v: f64, drop: f64| {
+        if placement.reads_file() { v + (2.0 * drop).sqrt() } else { (v * v + 2.0 * drop).sqrt() }
+    };
+    let fastest = drops.iter().enumerate().map(|(i, drop)| landing(p.vx[i].hypot(p.vy[i]), *drop));
     fastest.fold(0.0, f64::max).max((2.0 * gmag * p.max_radius()).sqrt()).max(1e-3)
 }
 
