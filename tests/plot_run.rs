@@ -14,8 +14,8 @@ const VIRIDIS_LOW: &str = "#440154";
 const VIRIDIS_HIGH: &str = "#FEE825";
 
 /// The UBF chart's marks of a scene without stages.
-fn marks(threshold: f64, settle_time: Option<f64>) -> run::UbfMarks {
-    run::UbfMarks { threshold, settle_time, physics_start: None }
+fn marks(threshold: f64, settle_time: Option<f64>) -> run::UbfMarks<'static> {
+    run::UbfMarks { threshold, settle_time, stage_ends: &[] }
 }
 
 fn options(width: u32, height: u32, format: Format) -> ChartOptions {
@@ -223,16 +223,17 @@ fn ubf_chart_marks_where_a_protocols_stages_end() {
     let ratio = vec![0.9, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.004, 0.003];
     let history = History { time, unbalanced_force_ratio: ratio, ..Default::default() };
     let dir = out_dir("ubf_stages");
-    let with = |physics_start: Option<f64>, name: &str| {
+    let with = |stage_ends: &[(String, f64)], name: &str| {
         let path = dir.join(name);
-        let marks = run::UbfMarks { physics_start, ..marks(0.01, Some(0.06)) };
+        let marks = run::UbfMarks { stage_ends, ..marks(0.01, Some(0.06)) };
         run::ubf_chart(&history, marks, &options(1000, 700, Format::Svg), &path).unwrap();
         std::fs::read_to_string(path).unwrap()
     };
-    assert!(with(Some(0.03), "staged.svg").contains("stages end, physics from 0.03 s"));
-    for (start, name) in [(None, "plain.svg"), (Some(0.0), "no_stages.svg")] {
-        assert!(!with(start, name).contains("stages end"), "{start:?}");
-    }
+    let staged = with(&[("fill".into(), 0.02), ("calm".into(), 0.035)], "staged.svg");
+    assert!(staged.contains("stage fill ends at 0.02 s") && staged.contains("stage calm ends at 0.035 s"), "{staged}");
+    let cut_short = with(&[("fill".into(), 0.02), ("calm".into(), f64::NAN)], "cut_short.svg");
+    assert!(cut_short.contains("stage fill ends") && !cut_short.contains("stage calm"));
+    assert!(!with(&[], "plain.svg").contains("ends at"));
 }
 
 #[test]

@@ -424,7 +424,7 @@ pub fn run_charts(
             let marks = run::UbfMarks {
                 threshold: stored.scene.settle.ubf_threshold,
                 settle_time: row.settle_time,
-                physics_start: row.final_value("physics_start_time"),
+                stage_ends: &row.stage_ends,
             };
             sink.chart(&format!("{}_ubf", row.id), &subject, |o, c| run::ubf_chart(history, marks, o, c));
         }

@@ -25,21 +25,21 @@ pub fn energy_chart<'c>(
 
 /// What the unbalanced force ratio chart marks besides the ratio.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct UbfMarks {
+pub struct UbfMarks<'a> {
     /// The settle threshold.
     pub threshold: f64,
     /// When the run settled (s), if it did.
     pub settle_time: Option<f64>,
-    /// When the scene's own physics began after the stages of its protocol (s); `None` or 0: no stages.
-    pub physics_start: Option<f64>,
+    /// When each stage of the scene's protocol ended (s; NaN: the run ended first), by name.
+    pub stage_ends: &'a [(String, f64)],
 }
 
 /// Draws the unbalanced force ratio against time on a log scale onto `canvas`, with the settle
-/// threshold, the settle time (s) if the run settled, and the end of its protocol's stages if it
-/// has any marked. Samples without contacts (NaN) and zeros are left out.
+/// threshold, the settle time (s) if the run settled, and the end of each stage of its protocol
+/// marked. Samples without contacts (NaN) and zeros are left out.
 pub fn ubf_chart<'c>(
     history: &History,
-    marks: UbfMarks,
+    marks: UbfMarks<'_>,
     options: &ChartOptions,
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
@@ -280,7 +280,7 @@ impl Figure for EnergyFigure<'_> {
 /// Unbalanced force ratio against time, log scale.
 struct UbfFigure<'a> {
     history: &'a History,
-    marks: UbfMarks,
+    marks: UbfMarks<'a>,
 }
 
 impl Figure for UbfFigure<'_> {
@@ -318,7 +318,7 @@ impl Figure for UbfFigure<'_> {
 
 impl UbfFigure<'_> {
     /// The threshold (dashed horizontal line), the settle time (vertical line, or a note that there
-    /// is none) and the start of the physics after a protocol's stages (dotted vertical line).
+    /// is none) and the end of each stage of a protocol (dotted vertical lines).
     fn draw_markers<DB, CT>(
         &self,
         chart: &mut ChartContext<'_, DB, CT>,
@@ -336,12 +336,12 @@ impl UbfFigure<'_> {
             .draw_series(DashedLineSeries::new(threshold, 10, 6, threshold_style))?
             .label(format!("settle threshold {}", style::short_number(self.marks.threshold)))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], threshold_style));
-        if let Some(t) = self.marks.physics_start.filter(|t| *t > 0.0) {
-            let stages_style = style::series_colour(3).stroke_width(LINE_WIDTH);
+        for (k, (name, t)) in self.marks.stage_ends.iter().filter(|(_, t)| t.is_finite()).enumerate() {
+            let stage_style = style::series_colour(3 + k).stroke_width(LINE_WIDTH);
             chart
-                .draw_series(DashedLineSeries::new([(t, ubf.start), (t, ubf.end)], 3, 4, stages_style))?
-                .label(format!("stages end, physics from {} s", style::short_number(t)))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], stages_style));
+                .draw_series(DashedLineSeries::new([(*t, ubf.start), (*t, ubf.end)], 3, 4, stage_style))?
+                .label(format!("stage {name} ends at {} s", style::short_number(*t)))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], stage_style));
         }
         let settle_style = style::series_colour(2).stroke_width(LINE_WIDTH + 1);
         match self.marks.settle_time {
