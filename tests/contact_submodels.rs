@@ -7,8 +7,6 @@ use common::*;
 use demsweep::physics::config::{IntegratorKind, SceneConfig};
 use demsweep::physics::contact::{AnyLaw, ContactLawKind, DampingKind, NormalKind, RollingKind, TangentialKind};
 use demsweep::physics::material::restitution_from_beta;
-use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::simulation::Simulation;
 
 const E: f64 = 1e7;
 const R: f64 = 0.01;
@@ -35,16 +33,7 @@ fn scene(contact: &str, beta: f64) -> SceneConfig {
 fn wall_impact(scene: &SceneConfig) -> (f64, f64) {
     assert_eq!(scene.validate().map_err(|issues| format!("{issues:?}")), Ok(()));
     assert_eq!(scene.contact.preset(), None, "a composition no preset has: {}", scene.contact.law_name());
-    let gap = 0.01 * R;
-    let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
-    let mut sim = Simulation::<AnyLaw>::new(scene, &disks);
-    let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
-    while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
-        sim.advance(false);
-        t.push(sim.time());
-        overlap.push(R - sim.particles().y[0]);
-    }
-    (sim.particles().vy[0], contact_of(&t, &overlap).0)
+    floor_impact::<AnyLaw>(scene, R)
 }
 
 /// The damped oscillator of damping ratio ζ: restitution `exp(−πζ/√(1−ζ²))` and contact duration

@@ -120,18 +120,9 @@ fn linear_wall_impact(beta: f64, allow_tension: bool) -> (f64, f64) {
     let mut scene = free_scene(E, IntegratorKind::AdamsBashforthMoulton, linear_contact_time() / 1000.0);
     scene.material.beta = Some(beta);
     scene.contact.allow_tension = allow_tension;
-    let gap = 0.01 * R;
-    let disks = [InitialDisk { x: 0.5, y: R + gap, r: R, vy: -1.0, ..Default::default() }];
     scene.contact.law = ContactLawKind::Linear;
     scene.contact.linear = LinearNormal { normal_stiffness: Some(LINEAR_STIFFNESS), tangential_stiffness_ratio: 0.8 };
-    let mut sim = Simulation::<LinearSpringDashpot>::new(&scene, &disks);
-    let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
-    while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
-        sim.advance(false);
-        t.push(sim.time());
-        overlap.push(R - sim.particles().y[0]);
-    }
-    (sim.particles().vy[0], contact_of(&t, &overlap).0)
+    floor_impact::<LinearSpringDashpot>(&scene, R)
 }
 
 #[test]

@@ -2,8 +2,10 @@
 #![allow(dead_code)]
 
 use demsweep::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
+use demsweep::physics::contact::RegisteredLaw;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::record::History;
+use demsweep::physics::simulation::Simulation;
 
 /// Integral ∫₀¹ (1 − x^{5/2})^{−1/2} dx = √π Γ(2/5) / (5/2 Γ(9/10)): Hertz contact time factor / 2.
 pub const HERTZ_TIME_INTEGRAL: f64 = 1.4716375921623521;
@@ -100,4 +102,20 @@ pub fn bits(v: &[f64]) -> Vec<u64> {
 /// Largest |mechanical + dissipated − initial mechanical| energy over the samples (J).
 pub fn largest_balance_error(h: &History) -> f64 {
     (0..h.len()).map(|k| (h.mechanical[k] + h.dissipated[k] - h.mechanical[0]).abs()).fold(0.0, f64::max)
+}
+
+/// A disk of radius `radius` starting 1 % of its radius above the floor at 1 m/s towards it in
+/// `scene` (no gravity: see [`free_scene`]), run under law `L` until it has left the floor; returns
+/// its velocity then and the contact's duration, measured from per-step overlaps.
+pub fn floor_impact<L: RegisteredLaw>(scene: &SceneConfig, radius: f64) -> (f64, f64) {
+    let gap = 0.01 * radius;
+    let disks = [InitialDisk { x: 0.5, y: radius + gap, r: radius, vy: -1.0, ..Default::default() }];
+    let mut sim = Simulation::<L>::new(scene, &disks);
+    let (mut t, mut overlap) = (vec![0.0], vec![-gap]);
+    while !(*overlap.last().unwrap() < 0.0 && overlap.iter().any(|d| *d > 0.0)) {
+        sim.advance(false);
+        t.push(sim.time());
+        overlap.push(radius - sim.particles().y[0]);
+    }
+    (sim.particles().vy[0], contact_of(&t, &overlap).0)
 }
