@@ -9,12 +9,15 @@
 //! verification is cured by a step-down even under a tight spend limit; runs that can no longer win
 //! are cut.
 
+mod tune_common;
+
 use demsweep::physics::warning::{ValidityWarning, WarningKind};
 use demsweep::tune::model::{
     Candidate, Evaluator, Job, Outcome, PathEnd, Reading, Rejection, Role, RunFailure, Screen, SearchConfig,
     SearchResult, State, TuneError,
 };
 use demsweep::tune::search::search;
+use tune_common::normal;
 
 /// cost = 10 − 4a − 3b (cheaper to the upper right); one metric, 1 + 0.1·max(0, a + b − 1.2) plus
 /// Gaussian noise (`noise`, sd 0.005 by default) that depends only on the point and the seed; runs with
@@ -83,20 +86,6 @@ impl StandIn {
 /// The cost of a run at (a, b) that settles.
 fn cost(a: f64, b: f64) -> f64 {
     10.0 - 4.0 * a - 3.0 * b
-}
-
-fn hash(mut x: u64) -> u64 {
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    x ^ (x >> 33)
-}
-
-fn normal(key: u64) -> f64 {
-    let u1 = ((hash(key) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let u2 = ((hash(key ^ 0x5555) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
 }
 
 impl Evaluator for StandIn {

@@ -3,10 +3,13 @@
 //! leaves spend for the other levers, and a cheap corner that needs more than `max_seeds` seeds to
 //! decide gets them and is the answer.
 
+mod tune_common;
+
 use demsweep::tune::model::{
     Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchResult, State, TuneError,
 };
 use demsweep::tune::search::search;
+use tune_common::{hash, normal};
 
 /// A function of a point of the lever space.
 type Field = fn(&[f64]) -> f64;
@@ -50,20 +53,6 @@ impl StandIn {
             None => (point.to_vec(), (self.step_cost)(point), false),
         }
     }
-}
-
-fn hash(mut x: u64) -> u64 {
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    x ^ (x >> 33)
-}
-
-fn normal(key: u64) -> f64 {
-    let u1 = ((hash(key) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let u2 = ((hash(key ^ 0x5555) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
 }
 
 impl Evaluator for StandIn {
