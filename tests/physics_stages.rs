@@ -183,5 +183,11 @@ fn a_run_that_ends_inside_a_stage_never_settles_and_says_the_stage_did_not_end()
     let r = run(&scene);
     assert_eq!(r.status, RunStatus::NotSettled);
     assert_eq!(r.stage_ends[0].time, None);
+    // A later stage's time too long to count in steps does not end it at once either.
+    scene.stages.insert(0, stage("name = \"first\"\nuntil.time = 0.05\n"));
+    scene.stages[1].until.time = Some(1e200);
+    let r = run(&scene);
+    assert!((r.stage_ends[0].time.unwrap() - 0.05).abs() < 1e-9);
+    assert_eq!((r.status, r.stage_ends[1].time), (RunStatus::NotSettled, None));
     assert!((r.simulated_time - 0.2).abs() < 1e-9);
 }

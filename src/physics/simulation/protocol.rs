@@ -11,12 +11,11 @@ use crate::physics::time_step::{self, with_time_step};
 use crate::physics::warning::ValidityWarning;
 
 /// What one stage runs with.
-pub(super) struct StageSettings<L> {
+pub(super) struct StageSettings {
     /// The stage's name; `None` for the scene's own, physical stage.
     pub(super) name: Option<String>,
     /// When it ends; `None` for the physical stage, which ends at settle.
     pub(super) until: Option<StageEnd>,
-    pub(super) law: L,
     pub(super) dt: f64,
     pub(super) time_step_warning: Option<ValidityWarning>,
     pub(super) damping: DampingConfig,
@@ -24,15 +23,14 @@ pub(super) struct StageSettings<L> {
     pub(super) materials: Materials,
 }
 
-impl<L: ContactLaw> StageSettings<L> {
+impl StageSettings {
     /// The settings of `scene` (a stage's scene or the physical one) with `law`, its time step
     /// resolved from the run's initial `disks`.
-    fn of(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
+    fn of<L: ContactLaw>(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
         let resolved = time_step::resolve(law, scene, Some(disks));
         Self {
             name: None,
             until: None,
-            law: law.clone(),
             dt: resolved.dt,
             time_step_warning: resolved.warning,
             damping: scene.damping,
@@ -43,9 +41,9 @@ impl<L: ContactLaw> StageSettings<L> {
 }
 
 /// The stages of a run and where it is in them.
-pub(super) struct Protocol<L> {
+pub(super) struct Protocol {
     /// Every stage in order, the physical one last.
-    pub(super) stages: Vec<StageSettings<L>>,
+    pub(super) stages: Vec<StageSettings>,
     /// The stage running now.
     pub(super) current: usize,
     /// The step and time (s) the current stage began at.
@@ -56,10 +54,10 @@ pub(super) struct Protocol<L> {
     pub(super) ended: Vec<f64>,
 }
 
-impl<L: ContactLaw> Protocol<L> {
+impl Protocol {
     /// The stages of `scene` (its `stages`, then itself) with `law`, from the initial `disks`.
-    pub(super) fn new(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
-        let mut stages: Vec<StageSettings<L>> = scene
+    pub(super) fn new<L: ContactLaw>(scene: &SceneConfig, law: &L, disks: &[InitialDisk]) -> Self {
+        let mut stages: Vec<StageSettings> = scene
             .stages
             .iter()
             .map(|stage| StageSettings {
@@ -75,12 +73,12 @@ impl<L: ContactLaw> Protocol<L> {
     }
 
     /// The settings running now.
-    pub(super) fn now(&self) -> &StageSettings<L> {
+    pub(super) fn now(&self) -> &StageSettings {
         &self.stages[self.current]
     }
 
     /// The physical stage's settings.
-    pub(super) fn physical(&self) -> &StageSettings<L> {
+    pub(super) fn physical(&self) -> &StageSettings {
         self.stages.last().expect("a protocol ends with the physical stage")
     }
 
@@ -100,7 +98,7 @@ impl<L: ContactLaw> Protocol<L> {
     fn limit_of_current(&self) -> u64 {
         let stage = self.now();
         match stage.until.as_ref().and_then(|u| u.time) {
-            Some(t) => self.origin.0 + (t / stage.dt).round().max(1.0) as u64,
+            Some(t) => self.origin.0.saturating_add((t / stage.dt).round().max(1.0) as u64),
             None => u64::MAX,
         }
     }

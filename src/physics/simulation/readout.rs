@@ -54,7 +54,7 @@ impl<L: ContactLaw> Simulation<L> {
     /// The pre-run stability estimate for this scene.
     pub fn stability(&self) -> StabilityReport {
         let physical = self.protocol.physical();
-        stability::assess(&physical.law, &self.scene, &self.scene_particles(), &physical.materials, &self.walls)
+        stability::assess(&self.law, &self.scene, &self.scene_particles(), &physical.materials, &self.walls)
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).

@@ -78,7 +78,7 @@ pub struct Simulation<L: ContactLaw> {
     pub(super) energy: EnergyLedger,
     pub(super) totals: ContactTotals,
     /// The run's stages and where it is in them.
-    pub(super) protocol: Protocol<L>,
+    pub(super) protocol: Protocol,
 }
 
 impl<L: ContactLaw> Simulation<L> {

@@ -19,7 +19,6 @@ impl<L: ContactLaw> Simulation<L> {
         let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
         self.context.dt = dt;
         self.context.damping = next.damping;
-        self.law = next.law.clone();
         (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
         if before.2 != materials {
             self.forces_afresh();
