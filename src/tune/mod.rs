@@ -30,7 +30,7 @@ pub use spec::{Keep, Lever, LeverRange, Objective, TuneSpec};
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
 use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::runner::{self, ProgressMode, RunOptions};
+use crate::runner::{self, ProgressMode, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
 use model::{Reading, RunFailure, ScreenError};
 
@@ -308,7 +308,7 @@ impl Evaluator for RunEvaluator<'_> {
             stop: self.options.stop.clone(),
             ..Default::default()
         };
-        let report = runner::run_plan(&self.plan, &options).map_err(|e| TuneError::Runner(e.to_string()))?;
+        let report = runner::run_plan(&self.plan, &options)?;
         if report.interrupted {
             return Err(TuneError::Interrupted);
         }
@@ -355,9 +355,9 @@ fn batch_line(batch: usize, jobs: &[Job], reused: usize, total: usize) -> String
 
 /// The typed warnings of every run in a results file, by run index.
 fn typed_warnings(results: &Path) -> Result<HashMap<usize, Vec<ValidityWarning>>, TuneError> {
-    let error = |e: String| TuneError::Runner(format!("{}: {e}", results.display()));
-    let file = crate::output::reader::open(results).map_err(|e| error(e.to_string()))?;
-    let rows = crate::output::reader::rows(&file, results).map_err(|e| error(e.to_string()))?;
+    let error = |e| TuneError::Runner(RunnerError::from(e));
+    let file = crate::output::reader::open(results).map_err(error)?;
+    let rows = crate::output::reader::rows(&file, results).map_err(error)?;
     Ok(rows.into_iter().map(|row| (row.index, row.warnings)).collect())
 }
 

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use crate::physics::number::short;
 use crate::physics::warning::{ValidityWarning, WarningKind};
+use crate::runner::RunnerError;
 use crate::stats::Equivalence;
 
 /// What a search needs to know.
@@ -195,8 +196,8 @@ pub struct Screen {
 /// Why a tune could not go on.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TuneError {
-    /// The runner or the results file failed (its message).
-    Runner(String),
+    /// The runner or the results file failed.
+    Runner(RunnerError),
     /// A run the tune made is not in the results file.
     MissingRun {
         /// The results file.
@@ -244,7 +245,20 @@ impl fmt::Display for TuneError {
     }
 }
 
-impl std::error::Error for TuneError {}
+impl std::error::Error for TuneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            TuneError::Runner(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<RunnerError> for TuneError {
+    fn from(error: RunnerError) -> Self {
+        TuneError::Runner(error)
+    }
+}
 
 /// Runs batches of jobs and screens settings.
 pub trait Evaluator {
