@@ -18,7 +18,7 @@ pub mod resources;
 mod types;
 
 pub use axes::MAX_RUNS;
-pub use errors::{Location, StudyError, StudyErrors, did_you_mean, nearest, warning_kind};
+pub use errors::{Location, StudyError, StudyErrors, did_you_mean, nearest};
 pub use identity::{IdentityChange, RunIdentity};
 pub use load::{SCENE_STUDY_NAME, Seeds, load, load_text, parse_table, scene_study};
 pub use types::{OutputOptions, ParamValue, Plan, PlannedRun};

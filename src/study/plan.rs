@@ -123,7 +123,7 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
         match toml::Value::Table(tree_with(&path, value.clone())).try_into::<T>() {
             Ok(_) => set_path(&mut valid, &path, value.clone()).expect("leaves of a table do not collide"),
             Err(e) => {
-                let reason = explain::<T>(&path, e.message());
+                let reason = explain::<T>(&path, e.message(), value);
                 let full: KeyPath = std::iter::once(section.to_string()).chain(path).collect();
                 errors.push(file.error(doc.span(&full), dotted(&full), reason));
             }
@@ -132,10 +132,10 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
     (valid, errors)
 }
 
-/// A deserializer's message about the value at `path` of a `T` in the study's words: a value of
+/// A deserializer's message about `value` at `path` of a `T` in the study's words: a value of
 /// the wrong type for a choice lists the choices, Rust type names become what to write
 /// ([`plain_types`]), an unknown key or choice names the valid one nearest to it ([`suggest_nearest`]).
-fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
+fn explain<T: DeserializeOwned>(path: &[String], message: &str, value: &toml::Value) -> String {
     if message.contains("unit variant") {
         let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
         let choices = probe.try_into::<T>().err().map(|e| e.message().to_string());
@@ -145,7 +145,7 @@ fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
             return format!("must be {choices} (a string in quotes)");
         }
     }
-    suggest_nearest(&plain_types(message))
+    suggest_nearest(&plain_types(message, value))
 }
 
 /// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
@@ -172,7 +172,8 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
         .iter()
         .filter_map(|v| {
             let tree = toml::Value::Table(tree_within(base, &axis.path, v.to_toml()));
-            tree.try_into::<SceneConfig>().err().map(|e| (v, explain::<SceneConfig>(&axis.path, e.message())))
+            let reason = |e: toml::de::Error| explain::<SceneConfig>(&axis.path, e.message(), &v.to_toml());
+            tree.try_into::<SceneConfig>().err().map(|e| (v, reason(e)))
         })
         .collect();
     if failures.len() == axis.values.len() && failures.iter().all(|(_, m)| *m == failures[0].1) {
@@ -417,7 +418,7 @@ impl<'a> Planner<'a> {
         let span = self.doc.span(&["scene".to_string()]);
         for predicted in crate::physics::predict_stability(scene, &disks).warnings {
             let reason = format!("predicted: {predicted}{}", contacts_named(scene, predicted.kind));
-            let warning = self.file.error(span.clone(), "scene", reason).in_run(&point.id);
+            let warning = self.file.error(span.clone(), "scene", reason).of_rule(predicted.kind).in_run(&point.id);
             self.warnings.push(warning);
         }
         Ok(())
