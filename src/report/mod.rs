@@ -456,7 +456,7 @@ struct ReferenceVerdict {
 }
 
 impl ReferenceVerdict {
-    fn new(points: &Points, spec: &str) -> Result<Self, String> {
+    fn new(points: &Points, spec: &str) -> Result<Self, crate::stats::CompareError> {
         let comparison = compare::compare(points, spec, &[])?;
         let (mut equivalent, mut different, mut undecided) = (Vec::new(), Vec::new(), Vec::new());
         for (i, point) in comparison.points.iter().enumerate() {
@@ -483,7 +483,7 @@ fn reference_section(points: &Points, spec: &str) -> String {
                 "<h3 id=\"reference\">Against the reference point</h3><p class=\"note\">The study's reference ({}) \
                  cannot be compared: {}</p>",
                 escape(spec),
-                escape(&reason)
+                escape(&reason.to_string())
             );
         }
     };
@@ -745,7 +745,7 @@ mod tests {
         assert!((cost.ratio - 0.5).abs() < 1e-3 && cost.low < 0.5 && cost.high > 0.5, "{cost:?}");
         let html = super::verdict(&summary, Some("friction=0.2"));
         assert!(html.contains("1 of 2 other grid points make an equivalent pile"), "{html}");
-        assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().contains("no point has"));
+        assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().to_string().contains("no point has"));
     }
 
     /// The text of the page's first answer.

@@ -91,7 +91,7 @@ pub(super) fn read_text(path: &Path) -> Result<String, String> {
     if !kind.is_file() {
         return Err(cannot(format!("not a regular file ({})", file_kind(kind))));
     }
-    super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(cannot)
+    super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(|e| cannot(e.to_string()))
 }
 
 /// What a file that is not a regular file is, in words.

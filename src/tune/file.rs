@@ -74,7 +74,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     match spec.scene(&[]) {
         Ok(scene) => spec.reference = scene,
         Err(reason) => {
-            sink.push(file.error(scene_span, "scene", reason));
+            sink.push(file.error(scene_span, "scene", reason.to_string()));
             return Err(sink.into_errors());
         }
     }
@@ -103,7 +103,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         let failures: Vec<(ParamValue, String)> = extremes
             .iter()
             .filter_map(|value| {
-                let problem = spec.scene(&[(lever.key.clone(), value.clone())]).and_then(|scene| {
+                let scene = spec.scene(&[(lever.key.clone(), value.clone())]).map_err(|e| e.to_string());
+                let problem = scene.and_then(|scene| {
                     let placed = ["domain", "particles", "placement"].contains(&lever.path[0].as_str());
                     if spec.initial.is_none() && placed {
                         placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))

@@ -25,7 +25,7 @@ use std::sync::atomic::AtomicBool;
 pub use file::{is_tune_file, keepable_metrics, load};
 pub use model::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, TuneError};
 pub use spec::StandardSetting;
-pub use spec::{Keep, Lever, LeverRange, Objective, TuneSpec};
+pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
@@ -146,7 +146,10 @@ fn job_parameters(spec: &TuneSpec, ladder: &[StandardSetting], job: &Job) -> Vec
 }
 
 /// The scene of a candidate's first seed.
-pub fn candidate_scene(spec: &TuneSpec, candidate: &model::Candidate) -> Result<crate::physics::SceneConfig, String> {
+pub fn candidate_scene(
+    spec: &TuneSpec,
+    candidate: &model::Candidate,
+) -> Result<crate::physics::SceneConfig, SceneError> {
     setting_scene(spec, &spec.standards, &candidate.point, candidate.standard, 0)
 }
 
@@ -157,7 +160,7 @@ fn setting_scene(
     point: &[f64],
     standard: Option<usize>,
     seed: u64,
-) -> Result<crate::physics::SceneConfig, String> {
+) -> Result<crate::physics::SceneConfig, SceneError> {
     let mut scene = match standard {
         Some(k) => spec.standard_scene(&ladder[k])?,
         None => spec.scene(&spec.values(point))?,

@@ -5,6 +5,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
+use super::spec::SceneError;
 use crate::physics::number::short;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::RunnerError;
@@ -161,8 +162,8 @@ impl Outcome {
 /// Why a setting cannot start.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ScreenError {
-    /// Its scene is invalid (the checker's reason).
-    Scene(String),
+    /// Its scene is invalid.
+    Scene(SceneError),
     /// Its placement fails (key, reason).
     Placement(String, String),
 }
