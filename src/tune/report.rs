@@ -14,18 +14,52 @@ use crate::output::{csv, guard};
 use crate::physics::number::short;
 use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
-use crate::plot::{ChartOptions, Format};
+use crate::plot::{ChartOptions, Format, PlotError};
 use crate::report::{Cell, Table, TuneSection};
 use crate::stats;
 use crate::study::ParamValue;
+
+/// Why a tune's files could not be written.
+#[derive(Debug)]
+pub enum WriteError {
+    /// The output folder could not be made.
+    CreateDir {
+        /// The folder.
+        dir: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A file was refused or could not be written.
+    File(guard::GuardError),
+    /// The report section's chart could not be drawn.
+    Chart(PlotError),
+}
+
+impl std::fmt::Display for WriteError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WriteError::CreateDir { dir, error } => write!(f, "{}: {error}", dir.display()),
+            WriteError::File(e) => write!(f, "{e}"),
+            WriteError::Chart(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for WriteError {}
+
+impl From<guard::GuardError> for WriteError {
+    fn from(error: guard::GuardError) -> Self {
+        WriteError::File(error)
+    }
+}
 
 /// Files a tune wrote.
 #[derive(Clone, Debug, Default)]
 pub struct Written {
     /// Every file, in the order written.
     pub files: Vec<PathBuf>,
-    /// Charts that could not be drawn, with the reason.
-    pub chart_errors: Vec<String>,
+    /// Charts that could not be drawn.
+    pub chart_errors: Vec<PlotError>,
 }
 
 /// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
@@ -551,25 +585,25 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
 
 /// Writes `<name>_candidates.csv`, `<name>_best.toml` (when there is a recommendation), the charts and
 /// `<name>_recommendation.txt` into `dir`.
-pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str) -> Result<Written, String> {
+pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str) -> Result<Written, WriteError> {
     let mut written = Written::default();
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|error| WriteError::CreateDir { dir: dir.to_path_buf(), error })?;
     let csv = dir.join(format!("{}_candidates.csv", spec.name));
-    write_records(&candidate_records(spec, result), &csv).map_err(|e| e.to_string())?;
+    write_records(&candidate_records(spec, result), &csv)?;
     written.files.push(csv);
     let skipped = dir.join(format!("{}_skipped.csv", spec.name));
-    write_records(&skipped_records(spec, result), &skipped).map_err(|e| e.to_string())?;
+    write_records(&skipped_records(spec, result), &skipped)?;
     written.files.push(skipped);
     if let Some(k) = result.recommended {
         let best = dir.join(format!("{}_best.toml", spec.name));
-        guard::write(&best, best_study(spec, result, k).as_bytes(), &[]).map_err(|e| e.to_string())?;
+        guard::write(&best, best_study(spec, result, k).as_bytes(), &[])?;
         written.files.push(best);
         let change = dir.join(format!("{}_scene_change.toml", spec.name));
-        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[]).map_err(|e| e.to_string())?;
+        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[])?;
         written.files.push(change);
     }
     let note = dir.join(format!("{}_recommendation.txt", spec.name));
-    guard::write(&note, format!("{text}\n").as_bytes(), &[]).map_err(|e| e.to_string())?;
+    guard::write(&note, format!("{text}\n").as_bytes(), &[])?;
     written.files.push(note);
     let plots = dir.join("plots");
     let options = ChartOptions { format: Format::Png, subject: Some(spec.name.clone()), ..Default::default() };
@@ -577,13 +611,13 @@ pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str)
     let chart = plots.join(format!("{}_cost_vs_difference.png", spec.name));
     match cost_vs_difference_chart(&points, recommended, &options, &chart) {
         Ok(()) => written.files.push(chart),
-        Err(e) => written.chart_errors.push(e.to_string()),
+        Err(e) => written.chart_errors.push(e),
     }
     let series = lever_series(spec, result);
     let chart = plots.join(format!("{}_cost_along_levers.png", spec.name));
     match cost_along_levers_chart(&series, &options, &chart) {
         Ok(()) => written.files.push(chart),
-        Err(e) => written.chart_errors.push(e.to_string()),
+        Err(e) => written.chart_errors.push(e),
     }
     Ok(written)
 }
@@ -778,11 +812,11 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Table {
 
 /// The tune's section of the report page: the recommendation, the cost-versus-deviation chart (SVG)
 /// and the candidates table.
-pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Result<TuneSection, String> {
+pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Result<TuneSection, PlotError> {
     let options = ChartOptions { subject: Some(spec.name.clone()), ..Default::default() };
     let (points, recommended) = cost_points(result);
     let mut chart_svg = String::new();
-    cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg).map_err(|e| e.to_string())?;
+    cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg)?;
     let mut candidates = candidate_records(spec, result);
     candidates.columns.iter_mut().for_each(|name| *name = quantity::label(name));
     Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates })
