@@ -5,6 +5,7 @@
 //! could fail on at its start: every problem of the whole study is reported at once.
 
 pub(crate) mod axes;
+mod axis_error;
 pub(crate) mod errors;
 pub(crate) mod file;
 pub mod identity;
@@ -17,8 +18,10 @@ pub mod reference;
 pub mod resources;
 mod types;
 
-pub use axes::MAX_RUNS;
+pub use axes::{MAX_RUNS, Spacing};
+pub use axis_error::AxisError;
 pub use errors::{Location, StudyError, StudyErrors, did_you_mean, nearest};
+pub use file::{ReadTextError, SetPathError};
 pub use identity::{IdentityChange, RunIdentity};
 pub use load::{SCENE_STUDY_NAME, Seeds, load, load_text, parse_table, scene_study};
 pub use types::{OutputOptions, ParamValue, Plan, PlannedRun};
