@@ -73,11 +73,13 @@ pub fn write_tune_section(results: &Path, study_name: &str, section: &TuneSectio
     Ok(path)
 }
 
-/// The tune section next to a results file, if there is one (unreadable: a note in its place).
-fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSection, String>> {
+/// The tune section next to a results file, if there is one: its path and the section, or why it
+/// cannot be read (a note in its place).
+fn read_tune_section(results: &Path, study_name: &str) -> Option<(PathBuf, serde_json::Result<TuneSection>)> {
     let path = tune_section_path(results, study_name);
     let text = std::fs::read_to_string(&path).ok()?;
-    Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display())))
+    let section = serde_json::from_str(&text);
+    Some((path, section))
 }
 
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
@@ -116,8 +118,11 @@ pub fn write_report(
     let tune = read_tune_section(results, &header.study_name);
     page.push(&overview(&header, &rows, &context, tune.is_some()));
     match &tune {
-        Some(Ok(tune)) => page.push(&tune_section(tune)),
-        Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(reason))),
+        Some((_, Ok(tune))) => page.push(&tune_section(tune)),
+        Some((path, Err(e))) => {
+            let reason = format!("{}: {e}", path.display());
+            page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(&reason)));
+        }
         None => {}
     }
     if !damaged.is_empty() {

@@ -12,6 +12,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use super::csv_error::PlacementFileError;
 use super::initial_csv::Quoting;
 use super::lammps_error::{LammpsError, LammpsProblem};
 use crate::physics::config::PlacementKind;
@@ -24,7 +25,7 @@ pub fn read_placement(
     path: &Path,
     default_radius: f64,
     folder: &Path,
-) -> Result<Vec<InitialDisk>, String> {
+) -> Result<Vec<InitialDisk>, PlacementFileError> {
     match kind {
         PlacementKind::Lammps => read(path, default_radius, folder),
         _ => super::initial_csv::read(path, default_radius, folder),
@@ -34,16 +35,12 @@ pub fn read_placement(
 /// Reads the disks of a LAMMPS data or dump file (a regular file of at most the size of a placement
 /// CSV); errors name the file and line, and say what is wrong only when the file lies in the study's
 /// `folder` (see [`Quoting`]).
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, String> {
+pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
     let text = super::initial_csv::read_text(path)?;
-    parse(&text, default_radius).map_err(|e| match Quoting::of(path, folder) {
-        Quoting::Quoted => format!("{}: {e}", path.display()),
-        Quoting::Withheld => format!(
-            "{}: {}not a LAMMPS data or dump file demsweep reads (the file lies outside the study's folder, so \
-             its content is not quoted)",
-            path.display(),
-            e.place().map(|place| format!("{place}: ")).unwrap_or_default()
-        ),
+    parse(&text, default_radius).map_err(|error| PlacementFileError::Lammps {
+        path: path.to_path_buf(),
+        error,
+        quoted: Quoting::of(path, folder) == Quoting::Quoted,
     })
 }
 

@@ -6,6 +6,7 @@
 
 pub(crate) mod axes;
 mod axis_error;
+mod csv_error;
 pub(crate) mod errors;
 pub(crate) mod file;
 pub mod identity;
@@ -21,6 +22,7 @@ mod types;
 
 pub use axes::{MAX_RUNS, Spacing};
 pub use axis_error::AxisError;
+pub use csv_error::{ColumnAt, CsvError, CsvProblem, PlacementFileError};
 pub use errors::{Location, StudyError, StudyErrors, did_you_mean, nearest};
 pub use file::{ReadTextError, SetPathError};
 pub use identity::{IdentityChange, RunIdentity};

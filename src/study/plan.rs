@@ -8,6 +8,7 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
+use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
 use super::{
@@ -213,7 +214,7 @@ pub(crate) fn run_id(index: usize, runs: usize) -> String {
 }
 
 /// Disks read from a placement file, or why they could not be read.
-type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
+type InitialStates = Result<Arc<Vec<InitialDisk>>, PlacementFileError>;
 
 /// A restart's contact history, shared by the runs that use its file.
 type InitialContacts = Arc<Vec<InitialContact>>;
@@ -231,7 +232,7 @@ struct Planner<'a> {
     /// Placement files read so far, by path, kind and default radius.
     initial_files: HashMap<(PathBuf, PlacementKind, u64), InitialStates>,
     /// Contact files read so far, by path and the disks and walls they were checked against.
-    contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, String>>,
+    contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, PlacementFileError>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
     failed_placements: HashMap<String, (String, String)>,
     /// The last placement that succeeded: its setup and disks.
@@ -351,7 +352,7 @@ impl<'a> Planner<'a> {
             .entry((path.clone(), kind, radius.to_bits()))
             .or_insert_with(|| lammps_file::read_placement(kind, &path, radius, &self.study_dir).map(Arc::new))
             .clone()
-            .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
+            .map_err(|reason| vec![self.problem(point, "placement.file", reason.to_string())])?;
         scene.particles.count = disks.len();
         Ok(Some(disks))
     }
@@ -373,7 +374,7 @@ impl<'a> Planner<'a> {
             .entry((path.clone(), disks, walls))
             .or_insert_with(|| initial_csv::read_contacts(&path, disks, walls, &self.study_dir).map(Arc::new))
             .clone()
-            .map_err(|reason| vec![self.problem(point, "placement.contacts", reason)])?;
+            .map_err(|reason| vec![self.problem(point, "placement.contacts", reason.to_string())])?;
         Ok(Some(contacts))
     }
 

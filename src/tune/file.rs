@@ -90,7 +90,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
                 spec.reference.particles.count = disks.len();
                 spec.initial = Some(Arc::new(disks));
             }
-            Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason)),
+            Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason.to_string())),
         }
     } else if let Err(e) = placement::generate(&spec.reference) {
         sink.push(file.error(scene_span.clone(), format!("scene.{}", e.key), e.reason));
