@@ -104,7 +104,7 @@ fn check_study_name(file: &StudyFile, doc: &Document) -> Option<StudyError> {
     }
     let reason = name::check_name(&study_name(doc, &file.path)).err()?;
     Some(match written {
-        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason),
+        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason.to_string()),
         None => file.error(None, "name", format!("{reason}; the name comes from the file name: set `name = \"…\"`")),
     })
 }
