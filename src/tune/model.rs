@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use super::spec::SceneError;
 use crate::physics::number::short;
+use crate::physics::placement::PlacementError;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::RunnerError;
 use crate::stats::Equivalence;
@@ -164,15 +165,15 @@ impl Outcome {
 pub enum ScreenError {
     /// Its scene is invalid.
     Scene(SceneError),
-    /// Its placement fails (key, reason).
-    Placement(String, String),
+    /// Its placement fails.
+    Placement(PlacementError),
 }
 
 impl fmt::Display for ScreenError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ScreenError::Scene(why) => write!(f, "invalid scene: {why}"),
-            ScreenError::Placement(key, why) => write!(f, "placement fails: {key}: {why}"),
+            ScreenError::Placement(e) => write!(f, "placement fails: {e}"),
         }
     }
 }
