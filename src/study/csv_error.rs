@@ -40,10 +40,10 @@ pub enum CsvProblem {
         given: Option<String>,
         /// The column it most likely means.
         nearest: Option<&'static str>,
-        /// The required columns.
-        required: Vec<&'static str>,
-        /// The optional columns.
-        optional: Vec<&'static str>,
+        /// The file's columns (name and unit), the required ones first.
+        columns: &'static [(&'static str, &'static str)],
+        /// How many of them are required.
+        required: usize,
     },
     /// A column named twice.
     Twice {
@@ -56,8 +56,8 @@ pub enum CsvProblem {
     Missing {
         /// The column.
         column: &'static str,
-        /// Every required column.
-        required: Vec<&'static str>,
+        /// The required columns (name and unit).
+        required: &'static [(&'static str, &'static str)],
     },
     /// A units line with a number of fields other than the header's.
     UnitsFields {
@@ -110,6 +110,11 @@ pub enum CsvProblem {
     SelfContact(usize),
 }
 
+/// The columns' names, listed.
+fn names(columns: &[(&str, &str)]) -> String {
+    columns.iter().map(|c| c.0).collect::<Vec<_>>().join(", ")
+}
+
 /// `"text"` when it may be quoted, else `withheld`.
 fn shown(given: &Option<String>, withheld: &str) -> String {
     given.as_ref().map_or(withheld.to_string(), |text| format!("\"{text}\""))
@@ -134,18 +139,21 @@ impl fmt::Display for CsvProblem {
             CsvProblem::UnknownColumn { given, nearest: Some(meant), .. } => {
                 write!(f, "unknown column {} (did you mean `{meant}`?)", shown(given, "name"))
             }
-            CsvProblem::UnknownColumn { given, nearest: None, required, optional } => write!(
-                f,
-                "unknown column {} (expected {} and optionally {})",
-                shown(given, "name"),
-                required.join(", "),
-                optional.join(", ")
-            ),
+            CsvProblem::UnknownColumn { given, nearest: None, columns, required } => {
+                let (must, may) = columns.split_at(*required);
+                write!(
+                    f,
+                    "unknown column {} (expected {} and optionally {})",
+                    shown(given, "name"),
+                    names(must),
+                    names(may)
+                )
+            }
             CsvProblem::Twice { given, first } => {
                 write!(f, "column {} appears twice (first at column {first})", shown(given, "name"))
             }
             CsvProblem::Missing { column, required } => {
-                write!(f, "the header has no \"{column}\" column ({} are required)", required.join(", "))
+                write!(f, "the header has no \"{column}\" column ({} are required)", names(required))
             }
             CsvProblem::UnitsFields { found, header } => {
                 write!(f, "the units line has {found} fields but the header has {header}")
@@ -200,14 +208,14 @@ pub enum PlacementFileError {
         /// The file.
         path: PathBuf,
         /// What and where.
-        error: CsvError,
+        error: Box<CsvError>,
     },
     /// A LAMMPS file problem.
     Lammps {
         /// The file.
         path: PathBuf,
         /// What and where.
-        error: LammpsError,
+        error: Box<LammpsError>,
         /// Whether the file's content may be quoted (it lies in the study's folder).
         quoted: bool,
     },

@@ -76,7 +76,7 @@ impl Quoting {
 /// lies in the study's `folder`.
 pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
     parse(&read_text(path)?, default_radius, Quoting::of(path, folder))
-        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error })
+        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error: Box::new(error) })
 }
 
 /// Reads the contact history of a contact CSV for a placement of `disks` disks in a box of `walls`
@@ -88,7 +88,7 @@ pub fn read_contacts(
     folder: &Path,
 ) -> Result<Vec<InitialContact>, PlacementFileError> {
     parse_contacts(&read_text(path)?, disks, walls, Quoting::of(path, folder))
-        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error })
+        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error: Box::new(error) })
 }
 
 /// The text of a regular file (a FIFO, device or folder is refused before it is opened: reading one
@@ -191,7 +191,7 @@ struct Table<'a> {
 
 impl<'a> Table<'a> {
     /// Reads the header and the rows (every value a finite number).
-    fn parse(text: &str, (columns, required): (&'a [Column], usize), quoting: Quoting) -> Result<Self, CsvError> {
+    fn parse(text: &str, (columns, required): (&'static [Column], usize), quoting: Quoting) -> Result<Self, CsvError> {
         let mut lines = text
             .lines()
             .enumerate()
@@ -276,19 +276,18 @@ impl<'a> Table<'a> {
 /// Index into `columns` of each header field; the first `required` columns must be there.
 fn header_columns(
     header: &str,
-    (columns, required): (&[Column], usize),
+    (columns, required): (&'static [Column], usize),
     quoting: Quoting,
 ) -> Result<Vec<usize>, Misplaced> {
     let mut found = Vec::new();
     for (position, name) in header.split(',').map(str::trim).enumerate() {
         let at = Some(ColumnAt { position: position + 1, name: None });
         let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
-            let (must, may) = columns.split_at(required);
             let problem = CsvProblem::UnknownColumn {
                 given: quoting.show(name),
                 nearest: super::errors::nearest(name, names(columns)),
-                required: names(must),
-                optional: names(may),
+                columns,
+                required,
             };
             return Err((at, problem));
         };
@@ -298,7 +297,7 @@ fn header_columns(
         found.push(k);
     }
     if let Some(missing) = columns[..required].iter().enumerate().find(|(k, _)| !found.contains(k)) {
-        return Err((None, CsvProblem::Missing { column: missing.1.0, required: names(&columns[..required]) }));
+        return Err((None, CsvProblem::Missing { column: missing.1.0, required: &columns[..required] }));
     }
     Ok(found)
 }

@@ -39,7 +39,7 @@ pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<Initi
     let text = super::initial_csv::read_text(path)?;
     parse(&text, default_radius).map_err(|error| PlacementFileError::Lammps {
         path: path.to_path_buf(),
-        error,
+        error: Box::new(error),
         quoted: Quoting::of(path, folder) == Quoting::Quoted,
     })
 }
