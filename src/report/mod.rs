@@ -753,6 +753,24 @@ mod tests {
         assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().to_string().contains("no point has"));
     }
 
+    #[test]
+    fn warnings_are_grouped_by_kind_with_the_worst_of_each() {
+        let overlap = |value| ValidityWarning::new(WarningKind::Overlap, value, 0.1);
+        let energy = ValidityWarning::new(WarningKind::EnergyBalance, 0.05, 0.01);
+        let mut rows: Vec<SummaryRow> = (0..3).map(|i| SummaryRow::failed(i, &format!("r{i}"), &[], "")).collect();
+        rows[0].warnings = vec![overlap(0.12), overlap(0.13)];
+        rows[1].warnings = vec![overlap(0.31), energy];
+        let page = outcomes(&rows, false);
+        let worst = escape(&overlap(0.31).to_string());
+        let group = format!("<td class=\"num\">2</td><td>measured overlap (worst: run r1): {worst}</td>");
+        assert!(page.contains(&group), "one row for both runs' overlaps, the worst in full: {page}");
+        assert!(page.contains("<td class=\"num\">1</td><td>energy-balance error (worst: run r1): "), "{page}");
+        let tune = outcomes(&rows, true);
+        let short = "measured overlap (limits.overlap_warning_ratio): worst 0.3100 against 0.1 (run r1)";
+        assert!(tune.contains(short), "{tune}");
+        assert!(outcomes(&rows[2..], false).contains("No run has a warning."));
+    }
+
     /// The text of the page's first answer.
     fn answer(summary: &SummaryTable, spec: Option<&str>) -> String {
         let html = super::verdict(summary, spec);
