@@ -1,6 +1,9 @@
 //! Energy bookkeeping of a run: the work of the contact forces and of the numerical damping,
 //! integrated by the trapezoid rule over steps, from which the dissipated energy follows
-//! (mechanical + dissipated = initial, up to integration error).
+//! (mechanical + dissipated = initial, up to integration error). Dissipated is what the works and
+//! the stored elastic energy leave: elastic energy that leaves the contacts with no work done (a
+//! spring cut back to a lowered Coulomb limit when a stage lowers friction) counts as dissipated,
+//! as a sliding contact's does.
 
 /// The works done so far, and the powers at the start of the last step to close its trapezoid.
 #[derive(Clone, Debug, Default)]

@@ -7,7 +7,10 @@ use crate::physics::integrator::Integrator;
 impl<L: ContactLaw> Simulation<L> {
     /// Ends the current stage now and continues with the next one's settings. The state carries
     /// over as it is (positions, velocities, spins, springs, law states); the forces of this state
-    /// are evaluated afresh when the contact materials change, as a restart from it would. A
+    /// are evaluated afresh when the contact materials change, as a restart from it would. Where
+    /// friction falls, that cuts each spring beyond the new Coulomb limit back to it: the elastic
+    /// energy lost leaves the stored energy with no work done, which the ledger counts as
+    /// dissipated (see [`crate::physics::energy`]). A
     /// multistep scheme starts afresh when the step or the scheme changes (its history holds
     /// accelerations of the old step), and continues otherwise.
     pub(super) fn next_stage(&mut self) {
@@ -20,6 +23,8 @@ impl<L: ContactLaw> Simulation<L> {
         self.context.dt = dt;
         self.context.damping = next.damping;
         (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
+        self.disk_contacts.options.friction = materials.particle.friction;
+        self.wall_contacts.options.friction = materials.wall.friction;
         if before.2 != materials {
             self.forces_afresh();
         }
