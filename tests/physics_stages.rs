@@ -247,3 +247,24 @@ fn a_stage_with_friction_in_a_frictionless_scene_runs_as_its_own_scene_would() {
     assert!(at_switch.omega.iter().any(|w| *w != 0.0), "the disks spin while friction holds");
     assert_eq!(staged.status, RunStatus::Settled, "{:?}", staged.message);
 }
+
+/// A rise of friction while disks slide fast jumps the tangential forces: the step before it is
+/// closed with the forces before the jump, so that the switch adds no error to the energy balance
+/// beyond what the integrator makes of the same deposition without it.
+#[test]
+fn a_rise_of_friction_while_disks_slide_keeps_the_energy_balance_to_the_integrators_accuracy() {
+    let mut rough = deposition(14);
+    rough.placement.kind = demsweep::physics::config::PlacementKind::Dropped;
+    rough.integrator.scheme = IntegratorKind::VelocityVerlet;
+    (rough.run.duration, rough.run.stop_at_settle) = (0.3, false);
+    let mut smooth = rough.clone();
+    smooth.material.friction = 0.0;
+    let mut staged = rough.clone();
+    staged.stages = vec![stage("name = \"slip\"\nuntil.time = 0.06\nmaterial.friction = 0.0\n")];
+    let (a, b) = (run(&smooth), run(&staged));
+    println!(
+        "energy balance: frictionless {:e}, friction rising at 0.06 s {:e}",
+        a.energy_balance_error, b.energy_balance_error
+    );
+    assert!(b.energy_balance_error.abs() <= 5.0 * a.energy_balance_error.abs(), "{b:?}", b = b.energy_balance_error);
+}

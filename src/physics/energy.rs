@@ -32,6 +32,15 @@ impl EnergyLedger {
         self.last_damping_power = damping_power;
     }
 
+    /// Closes the trapezoid of the step that ended here with the powers at its end (W) and its step
+    /// `dt` (s), before the forces jump (a switch of stages changes them, the damping or the step):
+    /// the next step's trapezoid starts from the powers after the jump, which
+    /// [`Self::record_step`] then records without closing anything.
+    pub fn close_before_jump(&mut self, (power, damping_power): (f64, f64), dt: f64) {
+        self.record_step(power, damping_power, dt);
+        self.last_power = None;
+    }
+
     /// Removes energy taken out of the motion besides the forces' power (J), e.g. rolling resistance.
     pub fn remove(&mut self, energy: f64) {
         self.contact_work -= energy;

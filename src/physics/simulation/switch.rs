@@ -15,11 +15,17 @@ impl<L: ContactLaw> Simulation<L> {
     /// accelerations of the old step), and continues otherwise.
     pub(super) fn next_stage(&mut self) {
         let time = self.time();
+        let now = self.protocol.now();
+        let before = (now.dt, now.scheme, now.materials, now.damping);
+        let powers = (self.contact_power(), self.damping_power());
         let protocol = &mut self.protocol;
-        let before = (protocol.now().dt, protocol.now().scheme, protocol.now().materials);
         protocol.begin_next(self.step, time);
         let next = protocol.now();
         let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
+        if before != (dt, scheme, materials, next.damping) {
+            // The powers jump here: the step that ended closes with those before.
+            self.energy.close_before_jump(powers, before.0);
+        }
         self.context.dt = dt;
         self.context.damping = next.damping;
         (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
