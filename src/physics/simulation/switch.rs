@@ -10,9 +10,9 @@ impl<L: ContactLaw> Simulation<L> {
     /// are evaluated afresh when the contact materials change, as a restart from it would. Where
     /// friction falls, that cuts each spring beyond the new Coulomb limit back to it: the elastic
     /// energy lost leaves the stored energy with no work done, which the ledger counts as
-    /// dissipated (see [`crate::physics::energy`]). A
-    /// multistep scheme starts afresh when the step or the scheme changes (its history holds
-    /// accelerations of the old step), and continues otherwise.
+    /// dissipated (see [`crate::physics::energy`]). A multistep scheme starts afresh when the step
+    /// or the scheme changes (its history holds accelerations of the old step), and continues
+    /// otherwise.
     pub(super) fn next_stage(&mut self) {
         let time = self.time();
         let now = self.protocol.now();
