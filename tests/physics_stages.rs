@@ -191,3 +191,80 @@ fn a_run_that_ends_inside_a_stage_never_settles_and_says_the_stage_did_not_end()
     assert_eq!((r.status, r.stage_ends[1].time), (RunStatus::NotSettled, None));
     assert!((r.simulated_time - 0.2).abs() < 1e-9);
 }
+
+/// The sample at `time` (s) exactly, and the next one.
+fn at_switch(r: &RunRecord, time: f64) -> usize {
+    r.history.time.iter().position(|t| *t == time).expect("a sample at the switch")
+}
+
+#[test]
+fn a_fall_of_friction_cuts_springs_back_counting_their_energy_as_dissipated_and_a_rise_cuts_none() {
+    let mut scene = deposition(12);
+    scene.integrator.scheme = IntegratorKind::VelocityVerlet;
+    // Every step sampled, so that each switch shows as one step's change.
+    scene.run.sample_interval = scene.integrator.time_step.unwrap();
+    scene.stages = vec![
+        stage("name = \"pour\"\nuntil.time = 0.8\n"),
+        // Slipping, the pile sinks; it is brought to rest before friction rises again, so that no
+        // contact is sliding fast then (it would store energy at once as it sticks).
+        stage("name = \"slip\"\nuntil.time = 0.05\nmaterial.friction = 0.05\n"),
+        stage("name = \"rest\"\nuntil.unbalanced_force_ratio = 0.01\nmaterial.friction = 0.05\ndamping.local = 0.3\n"),
+    ];
+    let r = run(&scene);
+    assert_eq!(r.status, RunStatus::Settled, "{:?}", r.message);
+    let tolerance = scene.limits.energy_balance_tolerance;
+    assert!(r.energy_balance_error.abs() <= tolerance, "energy balance off by {}", r.energy_balance_error);
+    let h = &r.history;
+    let step_change = |k: usize| (h.elastic[k] - h.elastic[k + 1], h.dissipated[k + 1] - h.dissipated[k]);
+    let (fall, rise) = (at_switch(&r, r.stage_ends[0].time.unwrap()), at_switch(&r, r.stage_ends[2].time.unwrap()));
+    // A step's largest change of the stored energy in the 50 steps before step `k`.
+    let usual = |k: usize| (k - 50..k).map(|j| step_change(j).0.abs()).fold(0.0, f64::max);
+    let (lost, dissipated) = step_change(fall);
+    let stored = h.elastic[fall];
+    println!("fall: {lost:e} J of {stored:e} J stored lost, {dissipated:e} J dissipated; usual {:e} J", usual(fall));
+    assert!(lost > 0.01 * stored && lost > 20.0 * usual(fall), "the springs were cut: {lost} J of {stored} J");
+    assert!((dissipated - lost).abs() <= 0.01 * lost, "{lost} J lost, {dissipated} J dissipated");
+    let (changed, _) = step_change(rise);
+    println!("rise: {changed:e} J stored energy change; usual {:e} J", usual(rise));
+    assert!(changed.abs() <= 2.0 * usual(rise), "the rise changed the stored energy by {changed} J");
+}
+
+#[test]
+fn a_stage_with_friction_in_a_frictionless_scene_runs_as_its_own_scene_would() {
+    let mut rough = deposition(13);
+    rough.integrator.scheme = IntegratorKind::VelocityVerlet;
+    let mut smooth = rough.clone();
+    smooth.material.friction = 0.0;
+    smooth.stages = vec![stage("name = \"rough\"\nuntil.time = 0.3\nmaterial.friction = 0.5\n")];
+    smooth.run.frame_times = vec![0.3];
+    let staged = run(&smooth);
+    (rough.run.duration, rough.run.stop_at_settle) = (0.3, false);
+    let alone = run(&rough);
+    let at_switch = &staged.frames[0];
+    assert_eq!(at_switch.time, alone.final_state.time);
+    assert_eq!(at_switch.x, alone.final_state.x, "positions at the switch");
+    assert_eq!(at_switch.omega, alone.final_state.omega, "spins at the switch");
+    assert!(at_switch.omega.iter().any(|w| *w != 0.0), "the disks spin while friction holds");
+    assert_eq!(staged.status, RunStatus::Settled, "{:?}", staged.message);
+}
+
+/// A rise of friction while disks slide fast jumps the tangential forces: the step before it is
+/// closed with the forces before the jump, so that the switch adds no error to the energy balance
+/// beyond what the integrator makes of the same deposition without it.
+#[test]
+fn a_rise_of_friction_while_disks_slide_keeps_the_energy_balance_to_the_integrators_accuracy() {
+    let mut rough = deposition(14);
+    rough.placement.kind = demsweep::physics::config::PlacementKind::Dropped;
+    rough.integrator.scheme = IntegratorKind::VelocityVerlet;
+    (rough.run.duration, rough.run.stop_at_settle) = (0.3, false);
+    let mut smooth = rough.clone();
+    smooth.material.friction = 0.0;
+    let mut staged = rough.clone();
+    staged.stages = vec![stage("name = \"slip\"\nuntil.time = 0.06\nmaterial.friction = 0.0\n")];
+    let (a, b) = (run(&smooth), run(&staged));
+    println!(
+        "energy balance: frictionless {:e}, friction rising at 0.06 s {:e}",
+        a.energy_balance_error, b.energy_balance_error
+    );
+    assert!(b.energy_balance_error.abs() <= 5.0 * a.energy_balance_error.abs(), "{b:?}", b = b.energy_balance_error);
+}

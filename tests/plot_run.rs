@@ -34,7 +34,7 @@ fn png_charts_have_the_requested_pixel_size() {
         let energy = dir.join(format!("energy_{width}.png"));
         let ubf = dir.join(format!("ubf_{width}.png"));
         let pile = dir.join(format!("pile_{width}.png"));
-        run::energy_chart(&record.history, &opts, &energy).unwrap();
+        run::energy_chart(&record.history, &[], &opts, &energy).unwrap();
         run::ubf_chart(&record.history, marks(scene.settle.ubf_threshold, record.settle_time), &opts, &ubf).unwrap();
         run::snapshot(frame, (scene.domain.width, scene.domain.height), &scale, &opts, &pile).unwrap();
         for path in [energy, ubf, pile] {
@@ -237,6 +237,48 @@ fn ubf_chart_marks_where_a_protocols_stages_end() {
 }
 
 #[test]
+fn energy_chart_marks_where_a_protocols_stages_end() {
+    let time: Vec<f64> = (0..10).map(|i| f64::from(i) * 0.01).collect();
+    let falling: Vec<f64> = (0..10).map(|i| 1.0 - f64::from(i) * 0.1).collect();
+    let history = History {
+        kinetic_translational: falling.clone(),
+        kinetic_rotational: vec![0.0; 10],
+        potential: falling.clone(),
+        elastic: vec![0.01; 10],
+        total: falling.iter().map(|v| 2.0 * v).collect(),
+        time,
+        ..Default::default()
+    };
+    let dir = out_dir("energy_stages");
+    let with = |stage_ends: &[(String, f64)], name: &str| {
+        let path = dir.join(name);
+        run::energy_chart(&history, stage_ends, &options(1000, 700, Format::Svg), &path).unwrap();
+        std::fs::read_to_string(path).unwrap()
+    };
+    let staged = with(&[("fill".into(), 0.02), ("slip".into(), 0.035)], "staged.svg");
+    assert!(staged.contains("stage fill ends at 0.02 s") && staged.contains("stage slip ends at 0.035 s"), "{staged}");
+    let cut_short = with(&[("fill".into(), 0.02), ("slip".into(), f64::NAN)], "cut_short.svg");
+    assert!(cut_short.contains("stage fill ends") && !cut_short.contains("stage slip"));
+    // The ended stage's mark: dashes at one time, down both panels (the linear one takes the upper
+    // 60 % of the height), besides its legend sample.
+    let plain = with(&[], "plain.svg");
+    assert!(!plain.contains("ends at"));
+    let points = |line: &str| -> Vec<(f64, f64)> {
+        let list = line.split("points=\"").nth(1).unwrap().split('"').next().unwrap();
+        list.split_whitespace()
+            .map(|p| p.split_once(',').unwrap())
+            .map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap()))
+            .collect()
+    };
+    let added: Vec<Vec<(f64, f64)>> =
+        cut_short.lines().filter(|l| l.starts_with("<polyline") && !plain.contains(*l)).map(points).collect();
+    let dashes: Vec<&(f64, f64)> = added.iter().filter(|p| p.iter().all(|q| q.0 == p[0].0)).flatten().collect();
+    assert!(dashes.iter().all(|p| p.0 == dashes[0].0), "one time: {dashes:?}");
+    let split = 0.6 * 700.0;
+    assert!(dashes.iter().any(|p| p.1 < split) && dashes.iter().any(|p| p.1 > split), "both panels: {dashes:?}");
+}
+
+#[test]
 fn diverged_run_plots_without_panicking() {
     let scene = tiny_scene(0.5, 1e-3);
     let mut record = run_tiny(&scene);
@@ -250,7 +292,7 @@ fn diverged_run_plots_without_panicking() {
     let opts = options(800, 600, Format::Png);
     let box_size = (scene.domain.width, scene.domain.height);
     let scale = ColourScale::fitted(ColourBy::ContactForce, [&record.final_state]);
-    run::energy_chart(&record.history, &opts, &dir.join("energy.png")).unwrap();
+    run::energy_chart(&record.history, &[], &opts, &dir.join("energy.png")).unwrap();
     run::ubf_chart(&record.history, marks(scene.settle.ubf_threshold, None), &opts, &dir.join("ubf.png")).unwrap();
     run::snapshot(&record.final_state, box_size, &scale, &opts, &dir.join("pile.png")).unwrap();
     for name in ["energy.png", "ubf.png", "pile.png"] {
@@ -261,7 +303,7 @@ fn diverged_run_plots_without_panicking() {
     assert_eq!(svg_elements(&svg, "circle").len(), record.final_state.x.len() - 1, "the NaN disk is left out");
 
     let empty = History::default();
-    run::energy_chart(&empty, &opts, &dir.join("empty_energy.png")).unwrap();
+    run::energy_chart(&empty, &[], &opts, &dir.join("empty_energy.png")).unwrap();
     run::ubf_chart(&empty, marks(0.01, None), &opts, &dir.join("empty_ubf.png")).unwrap();
 }
 
@@ -269,7 +311,7 @@ fn diverged_run_plots_without_panicking() {
 fn too_small_an_image_is_an_error_naming_the_file() {
     let dir = out_dir("too_small");
     let path = dir.join("energy.png");
-    let err = run::energy_chart(&History::default(), &options(100, 80, Format::Png), &path).unwrap_err();
+    let err = run::energy_chart(&History::default(), &[], &options(100, 80, Format::Png), &path).unwrap_err();
     let message = err.to_string();
     assert!(message.contains("energy.png") && message.contains("100x80"), "{message}");
     assert!(!path.exists());

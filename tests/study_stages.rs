@@ -93,10 +93,14 @@ fn a_sweep_over_a_stages_keys_runs_each_protocol_and_reports_when_its_physics_be
 fn bad_protocols_are_refused_with_file_line_and_key() {
     let dir = runner_common::scratch("stages_refused");
     let no_until_sweep = ("\"stages.fill.until.time\" = [0.1, 0.25]\n", "");
-    let cases: [(&[(&str, &str)], &str); 5] = [
+    let cases: [(&[(&str, &str)], &str); 6] = [
         (
             &[("damping.local = 0.5", "material.youngs_modulus = 1e7")],
-            "scene.stages: unknown field `youngs_modulus`, expected `beta` or `restitution`",
+            "scene.stages: unknown field `youngs_modulus`, expected one of `beta`, `restitution`, `friction`",
+        ),
+        (
+            &[("damping.local = 0.5", "damping.local = 0.5\nmaterial.friction = -0.2")],
+            "scene.stages.fill.material.friction (run r0000 and 3 more runs): must be a finite number >= 0, got -0.2",
         ),
         (
             &[("until.time = 0.2\n", ""), no_until_sweep],

@@ -818,13 +818,15 @@ impl SceneConfig {
         s.damping.local = d.local.unwrap_or(s.damping.local);
         s.damping.local_gravity = d.local_gravity.unwrap_or(s.damping.local_gravity);
         s.damping.viscous = d.viscous.unwrap_or(s.damping.viscous);
-        if stage.material.given() {
+        if stage.material.damping_given() {
             (s.material.beta, s.material.restitution) = (stage.material.beta, stage.material.restitution);
         }
-        if stage.wall_material.given() {
+        if stage.wall_material.damping_given() {
             (s.wall_material.beta, s.wall_material.restitution) =
                 (stage.wall_material.beta, stage.wall_material.restitution);
         }
+        s.material.friction = stage.material.friction.unwrap_or(s.material.friction);
+        s.wall_material.friction = stage.wall_material.friction.or(s.wall_material.friction);
         let i = &stage.integrator;
         s.integrator.scheme = i.scheme.unwrap_or(s.integrator.scheme);
         if i.time_step.is_some() || i.contact_time_fraction.is_some() || i.rayleigh_fraction.is_some() {

@@ -1,6 +1,9 @@
 //! Energy bookkeeping of a run: the work of the contact forces and of the numerical damping,
 //! integrated by the trapezoid rule over steps, from which the dissipated energy follows
-//! (mechanical + dissipated = initial, up to integration error).
+//! (mechanical + dissipated = initial, up to integration error). Dissipated is what the works and
+//! the stored elastic energy leave: elastic energy that leaves the contacts with no work done (a
+//! spring cut back to a lowered Coulomb limit when a stage lowers friction) counts as dissipated,
+//! as a sliding contact's does.
 
 /// The works done so far, and the powers at the start of the last step to close its trapezoid.
 #[derive(Clone, Debug, Default)]
@@ -27,6 +30,15 @@ impl EnergyLedger {
         }
         self.last_power = Some(power);
         self.last_damping_power = damping_power;
+    }
+
+    /// Closes the trapezoid of the step that ended here with the powers at its end (W) and its step
+    /// `dt` (s), before the forces jump (a switch of stages changes them, the damping or the step):
+    /// the next step's trapezoid starts from the powers after the jump, which
+    /// [`Self::record_step`] then records without closing anything.
+    pub fn close_before_jump(&mut self, (power, damping_power): (f64, f64), dt: f64) {
+        self.record_step(power, damping_power, dt);
+        self.last_power = None;
     }
 
     /// Removes energy taken out of the motion besides the forces' power (J), e.g. rolling resistance.

@@ -1,11 +1,14 @@
 //! Deposition protocols: stages a scene runs through before its own physics.
 //!
 //! A scene's `stages` (each `[[scene.stages]]` of a study file) run in order, each with a few keys
-//! of the scene changed (numerical damping, restitution, the time step and the integrator) until
-//! the first of its end conditions holds; then the scene itself runs as the last, physical stage,
-//! which ends at settle as a scene without stages does. The state carries over exactly at a switch:
-//! positions, velocities, spins, contact springs and law states; only the changed keys change.
-//! Stiffness, friction and gravity stay the scene's: changing them would change the stored elastic
+//! of the scene changed (numerical damping, restitution, sliding friction, the time step and the
+//! integrator) until the first of its end conditions holds; then the scene itself runs as the last,
+//! physical stage, which ends at settle as a scene without stages does. The state carries over
+//! exactly at a switch: positions, velocities, spins, contact springs and law states; only the
+//! changed keys change. A fall of friction (a compaction stage: the pile densifies under gravity
+//! while its contacts slip easily) cuts each tangential spring back to the new Coulomb limit at the
+//! switch, and the elastic energy it loses counts as dissipated, as sliding's does; a rise changes
+//! no spring. Stiffness and gravity stay the scene's: changing them would change the stored elastic
 //! or potential energy at a switch, which no work put there.
 
 use serde::{Deserialize, Serialize};
@@ -29,10 +32,11 @@ pub struct StageConfig {
     /// Numerical damping during the stage.
     #[key(table: Some(StageDamping::KEYS))]
     pub damping: StageDamping,
-    /// Disk-disk damping during the stage (the contact law's β, or the restitution it comes from).
+    /// Disk-disk damping and friction during the stage.
     #[key(table: Some(StageMaterial::KEYS))]
     pub material: StageMaterial,
-    /// Disk-wall damping during the stage.
+    /// Disk-wall damping and friction during the stage (a wall friction the scene does not give
+    /// follows the stage's disk friction, as it follows the scene's).
     #[key(table: Some(StageMaterial::KEYS))]
     pub wall_material: StageMaterial,
     /// Scheme and time step during the stage (a time step given here replaces the scene's).
@@ -79,7 +83,8 @@ pub struct StageDamping {
 }
 
 scene_section! {
-/// Contact damping keys a stage may change: β or the restitution it comes from (one replaces the other).
+/// Contact keys a stage may change: β or the restitution it comes from (one replaces the other),
+/// and the sliding friction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageMaterial {
@@ -89,6 +94,9 @@ pub struct StageMaterial {
     /// Coefficient of restitution e in (0, 1].
     #[key(range: "(0, 1]")]
     pub restitution: Option<f64>,
+    /// Sliding friction coefficient μ (≥ 0).
+    #[key(range: ">= 0")]
+    pub friction: Option<f64>,
 }
 }
 
@@ -124,8 +132,10 @@ impl StageConfig {
             ("damping.viscous", d.viscous.is_some()),
             ("material.beta", self.material.beta.is_some()),
             ("material.restitution", self.material.restitution.is_some()),
+            ("material.friction", self.material.friction.is_some()),
             ("wall_material.beta", self.wall_material.beta.is_some()),
             ("wall_material.restitution", self.wall_material.restitution.is_some()),
+            ("wall_material.friction", self.wall_material.friction.is_some()),
             ("integrator.scheme", i.scheme.is_some()),
             ("integrator.time_step", i.time_step.is_some()),
             ("integrator.contact_time_fraction", i.contact_time_fraction.is_some()),
@@ -136,8 +146,8 @@ impl StageConfig {
 }
 
 impl StageMaterial {
-    /// Whether the stage gives either key.
-    pub(super) fn given(&self) -> bool {
+    /// Whether the stage gives β or the restitution.
+    pub(super) fn damping_given(&self) -> bool {
         self.beta.is_some() || self.restitution.is_some()
     }
 }
@@ -179,11 +189,14 @@ mod tests {
         scene.integrator.time_step = Some(1e-6);
         scene.material.restitution = Some(0.5);
         let s = stage(
-            "name = \"fill\"\nuntil.time = 0.1\ndamping.local = 0.4\nmaterial.beta = 0.2\n[integrator]\ncontact_time_fraction = 0.05\n",
+            "name = \"fill\"\nuntil.time = 0.1\ndamping.local = 0.4\nmaterial.beta = 0.2\nmaterial.friction = 0.1\n[integrator]\ncontact_time_fraction = 0.05\n",
         );
         let staged = scene.in_stage(&s);
         assert_eq!(staged.damping.local, 0.4);
         assert_eq!((staged.material.beta, staged.material.restitution), (Some(0.2), None));
+        assert_eq!((staged.material.friction, staged.wall_material.friction), (0.1, None), "walls follow the disks");
+        let walls = scene.in_stage(&stage("name = \"w\"\nuntil.time = 0.1\nwall_material.friction = 0.0\n"));
+        assert_eq!((walls.material.friction, walls.wall_material.friction), (scene.material.friction, Some(0.0)));
         assert_eq!((staged.integrator.time_step, staged.integrator.contact_time_fraction), (None, Some(0.05)));
         let unchanged = SceneConfig {
             damping: scene.damping,
@@ -202,6 +215,7 @@ mod tests {
                 stage("name = \"fill\"\n"),
                 stage("name = \"a b\"\nuntil.all_in_contact = true\nmaterial.restitution = 0.5\nmaterial.beta = 0.1\n"),
                 stage("name = \"tiny\"\nuntil.time = 0.1\nintegrator.time_step = 5e-324\n"),
+                stage("name = \"slip\"\nuntil.time = 0.1\nmaterial.friction = -0.1\nwall_material.friction = nan\n"),
             ],
             ..Default::default()
         };
@@ -216,6 +230,8 @@ mod tests {
                 "stages[2].name",
                 "stages[2].material.restitution",
                 "stages.tiny.integrator.time_step",
+                "stages.slip.material.friction",
+                "stages.slip.wall_material.friction",
             ]
         );
     }

@@ -420,7 +420,8 @@ pub fn run_charts(
     let subject = run_subject(row);
     match &stored.history {
         Some(history) => {
-            sink.chart(&format!("{}_energy", row.id), &subject, |o, c| run::energy_chart(history, o, c));
+            let stage_ends = &row.stage_ends;
+            sink.chart(&format!("{}_energy", row.id), &subject, |o, c| run::energy_chart(history, stage_ends, o, c));
             let marks = run::UbfMarks {
                 threshold: stored.scene.settle.ubf_threshold,
                 settle_time: row.settle_time,

@@ -14,13 +14,15 @@ use crate::physics::quantity;
 use crate::physics::record::{History, Snapshot};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
-/// energy against time onto `canvas`. Samples that are not finite (a diverged run) break the lines.
+/// energy against time onto `canvas`, with the end of each stage of the run's protocol marked
+/// (`stage_ends` as in [`UbfMarks`]). Samples that are not finite (a diverged run) break the lines.
 pub fn energy_chart<'c>(
     history: &History,
+    stage_ends: &[(String, f64)],
     options: &ChartOptions,
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
-    render(&EnergyFigure { history }, options, canvas.into())
+    render(&EnergyFigure { history, stage_ends }, options, canvas.into())
 }
 
 /// What the unbalanced force ratio chart marks besides the ratio.
@@ -223,14 +225,41 @@ where
     Ok(())
 }
 
+/// Draws the end of each stage that ended (`stage_ends` by name, NaN: the run ended first) on
+/// `chart` as a dotted vertical line across `span`, with a legend entry where `labelled`.
+fn draw_stage_ends<DB, CT>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    stage_ends: &[(String, f64)],
+    span: Range<f64>,
+    labelled: bool,
+) -> DrawResult<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    for (k, (name, t)) in stage_ends.iter().filter(|(_, t)| t.is_finite()).enumerate() {
+        let stage_style = style::series_colour(3 + k).stroke_width(LINE_WIDTH);
+        let drawn = chart.draw_series(DashedLineSeries::new([(*t, span.start), (*t, span.end)], 3, 4, stage_style))?;
+        if labelled {
+            drawn
+                .label(format!("stage {name} ends at {} s", style::short_number(*t)))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], stage_style));
+        }
+    }
+    Ok(())
+}
+
 /// The time axis range of `history`.
 fn time_range(history: &History) -> Range<f64> {
     style::padded(style::finite_bounds(history.time.iter().copied()), 0.0)
 }
 
-/// Energies against time: all four on a linear scale above, kinetic and elastic on a log scale below.
+/// Energies against time: all four on a linear scale above, kinetic and elastic on a log scale
+/// below; stage ends marked on both, named in the upper one's legend.
 struct EnergyFigure<'a> {
     history: &'a History,
+    stage_ends: &'a [(String, f64)],
 }
 
 /// Share of the energy chart's height given to the linear panel.
@@ -260,8 +289,9 @@ impl Figure for EnergyFigure<'_> {
         let energy = style::padded(style::finite_bounds(lines.iter().flat_map(Line::values)), 0.05);
         let title = options.title("Energies");
         let energy_label = quantity::labelled("energy", "J");
-        let mut chart = time_chart(&upper, (&title, style::TITLE_SIZE), time.clone(), (energy, &energy_label))?;
+        let mut chart = time_chart(&upper, (&title, style::TITLE_SIZE), time.clone(), (energy.clone(), &energy_label))?;
         draw_lines(&mut chart, &lines)?;
+        draw_stage_ends(&mut chart, self.stage_ends, energy, true)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         let positive = style::finite_bounds(lines[0].values().chain(lines[2].values()).filter(|v| *v > 0.0));
         let (lo, hi) = positive.unwrap_or((1e-3, 1.0));
@@ -273,6 +303,7 @@ impl Figure for EnergyFigure<'_> {
         let caption = ("kinetic and elastic energy, log scale", style::AXIS_DESC_SIZE);
         let mut chart = time_chart(&lower, caption, time, (style::log_span(lo, hi).log_scale(), &energy_label))?;
         draw_lines(&mut chart, &detail)?;
+        draw_stage_ends(&mut chart, self.stage_ends, lo..hi, false)?;
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }
@@ -336,13 +367,7 @@ impl UbfFigure<'_> {
             .draw_series(DashedLineSeries::new(threshold, 10, 6, threshold_style))?
             .label(format!("settle threshold {}", style::short_number(self.marks.threshold)))
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], threshold_style));
-        for (k, (name, t)) in self.marks.stage_ends.iter().filter(|(_, t)| t.is_finite()).enumerate() {
-            let stage_style = style::series_colour(3 + k).stroke_width(LINE_WIDTH);
-            chart
-                .draw_series(DashedLineSeries::new([(*t, ubf.start), (*t, ubf.end)], 3, 4, stage_style))?
-                .label(format!("stage {name} ends at {} s", style::short_number(*t)))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], stage_style));
-        }
+        draw_stage_ends(chart, self.marks.stage_ends, ubf.clone(), true)?;
         let settle_style = style::series_colour(2).stroke_width(LINE_WIDTH + 1);
         match self.marks.settle_time {
             Some(t) => {

@@ -10,7 +10,7 @@ use crate::physics::diagnostics::ContactTotals;
 use crate::physics::energy::EnergyLedger;
 use crate::physics::forces::ContactParameters;
 use crate::physics::integrator::{Integrator, StepContext};
-use crate::physics::material::ContactMaterial;
+use crate::physics::material::{ContactMaterial, Materials};
 use crate::physics::memory_order::{MemoryOrder, Numbering};
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::Team;
@@ -47,9 +47,11 @@ impl<L: ContactLaw> Simulation<L> {
         let materials = first.materials;
         let particles = Particles::new(disks, materials.density, scene.particles.thickness);
         let walls = BoxWalls::new(&scene.domain);
-        let tangential = materials.particle.friction > 0.0 || materials.wall.friction > 0.0;
+        // Springs and spins are followed through the whole run if any stage has friction.
+        let all = || protocol.stages.iter().map(|stage| &stage.materials);
+        let tangential = all().any(|m| m.particle.friction > 0.0 || m.wall.friction > 0.0);
         let spinning = particles.omega.iter().any(|w| *w != 0.0);
-        let rotation = materials.has_friction() || spinning;
+        let rotation = all().any(Materials::has_friction) || spinning;
         let kind = |m: &ContactMaterial| ContactParameters {
             material: *m,
             options: ContactOptions { allow_tension: scene.contact.allow_tension, tangential, friction: m.friction },

@@ -7,19 +7,30 @@ use crate::physics::integrator::Integrator;
 impl<L: ContactLaw> Simulation<L> {
     /// Ends the current stage now and continues with the next one's settings. The state carries
     /// over as it is (positions, velocities, spins, springs, law states); the forces of this state
-    /// are evaluated afresh when the contact materials change, as a restart from it would. A
-    /// multistep scheme starts afresh when the step or the scheme changes (its history holds
-    /// accelerations of the old step), and continues otherwise.
+    /// are evaluated afresh when the contact materials change, as a restart from it would. Where
+    /// friction falls, that cuts each spring beyond the new Coulomb limit back to it: the elastic
+    /// energy lost leaves the stored energy with no work done, which the ledger counts as
+    /// dissipated (see [`crate::physics::energy`]). A multistep scheme starts afresh when the step
+    /// or the scheme changes (its history holds accelerations of the old step), and continues
+    /// otherwise.
     pub(super) fn next_stage(&mut self) {
         let time = self.time();
+        let now = self.protocol.now();
+        let before = (now.dt, now.scheme, now.materials, now.damping);
+        let powers = (self.contact_power(), self.damping_power());
         let protocol = &mut self.protocol;
-        let before = (protocol.now().dt, protocol.now().scheme, protocol.now().materials);
         protocol.begin_next(self.step, time);
         let next = protocol.now();
         let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
+        if before != (dt, scheme, materials, next.damping) {
+            // The powers jump here: the step that ended closes with those before.
+            self.energy.close_before_jump(powers, before.0);
+        }
         self.context.dt = dt;
         self.context.damping = next.damping;
         (self.disk_contacts.material, self.wall_contacts.material) = (materials.particle, materials.wall);
+        self.disk_contacts.options.friction = materials.particle.friction;
+        self.wall_contacts.options.friction = materials.wall.friction;
         if before.2 != materials {
             self.forces_afresh();
         }
