@@ -31,6 +31,6 @@ pub use error::OutputError;
 pub(crate) use error::hdf5_error;
 pub use header::{FileHeader, ShardInfo, ShardSpec};
 pub use row::SummaryRow;
-pub use sink::{ResultSink, RunResult, Tables};
+pub use sink::{DynSink, ResultSink, RunResult, SinkError, Tables, dyn_sink};
 pub use table::SummaryTable;
 pub use writer::ResultsWriter;

@@ -353,6 +353,8 @@ impl ResultsWriter {
 /// The results file as a sink: runs become run groups (committed in place), the tables `/summary`,
 /// `/points` and the CSV files next to the file.
 impl ResultSink for ResultsWriter {
+    type Error = OutputError;
+
     fn accept(&mut self, run: &RunResult) -> Result<(), OutputError> {
         self.stage(run)
     }
