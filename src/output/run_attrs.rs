@@ -31,7 +31,7 @@ use hdf5_pure::{AttrValue, Group, StagedGroup};
 use serde_json::Value;
 
 use super::compound::{self, Field};
-use super::row::{DEMSWEEP_VERSION, OutcomeValue, SummaryRow};
+use super::row::{CPU_TIME, DEMSWEEP_VERSION, OutcomeKind, OutcomeValue, PARTICLE_STEPS, SummaryRow};
 use super::table::ColumnData;
 use crate::physics::SceneConfig;
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
@@ -237,13 +237,7 @@ fn fill_values(row: &mut SummaryRow, values: &HashMap<String, ColumnData>) -> Re
             Some(_) => Err(format!("`{name}` does not hold one value")),
         }
     };
-    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-    let settle = number(settle_time)?;
-    row.settle_time = (!settle.is_nan()).then_some(settle);
-    let count = |name: &str| number(name).map(|x| if x.is_nan() { 0 } else { x as u64 });
-    (row.steps, row.particle_steps) = (count(steps)?, count(particle_steps)?);
-    (row.simulated_time, row.wall_time, row.cpu_time) =
-        (number(simulated_time)?, number(wall_time)?, number(cpu_time)?);
+    row.read_outcome(|name, _| number(name).map(|x| Some(OutcomeValue::Float(x))))?;
     for (slot, declared) in row.final_values.iter_mut().zip(quantity::final_value_declarations()) {
         *slot = number(declared.name)?;
     }
@@ -316,13 +310,12 @@ fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
     // Files written before warnings were typed hold texts: those are not read back (the count in
     // `/summary` stays).
     row.warnings = warnings.iter().filter_map(|w| serde_json::from_value(w.clone()).ok()).collect();
-    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-    let settle = float(settle_time)?;
-    row.settle_time = (!settle.is_nan()).then_some(settle);
-    (row.steps, row.particle_steps) = (int(steps)?, int(particle_steps)?);
-    (row.simulated_time, row.wall_time) = (float(simulated_time)?, float(wall_time)?);
-    // Files written before CPU time have none.
-    row.cpu_time = if value.get(cpu_time).is_some() { float(cpu_time)? } else { f64::NAN };
+    row.read_outcome(|name, kind| match (value.get(name), kind) {
+        // Files written before CPU time have none.
+        (None, _) if name == CPU_TIME => Ok(None),
+        (_, OutcomeKind::Float) => float(name).map(|x| Some(OutcomeValue::Float(x))),
+        (_, OutcomeKind::Int) => int(name).map(|i| Some(OutcomeValue::Int(i))),
+    })?;
     let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
     for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
         if value.get(declared.name).is_some() {
@@ -357,17 +350,16 @@ mod legacy {
                 *slot = float(declared.name)?;
             }
         }
-        let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-        row.steps = int(steps)? as u64;
-        row.particle_steps = match attrs.get(particle_steps) {
-            Some(_) => int(particle_steps)? as u64,
-            None => row.steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
-        };
-        let settle = float(settle_time)?;
-        row.settle_time = (!settle.is_nan()).then_some(settle);
-        row.simulated_time = float(simulated_time)?;
-        row.wall_time = float(wall_time)?;
-        row.cpu_time = if attrs.contains_key(cpu_time) { float(cpu_time)? } else { f64::NAN };
+        // Files written before CPU time or particle steps have none: the latter are the steps times
+        // the disks.
+        row.read_outcome(|name, kind| match (attrs.get(name), kind) {
+            (None, _) if name == CPU_TIME || name == PARTICLE_STEPS => Ok(None),
+            (_, OutcomeKind::Float) => float(name).map(|x| Some(OutcomeValue::Float(x))),
+            (_, OutcomeKind::Int) => int(name).map(|i| Some(OutcomeValue::Int(i as u64))),
+        })?;
+        if !attrs.contains_key(PARTICLE_STEPS) {
+            row.particle_steps = row.steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64;
+        }
         Ok(())
     }
 
