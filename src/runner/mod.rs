@@ -35,7 +35,8 @@ pub use writer_thread::CommitPolicy;
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
 use crate::output::{
-    self, DynSink, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SinkError, SummaryTable,
+    self, DynSink, FileHeader, OutputError, OutputReason, ResultsWriter, RunResult, ShardInfo, ShardSpec, SinkError,
+    SummaryTable,
 };
 use crate::physics::Threads;
 use crate::physics::parallel::PARALLEL_MIN_DISKS;
@@ -331,8 +332,7 @@ fn open_results(
     selected: &[usize],
 ) -> Result<(ResultsLock, ResultsWriter, Option<FileHeader>), RunnerError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)
-        .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::io_doing(dir, "cannot create the output directory", e))?;
     check_writable(dir)?;
     // The CSV files and report page are written last: checked before anything runs or is replaced.
     output::check_companions(path, options.force)?;
@@ -364,15 +364,11 @@ fn open_results(
         return Ok((lock, writer, header));
     }
     if exists && !options.force {
-        return Err(OutputError::new(
-            path,
-            "results already exist: use --resume to continue them (only missing runs are run) or --force to overwrite them",
-        )
-        .into());
+        return Err(OutputError::at(path, OutputReason::Exists { resumable: true }).into());
     }
     if exists {
         output::guard::check_results_replaceable(path, &[&plan.study_path])
-            .map_err(|e| OutputError::new(path, e.refusal_text()))?;
+            .map_err(|e| OutputError::refused(path, e))?;
         std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
     }
     let header = FileHeader {
@@ -391,14 +387,7 @@ fn open_results(
 /// copy that stopped, or damaged), the error says how to go on.
 fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
     match output::guard::is_hdf5(path) {
-        true => OutputError::new(
-            path,
-            format!(
-                "cannot be continued: {}: the file was cut short or is damaged; run it again from the start with \
-                 --force in place of --resume (this replaces the file: move it away first to keep it)",
-                error.message
-            ),
-        ),
+        true => OutputError::at(path, OutputReason::CannotContinue(error.reason)),
         false => error,
     }
 }
@@ -406,8 +395,7 @@ fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
 /// Fails early, naming the directory, when files cannot be created in it.
 fn check_writable(dir: &Path) -> Result<(), OutputError> {
     let probe = dir.join(format!(".demsweep-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .map_err(|e| OutputError::new(dir, format!("the output directory is not writable: {e}")))?;
+    std::fs::write(&probe, b"").map_err(|e| OutputError::io_doing(dir, "the output directory is not writable", e))?;
     std::fs::remove_file(&probe).map_err(|e| OutputError::io(&probe, e))
 }
 
@@ -419,23 +407,13 @@ fn check_same_study(
     identities: bool,
 ) -> Result<(), OutputError> {
     if header.fingerprint != plan.fingerprint && !identities {
-        return Err(OutputError::new(
-            path,
-            format!(
-                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}) \
-                 written before runs had identities, so its runs cannot be matched to this study's: \
-                 use another --out directory, or --force to overwrite",
-                header.study_name, header.fingerprint, plan.fingerprint
-            ),
-        ));
+        let (name, fingerprint) = (header.study_name.clone(), header.fingerprint.clone());
+        let other = OutputReason::OtherStudy { name, fingerprint, expected: plan.fingerprint.clone() };
+        return Err(OutputError::at(path, other));
     }
     let file_shard = header.shard.as_ref().map(|s| s.spec);
     if file_shard != shard {
-        let show = |s: Option<ShardSpec>| s.map_or("the whole study".to_string(), |s| format!("shard {s}"));
-        return Err(OutputError::new(
-            path,
-            format!("was written for {} but this run is for {}", show(file_shard), show(shard)),
-        ));
+        return Err(OutputError::at(path, OutputReason::OtherShard { file: file_shard, this: shard }));
     }
     Ok(())
 }
