@@ -2,6 +2,7 @@
 
 mod runner_common;
 
+use demsweep::output::OutputReason;
 use demsweep::runner::{RunnerError, run_plan};
 
 fn refusal(result: Result<demsweep::runner::RunReport, RunnerError>) -> demsweep::output::OutputError {
@@ -20,7 +21,8 @@ fn existing_results_need_resume_or_force() {
 
     let e = refusal(run_plan(&plan, &runner_common::options(&dir, 2)));
     assert_eq!(e.path, first.results);
-    assert!(e.message.contains("--resume") && e.message.contains("--force"), "{e}");
+    assert_eq!(*e.reason, OutputReason::Exists { resumable: true });
+    assert!(e.to_string().contains("--resume") && e.to_string().contains("--force"), "{e}");
     assert_eq!(std::fs::read(&first.results).unwrap(), before, "the refused run left the file alone");
 
     let mut resume = runner_common::options(&dir, 2);
@@ -43,5 +45,9 @@ fn an_unwritable_output_path_fails_before_running() {
     let out = blocker.join("results");
     let e = refusal(run_plan(&runner_common::sweep("unwritable", 1), &runner_common::options(&out, 1)));
     assert_eq!(e.path, out);
-    assert!(e.message.contains("cannot create the output directory"), "{e}");
+    match &*e.reason {
+        OutputReason::Io { doing: Some(doing), .. } => assert_eq!(*doing, "cannot create the output directory"),
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("cannot create the output directory"), "{e}");
 }

@@ -12,13 +12,12 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use demsweep::output::SummaryRow;
 use demsweep::output::table::ColumnData;
-use demsweep::output::{self, Field, OutputError, SummaryTable, layout, reader, stored};
+use demsweep::output::{self, Field, OutputError, SummaryTable, dyn_sink, layout, reader, stored};
 use demsweep::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
 use demsweep::physics::record::{DISK_FIELDS, Snapshot};
 use demsweep::runner::{self, ProgressMode, RunCounts, RunOptions};
-use demsweep::study::{self, PlannedRun, Seeds, StudyErrors};
+use demsweep::study::{self, Seeds, StudyErrors};
 use demsweep::tune::TuneOptions;
 use demsweep::workflow::{self, LoadError};
 use pyo3::create_exception;
@@ -34,6 +33,10 @@ use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
 mod command {
     pub mod cli;
 }
+
+mod memory;
+
+use memory::InMemory;
 
 create_exception!(_native, DemsweepError, PyException, "Any error the demsweep library reports.");
 create_exception!(
@@ -281,23 +284,32 @@ fn run_batch<'py>(
     jobs: usize,
 ) -> PyResult<(Vec<Bound<'py, PyDict>>, Vec<String>)> {
     let plans = plans(py, &scenes, &seeds_of(seeds)?, true)?;
-    let runs: Vec<&PlannedRun> = plans.iter().flat_map(|p| &p.runs).collect();
-    let stop = AtomicBool::new(false);
-    let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
-    let rows: Option<Vec<_>> = rows.into_iter().collect();
-    let rows = rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
-    let warnings = warnings(&plans, &rows);
-    let mut rows = rows.into_iter();
-    let tables = plans.iter().map(|plan| {
-        let taken: Vec<_> = rows.by_ref().take(plan.runs.len()).collect();
-        columns(py, &SummaryTable::from_rows(&taken))
-    });
-    Ok((tables.collect::<PyResult<_>>()?, warnings))
+    let tables = run_in_memory(py, &plans, jobs)?;
+    let warnings = warnings(&plans, &tables);
+    Ok((tables.iter().map(|table| columns(py, table)).collect::<PyResult<_>>()?, warnings))
 }
 
-/// The warnings of `plans` and, when some of their `rows` diverged or failed, how many.
-fn warnings(plans: &[study::Plan], rows: &[SummaryRow]) -> Vec<String> {
-    let counts = RunCounts::of(rows.len(), rows.iter().map(|row| row.status.as_str()));
+/// Runs every run of `plans` on `jobs` worker threads into memory: each plan's summary table.
+fn run_in_memory(py: Python<'_>, plans: &[study::Plan], jobs: usize) -> PyResult<Vec<SummaryTable>> {
+    let results = vec![InMemory::default(); plans.len()];
+    let batches = (plans.iter().zip(&results))
+        .map(|(plan, memory)| runner::Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(memory.clone())] })
+        .collect();
+    let stop = Arc::new(AtomicBool::new(false));
+    detached(py, &stop, || runner::run_batches(batches, jobs, &stop))?.map_err(results_error)?;
+    let complete = |(plan, memory): (&study::Plan, &InMemory)| memory.summary().filter(|t| t.len() == plan.runs.len());
+    let tables: Option<Vec<_>> = plans.iter().zip(&results).map(complete).collect();
+    tables.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
+}
+
+/// The warnings of `plans` and, when some of the runs in their summary `tables` diverged or failed,
+/// how many.
+fn warnings(plans: &[study::Plan], tables: &[SummaryTable]) -> Vec<String> {
+    let statuses = tables.iter().flat_map(|table| match table.column("status").map(|c| &c.data) {
+        Some(ColumnData::Text(statuses)) => statuses.as_slice(),
+        _ => &[],
+    });
+    let counts = RunCounts::of(tables.iter().map(SummaryTable::len).sum(), statuses.map(String::as_str));
     let failed = (counts.failed() > 0).then(|| counts.to_string());
     plans.iter().flat_map(|plan| plan.warnings.iter().map(ToString::to_string)).chain(failed).collect()
 }
@@ -320,12 +332,8 @@ fn run<'py>(
     jobs: usize,
 ) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
     let plans = plans(py, std::slice::from_ref(&scene), &seeds_of(seeds)?, false)?;
-    let runs: Vec<&PlannedRun> = plans[0].runs.iter().collect();
-    let stop = AtomicBool::new(false);
-    let rows = detached(py, &stop, || runner::run_rows(&runs, jobs, &stop))?.map_err(results_error)?;
-    let rows: Option<Vec<_>> = rows.into_iter().collect();
-    let rows = rows.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))?;
-    Ok((columns(py, &SummaryTable::from_rows(&rows))?, warnings(&plans, &rows)))
+    let tables = run_in_memory(py, &plans, jobs)?;
+    Ok((columns(py, &tables[0])?, warnings(&plans, &tables)))
 }
 
 fn progress_mode(name: &str) -> PyResult<ProgressMode> {

@@ -61,7 +61,7 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
         names.push(reader::listed_group(&file, &request.results, id)?.unwrap_or(id.clone()));
     }
     if let Some(d) = damaged.iter().find(|d| names.iter().any(|name| d.group.ends_with(&format!("/{name}")))) {
-        let (group, reason) = (d.group.clone(), d.reason.clone());
+        let (group, reason) = (d.group.clone(), d.reason.to_string());
         return Err(ExportError::DamagedRun { results: request.results.clone(), group, reason });
     }
     let chosen = choose_runs(&rows, &request.runs, &request.results)?;

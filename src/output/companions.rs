@@ -43,7 +43,7 @@ pub fn write_csv_files(results: &Path, tables: &Tables) -> Result<(PathBuf, Path
 pub fn check_companions(results: &Path, force: bool) -> Result<(), OutputError> {
     for path in [csv_path(results), points_csv_path(results), report_path(results)] {
         guard::check_replaceable(&path, &[results], guard::Existing::Ours { force })
-            .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
+            .map_err(|e| OutputError::refused(&path, e))?;
     }
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 use hdf5_pure::{CharacterSet, CompoundTypeBuilder, Dataset, Datatype, StringPadding};
 
+use super::layout_error::LayoutError;
 use super::table::ColumnData;
 
 /// One column of a table to write.
@@ -123,22 +124,22 @@ pub fn read_limit(path: &std::path::Path) -> u64 {
 /// Reads a compound table back as named columns (floats and integers), in field order. The table's
 /// declared size must be at most `limit` bytes ([`read_limit`]) and its fields must lie inside its
 /// rows: a damaged or crafted declaration is an error, not an allocation or a panic.
-pub fn decode(dataset: &Dataset, limit: u64) -> Result<Vec<(String, ColumnData)>, String> {
-    let Datatype::Compound { size, members } = dataset.datatype().map_err(|e| e.to_string())? else {
-        return Err("not a compound (table) dataset".into());
+pub fn decode(dataset: &Dataset, limit: u64) -> Result<Vec<(String, ColumnData)>, LayoutError> {
+    let Datatype::Compound { size, members } = dataset.datatype()? else {
+        return Err(LayoutError::inconsistent("not a compound (table) dataset"));
     };
-    let shape = dataset.shape().map_err(|e| e.to_string())?;
+    let shape = dataset.shape()?;
     let declared = shape.iter().try_fold(u64::from(size), |bytes, &n| bytes.checked_mul(n));
     if declared.is_none_or(|bytes| bytes > limit) {
-        return Err(format!("declares {shape:?} rows of {size} bytes, more than its file could hold"));
+        return Err(LayoutError::too_large(format!("{shape:?} rows of {size} bytes")));
     }
     if size == 0 {
-        return Err("declares rows of 0 bytes".into());
+        return Err(LayoutError::inconsistent("declares rows of 0 bytes"));
     }
     if let Some(m) = members.iter().find(|m| m.byte_offset as usize + m.datatype.type_size() as usize > size as usize) {
-        return Err(format!("field `{}` lies outside its {size}-byte rows", m.name));
+        return Err(LayoutError::inconsistent(format!("field `{}` lies outside its {size}-byte rows", m.name)));
     }
-    let raw = dataset.read_raw().map_err(|e| e.to_string())?;
+    let raw = dataset.read_raw()?;
     let rows: Vec<&[u8]> = raw.chunks_exact(size as usize).collect();
     members
         .iter()
@@ -167,7 +168,7 @@ pub fn decode(dataset: &Dataset, limit: u64) -> Result<Vec<(String, ColumnData)>
                         })
                         .collect(),
                 ),
-                _ => return Err(format!("field `{}` has an unsupported type", m.name)),
+                _ => return Err(LayoutError::inconsistent(format!("field `{}` has an unsupported type", m.name))),
             };
             Ok((m.name.clone(), data))
         })
@@ -188,7 +189,7 @@ mod tests {
         builder.write(&path).unwrap();
         let file = hdf5_pure::File::open(&path).unwrap();
         let dataset = file.dataset("table").unwrap();
-        let refused = decode(&dataset, 100 * 16 - 1).unwrap_err();
+        let refused = decode(&dataset, 100 * 16 - 1).unwrap_err().to_string();
         assert!(refused.contains("[100] rows of 16 bytes"), "{refused}");
         let columns = decode(&dataset, read_limit(&path)).unwrap();
         assert_eq!(columns[1], ("y".to_string(), ColumnData::Float(values)));

@@ -5,6 +5,8 @@
 
 use hdf5_pure::{AttrValue, DatasetBuilder, Datatype, Group, StagedGroup};
 
+use super::layout_error::LayoutError;
+
 /// HDF5's registered filter identifiers of deflate, shuffle and Fletcher-32.
 const FILTER_DEFLATE: u16 = 1;
 const FILTER_SHUFFLE: u16 = 2;
@@ -34,38 +36,40 @@ struct DatasetCopy {
 impl GroupCopy {
     /// Reads `group` and everything under it (checksums verified); a filter other than shuffle,
     /// deflate and Fletcher-32 is refused.
-    pub fn read(group: &Group) -> Result<Self, String> {
-        let text = |e: hdf5_pure::Error| e.to_string();
+    pub fn read(group: &Group) -> Result<Self, LayoutError> {
         let mut datasets = Vec::new();
-        for (name, dataset) in group.iter_datasets().map_err(text)? {
+        for (name, dataset) in group.iter_datasets()? {
             let (mut shuffle, mut deflate, mut fletcher32) = (false, None, false);
             for filter in dataset.filter_pipeline() {
                 match filter.id {
                     FILTER_SHUFFLE => shuffle = true,
                     FILTER_FLETCHER32 => fletcher32 = true,
                     FILTER_DEFLATE => deflate = Some(filter.client_data.first().copied().unwrap_or(1)),
-                    other => return Err(format!("{name}: filter {other} cannot be copied")),
+                    other => {
+                        let refused = LayoutError::inconsistent(format!("filter {other} cannot be copied"));
+                        return Err(refused.within(name));
+                    }
                 }
             }
             datasets.push(DatasetCopy {
-                datatype: dataset.datatype().map_err(text)?,
-                shape: dataset.shape().map_err(text)?,
-                bytes: dataset.read_raw().map_err(|e| format!("{name}: {e}"))?,
-                chunks: dataset.chunk_shape().map_err(text)?,
+                datatype: dataset.datatype()?,
+                shape: dataset.shape()?,
+                bytes: dataset.read_raw().map_err(|e| LayoutError::from(e).within(&name))?,
+                chunks: dataset.chunk_shape()?,
                 shuffle,
                 deflate,
                 fletcher32,
-                attrs: sorted(dataset.attrs().map_err(text)?),
+                attrs: sorted(dataset.attrs()?),
                 name,
             });
         }
         datasets.sort_by(|a, b| a.name.cmp(&b.name));
         let mut groups = Vec::new();
-        for (name, child) in group.iter_groups().map_err(text)? {
+        for (name, child) in group.iter_groups()? {
             groups.push((name, Self::read(&child)?));
         }
         groups.sort_by(|a, b| a.0.cmp(&b.0));
-        Ok(Self { attrs: sorted(group.attrs().map_err(text)?), datasets, groups })
+        Ok(Self { attrs: sorted(group.attrs()?), datasets, groups })
     }
 
     /// Bytes of dataset data held (the decoded size).

@@ -7,6 +7,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use hdf5_pure::AttrValue;
 
+use super::layout_error::LayoutError;
+
 /// Shard `index` of `count` (1-based: `1/4` … `4/4`), as given to `--shard K/N`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ShardSpec {
@@ -22,12 +24,24 @@ impl fmt::Display for ShardSpec {
     }
 }
 
+/// A text that is no `K/N` with 1 ≤ K ≤ N: the text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BadShardSpec(pub String);
+
+impl fmt::Display for BadShardSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "shard must be K/N with 1 <= K <= N (e.g. 2/8), got `{}`", self.0)
+    }
+}
+
+impl std::error::Error for BadShardSpec {}
+
 impl FromStr for ShardSpec {
-    type Err = String;
+    type Err = BadShardSpec;
 
     /// Parses `K/N` with 1 ≤ K ≤ N.
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("shard must be K/N with 1 <= K <= N (e.g. 2/8), got `{s}`");
+    fn from_str(s: &str) -> Result<Self, BadShardSpec> {
+        let bad = || BadShardSpec(s.to_string());
         let (k, n) = s.split_once('/').ok_or_else(bad)?;
         let index: usize = k.trim().parse().map_err(|_| bad())?;
         let count: usize = n.trim().parse().map_err(|_| bad())?;
@@ -94,22 +108,22 @@ impl FileHeader {
     }
 
     /// Reads the header back; the error names the missing or malformed attribute.
-    pub fn from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<Self, String> {
-        let text = |name: &str| {
-            attrs.get(name).and_then(AttrValue::as_str).map(str::to_string).ok_or(format!("no `{name}` root attribute"))
-        };
-        let planned = attrs.get(PLANNED_RUNS).and_then(AttrValue::as_i64).ok_or("no `planned_runs` root attribute")?;
+    pub fn from_attrs(attrs: &HashMap<String, AttrValue>) -> Result<Self, LayoutError> {
+        let missing = |name: &str| LayoutError::missing(format!("`{name}` root attribute"));
+        let text = |name: &str| attrs.get(name).and_then(AttrValue::as_str).map(str::to_string).ok_or(missing(name));
+        let planned = attrs.get(PLANNED_RUNS).and_then(AttrValue::as_i64).ok_or(missing(PLANNED_RUNS))?;
         let shard = match attrs.get(SHARD).and_then(AttrValue::as_str) {
             None => None,
             Some(spec) => {
-                let runs =
-                    attrs.get(SHARD_RUNS).and_then(AttrValue::to_i64s).ok_or("no `shard_runs` root attribute")?;
-                Some(ShardInfo { spec: spec.parse()?, runs: runs.iter().map(|&i| i as usize).collect() })
+                let runs = attrs.get(SHARD_RUNS).and_then(AttrValue::to_i64s).ok_or(missing(SHARD_RUNS))?;
+                let spec = spec.parse().map_err(|e: BadShardSpec| LayoutError::inconsistent(e.to_string()))?;
+                Some(ShardInfo { spec, runs: runs.iter().map(|&i| i as usize).collect() })
             }
         };
+        let name = text(STUDY_NAME)?;
+        crate::study::name::check_name(&name).map_err(|e| LayoutError::inconsistent(e.to_string()))?;
         Ok(Self {
-            study_name: text(STUDY_NAME)
-                .and_then(|name| crate::study::name::check_name(&name).map(|()| name).map_err(|e| e.to_string()))?,
+            study_name: name,
             study_text: text(STUDY_TEXT)?,
             fingerprint: text(FINGERPRINT)?,
             demsweep_version: text(VERSION)?,
@@ -158,7 +172,7 @@ mod tests {
     fn shard_spec_parses_and_rejects() {
         assert_eq!("2/8".parse::<ShardSpec>(), Ok(ShardSpec { index: 2, count: 8 }));
         for bad in ["0/3", "4/3", "3", "a/b", "1/0"] {
-            assert!(bad.parse::<ShardSpec>().unwrap_err().contains("K/N"), "{bad}");
+            assert!(bad.parse::<ShardSpec>().unwrap_err().to_string().contains("K/N"), "{bad}");
         }
     }
 }

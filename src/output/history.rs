@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{OutputError, compound, csv, reader};
+use super::{OutputError, OutputReason, compound, csv, reader};
 
 /// Writes the histories of run `run_id` of a results file as CSV: one column per series (the fields
 /// of the run's `history` table, headed by their bare names; the units are the results file's), one
@@ -11,14 +11,11 @@ use super::{OutputError, compound, csv, reader};
 pub fn to_csv<W: Write>(path: &Path, run_id: &str, out: &mut W) -> Result<(), OutputError> {
     let file = reader::open(path)?;
     let run = reader::find_run(&file, path, run_id)?;
-    let dataset = file.dataset(&format!("{run}/history")).map_err(|_| {
-        OutputError::new(
-            path,
-            format!("run `{run_id}` has no histories (failed run, or the study's output.histories is off)"),
-        )
-    })?;
+    let dataset = file
+        .dataset(&format!("{run}/history"))
+        .map_err(|_| OutputError::at(path, OutputReason::NoHistories(run_id.to_string())))?;
     let columns = compound::decode(&dataset, compound::read_limit(path))
-        .map_err(|e| reader::damaged_data(path, run_id, &format!("{run}/history"), &e))?;
+        .map_err(|e| reader::damaged_data(path, run_id, &format!("{run}/history"), e))?;
     let write_err = |e| OutputError::io(Path::new("<output>"), e);
     let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
     csv::write_record(out, &names).map_err(write_err)?;

@@ -11,8 +11,8 @@ use std::io::{Read, Seek, Write};
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use super::OutputError;
 use super::header::utc_now;
+use super::{OutputError, OutputReason};
 
 /// A held lock on a results file; released when dropped.
 #[derive(Debug)]
@@ -41,7 +41,7 @@ impl ResultsLock {
                 return Self::hold(file, path);
             }
         }
-        Err(OutputError::new(&path, "cannot lock: the lock file keeps being removed by other processes"))
+        Err(OutputError::at(&path, OutputReason::LockContended))
     }
 
     /// Writes who holds the locked `file` into it.
@@ -56,18 +56,18 @@ impl ResultsLock {
 /// Opens (creating it if missing) and locks the lock file at `path` of `results`; refused when another
 /// process holds it.
 fn lock_file(results: &Path, path: &Path) -> Result<File, OutputError> {
-    super::guard::refuse_symlink(path).map_err(|e| OutputError::new(path, e.refusal_text()))?;
+    super::guard::refuse_symlink(path).map_err(|e| OutputError::refused(path, e))?;
     let mut file = super::guard::open_no_follow(path, false)
-        .map_err(|e| OutputError::new(path, format!("cannot create the lock file: {e}")))?;
+        .map_err(|e| OutputError::io_doing(path, "cannot create the lock file", e))?;
     match file.try_lock() {
         Ok(()) => Ok(file),
         Err(TryLockError::WouldBlock) => {
             let mut holder = String::new();
             let _ = file.read_to_string(&mut holder);
-            Err(refusal(results, holder.trim()))
+            Err(OutputError::at(results, OutputReason::Locked { holder: holder.trim().to_string() }))
         }
         Err(TryLockError::Error(e)) => {
-            Err(OutputError::new(path, format!("cannot lock (does this file system support locks?): {e}")))
+            Err(OutputError::io_doing(path, "cannot lock (does this file system support locks?)", e))
         }
     }
 }
@@ -89,18 +89,6 @@ impl Drop for ResultsLock {
             let _ = self.file.set_len(0);
         }
     }
-}
-
-/// The error of a lock held by `holder` (the lock file's text).
-fn refusal(results: &Path, holder: &str) -> OutputError {
-    let who = if holder.is_empty() { "another process".to_string() } else { format!("another process ({holder})") };
-    OutputError::new(
-        results,
-        format!(
-            "is being written by {who}: wait for it to finish or stop it (Ctrl-C), then use --resume; \
-             or write elsewhere with another --out"
-        ),
-    )
 }
 
 /// This machine's host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), or `?`.
@@ -125,7 +113,11 @@ mod tests {
         let refused = ResultsLock::acquire(&results).unwrap_err();
         assert_eq!(refused.path, results);
         let pid = format!("pid {} on ", std::process::id());
-        assert!(refused.message.contains(&pid) && refused.message.contains("--resume"), "{refused}");
+        match &*refused.reason {
+            OutputReason::Locked { holder } => assert!(holder.starts_with(&pid), "{refused}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(refused.to_string().contains(&pid) && refused.to_string().contains("--resume"), "{refused}");
         drop(first);
         assert!(!lock_path(&results).exists(), "released: no lock file left");
         drop(ResultsLock::acquire(&results).unwrap());
@@ -146,7 +138,7 @@ mod tests {
         assert!(names(&path, &taken.file), "the lock is on the file the path names");
         drop(stale);
         let refused = ResultsLock::acquire(&results).unwrap_err();
-        assert!(refused.message.contains("is being written by"), "{refused}");
+        assert!(matches!(*refused.reason, OutputReason::Locked { .. }), "{refused}");
         drop(taken);
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -6,11 +6,15 @@ use std::path::Path;
 
 use hdf5_pure::{DType, Dataset, File};
 
+use super::error::OutputReason;
 use super::header::FileHeader;
 use super::layout::{self, LEGACY_RUNS, POINTS, STORED_RUNS, SUMMARY, SUMMARY_COLUMNS, SWEEP_JOBS, SWEEP_WALL_TIME};
+use super::layout_error::LayoutError;
 use super::row::SummaryRow;
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{OutputError, hdf5_error, run_attrs};
+
+pub use super::error::{DamagedGroup, damage_text};
 
 /// The results file `path` names: the file itself, or the one results file (`*.h5`, not a temporary
 /// `*.partial` or `*.merging.h5`) in the folder `path`; an error naming the folder when it holds none
@@ -28,14 +32,11 @@ pub fn locate(path: &Path) -> Result<std::path::PathBuf, OutputError> {
     found.sort();
     match found.len() {
         1 => Ok(found.remove(0)),
-        0 => Err(OutputError::new(path, "no results file (*.h5) in this folder")),
+        0 => Err(OutputError::at(path, OutputReason::NoResultsFile)),
         _ => {
             let names: Vec<String> =
                 found.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
-            Err(OutputError::new(
-                path,
-                format!("holds {} results files ({}): name one of them", names.len(), names.join(", ")),
-            ))
+            Err(OutputError::at(path, OutputReason::SeveralResultsFiles(names)))
         }
     }
 }
@@ -43,16 +44,12 @@ pub fn locate(path: &Path) -> Result<std::path::PathBuf, OutputError> {
 /// Opens a results file for reading (streaming: only what is read is loaded).
 pub fn open(path: &Path) -> Result<File, OutputError> {
     if !path.is_file() {
-        return Err(OutputError::new(path, "no such results file"));
+        return Err(OutputError::at(path, OutputReason::NoSuchFile));
     }
     File::open_streaming(path).map_err(|e| match path.extension().and_then(|e| e.to_str()) {
-        Some(ext) if !ext.eq_ignore_ascii_case("h5") => OutputError::new(
-            path,
-            format!(
-                "not a results file ({e}): demsweep reads the HDF5 file (.h5) a run wrote; a .{ext} file (such as \
-                 the _summary.csv or _points.csv beside it) is one of its tables"
-            ),
-        ),
+        Some(ext) if !ext.eq_ignore_ascii_case("h5") => {
+            OutputError::at(path, OutputReason::NotHdf5 { extension: ext.to_string(), error: e.to_string() })
+        }
         _ => hdf5_error(path, e),
     })
 }
@@ -60,8 +57,7 @@ pub fn open(path: &Path) -> Result<File, OutputError> {
 /// The file's root attributes.
 pub fn header(file: &File, path: &Path) -> Result<FileHeader, OutputError> {
     let attrs = file.root().attrs().map_err(|e| hdf5_error(path, e))?;
-    FileHeader::from_attrs(&attrs)
-        .map_err(|reason| OutputError::new(path, format!("not a demsweep results file: {reason}")))
+    FileHeader::from_attrs(&attrs).map_err(|reason| OutputError::at(path, OutputReason::NotResults(reason)))
 }
 
 /// How the last sweep into the file ran: worker threads and wall time (s), when it was recorded
@@ -71,15 +67,6 @@ pub fn sweep(file: &File) -> Option<(usize, f64)> {
     let jobs = attrs.get(SWEEP_JOBS)?.as_i64()?;
     let wall_time = attrs.get(SWEEP_WALL_TIME)?.as_f64()?;
     Some((jobs as usize, wall_time))
-}
-
-/// A run group that cannot be read (overwritten bytes, a failed disk): its path and the reason.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct DamagedGroup {
-    /// The group, e.g. `/runs_00000/r0012` (a whole batch, `/runs_00003`, when its index is damaged).
-    pub group: String,
-    /// What could not be read.
-    pub reason: String,
 }
 
 /// The committed runs of a results file.
@@ -136,18 +123,18 @@ pub fn committed_runs(file: &File, path: &Path) -> Result<CommittedRuns, OutputE
 
 /// The row if its run id is its group's name and can name files (plots and exports are named by
 /// it): not empty, `.` or `..`, without `/`, `\\` or control characters.
-fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, String> {
+fn checked_id(row: SummaryRow, group_name: &str) -> Result<SummaryRow, LayoutError> {
     if row.group_name() != group_name {
         let named = if row.identity.is_empty() { "run id" } else { "identity" };
-        return Err(format!(
+        return Err(LayoutError::inconsistent(format!(
             "its {named} `{}` is not its group's name `{group_name}`",
             row.group_name().escape_debug()
-        ));
+        )));
     }
     let unsafe_name =
         matches!(row.id.as_str(), "" | "." | "..") || row.id.chars().any(|c| c == '/' || c == '\\' || c.is_control());
     if unsafe_name {
-        return Err(format!("its run id `{}` cannot name a file", row.id.escape_debug()));
+        return Err(LayoutError::inconsistent(format!("its run id `{}` cannot name a file", row.id.escape_debug())));
     }
     Ok(row)
 }
@@ -176,7 +163,7 @@ fn run_groups(
             Err(e) => {
                 let (found, unreadable) = look_up(file, &parent, described.keys());
                 if found.is_empty() && unreadable.is_empty() {
-                    damaged.push(DamagedGroup { group: format!("/{parent}"), reason: e.to_string() });
+                    damaged.push(DamagedGroup { group: format!("/{parent}"), reason: e.into() });
                 }
                 located.extend(found);
                 damaged.extend(unreadable);
@@ -197,7 +184,7 @@ fn look_up<'a>(file: &File, parent: &str, ids: impl Iterator<Item = &'a String>)
         let group = format!("{parent}/{id}");
         match file.group(&group) {
             Err(hdf5_pure::Error::Format(hdf5_pure::FormatError::PathNotFound(_))) => {}
-            opened => match opened.and_then(|g| g.attrs()).map_err(|e| e.to_string()) {
+            opened => match opened.and_then(|g| g.attrs()).map_err(LayoutError::from) {
                 Ok(_) => found.push((id.clone(), group)),
                 Err(reason) => unreadable.push(DamagedGroup { group: format!("/{group}"), reason }),
             },
@@ -242,7 +229,7 @@ fn with_warnings(
     group: &str,
     mut row: SummaryRow,
     (warnings, limit): (usize, u64),
-) -> Result<SummaryRow, String> {
+) -> Result<SummaryRow, LayoutError> {
     if warnings > 0 {
         row.warnings = group_row(file, group, limit)?.warnings;
     }
@@ -250,8 +237,8 @@ fn with_warnings(
 }
 
 /// A run's row read from its group (counted: see [`attribute_sets_read`]).
-fn group_row(file: &File, group: &str, limit: u64) -> Result<SummaryRow, String> {
-    let opened = file.group(group).map_err(|e| e.to_string())?;
+fn group_row(file: &File, group: &str, limit: u64) -> Result<SummaryRow, LayoutError> {
+    let opened = file.group(group)?;
     ATTRIBUTE_SETS_READ.set(ATTRIBUTE_SETS_READ.get() + 1);
     run_attrs::row_from_group(&opened, limit)
 }
@@ -260,18 +247,7 @@ fn group_row(file: &File, group: &str, limit: u64) -> Result<SummaryRow, String>
 /// some cannot be read (see [`scan`]).
 pub fn rows(file: &File, path: &Path) -> Result<Vec<SummaryRow>, OutputError> {
     let (rows, damaged) = scan(file, path)?;
-    if damaged.is_empty() { Ok(rows) } else { Err(OutputError::new(path, damage_text(&damaged))) }
-}
-
-/// What is wrong with a file whose `damaged` run groups cannot be read, and what to do.
-pub fn damage_text(damaged: &[DamagedGroup]) -> String {
-    let named: Vec<String> = damaged.iter().take(10).map(|d| format!("{} ({})", d.group, d.reason)).collect();
-    let more = if damaged.len() > 10 { format!(" and {} more", damaged.len() - 10) } else { String::new() };
-    format!(
-        "damaged: {} run group(s) cannot be read: {}{more}; `demsweep run STUDY --resume` on this file runs them again",
-        damaged.len(),
-        named.join(", ")
-    )
+    if damaged.is_empty() { Ok(rows) } else { Err(OutputError::at(path, OutputReason::Damaged(damaged))) }
 }
 
 /// The summary and the damaged run groups: `/summary` when every run group reads and it was written
@@ -342,8 +318,7 @@ fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {
 /// `/summary` (or from the run groups when `/summary` does not list it), looked up in each batch (and
 /// bucket): a lookup per batch, not a read of every run's name.
 pub fn find_run(file: &File, path: &Path, run_id: &str) -> Result<String, OutputError> {
-    let missing =
-        || OutputError::new(path, format!("no run `{run_id}` in this file (see `demsweep summary` for the run ids)"));
+    let missing = || OutputError::at(path, OutputReason::NoRun(run_id.to_string()));
     let name = match listed_group(file, path, run_id)? {
         Some(name) => name,
         None => scan(file, path)?.0.into_iter().find(|r| r.id == run_id).ok_or_else(missing)?.group_name().to_string(),
@@ -371,6 +346,6 @@ pub fn find_group(file: &File, path: &Path, name: &str) -> Result<Option<String>
 
 /// The error of a dataset of run `run_id` (`dataset`: its path) that cannot be read, e.g. one whose
 /// Fletcher-32 checksum does not match its bytes (damaged data is an error, never a value).
-pub fn damaged_data(path: &Path, run_id: &str, dataset: &str, reason: &str) -> OutputError {
-    OutputError::new(path, format!("run {run_id}: /{dataset} cannot be read: {reason}"))
+pub fn damaged_data(path: &Path, run_id: &str, dataset: &str, reason: LayoutError) -> OutputError {
+    OutputError::at(path, OutputReason::BadData { run: run_id.to_string(), dataset: dataset.to_string(), reason })
 }

@@ -48,6 +48,10 @@ pub struct SummaryRow {
     pub made_by: String,
 }
 
+/// The outcome quantities files written before them lack (their readers read them as missing).
+pub(crate) const CPU_TIME: &str = "cpu_time";
+pub(crate) const PARTICLE_STEPS: &str = "particle_steps";
+
 /// A value of one of a row's [`OUTCOME`] fields.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OutcomeValue {
@@ -57,7 +61,32 @@ pub enum OutcomeValue {
     Int(u64),
 }
 
+/// How a row keeps one of its [`OUTCOME`] fields.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutcomeKind {
+    /// A float.
+    Float,
+    /// A count.
+    Int,
+}
+
 impl OutcomeValue {
+    /// Whether it is a float or a count.
+    pub fn kind(self) -> OutcomeKind {
+        match self {
+            OutcomeValue::Float(_) => OutcomeKind::Float,
+            OutcomeValue::Int(_) => OutcomeKind::Int,
+        }
+    }
+
+    /// As a count (floats truncated, NaN and negatives to 0).
+    pub fn as_u64(self) -> u64 {
+        match self {
+            OutcomeValue::Float(x) => x as u64,
+            OutcomeValue::Int(i) => i,
+        }
+    }
+
     /// As a float.
     pub fn as_f64(self) -> f64 {
         match self {
@@ -88,6 +117,29 @@ impl SummaryRow {
             Float(self.wall_time),
             Float(self.cpu_time),
         ]
+    }
+
+    /// Sets the row's [`OUTCOME`] fields (the inverse of [`Self::outcome`]), each from what `read`
+    /// gives for its name and kind: `None` where the source lacks it (a missing value: NaN, no
+    /// settle time, or a count of 0). The one decoder of a run's outcome, whatever holds it (a run
+    /// group's `values` table, its `row` attribute, older files' attributes, a summary table).
+    pub fn read_outcome<E>(
+        &mut self,
+        mut read: impl FnMut(&'static str, OutcomeKind) -> Result<Option<OutcomeValue>, E>,
+    ) -> Result<(), E> {
+        let mut values = self.outcome();
+        for (slot, declared) in values.iter_mut().zip(&OUTCOME) {
+            let missing = match slot.kind() {
+                OutcomeKind::Float => OutcomeValue::Float(f64::NAN),
+                OutcomeKind::Int => OutcomeValue::Int(0),
+            };
+            *slot = read(declared.name, slot.kind())?.unwrap_or(missing);
+        }
+        let [settle, steps, particle_steps, simulated, wall, cpu] = values;
+        self.settle_time = Some(settle.as_f64()).filter(|x| !x.is_nan());
+        (self.steps, self.particle_steps) = (steps.as_u64(), particle_steps.as_u64());
+        (self.simulated_time, self.wall_time, self.cpu_time) = (simulated.as_f64(), wall.as_f64(), cpu.as_f64());
+        Ok(())
     }
 
     /// The row of a finished run.
@@ -148,5 +200,26 @@ impl SummaryRow {
     /// Whether the run finished (settled, not settled or diverged), as opposed to failing.
     pub fn is_finished(&self) -> bool {
         self.status != RunStatus::Error
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_outcome_read_back_is_the_outcome_written() {
+        let mut row = SummaryRow::failed(3, "r3", &[], "m");
+        (row.settle_time, row.steps, row.particle_steps) = (Some(0.25), 7, 70);
+        (row.simulated_time, row.wall_time, row.cpu_time) = (1.5, 2.5, 3.5);
+        let written = row.outcome();
+        let names: Vec<&str> = OUTCOME.iter().map(|q| q.name).collect();
+        let mut read = SummaryRow::failed(3, "r3", &[], "m");
+        read.read_outcome(|name, _| Ok::<_, ()>(Some(written[names.iter().position(|n| *n == name).unwrap()])))
+            .unwrap();
+        assert_eq!(format!("{read:?}"), format!("{row:?}"));
+        read.read_outcome(|_, _| Ok::<_, ()>(None)).unwrap();
+        assert_eq!((read.settle_time, read.steps, read.wall_time.is_nan()), (None, 0, true), "missing");
+        assert!([CPU_TIME, PARTICLE_STEPS].iter().all(|name| names.contains(name)), "declared names");
     }
 }

@@ -31,7 +31,8 @@ use hdf5_pure::{AttrValue, Group, StagedGroup};
 use serde_json::Value;
 
 use super::compound::{self, Field};
-use super::row::{DEMSWEEP_VERSION, OutcomeValue, SummaryRow};
+use super::layout_error::LayoutError;
+use super::row::{CPU_TIME, DEMSWEEP_VERSION, OutcomeKind, OutcomeValue, PARTICLE_STEPS, SummaryRow};
 use super::table::ColumnData;
 use crate::physics::SceneConfig;
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
@@ -165,31 +166,30 @@ fn kind_name(kind: WarningKind) -> String {
 
 /// Reads a summary row back from a run group (any results format); the error names what is missing
 /// or damaged. `limit` bounds what a table may declare (see [`compound::read_limit`]).
-pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, String> {
-    let attrs = group.attrs().map_err(|e| e.to_string())?;
+pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, LayoutError> {
+    let attrs = group.attrs()?;
     let mut row = row_header(&attrs)?;
     if attrs.contains_key(FORMAT) {
-        let table = |name: &str| -> Result<Option<HashMap<String, ColumnData>>, String> {
-            let datasets = group.datasets().map_err(|e| e.to_string())?;
-            if !datasets.iter().any(|d| d == name) {
+        let table = |name: &str| -> Result<Option<HashMap<String, ColumnData>>, LayoutError> {
+            if !group.datasets()?.iter().any(|d| d == name) {
                 return Ok(None);
             }
-            let dataset = group.dataset(name).map_err(|e| format!("`{name}`: {e}"))?;
-            let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{name}`: {e}"))?;
-            Ok(Some(columns.into_iter().collect()))
+            let decoded = group.dataset(name).map_err(LayoutError::from).and_then(|d| compound::decode(&d, limit));
+            Ok(Some(decoded.map_err(|e| e.within(format!("`{name}`")))?.into_iter().collect()))
         };
-        let values = table(VALUES)?.ok_or(format!("no `{VALUES}` table"))?;
-        fill_values(&mut row, &values).map_err(|e| format!("`{VALUES}`: {e}"))?;
+        let values = table(VALUES)?.ok_or(LayoutError::missing(format!("`{VALUES}` table")))?;
+        fill_values(&mut row, &values).map_err(|e| e.within(format!("`{VALUES}`")))?;
         row.parameters = match group.dataset(PARAMETERS) {
             Ok(dataset) => {
-                let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{PARAMETERS}`: {e}"))?;
+                let columns = compound::decode(&dataset, limit).map_err(|e| e.within(format!("`{PARAMETERS}`")))?;
                 columns.into_iter().filter_map(|(key, column)| Some((key, column.param(0)?))).collect()
             }
             Err(_) => Vec::new(),
         };
         row.stage_ends = match group.dataset(STAGE_END_TIMES) {
             Ok(dataset) => {
-                let columns = compound::decode(&dataset, limit).map_err(|e| format!("`{STAGE_END_TIMES}`: {e}"))?;
+                let columns =
+                    compound::decode(&dataset, limit).map_err(|e| e.within(format!("`{STAGE_END_TIMES}`")))?;
                 columns.into_iter().map(|(name, column)| (name, first_number(&column))).collect()
             }
             Err(_) => Vec::new(),
@@ -199,9 +199,10 @@ pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, String> {
     }
     match attrs.get(ROW) {
         Some(json) => {
-            let json = json.as_str().ok_or(format!("`{ROW}` is not text"))?;
-            let value: Value = serde_json::from_str(json).map_err(|e| format!("`{ROW}` is not JSON: {e}"))?;
-            fill_from_json(&mut row, &value).map_err(|what| format!("`{ROW}`: {what}"))?;
+            let json = json.as_str().ok_or(LayoutError::not_a(format!("`{ROW}`"), "text"))?;
+            let value: Value = serde_json::from_str(json)
+                .map_err(|e| LayoutError::inconsistent(format!("`{ROW}` is not JSON: {e}")))?;
+            fill_from_json(&mut row, &value).map_err(|e| e.within(format!("`{ROW}`")))?;
         }
         None => legacy::fill_from_attrs(&mut row, &attrs)?,
     }
@@ -214,13 +215,16 @@ fn first_number(column: &ColumnData) -> f64 {
 }
 
 /// The row's index, id, status, message and identity from a run group's attributes.
-fn row_header(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> {
-    let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
-    let text =
-        |name: &str| get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(format!("`{name}` is not text")));
-    let index = get(INDEX).and_then(|v| v.as_i64().ok_or(format!("`{INDEX}` is not an integer")))? as usize;
+fn row_header(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, LayoutError> {
+    let get = |name: &str| attrs.get(name).ok_or(LayoutError::missing(format!("`{name}` attribute")));
+    let text = |name: &str| {
+        get(name).and_then(|v| v.as_str().map(str::to_string).ok_or(LayoutError::not_a(format!("`{name}`"), "text")))
+    };
+    let index = get(INDEX).and_then(|v| v.as_i64().ok_or(LayoutError::not_a(format!("`{INDEX}`"), "an integer")))?;
+    let index = index as usize;
     let status = text(STATUS)?;
-    let status = RunStatus::parse(&status).ok_or(format!("`{STATUS}` is `{status}`, not a run status"))?;
+    let status = RunStatus::parse(&status)
+        .ok_or_else(|| LayoutError::inconsistent(format!("`{STATUS}` is `{status}`, not a run status")))?;
     let mut row = SummaryRow::failed(index, &text(ID)?, &[], &text(MESSAGE)?);
     row.status = status;
     row.identity = attrs.get(IDENTITY).and_then(AttrValue::as_str).unwrap_or_default().to_string();
@@ -229,21 +233,17 @@ fn row_header(attrs: &HashMap<String, AttrValue>) -> Result<SummaryRow, String> 
 }
 
 /// The quantities of a row from its `values` table (a quantity the file predates reads as missing).
-fn fill_values(row: &mut SummaryRow, values: &HashMap<String, ColumnData>) -> Result<(), String> {
-    let number = |name: &str| -> Result<f64, String> {
+fn fill_values(row: &mut SummaryRow, values: &HashMap<String, ColumnData>) -> Result<(), LayoutError> {
+    let number = |name: &str| -> Result<f64, LayoutError> {
         match values.get(name) {
             None => Ok(f64::NAN),
-            Some(column) if column.len() == 1 => column.number(0).ok_or(format!("`{name}` is not a number")),
-            Some(_) => Err(format!("`{name}` does not hold one value")),
+            Some(column) if column.len() == 1 => {
+                column.number(0).ok_or(LayoutError::not_a(format!("`{name}`"), "a number"))
+            }
+            Some(_) => Err(LayoutError::inconsistent(format!("`{name}` does not hold one value"))),
         }
     };
-    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-    let settle = number(settle_time)?;
-    row.settle_time = (!settle.is_nan()).then_some(settle);
-    let count = |name: &str| number(name).map(|x| if x.is_nan() { 0 } else { x as u64 });
-    (row.steps, row.particle_steps) = (count(steps)?, count(particle_steps)?);
-    (row.simulated_time, row.wall_time, row.cpu_time) =
-        (number(simulated_time)?, number(wall_time)?, number(cpu_time)?);
+    row.read_outcome(|name, _| number(name).map(|x| Some(OutcomeValue::Float(x))))?;
     for (slot, declared) in row.final_values.iter_mut().zip(quantity::final_value_declarations()) {
         *slot = number(declared.name)?;
     }
@@ -251,13 +251,14 @@ fn fill_values(row: &mut SummaryRow, values: &HashMap<String, ColumnData>) -> Re
 }
 
 /// The warnings of a `warnings` table.
-fn warnings(table: &HashMap<String, ColumnData>) -> Result<Vec<ValidityWarning>, String> {
+fn warnings(table: &HashMap<String, ColumnData>) -> Result<Vec<ValidityWarning>, LayoutError> {
+    let within = |e: LayoutError| e.within(format!("`{WARNINGS}`"));
     let Some(ColumnData::Text(kinds)) = table.get("kind") else {
-        return Err("`warnings`: no text field `kind`".into());
+        return Err(within(LayoutError::missing("text field `kind`")));
     };
     let column = |name: &str| match table.get(name) {
         Some(ColumnData::Float(v)) if v.len() == kinds.len() => Ok(v),
-        _ => Err(format!("`warnings`: no float field `{name}` of {} rows", kinds.len())),
+        _ => Err(within(LayoutError::missing(format!("float field `{name}` of {} rows", kinds.len())))),
     };
     let [value, limit, time, impact_speed, safe_time_step] = WARNING_FIELDS.map(column);
     let (value, limit, time, impact_speed, safe_time_step) = (value?, limit?, time?, impact_speed?, safe_time_step?);
@@ -267,7 +268,7 @@ fn warnings(table: &HashMap<String, ColumnData>) -> Result<Vec<ValidityWarning>,
         .enumerate()
         .map(|(i, kind)| {
             let kind: WarningKind = serde_json::from_value(Value::String(kind.clone()))
-                .map_err(|_| format!("`warnings`: `{kind}` is not a warning kind"))?;
+                .map_err(|_| within(LayoutError::not_a(format!("`{kind}`"), "a warning kind")))?;
             Ok(ValidityWarning {
                 time: some(time[i]),
                 impact_speed: some(impact_speed[i]),
@@ -298,31 +299,31 @@ fn json_param(value: &Value) -> Option<ParamValue> {
 
 /// The parameters, warnings and quantities of a row from its `row` attribute (a quantity the file
 /// predates reads as missing).
-fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), String> {
-    let get = |name: &str| value.get(name).ok_or(format!("no `{name}`"));
-    let float = |name: &str| get(name).and_then(|v| json_float(v).ok_or(format!("`{name}` is not a number")));
-    let int = |name: &str| get(name).and_then(|v| v.as_u64().ok_or(format!("`{name}` is not a whole number")));
-    let pairs = get(PARAMETERS)?.as_array().ok_or("`parameters` is not a list")?;
+fn fill_from_json(row: &mut SummaryRow, value: &Value) -> Result<(), LayoutError> {
+    let get = |name: &str| value.get(name).ok_or(LayoutError::missing(format!("`{name}`")));
+    let not_a = |name: &str, expected| LayoutError::not_a(format!("`{name}`"), expected);
+    let float = |name: &str| get(name).and_then(|v| json_float(v).ok_or(not_a(name, "a number")));
+    let int = |name: &str| get(name).and_then(|v| v.as_u64().ok_or(not_a(name, "a whole number")));
+    let pairs = get(PARAMETERS)?.as_array().ok_or(not_a(PARAMETERS, "a list"))?;
     row.parameters = pairs
         .iter()
         .map(|pair| match pair.as_array().map(Vec::as_slice) {
             Some([Value::String(key), value]) => {
-                json_param(value).map(|v| (key.clone(), v)).ok_or(format!("`{key}` has an unsupported value"))
+                json_param(value).map(|v| (key.clone(), v)).ok_or(not_a(key, "a supported value"))
             }
-            _ => Err("a parameter is not a [key, value] pair".to_string()),
+            _ => Err(LayoutError::not_a("a parameter", "a [key, value] pair")),
         })
         .collect::<Result<_, _>>()?;
-    let warnings = get(WARNINGS)?.as_array().ok_or("`warnings` is not a list")?;
+    let warnings = get(WARNINGS)?.as_array().ok_or(not_a(WARNINGS, "a list"))?;
     // Files written before warnings were typed hold texts: those are not read back (the count in
     // `/summary` stays).
     row.warnings = warnings.iter().filter_map(|w| serde_json::from_value(w.clone()).ok()).collect();
-    let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-    let settle = float(settle_time)?;
-    row.settle_time = (!settle.is_nan()).then_some(settle);
-    (row.steps, row.particle_steps) = (int(steps)?, int(particle_steps)?);
-    (row.simulated_time, row.wall_time) = (float(simulated_time)?, float(wall_time)?);
-    // Files written before CPU time have none.
-    row.cpu_time = if value.get(cpu_time).is_some() { float(cpu_time)? } else { f64::NAN };
+    row.read_outcome(|name, kind| match (value.get(name), kind) {
+        // Files written before CPU time have none.
+        (None, _) if name == CPU_TIME => Ok(None),
+        (_, OutcomeKind::Float) => float(name).map(|x| Some(OutcomeValue::Float(x))),
+        (_, OutcomeKind::Int) => int(name).map(|i| Some(OutcomeValue::Int(i))),
+    })?;
     let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
     for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
         if value.get(declared.name).is_some() {
@@ -339,35 +340,31 @@ mod legacy {
 
     /// The parameters (listed in `parameters`, each under its key path) and quantities of a
     /// row from one attribute each (a final value the file predates reads as missing).
-    pub(super) fn fill_from_attrs(row: &mut SummaryRow, attrs: &HashMap<String, AttrValue>) -> Result<(), String> {
-        let get = |name: &str| attrs.get(name).ok_or(format!("no `{name}` attribute"));
-        let float = |name: &str| get(name).and_then(|v| v.as_f64().ok_or(format!("`{name}` is not a float")));
-        let int = |name: &str| get(name).and_then(|v| v.as_i64().ok_or(format!("`{name}` is not an integer")));
+    pub(super) fn fill_from_attrs(row: &mut SummaryRow, attrs: &HashMap<String, AttrValue>) -> Result<(), LayoutError> {
+        let get = |name: &str| attrs.get(name).ok_or(LayoutError::missing(format!("`{name}` attribute")));
+        let not_a = |name: &str, expected| LayoutError::not_a(format!("`{name}`"), expected);
+        let float = |name: &str| get(name).and_then(|v| v.as_f64().ok_or(not_a(name, "a float")));
+        let int = |name: &str| get(name).and_then(|v| v.as_i64().ok_or(not_a(name, "an integer")));
         let keys = attrs.get(PARAMETERS).and_then(AttrValue::as_strings).unwrap_or(&[]);
         row.parameters = keys
             .iter()
-            .map(|k| {
-                get(k)
-                    .and_then(|v| attr_param(v).ok_or(format!("`{k}` has an unsupported type")))
-                    .map(|v| (k.clone(), v))
-            })
+            .map(|k| get(k).and_then(|v| attr_param(v).ok_or(not_a(k, "of a supported type"))).map(|v| (k.clone(), v)))
             .collect::<Result<Vec<_>, _>>()?;
         for (slot, declared) in row.final_values.iter_mut().zip(quantity::final_value_declarations()) {
             if attrs.contains_key(declared.name) {
                 *slot = float(declared.name)?;
             }
         }
-        let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
-        row.steps = int(steps)? as u64;
-        row.particle_steps = match attrs.get(particle_steps) {
-            Some(_) => int(particle_steps)? as u64,
-            None => row.steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64,
-        };
-        let settle = float(settle_time)?;
-        row.settle_time = (!settle.is_nan()).then_some(settle);
-        row.simulated_time = float(simulated_time)?;
-        row.wall_time = float(wall_time)?;
-        row.cpu_time = if attrs.contains_key(cpu_time) { float(cpu_time)? } else { f64::NAN };
+        // Files written before CPU time or particle steps have none: the latter are the steps times
+        // the disks.
+        row.read_outcome(|name, kind| match (attrs.get(name), kind) {
+            (None, _) if name == CPU_TIME || name == PARTICLE_STEPS => Ok(None),
+            (_, OutcomeKind::Float) => float(name).map(|x| Some(OutcomeValue::Float(x))),
+            (_, OutcomeKind::Int) => int(name).map(|i| Some(OutcomeValue::Int(i as u64))),
+        })?;
+        if !attrs.contains_key(PARTICLE_STEPS) {
+            row.particle_steps = row.steps * attrs.get("scene.count").and_then(AttrValue::as_i64).unwrap_or(0) as u64;
+        }
         Ok(())
     }
 
@@ -411,7 +408,7 @@ mod tests {
     }
 
     /// Writes a file with one group `run` staged by `stage`, and reads its row back.
-    fn written(name: &str, stage: impl FnOnce(&mut StagedGroup<'_>)) -> Result<SummaryRow, String> {
+    fn written(name: &str, stage: impl FnOnce(&mut StagedGroup<'_>)) -> Result<SummaryRow, LayoutError> {
         let path = std::env::temp_dir().join(format!("demsweep-run-attrs-{name}-{}.h5", std::process::id()));
         hdf5_pure::FileBuilder::new().write(&path).unwrap();
         let file = hdf5_pure::File::open_rw(&path).unwrap();
@@ -513,7 +510,7 @@ mod tests {
     #[test]
     fn a_damaged_row_attribute_is_named() {
         let attrs = format2_attrs(&row(), "{\"parameters\": []".into());
-        let refused = written("damaged", |g| set_attrs(g, attrs)).unwrap_err();
+        let refused = written("damaged", |g| set_attrs(g, attrs)).unwrap_err().to_string();
         assert!(refused.starts_with("`row` is not JSON"), "{refused}");
     }
 }

@@ -1,8 +1,16 @@
 //! Where a sweep's results go. A [`ResultSink`] takes finished runs one at a time, makes them durable
-//! at each commit, and at the end receives the tables of the whole file (the summary and the
-//! per-point statistics, computed above the sink by the runner). The HDF5 + CSV results file
-//! ([`super::ResultsWriter`]) is one sink; another output format (VTK, LAMMPS dumps …) is another
-//! implementation, driven by the runner's writer thread the same way.
+//! at each commit, and at the end receives the tables of its runs (the summary and the per-point
+//! statistics, computed above the sink by the runner). The caller of the runner chooses the sinks:
+//! the HDF5 + CSV results file ([`super::ResultsWriter`]) is the durable one; the Python module's
+//! in-memory results are another; a new output format (VTK, LAMMPS dumps …) is one more
+//! implementation, handed to the runner by its caller.
+//!
+//! Each sink says what can go wrong with it ([`ResultSink::Error`]); the runner drives a list of
+//! sinks of different kinds, so there each is a [`DynSink`], whose errors are [`SinkError`]s.
+
+use std::convert::Infallible;
+use std::fmt;
+use std::sync::Arc;
 
 use super::OutputError;
 use super::row::SummaryRow;
@@ -13,15 +21,104 @@ use crate::physics::record::RunRecord;
 /// A destination for the runs of a sweep, driven from one thread: [`Self::accept`] for each run,
 /// [`Self::commit`] now and then, [`Self::finish`] once.
 pub trait ResultSink: Send {
+    /// What can go wrong: [`OutputError`] for a file, [`Infallible`] for memory.
+    type Error: Into<SinkError>;
+
     /// Takes one finished run; it need not be durable before the next [`Self::commit`].
-    fn accept(&mut self, run: &RunResult) -> Result<(), OutputError>;
+    fn accept(&mut self, run: &RunResult) -> Result<(), Self::Error>;
 
     /// Makes every accepted run durable: a crash after it loses none of them.
-    fn commit(&mut self) -> Result<(), OutputError>;
+    fn commit(&mut self) -> Result<(), Self::Error>;
 
-    /// Receives the tables of every run the results hold (earlier sweeps' when resuming included),
-    /// writes what the sink keeps of them, and closes the sink.
-    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError>;
+    /// Receives the tables of every run the sink holds (earlier sweeps' when resuming included),
+    /// keeps what it keeps of them, and closes the sink.
+    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), Self::Error>;
+}
+
+/// A sink of any kind, as the runner drives it: a list of sinks needs one error type.
+pub type DynSink = Box<dyn ResultSink<Error = SinkError>>;
+
+/// `sink` as a [`DynSink`]: its errors become [`SinkError`]s.
+pub fn dyn_sink<S: ResultSink + 'static>(sink: S) -> DynSink {
+    Box::new(Erased(sink))
+}
+
+/// A sink whose errors are converted to [`SinkError`].
+struct Erased<S>(S);
+
+impl<S: ResultSink> ResultSink for Erased<S> {
+    type Error = SinkError;
+
+    fn accept(&mut self, run: &RunResult) -> Result<(), SinkError> {
+        self.0.accept(run).map_err(Into::into)
+    }
+
+    fn commit(&mut self) -> Result<(), SinkError> {
+        self.0.commit().map_err(Into::into)
+    }
+
+    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), SinkError> {
+        Box::new(self.0).finish(tables).map_err(Into::into)
+    }
+}
+
+/// What went wrong in a sink: a results-file problem (kept typed: the runner reports it as one), or
+/// the error of another kind of sink.
+#[derive(Clone, Debug)]
+pub enum SinkError {
+    /// A results-file problem.
+    Output(OutputError),
+    /// Another sink's error.
+    Other(Arc<dyn std::error::Error + Send + Sync>),
+}
+
+impl SinkError {
+    /// The error `error` of a sink other than a results file.
+    pub fn other(error: impl std::error::Error + Send + Sync + 'static) -> Self {
+        SinkError::Other(Arc::new(error))
+    }
+}
+
+impl From<OutputError> for SinkError {
+    fn from(error: OutputError) -> Self {
+        SinkError::Output(error)
+    }
+}
+
+impl From<Infallible> for SinkError {
+    fn from(never: Infallible) -> Self {
+        match never {}
+    }
+}
+
+/// Results-file errors compare by value; other errors only to themselves (they need not be
+/// comparable).
+impl PartialEq for SinkError {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (SinkError::Output(a), SinkError::Output(b)) => a == b,
+            (SinkError::Other(a), SinkError::Other(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+}
+
+impl fmt::Display for SinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SinkError::Output(e) => write!(f, "{e}"),
+            SinkError::Other(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SinkError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SinkError::Output(e) => Some(e),
+            SinkError::Other(e) => Some(e.as_ref()),
+        }
+    }
 }
 
 /// One run as the writer stores it.

@@ -10,7 +10,7 @@ use super::layout::{
 };
 use super::row::SummaryRow;
 use super::table::ColumnData;
-use super::{OutputError, compound, hdf5_error, reader};
+use super::{LayoutError, OutputError, OutputReason, compound, hdf5_error, reader};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::HISTORY_SERIES;
@@ -36,13 +36,16 @@ pub struct StoredRun {
 /// does not match) is an error naming the run and the dataset.
 pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun, OutputError> {
     let group_path = reader::find_group(file, path, row.group_name())?
-        .ok_or_else(|| OutputError::new(path, format!("no group for run `{}` in this file", row.id)))?;
+        .ok_or_else(|| OutputError::at(path, OutputReason::NoGroup(row.id.clone())))?;
     let fail =
-        |what: &str, reason: String| reader::damaged_data(path, &row.id, &format!("{group_path}/{what}"), &reason);
+        |what: &str, reason: LayoutError| reader::damaged_data(path, &row.id, &format!("{group_path}/{what}"), reason);
     let group = file.group(&group_path).map_err(|e| hdf5_error(path, e))?;
     let attrs = group.attrs().map_err(|e| hdf5_error(path, e))?;
-    let json = attrs.get("scene.json").and_then(|a| a.as_str()).ok_or_else(|| fail("scene.json", "missing".into()))?;
-    let scene = serde_json::from_str(json).map_err(|e| fail("scene.json", e.to_string()))?;
+    let json = attrs
+        .get("scene.json")
+        .and_then(|a| a.as_str())
+        .ok_or_else(|| fail("scene.json", LayoutError::inconsistent("missing")))?;
+    let scene = serde_json::from_str(json).map_err(|e| fail("scene.json", LayoutError::inconsistent(e.to_string())))?;
     let datasets = group.datasets().map_err(|e| hdf5_error(path, e))?;
     let has = |name: &str| datasets.iter().any(|d| d == name);
     let history = has("history")
@@ -66,31 +69,35 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
 
 /// The frames of a run group, in time order, with their contacts where stored: from the arrays over
 /// time of results format 3, or the numbered tables of the formats before.
-fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, String> {
-    let group = file.group(group_path).map_err(|e| e.to_string())?;
-    if !group.groups().map_err(|e| e.to_string())?.iter().any(|g| g == FRAMES) {
+fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, LayoutError> {
+    let group = file.group(group_path)?;
+    if !group.groups()?.iter().any(|g| g == FRAMES) {
         return Ok(Vec::new());
     }
-    let frames = file.group(&format!("{group_path}/{FRAMES}")).map_err(|e| e.to_string())?;
-    if !frames.datasets().map_err(|e| e.to_string())?.iter().any(|d| d == FRAME_TIME) {
+    let frames = file.group(&format!("{group_path}/{FRAMES}"))?;
+    if !frames.datasets()?.iter().any(|d| d == FRAME_TIME) {
         return read_numbered_frames(file, group_path, path);
     }
-    let array = |name: &str| -> Result<(Vec<u64>, Vec<f64>), String> {
-        let dataset = frames.dataset(name).map_err(|e| format!("{name}: {e}"))?;
-        let shape = dataset.shape().map_err(|e| format!("{name}: {e}"))?;
+    let array = |name: &str| -> Result<(Vec<u64>, Vec<f64>), LayoutError> {
+        let within = |e: LayoutError| e.within(name);
+        let dataset = frames.dataset(name).map_err(|e| within(e.into()))?;
+        let shape = dataset.shape().map_err(|e| within(e.into()))?;
         let declared = shape.iter().try_fold(8u64, |bytes, &n| bytes.checked_mul(n));
         if declared.is_none_or(|bytes| bytes > compound::read_limit(path)) {
-            return Err(format!("{name}: declares {shape:?} values, more than its file could hold"));
+            return Err(within(LayoutError::too_large(format!("{shape:?} values"))));
         }
-        Ok((shape, dataset.read_f64().map_err(|e| format!("{name}: {e}"))?))
+        Ok((shape, dataset.read_f64().map_err(|e| within(e.into()))?))
     };
     let (_, times) = array(FRAME_TIME)?;
     let mut snapshots: Vec<Snapshot> = times.iter().map(|&time| Snapshot { time, ..Default::default() }).collect();
     for field in &DISK_FIELDS {
         let (shape, values) = array(field.name)?;
-        let [count, disks] = shape[..] else { return Err(format!("{}: not a (time, disk) array", field.name)) };
+        let [count, disks] = shape[..] else {
+            return Err(LayoutError::inconsistent("not a (time, disk) array").within(field.name));
+        };
         if count as usize != times.len() || values.len() as u64 != count * disks {
-            return Err(format!("{}: {shape:?} values for {} frames", field.name, times.len()));
+            let found = format!("{shape:?} values for {} frames", times.len());
+            return Err(LayoutError::inconsistent(found).within(field.name));
         }
         for (snapshot, row) in snapshots.iter_mut().zip(values.chunks_exact(disks.max(1) as usize)) {
             *(field.values_mut)(snapshot) = row.to_vec();
@@ -103,12 +110,13 @@ fn read_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapsho
 
 /// Gives each frame its contacts from the table of every frame's contacts (see
 /// [`FRAME_CONTACT_TABLE`]), checked against the frame's disks.
-fn split_contacts(mut table: HashMap<String, ColumnData>, frames: &mut [Snapshot]) -> Result<(), String> {
+fn split_contacts(mut table: HashMap<String, ColumnData>, frames: &mut [Snapshot]) -> Result<(), LayoutError> {
     let Some(ColumnData::Int(frame_of)) = table.remove(FRAME_INDEX) else {
-        return Err(format!("{FRAME_CONTACT_TABLE}: no integer field `{FRAME_INDEX}`"));
+        return Err(LayoutError::missing(format!("integer field `{FRAME_INDEX}`")).within(FRAME_CONTACT_TABLE));
     };
     if frame_of.windows(2).any(|w| w[0] > w[1]) {
-        return Err(format!("{FRAME_CONTACT_TABLE}: the contacts are not frame after frame"));
+        let unordered = LayoutError::inconsistent("the contacts are not frame after frame");
+        return Err(unordered.within(FRAME_CONTACT_TABLE));
     }
     let all = contacts(table)?;
     for (k, frame) in frames.iter_mut().enumerate() {
@@ -140,7 +148,7 @@ fn slice(c: &ContactNetwork, rows: std::ops::Range<usize>) -> ContactNetwork {
 
 /// The frames of results format 2 and before: one state table per frame (`frames/<k>`), ordered by
 /// number, with its contact table (`frame_contacts/<k>`) where stored.
-fn read_numbered_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, String> {
+fn read_numbered_frames(file: &File, group_path: &str, path: &Path) -> Result<Vec<Snapshot>, LayoutError> {
     let mut frames: Vec<Snapshot> = numbered_datasets(file, group_path, FRAMES)?
         .iter()
         .map(|name| read_snapshot(file, &format!("{group_path}/{FRAMES}/{name}"), path))
@@ -155,12 +163,12 @@ fn read_numbered_frames(file: &File, group_path: &str, path: &Path) -> Result<Ve
 
 /// The datasets of the subgroup `name` of a run group named by numbers, in numeric order (none when
 /// there is no such subgroup).
-fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<String>, String> {
-    let group = file.group(group_path).map_err(|e| e.to_string())?;
-    if !group.groups().map_err(|e| e.to_string())?.iter().any(|g| g == name) {
+fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<String>, LayoutError> {
+    let group = file.group(group_path)?;
+    if !group.groups()?.iter().any(|g| g == name) {
         return Ok(Vec::new());
     }
-    let names = file.group(&format!("{group_path}/{name}")).and_then(|g| g.datasets()).map_err(|e| e.to_string())?;
+    let names = file.group(&format!("{group_path}/{name}")).and_then(|g| g.datasets())?;
     let mut numbered: Vec<(usize, String)> =
         names.into_iter().filter_map(|name| Some((name.parse().ok()?, name))).collect();
     numbered.sort();
@@ -168,18 +176,18 @@ fn numbered_datasets(file: &File, group_path: &str, name: &str) -> Result<Vec<St
 }
 
 /// A contact table (see [`CONTACT_FIELDS`]) as a network.
-fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, String> {
+fn read_contacts(file: &File, dataset_path: &str, path: &Path) -> Result<ContactNetwork, LayoutError> {
     contacts(read_table(file, dataset_path, path)?)
 }
 
 /// The contact fields of a table (see [`CONTACT_FIELDS`]) as a network.
-fn contacts(mut table: HashMap<String, ColumnData>) -> Result<ContactNetwork, String> {
+fn contacts(mut table: HashMap<String, ColumnData>) -> Result<ContactNetwork, LayoutError> {
     let contacts = table.get(CONTACT_FIELDS[0]).map_or(0, ColumnData::len);
     // The history fields are newer than the rest: a file without them has no history (zeros).
     for name in ["tangential_spring", "law_state"] {
         table.entry(name.to_string()).or_insert_with(|| ColumnData::Float(vec![0.0; contacts]));
     }
-    let mut take = |name: &str| table.remove(name).ok_or(format!("no field `{name}`"));
+    let mut take = |name: &str| table.remove(name).ok_or(LayoutError::missing(format!("field `{name}`")));
     let [
         first,
         second,
@@ -194,15 +202,15 @@ fn contacts(mut table: HashMap<String, ColumnData>) -> Result<ContactNetwork, St
         tangential_spring,
         law_state,
     ] = CONTACT_FIELDS.map(&mut take);
-    let ints = |c: Result<ColumnData, String>| match c? {
+    let ints = |c: Result<ColumnData, LayoutError>| match c? {
         ColumnData::Int(v) => Ok(v),
-        _ => Err("an index field is not an integer".to_string()),
+        _ => Err(LayoutError::not_a("an index field", "an integer")),
     };
-    let floats = |c: Result<ColumnData, String>| match c? {
+    let floats = |c: Result<ColumnData, LayoutError>| match c? {
         ColumnData::Float(v) => Ok(v),
-        _ => Err("a force or geometry field is not a float".to_string()),
+        _ => Err(LayoutError::not_a("a force or geometry field", "a float")),
     };
-    let ColumnData::Bool(sliding) = sliding? else { return Err("field `sliding` is not 0/1".into()) };
+    let ColumnData::Bool(sliding) = sliding? else { return Err(LayoutError::not_a("field `sliding`", "0/1")) };
     Ok(ContactNetwork {
         first: ints(first)?.into_iter().map(|i| u32::try_from(i).unwrap_or(u32::MAX)).collect(),
         second: ints(second)?,
@@ -223,31 +231,31 @@ fn contacts(mut table: HashMap<String, ColumnData>) -> Result<ContactNetwork, St
 const WALLS: i64 = 4;
 
 /// Refuses contacts whose bodies are not disks of the state (or walls): a damaged or crafted table.
-fn check_contacts(state: &Snapshot) -> Result<(), String> {
+fn check_contacts(state: &Snapshot) -> Result<(), LayoutError> {
     let disks = state.x.len();
     let c = &state.contacts;
     let bad_first = c.first.iter().position(|&i| i as usize >= disks);
     let bad_second = c.second.iter().position(|&j| j < -WALLS || usize::try_from(j).is_ok_and(|j| j >= disks));
     match bad_first.or(bad_second) {
-        Some(k) => Err(format!(
+        Some(k) => Err(LayoutError::inconsistent(format!(
             "contact {k} joins body {} and body {}, but the state has {disks} disks (and walls -1 to -{WALLS})",
             c.first[k], c.second[k]
-        )),
+        ))),
         None => Ok(()),
     }
 }
 
 /// A compound table (its path in the file) as named columns.
-fn read_table(file: &File, dataset_path: &str, path: &Path) -> Result<HashMap<String, ColumnData>, String> {
-    let dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
+fn read_table(file: &File, dataset_path: &str, path: &Path) -> Result<HashMap<String, ColumnData>, LayoutError> {
+    let dataset = file.dataset(dataset_path)?;
     Ok(compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect())
 }
 
 /// A state table (final or frame) with its `time` attribute.
-fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapshot, String> {
-    let dataset: Dataset = file.dataset(dataset_path).map_err(|e| hdf5_error(path, e).message)?;
-    let time = dataset.attrs().map_err(|e| e.to_string())?.get("time").and_then(|a| a.as_f64());
-    let time = time.ok_or("no `time` attribute")?;
+fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapshot, LayoutError> {
+    let dataset: Dataset = file.dataset(dataset_path)?;
+    let time = dataset.attrs()?.get("time").and_then(|a| a.as_f64());
+    let time = time.ok_or(LayoutError::missing("`time` attribute"))?;
     let table: HashMap<String, ColumnData> =
         compound::decode(&dataset, compound::read_limit(path))?.into_iter().collect();
     let mut snapshot = Snapshot { time, ..Default::default() };
@@ -263,7 +271,7 @@ fn read_snapshot(file: &File, dataset_path: &str, path: &Path) -> Result<Snapsho
 
 /// The history series of [`HISTORY_SERIES`] from the columns of a `history` table (a series the
 /// file predates takes its declared value at every sample).
-fn history(table: &HashMap<String, ColumnData>) -> Result<History, String> {
+fn history(table: &HashMap<String, ColumnData>) -> Result<History, LayoutError> {
     let samples = floats(table, HISTORY_SERIES[0].quantity.name)?.len();
     let mut history = History::default();
     for series in &HISTORY_SERIES {
@@ -277,11 +285,11 @@ fn history(table: &HashMap<String, ColumnData>) -> Result<History, String> {
 }
 
 /// Column `name` of a table as floats (integer columns converted).
-fn floats(table: &HashMap<String, ColumnData>, name: &str) -> Result<Vec<f64>, String> {
+fn floats(table: &HashMap<String, ColumnData>, name: &str) -> Result<Vec<f64>, LayoutError> {
     match table.get(name) {
         Some(ColumnData::Float(v)) => Ok(v.clone()),
         Some(ColumnData::Int(v)) => Ok(v.iter().map(|&i| i as f64).collect()),
-        Some(_) => Err(format!("field `{name}` is not numeric")),
-        None => Err(format!("no field `{name}`")),
+        Some(_) => Err(LayoutError::not_a(format!("field `{name}`"), "numeric")),
+        None => Err(LayoutError::missing(format!("field `{name}`"))),
     }
 }

@@ -18,7 +18,7 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
 /// missing values empty), whole or not at all, and its metadata sidecar (units, datatypes:
 /// [`csv::write_metadata`]); an existing file is replaced as `existing` allows.
 pub fn write_csv(path: &Path, table: &SummaryTable, existing: Existing) -> Result<(), OutputError> {
-    let refused = |e: super::guard::GuardError| OutputError::new(path, e.refusal_text());
+    let refused = |e| OutputError::refused(path, e);
     super::guard::write_with(path, &[], existing, |mut out| csv::write_table(&mut out, table)).map_err(refused)?;
     csv::write_metadata(path, &csv::table_columns(table)).map_err(refused)
 }

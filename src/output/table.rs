@@ -1,6 +1,6 @@
 //! The summary as a table of typed columns, shared by `/summary`, the CSV file and the printed table.
 
-use super::row::{OutcomeValue, SummaryRow};
+use super::row::{CPU_TIME, OutcomeKind, OutcomeValue, SummaryRow};
 use crate::physics::quantity::{self, FINAL_VALUE_COUNT, OUTCOME};
 use crate::physics::record::RunStatus;
 use crate::study::ParamValue;
@@ -209,36 +209,31 @@ impl SummaryTable {
         let number = |name: &str, i: usize| self.column(name)?.data.number(i);
         let (ids, indices, statuses, messages, warnings) =
             (texts("run_id")?, ints("index")?, texts("status")?, texts("message")?, ints("warnings")?);
-        let [settle_time, steps, particle_steps, simulated_time, wall_time, cpu_time] = OUTCOME.map(|q| q.name);
         (0..self.len())
             .map(|i| {
                 let mut final_values = [f64::NAN; FINAL_VALUE_COUNT];
                 for (slot, declared) in final_values.iter_mut().zip(quantity::final_value_declarations()) {
                     *slot = number(declared.name, i).unwrap_or(f64::NAN);
                 }
-                let settle = number(settle_time, i)?;
-                let row = SummaryRow {
+                let parameters: Vec<_> =
+                    self.parameters().iter().filter_map(|c| Some((c.name.clone(), c.data.param(i)?))).collect();
+                let mut row = SummaryRow {
                     index: usize::try_from(indices[i]).ok()?,
-                    id: ids[i].clone(),
-                    parameters: self
-                        .parameters()
-                        .iter()
-                        .filter_map(|c| Some((c.name.clone(), c.data.param(i)?)))
-                        .collect(),
                     status: RunStatus::parse(&statuses[i])?,
-                    message: messages[i].clone(),
-                    warnings: Vec::new(),
-                    settle_time: (!settle.is_nan()).then_some(settle),
-                    steps: ints(steps)?[i] as u64,
-                    particle_steps: ints(particle_steps)?[i] as u64,
-                    simulated_time: number(simulated_time, i)?,
-                    wall_time: number(wall_time, i)?,
-                    cpu_time: number(cpu_time, i).unwrap_or(f64::NAN),
                     final_values,
                     stage_ends: self.stage_ends(i),
                     identity: texts(IDENTITY).map(|v| v[i].clone()).unwrap_or_default(),
                     made_by: String::new(),
+                    ..SummaryRow::failed(0, &ids[i], &parameters, &messages[i])
                 };
+                row.read_outcome(|name, kind| match (self.column(name).map(|c| &c.data), kind) {
+                    // Tables written before CPU time have none.
+                    (None, _) if name == CPU_TIME => Ok(None),
+                    (Some(ColumnData::Int(counts)), OutcomeKind::Int) => Ok(Some(OutcomeValue::Int(counts[i] as u64))),
+                    (Some(data), OutcomeKind::Float) => data.number(i).map(|x| Some(OutcomeValue::Float(x))).ok_or(()),
+                    _ => Err(()),
+                })
+                .ok()?;
                 Some((row, usize::try_from(warnings[i]).ok()?))
             })
             .collect()

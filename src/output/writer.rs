@@ -16,7 +16,7 @@ use super::reader::{self, DamagedGroup};
 use super::row::{DEMSWEEP_VERSION, SummaryRow};
 use super::sink::{ResultSink, RunResult, Tables};
 use super::table::{Column, ColumnData, SummaryTable};
-use super::{OutputError, hdf5_error, run_attrs, write_csv_files};
+use super::{LayoutError, OutputError, OutputReason, hdf5_error, run_attrs, write_csv_files};
 use crate::physics::record::{DISK_FIELDS, RunRecord, Snapshot};
 use crate::study::OutputOptions;
 
@@ -60,8 +60,9 @@ impl ResultsWriter {
             builder.set_attr(name, value);
         }
         let partial = path.with_extension("h5.partial");
-        super::guard::refuse_symlink(&partial).map_err(|e| OutputError::new(&partial, e.refusal_text()))?;
-        super::guard::refuse_symlink(path).map_err(|e| OutputError::new(path, e.refusal_text()))?;
+        super::guard::refuse_symlink(&partial)
+            .map_err(|e| OutputError::at(&partial, OutputReason::Refused(e.refusal)))?;
+        super::guard::refuse_symlink(path).map_err(|e| OutputError::at(path, OutputReason::Refused(e.refusal)))?;
         builder.write(&partial).map_err(|e| hdf5_error(&partial, e))?;
         std::fs::rename(&partial, path).map_err(|e| OutputError::io(path, e))?;
         Self::open(path, output).map(|(writer, _)| writer)
@@ -249,11 +250,9 @@ impl ResultsWriter {
         (name, made_by): (&str, &str),
     ) -> Result<usize, OutputError> {
         let (source, source_path) = source;
-        let copy = source
-            .group(group)
-            .map_err(|e| e.to_string())
-            .and_then(|group| GroupCopy::read(&group))
-            .map_err(|reason| OutputError::new(source_path, format!("/{group}: {reason}")))?;
+        let copy = source.group(group).map_err(LayoutError::from).and_then(|group| GroupCopy::read(&group)).map_err(
+            |reason| OutputError::at(source_path, OutputReason::BadCopy { group: group.to_string(), reason }),
+        )?;
         let bytes = copy.data_bytes();
         let path = format!("{}/{name}", self.stage_batch()?);
         self.file.root().create_group_with(&path, |g| copy.stage(g)).map_err(|e| hdf5_error(&self.path, e))?;
@@ -353,6 +352,8 @@ impl ResultsWriter {
 /// The results file as a sink: runs become run groups (committed in place), the tables `/summary`,
 /// `/points` and the CSV files next to the file.
 impl ResultSink for ResultsWriter {
+    type Error = OutputError;
+
     fn accept(&mut self, run: &RunResult) -> Result<(), OutputError> {
         self.stage(run)
     }

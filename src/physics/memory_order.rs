@@ -51,7 +51,7 @@ impl MemoryOrder {
 
 impl Default for MemoryOrder {
     /// At 20 000 disks the hot arrays (some 80 bytes a disk) outgrow a 1 MiB second-level cache;
-    /// 2 % far pairs is where a 100 000-disk pile measurably gained (`docs/performance.md`).
+    /// from 2 % far pairs on, renumbering a 100 000-disk pile pays (results/bench/performance.md).
     fn default() -> Self {
         Self { min_disks: 20_000, far_share: 0.02 }
     }

@@ -52,8 +52,7 @@ pub mod warning;
 
 /// The version of the physics: bumped by every change that changes a run's results, so that runs
 /// stored by another version are not reused as if this one had made them (see `study::identity`).
-/// 2: scenes of 20 000 disks and more are numbered afresh where neighbours drift apart in memory
-/// ([`memory_order`]), which changes the last bits of their results.
+/// What each version changed is in the history of this line (git).
 pub const PHYSICS_VERSION: u32 = 2;
 
 pub use config::SceneConfig;

@@ -65,15 +65,14 @@ const FEW_PARTS: usize = 2 * PARTS_PER_THREAD;
 /// per thread: every section's units are in disk order, so a thread's region holds about the same
 /// disks in every section. Each thread does its own region's parts first, from its front, then
 /// takes the parts left in other regions from their backs. So each disk's data stays in the cache
-/// of the thread that last wrote it, except near where threads meet. On a machine whose cores
-/// share no cache (the project's 2-core virtual machines, at times: one core sees the other's
-/// writes after some 200 ns instead of 25–70), claiming parts in any order made a 40 000-disk step
-/// fetch most of its data from the other core: 2 threads took 0.87–0.95 of one thread's time.
+/// of the thread that last wrote it, except near where threads meet. That matters most where the
+/// cores share no cache: parts claimed in any order would fetch most of a step's data from the
+/// other core (results/bench/performance.md has the figures).
 ///
 /// Helpers are tasks of the current rayon pool that stay between sections, spinning, until the
 /// simulation ends or no section has come for [`HELPER_PATIENCE`]; so a step's three or four
-/// sections cost no wake-up of a sleeping thread (tens of microseconds each, on a 40 000-disk step
-/// of 300 µs). A helper that no idle thread takes up leaves its region to the others: the
+/// sections cost no wake-up of a sleeping thread (tens of microseconds each, a large share of a
+/// step of a few hundred microseconds). A helper that no idle thread takes up leaves its region to the others: the
 /// simulation's own thread never waits for a thread busy elsewhere. Which thread does a part never
 /// changes its result.
 pub struct Team {

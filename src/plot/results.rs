@@ -88,7 +88,7 @@ pub struct PlotReport {
 
 impl From<OutputError> for PlotError {
     fn from(e: OutputError) -> Self {
-        PlotError { path: e.path, reason: e.message }
+        PlotError { path: e.path, reason: e.reason.to_string() }
     }
 }
 

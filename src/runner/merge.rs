@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 use crate::output::guard;
 use crate::output::header::{FileHeader, utc_now};
 use crate::output::lock::ResultsLock;
-use crate::output::{OutputError, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader};
+use crate::output::{
+    OutputError, OutputReason, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader,
+};
 use crate::stats::points;
 use crate::study::identity::fnv;
 use crate::study::plan::run_id;
@@ -105,18 +107,17 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
     let name = match &options.name {
         Some(name) => crate::study::name::check_name(name)
             .map(|()| name.clone())
-            .map_err(|reason| OutputError::new(out_dir, format!("--name `{}`: {reason}", name.escape_debug())))?,
+            .map_err(|reason| OutputError::at(out_dir, OutputReason::BadName(reason)))?,
         None => first.study_name.clone(),
     };
     std::fs::create_dir_all(out_dir).map_err(|e| OutputError::io(out_dir, e))?;
     let results = out_dir.join(format!("{name}.h5"));
     let _lock = ResultsLock::acquire(&results)?;
     if results.exists() && !options.force {
-        return Err(OutputError::new(&results, "already exists: use --force to overwrite it"));
+        return Err(OutputError::at(&results, OutputReason::Exists { resumable: false }));
     }
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
-    guard::check_results_replaceable(&results, &shard_files)
-        .map_err(|e| OutputError::new(&results, e.refusal_text()))?;
+    guard::check_results_replaceable(&results, &shard_files).map_err(|e| OutputError::refused(&results, e))?;
     crate::output::check_companions(&results, options.force)?;
     let header = if studies {
         combined_header(&shards)
@@ -140,7 +141,7 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
             let group = shard
                 .groups
                 .get(name)
-                .ok_or_else(|| OutputError::new(&shard.path, format!("no group for run {}", row.id)))?;
+                .ok_or_else(|| OutputError::at(&shard.path, OutputReason::NoGroup(row.id.clone())))?;
             staged += writer.stage_copy((&source, &shard.path), group, (name, &row.made_by))?;
             if staged >= BYTES_PER_COMMIT {
                 writer.commit()?;
@@ -184,7 +185,7 @@ fn shard_paths(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, OutputError> {
                 .filter(|p| p.is_file() && p.file_name().and_then(|n| n.to_str()).is_some_and(is_shard_file_name))
                 .collect();
             if found.is_empty() {
-                return Err(OutputError::new(input, "no shard files (*.shard-K-of-N.h5) in this directory"));
+                return Err(OutputError::at(input, OutputReason::NoShards { in_folder: true }));
             }
             paths.append(&mut found);
         } else {
@@ -192,7 +193,7 @@ fn shard_paths(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, OutputError> {
         }
     }
     if paths.is_empty() {
-        return Err(OutputError::new(Path::new("."), "no shard files given"));
+        return Err(OutputError::at(Path::new("."), OutputReason::NoShards { in_folder: false }));
     }
     paths.sort();
     paths.dedup();
@@ -216,7 +217,7 @@ fn read_shards(paths: &[PathBuf]) -> (Vec<ShardFile>, Vec<Unreadable>) {
         let header = reader::header(&file, path)?;
         let runs = reader::committed_runs(&file, path)?;
         if !runs.damaged.is_empty() {
-            return Err(OutputError::new(path, reader::damage_text(&runs.damaged)));
+            return Err(OutputError::at(path, OutputReason::Damaged(runs.damaged)));
         }
         Ok(ShardFile { path: path.clone(), header, rows: runs.rows, groups: runs.groups })
     };
@@ -255,15 +256,8 @@ fn describe(shard: &ShardFile) -> String {
 fn one_study(shards: &[ShardFile]) -> Result<bool, OutputError> {
     let Some(first) = shards.iter().find(|s| s.header.shard.is_some()) else { return Ok(false) };
     let Some((other, why)) = shards.iter().find_map(|s| Some(s).zip(difference(first, s))) else { return Ok(true) };
-    Err(OutputError::new(
-        &other.path,
-        format!(
-            "cannot merge shards of different studies or splits ({why}): run them again from the same study \
-             file and inputs:\n  {}\n  {}",
-            describe(first),
-            describe(other)
-        ),
-    ))
+    let (first, other_file) = (describe(first), describe(other));
+    Err(OutputError::at(&other.path, OutputReason::DifferentStudies { why, first, other: other_file }))
 }
 
 /// A line of a study file as an error shows it: trimmed, control characters escaped, at most 120
@@ -333,41 +327,32 @@ fn combine(files: &mut [ShardFile], accept_version: bool) -> Result<Vec<ShardPro
         for row in &file.rows {
             match version {
                 Some((first, run)) if !accept_version && made_by(first, run) != made_by(file, row) => {
-                    return Err(OutputError::new(
-                        &file.path,
-                        format!(
-                            "run {} was made by demsweep {}, but run {} of {} by {}: `merge --accept-version` \
-                             merges them (each run keeps the version that made it, in /summary/demsweep_version), \
-                             or run one of them again with this demsweep",
-                            row.id,
-                            made_by(file, row),
-                            run.id,
-                            first.path.display(),
-                            made_by(first, run)
-                        ),
-                    ));
+                    let differs = OutputReason::DifferentVersions {
+                        run: row.id.clone(),
+                        version: made_by(file, row).to_string(),
+                        first_run: run.id.clone(),
+                        first_file: first.path.clone(),
+                        first_version: made_by(first, run).to_string(),
+                    };
+                    return Err(OutputError::at(&file.path, differs));
                 }
                 None => version = Some((file, row)),
                 _ => {}
             }
         }
         for row in &file.rows {
-            let identity: RunIdentity = row.identity.parse().map_err(|_| {
-                OutputError::new(
-                    &file.path,
-                    format!("run {} has no run identity (a file written before them): it can only merge with shards of its own study", row.id),
-                )
-            })?;
+            let identity: RunIdentity = row
+                .identity
+                .parse()
+                .map_err(|_| OutputError::at(&file.path, OutputReason::NoIdentity { run: row.id.clone() }))?;
             match physics {
                 Some((version, other)) if version != identity.physics => {
-                    return Err(OutputError::new(
-                        &file.path,
-                        format!(
-                            "holds runs of physics version {} but {} of version {version}: rerun one of them with this demsweep",
-                            identity.physics,
-                            other.display()
-                        ),
-                    ));
+                    let differs = OutputReason::DifferentPhysics {
+                        version: identity.physics,
+                        other: other.to_path_buf(),
+                        other_version: version,
+                    };
+                    return Err(OutputError::at(&file.path, differs));
                 }
                 _ => physics = Some((identity.physics, &file.path)),
             }
@@ -413,10 +398,9 @@ fn check_complete(shards: &[ShardFile], unreadable: &[Unreadable]) -> Result<Vec
     for shard in shards {
         for row in &shard.rows {
             if let Some(other) = owner.insert(row.index, &shard.path) {
-                return Err(OutputError::new(
-                    &shard.path,
-                    format!("overlaps {}: both hold run {} (plan index {})", other.display(), row.id, row.index),
-                ));
+                let overlap =
+                    OutputReason::Overlap { other: other.to_path_buf(), run: row.id.clone(), index: row.index };
+                return Err(OutputError::at(&shard.path, overlap));
             }
         }
     }
@@ -436,7 +420,7 @@ fn check_complete(shards: &[ShardFile], unreadable: &[Unreadable]) -> Result<Vec
                     "shard {k}/{count} ({}): cannot be read ({}): run it again with --force in place of --resume \
                      (it starts afresh)",
                     file.path.display(),
-                    file.error.message
+                    file.error.reason
                 ),
                 None => format!("shard {k}/{count}: no file given"),
             }));

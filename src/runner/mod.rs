@@ -8,10 +8,11 @@
 use std::collections::HashSet;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
-use std::sync::{Arc, Mutex};
 
+mod batch;
 mod execute;
 pub mod interrupt;
 pub mod merge;
@@ -23,6 +24,7 @@ pub mod shard;
 mod warnings;
 mod writer_thread;
 
+pub use batch::{Batch, run_batches};
 pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
 pub use notes::{RunNote, WorkerCap};
 pub use outcome::{EXIT_PARTIAL, RunCounts, SweepOutcome};
@@ -33,7 +35,8 @@ pub use writer_thread::CommitPolicy;
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
 use crate::output::{
-    self, FileHeader, OutputError, ResultsWriter, RunResult, ShardInfo, ShardSpec, SummaryRow, SummaryTable,
+    self, DynSink, FileHeader, OutputError, OutputReason, ResultsWriter, RunResult, ShardInfo, ShardSpec, SinkError,
+    SummaryTable,
 };
 use crate::physics::Threads;
 use crate::physics::parallel::PARALLEL_MIN_DISKS;
@@ -142,8 +145,17 @@ pub enum RunnerError {
         /// What it should hold.
         expected: String,
     },
-    /// The worker pool or writer thread failed.
-    Internal(String),
+    /// A sink other than a results file failed (see [`crate::output::SinkError::Other`]).
+    Sink(SinkError),
+    /// The worker threads could not be started.
+    WorkerPool {
+        /// How many were asked for.
+        threads: usize,
+        /// Why the system refused them.
+        reason: String,
+    },
+    /// The writer thread panicked.
+    WriterPanicked,
 }
 
 impl fmt::Display for RunnerError {
@@ -153,7 +165,9 @@ impl fmt::Display for RunnerError {
             RunnerError::Environment { variable, value, expected } => {
                 write!(f, "environment variable {variable}: expected {expected}, got {value:?}")
             }
-            RunnerError::Internal(e) => write!(f, "{e}"),
+            RunnerError::Sink(e) => write!(f, "{e}"),
+            RunnerError::WorkerPool { threads, reason } => write!(f, "cannot start {threads} worker threads: {reason}"),
+            RunnerError::WriterPanicked => write!(f, "the writer thread panicked"),
         }
     }
 }
@@ -166,9 +180,24 @@ impl From<OutputError> for RunnerError {
     }
 }
 
+impl From<SinkError> for RunnerError {
+    fn from(e: SinkError) -> Self {
+        match e {
+            SinkError::Output(e) => RunnerError::Output(e),
+            other => RunnerError::Sink(other),
+        }
+    }
+}
+
 /// Runs a plan (or one shard of it) into `OUT/<name>.h5` (or `OUT/<name>.shard-K-of-N.h5`) and its CSV
 /// summary and points; see [`RunOptions`].
 pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerError> {
+    run_plan_with(plan, options, Vec::new())
+}
+
+/// [`run_plan`], handing the runs also to `sinks`, after the results file: each gets the runs this
+/// invocation makes and, at the end, the tables of every run in the file.
+pub fn run_plan_with(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink>) -> Result<RunReport, RunnerError> {
     let started = std::time::Instant::now();
     let selected = match options.shard {
         Some(spec) => shard::select(plan, spec),
@@ -188,26 +217,21 @@ pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerEr
     let mut notes = reuse.notes(options.drop_unplanned);
     let (existing, aliases) = (reuse.rows, reuse.aliases);
     let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<(&PlannedRun, &str)> =
-        reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str())).collect();
-    todo.sort_by(|(a, _), (b, _)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
+    let mut todo: Vec<Todo> = reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str(), 0)).collect();
+    todo.sort_by(|(a, ..), (b, ..)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     notes.extend(capped);
     RunNote::print_all(&notes, &path, options.progress);
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
-    let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
-    let sinks = writer_thread::Sinks { committed: existing, aliases, sinks: vec![Box::new(writer)] };
-    let writing = writer_thread::spawn(sinks, receiver, options.commit, options.stop.clone());
+    let sinks = std::iter::once(output::dyn_sink(writer)).chain(sinks).collect();
+    let group = writer_thread::Sinks { committed: existing, aliases, ..writer_thread::Sinks::new(sinks) };
     let threads = pool_threads(options.jobs, cores);
-    let ran = run_all(&todo, (jobs, threads), &options.stop, &view, &|_, result| sender.send(result).is_ok());
-    drop(sender); // the writer thread finishes once the channel closes
-    let warnings = view.finish();
-    let (tables, writer_time) =
-        writing.join().map_err(|_| RunnerError::Internal("the writer thread panicked".into()))??;
+    let swept = sweep(&todo, vec![group], (jobs, threads), &view, options.commit, &options.stop)?;
+    let Swept { ran, warnings, mut tables, writer_time } = swept;
+    let tables = tables.pop().expect("one group");
     let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
-    let ran = ran?;
     Ok(RunReport {
         results: path,
         summary_csv,
@@ -308,8 +332,7 @@ fn open_results(
     selected: &[usize],
 ) -> Result<(ResultsLock, ResultsWriter, Option<FileHeader>), RunnerError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)
-        .map_err(|e| OutputError::new(dir, format!("cannot create the output directory: {e}")))?;
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::io_doing(dir, "cannot create the output directory", e))?;
     check_writable(dir)?;
     // The CSV files and report page are written last: checked before anything runs or is replaced.
     output::check_companions(path, options.force)?;
@@ -341,15 +364,11 @@ fn open_results(
         return Ok((lock, writer, header));
     }
     if exists && !options.force {
-        return Err(OutputError::new(
-            path,
-            "results already exist: use --resume to continue them (only missing runs are run) or --force to overwrite them",
-        )
-        .into());
+        return Err(OutputError::at(path, OutputReason::Exists { resumable: true }).into());
     }
     if exists {
         output::guard::check_results_replaceable(path, &[&plan.study_path])
-            .map_err(|e| OutputError::new(path, e.refusal_text()))?;
+            .map_err(|e| OutputError::refused(path, e))?;
         std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
     }
     let header = FileHeader {
@@ -368,14 +387,7 @@ fn open_results(
 /// copy that stopped, or damaged), the error says how to go on.
 fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
     match output::guard::is_hdf5(path) {
-        true => OutputError::new(
-            path,
-            format!(
-                "cannot be continued: {}: the file was cut short or is damaged; run it again from the start with \
-                 --force in place of --resume (this replaces the file: move it away first to keep it)",
-                error.message
-            ),
-        ),
+        true => OutputError::at(path, OutputReason::CannotContinue(error.reason)),
         false => error,
     }
 }
@@ -383,8 +395,7 @@ fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
 /// Fails early, naming the directory, when files cannot be created in it.
 fn check_writable(dir: &Path) -> Result<(), OutputError> {
     let probe = dir.join(format!(".demsweep-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .map_err(|e| OutputError::new(dir, format!("the output directory is not writable: {e}")))?;
+    std::fs::write(&probe, b"").map_err(|e| OutputError::io_doing(dir, "the output directory is not writable", e))?;
     std::fs::remove_file(&probe).map_err(|e| OutputError::io(&probe, e))
 }
 
@@ -396,48 +407,50 @@ fn check_same_study(
     identities: bool,
 ) -> Result<(), OutputError> {
     if header.fingerprint != plan.fingerprint && !identities {
-        return Err(OutputError::new(
-            path,
-            format!(
-                "holds results of a different study (`{}`, fingerprint {}; this study's fingerprint is {}) \
-                 written before runs had identities, so its runs cannot be matched to this study's: \
-                 use another --out directory, or --force to overwrite",
-                header.study_name, header.fingerprint, plan.fingerprint
-            ),
-        ));
+        let (name, fingerprint) = (header.study_name.clone(), header.fingerprint.clone());
+        let other = OutputReason::OtherStudy { name, fingerprint, expected: plan.fingerprint.clone() };
+        return Err(OutputError::at(path, other));
     }
     let file_shard = header.shard.as_ref().map(|s| s.spec);
     if file_shard != shard {
-        let show = |s: Option<ShardSpec>| s.map_or("the whole study".to_string(), |s| format!("shard {s}"));
-        return Err(OutputError::new(
-            path,
-            format!("was written for {} but this run is for {}", show(file_shard), show(shard)),
-        ));
+        return Err(OutputError::at(path, OutputReason::OtherShard { file: file_shard, this: shard }));
     }
     Ok(())
 }
 
-/// Runs `runs` on `jobs` worker threads (0 = one per core, as `run`) and writes nothing: the summary
-/// row of each run, in the order given (`None` for a run that `stop` interrupted). The rows do not
-/// depend on `jobs`, but for their wall times.
-pub fn run_rows(
-    runs: &[&PlannedRun],
-    requested: usize,
-    stop: &AtomicBool,
-) -> Result<Vec<Option<SummaryRow>>, RunnerError> {
-    let mut order: Vec<usize> = (0..runs.len()).collect();
-    order.sort_by(|&a, &b| runs[b].estimated_cost.total_cmp(&runs[a].estimated_cost).then(a.cmp(&b)));
-    let identities: Vec<String> = runs.iter().map(|run| RunIdentity::of(run).to_string()).collect();
-    let todo: Vec<(&PlannedRun, &str)> = order.iter().map(|&k| (runs[k], identities[k].as_str())).collect();
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let (jobs, _) = worker_count(requested, todo.len(), cores);
-    let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
-    let rows = Mutex::new(vec![None; runs.len()]);
-    run_all(&todo, (jobs, pool_threads(requested, cores)), stop, &view, &|position, result| {
-        rows.lock().expect("no worker panics holding the rows")[order[position]] = Some(result.row);
-        true
-    })?;
-    Ok(rows.into_inner().expect("no worker panicked holding the rows"))
+/// A run to make: the run, its identity and the position of its group of sinks.
+type Todo<'a> = (&'a PlannedRun, &'a str, usize);
+
+/// What [`sweep`] did.
+struct Swept {
+    /// Runs recorded.
+    ran: usize,
+    /// The warnings of those runs, by kind.
+    warnings: WarningDigest,
+    /// Each group's tables.
+    tables: Vec<output::Tables>,
+    /// Time the writer thread spent staging, committing and finishing.
+    writer_time: std::time::Duration,
+}
+
+/// Runs `todo` in this order on `jobs` workers in a pool of `threads` threads (see `run_all`), each
+/// result through the writer thread to the sinks of its group in `groups`.
+fn sweep(
+    todo: &[Todo],
+    groups: Vec<writer_thread::Sinks>,
+    (jobs, threads): (usize, usize),
+    view: &ProgressView,
+    commit: CommitPolicy,
+    stop: &Arc<AtomicBool>,
+) -> Result<Swept, RunnerError> {
+    let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
+    let writing = writer_thread::spawn(groups, receiver, commit, stop.clone());
+    let ran =
+        run_all(todo, (jobs, threads), stop, view, &|position, result| sender.send((todo[position].2, result)).is_ok());
+    drop(sender); // the writer thread finishes once the channel closes
+    let warnings = view.finish();
+    let (tables, writer_time) = writing.join().map_err(|_| RunnerError::WriterPanicked)??;
+    Ok(Swept { ran: ran?, warnings, tables, writer_time })
 }
 
 /// Runs `todo` in this order on `jobs` workers in a pool of `threads` threads, handing each result
@@ -446,7 +459,7 @@ pub fn run_rows(
 /// than the pool has threads is given them all: the simulation shares the work of its steps out in
 /// as many parts, which the pool's idle threads take up (results do not depend on it).
 fn run_all(
-    todo: &[(&PlannedRun, &str)],
+    todo: &[Todo],
     (jobs, threads): (usize, usize),
     stop: &AtomicBool,
     view: &ProgressView,
@@ -459,7 +472,7 @@ fn run_all(
         .num_threads(threads)
         .thread_name(|i| format!("demsweep-worker-{i}"))
         .build()
-        .map_err(|e| RunnerError::Internal(format!("cannot start {threads} worker threads: {e}")))?;
+        .map_err(|e| RunnerError::WorkerPool { threads, reason: e.to_string() })?;
     let next = AtomicUsize::new(0);
     let finished = AtomicUsize::new(0);
     pool.scope(|scope| {
@@ -468,7 +481,7 @@ fn run_all(
             scope.spawn(move |_| {
                 while !stop.load(Ordering::SeqCst) {
                     let position = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(&(run, identity)) = todo.get(position) else { break };
+                    let Some(&(run, identity, _)) = todo.get(position) else { break };
                     let count = if todo.len() - position < threads { threads } else { 1 };
                     let given = Threads { count, min_disks };
                     let result = execute::run_one(run, stop, given, &mut |p| view.sample(worker, &run.id, p));
@@ -506,28 +519,6 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-    }
-
-    #[test]
-    fn rows_run_in_memory_come_in_the_order_given_whatever_the_workers() {
-        let scene = "particles.count = 12\nparticles.radius = 0.005\ndomain.width = 0.06\ndomain.height = 0.1\n\
-                     material.youngs_modulus = 5e10\nintegrator.time_step = 7e-6\nrun.duration = 0.4\n";
-        let table = crate::study::parse_table(Path::new("s"), scene.into()).unwrap();
-        let text = crate::study::scene_study(table, &crate::study::Seeds::List(vec![5, 1, 3]));
-        let plan = crate::study::load_text(Path::new("s"), text).unwrap();
-        let runs: Vec<&PlannedRun> = plan.runs.iter().rev().collect();
-        let stop = AtomicBool::new(false);
-        let timeless = |rows: Vec<Option<SummaryRow>>| -> Vec<SummaryRow> {
-            rows.into_iter()
-                .map(|r| SummaryRow { wall_time: 0.0, cpu_time: 0.0, ..r.expect("not interrupted") })
-                .collect()
-        };
-        let one = timeless(run_rows(&runs, 1, &stop).unwrap());
-        let two = timeless(run_rows(&runs, 2, &stop).unwrap());
-        assert_eq!(format!("{one:?}"), format!("{two:?}"), "bit for bit (NaN for NaN)");
-        let ids: Vec<&str> = one.iter().map(|r| r.id.as_str()).collect();
-        assert_eq!(ids, ["r0002", "r0001", "r0000"]);
-        assert_ne!(one[0].final_values, one[1].final_values, "different seeds, different piles");
     }
 
     #[test]

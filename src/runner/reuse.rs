@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use super::notes::RunNote;
 use crate::output::row::DEMSWEEP_VERSION;
-use crate::output::{OutputError, ResultsWriter, SummaryRow};
+use crate::output::{OutputError, OutputReason, ResultsWriter, SummaryRow};
 use crate::study::{IdentityChange, Plan, RunIdentity};
 
 /// What a resumed (or new) results file gives a sweep.
@@ -97,7 +97,7 @@ impl Reuse {
             }
         }
         if let (Some(refusal), false) = (version_refusal(&reuse.other_versions), accept_version) {
-            return Err(OutputError::new(writer.path(), refusal));
+            return Err(OutputError::at(writer.path(), refusal));
         }
         reuse.lacking = lacking.len();
         writer.forget(&lacking)?;
@@ -131,16 +131,7 @@ impl Reuse {
 /// computes the same results unless a change outside the physics (placement, measures) altered
 /// them, which only the user can judge: so it is refused with the two ways on, not rerun silently
 /// (which could cost days of sweeps) nor reused silently.
-pub(super) fn version_refusal(other_versions: &[(String, String)]) -> Option<String> {
+pub(super) fn version_refusal(other_versions: &[(String, String)]) -> Option<OutputReason> {
     let (id, version) = other_versions.first()?;
-    let more = match other_versions.len() {
-        1 => String::new(),
-        n => format!(" (and {} more of the runs this study reuses)", n - 1),
-    };
-    Some(format!(
-        "run {id}{more} was made by demsweep {version}, this is {DEMSWEEP_VERSION} (both physics version {}): \
-         `--resume --accept-version` reuses the stored runs (each keeps the version that made it, in \
-         /summary/demsweep_version), `--force` runs every run again",
-        crate::physics::PHYSICS_VERSION
-    ))
+    Some(OutputReason::OtherVersions { run: id.clone(), version: version.clone(), count: other_versions.len() })
 }

@@ -1,5 +1,5 @@
-//! The one writer thread: receives finished runs, hands them to the result sinks and commits in
-//! batches; at the end computes the statistics and hands every sink the tables.
+//! The one writer thread: receives finished runs, hands them to the result sinks of their group and
+//! commits in batches; at the end computes each group's statistics and hands its sinks the tables.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -8,7 +8,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use crate::output::{OutputError, ResultSink, RunResult, SummaryRow, Tables};
+use crate::output::{DynSink, RunResult, SinkError, SummaryRow, Tables};
 use crate::stats::points;
 
 /// When staged runs are committed: once `interval` has passed since the last commit or `max_runs`
@@ -41,10 +41,11 @@ impl CommitPolicy {
 /// while this many wait blocks until the writer takes one.
 pub const BACKLOG_PER_WORKER: usize = 2;
 
-/// The sinks of a sweep and the rows of the runs they already hold (when resuming).
+/// The sinks of one group of runs (a plan's, or one scene's of a batch) and the rows of the runs
+/// they already hold (when resuming).
 pub struct Sinks {
-    /// Where every run goes (the results file first).
-    pub sinks: Vec<Box<dyn ResultSink>>,
+    /// Where every run of the group goes (the results file first, when there is one).
+    pub sinks: Vec<DynSink>,
     /// Rows of the runs committed before this sweep.
     pub committed: Vec<SummaryRow>,
     /// Planned runs that share the identity of a run this sweep makes, by identity: each gets that
@@ -52,17 +53,47 @@ pub struct Sinks {
     pub aliases: HashMap<String, Vec<SummaryRow>>,
 }
 
-/// Starts the writer thread; it ends when every sender is dropped, returning the tables and the
-/// time it spent writing (staging, committing, finishing). On an error it sets `stop` (so the sweep
-/// ends) and returns the error.
+impl Sinks {
+    /// Sinks of runs that none of them holds yet.
+    pub fn new(sinks: Vec<DynSink>) -> Self {
+        Self { sinks, committed: Vec::new(), aliases: HashMap::new() }
+    }
+
+    /// Hands `run` to every sink and keeps its row, and one per alias.
+    fn accept(&mut self, run: RunResult) -> Result<(), SinkError> {
+        self.sinks.iter_mut().try_for_each(|sink| sink.accept(&run))?;
+        for alias in self.aliases.get(&run.row.identity).into_iter().flatten() {
+            let row = SummaryRow { parameters: alias.parameters.clone(), id: alias.id.clone(), ..run.row.clone() };
+            self.committed.push(SummaryRow { index: alias.index, ..row });
+        }
+        self.committed.push(run.row);
+        Ok(())
+    }
+
+    /// Computes the group's tables and hands them to every sink, closing it.
+    fn finish(self) -> Result<Tables, SinkError> {
+        let tables = points::tables(&self.committed);
+        drop(self.committed); // the tables hold what the sinks need: memory peaks while they are written
+        self.sinks.into_iter().try_for_each(|sink| sink.finish(&tables))?;
+        Ok(tables)
+    }
+}
+
+/// What the writer thread returns: each group's tables and the time it spent writing.
+pub type Written = Result<(Vec<Tables>, Duration), SinkError>;
+
+/// Starts the writer thread, which takes runs, each with the position of its group in `groups`; it
+/// ends when every sender is dropped, returning each group's tables and the time it spent writing
+/// (staging, committing, finishing). On an error it sets `stop` (so the sweep ends) and returns the
+/// error.
 pub fn spawn(
-    sinks: Sinks,
-    runs: Receiver<RunResult>,
+    groups: Vec<Sinks>,
+    runs: Receiver<(usize, RunResult)>,
     policy: CommitPolicy,
     stop: Arc<AtomicBool>,
-) -> JoinHandle<Result<(Tables, Duration), OutputError>> {
+) -> JoinHandle<Written> {
     thread::spawn(move || {
-        let outcome = write_all(sinks, &runs, policy);
+        let outcome = write_all(groups, &runs, policy);
         if outcome.is_err() {
             stop.store(true, Ordering::SeqCst);
         }
@@ -70,29 +101,18 @@ pub fn spawn(
     })
 }
 
-fn write_all(
-    sinks: Sinks,
-    runs: &Receiver<RunResult>,
-    policy: CommitPolicy,
-) -> Result<(Tables, Duration), OutputError> {
-    let Sinks { mut sinks, committed: mut rows, aliases } = sinks;
+fn write_all(mut groups: Vec<Sinks>, runs: &Receiver<(usize, RunResult)>, policy: CommitPolicy) -> Written {
+    let commit = |groups: &mut Vec<Sinks>| {
+        groups.iter_mut().flat_map(|group| &mut group.sinks).try_for_each(|sink| sink.commit())
+    };
     let mut last_commit = Instant::now();
     let mut busy = Duration::ZERO;
     let mut pending = 0;
     loop {
         match runs.recv_timeout(Duration::from_millis(200)) {
-            Ok(run) => {
+            Ok((group, run)) => {
                 let started = Instant::now();
-                sinks.iter_mut().try_for_each(|sink| sink.accept(&run))?;
-                for alias in aliases.get(&run.row.identity).into_iter().flatten() {
-                    rows.push(SummaryRow {
-                        parameters: alias.parameters.clone(),
-                        id: alias.id.clone(),
-                        ..run.row.clone()
-                    });
-                    rows.last_mut().expect("pushed").index = alias.index;
-                }
-                rows.push(run.row);
+                groups[group].accept(run)?;
                 pending += 1;
                 busy += started.elapsed();
             }
@@ -101,17 +121,15 @@ fn write_all(
         }
         if policy.due(pending, last_commit.elapsed()) {
             let started = Instant::now();
-            sinks.iter_mut().try_for_each(|sink| sink.commit())?;
+            commit(&mut groups)?;
             pending = 0;
             busy += started.elapsed();
             last_commit = Instant::now();
         }
     }
     let started = Instant::now();
-    sinks.iter_mut().try_for_each(|sink| sink.commit())?;
-    let tables = points::tables(&rows);
-    drop(rows); // the tables hold what the sinks need: memory peaks while they are written
-    sinks.into_iter().try_for_each(|sink| sink.finish(&tables))?;
+    commit(&mut groups)?;
+    let tables = groups.into_iter().map(Sinks::finish).collect::<Result<_, _>>()?;
     Ok((tables, busy + started.elapsed()))
 }
 

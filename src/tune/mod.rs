@@ -1,4 +1,4 @@
-//! `demsweep tune`: find the fastest deposition that still makes the same pile (issue #15).
+//! `demsweep tune`: find the fastest deposition that still makes the same pile.
 //!
 //! A tune file ([`file`]) names a reference scene, the levers tune may move, the pile metrics to keep
 //! and the search settings. [`search`] decides which runs to make; here they become batches of

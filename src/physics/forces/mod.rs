@@ -13,7 +13,7 @@
 //! 2. **forces**: distance, unit normal, overlap, the law's stiffness and damping, the tangential
 //!    spring with its Coulomb limit, and the resulting force and torques, for every touching pair of
 //!    the block, in branch-free loops over the table that the compiler vectorises. Their three
-//!    square roots and two divisions per contact were the most expensive operations of a step done
+//!    square roots and two divisions per contact are the most expensive operations of a step done
 //!    one contact at a time: the divide/square-root unit does two (SSE2) or four (AVX2) of them for
 //!    the price of one. They depend on one another within a contact (distance, then overlap, then
 //!    stiffness, then damping), so the work is split into three loops (geometry, the law's
