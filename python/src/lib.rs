@@ -291,7 +291,7 @@ fn run_batch<'py>(
 
 /// Runs every run of `plans` on `jobs` worker threads into memory: each plan's summary table.
 fn run_in_memory(py: Python<'_>, plans: &[study::Plan], jobs: usize) -> PyResult<Vec<SummaryTable>> {
-    let results = vec![InMemory::default(); plans.len()];
+    let results: Vec<InMemory> = plans.iter().map(|_| InMemory::default()).collect();
     let batches = (plans.iter().zip(&results))
         .map(|(plan, memory)| runner::Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(memory.clone())] })
         .collect();
