@@ -6,7 +6,7 @@ use super::model::ScreenError;
 use super::spec::{DIGITS, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
-use crate::physics::warning::ValidityWarning;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step};
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
@@ -61,7 +61,10 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         let problem = |u: f64| -> Option<&'static str> {
             let scene = spec.scene(&[(lever.key.clone(), lever.value(u))]).ok()?;
             match predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)) {
-                Ok(w) => w.first().map(|w| w.kind.limit_key()),
+                Ok(w) => w.first().map(|w| match w.kind {
+                    WarningKind::IntegratorStability => "the stable step of integrator.scheme at this damping",
+                    kind => kind.limit_key(),
+                }),
                 Err(_) => Some("a placement that fails"),
             }
         };
