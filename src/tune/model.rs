@@ -497,4 +497,6 @@ pub struct SearchResult {
     pub undecidable: Vec<Undecidable>,
     /// The time-step path's rungs (candidate indices, in the order run) and how it ended.
     pub path: (Vec<usize>, PathEnd),
+    /// With wall time as the objective: the rate each configuration's runs were priced at.
+    pub wall_rates: Vec<super::wall_rate::WallRate>,
 }

@@ -121,6 +121,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             budget: config.budget,
             undecidable: Vec::new(),
             path: (Vec::new(), PathEnd::NotRun),
+            wall_rates: Vec::new(),
         };
         let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
         Self {
