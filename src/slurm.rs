@@ -7,11 +7,113 @@
 //! Layout under the output directory: `shards/` (shard files), `logs/` (job output), `slurm/` (scripts);
 //! the merge writes `<study name>.h5` and its CSV summary into the output directory itself.
 
+use std::fmt;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, ExitStatus};
+
+use crate::output::guard::GuardError;
 
 const ARRAY_TEMPLATE: &str = include_str!("../scripts/slurm/array.sbatch.template");
 const MERGE_TEMPLATE: &str = include_str!("../scripts/slurm/merge.sbatch.template");
+
+/// Why the batch scripts could not be made, written or submitted.
+#[derive(Debug)]
+pub enum SlurmError {
+    /// An `#SBATCH --option` value Slurm would misread.
+    Directive {
+        /// The option (`partition`, `time`).
+        option: &'static str,
+        /// The value given.
+        value: String,
+    },
+    /// An output path Slurm cannot use in an `#SBATCH` line.
+    OutputPath(PathBuf),
+    /// A directory that could not be created.
+    CreateDir {
+        /// The directory.
+        dir: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A script that could not be written.
+    Write(GuardError),
+    /// `sbatch` could not be started.
+    Start {
+        /// The script it was to submit.
+        script: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// `sbatch` refused the script.
+    Refused {
+        /// The script.
+        script: PathBuf,
+        /// How `sbatch` ended.
+        status: ExitStatus,
+        /// What it printed on stderr.
+        stderr: String,
+    },
+    /// `sbatch` printed no job id.
+    NoJobId {
+        /// What it printed.
+        stdout: String,
+    },
+    /// The merge job was not submitted, after the array job was.
+    Merge {
+        /// The array job's id.
+        array_id: String,
+        /// The merge script.
+        script: PathBuf,
+        /// Why.
+        error: Box<SlurmError>,
+    },
+}
+
+impl fmt::Display for SlurmError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SlurmError::Directive { option, value } => {
+                write!(f, "--{option} `{value}`: must be non-empty, without spaces, quotes, backslashes or `%`")
+            }
+            SlurmError::OutputPath(path) => write!(
+                f,
+                "{}: Slurm cannot use an output path with spaces, quotes, backslashes, `%` or non-UTF-8 characters",
+                path.display()
+            ),
+            SlurmError::CreateDir { dir, error } => write!(f, "{}: cannot create directory: {error}", dir.display()),
+            SlurmError::Write(e) => write!(f, "{e}"),
+            SlurmError::Start { script, error } if error.kind() == std::io::ErrorKind::NotFound => write!(
+                f,
+                "`sbatch` is not on PATH: run this on a Slurm login node, or submit the scripts there (script {})",
+                script.display()
+            ),
+            SlurmError::Start { script, error } => {
+                write!(f, "cannot run `sbatch`: {error} (script {})", script.display())
+            }
+            SlurmError::Refused { script, status, stderr } => {
+                write!(f, "sbatch {} failed ({status}): {stderr}", script.display())
+            }
+            SlurmError::NoJobId { stdout } => write!(f, "sbatch printed no job id (output: `{stdout}`)"),
+            SlurmError::Merge { array_id, script, error } => write!(
+                f,
+                "{error}\nthe array job {array_id} was submitted; submit the merge by hand: sbatch \
+                 --dependency=afterany:{array_id} {}",
+                script.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SlurmError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SlurmError::CreateDir { error, .. } | SlurmError::Start { error, .. } => Some(error),
+            SlurmError::Write(e) => Some(e),
+            SlurmError::Merge { error, .. } => Some(error.as_ref()),
+            _ => None,
+        }
+    }
+}
 
 /// One study split into shards, run as a Slurm array job plus a merge job.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,25 +171,25 @@ impl ArrayJob {
     }
 
     /// The array job script.
-    pub fn array_script(&self) -> Result<String, String> {
+    pub fn array_script(&self) -> Result<String, SlurmError> {
         self.render(ARRAY_TEMPLATE)
     }
 
     /// The merge job script (its dependency on the array job is given at submission).
-    pub fn merge_script(&self) -> Result<String, String> {
+    pub fn merge_script(&self) -> Result<String, SlurmError> {
         self.render(MERGE_TEMPLATE)
     }
 
     /// Writes both scripts into [`Self::script_dir`], creating it and the shard and log directories
     /// (Slurm does not create the directory of `--output`).
-    pub fn write_scripts(&self) -> Result<Scripts, String> {
+    pub fn write_scripts(&self) -> Result<Scripts, SlurmError> {
         let (array, merge) = (self.array_script()?, self.merge_script()?);
         for dir in [self.shard_dir(), self.log_dir(), self.script_dir()] {
-            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: cannot create directory: {e}", dir.display()))?;
+            std::fs::create_dir_all(&dir).map_err(|error| SlurmError::CreateDir { dir, error })?;
         }
         let scripts = self.script_paths();
         for (path, text) in [(&scripts.array, array), (&scripts.merge, merge)] {
-            crate::output::guard::write(path, text.as_bytes(), &[&self.study]).map_err(|e| e.to_string())?;
+            crate::output::guard::write(path, text.as_bytes(), &[&self.study]).map_err(SlurmError::Write)?;
         }
         Ok(scripts)
     }
@@ -96,7 +198,7 @@ impl ArrayJob {
         Scripts { array: self.script_dir().join("array.sbatch"), merge: self.script_dir().join("merge.sbatch") }
     }
 
-    fn render(&self, template: &str) -> Result<String, String> {
+    fn render(&self, template: &str) -> Result<String, SlurmError> {
         let log_dir = directive_path(&self.log_dir())?;
         let scripts = self.script_paths();
         let extra: String = [("partition", &self.partition), ("time", &self.time)]
@@ -123,46 +225,42 @@ impl ArrayJob {
 }
 
 /// Submits the array job, then the merge job with `--dependency=afterany:<array job>`.
-pub fn submit(scripts: &Scripts) -> Result<Submitted, String> {
+pub fn submit(scripts: &Scripts) -> Result<Submitted, SlurmError> {
     let array_id = sbatch(&[], &scripts.array)?;
     let dependency = format!("--dependency=afterany:{array_id}");
-    let merge_id = sbatch(&[&dependency], &scripts.merge).map_err(|e| {
-        format!(
-            "{e}\nthe array job {array_id} was submitted; submit the merge by hand: sbatch {dependency} {}",
-            scripts.merge.display()
-        )
+    let merge_id = sbatch(&[&dependency], &scripts.merge).map_err(|error| SlurmError::Merge {
+        array_id: array_id.clone(),
+        script: scripts.merge.clone(),
+        error: Box::new(error),
     })?;
     Ok(Submitted { array_id, merge_id })
 }
 
 /// Runs `sbatch --parsable ARGS SCRIPT` and returns the job id.
-fn sbatch(args: &[&str], script: &Path) -> Result<String, String> {
-    let output = Command::new("sbatch").arg("--parsable").args(args).arg(script).output().map_err(|e| {
-        let why = if e.kind() == std::io::ErrorKind::NotFound {
-            "`sbatch` is not on PATH: run this on a Slurm login node, or submit the scripts there".to_string()
-        } else {
-            format!("cannot run `sbatch`: {e}")
-        };
-        format!("{why} (script {})", script.display())
-    })?;
+fn sbatch(args: &[&str], script: &Path) -> Result<String, SlurmError> {
+    let output = Command::new("sbatch")
+        .arg("--parsable")
+        .args(args)
+        .arg(script)
+        .output()
+        .map_err(|error| SlurmError::Start { script: script.to_path_buf(), error })?;
     if !output.status.success() {
-        return Err(format!(
-            "sbatch {} failed ({}): {}",
-            script.display(),
-            output.status,
-            String::from_utf8_lossy(&output.stderr).trim()
-        ));
+        return Err(SlurmError::Refused {
+            script: script.to_path_buf(),
+            status: output.status,
+            stderr: String::from_utf8_lossy(&output.stderr).trim().to_string(),
+        });
     }
     parse_job_id(&String::from_utf8_lossy(&output.stdout))
 }
 
 /// The job id from `sbatch --parsable` output: `ID` or `ID;CLUSTER`.
-fn parse_job_id(stdout: &str) -> Result<String, String> {
+fn parse_job_id(stdout: &str) -> Result<String, SlurmError> {
     let id = stdout.trim().split(';').next().unwrap_or_default();
     if !id.is_empty() && id.chars().all(|c| c.is_ascii_digit()) {
         Ok(id.to_string())
     } else {
-        Err(format!("sbatch printed no job id (output: `{}`)", stdout.trim()))
+        Err(SlurmError::NoJobId { stdout: stdout.trim().to_string() })
     }
 }
 
@@ -179,21 +277,18 @@ fn slurm_safe(value: &str) -> bool {
 }
 
 /// An `#SBATCH --option=value` line.
-fn directive(option: &str, value: &str) -> Result<String, String> {
+fn directive(option: &'static str, value: &str) -> Result<String, SlurmError> {
     if !slurm_safe(value) {
-        return Err(format!("--{option} `{value}`: must be non-empty, without spaces, quotes, backslashes or `%`"));
+        return Err(SlurmError::Directive { option, value: value.to_string() });
     }
     Ok(format!("#SBATCH --{option}={value}\n"))
 }
 
 /// A path usable in an `#SBATCH` line.
-fn directive_path(path: &Path) -> Result<String, String> {
+fn directive_path(path: &Path) -> Result<String, SlurmError> {
     match path.to_str() {
         Some(text) if slurm_safe(text) => Ok(text.to_string()),
-        _ => Err(format!(
-            "{}: Slurm cannot use an output path with spaces, quotes, backslashes, `%` or non-UTF-8 characters",
-            path.display()
-        )),
+        _ => Err(SlurmError::OutputPath(path.to_path_buf())),
     }
 }
 
@@ -259,19 +354,20 @@ mod tests {
             assert!(script.contains("#SBATCH --partition=long\n#SBATCH --time=02:00:00\nset -euo"), "{script}");
         }
         let bad = ArrayJob { partition: Some("a b".into()), ..job };
-        assert!(bad.array_script().unwrap_err().contains("--partition `a b`"));
+        assert!(bad.array_script().unwrap_err().to_string().contains("--partition `a b`"));
     }
 
     #[test]
     fn output_paths_slurm_would_misread_are_refused() {
         let job = ArrayJob { out_dir: "/scratch/my out".into(), ..job() };
-        assert!(job.array_script().unwrap_err().starts_with("/scratch/my out/logs: Slurm cannot use"));
+        assert!(job.array_script().unwrap_err().to_string().starts_with("/scratch/my out/logs: Slurm cannot use"));
     }
 
     #[test]
     fn job_ids_are_parsed_from_parsable_output() {
-        assert_eq!(parse_job_id("1234\n"), Ok("1234".into()));
-        assert_eq!(parse_job_id("77;cluster1\n"), Ok("77".into()));
-        assert!(parse_job_id("Submitted batch job 5\n").is_err());
+        assert_eq!(parse_job_id("1234\n").unwrap(), "1234");
+        assert_eq!(parse_job_id("77;cluster1\n").unwrap(), "77");
+        let none = parse_job_id("Submitted batch job 5\n").unwrap_err().to_string();
+        assert_eq!(none, "sbatch printed no job id (output: `Submitted batch job 5`)");
     }
 }

@@ -10,10 +10,12 @@ use std::time::Instant;
 use crate::output::OutputError;
 use crate::output::guard::Existing;
 use crate::output::reader::DamagedGroup;
+use crate::plot::PlotError;
 use crate::report::{self, ReportContext};
 use crate::runner::{self, RunOptions, RunReport, RunnerError};
 use crate::study::{self, Plan, StudyErrors};
-use crate::tune::{self, TuneError, TuneOptions, TuneReport, TuneSpec, report::Written};
+use crate::tune::report::{WriteError, Written};
+use crate::tune::{self, TuneError, TuneOptions, TuneReport, TuneSpec};
 
 /// Why a study file cannot be run.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,18 +108,38 @@ pub struct TuneRun {
     /// The files written next to the results (candidates, best study, recommendation, charts).
     pub written: Written,
     /// The tune's section of the report page (`<name>_tune.json`), or why it was not written.
-    pub section: Result<PathBuf, String>,
+    pub section: Result<PathBuf, SectionError>,
     /// The report page.
     pub page: Page,
 }
 
+/// Why a tune's section of the report page was not written.
+#[derive(Clone, Debug)]
+pub enum SectionError {
+    /// Its chart could not be drawn.
+    Chart(PlotError),
+    /// Its file could not be written.
+    Write(OutputError),
+}
+
+impl fmt::Display for SectionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SectionError::Chart(e) => write!(f, "{e}"),
+            SectionError::Write(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SectionError {}
+
 /// Why a tune did not finish.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug)]
 pub enum TuneRunError {
     /// The search stopped (interrupted, a runner or results-file failure, no reference).
     Tune(TuneError),
     /// Its files could not be written next to the results.
-    Write(String),
+    Write(WriteError),
 }
 
 impl fmt::Display for TuneRunError {
@@ -138,7 +160,8 @@ pub fn tune_file(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneRun, 
     let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
     let written = tune::report::write_all(spec, &outcome.result, &dir, &text).map_err(TuneRunError::Write)?;
     let section = tune::report::report_section(spec, &outcome.result, &text)
-        .and_then(|s| report::write_tune_section(&outcome.results, &spec.name, &s).map_err(|e| e.to_string()));
+        .map_err(SectionError::Chart)
+        .and_then(|s| report::write_tune_section(&outcome.results, &spec.name, &s).map_err(SectionError::Write));
     let jobs =
         if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
     let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };

@@ -188,16 +188,16 @@ fn compare_finds_points_and_refuses_unknown_ones() {
     assert_eq!(compare::find_point(&points, "material.restitution=0.9"), Ok(1));
     assert_eq!(compare::find_point(&points, "restitution=0.5"), Ok(0));
     assert_eq!(compare::find_point(&points, "r0005"), Ok(1), "a run id names its point");
-    let err = compare::find_point(&points, "restitution=0.7").unwrap_err();
+    let err = compare::find_point(&points, "restitution=0.7").unwrap_err().to_string();
     assert!(err.starts_with("no point has restitution=0.7; the points are:\n  material.restitution=0.5\n"), "{err}");
-    let err = compare::find_point(&points, "friction=0.5").unwrap_err();
+    let err = compare::find_point(&points, "friction=0.5").unwrap_err().to_string();
     assert!(err.contains("`friction` is not a swept parameter; the swept parameters are: material.restitution"));
 
     let keep = [Tolerance { metric: "bogus".into(), relative: 0.1 }];
-    let err = compare::compare(&points, "r0000", &keep).unwrap_err();
+    let err = compare::compare(&points, "r0000", &keep).unwrap_err().to_string();
     assert!(err.starts_with("`bogus`: not a per-run quantity or numeric summary column; the metrics of this file are: settle_time, steps,"), "{err}");
     assert_eq!(
-        "x=0".parse::<Tolerance>().unwrap_err(),
+        "x=0".parse::<Tolerance>().unwrap_err().to_string(),
         "the tolerance of `x` must be a positive relative tolerance, got 0"
     );
 

@@ -106,6 +106,13 @@ fn a_tiny_tune_runs_end_to_end() {
     let sidecar = std::fs::read_to_string(out.join("tiny_tune_candidates.csv-metadata.json")).unwrap();
     let meta: serde_json::Value = serde_json::from_str(&sidecar).unwrap();
     assert_eq!(meta["tableSchema"]["columns"][3]["schema:unitText"], "s", "the time step's unit: {sidecar}");
+    let datatype = |k: usize| meta["tableSchema"]["columns"][k]["datatype"].as_str().unwrap_or_default().to_string();
+    let last = meta["tableSchema"]["columns"].as_array().map_or(0, Vec::len) - 1;
+    assert_eq!(
+        [datatype(0), datatype(1), datatype(4), datatype(6), datatype(last)],
+        ["integer", "string", "integer", "double", "boolean"],
+        "candidate, origin, n, cost ratio and recommended typed from their cells: {sidecar}"
+    );
     assert!(header[1].starts_with("0,reference,"), "the values follow the names: {}", header[1]);
     assert_eq!(csv.lines().filter(|l| l.ends_with(",true")).count(), 1, "one recommended row");
     // The best study is a runnable study.

@@ -15,8 +15,8 @@
 use std::path::PathBuf;
 
 use super::{
-    CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, relative_error, scheme_name, timed, write_csv,
-    write_file,
+    BenchError, CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, relative_error, scheme_name, timed,
+    write_csv, write_file,
 };
 use crate::physics::RunStatus;
 use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
@@ -134,7 +134,7 @@ impl CsvRow for AccuracyRow {
 type Observables = Vec<(&'static str, f64)>;
 
 /// Runs the benchmark; writes `accuracy.csv`, `accuracy.md` and `work_precision_*.png`.
-pub fn accuracy(options: &AccuracyOptions) -> Result<Vec<AccuracyRow>, String> {
+pub fn accuracy(options: &AccuracyOptions) -> Result<Vec<AccuracyRow>, BenchError> {
     let mut rows = impact_rows(options, 0.0)?;
     rows.extend(impact_rows(options, beta_from_restitution(0.5))?);
     let (deposition, floor) = deposition_rows(options)?;
@@ -174,7 +174,7 @@ fn hertz_theory(scene: &SceneConfig, speed: f64) -> (f64, f64) {
 }
 
 /// Rows of the impact with damping `beta` at every scheme and time step.
-fn impact_rows(options: &AccuracyOptions, beta: f64) -> Result<Vec<AccuracyRow>, String> {
+fn impact_rows(options: &AccuracyOptions, beta: f64) -> Result<Vec<AccuracyRow>, BenchError> {
     let mut scene = impact_scene(options, beta);
     let speed = options.impact_speed;
     let (overlap, duration) = hertz_theory(&scene, speed);
@@ -331,11 +331,11 @@ const CHAOS_COPIES: usize = 3;
 
 /// Deposition rows at every scheme and time step, and the chaos floor (largest relative difference
 /// per observable between the reference and its 1 nm-perturbed copies).
-fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Observables), String> {
+fn deposition_rows(options: &AccuracyOptions) -> Result<(Vec<AccuracyRow>, Observables), BenchError> {
     let mut scene = deposition_scene(options);
     let disks = placed_disks(&scene)?;
     let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
-    let observe = |scene: &SceneConfig, disks: &[InitialDisk]| -> Result<(Observables, f64), String> {
+    let observe = |scene: &SceneConfig, disks: &[InitialDisk]| -> Result<(Observables, f64), BenchError> {
         let (rec, seconds) = timed(|| super::run(scene, disks));
         Ok((deposition_observables(&rec?), seconds))
     };
@@ -403,7 +403,7 @@ fn worse(a: f64, b: f64) -> f64 {
 }
 
 /// Draws `work_precision_<problem>.png`: largest relative error against run time, per scheme.
-fn chart(options: &AccuracyOptions, rows: &[AccuracyRow], problem: &str, counted: &[&str]) -> Result<(), String> {
+fn chart(options: &AccuracyOptions, rows: &[AccuracyRow], problem: &str, counted: &[&str]) -> Result<(), BenchError> {
     let series: Vec<LogLogSeries> = options
         .schemes
         .iter()
@@ -422,7 +422,7 @@ fn chart(options: &AccuracyOptions, rows: &[AccuracyRow], problem: &str, counted
         &chart,
         &path,
     )
-    .map_err(|e| e.to_string())
+    .map_err(BenchError::from)
 }
 
 /// The fastest (scheme, `t_c/dt`, run time, error) reaching `target` error for a problem.

@@ -12,6 +12,10 @@
 //! - [`tune`]: `demsweep tune` against a brute-force ladder over its levers on fresh seeds
 //!   ([`tune_ladder`]).
 
+mod error;
+
+pub use error::{BenchError, create_folder};
+
 pub mod accuracy;
 pub mod skipping;
 pub mod stability_map;
@@ -77,7 +81,7 @@ pub trait CsvRow {
 
 /// Writes rows as CSV (RFC 4180, the names line of [`csv`]) with its metadata sidecar (each column's
 /// unit and datatype).
-pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
+pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), BenchError> {
     let mut text = Vec::new();
     let names: Vec<&str> = R::COLUMNS.iter().map(|(name, _)| *name).collect();
     let values: Vec<Vec<String>> = rows.iter().map(CsvRow::values).collect();
@@ -86,15 +90,15 @@ pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), String> {
     write_file(path, &String::from_utf8_lossy(&text))?;
     let mut columns = csv::ColumnMeta::declared_from_rows(&names, &values);
     columns.iter_mut().zip(R::COLUMNS).for_each(|(column, (_, unit))| column.unit = unit.to_string());
-    csv::write_metadata(path, &columns).map_err(|e| e.to_string())
+    Ok(csv::write_metadata(path, &columns)?)
 }
 
 /// Writes a text file, creating its folder; the error names the path.
-pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
+pub fn write_file(path: &Path, text: &str) -> Result<(), BenchError> {
     if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
+        create_folder(dir)?;
     }
-    crate::output::guard::write(path, text.as_bytes(), &[]).map_err(|e| e.to_string())
+    Ok(crate::output::guard::write(path, text.as_bytes(), &[])?)
 }
 
 /// Snake-case name of a scheme, as in scene files.
@@ -112,15 +116,14 @@ pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
     (value, start.elapsed().as_secs_f64())
 }
 
-/// Runs a scene to its end (no observer), with its initial disks; the error in words, for the
-/// benchmark's report.
-pub fn run(scene: &SceneConfig, disks: &[InitialDisk]) -> Result<RunRecord, String> {
-    run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue).map_err(|e| e.to_string())
+/// Runs a scene to its end (no observer), with its initial disks.
+pub fn run(scene: &SceneConfig, disks: &[InitialDisk]) -> Result<RunRecord, BenchError> {
+    Ok(run_scene(scene, Some(disks.to_vec()), &mut |_| Control::Continue)?)
 }
 
 /// The initial disks a scene's random or lattice placement generates.
-pub fn placed_disks(scene: &SceneConfig) -> Result<Vec<InitialDisk>, String> {
-    placement::generate(scene).map_err(|e| e.to_string())
+pub fn placed_disks(scene: &SceneConfig) -> Result<Vec<InitialDisk>, BenchError> {
+    Ok(placement::generate(scene)?)
 }
 
 /// Ratios `t_c / dt` spaced geometrically (`per_doubling` values per factor 2) from `coarsest` to

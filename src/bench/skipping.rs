@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
+use super::{BenchError, CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::SceneConfig;
 
 /// What to measure.
@@ -120,7 +120,7 @@ fn measure(
     name: &'static str,
     settings: Vec<(String, Vec<SceneConfig>)>,
     repeats: usize,
-) -> Result<Vec<SkippingRow>, String> {
+) -> Result<Vec<SkippingRow>, BenchError> {
     let mut rows: Vec<SkippingRow> = Vec::new();
     for (setting, scenes) in settings {
         let mut row = SkippingRow {
@@ -153,7 +153,7 @@ fn measure(
 
 /// Time saved by skipping tangential and rotational work: the scene without friction against the
 /// same scene with μ = 1e-9 (the same physics, with the full work), over its duration.
-pub fn friction_rows(scene: &SceneConfig) -> Result<Vec<SkippingRow>, String> {
+pub fn friction_rows(scene: &SceneConfig) -> Result<Vec<SkippingRow>, BenchError> {
     let with = |mu: f64| {
         let mut s = scene.clone();
         s.material.friction = mu;
@@ -182,8 +182,8 @@ fn configured(scene: &SceneConfig, stop: bool, every: Option<u64>, duration: f64
 }
 
 /// Runs the three measures; writes `skipping.csv` and `skipping.md`.
-pub fn skipping(options: &SkippingOptions) -> Result<Vec<SkippingRow>, String> {
-    let first = options.scenes.first().ok_or("skipping: no scene to measure")?;
+pub fn skipping(options: &SkippingOptions) -> Result<Vec<SkippingRow>, BenchError> {
+    let first = options.scenes.first().ok_or(BenchError::Nothing("skipping: no scene to measure"))?;
     let all = |stop: bool| options.scenes.iter().map(|s| configured(s, stop, None, s.run.duration)).collect();
     let mut rows = measure(
         "stop_at_settle",

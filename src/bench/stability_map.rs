@@ -18,7 +18,9 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 
-use super::{CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, scheme_name, write_csv, write_file};
+use super::{
+    BenchError, CsvRow, SCHEMES, markdown_table, placed_disks, ratio_grid, scheme_name, write_csv, write_file,
+};
 use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use crate::physics::material::restitution_from_beta;
 use crate::physics::particles::InitialDisk;
@@ -316,9 +318,9 @@ pub fn map_scene(options: &StabilityMapOptions, column: &Column) -> SceneConfig 
 
 /// Runs the map, writes `stability_map.csv` (every case) and `stability_map.md` (boundaries), and
 /// returns the cases and the boundaries.
-pub fn stability_map(options: &StabilityMapOptions) -> Result<(Vec<MapRow>, Vec<Boundary>), String> {
+pub fn stability_map(options: &StabilityMapOptions) -> Result<(Vec<MapRow>, Vec<Boundary>), BenchError> {
     let columns = columns(options);
-    let results: Vec<Result<Vec<MapRow>, String>> = columns.par_iter().map(|c| map_column(options, c)).collect();
+    let results: Vec<Result<Vec<MapRow>, BenchError>> = columns.par_iter().map(|c| map_column(options, c)).collect();
     let rows: Vec<MapRow> = results.into_iter().collect::<Result<Vec<_>, _>>()?.into_iter().flatten().collect();
     let boundaries: Vec<Boundary> = columns.iter().map(|c| boundary(&rows, c)).collect();
     write_csv(&options.out_dir.join("stability_map.csv"), &rows)?;
@@ -344,7 +346,7 @@ fn columns(o: &StabilityMapOptions) -> Vec<Column> {
 
 /// One column of the map: the time steps of one scene from coarse to fine, stopping three steps below
 /// both the predicted safe step and the last blow-up.
-fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapRow>, String> {
+fn map_column(options: &StabilityMapOptions, column: &Column) -> Result<Vec<MapRow>, BenchError> {
     let mut scene = map_scene(options, column);
     let disks = placed_disks(&scene)?;
     let contact_time = crate::physics::predict_stability(&scene, &disks).contact_time;
@@ -376,7 +378,7 @@ fn map_case(
     scene: &SceneConfig,
     disks: &[InitialDisk],
     restart_at: Option<f64>,
-) -> Result<MapRow, String> {
+) -> Result<MapRow, BenchError> {
     let rec = super::run(scene, disks)?;
     let st = &rec.stability;
     let restart = match restart_at {
@@ -406,7 +408,7 @@ fn map_case(
 
 /// `scene` run from `disks` to `at` (s), then restarted from its state (disks and contact history)
 /// for the rest of its duration with the step at `fraction` of the restart's own contact time.
-fn restarted(scene: &SceneConfig, disks: &[InitialDisk], at: f64, fraction: f64) -> Result<Restart, String> {
+fn restarted(scene: &SceneConfig, disks: &[InitialDisk], at: f64, fraction: f64) -> Result<Restart, BenchError> {
     let mut first = scene.clone();
     (first.run.duration, first.run.stop_at_settle) = (at, false);
     let state = super::run(&first, disks)?.final_state;
@@ -417,8 +419,7 @@ fn restarted(scene: &SceneConfig, disks: &[InitialDisk], at: f64, fraction: f64)
     let restart_disks = state.initial_disks();
     rest.integrator.time_step = Some(fraction * crate::physics::predict_stability(&rest, &restart_disks).contact_time);
     let observe = &mut |_: &_| Control::Continue;
-    let rec = run_scene_with_history(&rest, Some(restart_disks), Some(&state.initial_contacts()), observe)
-        .map_err(|e| e.to_string())?;
+    let rec = run_scene_with_history(&rest, Some(restart_disks), Some(&state.initial_contacts()), observe)?;
     Ok(Restart { time_step: rec.time_step, status: rec.status, energy_balance_error: rec.energy_balance_error })
 }
 
@@ -452,7 +453,7 @@ fn in_units(dt: Option<f64>, b: &Boundary) -> [String; 2] {
 
 /// Draws `stability_map.png`: one panel per scheme and friction, Δt/t_c against β, every case a dot
 /// (stable) or a cross (blew up), all stiffnesses together, and the predicted safe Δt/t_c as a line.
-fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]) -> Result<(), String> {
+fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]) -> Result<(), BenchError> {
     let beta_index = |beta: f64| options.betas.iter().position(|b| *b == beta).unwrap_or(0) as f64;
     let mut panels = Vec::new();
     for &scheme in &options.schemes {
@@ -487,7 +488,7 @@ fn chart(options: &StabilityMapOptions, rows: &[MapRow], boundaries: &[Boundary]
     };
     let path = options.out_dir.join("stability_map.png");
     stability_map_chart(&panels, options.frictions.len(), ("β", &labels), "Δt / t_c", &size, &path)
-        .map_err(|e| e.to_string())
+        .map_err(BenchError::from)
 }
 
 /// Three significant digits, in exponent form below 0.01.

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use rayon::prelude::*;
 
 use super::stability_map::Outcome;
-use super::{CsvRow, markdown_table, scheme_name, write_csv, write_file};
+use super::{BenchError, CsvRow, markdown_table, scheme_name, write_csv, write_file};
 use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use crate::physics::simulation::Control;
 use crate::physics::stability::stable_contact_time_fraction;
@@ -168,7 +168,7 @@ pub fn deposition(options: &StableStepOptions, scheme: IntegratorKind, restituti
 
 /// Runs every case, writes `stable_step.csv` (every case) and `stable_step.md` (per scheme and
 /// restitution, the cases that settle at each fraction and the largest fraction at which all do).
-pub fn stable_step(options: &StableStepOptions) -> Result<Vec<StepCase>, String> {
+pub fn stable_step(options: &StableStepOptions) -> Result<Vec<StepCase>, BenchError> {
     let mut cases = Vec::new();
     for (scheme, fractions) in &options.schemes {
         for &restitution in &options.restitutions {
@@ -202,21 +202,20 @@ fn step_case(
     restitution: f64,
     fraction: f64,
     seed: u64,
-) -> Result<StepCase, String> {
+) -> Result<StepCase, BenchError> {
     let mut scene = deposition(options, scheme, restitution, fraction);
     scene.placement.seed = seed;
     let tolerance = scene.limits.energy_balance_tolerance;
     let go = &mut |_: &_| Control::Continue;
-    let straight = run_scene(&scene, None, go).map_err(|e| e.to_string())?;
+    let straight = run_scene(&scene, None, go)?;
     let mut first = scene.clone();
     (first.run.duration, first.run.stop_at_settle) = (options.restart_at, false);
-    let state = run_scene(&first, None, go).map_err(|e| e.to_string())?.final_state;
+    let state = run_scene(&first, None, go)?.final_state;
     let mut rest = scene.clone();
     rest.placement.kind = PlacementKind::File;
     (rest.placement.file, rest.placement.contacts) = (Some("state.csv".into()), Some("state_contacts.csv".into()));
     rest.run.duration = scene.run.duration - options.restart_at;
-    let restarted = run_scene_with_history(&rest, Some(state.initial_disks()), Some(&state.initial_contacts()), go)
-        .map_err(|e| e.to_string())?;
+    let restarted = run_scene_with_history(&rest, Some(state.initial_disks()), Some(&state.initial_contacts()), go)?;
     Ok(StepCase {
         scheme,
         restitution,

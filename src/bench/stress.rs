@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::skipping::friction_rows;
-use super::{CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
+use super::{BenchError, CsvRow, markdown_table, placed_disks, timed, write_csv, write_file};
 use crate::physics::config::{PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::particles::InitialDisk;
@@ -113,7 +113,7 @@ impl CsvRow for StressRow {
 }
 
 /// Runs every scenario; writes `stress.csv` and `stress.md`.
-pub fn stress(options: &StressOptions) -> Result<Vec<StressRow>, String> {
+pub fn stress(options: &StressOptions) -> Result<Vec<StressRow>, BenchError> {
     let scenarios: [(&'static str, Outcome, Scenario); 10] = [
         ("paper_table1", Outcome::Run(RunStatus::Diverged), paper_table1),
         ("very_stiff_large_dt", Outcome::Run(RunStatus::Diverged), very_stiff_large_dt),
@@ -153,7 +153,7 @@ fn guarded(run: Scenario, options: &StressOptions) -> Report {
 }
 
 /// The report of a finished run (or of a rejected scene), with a note.
-fn report(result: Result<RunRecord, String>, note: String) -> Report {
+fn report(result: Result<RunRecord, BenchError>, note: String) -> Report {
     match result {
         Ok(rec) => {
             let message = rec.message.clone().unwrap_or_else(|| match rec.settle_time {
@@ -162,12 +162,12 @@ fn report(result: Result<RunRecord, String>, note: String) -> Report {
             });
             (Outcome::Run(rec.status), message, rec.warnings.iter().map(ToString::to_string).collect(), note)
         }
-        Err(error) => (Outcome::Error, error, Vec::new(), note),
+        Err(error) => (Outcome::Error, error.to_string(), Vec::new(), note),
     }
 }
 
 /// Runs a scene with generated disks.
-fn run_generated(scene: &SceneConfig) -> Result<RunRecord, String> {
+fn run_generated(scene: &SceneConfig) -> Result<RunRecord, BenchError> {
     super::run(scene, &placed_disks(scene)?)
 }
 
@@ -255,7 +255,7 @@ fn beta_50_frictionless_safe_dt(options: &StressOptions) -> Report {
     s.material.friction = 0.0;
     let disks = match placed_disks(&s) {
         Ok(d) => d,
-        Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
+        Err(e) => return (Outcome::Error, e.to_string(), Vec::new(), String::new()),
     };
     s.integrator.time_step = Some(crate::physics::predict_stability(&s, &disks).safe_time_step);
     report(
@@ -277,7 +277,7 @@ fn frictionless(options: &StressOptions) -> Report {
             rows[1].run_time,
             100.0 * rows[1].saved
         ),
-        Err(e) => e.clone(),
+        Err(e) => e.to_string(),
     };
     s.material.friction = 0.0;
     report(run_generated(&s), note)
@@ -301,7 +301,7 @@ fn large(options: &StressOptions) -> Report {
     s.run.duration = options.large_steps as f64 * s.integrator.fixed_time_step().unwrap_or_default();
     let disks = match placed_disks(&s) {
         Ok(d) => d,
-        Err(e) => return (Outcome::Error, e, Vec::new(), String::new()),
+        Err(e) => return (Outcome::Error, e.to_string(), Vec::new(), String::new()),
     };
     let before = resident_memory();
     let sim = Simulation::<HertzMindlin>::new(&s, &disks);

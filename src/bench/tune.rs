@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use super::tune_ladder::{DEAR, GridLadder, LADDER_FACTORS, MAX_GRID, Rung, grid_ladder};
-use super::{CsvRow, markdown_table, write_csv, write_file};
+use super::{BenchError, CsvRow, create_folder, markdown_table, write_csv, write_file};
 use crate::stats;
 use crate::tune::model::SearchResult;
 use crate::tune::report::{settings, spend};
@@ -120,35 +120,36 @@ impl CsvRow for TuneBenchRow {
 }
 
 /// Runs tune and the ladder on every tune file; writes `tune.csv` and `tune.md`.
-pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, String> {
+pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, BenchError> {
     let mut rows = Vec::new();
     for path in &options.tunes {
-        let mut spec = tune::load(path).map_err(|e| e.to_string())?;
+        let mut spec = tune::load(path)?;
         crate::output::terminal::err(format_args!("bench tune: {} — tune\n", spec.name));
         let tune_dir = options.work_dir.join(&spec.name).join("tune");
         let tune_options =
             TuneOptions { jobs: options.jobs, out_dir: Some(tune_dir.clone()), force: true, ..Default::default() };
-        let report = tune::tune(&mut spec, &tune_options).map_err(|e| e.to_string())?;
+        let report = tune::tune(&mut spec, &tune_options)?;
         let result = &report.result;
         let paragraph = crate::tune::report::paragraph(&spec, result);
         crate::output::terminal::err(format_args!("{paragraph}\n"));
         let written = crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
-        std::fs::create_dir_all(&options.out_dir).map_err(|e| format!("{}: {e}", options.out_dir.display()))?;
+        create_folder(&options.out_dir)?;
         for chart in written.files.iter().filter(|f| f.extension().is_some_and(|e| e == "png")) {
             let name = chart.file_name().unwrap_or_default().to_string_lossy().into_owned();
             let name = if name.starts_with("tune") { name } else { format!("tune_{name}") };
-            std::fs::copy(chart, options.out_dir.join(name)).map_err(|e| format!("{}: {e}", chart.display()))?;
+            std::fs::copy(chart, options.out_dir.join(name))
+                .map_err(|error| BenchError::Copy { path: chart.clone(), error })?;
         }
         rows.push(compare(&spec, result, options)?);
     }
-    std::fs::create_dir_all(&options.out_dir).map_err(|e| format!("{}: {e}", options.out_dir.display()))?;
+    create_folder(&options.out_dir)?;
     write_csv(&options.out_dir.join("tune.csv"), &rows)?;
     write_file(&options.out_dir.join("tune.md"), &markdown(&rows))?;
     Ok(rows)
 }
 
 /// Tune's result against the ladder on one tune file.
-fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -> Result<TuneBenchRow, String> {
+fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -> Result<TuneBenchRow, BenchError> {
     let spent = spend(result);
     let undecided_metric =
         result.undecidable.iter().map(|u| spec.keep[u.metric].metric.clone()).collect::<Vec<_>>().join(" ");

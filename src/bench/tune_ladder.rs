@@ -11,11 +11,12 @@
 //! rungs race: every one runs on the first seeds, and only those that can still be the cheapest valid,
 //! equivalent one get the rest (see [`run_settings`]).
 
+use super::BenchError;
 use crate::tune::judge::{check_figures, predicted_breach};
 use crate::tune::model::{Job, Outcome, Rejection, Role, SearchResult, State};
 use crate::tune::report::settings;
 use crate::tune::spec::{Lever, LeverRange, Objective};
-use crate::tune::{Evaluator, RunEvaluator, TuneOptions, TuneSpec};
+use crate::tune::{Evaluator, RunEvaluator, TuneError, TuneOptions, TuneSpec};
 
 /// The time-step rungs: fractions of the first standard setting's time step.
 pub const LADDER_FACTORS: [f64; 7] = [1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.4];
@@ -81,13 +82,13 @@ pub struct GridLadder {
 }
 
 /// Runs the ladder of `spec` (after its tune: `spec.standards` holds every standard setting tune ran).
-pub fn grid_ladder(spec: &TuneSpec, result: &SearchResult, options: TuneOptions) -> Result<GridLadder, String> {
+pub fn grid_ladder(spec: &TuneSpec, result: &SearchResult, options: TuneOptions) -> Result<GridLadder, BenchError> {
     let mut evaluator = RunEvaluator::new(spec, &options);
     let seeds: Vec<u64> = (0..result.reference.len() as u64).map(|s| FRESH_SEEDS + s).collect();
     let reference_jobs: Vec<Job> = seeds.iter().map(|&seed| job(0, &[], None, Role::Reference, seed, None)).collect();
-    let reference = evaluator.evaluate(&reference_jobs).map_err(|e| e.to_string())?;
-    if let Some(failure) = reference.iter().find_map(|o| o.failure.clone()) {
-        return Err(format!("the fresh reference failed: {failure}"));
+    let reference = evaluator.evaluate(&reference_jobs).map_err(BenchError::Tune)?;
+    if let Some((seed, failure)) = seeds.iter().zip(&reference).find_map(|(&s, o)| Some((s, o.failure.clone()?))) {
+        return Err(BenchError::Tune(TuneError::ReferenceFailed { seed, failure }));
     }
     let mut judged = result.clone();
     judged.margins = spec.keep.iter().enumerate().map(|(k, keep)| keep.margin(mean(&reference, k))).collect();
@@ -229,7 +230,7 @@ fn run_settings(
     seeds: &[u64],
     cap: Option<f64>,
     runs: &mut usize,
-) -> Result<Vec<Rung>, String> {
+) -> Result<Vec<Rung>, BenchError> {
     let mut rungs: Vec<Rung> = Vec::with_capacity(settings.len());
     let mut outcomes: Vec<Vec<Outcome>> = vec![Vec::new(); settings.len()];
     let (first, rest) = seeds.split_at(FIRST_SEEDS.min(seeds.len()));
@@ -307,7 +308,7 @@ fn run_round(
     cap: Option<f64>,
     outcomes: &mut [Vec<Outcome>],
     runs: &mut usize,
-) -> Result<(), String> {
+) -> Result<(), BenchError> {
     let jobs: Vec<Job> = which
         .iter()
         .flat_map(|&k| seeds.iter().map(move |&seed| (k, seed)))
@@ -316,7 +317,7 @@ fn run_round(
     if jobs.is_empty() {
         return Ok(());
     }
-    let done = evaluator.evaluate(&jobs).map_err(|e| e.to_string())?;
+    let done = evaluator.evaluate(&jobs).map_err(BenchError::Tune)?;
     *runs += jobs.len();
     for (job, outcome) in jobs.iter().zip(done) {
         outcomes[job.candidate - 1].push(outcome);

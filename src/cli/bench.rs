@@ -1,9 +1,11 @@
 //! `demsweep bench accuracy|stability|stable-step|stress|skipping|tune`: the benchmarks of `demsweep::bench`.
 
+use std::error::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
+use demsweep::bench::BenchError;
 use demsweep::bench::accuracy::{AccuracyOptions, accuracy};
 use demsweep::bench::skipping::{SkippingOptions, skipping};
 use demsweep::bench::stability_map::{StabilityMapOptions, stability_map};
@@ -92,7 +94,7 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
             tune_bench(&options).map(|_| "tune.md")
         }
     };
-    match result.and_then(|summary| print_file(&out.join(summary))) {
+    match result.map_err(Box::<dyn Error>::from).and_then(|summary| print_file(&out.join(summary))) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
             errln!("bench: {error}");
@@ -102,8 +104,8 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
 }
 
 /// Skipping options measuring every run of `study`.
-fn skipping_options(study: &Path, out_dir: PathBuf) -> Result<SkippingOptions, String> {
-    let plan = study::load(study).map_err(|e| e.to_string())?;
+fn skipping_options(study: &Path, out_dir: PathBuf) -> Result<SkippingOptions, BenchError> {
+    let plan = study::load(study)?;
     Ok(SkippingOptions {
         source: format!("every run of {}", study.display()),
         scenes: plan.runs.into_iter().map(|r| r.scene).collect(),
@@ -112,7 +114,7 @@ fn skipping_options(study: &Path, out_dir: PathBuf) -> Result<SkippingOptions, S
     })
 }
 
-fn print_file(path: &Path) -> Result<(), String> {
+fn print_file(path: &Path) -> Result<(), Box<dyn Error>> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     out!("{text}");
     Ok(())

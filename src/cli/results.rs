@@ -372,7 +372,7 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
     let metrics: Vec<&str> = metrics.iter().map(String::as_str).collect();
     let view = match (args.all, args.by_point) {
         (true, _) => Ok(table),
-        (false, true) => points::view(&table, &metrics),
+        (false, true) => points::view(&table, &metrics).map_err(|e| e.to_string()),
         (false, false) => run_view(&table, &known, &metrics),
     };
     let shown = match view {
@@ -438,7 +438,7 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
     let points = Points::new(&summary);
     let comparison = match compare::compare(&points, &args.reference, &args.keep) {
         Ok(comparison) => comparison,
-        Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason)),
+        Err(reason) => return bad_input(&output::OutputError::new(&args.results, reason.to_string())),
     };
     let reference = comparison.reference;
     outln!("reference: {} (n = {})", points.label(reference), points.rows(reference).len());

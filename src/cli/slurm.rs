@@ -1,5 +1,6 @@
 //! The `slurm` command: write (and submit) the array and merge jobs of a study.
 
+use std::error::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -64,10 +65,10 @@ pub fn slurm(args: &SlurmArgs, plan: &Plan) -> ExitCode {
 }
 
 /// The job to write, with absolute paths (jobs may start in another directory).
-fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, String> {
+fn array_job(args: &SlurmArgs, plan: &Plan) -> Result<ArrayJob, Box<dyn Error>> {
     let shards = args.shards as usize;
     if shards > plan.runs.len() {
-        return Err(format!("--shards {shards}: the study has only {} runs", plan.runs.len()));
+        return Err(format!("--shards {shards}: the study has only {} runs", plan.runs.len()).into());
     }
     let demsweep = match &args.demsweep {
         Some(path) => path.clone(),
@@ -105,11 +106,11 @@ fn warn_if_build_folder(exe: &Path) {
     }
 }
 
-fn absolute(path: &Path) -> Result<PathBuf, String> {
-    std::path::absolute(path).map_err(|e| format!("{}: {e}", path.display()))
+fn absolute(path: &Path) -> Result<PathBuf, Box<dyn Error>> {
+    std::path::absolute(path).map_err(|e| format!("{}: {e}", path.display()).into())
 }
 
-fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), String> {
+fn write_and_submit(args: &SlurmArgs, job: &ArrayJob) -> Result<(), Box<dyn Error>> {
     let scripts = job.write_scripts()?;
     if args.print {
         for path in [&scripts.array, &scripts.merge] {

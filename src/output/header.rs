@@ -108,7 +108,8 @@ impl FileHeader {
             }
         };
         Ok(Self {
-            study_name: text(STUDY_NAME).and_then(|name| crate::study::name::check_name(&name).map(|()| name))?,
+            study_name: text(STUDY_NAME)
+                .and_then(|name| crate::study::name::check_name(&name).map(|()| name).map_err(|e| e.to_string()))?,
             study_text: text(STUDY_TEXT)?,
             fingerprint: text(FINGERPRINT)?,
             demsweep_version: text(VERSION)?,

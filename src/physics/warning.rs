@@ -184,14 +184,11 @@ mod tests {
             safe_time_step: Some(3.3333e-9),
             ..ValidityWarning::new(WarningKind::ContactTimeFraction, 2.4e177, 0.1)
         };
-        let text = w.to_string();
-        assert!(text.contains("time step is 2.400e177 of the contact time of an impact at 1.000e177 m/s"), "{text}");
-        assert!(text.contains("below 3.333e-9 s"), "{text}");
-        let longest_number = text
-            .split([' ', '(', ')', ';', ':'])
-            .filter(|w| w.starts_with(|c: char| c.is_ascii_digit()))
-            .map(str::len)
-            .max();
-        assert!(longest_number.is_some_and(|n| n <= 10), "{text}");
+        assert_eq!(
+            w.to_string(),
+            "time step is 2.400e177 of the contact time of an impact at 1.000e177 m/s (limit 0.1 = \
+             limits.contact_time_fraction): contacts are under-resolved and the run may blow up; use a time step \
+             below 3.333e-9 s"
+        );
     }
 }

@@ -8,6 +8,8 @@ use crate::physics::quantity;
 use crate::plot::results::spread;
 use crate::stats::points::Points;
 
+use super::table::{Cell, Table};
+
 /// Per-run quantities not shown per point (the energies, raw counts, a direction): every other
 /// declared quantity the file has is a column, with its unit, and then the warning count.
 const NOT_SHOWN: [&str; 9] = [
@@ -230,16 +232,19 @@ impl PointsTable {
     }
 }
 
-/// Records (the first one the header) as a plain HTML table; numbers to 4 significant digits.
-pub fn static_table(records: &[Vec<String>]) -> String {
-    let Some((header, rows)) = records.split_first() else { return String::new() };
-    let head: String = header.iter().map(|name| format!("<th>{}</th>", escape(name))).collect();
-    let cell = |text: &String| match text.parse::<f64>() {
-        Ok(x) if text.contains('.') || text.contains('e') => format!("<td class=\"num\">{}</td>", number(x)),
-        _ => format!("<td>{}</td>", escape(text)),
+/// A table as a plain HTML table; real numbers to 4 significant digits.
+pub fn static_table(table: &Table) -> String {
+    if table.columns.is_empty() {
+        return String::new();
+    }
+    let head: String = table.columns.iter().map(|name| format!("<th>{}</th>", escape(name))).collect();
+    let cell = |cell: &Cell| match cell {
+        Cell::Number(x) => format!("<td class=\"num\">{}</td>", number(*x)),
+        Cell::Whole(n) => format!("<td class=\"num\">{n}</td>"),
+        other => format!("<td>{}</td>", escape(&other.to_string())),
     };
     let body: String =
-        rows.iter().map(|row| format!("<tr>{}</tr>", row.iter().map(cell).collect::<String>())).collect();
+        table.rows.iter().map(|row| format!("<tr>{}</tr>", row.iter().map(cell).collect::<String>())).collect();
     format!("<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
 }
 

@@ -1,7 +1,7 @@
 //! The morning-after report: one self-contained HTML page per results file (inline CSS, inline SVG
 //! charts, a little inline JavaScript, no network request of any kind).
 //!
-//! Top to bottom: what was run; how the runs ended and their warnings grouped by message; the
+//! Top to bottom: what was run; how the runs ended and their warnings grouped by kind; the
 //! per-point table (columns under header groups with their units, sortable by any column,
 //! filterable by status; [`crate::stats::points`]); the study charts (settle time with 95 %
 //! intervals, heatmap) and the pile-metric charts; the tune, when the file holds one; a section per
@@ -10,6 +10,9 @@
 
 mod html;
 mod player;
+mod table;
+
+pub use table::{Cell, Table};
 
 use std::collections::BTreeMap;
 
@@ -22,7 +25,7 @@ use crate::output::{FileHeader, OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
 use crate::physics::quantity;
 use crate::physics::record::Snapshot;
-use crate::physics::warning::WarningKind;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::plot::results::{self, ChartSink, DEFAULT_RUN_LIMIT, PlotRequest, SvgCharts};
 use crate::plot::run::ColourBy;
 use crate::plot::{Canvas, ChartOptions, Format, PlotError};
@@ -51,8 +54,8 @@ pub struct TuneSection {
     pub recommendation: String,
     /// Cost against largest |difference| / tolerance, as an SVG document.
     pub chart_svg: String,
-    /// Every evaluated setting: the column labels, then one record per setting (as in `<name>_candidates.csv`).
-    pub candidates: Vec<Vec<String>>,
+    /// Every evaluated setting, one row each (as in `<name>_candidates.csv`), under the columns' labels.
+    pub candidates: Table,
 }
 
 pub use crate::output::report_path;
@@ -70,11 +73,13 @@ pub fn write_tune_section(results: &Path, study_name: &str, section: &TuneSectio
     Ok(path)
 }
 
-/// The tune section next to a results file, if there is one (unreadable: a note in its place).
-fn read_tune_section(results: &Path, study_name: &str) -> Option<Result<TuneSection, String>> {
+/// The tune section next to a results file, if there is one: its path and the section, or why it
+/// cannot be read (a note in its place).
+fn read_tune_section(results: &Path, study_name: &str) -> Option<(PathBuf, serde_json::Result<TuneSection>)> {
     let path = tune_section_path(results, study_name);
     let text = std::fs::read_to_string(&path).ok()?;
-    Some(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display())))
+    let section = serde_json::from_str(&text);
+    Some((path, section))
 }
 
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
@@ -113,8 +118,11 @@ pub fn write_report(
     let tune = read_tune_section(results, &header.study_name);
     page.push(&overview(&header, &rows, &context, tune.is_some()));
     match &tune {
-        Some(Ok(tune)) => page.push(&tune_section(tune)),
-        Some(Err(reason)) => page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(reason))),
+        Some((_, Ok(tune))) => page.push(&tune_section(tune)),
+        Some((path, Err(e))) => {
+            let reason = format!("{}: {e}", path.display());
+            page.push(&format!("<h2 id=\"tune\">Tune</h2><p class=\"note\">{}</p>", escape(&reason)));
+        }
         None => {}
     }
     if !damaged.is_empty() {
@@ -453,7 +461,7 @@ struct ReferenceVerdict {
 }
 
 impl ReferenceVerdict {
-    fn new(points: &Points, spec: &str) -> Result<Self, String> {
+    fn new(points: &Points, spec: &str) -> Result<Self, crate::stats::CompareError> {
         let comparison = compare::compare(points, spec, &[])?;
         let (mut equivalent, mut different, mut undecided) = (Vec::new(), Vec::new(), Vec::new());
         for (i, point) in comparison.points.iter().enumerate() {
@@ -480,7 +488,7 @@ fn reference_section(points: &Points, spec: &str) -> String {
                 "<h3 id=\"reference\">Against the reference point</h3><p class=\"note\">The study's reference ({}) \
                  cannot be compared: {}</p>",
                 escape(spec),
-                escape(&reason)
+                escape(&reason.to_string())
             );
         }
     };
@@ -534,22 +542,26 @@ fn reference_section(points: &Points, spec: &str) -> String {
     )
 }
 
-/// How the runs ended (counts by status) and their warnings and failure messages, grouped (by kind,
-/// numbers left out, when `by_kind`).
-fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
+/// How the runs ended (counts by status), their failure messages grouped, and their warnings by
+/// kind: how many runs have one and the worst (largest over its limit); in a tune's report the
+/// kind's name and key with the worst value, else the worst warning in full (what it means, its cure).
+fn outcomes(rows: &[SummaryRow], tune: bool) -> String {
     let mut statuses: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut warnings: BTreeMap<String, usize> = BTreeMap::new();
-    let mut worst: BTreeMap<WarningKind, (f64, f64, &str)> = BTreeMap::new();
+    let mut worst: BTreeMap<WarningKind, (&ValidityWarning, &str)> = BTreeMap::new();
+    let mut runs: BTreeMap<WarningKind, usize> = BTreeMap::new();
     let mut messages: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     for row in rows {
         *statuses.entry(row.status.as_str()).or_default() += 1;
         for warning in &row.warnings {
-            *warnings.entry(warning.to_string()).or_default() += 1;
-            let entry = worst.entry(warning.kind).or_insert((warning.value, warning.limit, &row.id));
-            if warning.excess() > entry.0 / entry.1 {
-                *entry = (warning.value, warning.limit, &row.id);
+            let entry = worst.entry(warning.kind).or_insert((warning, &row.id));
+            if warning.excess() > entry.0.excess() {
+                *entry = (warning, &row.id);
             }
         }
+        let mut kinds: Vec<WarningKind> = row.warnings.iter().map(|w| w.kind).collect();
+        kinds.sort_unstable();
+        kinds.dedup();
+        kinds.into_iter().for_each(|k| *runs.entry(k).or_default() += 1);
         if !row.message.is_empty() {
             *messages.entry((row.status.as_str(), &row.message)).or_default() += 1;
         }
@@ -570,30 +582,23 @@ fn outcomes(rows: &[SummaryRow], by_kind: bool) -> String {
         let entries = messages.into_iter().map(|((s, m), n)| (format!("{s}: {m}"), n)).collect();
         out += &grouped("Why runs failed or diverged", entries);
     }
-    if warnings.is_empty() {
+    if worst.is_empty() {
         out += "<p class=\"note\">No run has a warning.</p>";
-    } else if by_kind {
-        // Grouped by kind, from the warnings' values: the runs of each kind and the worst of them.
-        let mut runs: BTreeMap<WarningKind, usize> = BTreeMap::new();
-        for row in rows {
-            let mut kinds: Vec<WarningKind> = row.warnings.iter().map(|w| w.kind).collect();
-            kinds.sort_unstable();
-            kinds.dedup();
-            kinds.into_iter().for_each(|k| *runs.entry(k).or_default() += 1);
-        }
-        let entries = worst
-            .into_iter()
-            .map(|(kind, (value, limit, id))| {
-                let text =
-                    format!("{} ({}): worst {value:.4} against {limit} (run {id})", kind.name(), kind.limit_key());
-                (text, runs.get(&kind).copied().unwrap_or(0))
-            })
-            .collect();
-        out += &grouped("Warnings", entries);
-    } else {
-        out += &grouped("Warnings", warnings.into_iter().collect());
+        return out;
     }
-    out
+    let entries = worst
+        .into_iter()
+        .map(|(kind, (warning, id))| {
+            let text = if tune {
+                let (value, limit) = (warning.value, warning.limit);
+                format!("{} ({}): worst {value:.4} against {limit} (run {id})", kind.name(), kind.limit_key())
+            } else {
+                format!("{} (worst: run {id}): {warning}", kind.name())
+            };
+            (text, runs.get(&kind).copied().unwrap_or(0))
+        })
+        .collect();
+    out + &grouped("Warnings", entries)
 }
 
 /// The per-point table: rows built in the browser from embedded JSON; a note names the points CSV
@@ -745,7 +750,25 @@ mod tests {
         assert!((cost.ratio - 0.5).abs() < 1e-3 && cost.low < 0.5 && cost.high > 0.5, "{cost:?}");
         let html = super::verdict(&summary, Some("friction=0.2"));
         assert!(html.contains("1 of 2 other grid points make an equivalent pile"), "{html}");
-        assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().contains("no point has"));
+        assert!(ReferenceVerdict::new(&points, "friction=0.3").unwrap_err().to_string().contains("no point has"));
+    }
+
+    #[test]
+    fn warnings_are_grouped_by_kind_with_the_worst_of_each() {
+        let overlap = |value| ValidityWarning::new(WarningKind::Overlap, value, 0.1);
+        let energy = ValidityWarning::new(WarningKind::EnergyBalance, 0.05, 0.01);
+        let mut rows: Vec<SummaryRow> = (0..3).map(|i| SummaryRow::failed(i, &format!("r{i}"), &[], "")).collect();
+        rows[0].warnings = vec![overlap(0.12), overlap(0.13)];
+        rows[1].warnings = vec![overlap(0.31), energy];
+        let page = outcomes(&rows, false);
+        let worst = escape(&overlap(0.31).to_string());
+        let group = format!("<td class=\"num\">2</td><td>measured overlap (worst: run r1): {worst}</td>");
+        assert!(page.contains(&group), "one row for both runs' overlaps, the worst in full: {page}");
+        assert!(page.contains("<td class=\"num\">1</td><td>energy-balance error (worst: run r1): "), "{page}");
+        let tune = outcomes(&rows, true);
+        let short = "measured overlap (limits.overlap_warning_ratio): worst 0.3100 against 0.1 (run r1)";
+        assert!(tune.contains(short), "{tune}");
+        assert!(outcomes(&rows[2..], false).contains("No run has a warning."));
     }
 
     /// The text of the page's first answer.

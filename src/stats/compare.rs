@@ -3,10 +3,10 @@
 
 use std::str::FromStr;
 
+use super::errors::{CompareError, UnknownMetric};
 use super::points::{Points, SEED, plus_minus};
 use super::{Decision, Describe, Equivalence, Ratio, equivalence, ratio_interval};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
-use crate::physics::quantity;
 
 /// Pile metrics kept by default (relative tolerances), those of them a file has.
 pub const DEFAULT_KEEP: [(&str, f64); 4] = [
@@ -35,14 +35,16 @@ pub struct Tolerance {
 }
 
 impl FromStr for Tolerance {
-    type Err = String;
+    type Err = CompareError;
 
-    fn from_str(text: &str) -> Result<Self, String> {
-        let (metric, value) =
-            text.split_once('=').ok_or(format!("`{text}` is not METRIC=TOL (e.g. packing_fraction_interior=0.01)"))?;
-        let relative: f64 = value.trim().parse().map_err(|_| format!("`{value}` is not a number (in `{text}`)"))?;
+    fn from_str(text: &str) -> Result<Self, CompareError> {
+        let (metric, value) = text.split_once('=').ok_or_else(|| CompareError::NotTolerance(text.to_string()))?;
+        let relative: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| CompareError::NotANumber { value: value.to_string(), text: text.to_string() })?;
         if !(relative > 0.0 && relative.is_finite()) {
-            return Err(format!("the tolerance of `{metric}` must be a positive relative tolerance, got {value}"));
+            return Err(CompareError::NotPositive { metric: metric.to_string(), value: value.to_string() });
         }
         Ok(Self { metric: metric.trim().to_string(), relative })
     }
@@ -106,7 +108,7 @@ pub struct Comparison {
 /// Compares every point with the reference named by `reference` (see [`find_point`]) on the
 /// metrics `keep` (the defaults when empty, see [`DEFAULT_KEEP`]). Fails on an unknown or ambiguous
 /// point and on a requested metric that is not a numeric column, naming the valid ones.
-pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<Comparison, String> {
+pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<Comparison, CompareError> {
     let reference = find_point(points, reference)?;
     let (tolerances, mut notes) = choose_metrics(points, keep)?;
     let kept: Vec<Kept> = tolerances
@@ -144,16 +146,10 @@ pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<C
 }
 
 /// The metrics to keep: `keep` checked against the numeric columns, or the defaults present.
-fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>, Vec<String>), String> {
+fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>, Vec<String>), CompareError> {
     let available = points.metric_names();
     if let Some(unknown) = keep.iter().find(|t| !available.contains(&t.metric.as_str())) {
-        let why = match quantity::find(&unknown.metric) {
-            Some(_) => "this file was written before it existed",
-            None => "not a per-run quantity or numeric summary column",
-        };
-        let list = || format!("the metrics of this file are: {}", available.join(", "));
-        let hint = crate::study::did_you_mean(&unknown.metric, available.iter().copied()).unwrap_or_else(list);
-        return Err(format!("`{}`: {why}; {hint}", unknown.metric));
+        return Err(UnknownMetric::new(&unknown.metric, &available).into());
     }
     if !keep.is_empty() {
         return Ok((keep.to_vec(), Vec::new()));
@@ -172,10 +168,7 @@ fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>
     }
     let fallback = present(&FALLBACK_KEEP);
     if fallback.is_empty() {
-        return Err(format!(
-            "this file has none of the default metrics; name some with --keep METRIC=TOL: {}",
-            available.join(", ")
-        ));
+        return Err(CompareError::NoDefaultMetrics(available.iter().map(ToString::to_string).collect()));
     }
     let names: Vec<&str> = DEFAULT_KEEP.iter().map(|(m, _)| *m).collect();
     let used: Vec<&str> = fallback.iter().map(|t| t.metric.as_str()).collect();
@@ -190,41 +183,37 @@ fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>
 /// The point named by `spec`: a run id (the point of that run), or swept values
 /// `key=value,key=value` (a key may be shortened to its last part, e.g. `restitution=0.5`) that
 /// match exactly one point. Numbers match within a relative 1e-9.
-pub fn find_point(points: &Points, spec: &str) -> Result<usize, String> {
-    let listing = || (0..points.len()).map(|p| format!("\n  {}", points.label(p))).collect::<String>();
+pub fn find_point(points: &Points, spec: &str) -> Result<usize, CompareError> {
+    let labels = |list: &mut dyn Iterator<Item = usize>| list.map(|p| points.label(p)).collect::<Vec<_>>();
     if let Some(ids) = points.summary().column("run_id")
         && let Some(row) = (0..ids.data.len()).find(|&i| ids.data.text(i) == spec.trim())
     {
-        return (0..points.len()).find(|&p| points.rows(p).contains(&row)).ok_or(format!("run {spec} has no point"));
+        let point = (0..points.len()).find(|&p| points.rows(p).contains(&row));
+        return point.ok_or_else(|| CompareError::RunWithoutPoint(spec.to_string()));
     }
     let mut wanted = Vec::new();
     for pair in spec.split(',').filter(|p| !p.trim().is_empty()) {
-        let (key, value) = pair.split_once('=').ok_or(format!(
-            "`{pair}` is neither a run id nor KEY=VALUE (e.g. material.restitution=0.5,material.friction=0.6)"
-        ))?;
+        let (key, value) = pair.split_once('=').ok_or_else(|| CompareError::NotKeyValue(pair.to_string()))?;
         wanted.push((coordinate_name(points, key.trim())?, value.trim()));
     }
     if wanted.is_empty() {
-        return Err(format!("no reference point given; the points are:{}", listing()));
+        return Err(CompareError::NoReference(labels(&mut (0..points.len()))));
     }
     let matches: Vec<usize> = (0..points.len())
         .filter(|&p| wanted.iter().all(|(key, value)| coordinate_matches(points, p, key, value)))
         .collect();
     match matches[..] {
         [point] => Ok(point),
-        [] => Err(format!("no point has {spec}; the points are:{}", listing())),
-        _ => {
-            let found: String = matches.iter().map(|&p| format!("\n  {}", points.label(p))).collect();
-            Err(format!("{} points match {spec}; name more swept values:{found}", matches.len()))
-        }
+        [] => Err(CompareError::NoMatch { spec: spec.to_string(), points: labels(&mut (0..points.len())) }),
+        _ => Err(CompareError::Ambiguous { spec: spec.to_string(), matches: labels(&mut matches.into_iter()) }),
     }
 }
 
 /// The coordinate named `key`: its full key path or a unique last part of it.
-fn coordinate_name(points: &Points, key: &str) -> Result<String, String> {
+fn coordinate_name(points: &Points, key: &str) -> Result<String, CompareError> {
     let names: Vec<&str> = points.coordinates().iter().map(|c| c.name.as_str()).collect();
     if key == SEED {
-        return Err(format!("{SEED} is not a point coordinate: a point holds every seed (name a run id instead)"));
+        return Err(CompareError::SeedNamed(SEED));
     }
     if names.contains(&key) {
         return Ok(key.to_string());
@@ -232,11 +221,11 @@ fn coordinate_name(points: &Points, key: &str) -> Result<String, String> {
     let suffix = format!(".{key}");
     match names.iter().filter(|n| n.ends_with(&suffix)).collect::<Vec<_>>()[..] {
         [name] => Ok(name.to_string()),
-        _ => {
-            let list = || format!("the swept parameters are: {}", names.join(", "));
-            let hint = crate::study::did_you_mean(key, names.iter().copied()).unwrap_or_else(list);
-            Err(format!("`{key}` is not a swept parameter; {hint}"))
-        }
+        _ => Err(CompareError::NotSwept {
+            key: key.to_string(),
+            nearest: crate::study::nearest(key, names.iter().copied()).map(String::from),
+            swept: names.iter().map(ToString::to_string).collect(),
+        }),
     }
 }
 
@@ -352,6 +341,7 @@ pub fn ratio(r: &Ratio) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::quantity;
 
     #[test]
     fn ratios_are_rounded_to_their_interval() {

@@ -6,6 +6,9 @@
 //! `docs/deposition.md`, "Statistics".
 
 mod distribution;
+mod errors;
+
+pub use errors::{CompareError, UnknownMetric};
 
 pub mod compare;
 pub mod fit;

@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use super::errors::UnknownMetric;
 use super::{Describe, describe};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
 use crate::output::{OutputError, SummaryRow, Tables, reader};
@@ -198,16 +199,10 @@ pub fn table_metrics(points: &SummaryTable) -> Vec<&str> {
 
 /// A points table for reading on screen: coordinates, `n`, the status counts, and `mean ± half-width`
 /// (95 %) of each metric in `metrics`. Fails naming an unknown metric and listing the known ones.
-pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, String> {
+pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, UnknownMetric> {
     let known = table_metrics(points);
     if let Some(unknown) = metrics.iter().find(|m| !known.contains(m)) {
-        let why = match quantity::find(unknown) {
-            Some(_) => "this file was written before it existed",
-            None => "not a per-run quantity or numeric summary column",
-        };
-        let list = || format!("the metrics are: {}", known.join(", "));
-        let hint = crate::study::did_you_mean(unknown, known.iter().copied()).unwrap_or_else(list);
-        return Err(format!("no metric `{unknown}` in the points table ({why}); {hint}"));
+        return Err(UnknownMetric::new(unknown, &known));
     }
     let end = points.columns.iter().position(|c| c.name == "n").map_or(0, |n| n + 1 + RunStatus::RECORDED.len());
     let mut columns: Vec<Column> = points.columns[..end.min(points.columns.len())].to_vec();

@@ -7,9 +7,10 @@
 use std::ops::Range;
 
 use super::ParamValue;
+pub use super::axis_error::Spacing;
+use super::axis_error::{AxisError, Written};
 use super::errors::StudyError;
 use super::file::{Document, KeyPath, StudyFile, dotted, quoted_key};
-use crate::physics::number::exact;
 
 /// The most runs one study may expand to.
 pub const MAX_RUNS: usize = 1_000_000;
@@ -92,7 +93,7 @@ pub(super) fn parse(doc: &Document, file: &StudyFile) -> (Sweep, Vec<StudyError>
         match key.as_str() {
             "replicates" => match replicates(value) {
                 Ok(k) => (sweep.replicates, sweep.replicates_span) = (k, span(&["sweep", key])),
-                Err(reason) => errors.push(file.error(span(&["sweep", key]), "sweep.replicates", reason)),
+                Err(reason) => errors.push(file.error(span(&["sweep", key]), "sweep.replicates", reason.to_string())),
             },
             "zip" => zip = Some(value),
             _ if !value.is_table() && !key.contains('.') => {
@@ -112,7 +113,8 @@ pub(super) fn parse(doc: &Document, file: &StudyFile) -> (Sweep, Vec<StudyError>
     errors.extend(duplicate_axes(&sweep.axes, file));
     let groups = match zip {
         Some(value) => {
-            zip_groups(value, &sweep.axes).map_err(|reason| file.error(span(&["sweep", "zip"]), "sweep.zip", reason))
+            let at = span(&["sweep", "zip"]);
+            zip_groups(value, &sweep.axes).map_err(|reason| file.error(at, "sweep.zip", reason.to_string()))
         }
         None => Ok(Vec::new()),
     };
@@ -121,7 +123,8 @@ pub(super) fn parse(doc: &Document, file: &StudyFile) -> (Sweep, Vec<StudyError>
         Err(e) => errors.push(e),
     }
     if errors.is_empty() {
-        check_size(&sweep).map_err(|reason| errors.push(file.error(span(&["sweep"]), "sweep", reason))).ok();
+        let at = span(&["sweep"]);
+        check_size(&sweep).map_err(|reason| errors.push(file.error(at, "sweep", reason.to_string()))).ok();
     }
     (sweep, errors)
 }
@@ -147,7 +150,7 @@ fn collect_axes(
     let span = doc.span(doc_path).unwrap_or(0..0);
     match axis_values(value) {
         Ok(values) => axes.push(Axis { path, span, values }),
-        Err(reason) => errors.push(file.error(Some(span), label(&path), reason)),
+        Err(reason) => errors.push(file.error(Some(span), label(&path), reason.to_string())),
     }
 }
 
@@ -198,61 +201,35 @@ fn duplicate_axes(axes: &[Axis], file: &StudyFile) -> Vec<StudyError> {
     errors
 }
 
-fn replicates(value: &toml::Value) -> Result<usize, String> {
+fn replicates(value: &toml::Value) -> Result<usize, AxisError> {
     match value.as_integer() {
         Some(k) if (1..=MAX_RUNS as i64).contains(&k) => Ok(k as usize),
-        Some(k) => Err(format!("must be an integer from 1 to {MAX_RUNS}, got {k}")),
-        None => Err(format!("must be an integer from 1 to {MAX_RUNS}, got a {}", value.type_str())),
+        Some(k) => Err(AxisError::Replicates { written: Written::Integer(k), max: MAX_RUNS }),
+        None => Err(AxisError::Replicates { written: Written::Other(value.type_str()), max: MAX_RUNS }),
     }
 }
 
 /// The values of one axis: a list `[v1, v2, ...]`, `{ linear = [a, b], steps = n }` or
 /// `{ log = [a, b], steps = n }` (both ends included).
-pub(super) fn axis_values(spec: &toml::Value) -> Result<Vec<ParamValue>, String> {
+pub(super) fn axis_values(spec: &toml::Value) -> Result<Vec<ParamValue>, AxisError> {
     const SHAPE: &str =
         "an axis is a list [v1, v2, ...], { linear = [a, b], steps = n } or { log = [a, b], steps = n }";
     match spec {
-        toml::Value::Array(items) if items.is_empty() => Err("an axis needs at least one value, got []".into()),
+        toml::Value::Array(items) if items.is_empty() => Err(AxisError::EmptyAxis),
         toml::Value::Array(items) => items.iter().map(scalar).collect(),
         toml::Value::Table(table) => range_values(table).map(|v| v.into_iter().map(ParamValue::Float).collect()),
-        other => Err(format!("{SHAPE}; got a single {}", other.type_str())),
+        other => Err(AxisError::Shape { shape: SHAPE, found: other.type_str() }),
     }
 }
 
-/// "an array", "a table", ...
-fn with_article(value: &toml::Value) -> String {
-    let name = value.type_str();
-    let article = if name.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" };
-    format!("{article} {name}")
-}
-
 /// A list element as a parameter value.
-pub(crate) fn scalar(value: &toml::Value) -> Result<ParamValue, String> {
+pub(crate) fn scalar(value: &toml::Value) -> Result<ParamValue, AxisError> {
     match value {
         toml::Value::Float(v) => Ok(ParamValue::Float(*v)),
         toml::Value::Integer(v) => Ok(ParamValue::Int(*v)),
         toml::Value::Boolean(v) => Ok(ParamValue::Bool(*v)),
         toml::Value::String(v) => Ok(ParamValue::Text(v.clone())),
-        other => Err(format!("axis values must be numbers, booleans or strings, found {}", with_article(other))),
-    }
-}
-
-/// How a range table spaces its values.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Spacing {
-    /// Evenly.
-    Linear,
-    /// Evenly in log scale (both ends > 0).
-    Log,
-}
-
-impl Spacing {
-    /// The key naming it in a range table.
-    pub(crate) fn key(self) -> &'static str {
-        match self {
-            Spacing::Linear => "linear",
-            Spacing::Log => "log",
-        }
+        other => Err(AxisError::NotScalar(other.type_str())),
     }
 }
 
@@ -272,42 +249,41 @@ pub(crate) struct RangeEnds {
 
 /// Reads a range table whose keys are `linear` or `log` and those in `extra`; `shape` (what such
 /// a table looks like) ends the error messages.
-pub(crate) fn range_ends(table: &toml::Table, extra: &[&str], shape: &str) -> Result<RangeEnds, String> {
+pub(crate) fn range_ends(table: &toml::Table, extra: &[&str], shape: &'static str) -> Result<RangeEnds, AxisError> {
     let known = |k: &str| ["linear", "log"].contains(&k) || extra.contains(&k);
     if let Some(unknown) = table.keys().find(|k| !known(k)) {
         let valid = ["linear", "log"].iter().chain(extra).copied();
-        let hint = super::errors::did_you_mean(unknown, valid).map_or(String::new(), |hint| format!("{hint} "));
-        return Err(format!("unknown key \"{unknown}\" ({hint}{shape})"));
+        let nearest = super::errors::nearest(unknown, valid).map(String::from);
+        return Err(AxisError::UnknownKey { key: unknown.clone(), nearest, shape });
     }
     let (spacing, ends) = match (table.get("linear"), table.get("log")) {
         (Some(ends), None) => (Spacing::Linear, ends),
         (None, Some(ends)) => (Spacing::Log, ends),
-        _ => return Err(format!("exactly one of linear = [a, b] or log = [a, b] ({shape})")),
+        _ => return Err(AxisError::OneSpacing { shape }),
     };
-    let (a, b) = endpoints(ends).map_err(|e| format!("{}: {e}", spacing.key()))?;
+    let (a, b) = endpoints(ends).map_err(|written| AxisError::Ends { spacing, written })?;
     if spacing == Spacing::Log && (a <= 0.0 || b <= 0.0) {
-        return Err(format!("log: the ends must be > 0, got [{}, {}]", exact(a), exact(b)));
+        return Err(AxisError::LogEnds { a, b });
     }
     let integer = ends.as_array().is_some_and(|ends| ends.iter().all(toml::Value::is_integer));
     Ok(RangeEnds { spacing, a, b, integer })
 }
 
 /// Evenly spaced values of a `linear` or `log` range table.
-fn range_values(table: &toml::Table) -> Result<Vec<f64>, String> {
+fn range_values(table: &toml::Table) -> Result<Vec<f64>, AxisError> {
     const SHAPE: &str = "an axis range is { linear = [a, b], steps = n } or { log = [a, b], steps = n }";
     let RangeEnds { spacing, a, b, .. } = range_ends(table, &["steps"], SHAPE)?;
-    let kind = spacing.key();
     let steps = match table.get("steps").map(|s| s.as_integer()) {
         Some(Some(n)) if n >= 1 => n as usize,
-        Some(Some(n)) => return Err(format!("steps must be at least 1, got {n}")),
-        Some(None) => return Err("steps must be an integer".into()),
-        None => return Err(format!("{kind} range needs steps = n (the number of values)")),
+        Some(Some(n)) => return Err(AxisError::StepsBelowOne(n)),
+        Some(None) => return Err(AxisError::StepsNotInteger),
+        None => return Err(AxisError::NoSteps(spacing)),
     };
     if steps == 1 && a != b {
-        return Err(format!("steps = 1 gives a single value, but the ends {a} and {b} differ"));
+        return Err(AxisError::OneStep { a, b });
     }
     if steps > MAX_RUNS {
-        return Err(format!("steps must be at most {MAX_RUNS}, got {steps}"));
+        return Err(AxisError::TooManySteps { steps, max: MAX_RUNS });
     }
     Ok(match spacing {
         Spacing::Log => log_range(a, b, steps),
@@ -315,13 +291,15 @@ fn range_values(table: &toml::Table) -> Result<Vec<f64>, String> {
     })
 }
 
-fn endpoints(value: &toml::Value) -> Result<(f64, f64), String> {
+/// The two finite ends `[a, b]`; else the value as written when it is no pair of numbers (None:
+/// numbers, not finite).
+fn endpoints(value: &toml::Value) -> Result<(f64, f64), Option<toml::Value>> {
     let number = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
     let ends: Option<Vec<f64>> = value.as_array().filter(|a| a.len() == 2).and_then(|a| a.iter().map(number).collect());
     match ends.as_deref() {
         Some(&[a, b]) if a.is_finite() && b.is_finite() => Ok((a, b)),
-        Some(_) => Err("ends must be finite".into()),
-        None => Err(format!("expected two numbers [a, b], got {value}")),
+        Some(_) => Err(None),
+        None => Err(Some(value.clone())),
     }
 }
 
@@ -349,13 +327,14 @@ fn spaced(steps: usize, a: f64, b: f64, at: impl Fn(f64) -> f64) -> Vec<f64> {
 }
 
 /// `zip = ["a", "b"]` (one group) or `zip = [["a", "b"], ["c", "d"]]`: groups of axis indices.
-fn zip_groups(value: &toml::Value, axes: &[Axis]) -> Result<Vec<Vec<usize>>, String> {
-    const SHAPE: &str = "zip is a list of axis names [\"a.b\", \"c.d\"] or a list of such lists";
-    let list = value.as_array().ok_or(SHAPE)?;
+fn zip_groups(value: &toml::Value, axes: &[Axis]) -> Result<Vec<Vec<usize>>, AxisError> {
+    let list = value.as_array().ok_or(AxisError::ZipShape)?;
     let names: Vec<Vec<&toml::Value>> = if list.iter().all(|v| v.is_str()) {
         vec![list.iter().collect()]
     } else {
-        list.iter().map(|g| g.as_array().map(|g| g.iter().collect()).ok_or(SHAPE)).collect::<Result<_, _>>()?
+        list.iter()
+            .map(|g| g.as_array().map(|g| g.iter().collect()).ok_or(AxisError::ZipShape))
+            .collect::<Result<_, _>>()?
     };
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for group in names {
@@ -366,28 +345,26 @@ fn zip_groups(value: &toml::Value, axes: &[Axis]) -> Result<Vec<Vec<usize>>, Str
     Ok(groups)
 }
 
-fn zip_member(name: &toml::Value, axes: &[Axis], earlier: &[Vec<usize>]) -> Result<usize, String> {
-    let name = name.as_str().ok_or("zip groups list axis names (strings)")?;
-    let k = axes.iter().position(|a| a.key() == name).ok_or_else(|| format!("\"{name}\" is not a sweep axis"))?;
+fn zip_member(name: &toml::Value, axes: &[Axis], earlier: &[Vec<usize>]) -> Result<usize, AxisError> {
+    let name = name.as_str().ok_or(AxisError::ZipName)?;
+    let k = axes.iter().position(|a| a.key() == name).ok_or_else(|| AxisError::ZipUnknown(name.to_string()))?;
     if earlier.iter().flatten().any(|&j| j == k) {
-        return Err(format!("\"{name}\" is in more than one zip group"));
+        return Err(AxisError::ZipTwice(name.to_string()));
     }
     Ok(k)
 }
 
-fn check_group(group: &[usize], axes: &[Axis]) -> Result<(), String> {
-    let names = || group.iter().map(|&k| axes[k].key()).collect::<Vec<_>>().join(", ");
+fn check_group(group: &[usize], axes: &[Axis]) -> Result<(), AxisError> {
+    let names = || group.iter().map(|&k| axes[k].key()).collect::<Vec<_>>();
     if group.len() < 2 {
-        return Err(format!("a zip group pairs at least two axes, got [{}]", names()));
+        return Err(AxisError::ZipTooSmall(names()));
     }
     if group.iter().any(|&k| group.iter().filter(|&&j| j == k).count() > 1) {
-        return Err(format!("an axis appears twice in the zip group [{}]", names()));
+        return Err(AxisError::ZipRepeated(names()));
     }
     let lengths: Vec<usize> = group.iter().map(|&k| axes[k].values.len()).collect();
     if lengths.iter().any(|&n| n != lengths[0]) {
-        let each: Vec<String> =
-            group.iter().map(|&k| format!("{} has {}", axes[k].key(), axes[k].values.len())).collect();
-        return Err(format!("zipped axes must have equal lengths: {}", each.join(", ")));
+        return Err(AxisError::ZipLengths(group.iter().map(|&k| (axes[k].key(), axes[k].values.len())).collect()));
     }
     Ok(())
 }
@@ -404,11 +381,11 @@ fn dimensions(axes: &[Axis], groups: Vec<Vec<usize>>) -> Vec<Vec<usize>> {
     dims
 }
 
-fn check_size(sweep: &Sweep) -> Result<(), String> {
+fn check_size(sweep: &Sweep) -> Result<(), AxisError> {
     let grid = sweep.dimensions.iter().try_fold(1usize, |n, d| n.checked_mul(sweep.axes[d[0]].values.len()));
     match grid.and_then(|n| n.checked_mul(sweep.replicates)) {
         Some(n) if n <= MAX_RUNS => Ok(()),
-        _ => Err(format!("the sweep expands to more than {MAX_RUNS} runs; split it into several studies")),
+        _ => Err(AxisError::TooManyRuns { max: MAX_RUNS }),
     }
 }
 
@@ -418,7 +395,7 @@ mod tests {
 
     fn values(spec: &str) -> Result<Vec<ParamValue>, String> {
         let table: toml::Table = toml::from_str(&format!("a = {spec}")).unwrap();
-        axis_values(&table["a"])
+        axis_values(&table["a"]).map_err(|e| e.to_string())
     }
 
     #[test]

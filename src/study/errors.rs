@@ -5,6 +5,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use crate::physics::number::exact;
+use crate::physics::warning::WarningKind;
 
 /// A position in a text file, 1-based.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -15,8 +16,9 @@ pub struct Location {
     pub column: usize,
 }
 
-/// A problem's file, location, key, value and reason.
-type Identity = (PathBuf, Option<Location>, String, Option<String>, String);
+/// A problem's file, location, key, value and reason (none for a warning, which is one per rule: see
+/// [`ErrorSink::by_kind`]).
+type Identity = (PathBuf, Option<Location>, String, Option<String>, Option<WarningKind>, Option<String>);
 
 /// One problem with a study.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -34,6 +36,8 @@ pub struct StudyError {
     pub run: Option<String>,
     /// How many runs are affected (0 when the problem is not run-specific).
     pub runs_affected: usize,
+    /// The validity rule a predicted warning is about; None for every other problem.
+    pub rule: Option<WarningKind>,
     /// What is wrong, in words.
     pub reason: String,
 }
@@ -53,6 +57,7 @@ impl StudyError {
             value: None,
             run: None,
             runs_affected: 0,
+            rule: None,
             reason: reason.into(),
         }
     }
@@ -70,9 +75,17 @@ impl StudyError {
         self
     }
 
-    /// Everything that identifies the problem apart from which runs have it.
-    fn identity(&self) -> Identity {
-        (self.file.clone(), self.location, self.key.clone(), self.value.clone(), self.reason.clone())
+    /// The same problem, a predicted warning about the validity rule `rule`.
+    pub fn of_rule(mut self, rule: WarningKind) -> Self {
+        self.rule = Some(rule);
+        self
+    }
+
+    /// Everything that identifies the problem apart from which runs have it; with `reason` false,
+    /// the kind of problem (its place, key, value and rule) without the words, which hold its numbers.
+    fn identity(&self, reason: bool) -> Identity {
+        let words = reason.then(|| self.reason.clone());
+        (self.file.clone(), self.location, self.key.clone(), self.value.clone(), self.rule, words)
     }
 }
 
@@ -145,11 +158,11 @@ const PLAIN_TYPES: [(&str, &str); 9] = [
     ("f32", "a number"),
 ];
 
-/// A deserializer's message in the study's words: `expected f64` becomes `expected a number`,
-/// `expected usize` `expected a whole number ≥ 0`, and an unexpected float is written as given
-/// ([`exact`]: serde writes `1e200` as 201 digits).
-pub(crate) fn plain_types(message: &str) -> String {
-    let message = &short_float(message);
+/// A deserializer's message about `value` in the study's words: `expected f64` becomes `expected a
+/// number`, `expected usize` `expected a whole number ≥ 0`, and a float of `value` that serde writes
+/// long (`1e200` as 201 digits) is written as given ([`exact`]).
+pub(crate) fn plain_types(message: &str, value: &toml::Value) -> String {
+    let message = &short_floats(message, value);
     let Some((head, tail)) = message.split_once("expected ") else { return message.to_string() };
     let word_end = tail.find(|c: char| !c.is_ascii_alphanumeric()).unwrap_or(tail.len());
     match PLAIN_TYPES.iter().find(|(rust, _)| *rust == &tail[..word_end]) {
@@ -191,41 +204,28 @@ pub(crate) fn suggest_nearest(message: &str) -> String {
     }
 }
 
-/// `message` with the float of its ``floating point `…` `` written as [`exact`] where serde's text
-/// is long (`15.0` stays: it says the value was a float).
-fn short_float(message: &str) -> String {
-    const FLOAT: &str = "floating point `";
-    let Some(start) = message.find(FLOAT).map(|i| i + FLOAT.len()) else { return message.to_string() };
-    let Some(len) = message[start..].find('`').filter(|&len| len > 24) else { return message.to_string() };
-    match message[start..start + len].parse::<f64>() {
-        Ok(x) => format!("{}{}{}", &message[..start], exact(x), &message[start + len..]),
-        Err(_) => message.to_string(),
+/// `message` with serde's text of each float of `value` written as [`exact`] where that text is
+/// long (`15.0` stays: it says the value was a float).
+fn short_floats(message: &str, value: &toml::Value) -> String {
+    match value {
+        toml::Value::Float(x) => {
+            let serde_text = serde_float(*x);
+            if serde_text.len() > 24 {
+                message.replace(&format!("`{serde_text}`"), &format!("`{}`", exact(*x)))
+            } else {
+                message.to_string()
+            }
+        }
+        toml::Value::Array(items) => items.iter().fold(message.to_string(), |m, item| short_floats(&m, item)),
+        toml::Value::Table(table) => table.values().fold(message.to_string(), |m, item| short_floats(&m, item)),
+        _ => message.to_string(),
     }
 }
 
-/// The kind of a warning or problem: its text with every number replaced by `#`, so that the same
-/// warning about different values (an overlap of 0.81 or of 0.93 radii) is one kind.
-pub fn warning_kind(text: &str) -> String {
-    let mut kind = String::with_capacity(text.len());
-    let mut chars = text.chars().peekable();
-    let mut in_number = false;
-    while let Some(c) = chars.next() {
-        let next_is_exponent = chars.peek().is_some_and(|n| n.is_ascii_digit() || *n == '-' || *n == '+');
-        let exponent = in_number && (c == 'e' || c == 'E') && next_is_exponent;
-        if c.is_ascii_digit() || (in_number && c == '.') || exponent {
-            if !in_number {
-                kind.push('#');
-            }
-            in_number = true;
-            if exponent {
-                chars.next_if(|n| *n == '-' || *n == '+');
-            }
-        } else {
-            in_number = false;
-            kind.push(c);
-        }
-    }
-    kind
+/// How serde writes a float in its messages (`Unexpected::Float`): in full, with a decimal point.
+fn serde_float(x: f64) -> String {
+    let text = x.to_string();
+    if x.is_finite() && !text.contains('.') { format!("{text}.0") } else { text }
 }
 
 /// Collects problems; the same problem found in several runs is kept once, with the first run and a count.
@@ -233,22 +233,21 @@ pub fn warning_kind(text: &str) -> String {
 pub(crate) struct ErrorSink {
     errors: Vec<StudyError>,
     seen: HashMap<Identity, usize>,
-    /// Whether problems whose reasons differ only in numbers count as the same (see [`warning_kind`]).
+    /// Whether problems of one kind (place, key, swept value and rule) count as the same whatever
+    /// their reasons say (see [`StudyError::identity`]).
     by_kind: bool,
 }
 
 impl ErrorSink {
     /// A sink that keeps one problem per kind and place: the first run's, with the count of runs.
+    /// For warnings, whose reasons give each run's numbers (an overlap of 0.81 or of 0.93 radii).
     pub fn by_kind() -> Self {
         Self { by_kind: true, ..Self::default() }
     }
 
     /// Adds a problem, or counts one more run for a problem already seen.
     pub fn push(&mut self, error: StudyError) {
-        let mut identity = error.identity();
-        if self.by_kind {
-            identity.4 = warning_kind(&identity.4);
-        }
+        let identity = error.identity(!self.by_kind);
         match self.seen.get(&identity) {
             Some(&k) => self.errors[k].runs_affected += error.runs_affected,
             None => {
@@ -321,26 +320,29 @@ mod tests {
 
     #[test]
     fn rust_type_names_become_what_to_write() {
+        let plain = |message: &str| plain_types(message, &toml::Value::Boolean(true));
+        assert_eq!(plain("invalid type: string \"x\", expected f64"), "invalid type: string \"x\", expected a number");
         assert_eq!(
-            plain_types("invalid type: string \"x\", expected f64"),
-            "invalid type: string \"x\", expected a number"
-        );
-        assert_eq!(
-            plain_types("invalid type: floating point `1.5`, expected usize"),
+            plain("invalid type: floating point `1.5`, expected usize"),
             "invalid type: floating point `1.5`, expected a whole number ≥ 0"
         );
         assert_eq!(
-            plain_types("invalid value: integer `-1`, expected u64 here"),
+            plain("invalid value: integer `-1`, expected u64 here"),
             "invalid value: integer `-1`, expected a whole number ≥ 0 here"
         );
+        assert_eq!(plain("expected f64s"), "expected f64s", "whole words only");
+        assert_eq!(plain("unknown field `x`, expected one of `a`"), "unknown field `x`, expected one of `a`");
+    }
+
+    #[test]
+    fn a_long_float_is_written_as_given_from_the_value() {
         let huge = format!("invalid type: floating point `1{}.0`, expected usize", "0".repeat(200));
-        assert_eq!(plain_types(&huge), "invalid type: floating point `1e200`, expected a whole number ≥ 0");
-        assert_eq!(
-            plain_types("floating point `15.0`, expected u8"),
-            "floating point `15.0`, expected a whole number ≥ 0"
-        );
-        assert_eq!(plain_types("expected f64s"), "expected f64s", "whole words only");
-        assert_eq!(plain_types("unknown field `x`, expected one of `a`"), "unknown field `x`, expected one of `a`");
+        let expected = "invalid type: floating point `1e200`, expected a whole number ≥ 0";
+        assert_eq!(plain_types(&huge, &toml::Value::Float(1e200)), expected);
+        let inside: toml::Value = toml::from_str("x = [2.0, 1e200]").unwrap();
+        assert_eq!(plain_types(&huge, &inside), expected, "a float inside an array or table");
+        let short = "floating point `15.0`, expected u8";
+        assert_eq!(plain_types(short, &toml::Value::Float(15.0)), "floating point `15.0`, expected a whole number ≥ 0");
     }
 
     #[test]
@@ -361,16 +363,24 @@ mod tests {
     }
 
     #[test]
-    fn kinds_mask_numbers_only() {
-        assert_eq!(
-            warning_kind("an impact at 1.25 m/s would overlap 8.1e-1 radii (r0003, limit 0.1)"),
-            "an impact at # m/s would overlap # radii (r#, limit #)"
-        );
-        assert_eq!(warning_kind("energy balance off by 17 %."), "energy balance off by # %.");
+    fn warnings_of_one_kind_are_one_whatever_their_numbers() {
+        let predicted = |reason: &str, rule| StudyError::new("s.toml", None, "scene", reason).of_rule(rule);
         let mut sink = ErrorSink::by_kind();
-        sink.push(StudyError::new("s.toml", None, "scene", "overlap 0.81 radii").in_run("r0000"));
-        sink.push(StudyError::new("s.toml", None, "scene", "overlap 0.93 radii").in_run("r0001"));
+        sink.push(predicted("overlap 0.81 radii", WarningKind::ImpactOverlap).in_run("r0000"));
+        sink.push(predicted("overlap 0.93 radii", WarningKind::ImpactOverlap).in_run("r0001"));
+        sink.push(predicted("time step 0.3 of the contact time", WarningKind::ContactTimeFraction).in_run("r0001"));
+        sink.push(StudyError::new("s.toml", None, "scene.run.frame_interval", "2 s").in_run("r0000"));
+        sink.push(StudyError::new("s.toml", None, "scene.run.frame_interval", "3 s").in_run("r0002"));
         let errors = sink.into_errors().0;
-        assert_eq!((errors.len(), errors[0].runs_affected, errors[0].reason.as_str()), (1, 2, "overlap 0.81 radii"));
+        let seen: Vec<(&str, usize)> = errors.iter().map(|e| (e.reason.as_str(), e.runs_affected)).collect();
+        assert_eq!(
+            seen,
+            [("overlap 0.81 radii", 2), ("time step 0.3 of the contact time", 1), ("2 s", 2)],
+            "one per rule and key, the first run's words"
+        );
+        let mut exact = ErrorSink::default();
+        exact.push(StudyError::new("s.toml", None, "scene", "overlap 0.81 radii").in_run("r0000"));
+        exact.push(StudyError::new("s.toml", None, "scene", "overlap 0.93 radii").in_run("r0001"));
+        assert_eq!(exact.into_errors().0.len(), 2, "errors differ by their reasons");
     }
 }

@@ -1,6 +1,7 @@
 //! The study file as text and as a TOML document that remembers where every key was written.
 
 use std::collections::HashMap;
+use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -51,21 +52,98 @@ impl StudyFile {
     }
 }
 
+/// Why a text file could not be read (the path is the caller's to name).
+#[derive(Debug)]
+pub enum ReadTextError {
+    /// Opening or reading failed.
+    Io(std::io::Error),
+    /// The file is larger than allowed.
+    TooLarge {
+        /// The most bytes allowed.
+        max_bytes: u64,
+    },
+    /// The file is not UTF-8 text.
+    NotUtf8(std::string::FromUtf8Error),
+}
+
+impl fmt::Display for ReadTextError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReadTextError::Io(e) => write!(f, "{e}"),
+            ReadTextError::TooLarge { max_bytes } => {
+                write!(f, "the file is larger than the {} MiB allowed", max_bytes >> 20)
+            }
+            ReadTextError::NotUtf8(e) => write!(f, "not UTF-8 text ({e})"),
+        }
+    }
+}
+
+impl std::error::Error for ReadTextError {}
+
+/// Why a key path cannot be set in a table ([`set_path`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetPathError {
+    /// No key at all.
+    Empty,
+    /// A key on the way holds a value, not a table.
+    NotATable {
+        /// The key, dotted.
+        key: String,
+        /// The TOML type of its value.
+        found: &'static str,
+    },
+    /// The path ends at a named table of an array, not at a value in it.
+    NamesATable {
+        /// The path, dotted.
+        path: String,
+        /// The array, dotted.
+        array: String,
+    },
+    /// An array of tables has no table with the name the path gives.
+    NoSuchName {
+        /// The array, dotted.
+        array: String,
+        /// The name asked for.
+        name: String,
+        /// The names its tables have.
+        names: Vec<String>,
+    },
+}
+
+impl fmt::Display for SetPathError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SetPathError::Empty => write!(f, "an empty key path"),
+            SetPathError::NotATable { key, found } => write!(f, "{key} is a {found}, not a table"),
+            SetPathError::NamesATable { path, array } => write!(f, "{path} names a table of {array}, not a value"),
+            SetPathError::NoSuchName { array, name, names } if names.is_empty() => {
+                write!(f, "{array} has no table named {name:?} (it has no named tables)")
+            }
+            SetPathError::NoSuchName { array, name, names } => {
+                let names: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+                write!(f, "{array} has no table named {name:?} (its names: {})", names.join(", "))
+            }
+        }
+    }
+}
+
+impl std::error::Error for SetPathError {}
+
 /// Largest study or tune file read (bytes): a study of a million runs takes a few kilobytes.
 pub const MAX_STUDY_BYTES: u64 = 4 << 20;
 
 /// The UTF-8 text of the file at `path`, refused past `max_bytes` (so `/dev/zero` or a wrong file is
 /// an error, not an exhausted memory) and without a leading byte-order mark (Excel's "CSV UTF-8",
 /// Windows editors). The error says what is wrong, without the path.
-pub fn read_text(path: &Path, max_bytes: u64) -> Result<String, String> {
+pub fn read_text(path: &Path, max_bytes: u64) -> Result<String, ReadTextError> {
     use std::io::Read;
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let file = std::fs::File::open(path).map_err(ReadTextError::Io)?;
     let mut bytes = Vec::new();
-    file.take(max_bytes + 1).read_to_end(&mut bytes).map_err(|e| e.to_string())?;
+    file.take(max_bytes + 1).read_to_end(&mut bytes).map_err(ReadTextError::Io)?;
     if bytes.len() as u64 > max_bytes {
-        return Err(format!("the file is larger than the {} MiB allowed", max_bytes >> 20));
+        return Err(ReadTextError::TooLarge { max_bytes });
     }
-    let text = String::from_utf8(bytes).map_err(|e| format!("not UTF-8 text ({e})"))?;
+    let text = String::from_utf8(bytes).map_err(ReadTextError::NotUtf8)?;
     Ok(text.strip_prefix('\u{feff}').map(str::to_string).unwrap_or(text))
 }
 
@@ -175,8 +253,8 @@ fn collect_leaves<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Ve
 
 /// Sets `path` in `table` to `value`, creating missing tables on the way. In an array of tables
 /// with names (`[[scene.stages]]`), the next key of the path names the table.
-pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), String> {
-    let (last, parents) = path.split_last().ok_or("an empty key path")?;
+pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Value) -> Result<(), SetPathError> {
+    let (last, parents) = path.split_last().ok_or(SetPathError::Empty)?;
     let mut here = table;
     let mut depth = 0;
     while depth < parents.len() {
@@ -185,16 +263,18 @@ pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Va
             toml::Value::Table(inner) => inner,
             toml::Value::Array(items) => {
                 depth += 1;
-                let name = path.get(depth).ok_or("an empty key path")?;
+                let name = path.get(depth).ok_or(SetPathError::Empty)?;
                 let index = named(items, name).ok_or_else(|| no_such_name(&path[..depth], name, items))?;
                 items[index].as_table_mut().expect("a named table")
             }
-            other => return Err(format!("{} is a {}, not a table", dotted(&path[..=depth]), other.type_str())),
+            other => {
+                return Err(SetPathError::NotATable { key: dotted(&path[..=depth]), found: other.type_str() });
+            }
         };
         depth += 1;
     }
     if depth > parents.len() {
-        return Err(format!("{} names a table of {}, not a value", dotted(path), dotted(&path[..depth - 1])));
+        return Err(SetPathError::NamesATable { path: dotted(path), array: dotted(&path[..depth - 1]) });
     }
     here.insert(last.clone(), value);
     Ok(())
@@ -206,15 +286,9 @@ fn named(items: &[toml::Value], name: &str) -> Option<usize> {
 }
 
 /// Why `name` names none of `items` (the array at `array`).
-fn no_such_name(array: &[String], name: &str, items: &[toml::Value]) -> String {
-    let names: Vec<String> =
-        items.iter().filter_map(|item| item.get("name").and_then(|n| n.as_str())).map(|n| format!("{n:?}")).collect();
-    let known = if names.is_empty() {
-        "it has no named tables".to_string()
-    } else {
-        format!("its names: {}", names.join(", "))
-    };
-    format!("{} has no table named {name:?} ({known})", dotted(array))
+fn no_such_name(array: &[String], name: &str, items: &[toml::Value]) -> SetPathError {
+    let names = items.iter().filter_map(|item| item.get("name").and_then(|n| n.as_str())).map(String::from).collect();
+    SetPathError::NoSuchName { array: dotted(array), name: name.to_string(), names }
 }
 
 /// A table holding only `value` at `path`.
@@ -300,7 +374,7 @@ mod tests {
         set_path(&mut t, &path("settle.hold_time"), toml::Value::Float(0.1)).unwrap();
         assert_eq!(t["settle"]["hold_time"].as_float(), Some(0.1));
         let err = set_path(&mut t, &path("material.friction.x"), toml::Value::Float(0.1)).unwrap_err();
-        assert_eq!(err, "material.friction is a float, not a table");
+        assert_eq!(err.to_string(), "material.friction is a float, not a table");
         assert_eq!(dotted(&path("material.friction")), "material.friction");
         assert_eq!(dotted(&["sweep".to_string(), "a.b".to_string()]), "sweep.\"a.b\"");
     }

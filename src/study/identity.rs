@@ -91,11 +91,23 @@ impl fmt::Display for RunIdentity {
     }
 }
 
-impl FromStr for RunIdentity {
-    type Err = String;
+/// Text that is not a run identity (the text).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NotAnIdentity(pub String);
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("`{s}` is not a run identity (<16 hex digits>-<16 hex digits>-p<version>)");
+impl fmt::Display for NotAnIdentity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "`{}` is not a run identity (<16 hex digits>-<16 hex digits>-p<version>)", self.0)
+    }
+}
+
+impl std::error::Error for NotAnIdentity {}
+
+impl FromStr for RunIdentity {
+    type Err = NotAnIdentity;
+
+    fn from_str(s: &str) -> Result<Self, NotAnIdentity> {
+        let bad = || NotAnIdentity(s.to_string());
         let mut parts = s.split('-');
         let (Some(settings), Some(inputs), Some(physics), None) =
             (parts.next(), parts.next(), parts.next(), parts.next())

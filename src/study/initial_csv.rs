@@ -12,6 +12,8 @@
 
 use std::path::Path;
 
+use super::csv_error::{ColumnAt, CsvError, CsvProblem, PlacementFileError};
+use super::file::ReadTextError;
 use crate::physics::contact_record::Partner;
 use crate::physics::particles::{InitialContact, InitialDisk};
 
@@ -60,11 +62,11 @@ impl Quoting {
         if inside { Self::Quoted } else { Self::Withheld }
     }
 
-    /// `text` in quotes when it may be quoted, else `withheld`.
-    fn show(self, text: &str, withheld: &str) -> String {
+    /// `text` when it may be quoted.
+    fn show(self, text: &str) -> Option<String> {
         match self {
-            Self::Quoted => format!("\"{text}\""),
-            Self::Withheld => withheld.to_string(),
+            Self::Quoted => Some(text.to_string()),
+            Self::Withheld => None,
         }
     }
 }
@@ -72,24 +74,30 @@ impl Quoting {
 /// Reads the disks of a placement CSV (a regular file of at most [`MAX_PLACEMENT_BYTES`], a leading
 /// byte-order mark skipped); errors name the file, line and column, quoting the file only when it
 /// lies in the study's `folder`.
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, String> {
-    parse(&read_text(path)?, default_radius, Quoting::of(path, folder)).map_err(|e| format!("{}: {e}", path.display()))
+pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
+    parse(&read_text(path)?, default_radius, Quoting::of(path, folder))
+        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error: Box::new(error) })
 }
 
 /// Reads the contact history of a contact CSV for a placement of `disks` disks in a box of `walls`
 /// walls; errors as [`read`]'s.
-pub fn read_contacts(path: &Path, disks: usize, walls: usize, folder: &Path) -> Result<Vec<InitialContact>, String> {
+pub fn read_contacts(
+    path: &Path,
+    disks: usize,
+    walls: usize,
+    folder: &Path,
+) -> Result<Vec<InitialContact>, PlacementFileError> {
     parse_contacts(&read_text(path)?, disks, walls, Quoting::of(path, folder))
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error: Box::new(error) })
 }
 
 /// The text of a regular file (a FIFO, device or folder is refused before it is opened: reading one
 /// would wait for a writer or never end).
-pub(super) fn read_text(path: &Path) -> Result<String, String> {
-    let cannot = |why: String| format!("{}: cannot read: {why}", path.display());
-    let kind = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?.file_type();
+pub(super) fn read_text(path: &Path) -> Result<String, PlacementFileError> {
+    let cannot = |error| PlacementFileError::Read { path: path.to_path_buf(), error: std::sync::Arc::new(error) };
+    let kind = std::fs::metadata(path).map_err(|e| cannot(ReadTextError::Io(e)))?.file_type();
     if !kind.is_file() {
-        return Err(cannot(format!("not a regular file ({})", file_kind(kind))));
+        return Err(PlacementFileError::NotAFile { path: path.to_path_buf(), kind: file_kind(kind) });
     }
     super::file::read_text(path, MAX_PLACEMENT_BYTES).map_err(cannot)
 }
@@ -108,17 +116,17 @@ fn file_kind(kind: std::fs::FileType) -> &'static str {
 
 /// Parses placement CSV text; disks without an `r` column get `default_radius`.
 /// Errors name the line (1-based) and, for a bad value, the column number and name.
-pub fn parse(text: &str, default_radius: f64, quoting: Quoting) -> Result<Vec<InitialDisk>, String> {
+pub fn parse(text: &str, default_radius: f64, quoting: Quoting) -> Result<Vec<InitialDisk>, CsvError> {
     let mut defaults = [0.0; COLUMNS.len()];
     defaults[2] = default_radius;
     let rows = Table::parse(text, (&COLUMNS, REQUIRED), quoting)?;
     if rows.rows.is_empty() {
-        return Err(format!("line {}: the file has a header but no disks", rows.header_line));
+        return Err(CsvError { line: rows.header_line, column: None, problem: CsvProblem::NoDisks });
     }
-    let disks = rows.rows.iter().map(|(number, values)| {
+    let disks = rows.rows.iter().map(|&(line, ref values)| {
         let row = rows.values(values, &defaults);
         if row[2] <= 0.0 {
-            return Err(format!("line {number}{}: a radius must be > 0, got {}", rows.at(2), row[2]));
+            return Err(CsvError { line, column: Some(rows.at(2)), problem: CsvProblem::Radius(row[2]) });
         }
         let [x, y, r, vx, vy, omega, angle, _id, _contact_force] = row;
         Ok(InitialDisk { x, y, r, vx, vy, omega, angle })
@@ -127,19 +135,24 @@ pub fn parse(text: &str, default_radius: f64, quoting: Quoting) -> Result<Vec<In
 }
 
 /// Parses contact CSV text for `disks` disks and `walls` walls; errors name the line and column.
-pub fn parse_contacts(text: &str, disks: usize, walls: usize, quoting: Quoting) -> Result<Vec<InitialContact>, String> {
+pub fn parse_contacts(
+    text: &str,
+    disks: usize,
+    walls: usize,
+    quoting: Quoting,
+) -> Result<Vec<InitialContact>, CsvError> {
     let rows = Table::parse(text, (&CONTACT_COLUMNS, 3), quoting)?;
-    let contacts = rows.rows.iter().map(|(number, values)| {
+    let contacts = rows.rows.iter().map(|&(line, ref values)| {
         let [first, second, tangential_spring, law_state] = rows.values(values, &[0.0; 4]);
-        let at = |column: usize, why: String| format!("line {number}{}: {why}", rows.at(column));
+        let at = |column: usize, problem| CsvError { line, column: Some(rows.at(column)), problem };
         let disk = body(first, disks, walls).and_then(|body| match body {
             Partner::Disk(i) => Ok(i),
-            Partner::Wall(_) => Err(format!("{first} is a wall: the first body is a disk (a wall goes in `second`)")),
+            Partner::Wall(_) => Err(CsvProblem::FirstIsWall(first)),
         });
         let disk = disk.map_err(|why| at(0, why))?;
         let partner = body(second, disks, walls).map_err(|why| at(1, why))?;
         if partner == Partner::Disk(disk) {
-            return Err(at(1, format!("a disk ({disk}) cannot touch itself")));
+            return Err(at(1, CsvProblem::SelfContact(disk)));
         }
         Ok(InitialContact { disk, partner, tangential_spring, law_state })
     });
@@ -147,23 +160,22 @@ pub fn parse_contacts(text: &str, disks: usize, walls: usize, quoting: Quoting) 
 }
 
 /// The body a contact file's index names: disk `value ≥ 0` of `disks`, or wall `−1 − value` of `walls`.
-fn body(value: f64, disks: usize, walls: usize) -> Result<Partner, String> {
+fn body(value: f64, disks: usize, walls: usize) -> Result<Partner, CsvProblem> {
     if value.fract() != 0.0 || value.abs() >= 1e15 {
-        return Err(format!("{value} is not a whole number"));
+        return Err(CsvProblem::NotWhole(value));
     }
     let index = value as i64;
     if index >= 0 {
-        let last = disks as i64 - 1;
         let disk = usize::try_from(index).ok().filter(|&i| i < disks);
-        disk.map(Partner::Disk)
-            .ok_or_else(|| format!("disk {index} is out of range: the placement file has {disks} disks (0 to {last})"))
+        disk.map(Partner::Disk).ok_or(CsvProblem::NoSuchDisk { index, disks })
     } else {
         let wall = usize::try_from(-1 - index).ok().filter(|&w| w < walls);
-        let last = -(walls as i64);
-        wall.map(Partner::Wall)
-            .ok_or_else(|| format!("wall {index} does not exist: the box has {walls} walls (-1 floor to {last})"))
+        wall.map(Partner::Wall).ok_or(CsvProblem::NoSuchWall { index, walls })
     }
 }
+
+/// A problem in a column of a line, or in the line as a whole; the caller knows the line.
+type Misplaced = (Option<ColumnAt>, CsvProblem);
 
 /// The data rows of a CSV text with a header naming some of `columns` (the first `required` of
 /// them required), each row's values in header order with its line number.
@@ -179,7 +191,7 @@ struct Table<'a> {
 
 impl<'a> Table<'a> {
     /// Reads the header and the rows (every value a finite number).
-    fn parse(text: &str, (columns, required): (&'a [Column], usize), quoting: Quoting) -> Result<Self, String> {
+    fn parse(text: &str, (columns, required): (&'static [Column], usize), quoting: Quoting) -> Result<Self, CsvError> {
         let mut lines = text
             .lines()
             .enumerate()
@@ -188,56 +200,52 @@ impl<'a> Table<'a> {
             .peekable();
         let Some((header_line, header)) = lines.next() else {
             let example = names(&columns[..required]).join(",");
-            return Err(format!("line 1: empty file: expected a header line like `{example}`"));
+            return Err(CsvError { line: 1, column: None, problem: CsvProblem::EmptyFile(example) });
         };
-        let header =
-            header_columns(header, (columns, required), quoting).map_err(|e| format!("line {header_line}{e}"))?;
+        let at = |line: usize| move |(column, problem): Misplaced| CsvError { line, column, problem };
+        let header = header_columns(header, (columns, required), quoting).map_err(at(header_line))?;
         let mut table = Self { columns, header, header_line, rows: Vec::new(), quoting };
         if let Some((number, line)) = lines.next_if(|(_, line)| is_units_line(line)) {
-            table.check_units(line).map_err(|e| format!("line {number}{e}"))?;
+            table.check_units(line).map_err(at(number))?;
         }
         for (number, line) in lines {
-            let values = table.parse_row(line).map_err(|e| format!("line {number}{e}"))?;
+            let values = table.parse_row(line).map_err(at(number))?;
             table.rows.push((number, values));
         }
         Ok(table)
     }
 
     /// Each cell of a units line is empty or its column's SI unit; errors as [`Self::parse_row`]'s.
-    fn check_units(&self, line: &str) -> Result<(), String> {
+    fn check_units(&self, line: &str) -> Result<(), Misplaced> {
         let cells: Vec<&str> = line.split(',').map(str::trim).collect();
         if cells.len() != self.header.len() {
-            return Err(format!(
-                ": the units line has {} fields but the header has {}",
-                cells.len(),
-                self.header.len()
-            ));
+            return Err((None, CsvProblem::UnitsFields { found: cells.len(), header: self.header.len() }));
         }
         let wrong =
             cells.iter().zip(&self.header).position(|(cell, &c)| !cell.is_empty() && *cell != self.columns[c].1);
         match wrong {
             None => Ok(()),
             Some(position) => {
-                let (name, unit) = self.columns[self.header[position]];
-                let si = if unit.is_empty() { "dimensionless" } else { unit };
-                let given = self.quoting.show(cells[position], "given");
-                Err(format!(", column {} ({name}): unit {given}: values are read in SI ({si})", position + 1))
+                let si = self.columns[self.header[position]].1;
+                Err((
+                    Some(self.at_position(position)),
+                    CsvProblem::Unit { given: self.quoting.show(cells[position]), si },
+                ))
             }
         }
     }
 
-    /// One data line's values; errors start with what follows the line number (", column ..." or ": ...").
-    fn parse_row(&self, line: &str) -> Result<Vec<f64>, String> {
+    /// One data line's values.
+    fn parse_row(&self, line: &str) -> Result<Vec<f64>, Misplaced> {
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         if fields.len() != self.header.len() {
-            return Err(format!(": has {} fields but the header has {}", fields.len(), self.header.len()));
+            return Err((None, CsvProblem::Fields { found: fields.len(), header: self.header.len() }));
         }
         let values = fields.iter().enumerate().map(|(position, field)| {
-            let at = || format!(", column {} ({})", position + 1, self.columns[self.header[position]].0);
-            let not_a_number = || format!("{}: {} is not a number", at(), self.quoting.show(field, "the value"));
-            let value: f64 = field.parse().map_err(|_| not_a_number())?;
+            let at = Some(self.at_position(position));
+            let value: f64 = field.parse().map_err(|_| (at, CsvProblem::NotANumber(self.quoting.show(field))))?;
             if !value.is_finite() {
-                return Err(format!("{}: must be finite, got {field}", at()));
+                return Err((at, CsvProblem::NotFinite(field.to_string())));
             }
             Ok(value)
         });
@@ -253,38 +261,43 @@ impl<'a> Table<'a> {
         values
     }
 
-    /// ", column K (name)" for column `column` of `columns` as the header places it.
-    fn at(&self, column: usize) -> String {
+    /// Column `column` of `columns` where the header places it.
+    fn at(&self, column: usize) -> ColumnAt {
         let position = self.header.iter().position(|&c| c == column).unwrap_or(column);
-        format!(", column {} ({})", position + 1, self.columns[column].0)
+        ColumnAt { position: position + 1, name: Some(self.columns[column].0) }
+    }
+
+    /// The column at `position` (from 0) of a line.
+    fn at_position(&self, position: usize) -> ColumnAt {
+        ColumnAt { position: position + 1, name: Some(self.columns[self.header[position]].0) }
     }
 }
 
-/// Index into `columns` of each header field; the first `required` columns must be there. Errors
-/// start with what follows the line number (", column ..." or ": ...").
+/// Index into `columns` of each header field; the first `required` columns must be there.
 fn header_columns(
     header: &str,
-    (columns, required): (&[Column], usize),
+    (columns, required): (&'static [Column], usize),
     quoting: Quoting,
-) -> Result<Vec<usize>, String> {
+) -> Result<Vec<usize>, Misplaced> {
     let mut found = Vec::new();
     for (position, name) in header.split(',').map(str::trim).enumerate() {
-        let at = position + 1;
+        let at = Some(ColumnAt { position: position + 1, name: None });
         let Some(k) = columns.iter().position(|c| c.0.eq_ignore_ascii_case(name)) else {
-            let (must, may) = columns.split_at(required);
-            let list = || format!("expected {} and optionally {}", names(must).join(", "), names(may).join(", "));
-            let hint = super::errors::did_you_mean(name, names(columns)).unwrap_or_else(list);
-            return Err(format!(", column {at}: unknown column {} ({hint})", quoting.show(name, "name")));
+            let problem = CsvProblem::UnknownColumn {
+                given: quoting.show(name),
+                nearest: super::errors::nearest(name, names(columns)),
+                columns,
+                required,
+            };
+            return Err((at, problem));
         };
         if let Some(first) = found.iter().position(|&f| f == k) {
-            let name = quoting.show(name, "name");
-            return Err(format!(", column {at}: column {name} appears twice (first at column {})", first + 1));
+            return Err((at, CsvProblem::Twice { given: quoting.show(name), first: first + 1 }));
         }
         found.push(k);
     }
     if let Some(missing) = columns[..required].iter().enumerate().find(|(k, _)| !found.contains(k)) {
-        let list = names(&columns[..required]).join(", ");
-        return Err(format!(": the header has no \"{}\" column ({list} are required)", missing.1.0));
+        return Err((None, CsvProblem::Missing { column: missing.1.0, required: &columns[..required] }));
     }
     Ok(found)
 }
@@ -328,22 +341,24 @@ mod tests {
         assert_eq!(disks, vec![InitialDisk { x: 1.0, y: 2.0, r: 0.5, vx: -1.0, vy: 3.0, omega: 4.0, angle: -6.5 }]);
         assert_eq!(parse("x,y\n,\n1,2\n", 0.01, Quoting::Quoted).unwrap().len(), 1, "empty unit cells are allowed");
         assert_eq!(
-            parse("x,y,r\nmm,m,\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err(),
+            parse("x,y,r\nmm,m,\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err().to_string(),
             "line 2, column 1 (x): unit \"mm\": values are read in SI (m)"
         );
         assert_eq!(
-            parse("x,y\nm,m,m\n1,2\n", 0.01, Quoting::Quoted).unwrap_err(),
+            parse("x,y\nm,m,m\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().to_string(),
             "line 2: the units line has 3 fields but the header has 2"
         );
         let contacts =
             parse_contacts("first,second,tangential_spring\n,,m\n0,1,5e-8\n", 2, 3, Quoting::Quoted).unwrap();
         assert_eq!(contacts.len(), 1);
         assert_eq!(
-            parse_contacts("first,second,tangential_spring\n,,N\n0,1,5e-8\n", 2, 3, Quoting::Quoted).unwrap_err(),
+            parse_contacts("first,second,tangential_spring\n,,N\n0,1,5e-8\n", 2, 3, Quoting::Quoted)
+                .unwrap_err()
+                .to_string(),
             "line 2, column 3 (tangential_spring): unit \"N\": values are read in SI (m)"
         );
         assert_eq!(
-            parse("x,y\n1,abc\n", 0.01, Quoting::Quoted).unwrap_err(),
+            parse("x,y\n1,abc\n", 0.01, Quoting::Quoted).unwrap_err().to_string(),
             "line 2, column 2 (y): \"abc\" is not a number",
             "a data line with a number"
         );
@@ -375,8 +390,9 @@ mod tests {
     #[test]
     fn contact_errors_name_line_column_and_range() {
         let header = "first,second,tangential_spring\n";
-        let err =
-            |rows: &str, disks| parse_contacts(&format!("{header}{rows}"), disks, 3, Quoting::Quoted).unwrap_err();
+        let err = |rows: &str, disks| {
+            parse_contacts(&format!("{header}{rows}"), disks, 3, Quoting::Quoted).unwrap_err().to_string()
+        };
         assert_eq!(
             err("0,1,0\n0,30,0\n", 30),
             "line 3, column 2 (second): disk 30 is out of range: the placement file has 30 disks (0 to 29)"
@@ -394,6 +410,7 @@ mod tests {
         assert!(
             parse_contacts("first,second\n0,1\n", 2, 3, Quoting::Quoted)
                 .unwrap_err()
+                .to_string()
                 .contains("no \"tangential_spring\" column")
         );
         assert_eq!(parse_contacts(header, 2, 3, Quoting::Quoted), Ok(vec![]), "a pile without contacts has no history");
@@ -401,29 +418,40 @@ mod tests {
 
     #[test]
     fn errors_name_line_and_column() {
-        let err = parse("x,y,vx\n1,2,0\n1,2,abc\n", 0.01, Quoting::Quoted).unwrap_err();
+        let err = parse("x,y,vx\n1,2,0\n1,2,abc\n", 0.01, Quoting::Quoted).unwrap_err().to_string();
         assert_eq!(err, "line 3, column 3 (vx): \"abc\" is not a number");
-        let err = parse("x,y\n\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err();
+        let err = parse("x,y\n\n1,2,3\n", 0.01, Quoting::Quoted).unwrap_err().to_string();
         assert_eq!(err, "line 3: has 3 fields but the header has 2");
-        let err = parse("x,y,r\n1,2,-0.1\n", 0.01, Quoting::Quoted).unwrap_err();
+        let err = parse("x,y,r\n1,2,-0.1\n", 0.01, Quoting::Quoted).unwrap_err().to_string();
         assert_eq!(err, "line 2, column 3 (r): a radius must be > 0, got -0.1");
-        let err = parse("x,y\n1,inf\n", 0.01, Quoting::Quoted).unwrap_err();
+        let err = parse("x,y\n1,inf\n", 0.01, Quoting::Quoted).unwrap_err().to_string();
         assert_eq!(err, "line 2, column 2 (y): must be finite, got inf");
     }
 
     #[test]
     fn header_problems_and_empty_files() {
-        assert_eq!(parse("x,radius\n", 0.01, Quoting::Quoted).unwrap_err().split(':').next(), Some("line 1, column 2"));
-        assert!(parse("x,radius\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().contains("unknown column \"radius\""));
-        assert!(parse("x,r\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().contains("no \"y\" column"));
-        assert!(parse("x,y,x\n", 0.01, Quoting::Quoted).unwrap_err().contains("column \"x\" appears twice"));
-        assert_eq!(parse("x,y\n", 0.01, Quoting::Quoted).unwrap_err(), "line 1: the file has a header but no disks");
-        assert!(parse("\n# nothing\n", 0.01, Quoting::Quoted).unwrap_err().contains("empty file"));
+        let unknown = parse("x,radius\n", 0.01, Quoting::Quoted).unwrap_err();
+        assert_eq!((unknown.line, unknown.column), (1, Some(ColumnAt { position: 2, name: None })));
+        assert!(
+            parse("x,radius\n1,2\n", 0.01, Quoting::Quoted)
+                .unwrap_err()
+                .to_string()
+                .contains("unknown column \"radius\"")
+        );
+        assert!(parse("x,r\n1,2\n", 0.01, Quoting::Quoted).unwrap_err().to_string().contains("no \"y\" column"));
+        assert!(
+            parse("x,y,x\n", 0.01, Quoting::Quoted).unwrap_err().to_string().contains("column \"x\" appears twice")
+        );
+        assert_eq!(
+            parse("x,y\n", 0.01, Quoting::Quoted).unwrap_err().to_string(),
+            "line 1: the file has a header but no disks"
+        );
+        assert!(parse("\n# nothing\n", 0.01, Quoting::Quoted).unwrap_err().to_string().contains("empty file"));
     }
 
     #[test]
     fn a_withheld_file_is_never_quoted() {
-        let withheld = |text: &str| parse(text, 0.01, Quoting::Withheld).unwrap_err();
+        let withheld = |text: &str| parse(text, 0.01, Quoting::Withheld).unwrap_err().to_string();
         assert_eq!(
             withheld("x,secret\n"),
             "line 1, column 2: unknown column name (expected x, y and optionally r, vx, vy, omega, angle, id, contact_force)"
@@ -431,7 +459,7 @@ mod tests {
         assert_eq!(withheld("x,y,x\n"), "line 1, column 3: column name appears twice (first at column 1)");
         assert_eq!(withheld("x,y\nm,secret\n1,2\n"), "line 2, column 2 (y): unit given: values are read in SI (m)");
         assert_eq!(withheld("x,y\n1,2\n3,secret\n"), "line 3, column 2 (y): the value is not a number");
-        let contacts = parse_contacts("first,secret\n", 2, 3, Quoting::Withheld).unwrap_err();
+        let contacts = parse_contacts("first,secret\n", 2, 3, Quoting::Withheld).unwrap_err().to_string();
         assert!(contacts.starts_with("line 1, column 2: unknown column name"), "{contacts}");
     }
 }

@@ -12,7 +12,9 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use super::csv_error::PlacementFileError;
 use super::initial_csv::Quoting;
+use super::lammps_error::{LammpsError, LammpsProblem};
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 
@@ -23,7 +25,7 @@ pub fn read_placement(
     path: &Path,
     default_radius: f64,
     folder: &Path,
-) -> Result<Vec<InitialDisk>, String> {
+) -> Result<Vec<InitialDisk>, PlacementFileError> {
     match kind {
         PlacementKind::Lammps => read(path, default_radius, folder),
         _ => super::initial_csv::read(path, default_radius, folder),
@@ -33,21 +35,17 @@ pub fn read_placement(
 /// Reads the disks of a LAMMPS data or dump file (a regular file of at most the size of a placement
 /// CSV); errors name the file and line, and say what is wrong only when the file lies in the study's
 /// `folder` (see [`Quoting`]).
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, String> {
+pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
     let text = super::initial_csv::read_text(path)?;
-    parse(&text, default_radius).map_err(|e| match Quoting::of(path, folder) {
-        Quoting::Quoted => format!("{}: {e}", path.display()),
-        Quoting::Withheld => format!(
-            "{}: {}: not a LAMMPS data or dump file demsweep reads (the file lies outside the study's folder, so \
-             its content is not quoted)",
-            path.display(),
-            e.split(':').next().unwrap_or_default()
-        ),
+    parse(&text, default_radius).map_err(|error| PlacementFileError::Lammps {
+        path: path.to_path_buf(),
+        error: Box::new(error),
+        quoted: Quoting::of(path, folder) == Quoting::Quoted,
     })
 }
 
 /// Parses a LAMMPS data file, or a dump file when its first line is `ITEM: TIMESTEP`.
-pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, String> {
+pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
     let lines = numbered(text);
     let disks = if lines.first().is_some_and(|(_, l)| l.starts_with("ITEM:")) {
         dump(&lines, default_radius)?
@@ -56,19 +54,19 @@ pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, String
         data(lines.get(1..).unwrap_or_default())?
     };
     if disks.is_empty() {
-        return Err("the file has no atoms".to_string());
+        return Err(LammpsError::new(LammpsProblem::NoAtoms));
     }
     Ok(disks)
 }
 
 /// Refuses a data file whose `Atoms` section names an atom style other than `sphere` (the columns
 /// differ); a section without a style is read as `sphere`.
-fn atom_style_sphere(text: &str) -> Result<(), String> {
+fn atom_style_sphere(text: &str) -> Result<(), LammpsError> {
     let style = text.lines().find_map(|l| l.trim().strip_prefix("Atoms")).and_then(|rest| rest.split('#').nth(1));
     match style.map(str::trim) {
-        Some(style) if !style.is_empty() && style != "sphere" => Err(format!(
-            "the Atoms section is for atom_style {style}: placement.kind = \"lammps\" reads atom_style sphere"
-        )),
+        Some(style) if !style.is_empty() && style != "sphere" => {
+            Err(LammpsError::new(LammpsProblem::AtomStyle(style.to_string())))
+        }
         _ => Ok(()),
     }
 }
@@ -83,41 +81,42 @@ fn numbered(text: &str) -> Vec<(usize, &str)> {
 }
 
 /// The numbers of a line's first `count` fields; the error names the line and field.
-fn numbers(number: usize, line: &str, count: usize) -> Result<Vec<f64>, String> {
+fn numbers(number: usize, line: &str, count: usize) -> Result<Vec<f64>, LammpsError> {
     let fields: Vec<&str> = line.split_whitespace().collect();
     if fields.len() < count {
-        return Err(format!("line {number}: {} fields, expected at least {count}", fields.len()));
+        return Err(LammpsError::at(number, LammpsProblem::FewFields { found: fields.len(), expected: count }));
     }
     fields[..count]
         .iter()
         .enumerate()
         .map(|(k, f)| {
             let value = f.parse::<f64>().ok().filter(|v| v.is_finite());
-            value.ok_or_else(|| format!("line {number}, field {}: \"{f}\" is not a number", k + 1))
+            let problem = || LammpsProblem::NotANumber(f.to_string());
+            value.ok_or_else(|| LammpsError { field: Some(k + 1), ..LammpsError::at(number, problem()) })
         })
         .collect()
 }
 
 /// An atom id: a whole number ≥ 1.
-fn atom_id(number: usize, value: f64) -> Result<u64, String> {
+fn atom_id(number: usize, value: f64) -> Result<u64, LammpsError> {
     if value >= 1.0 && value.fract() == 0.0 && value < 1e15 {
         Ok(value as u64)
     } else {
-        Err(format!("line {number}: atom id {value} is not a whole number ≥ 1"))
+        Err(LammpsError::at(number, LammpsProblem::AtomId(value)))
     }
 }
 
 /// A disk's radius from a diameter or radius column; the error names the line.
-fn positive(number: usize, what: &str, value: f64) -> Result<f64, String> {
-    if value > 0.0 { Ok(value) } else { Err(format!("line {number}: the {what} must be > 0, got {value}")) }
+fn positive(number: usize, what: &'static str, value: f64) -> Result<f64, LammpsError> {
+    if value > 0.0 { Ok(value) } else { Err(LammpsError::at(number, LammpsProblem::NotPositive { what, value })) }
 }
 
 /// An error naming the first atom id given twice among `atoms` (line, id, disk).
-fn unique(atoms: &[(usize, u64, InitialDisk)]) -> Result<(), String> {
+fn unique(atoms: &[(usize, u64, InitialDisk)]) -> Result<(), LammpsError> {
     let mut seen: HashMap<u64, usize> = HashMap::new();
     for (number, id, _) in atoms {
         if let Some(first) = seen.insert(*id, *number) {
-            return Err(format!("line {number}: atom id {id} appears twice (first on line {first})"));
+            return Err(LammpsError::at(*number, LammpsProblem::IdTwice { id: *id, first }));
         }
     }
     Ok(())
@@ -137,12 +136,12 @@ fn section_name(line: &str) -> Option<&str> {
 
 /// The disks of a data file (its lines after the title): its `Atoms` section for `atom_style
 /// sphere`, with `Velocities`.
-fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, String> {
+fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, LammpsError> {
     let header_count = |word: &str| {
         lines.iter().find(|(_, l)| l.split_whitespace().nth(1) == Some(word) && l.split_whitespace().count() == 2)
     };
     let Some(&(count_line, count_text)) = header_count("atoms") else {
-        return Err("no `N atoms` line: not a LAMMPS data file".to_string());
+        return Err(LammpsError::new(LammpsProblem::NoAtomsLine));
     };
     let count = numbers(count_line, count_text, 1)?[0] as usize;
     let section = |name: &str| {
@@ -155,13 +154,11 @@ fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, String> {
         })
     };
     let Some(((atoms_line, _), rows)) = section("Atoms") else {
-        return Err("no `Atoms` section".to_string());
+        return Err(LammpsError::new(LammpsProblem::NoAtomsSection));
     };
     if rows.len() != count {
-        return Err(format!(
-            "line {atoms_line}: the Atoms section has {} row(s), the header says {count} atoms",
-            rows.len()
-        ));
+        let problem = LammpsProblem::SectionRows { section: "Atoms", rows: rows.len(), atoms: count };
+        return Err(LammpsError::at(atoms_line, problem));
     }
     let mut atoms = Vec::with_capacity(count);
     for &(number, line) in rows {
@@ -174,16 +171,13 @@ fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, String> {
     if let Some(((velocities_line, _), rows)) = section("Velocities") {
         let index: HashMap<u64, usize> = atoms.iter().enumerate().map(|(k, (_, id, _))| (*id, k)).collect();
         if rows.len() != count {
-            return Err(format!(
-                "line {velocities_line}: the Velocities section has {} row(s), expected {count}",
-                rows.len()
-            ));
+            let problem = LammpsProblem::SectionRows { section: "Velocities", rows: rows.len(), atoms: count };
+            return Err(LammpsError::at(velocities_line, problem));
         }
         for &(number, line) in rows {
             let row = numbers(number, line, 7)?; // id vx vy vz wx wy wz
             let id = atom_id(number, row[0])?;
-            let k =
-                *index.get(&id).ok_or_else(|| format!("line {number}: atom id {id} is not in the Atoms section"))?;
+            let k = *index.get(&id).ok_or_else(|| LammpsError::at(number, LammpsProblem::UnknownId(id)))?;
             let disk = &mut atoms[k].2;
             (disk.vx, disk.vy, disk.omega) = (row[1], row[2], row[6]);
         }
@@ -200,32 +194,40 @@ fn find_column(names: &[&str], options: &[&'static str]) -> Option<(usize, &'sta
 }
 
 /// The disks of a dump file's last snapshot.
-fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>, String> {
+fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
+    const COUNT: &str = "NUMBER OF ATOMS";
     let last = lines.iter().rposition(|(_, l)| l.starts_with("ITEM: TIMESTEP")).unwrap_or(0);
     let snapshot = &lines[last..];
-    let item = |name: &str| snapshot.iter().position(|(_, l)| l.starts_with(&format!("ITEM: {name}")));
-    let count_at = item("NUMBER OF ATOMS").ok_or("no `ITEM: NUMBER OF ATOMS` in the last snapshot")?;
-    let &(count_line, count_text) = snapshot.get(count_at + 1).ok_or("the file ends after `ITEM: NUMBER OF ATOMS`")?;
+    let item = |name: &'static str| {
+        let at = snapshot.iter().position(|(_, l)| l.starts_with(&format!("ITEM: {name}")));
+        at.ok_or(LammpsError::new(LammpsProblem::NoItem(name)))
+    };
+    let count_at = item(COUNT)?;
+    let &(count_line, count_text) =
+        snapshot.get(count_at + 1).ok_or(LammpsError::new(LammpsProblem::EndsAfter(COUNT)))?;
     let count = numbers(count_line, count_text, 1)?[0] as usize;
-    let bounds_at = item("BOX BOUNDS");
-    let bound = |axis: usize| -> Result<(f64, f64), String> {
-        let &(number, line) = bounds_at.and_then(|k| snapshot.get(k + 1 + axis)).ok_or("no `ITEM: BOX BOUNDS`")?;
+    let bounds_at = item("BOX BOUNDS").ok();
+    let bound = |axis: usize| -> Result<(f64, f64), LammpsError> {
+        let bounds = bounds_at.and_then(|k| snapshot.get(k + 1 + axis));
+        let &(number, line) = bounds.ok_or(LammpsError::new(LammpsProblem::NoBoxBounds))?;
         let ends = numbers(number, line, 2)?;
         Ok((ends[0], ends[1]))
     };
-    let atoms_at = item("ATOMS").ok_or("no `ITEM: ATOMS` in the last snapshot")?;
+    let atoms_at = item("ATOMS")?;
     let (atoms_line, header) = snapshot[atoms_at];
     let names: Vec<&str> = header.trim_start_matches("ITEM: ATOMS").split_whitespace().collect();
     let column = |options: &[&'static str]| find_column(&names, options);
-    let position = |axis: usize, plain: [&'static str; 2], scaled: [&'static str; 2]| -> Result<Coordinate, String> {
-        if let Some((k, _)) = column(&plain) {
-            return Ok(Box::new(move |row: &[f64]| row[k]));
-        }
-        let (k, name) = column(&scaled)
-            .ok_or_else(|| format!("line {atoms_line}: no `{}` column (nor `{}`)", plain[0], scaled[0]))?;
-        let (lo, hi) = bound(axis).map_err(|e| format!("{e}: needed to unscale `{name}`"))?;
-        Ok(Box::new(move |row: &[f64]| lo + row[k] * (hi - lo)))
-    };
+    let position =
+        |axis: usize, plain: [&'static str; 2], scaled: [&'static str; 2]| -> Result<Coordinate, LammpsError> {
+            if let Some((k, _)) = column(&plain) {
+                return Ok(Box::new(move |row: &[f64]| row[k]));
+            }
+            let missing = LammpsProblem::NoColumn { plain: plain[0], scaled: scaled[0] };
+            let (k, name) = column(&scaled).ok_or_else(|| LammpsError::at(atoms_line, missing))?;
+            let unscale = |cause| LammpsError::new(LammpsProblem::Unscale { column: name, cause: Box::new(cause) });
+            let (lo, hi) = bound(axis).map_err(unscale)?;
+            Ok(Box::new(move |row: &[f64]| lo + row[k] * (hi - lo)))
+        };
     let x = position(0, ["x", "xu"], ["xs", "xsu"])?;
     let y = position(1, ["y", "yu"], ["ys", "ysu"])?;
     let radius = column(&["radius", "diameter"]);
@@ -233,7 +235,7 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let (id, vx, vy, omega) = (optional("id"), optional("vx"), optional("vy"), optional("omegaz"));
     let rows = &snapshot[atoms_at + 1..];
     if rows.len() != count {
-        return Err(format!("line {atoms_line}: the snapshot has {} atoms, its header says {count}", rows.len()));
+        return Err(LammpsError::at(atoms_line, LammpsProblem::SnapshotRows { rows: rows.len(), atoms: count }));
     }
     let mut atoms = Vec::with_capacity(count);
     for (k, &(number, line)) in rows.iter().enumerate() {
@@ -288,18 +290,36 @@ mod tests {
 
     #[test]
     fn errors_name_the_line_and_what_is_wrong() {
-        assert!(parse("title\n\n", 1.0).unwrap_err().contains("no `N atoms` line"));
+        assert!(parse("title\n\n", 1.0).unwrap_err().to_string().contains("no `N atoms` line"));
         let short = DATA.replace("1 1 0.01 2500 0.02 0.005 0\n", "");
-        assert!(parse(&short, 1.0).unwrap_err().contains("the Atoms section has 1 row(s), the header says 2 atoms"));
+        assert!(
+            parse(&short, 1.0)
+                .unwrap_err()
+                .to_string()
+                .contains("the Atoms section has 1 row(s), the header says 2 atoms")
+        );
         let bad = DATA.replace("0.02 0.005", "0.02 abc");
-        assert_eq!(parse(&bad, 1.0).unwrap_err(), "line 13, field 6: \"abc\" is not a number");
+        assert_eq!(parse(&bad, 1.0).unwrap_err().to_string(), "line 13, field 6: \"abc\" is not a number");
         let atomic = DATA.replace("Atoms # sphere", "Atoms # atomic");
-        assert!(parse(&atomic, 1.0).unwrap_err().contains("for atom_style atomic"));
+        assert!(parse(&atomic, 1.0).unwrap_err().to_string().contains("for atom_style atomic"));
         let twice = DATA.replace("2 1 0.004", "1 1 0.004");
-        assert!(parse(&twice, 1.0).unwrap_err().contains("atom id 1 appears twice"));
+        assert!(parse(&twice, 1.0).unwrap_err().to_string().contains("atom id 1 appears twice"));
         let flat = DATA.replace("0.01 2500", "0 2500");
-        assert!(parse(&flat, 1.0).unwrap_err().contains("the diameter must be > 0, got 0"));
+        assert!(parse(&flat, 1.0).unwrap_err().to_string().contains("the diameter must be > 0, got 0"));
         let unscaled = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS xs ys\n0.1 0.2\n";
-        assert!(parse(unscaled, 1.0).unwrap_err().contains("no `ITEM: BOX BOUNDS`: needed to unscale `xs`"));
+        assert!(
+            parse(unscaled, 1.0).unwrap_err().to_string().contains("no `ITEM: BOX BOUNDS`: needed to unscale `xs`")
+        );
+    }
+
+    #[test]
+    fn where_a_problem_is_says_nothing_of_the_file_content() {
+        let bad = DATA.replace("0.02 0.005", "0.02 abc");
+        assert_eq!(parse(&bad, 1.0).unwrap_err().place().as_deref(), Some("line 13, field 6"));
+        let atomic = DATA.replace("Atoms # sphere", "Atoms # atomic");
+        assert_eq!(parse(&atomic, 1.0).unwrap_err().place(), None, "the style is the file's own text");
+        let bounds = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0\n0 1\n-1 1\n\
+                      ITEM: ATOMS xs ys\n0.1 0.2\n";
+        assert_eq!(parse(bounds, 1.0).unwrap_err().place().as_deref(), Some("line 6"), "from the bounds' line");
     }
 }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use super::axes::{self, Axis, Sweep};
+use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
 use super::{
@@ -103,7 +104,7 @@ fn check_study_name(file: &StudyFile, doc: &Document) -> Option<StudyError> {
     }
     let reason = name::check_name(&study_name(doc, &file.path)).err()?;
     Some(match written {
-        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason),
+        Some(_) => file.error(doc.span(&["name".to_string()]), "name", reason.to_string()),
         None => file.error(None, "name", format!("{reason}; the name comes from the file name: set `name = \"…\"`")),
     })
 }
@@ -123,7 +124,7 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
         match toml::Value::Table(tree_with(&path, value.clone())).try_into::<T>() {
             Ok(_) => set_path(&mut valid, &path, value.clone()).expect("leaves of a table do not collide"),
             Err(e) => {
-                let reason = explain::<T>(&path, e.message());
+                let reason = explain::<T>(&path, e.message(), value);
                 let full: KeyPath = std::iter::once(section.to_string()).chain(path).collect();
                 errors.push(file.error(doc.span(&full), dotted(&full), reason));
             }
@@ -132,10 +133,10 @@ pub(crate) fn split_leaves<T: DeserializeOwned>(
     (valid, errors)
 }
 
-/// A deserializer's message about the value at `path` of a `T` in the study's words: a value of
+/// A deserializer's message about `value` at `path` of a `T` in the study's words: a value of
 /// the wrong type for a choice lists the choices, Rust type names become what to write
 /// ([`plain_types`]), an unknown key or choice names the valid one nearest to it ([`suggest_nearest`]).
-fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
+fn explain<T: DeserializeOwned>(path: &[String], message: &str, value: &toml::Value) -> String {
     if message.contains("unit variant") {
         let probe = toml::Value::Table(tree_with(path, toml::Value::String("\u{1}".into())));
         let choices = probe.try_into::<T>().err().map(|e| e.message().to_string());
@@ -145,7 +146,7 @@ fn explain<T: DeserializeOwned>(path: &[String], message: &str) -> String {
             return format!("must be {choices} (a string in quotes)");
         }
     }
-    suggest_nearest(&plain_types(message))
+    suggest_nearest(&plain_types(message, value))
 }
 
 /// The impossible values of the base scene (without its sweep), for a study that cannot be expanded.
@@ -172,7 +173,8 @@ fn check_axis(file: &StudyFile, base: &toml::Table, axis: &Axis, replicates: usi
         .iter()
         .filter_map(|v| {
             let tree = toml::Value::Table(tree_within(base, &axis.path, v.to_toml()));
-            tree.try_into::<SceneConfig>().err().map(|e| (v, explain::<SceneConfig>(&axis.path, e.message())))
+            let reason = |e: toml::de::Error| explain::<SceneConfig>(&axis.path, e.message(), &v.to_toml());
+            tree.try_into::<SceneConfig>().err().map(|e| (v, reason(e)))
         })
         .collect();
     if failures.len() == axis.values.len() && failures.iter().all(|(_, m)| *m == failures[0].1) {
@@ -212,7 +214,7 @@ pub(crate) fn run_id(index: usize, runs: usize) -> String {
 }
 
 /// Disks read from a placement file, or why they could not be read.
-type InitialStates = Result<Arc<Vec<InitialDisk>>, String>;
+type InitialStates = Result<Arc<Vec<InitialDisk>>, PlacementFileError>;
 
 /// A restart's contact history, shared by the runs that use its file.
 type InitialContacts = Arc<Vec<InitialContact>>;
@@ -230,7 +232,7 @@ struct Planner<'a> {
     /// Placement files read so far, by path, kind and default radius.
     initial_files: HashMap<(PathBuf, PlacementKind, u64), InitialStates>,
     /// Contact files read so far, by path and the disks and walls they were checked against.
-    contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, String>>,
+    contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, PlacementFileError>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
     failed_placements: HashMap<String, (String, String)>,
     /// The last placement that succeeded: its setup and disks.
@@ -350,7 +352,7 @@ impl<'a> Planner<'a> {
             .entry((path.clone(), kind, radius.to_bits()))
             .or_insert_with(|| lammps_file::read_placement(kind, &path, radius, &self.study_dir).map(Arc::new))
             .clone()
-            .map_err(|reason| vec![self.problem(point, "placement.file", reason)])?;
+            .map_err(|reason| vec![self.problem(point, "placement.file", reason.to_string())])?;
         scene.particles.count = disks.len();
         Ok(Some(disks))
     }
@@ -372,7 +374,7 @@ impl<'a> Planner<'a> {
             .entry((path.clone(), disks, walls))
             .or_insert_with(|| initial_csv::read_contacts(&path, disks, walls, &self.study_dir).map(Arc::new))
             .clone()
-            .map_err(|reason| vec![self.problem(point, "placement.contacts", reason)])?;
+            .map_err(|reason| vec![self.problem(point, "placement.contacts", reason.to_string())])?;
         Ok(Some(contacts))
     }
 
@@ -417,7 +419,7 @@ impl<'a> Planner<'a> {
         let span = self.doc.span(&["scene".to_string()]);
         for predicted in crate::physics::predict_stability(scene, &disks).warnings {
             let reason = format!("predicted: {predicted}{}", contacts_named(scene, predicted.kind));
-            let warning = self.file.error(span.clone(), "scene", reason).in_run(&point.id);
+            let warning = self.file.error(span.clone(), "scene", reason).of_rule(predicted.kind).in_run(&point.id);
             self.warnings.push(warning);
         }
         Ok(())

@@ -54,7 +54,7 @@ pub(super) fn check(file: &StudyFile, doc: &Document, sweep: &Sweep, faulty: &[b
         let hits: Vec<usize> = match axes::scalar(value) {
             Ok(wanted) => (0..values.len()).filter(|&i| same(&values[i], &wanted)).collect(),
             Err(reason) => {
-                errors.push(file.error(span, name, reason));
+                errors.push(file.error(span, name, reason.to_string()));
                 continue;
             }
         };

@@ -12,7 +12,7 @@ use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text};
 use crate::study::plan::{self, fingerprint, split_leaves};
-use crate::study::{OutputOptions, ParamValue, lammps_file};
+use crate::study::{AxisError, OutputOptions, ParamValue, lammps_file};
 
 use super::ladder;
 use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
@@ -74,7 +74,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     match spec.scene(&[]) {
         Ok(scene) => spec.reference = scene,
         Err(reason) => {
-            sink.push(file.error(scene_span, "scene", reason));
+            sink.push(file.error(scene_span, "scene", reason.to_string()));
             return Err(sink.into_errors());
         }
     }
@@ -90,7 +90,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
                 spec.reference.particles.count = disks.len();
                 spec.initial = Some(Arc::new(disks));
             }
-            Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason)),
+            Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason.to_string())),
         }
     } else if let Err(e) = placement::generate(&spec.reference) {
         sink.push(file.error(scene_span.clone(), format!("scene.{}", e.key), e.reason));
@@ -103,7 +103,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         let failures: Vec<(ParamValue, String)> = extremes
             .iter()
             .filter_map(|value| {
-                let problem = spec.scene(&[(lever.key.clone(), value.clone())]).and_then(|scene| {
+                let scene = spec.scene(&[(lever.key.clone(), value.clone())]).map_err(|e| e.to_string());
+                let problem = scene.and_then(|scene| {
                     let placed = ["domain", "particles", "placement"].contains(&lever.path[0].as_str());
                     if spec.initial.is_none() && placed {
                         placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))
@@ -209,7 +210,7 @@ fn parse_levers(file: &StudyFile, doc: &Document) -> (Vec<Lever>, Vec<StudyError
         }
         match lever_range(value) {
             Ok(range) => levers.push(Lever { key, path, range }),
-            Err(reason) => errors.push(problem(reason)),
+            Err(reason) => errors.push(problem(reason.to_string())),
         }
     }
     if levers.is_empty() && errors.is_empty() {
@@ -229,24 +230,24 @@ fn collect<'a>(table: &'a toml::Table, prefix: &mut KeyPath, out: &mut Vec<(KeyP
     }
 }
 
-fn lever_range(value: &toml::Value) -> Result<LeverRange, String> {
+fn lever_range(value: &toml::Value) -> Result<LeverRange, AxisError> {
     const SHAPE: &str = "a lever is { linear = [a, b] }, { log = [a, b] } or a list [v1, v2, ...]";
     match value {
-        toml::Value::Array(items) if items.is_empty() => Err("a list lever needs at least one value".into()),
+        toml::Value::Array(items) if items.is_empty() => Err(AxisError::EmptyLever),
         toml::Value::Array(items) => {
             items.iter().map(axes::scalar).collect::<Result<Vec<_>, _>>().map(LeverRange::List)
         }
         toml::Value::Table(table) => {
             let RangeEnds { spacing, a: low, b: high, integer } = axes::range_ends(table, &[], SHAPE)?;
             if low >= high {
-                return Err(format!("{}: the ends must increase, got [{low}, {high}]", spacing.key()));
+                return Err(AxisError::Decreasing { spacing, low, high });
             }
             Ok(match spacing {
                 Spacing::Log => LeverRange::Log { low, high, integer },
                 Spacing::Linear => LeverRange::Linear { low, high, integer },
             })
         }
-        other => Err(format!("{SHAPE}; got a single {}", other.type_str())),
+        other => Err(AxisError::Shape { shape: SHAPE, found: other.type_str() }),
     }
 }
 

@@ -26,12 +26,12 @@ use std::sync::atomic::AtomicBool;
 pub use file::{is_tune_file, keepable_metrics, load};
 pub use model::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, TuneError};
 pub use spec::StandardSetting;
-pub use spec::{Keep, Lever, LeverRange, Objective, TuneSpec};
+pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
 use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::runner::{self, ProgressMode, RunOptions};
+use crate::runner::{self, ProgressMode, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
 use model::{Reading, RunFailure, ScreenError};
 use wall_rate::WallRates;
@@ -150,7 +150,10 @@ fn job_parameters(spec: &TuneSpec, ladder: &[StandardSetting], job: &Job) -> Vec
 }
 
 /// The scene of a candidate's first seed.
-pub fn candidate_scene(spec: &TuneSpec, candidate: &model::Candidate) -> Result<crate::physics::SceneConfig, String> {
+pub fn candidate_scene(
+    spec: &TuneSpec,
+    candidate: &model::Candidate,
+) -> Result<crate::physics::SceneConfig, SceneError> {
     setting_scene(spec, &spec.standards, &candidate.point, candidate.standard, 0)
 }
 
@@ -161,7 +164,7 @@ fn setting_scene(
     point: &[f64],
     standard: Option<usize>,
     seed: u64,
-) -> Result<crate::physics::SceneConfig, String> {
+) -> Result<crate::physics::SceneConfig, SceneError> {
     let mut scene = match standard {
         Some(k) => spec.standard_scene(&ladder[k])?,
         None => spec.scene(&spec.values(point))?,
@@ -315,7 +318,7 @@ impl Evaluator for RunEvaluator<'_> {
             stop: self.options.stop.clone(),
             ..Default::default()
         };
-        let report = runner::run_plan(&self.plan, &options).map_err(|e| TuneError::Runner(e.to_string()))?;
+        let report = runner::run_plan(&self.plan, &options)?;
         if report.interrupted {
             return Err(TuneError::Interrupted);
         }
@@ -392,9 +395,9 @@ fn batch_line(batch: usize, jobs: &[Job], reused: usize, total: usize) -> String
 
 /// The typed warnings of every run in a results file, by run index.
 fn typed_warnings(results: &Path) -> Result<HashMap<usize, Vec<ValidityWarning>>, TuneError> {
-    let error = |e: String| TuneError::Runner(format!("{}: {e}", results.display()));
-    let file = crate::output::reader::open(results).map_err(|e| error(e.to_string()))?;
-    let rows = crate::output::reader::rows(&file, results).map_err(|e| error(e.to_string()))?;
+    let error = |e| TuneError::Runner(RunnerError::from(e));
+    let file = crate::output::reader::open(results).map_err(error)?;
+    let rows = crate::output::reader::rows(&file, results).map_err(error)?;
     Ok(rows.into_iter().map(|row| (row.index, row.warnings)).collect())
 }
 

@@ -5,8 +5,11 @@
 use std::fmt;
 use std::path::PathBuf;
 
+use super::spec::SceneError;
 use crate::physics::number::short;
+use crate::physics::placement::PlacementError;
 use crate::physics::warning::{ValidityWarning, WarningKind};
+use crate::runner::RunnerError;
 use crate::stats::Equivalence;
 
 /// What a search needs to know.
@@ -160,17 +163,17 @@ impl Outcome {
 /// Why a setting cannot start.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ScreenError {
-    /// Its scene is invalid (the checker's reason).
-    Scene(String),
-    /// Its placement fails (key, reason).
-    Placement(String, String),
+    /// Its scene is invalid.
+    Scene(SceneError),
+    /// Its placement fails.
+    Placement(PlacementError),
 }
 
 impl fmt::Display for ScreenError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ScreenError::Scene(why) => write!(f, "invalid scene: {why}"),
-            ScreenError::Placement(key, why) => write!(f, "placement fails: {key}: {why}"),
+            ScreenError::Placement(e) => write!(f, "placement fails: {e}"),
         }
     }
 }
@@ -195,8 +198,8 @@ pub struct Screen {
 /// Why a tune could not go on.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TuneError {
-    /// The runner or the results file failed (its message).
-    Runner(String),
+    /// The runner or the results file failed.
+    Runner(RunnerError),
     /// A run the tune made is not in the results file.
     MissingRun {
         /// The results file.
@@ -244,7 +247,20 @@ impl fmt::Display for TuneError {
     }
 }
 
-impl std::error::Error for TuneError {}
+impl std::error::Error for TuneError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            TuneError::Runner(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<RunnerError> for TuneError {
+    fn from(error: RunnerError) -> Self {
+        TuneError::Runner(error)
+    }
+}
 
 /// Runs batches of jobs and screens settings.
 pub trait Evaluator {

@@ -14,18 +14,52 @@ use crate::output::{csv, guard};
 use crate::physics::number::short;
 use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
-use crate::plot::{ChartOptions, Format};
-use crate::report::TuneSection;
+use crate::plot::{ChartOptions, Format, PlotError};
+use crate::report::{Cell, Table, TuneSection};
 use crate::stats;
 use crate::study::ParamValue;
+
+/// Why a tune's files could not be written.
+#[derive(Debug)]
+pub enum WriteError {
+    /// The output folder could not be made.
+    CreateDir {
+        /// The folder.
+        dir: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A file was refused or could not be written.
+    File(guard::GuardError),
+    /// The report section's chart could not be drawn.
+    Chart(PlotError),
+}
+
+impl std::fmt::Display for WriteError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WriteError::CreateDir { dir, error } => write!(f, "{}: {error}", dir.display()),
+            WriteError::File(e) => write!(f, "{e}"),
+            WriteError::Chart(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for WriteError {}
+
+impl From<guard::GuardError> for WriteError {
+    fn from(error: guard::GuardError) -> Self {
+        WriteError::File(error)
+    }
+}
 
 /// Files a tune wrote.
 #[derive(Clone, Debug, Default)]
 pub struct Written {
     /// Every file, in the order written.
     pub files: Vec<PathBuf>,
-    /// Charts that could not be drawn, with the reason.
-    pub chart_errors: Vec<String>,
+    /// Charts that could not be drawn.
+    pub chart_errors: Vec<PlotError>,
 }
 
 /// The settings of a candidate: `key = value, ...` (a standard setting: its name and keys).
@@ -578,25 +612,25 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
 
 /// Writes `<name>_candidates.csv`, `<name>_best.toml` (when there is a recommendation), the charts and
 /// `<name>_recommendation.txt` into `dir`.
-pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str) -> Result<Written, String> {
+pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str) -> Result<Written, WriteError> {
     let mut written = Written::default();
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|error| WriteError::CreateDir { dir: dir.to_path_buf(), error })?;
     let csv = dir.join(format!("{}_candidates.csv", spec.name));
-    write_records(&candidate_records(spec, result), &csv).map_err(|e| e.to_string())?;
+    write_records(&candidate_records(spec, result), &csv)?;
     written.files.push(csv);
     let skipped = dir.join(format!("{}_skipped.csv", spec.name));
-    write_records(&skipped_records(spec, result), &skipped).map_err(|e| e.to_string())?;
+    write_records(&skipped_records(spec, result), &skipped)?;
     written.files.push(skipped);
     if let Some(k) = result.recommended {
         let best = dir.join(format!("{}_best.toml", spec.name));
-        guard::write(&best, best_study(spec, result, k).as_bytes(), &[]).map_err(|e| e.to_string())?;
+        guard::write(&best, best_study(spec, result, k).as_bytes(), &[])?;
         written.files.push(best);
         let change = dir.join(format!("{}_scene_change.toml", spec.name));
-        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[]).map_err(|e| e.to_string())?;
+        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[])?;
         written.files.push(change);
     }
     let note = dir.join(format!("{}_recommendation.txt", spec.name));
-    guard::write(&note, format!("{text}\n").as_bytes(), &[]).map_err(|e| e.to_string())?;
+    guard::write(&note, format!("{text}\n").as_bytes(), &[])?;
     written.files.push(note);
     let plots = dir.join("plots");
     let options = ChartOptions { format: Format::Png, subject: Some(spec.name.clone()), ..Default::default() };
@@ -604,13 +638,13 @@ pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str)
     let chart = plots.join(format!("{}_cost_vs_difference.png", spec.name));
     match cost_vs_difference_chart(&points, recommended, &options, &chart) {
         Ok(()) => written.files.push(chart),
-        Err(e) => written.chart_errors.push(e.to_string()),
+        Err(e) => written.chart_errors.push(e),
     }
     let series = lever_series(spec, result);
     let chart = plots.join(format!("{}_cost_along_levers.png", spec.name));
     match cost_along_levers_chart(&series, &options, &chart) {
         Ok(()) => written.files.push(chart),
-        Err(e) => written.chart_errors.push(e.to_string()),
+        Err(e) => written.chart_errors.push(e),
     }
     Ok(written)
 }
@@ -674,27 +708,32 @@ fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
     spec.levers.iter().map(|l| value(&l.key)).collect()
 }
 
-/// Writes CSV records, the first one the column names, whole or not at all ([`guard::write_with`]),
-/// and their metadata sidecar (units, datatypes).
-fn write_records(records: &[Vec<String>], path: &Path) -> Result<(), guard::GuardError> {
+/// Writes a table as CSV (the column names, then the rows), whole or not at all
+/// ([`guard::write_with`]), and its metadata sidecar (units, datatypes from the cells' types).
+fn write_records(table: &Table, path: &Path) -> Result<(), guard::GuardError> {
     guard::write_with(path, &[], guard::Existing::Any, |out| {
-        records.iter().try_for_each(|row| csv::write_record(&mut *out, row))
+        csv::write_record(&mut *out, &table.columns)?;
+        table.rows.iter().try_for_each(|row| {
+            let fields: Vec<String> = row.iter().map(ToString::to_string).collect();
+            csv::write_record(&mut *out, &fields)
+        })
     })?;
-    let Some((names, rows)) = records.split_first() else { return Ok(()) };
-    csv::write_metadata(path, &csv::ColumnMeta::declared_from_rows(names, rows))
+    let columns: Vec<csv::ColumnMeta> =
+        table.columns.iter().enumerate().map(|(k, name)| csv::ColumnMeta::declared(name, table.datatype(k))).collect();
+    csv::write_metadata(path, &columns)
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.
-pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
-    let header = ["candidate", "origin", "settings", "reason"].map(String::from).to_vec();
-    let skipped = result.candidates.iter().filter(|c| c.runs.is_empty()).map(|c| {
+pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Table {
+    let columns = ["candidate", "origin", "settings", "reason"].map(String::from).to_vec();
+    let rows = result.candidates.iter().filter(|c| c.runs.is_empty()).map(|c| {
         let reason = match &c.predicted_invalid {
             Some(why) => why.to_string(),
             None => "not run: the budget or the spend limit ran out first".into(),
         };
-        vec![c.id.to_string(), c.origin.name().into(), settings(spec, c), reason]
+        vec![Cell::Whole(c.id as i64), Cell::text(c.origin.name()), Cell::Text(settings(spec, c)), Cell::Text(reason)]
     });
-    std::iter::once(header).chain(skipped).collect()
+    Table { columns, rows: rows.collect() }
 }
 
 /// The recommendation as a change to the tune file: the `[scene]` keys to set, levers only.
@@ -727,22 +766,22 @@ fn in_stage(key: &str) -> Option<(&str, &str)> {
     key.strip_prefix("stages.")?.split_once('.')
 }
 
-/// The candidates table (`<name>_candidates.csv`): the column names, the reference, then every setting
-/// that ran with its levers, n, cost (the objective's mean, and its ratio to the reference's), metric means, decisions and verification (the settings not run
-/// are in [`skipped_records`]).
-pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<String>> {
+/// The candidates table (`<name>_candidates.csv`): the reference, then every setting that ran with
+/// its levers, n, cost (the objective's mean, and its ratio to the reference's), metric means,
+/// decisions and verification (the settings not run are in [`skipped_records`]).
+pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Table {
     let reference = stats::describe(&result.reference_costs());
-    let mut header: Vec<String> = vec!["candidate".into(), "origin".into()];
-    header.extend(spec.levers.iter().map(|l| l.key.clone()));
-    header.extend(["n".into(), format!("{}_mean", spec.search.objective.name()), "cost_ratio".into()]);
+    let mut columns: Vec<String> = vec!["candidate".into(), "origin".into()];
+    columns.extend(spec.levers.iter().map(|l| l.key.clone()));
+    columns.extend(["n".into(), format!("{}_mean", spec.search.objective.name()), "cost_ratio".into()]);
     for keep in &spec.keep {
-        header.extend([
+        columns.extend([
             format!("{}_mean", keep.metric),
             format!("{}_difference", keep.metric),
             format!("{}_decision", keep.metric),
         ]);
     }
-    header.extend([
+    columns.extend([
         "worst_difference_over_tolerance".into(),
         "decision".into(),
         "reason".into(),
@@ -751,69 +790,62 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Vec<Vec<Stri
         "verify_decision".into(),
         "recommended".into(),
     ]);
-    let mut records = vec![header];
     let mean_of = |runs: &[super::Outcome], k: usize| {
         stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
     };
-    let reference_row: Vec<String> =
+    let count = |n: usize| Cell::Whole(n as i64);
+    let reference_row: Vec<Cell> =
         {
-            let mut row = vec!["0".to_string(), "reference".into()];
+            let mut row = vec![Cell::Whole(0), Cell::text("reference")];
             let values = spec.reference_values();
             row.extend(spec.levers.iter().map(|l| {
-                values.iter().find(|(k, _, _)| *k == l.key).map(|(_, v, _)| v.to_string()).unwrap_or_default()
+                values.iter().find(|(k, _, _)| *k == l.key).map_or(Cell::Empty, |(_, v, _)| Cell::of_param(v))
             }));
-            row.extend([result.reference.len().to_string(), format!("{:?}", reference.mean), "1.0".into()]);
+            row.extend([count(result.reference.len()), Cell::number(reference.mean), Cell::Number(1.0)]);
             for k in 0..spec.keep.len() {
-                row.extend([format!("{:?}", mean_of(&result.reference, k)), "0.0".into(), String::new()]);
+                row.extend([Cell::number(mean_of(&result.reference, k)), Cell::Number(0.0), Cell::Empty]);
             }
-            row.extend(["0.0".into(), "reference".into()]);
-            row.extend(std::iter::repeat_n(String::new(), 5));
+            row.extend([Cell::Number(0.0), Cell::text("reference")]);
+            row.extend(std::iter::repeat_n(Cell::Empty, 5));
             row
         };
-    records.push(reference_row);
+    let mut rows = vec![reference_row];
     for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
         let a = result.assess(cand);
-        let mut row = vec![cand.id.to_string(), cand.origin.name().to_string()];
-        row.extend(
-            lever_values(spec, cand)
-                .iter()
-                .map(|v| v.as_ref().map(crate::output::table::param_text).unwrap_or_default()),
-        );
-        let number = |x: f64| if x.is_finite() { format!("{x:?}") } else { String::new() };
-        row.extend([a.n.to_string(), number(a.cost), number(a.cost / reference.mean)]);
+        let mut row = vec![count(cand.id), Cell::text(cand.origin.name())];
+        row.extend(lever_values(spec, cand).iter().map(|v| v.as_ref().map_or(Cell::Empty, Cell::of_param)));
+        row.extend([count(a.n), Cell::number(a.cost), Cell::number(a.cost / reference.mean)]);
         for k in 0..spec.keep.len() {
-            let mean = if cand.runs.is_empty() { f64::NAN } else { mean_of(&cand.runs, k) };
+            let mean = Cell::number(if cand.runs.is_empty() { f64::NAN } else { mean_of(&cand.runs, k) });
             match a.tests.get(k) {
-                Some(t) => row.extend([number(mean), number(t.difference), decision_name(t.decision).into()]),
-                None => row.extend([number(mean), String::new(), String::new()]),
+                Some(t) => row.extend([mean, Cell::number(t.difference), Cell::text(decision_name(t.decision))]),
+                None => row.extend([mean, Cell::Empty, Cell::Empty]),
             }
         }
         let reason = match &a.state {
-            State::Feasible => String::new(),
-            _ => failure_reason(spec, result, &a),
+            State::Feasible => Cell::Empty,
+            _ => Cell::Text(failure_reason(spec, result, &a)),
         };
-        row.extend([number(a.worst), a.state.name().into(), reason]);
+        row.extend([Cell::number(a.worst), Cell::text(a.state.name()), reason]);
         match result.assess_verification(cand) {
-            Some(v) => row.extend([v.n.to_string(), number(v.cost / reference.mean), v.state.name().into()]),
-            None => row.extend([String::new(), String::new(), String::new()]),
+            Some(v) => row.extend([count(v.n), Cell::number(v.cost / reference.mean), Cell::text(v.state.name())]),
+            None => row.extend([Cell::Empty, Cell::Empty, Cell::Empty]),
         }
-        row.push((result.recommended == Some(index)).to_string());
-        records.push(row);
+        row.push(Cell::Flag(result.recommended == Some(index)));
+        rows.push(row);
     }
-    records
+    Table { columns, rows }
 }
 
 /// The tune's section of the report page: the recommendation, the cost-versus-deviation chart (SVG)
 /// and the candidates table.
-pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Result<TuneSection, String> {
+pub fn report_section(spec: &TuneSpec, result: &SearchResult, text: &str) -> Result<TuneSection, PlotError> {
     let options = ChartOptions { subject: Some(spec.name.clone()), ..Default::default() };
     let (points, recommended) = cost_points(result);
     let mut chart_svg = String::new();
-    cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg).map_err(|e| e.to_string())?;
+    cost_vs_difference_chart(&points, recommended, &options, &mut chart_svg)?;
     let mut candidates = candidate_records(spec, result);
-    if let Some(names) = candidates.first_mut() {
-        names.iter_mut().for_each(|name| *name = quantity::label(name));
-    }
+    candidates.columns.iter_mut().for_each(|name| *name = quantity::label(name));
     Ok(TuneSection { recommendation: text.to_string(), chart_svg, candidates })
 }
 

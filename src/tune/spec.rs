@@ -2,19 +2,47 @@
 //! settings and the [`TuneSpec`] that holds them with the reference scene (loading and checking are
 //! in `file`).
 
+use std::fmt;
 use std::path::PathBuf;
 use std::sync::Arc;
 
 use serde::Deserialize;
 
 use crate::physics::SceneConfig;
+use crate::physics::config::ConfigIssue;
 use crate::physics::particles::InitialDisk;
-use crate::study::file::{KeyPath, set_path};
+use crate::study::file::{KeyPath, SetPathError, set_path};
 use crate::study::{OutputOptions, ParamValue};
 
 /// Significant digits lever values are rounded to (clean values in the best study, and candidates
 /// that differ by less are the same candidate).
 pub(super) const DIGITS: i32 = 4;
+
+/// Why a tune's scene with some lever values set is no scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneError {
+    /// A lever's key cannot be set in the scene as written.
+    Key(SetPathError),
+    /// The scene does not read as one (a value of the wrong type, an unknown key).
+    Read(toml::de::Error),
+    /// Values the scene's checks refuse.
+    Invalid(Vec<ConfigIssue>),
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Key(e) => write!(f, "{e}"),
+            SceneError::Read(e) => write!(f, "{}", e.message()),
+            SceneError::Invalid(issues) => {
+                let issues: Vec<String> = issues.iter().map(|i| format!("{}: {}", i.key, i.reason)).collect();
+                write!(f, "{}", issues.join("; "))
+            }
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
 
 /// The range of one lever.
 #[derive(Clone, Debug, PartialEq)]
@@ -232,26 +260,24 @@ pub struct TuneSpec {
 
 impl TuneSpec {
     /// The scene with `values` set on the base scene.
-    pub fn scene(&self, values: &[(String, ParamValue)]) -> Result<SceneConfig, String> {
-        let tree = self.edited_tree(values)?;
-        let mut scene: SceneConfig = toml::Value::Table(tree).try_into().map_err(|e| e.message().to_string())?;
+    pub fn scene(&self, values: &[(String, ParamValue)]) -> Result<SceneConfig, SceneError> {
+        let tree = self.edited_tree(values).map_err(SceneError::Key)?;
+        let mut scene: SceneConfig = toml::Value::Table(tree).try_into().map_err(SceneError::Read)?;
         if let Some(disks) = &self.initial {
             scene.particles.count = disks.len();
         }
-        scene.validate().map_err(|issues| {
-            issues.iter().map(|i| format!("{}: {}", i.key, i.reason)).collect::<Vec<_>>().join("; ")
-        })?;
+        scene.validate().map_err(SceneError::Invalid)?;
         Ok(scene)
     }
 
     /// The scene of a standard setting.
-    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, String> {
+    pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, SceneError> {
         self.scene(&standard.values)
     }
 
     /// The scene as written with lever values set: a standard setting's when `standard` is given,
     /// else those at `point`.
-    pub fn setting_tree(&self, point: &[f64], standard: Option<usize>) -> Result<toml::Table, String> {
+    pub fn setting_tree(&self, point: &[f64], standard: Option<usize>) -> Result<toml::Table, SetPathError> {
         self.edited_tree(&self.setting_values(point, standard))
     }
 
@@ -263,7 +289,7 @@ impl TuneSpec {
         }
     }
 
-    fn edited_tree(&self, values: &[(String, ParamValue)]) -> Result<toml::Table, String> {
+    fn edited_tree(&self, values: &[(String, ParamValue)]) -> Result<toml::Table, SetPathError> {
         let mut tree = self.base.clone();
         for (key, value) in values {
             let path: KeyPath = key.split('.').map(String::from).collect();

@@ -36,7 +36,7 @@ pub fn predicted_warnings(
 pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<StabilityReport, ScreenError> {
     let disks = match initial {
         Some(disks) => disks.to_vec(),
-        None => placement::generate(scene).map_err(|e| ScreenError::Placement(e.key.to_string(), e.reason))?,
+        None => placement::generate(scene).map_err(ScreenError::Placement)?,
     };
     Ok(predict_stability(scene, &disks))
 }
