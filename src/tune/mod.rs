@@ -92,6 +92,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         budget: s.budget,
         seed: s.seed,
         initial: s.initial,
+        dissipation: spec.levers.iter().map(|l| ladder::dissipation(&l.key)).collect(),
         standards: spec.standards.len(),
         path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
         max_spend: s.max_spend,
