@@ -227,7 +227,7 @@ enum Command {
                       both integrators), `stability` (where runs blow up against the predicted safe time step), \
                       `stress` (edge-case scenes and their statuses), `skipping` (time saved by stopping at \
                       settle, sparse diagnostics and frictionless shortcuts), `tune` (tune against a \
-                      brute-force ladder of time steps).",
+                      brute-force ladder over its levers).",
         after_help = "Example:\n  demsweep bench stability --out /tmp/bench"
     )]
     Bench(bench::BenchArgs),

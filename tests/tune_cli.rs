@@ -257,3 +257,25 @@ fn a_tune_without_a_time_step_lever_changes_no_time_step_key() {
         );
     }
 }
+
+#[test]
+fn a_wall_time_tune_states_the_same_cost_when_rerun() {
+    // Restitution and time step keep the reference's configuration: its wall time per particle-step
+    // prices every run, so the stated cost is the particle-steps' and does not follow the load.
+    let dir = runner_common::scratch("tune_wall_time");
+    let file = write_tune(&dir, &TUNE.replace("[search]\n", "[search]\nobjective = \"wall_time\"\n"));
+    let sheets: Vec<String> = ["first", "second"]
+        .iter()
+        .map(|name| {
+            let run = tune(&file, &dir.join(name), &["--jobs", "2"]);
+            assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+            paragraph(&text(&run.stdout))
+        })
+        .collect();
+    let cost = |sheet: &str| {
+        let line = sheet.lines().find(|l| l.starts_with("Cost (wall_time")).unwrap_or_else(|| panic!("{sheet}"));
+        line.split(" a speedup").next().unwrap().to_string()
+    };
+    assert_eq!(cost(&sheets[0]), cost(&sheets[1]), "{}\n---\n{}", sheets[0], sheets[1]);
+    assert!(sheets[0].contains("ns per particle-step"), "{}", sheets[0]);
+}

@@ -112,6 +112,7 @@ fn config() -> SearchConfig {
         budget: 400,
         seed: 5,
         initial: None,
+        dissipation: vec![0.0; 2],
         standards: 0,
         path: false,
         max_spend: 20.0,

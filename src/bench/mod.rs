@@ -9,7 +9,8 @@
 //!   and restarted, by damping ratio;
 //! - [`stress`]: edge-case scenes, each ending with a clear status and message;
 //! - [`skipping`]: time saved by stopping at settle, sparse diagnostics and frictionless shortcuts;
-//! - [`tune`]: `demsweep tune` against a brute-force ladder of time steps on the reference's seeds.
+//! - [`tune`]: `demsweep tune` against a brute-force ladder over its levers on fresh seeds
+//!   ([`tune_ladder`]).
 
 mod error;
 
@@ -21,6 +22,7 @@ pub mod stability_map;
 pub mod stable_step;
 pub mod stress;
 pub mod tune;
+pub mod tune_ladder;
 
 use std::fmt::Write as _;
 use std::path::Path;

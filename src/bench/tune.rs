@@ -1,24 +1,19 @@
-//! Does `demsweep tune` answer where an answer exists? On each tune file: tune, then a brute-force
-//! ladder of time steps on the same seeds as tune's reference: the first standard setting (the time
-//! step alone at `limits.contact_time_fraction` of the contact time) at `LADDER_FACTORS` of that
-//! fraction, each rung on every reference seed, judged exactly as tune judges (validity over the runs
-//! together, held to the reference where it breaks a limit; every kept metric equivalent by two
-//! one-sided tests). The goal: tune's verified cost is within [`GOAL_RATIO`] of the ladder's cheapest
-//! valid, equivalent rung, or tune stops early naming a metric it cannot decide; and tune spends at
-//! most its `search.max_spend`.
+//! Does `demsweep tune` answer where an answer exists? On each tune file: tune, then the brute-force
+//! ladder over the same levers on fresh seeds ([`super::tune_ladder`]). The goal: tune's verified
+//! cost is within [`GOAL_RATIO`] of the ladder's cheapest valid, equivalent rung, or tune stops early
+//! naming a metric it cannot decide (no answer keeps the reference's settings, at cost 1); and tune
+//! spends at most its `search.max_spend`. Tune's answer is
+//! also run on the ladder's seeds, so that it is judged on the same runs as the ladder.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use super::tune_ladder::{DEAR, GridLadder, LADDER_FACTORS, MAX_GRID, Rung, grid_ladder};
 use super::{BenchError, CsvRow, create_folder, markdown_table, write_csv, write_file};
 use crate::stats;
-use crate::tune::judge::predicted_breach;
-use crate::tune::model::{Candidate, Origin, Rejection, SearchResult, State};
+use crate::tune::model::SearchResult;
 use crate::tune::report::{settings, spend};
-use crate::tune::{self, Evaluator, Job, Role, RunEvaluator, TuneOptions, TuneSpec};
-
-/// The ladder's fractions of the first standard setting's time step.
-pub const LADDER_FACTORS: [f64; 7] = [1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.4];
+use crate::tune::{self, TuneOptions, TuneSpec};
 
 /// Tune's verified cost may be at most this times the ladder's cheapest.
 pub const GOAL_RATIO: f64 = 1.25;
@@ -47,30 +42,6 @@ impl Default for TuneBenchOptions {
     }
 }
 
-/// One rung of the ladder.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Rung {
-    /// Its setting, in words.
-    pub setting: String,
-    /// Its cost over the reference's (mean over its runs; NaN when not run).
-    pub cost_ratio: f64,
-    /// Its standing (`equivalent`, `infeasible`, `undecided`, `not_run`).
-    pub state: String,
-    /// Why, when it is not valid and equivalent.
-    pub reason: String,
-}
-
-/// The ladder on one tune file.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Ladder {
-    /// Its rungs, dearest first.
-    pub rungs: Vec<Rung>,
-    /// The cheapest valid, equivalent rung: cost ratio and setting.
-    pub best: Option<(f64, String)>,
-    /// Runs made.
-    pub runs: usize,
-}
-
 /// One scene's comparison.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TuneBenchRow {
@@ -90,7 +61,7 @@ pub struct TuneBenchRow {
     pub tune_spend: f64,
     /// The kept metric tune could not decide, when it stopped for that.
     pub undecided_metric: String,
-    /// The ladder's rungs, dearest first.
+    /// The ladder's rungs.
     pub rungs: Vec<Rung>,
     /// The ladder's cheapest valid, equivalent rung's cost ratio (NaN when none).
     pub ladder_ratio: f64,
@@ -98,6 +69,10 @@ pub struct TuneBenchRow {
     pub ladder_best: String,
     /// Runs of the ladder.
     pub ladder_runs: usize,
+    /// Tune's answer on the ladder's fresh seeds: its cost ratio (NaN when there is no answer).
+    pub answer_on_ladder_ratio: f64,
+    /// Its standing there (`equivalent`, `infeasible`, …; empty when there is no answer).
+    pub answer_on_ladder_state: String,
     /// Tune answered within [`GOAL_RATIO`] of the ladder (or no cheaper rung exists and tune gave none),
     /// or stopped naming a metric, and spent at most its limit.
     pub goal_met: bool,
@@ -116,6 +91,8 @@ impl CsvRow for TuneBenchRow {
         ("ladder_best", ""),
         ("ladder_cost_ratio", ""),
         ("ladder_runs", ""),
+        ("answer_on_ladder_cost_ratio", ""),
+        ("answer_on_ladder_state", ""),
         ("tune_over_ladder", ""),
         ("goal_met", ""),
     ];
@@ -134,6 +111,8 @@ impl CsvRow for TuneBenchRow {
             q(&self.ladder_best),
             format!("{:.4}", self.ladder_ratio),
             self.ladder_runs.to_string(),
+            format!("{:.4}", self.answer_on_ladder_ratio),
+            self.answer_on_ladder_state.clone(),
             format!("{:.3}", self.tune_ratio / self.ladder_ratio),
             self.goal_met.to_string(),
         ]
@@ -183,15 +162,23 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         None if !undecided_metric.is_empty() => (format!("stopped: cannot decide {undecided_metric}"), nan_ratio()),
         None => ("none".to_string(), nan_ratio()),
     };
-    let Ladder { rungs, best, runs: ladder_runs } = match undecided_metric.is_empty() {
-        true => ladder(spec, result, options)?,
-        false => Ladder::default(),
+    let ladder_options = TuneOptions {
+        jobs: options.jobs,
+        out_dir: Some(options.work_dir.join(&spec.name).join("ladder")),
+        force: true,
+        ..Default::default()
     };
+    let GridLadder { rungs, best, answer, runs: ladder_runs } = match undecided_metric.is_empty() {
+        true => grid_ladder(spec, result, ladder_options)?,
+        false => GridLadder::default(),
+    };
+    let answer_on_ladder = answer.map(|r| (r.cost_ratio, r.state)).unwrap_or((f64::NAN, String::new()));
     let (ladder_ratio, ladder_best) = best.unwrap_or((f64::NAN, "none".to_string()));
     let answered = match (ratio.ratio.is_finite(), ladder_ratio.is_finite()) {
         (true, true) => ratio.ratio <= GOAL_RATIO * ladder_ratio,
         (true, false) => true,
-        (false, ladder) => !undecided_metric.is_empty() || !ladder,
+        // No answer keeps the reference's settings: cost 1.
+        (false, ladder) => !undecided_metric.is_empty() || !ladder || 1.0 <= GOAL_RATIO * ladder_ratio,
     };
     Ok(TuneBenchRow {
         scene: spec.name.clone(),
@@ -206,6 +193,8 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         ladder_ratio,
         ladder_best,
         ladder_runs,
+        answer_on_ladder_ratio: answer_on_ladder.0,
+        answer_on_ladder_state: answer_on_ladder.1,
         goal_met: answered && spent <= spec.search.max_spend,
     })
 }
@@ -214,89 +203,17 @@ fn nan_ratio() -> stats::Ratio {
     stats::ratio_interval(&[], &[])
 }
 
-/// The brute-force ladder on the reference's seeds (tune's reference runs are the yardstick: the same
-/// seeds give the same runs): every rung, its standing, and the cheapest valid, equivalent one (cost
-/// ratio, setting), with the runs made.
-fn ladder(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -> Result<Ladder, BenchError> {
-    crate::output::terminal::err(format_args!("bench tune: {} — ladder\n", spec.name));
-    let ladder_options = TuneOptions {
-        jobs: options.jobs,
-        out_dir: Some(options.work_dir.join(&spec.name).join("ladder")),
-        force: true,
-        ..Default::default()
-    };
-    let mut ladder_spec = spec.clone();
-    ladder_spec.standards.truncate(1);
-    let mut evaluator = RunEvaluator::new(&ladder_spec, &ladder_options);
-    let reference = result.reference_cost();
-    let seeds = result.reference.len() as u64;
-    let (mut rungs, mut best, mut runs) = (Vec::new(), None, 0);
-    for (index, &factor) in LADDER_FACTORS.iter().enumerate() {
-        let standard = if factor == 1.0 { Some(0) } else { evaluator.step_down(0, factor) };
-        let Some(standard) = standard else { continue };
-        let screen = evaluator.screen(&[], Some(standard));
-        let setting = evaluator.standards[standard].name.clone();
-        let candidate = Candidate {
-            id: index + 1,
-            point: Vec::new(),
-            standard: Some(standard),
-            identity: screen.identity.clone(),
-            origin: Origin::Path,
-            predicted_invalid: None,
-            runs: Vec::new(),
-            verification: Vec::new(),
-            verify_seeds: Vec::new(),
-            relative_cost: screen.relative_cost,
-            stepped_from: None,
-        };
-        if screen.relative_cost.is_some_and(|r| r >= 1.0) {
-            continue;
-        }
-        let mut judged = result.clone();
-        judged.candidates = vec![candidate];
-        let predicted = screen.predicted.ok().and_then(|w| predicted_breach(&w, &result.reference_checks));
-        if let Some((check, _)) = predicted {
-            let reason = Rejection::Invalid(check).to_string();
-            rungs.push(Rung { setting, cost_ratio: f64::NAN, state: "not_run".into(), reason });
-            continue;
-        }
-        let jobs: Vec<Job> = (0..seeds)
-            .map(|seed| Job {
-                candidate: index + 1,
-                point: Vec::new(),
-                role: Role::Search,
-                seed,
-                standard: Some(standard),
-                cap: None,
-            })
-            .collect();
-        let outcomes = evaluator.evaluate(&jobs)?;
-        runs += jobs.len();
-        let a = judged.assess_runs(&outcomes);
-        let cost_ratio = a.cost / reference;
-        if a.state == State::Feasible && best.as_ref().is_none_or(|(r, _)| cost_ratio < *r) {
-            best = Some((cost_ratio, setting.clone()));
-        }
-        let reason = match &a.state {
-            State::Feasible => String::new(),
-            State::Infeasible(why) => why.to_string(),
-            other => other.name().to_string(),
-        };
-        rungs.push(Rung { setting, cost_ratio, state: a.state.name().to_string(), reason });
-    }
-    Ok(Ladder { rungs, best, runs })
-}
-
 fn markdown(rows: &[TuneBenchRow]) -> String {
-    let mut text = String::from("# Tune against a brute-force ladder of time steps\n\n");
+    let mut text = String::from("# Tune against a brute-force ladder over its levers\n\n");
     let _ = writeln!(
         text,
         "Regenerate with `demsweep bench tune --update-results` (or on any tune file: `demsweep bench tune --tune \
-         FILE`). The ladder: the time step alone at {} of `limits.contact_time_fraction` of the contact time, each \
-         rung on the reference's seeds, judged as tune judges. Cost ratio: mean particle-steps per run over the \
-         reference's (tune: on its fresh verification seeds). Goal: tune within {GOAL_RATIO}x of the ladder's \
-         cheapest valid, equivalent rung (or it stops naming a metric it cannot decide), spending at most its \
-         limit.\n",
+         FILE`). The ladder, on fresh seeds (a reference of its own on the same seeds): tune's answer, the \
+         standard settings and the time step at {} of the first, a grid over the levers (at most {MAX_GRID} \
+         points) and the half-steps around its best point, judged as tune judges; runs stop at {DEAR} times the \
+         reference's cost. Cost ratio: mean particle-steps per run over the reference's (tune: on its fresh \
+         verification seeds). Goal: tune within {GOAL_RATIO}x of the ladder's cheapest valid, equivalent rung \
+         (or it stops naming a metric it cannot decide), spending at most its limit.\n",
         LADDER_FACTORS.map(|f| f.to_string()).join(", ")
     );
     let header = [
@@ -308,6 +225,7 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
         "ladder: cheapest valid & equivalent",
         "ladder: cost",
         "tune / ladder",
+        "tune's answer on the ladder's seeds",
         "goal met",
     ];
     let table: Vec<Vec<String>> = rows
@@ -322,6 +240,7 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
                 r.ladder_best.clone(),
                 format!("{:.3}", r.ladder_ratio),
                 format!("{:.2}", r.tune_ratio / r.ladder_ratio),
+                format!("{:.3}, {}", r.answer_on_ladder_ratio, r.answer_on_ladder_state),
                 r.goal_met.to_string(),
             ]
         })

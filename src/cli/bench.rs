@@ -50,9 +50,9 @@ enum Which {
         #[arg(long, default_value = "studies/damping_sweep.toml")]
         study: PathBuf,
     },
-    /// `demsweep tune` against a brute-force ladder of time steps (the time step alone at 1.0 … 0.4 of
-    /// the contact-time limit, each on the reference's seeds) on each tune file: tune's verified cost
-    /// against the ladder's cheapest valid, equivalent rung, and tune's spend (minutes on 2 cores).
+    /// `demsweep tune` against a brute-force ladder over its levers (standard settings, time-step rungs,
+    /// a grid and its half-steps, on fresh seeds) on each tune file: tune's verified cost against the
+    /// ladder's cheapest valid, equivalent rung, and tune's spend (minutes to hours on 2 cores).
     Tune {
         /// Tune files (default: studies/tune_deposition.toml and studies/tune_polydisperse.toml).
         #[arg(long = "tune", value_name = "FILE")]

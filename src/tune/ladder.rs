@@ -18,6 +18,18 @@ pub const STANDARD_RAYLEIGH_FRACTION: f64 = 0.2;
 pub const TIME_STEP_KEYS: [&str; 3] =
     ["integrator.time_step", "integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
 
+/// +1 where raising the key dissipates more energy per contact or per step (a damping coefficient),
+/// -1 where lowering it does (a restitution), 0 otherwise: the direction in which a deposition
+/// settles sooner, other things equal.
+pub fn dissipation(key: &str) -> f64 {
+    let last = key.rsplit('.').next().unwrap_or(key);
+    match last {
+        "local" | "viscous" | "beta" | "dissipation_time" | "local_gravity" => 1.0,
+        "restitution" => -1.0,
+        _ => 0.0,
+    }
+}
+
 /// The lever that sets the time step, when one does (the first written).
 pub fn time_step_lever(levers: &[Lever]) -> Option<&Lever> {
     levers.iter().find(|l| TIME_STEP_KEYS.contains(&l.key.as_str()))

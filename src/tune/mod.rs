@@ -16,6 +16,7 @@ pub mod report;
 pub mod search;
 pub mod spec;
 pub mod validity;
+pub mod wall_rate;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -33,6 +34,7 @@ use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::{self, ProgressMode, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
 use model::{Reading, RunFailure, ScreenError};
+use wall_rate::WallRates;
 
 /// How to run a tune.
 #[derive(Clone, Debug, Default)]
@@ -90,6 +92,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         budget: s.budget,
         seed: s.seed,
         initial: s.initial,
+        dissipation: spec.levers.iter().map(|l| ladder::dissipation(&l.key)).collect(),
         standards: spec.standards.len(),
         path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
         max_spend: s.max_spend,
@@ -111,8 +114,10 @@ pub fn tune(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneReport, Tu
     let mut evaluator = RunEvaluator::new(spec, options);
     let searched = search::search(&search_config(spec), &mut evaluator);
     let (reused, ran, total_particle_steps) = (evaluator.reused, evaluator.ran, evaluator.particle_steps);
+    let wall_rates = evaluator.wall_rates.all().to_vec();
     spec.standards = evaluator.standards;
-    let result = searched?;
+    let mut result = searched?;
+    result.wall_rates = wall_rates;
     Ok(TuneReport {
         result,
         results: results_path(spec, options.out_dir.as_deref()),
@@ -198,6 +203,8 @@ pub struct RunEvaluator<'a> {
     pub ran: usize,
     /// Particle-steps of every run evaluated.
     pub particle_steps: f64,
+    /// With wall time as the objective: each configuration's wall time per particle-step.
+    pub wall_rates: WallRates,
 }
 
 impl<'a> RunEvaluator<'a> {
@@ -224,6 +231,7 @@ impl<'a> RunEvaluator<'a> {
             reused: 0,
             ran: 0,
             particle_steps: 0.0,
+            wall_rates: WallRates::default(),
         }
     }
 
@@ -323,13 +331,20 @@ impl Evaluator for RunEvaluator<'_> {
             rows.warnings = typed_warnings(&report.results)?;
         }
         let mut outcomes = Vec::with_capacity(jobs.len());
+        let mut steps = Vec::with_capacity(jobs.len());
         for (k, job) in jobs.iter().enumerate() {
             let run = &self.plan.runs[first_index + k];
-            let (outcome, steps) = rows
+            let (outcome, particle_steps) = rows
                 .outcome(run, job, self.spec)
                 .ok_or_else(|| TuneError::MissingRun { results: report.results.clone(), run: run.id.clone() })?;
-            self.particle_steps += steps;
+            self.particle_steps += particle_steps;
             outcomes.push(outcome);
+            steps.push(particle_steps);
+        }
+        if self.spec.search.objective == Objective::WallTime {
+            let configurations: Vec<String> =
+                self.plan.runs[first_index..].iter().map(|r| wall_rate::configuration(&r.scene)).collect();
+            self.price_wall_time(&configurations, &steps, &mut outcomes);
         }
         if self.options.verbose {
             crate::output::terminal::out(format_args!(
@@ -338,6 +353,29 @@ impl Evaluator for RunEvaluator<'_> {
             ));
         }
         Ok(outcomes)
+    }
+}
+
+impl RunEvaluator<'_> {
+    /// Prices each run's wall time at its configuration's rate ([`wall_rate`]), measuring the rates of
+    /// this batch first (a run's cost is its measured wall time until then).
+    fn price_wall_time(&mut self, configurations: &[String], steps: &[f64], outcomes: &mut [Outcome]) {
+        let mut seen: Vec<&String> = configurations.iter().collect();
+        seen.sort();
+        seen.dedup();
+        for configuration in seen {
+            let per_run: Vec<f64> = (0..configurations.len())
+                .filter(|&k| &configurations[k] == configuration)
+                .map(|k| outcomes[k].cost / steps[k])
+                .collect();
+            self.wall_rates.record(configuration, &per_run);
+        }
+        for (k, outcome) in outcomes.iter_mut().enumerate() {
+            let rate = self.wall_rates.rate(&configurations[k]);
+            if rate.is_finite() && steps[k] > 0.0 {
+                outcome.cost = steps[k] * rate;
+            }
+        }
     }
 }
 

@@ -38,6 +38,10 @@ pub struct SearchConfig {
     pub seed: u64,
     /// Points of the initial design (None: from the dimension and the budget).
     pub initial: Option<usize>,
+    /// Per lever: +1 where raising it dissipates more (a damping), -1 where lowering it does (a
+    /// restitution), 0 where unknown: until measured settle times say otherwise, the cheap corner
+    /// takes the dissipative end (settling sooner).
+    pub dissipation: Vec<f64>,
     /// Standard settings the evaluator knows (the ladder).
     pub standards: usize,
     /// Whether the first standard setting is the time step alone at its largest valid value: the top
@@ -513,4 +517,6 @@ pub struct SearchResult {
     pub undecidable: Vec<Undecidable>,
     /// The time-step path's rungs (candidate indices, in the order run) and how it ended.
     pub path: (Vec<usize>, PathEnd),
+    /// With wall time as the objective: the rate each configuration's runs were priced at.
+    pub wall_rates: Vec<super::wall_rate::WallRate>,
 }

@@ -170,6 +170,32 @@ fn ended(runs: &[&Outcome]) -> String {
 }
 
 /// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
+/// With wall time as the objective: how runs were priced, and each configuration's rate with its
+/// spread between batches (empty otherwise).
+fn wall_rate_lines(result: &SearchResult) -> String {
+    if result.wall_rates.is_empty() {
+        return String::new();
+    }
+    let mut text = String::from(
+        "Wall time is priced as each run's particle-steps times its configuration's wall time per particle-step, \
+         measured on the first batch that ran it (settings of one configuration compare as their particle-steps; \
+         between configurations the ratio holds as far as the batches' rates agree):\n",
+    );
+    for r in &result.wall_rates {
+        let spread = match r.batches {
+            1 => "measured in one batch".to_string(),
+            n => format!(
+                "{}-{} ns between {n} batches ({}x)",
+                short(r.low * 1e9),
+                short(r.high * 1e9),
+                short(r.high / r.low)
+            ),
+        };
+        let _ = writeln!(text, "- {}: {} ns per particle-step, {spread}", r.configuration, short(r.rate * 1e9));
+    }
+    text
+}
+
 pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
     if !result.undecidable.is_empty() {
         return undecidable_text(spec, result);
@@ -222,6 +248,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 against_standard(spec, result, &costs)
             );
             let _ = writeln!(text, "{}", payback(result, ratio.ratio, spent));
+            text.push_str(&wall_rate_lines(result));
             let _ = writeln!(
                 text,
                 "Pile metrics, recommendation minus reference with 90 % interval and in the reference's \
@@ -889,6 +916,7 @@ mod tests {
             budget: 100,
             undecidable: Vec::new(),
             path: (Vec::new(), PathEnd::NotRun),
+            wall_rates: Vec::new(),
         }
     }
 

@@ -93,6 +93,8 @@ struct Search<'a, E> {
     next_seed: u64,
     /// The most the spend may reach while the time-step path runs (cost units).
     path_limit: f64,
+    /// Whether the cheap corner was proposed.
+    corner_tried: bool,
 }
 
 /// What the time-step path does next.
@@ -121,6 +123,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             budget: config.budget,
             undecidable: Vec::new(),
             path: (Vec::new(), PathEnd::NotRun),
+            wall_rates: Vec::new(),
         };
         let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
         Self {
@@ -133,6 +136,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             spent: 0.0,
             next_seed,
             path_limit: f64::INFINITY,
+            corner_tried: false,
         }
     }
 
@@ -396,6 +400,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 self.step_down(index)?;
             }
         }
+        if let Some(k) = self.cheap_corner()
+            && self.fits_candidate(k)
+        {
+            self.run_more(&[(k, c.seeds)])?;
+        }
         while self.extra_seeds(search_end)? {}
         self.verify(|c| c.standard.is_some())
     }
@@ -647,20 +656,25 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// What a verification round would cost (in reference runs) when candidate `k` may be the one
-    /// verified: the dearer of its round and that of the cheapest candidate in the running not yet
-    /// verified (on as many seeds as its search runs, at least `verify_seeds`).
+    /// verified: the dearer of its round and [`Self::pending_reservation`].
     fn reservation(&self, k: usize) -> f64 {
+        let seeds = self.config.verify_seeds;
+        let own = seeds as f64 * self.expected_cost(k);
+        self.pending_reservation().map_or(own, |pending| own.max(pending))
+    }
+
+    /// What verifying any candidate in the running not yet verified may cost (in reference runs, on as
+    /// many seeds as its search runs, at least `verify_seeds`): the dearest such round, so that the
+    /// incumbent's stays affordable whichever candidate turns out the answer.
+    fn pending_reservation(&self) -> Option<f64> {
         let reference = self.result.reference_cost();
         let seeds = self.config.verify_seeds;
-        let pending = self
-            .result
+        self.result
             .candidates
             .iter()
             .filter(|c| c.verification.is_empty() && self.in_running(c))
-            .map(|c| (self.result.assess(c).cost / reference, c.runs.len().max(seeds) as f64))
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let own = seeds as f64 * self.expected_cost(k);
-        pending.map_or(own, |(cost, n)| own.max(cost * n))
+            .map(|c| self.result.assess(c).cost / reference * c.runs.len().max(seeds) as f64)
+            .reduce(f64::max)
     }
 
     /// A candidate's predicted cost in reference runs: its time step's ([`Candidate::relative_cost`])
@@ -709,25 +723,25 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// The point a DEM engineer tries first: every lever at the end of its range that the predicted
-    /// time step (fitted over every point screened) and the measured settle times say is cheaper
-    /// ([`CORNER_SLOPE`]: a lever that moves neither stays at the centre); while predicted invalid,
-    /// halfway nearer the centre. Returns the runnable candidate, if one is new.
+    /// time step (screened at both ends, the other levers at the centre) and the measured settle times
+    /// (else the lever's dissipation, [`SearchConfig::dissipation`]) say is cheaper ([`CORNER_SLOPE`]:
+    /// a lever that moves neither stays at the centre); while predicted invalid, halfway nearer the
+    /// centre. Returns the runnable candidate, if one is new; tried once.
     fn cheap_corner(&mut self) -> Option<usize> {
+        if std::mem::replace(&mut self.corner_tried, true) {
+            return None;
+        }
         let dims = self.config.dims;
-        let rows: Vec<(Vec<f64>, f64)> = self
-            .result
-            .candidates
-            .iter()
-            .filter(|c| c.standard.is_none())
-            .filter_map(|c| Some((c.point.clone(), c.relative_cost?)))
-            .collect();
-        let time_step = fit::log_linear(&rows, dims)?;
-        let settle = self.settle_fit().unwrap_or_else(|| vec![0.0; dims + 1]);
+        let time_step = self.time_step_slopes();
+        let settle = self.settle_fit().map(|fit| fit[1..].to_vec());
         let mut corner: Vec<f64> = (0..dims)
-            .map(|d| match time_step[d + 1] + settle[d + 1] {
-                slope if slope.abs() < CORNER_SLOPE => 0.5,
-                slope if slope < 0.0 => 1.0,
-                _ => 0.0,
+            .map(|d| {
+                let settle = settle.as_ref().map_or(-2.0 * CORNER_SLOPE * self.config.dissipation[d], |s| s[d]);
+                match time_step[d] + settle {
+                    slope if slope.abs() < CORNER_SLOPE => 0.5,
+                    slope if slope < 0.0 => 1.0,
+                    _ => 0.0,
+                }
             })
             .collect();
         for _ in 0..CORNER_TRIES {
@@ -743,6 +757,26 @@ impl<'a, E: Evaluator> Search<'a, E> {
         None
     }
 
+    /// Per lever: the log of the predicted cost at the top of its range over that at the bottom (the
+    /// other levers at the centre), from the time steps the two settings resolve to; 0 where either
+    /// cannot be predicted.
+    fn time_step_slopes(&mut self) -> Vec<f64> {
+        let dims = self.config.dims;
+        (0..dims)
+            .map(|d| {
+                let mut cost = |u: f64| {
+                    let mut point = vec![0.5; dims];
+                    point[d] = u;
+                    self.evaluator.screen(&design::snap(&point, &self.config.levels), None).relative_cost
+                };
+                match (cost(0.0), cost(1.0)) {
+                    (Some(low), Some(high)) if low > 0.0 && high > 0.0 => (high / low).ln(),
+                    _ => 0.0,
+                }
+            })
+            .collect()
+    }
+
     /// Gives more seeds to undecided candidates that could still win; false when there are none.
     fn extra_seeds(&mut self, end: usize) -> Result<bool, TuneError> {
         let (_, incumbent_cost) = self.incumbent();
@@ -752,7 +786,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let a = self.result.assess(cand);
             let Some(more) = self.more_seeds(cand).filter(|_| a.cost < incumbent_cost) else { continue };
             let cost = more as f64 * a.cost / reference;
-            let reserve = (a.n + more).max(self.config.verify_seeds) as f64 * a.cost / reference;
+            let own = (a.n + more).max(self.config.verify_seeds) as f64 * a.cost / reference;
+            let reserve = own.max(self.pending_reservation().unwrap_or(0.0));
             if self.result.runs + runs + more <= end && self.fits_price(runs + more, price + cost + reserve) {
                 chosen.push((k, more));
                 (runs, price) = (runs + more, price + cost);
@@ -1018,7 +1053,10 @@ impl<'a, E: Evaluator> Search<'a, E> {
 fn judge_time_step_cure(warning: &ValidityWarning) -> Option<f64> {
     let scales = matches!(
         warning.kind,
-        WarningKind::TimeStepCapped | WarningKind::ContactTimeFraction | WarningKind::DampingRate
+        WarningKind::TimeStepCapped
+            | WarningKind::ContactTimeFraction
+            | WarningKind::DampingRate
+            | WarningKind::IntegratorStability
     );
     (scales && warning.value > 0.0).then(|| 0.99 * warning.limit / warning.value)
 }

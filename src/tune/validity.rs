@@ -6,11 +6,15 @@ use super::model::ScreenError;
 use super::spec::{DIGITS, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
-use crate::physics::warning::ValidityWarning;
+use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step};
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
 const CLIP_STEPS: usize = 24;
+
+/// A range is clipped where any of this many placement seeds (the reference's and the next ones, those
+/// the tune's runs use) predicts a breach: the hardest impact differs from seed to seed.
+const CLIP_SEEDS: u64 = 16;
 
 /// What a scene resolves to: its JSON with the time step that actually runs in place of the fractions
 /// that chose it (two settings with the same identity make the same runs).
@@ -42,11 +46,22 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 }
 
 /// Clips every continuous lever's range where, with the other keys at the reference's values, it
-/// reaches past a validity limit (the end predicted invalid while the reference's value is valid):
-/// the new end is the last valid value found by bisection. Returns a warning per clipped lever naming
-/// the limit. A lever with no valid value found is left as it is (the screen rejects its points).
+/// reaches past a validity limit on any of [`CLIP_SEEDS`] placements (the end predicted invalid while
+/// the reference's value is valid): the new end is the last valid value found by bisection. Returns a
+/// warning per clipped lever naming the limit. A lever with no valid value found is left as it is
+/// (the screen rejects its points).
 pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
     let mut warnings = Vec::new();
+    let placements: Vec<Vec<InitialDisk>> = match spec.initial.as_deref() {
+        Some(disks) => vec![disks.clone()],
+        None => (0..CLIP_SEEDS)
+            .filter_map(|s| {
+                let mut scene = spec.reference.clone();
+                scene.placement.seed = scene.placement.seed.wrapping_add(s);
+                placement::generate(&scene).ok()
+            })
+            .collect(),
+    };
     for d in 0..spec.levers.len() {
         let lever = spec.levers[d].clone();
         let (low, high, integer, log) = match lever.range {
@@ -57,13 +72,27 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         if integer {
             continue;
         }
+        // A lever that moves the disks is judged on its own placement; any other on every seed's.
+        let own_placement = ["particles.", "domain.", "placement."].iter().any(|p| lever.key.starts_with(p));
+        let named = |warnings: Vec<ValidityWarning>| {
+            warnings.first().map(|w| match w.kind {
+                WarningKind::IntegratorStability => "the stable step of integrator.scheme at this damping",
+                kind => kind.limit_key(),
+            })
+        };
         // The limit a value breaks (its key), or "a placement" when it cannot start.
         let problem = |u: f64| -> Option<&'static str> {
             let scene = spec.scene(&[(lever.key.clone(), lever.value(u))]).ok()?;
-            match predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)) {
-                Ok(w) => w.first().map(|w| w.kind.limit_key()),
-                Err(_) => Some("a placement that fails"),
+            if own_placement || placements.is_empty() {
+                return match predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)) {
+                    Ok(w) => named(w),
+                    Err(_) => Some("a placement that fails"),
+                };
             }
+            placements.iter().find_map(|disks| match predicted_warnings(&scene, Some(disks)) {
+                Ok(w) => named(w),
+                Err(_) => Some("a placement that fails"),
+            })
         };
         let inside = spec.reference_values().into_iter().find(|(k, _, _)| *k == lever.key).and_then(|(_, _, c)| c);
         let (bad_low, bad_high) = (problem(0.0), problem(1.0));
@@ -101,8 +130,8 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         };
         named.dedup();
         warnings.push(format!(
-            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted with the other keys at the \
-             reference's values): clipped to [{new_low}, {new_high}]",
+            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {CLIP_SEEDS} placement \
+             seeds with the other keys at the reference's values): clipped to [{new_low}, {new_high}]",
             lever.key,
             named.join(" and ")
         ));
