@@ -637,8 +637,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut order = fresh.to_vec();
         order.sort_by(|&a, &b| self.expected_cost(a).total_cmp(&self.expected_cost(b)).then(a.cmp(&b)));
         let (mut chosen, mut price) = (Vec::new(), 0.0);
+        // Without a settle fit, a batch of new settings is priced at no less than the reference's
+        // settle time: the one or two that settled fast say little of the next.
+        let unfitted = self.settle_fit().is_none();
         for k in order {
-            let cost = seeds as f64 * self.expected_cost(k);
+            let time_step = self.result.candidates[k].relative_cost.unwrap_or(1.0);
+            let per_run = if unfitted { self.expected_cost(k).max(time_step) } else { self.expected_cost(k) };
+            let cost = seeds as f64 * per_run;
             let runs = (chosen.len() + 1) * seeds;
             if self.result.runs + runs <= end && self.fits_price(runs, price + cost + self.reservation(k)) {
                 chosen.push((k, seeds));
@@ -684,15 +689,15 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// A candidate's predicted cost in reference runs: its time step's ([`Candidate::relative_cost`])
     /// times the settle time the settled runs so far predict at its point (the log-linear fit of
-    /// measured cost over predicted, [`Self::settle_fit`]; without one, the mean settle time measured
-    /// but at least the reference's: a setting or two that settled fast say little of the next).
+    /// measured cost over predicted, [`Self::settle_fit`]; without one, the mean settle time measured,
+    /// else the reference's).
     fn expected_cost(&self, k: usize) -> f64 {
         let cand = &self.result.candidates[k];
         let factors: Vec<f64> = self.settle_factors().into_iter().map(|(_, f)| f).collect();
         let mean = if factors.is_empty() { 1.0 } else { stats::describe(&factors).mean };
         let settle = match (self.settle_fit(), cand.standard) {
             (Some(b), None) => (b[0] + cand.point.iter().zip(&b[1..]).map(|(x, c)| x * c).sum::<f64>()).exp(),
-            _ => mean.max(1.0),
+            _ => mean,
         };
         cand.relative_cost.unwrap_or(1.0) * settle.clamp(0.05, 20.0)
     }
