@@ -159,6 +159,7 @@ fn config() -> SearchConfig {
         seed: 11,
         initial: None,
         dissipation: vec![0.0; 2],
+        home: vec![None; 2],
         standards: 0,
         path: true,
         max_spend: 1e9,

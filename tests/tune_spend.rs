@@ -113,6 +113,7 @@ fn config() -> SearchConfig {
         seed: 5,
         initial: None,
         dissipation: vec![0.0; 2],
+        home: vec![None; 2],
         standards: 0,
         path: false,
         max_spend: 20.0,
@@ -204,4 +205,20 @@ fn a_cheap_corner_that_needs_more_than_max_seeds_to_decide_is_found() {
         .map(|o| o.cost)
         .sum();
     assert!(spent <= config.max_spend * 100.0, "{spent}");
+}
+
+#[test]
+fn the_cheap_corner_lowers_the_restitution_and_keeps_the_users_numerical_damping() {
+    // A restitution (first lever, dissipative downwards) and a local damping (second, the user's 0 at
+    // coordinate 0): the lowest restitution settles soonest and keeps the pile; local damping past
+    // 0.3 of its range changes it.
+    let stand_in =
+        StandIn { settle: |p| 0.6 + 0.4 * p[0], offset: |p| if p[1] > 0.3 { 0.2 } else { 0.0 }, ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { dissipation: vec![-1.0, 0.0], home: vec![Some(0.75), Some(0.0)], ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let first = result.candidates.iter().find(|c| c.standard.is_none()).expect("a search point");
+    assert_eq!(first.point, vec![0.0, 0.0], "the corner comes first:\n{}", dump(&result));
+    let (cost, best) = answer(&result);
+    assert!(best.point[1] <= 0.3 && cost < 0.7, "{cost} at {:?}", best.point);
 }

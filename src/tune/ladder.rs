@@ -18,13 +18,14 @@ pub const STANDARD_RAYLEIGH_FRACTION: f64 = 0.2;
 pub const TIME_STEP_KEYS: [&str; 3] =
     ["integrator.time_step", "integrator.contact_time_fraction", "integrator.rayleigh_fraction"];
 
-/// +1 where raising the key dissipates more energy per contact or per step (a damping coefficient),
-/// -1 where lowering it does (a restitution), 0 otherwise: the direction in which a deposition
-/// settles sooner, other things equal.
+/// +1 where raising the key makes each contact dissipate more (the contact damping β, a dissipation
+/// time), -1 where lowering it does (a restitution), 0 otherwise: the direction in which a deposition
+/// settles sooner, other things equal, while keeping its pile. Numerical damping (local, viscous)
+/// also settles sooner but loosens the pile as it grows: 0, its standard setting tries it.
 pub fn dissipation(key: &str) -> f64 {
     let last = key.rsplit('.').next().unwrap_or(key);
     match last {
-        "local" | "viscous" | "beta" | "dissipation_time" | "local_gravity" => 1.0,
+        "beta" | "dissipation_time" => 1.0,
         "restitution" => -1.0,
         _ => 0.0,
     }

@@ -38,10 +38,14 @@ pub struct SearchConfig {
     pub seed: u64,
     /// Points of the initial design (None: from the dimension and the budget).
     pub initial: Option<usize>,
-    /// Per lever: +1 where raising it dissipates more (a damping), -1 where lowering it does (a
-    /// restitution), 0 where unknown: until measured settle times say otherwise, the cheap corner
-    /// takes the dissipative end (settling sooner).
+    /// Per lever: +1 where raising it makes the contacts dissipate more (a contact damping), -1 where
+    /// lowering it does (a restitution), 0 otherwise: until measured settle times say otherwise, the
+    /// cheap corner takes the dissipative end (settling sooner).
     pub dissipation: Vec<f64>,
+    /// Per lever: the coordinate of the reference's value, when in range: where the cheap corner
+    /// leaves a lever that moves neither the time step nor, as far as known, the settle time
+    /// (numerical damping stays the user's); None: the centre.
+    pub home: Vec<Option<f64>>,
     /// Standard settings the evaluator knows (the ladder).
     pub standards: usize,
     /// Whether the first standard setting is the time step alone at its largest valid value: the top

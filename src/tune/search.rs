@@ -637,8 +637,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut order = fresh.to_vec();
         order.sort_by(|&a, &b| self.expected_cost(a).total_cmp(&self.expected_cost(b)).then(a.cmp(&b)));
         let (mut chosen, mut price) = (Vec::new(), 0.0);
+        // Without a settle fit, a batch of new settings is priced at no less than the reference's
+        // settle time: the one or two that settled fast say little of the next.
+        let unfitted = self.settle_fit().is_none();
         for k in order {
-            let cost = seeds as f64 * self.expected_cost(k);
+            let time_step = self.result.candidates[k].relative_cost.unwrap_or(1.0);
+            let per_run = if unfitted { self.expected_cost(k).max(time_step) } else { self.expected_cost(k) };
+            let cost = seeds as f64 * per_run;
             let runs = (chosen.len() + 1) * seeds;
             if self.result.runs + runs <= end && self.fits_price(runs, price + cost + self.reservation(k)) {
                 chosen.push((k, seeds));
@@ -663,18 +668,23 @@ impl<'a, E: Evaluator> Search<'a, E> {
         self.pending_reservation().map_or(own, |pending| own.max(pending))
     }
 
-    /// What verifying any candidate in the running not yet verified may cost (in reference runs, on as
-    /// many seeds as its search runs, at least `verify_seeds`): the dearest such round, so that the
-    /// incumbent's stays affordable whichever candidate turns out the answer.
+    /// What verifying a candidate in the running not yet verified may cost (in reference runs, on as
+    /// many seeds as its search runs, at least `verify_seeds`): the dearer of the cheapest one's round
+    /// (verified first) and the cheapest feasible one's (the answer when the cheaper ones fail).
     fn pending_reservation(&self) -> Option<f64> {
         let reference = self.result.reference_cost();
         let seeds = self.config.verify_seeds;
-        self.result
-            .candidates
-            .iter()
-            .filter(|c| c.verification.is_empty() && self.in_running(c))
-            .map(|c| self.result.assess(c).cost / reference * c.runs.len().max(seeds) as f64)
-            .reduce(f64::max)
+        let pending = |feasible_only: bool| {
+            self.result
+                .candidates
+                .iter()
+                .filter(|c| c.verification.is_empty() && self.in_running(c))
+                .map(|c| (self.result.assess(c), c.runs.len().max(seeds) as f64))
+                .filter(|(a, _)| !feasible_only || a.state == State::Feasible)
+                .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
+                .map(|(a, n)| a.cost / reference * n)
+        };
+        [pending(false), pending(true)].into_iter().flatten().reduce(f64::max)
     }
 
     /// A candidate's predicted cost in reference runs: its time step's ([`Candidate::relative_cost`])
@@ -725,8 +735,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The point a DEM engineer tries first: every lever at the end of its range that the predicted
     /// time step (screened at both ends, the other levers at the centre) and the measured settle times
     /// (else the lever's dissipation, [`SearchConfig::dissipation`]) say is cheaper ([`CORNER_SLOPE`]:
-    /// a lever that moves neither stays at the centre); while predicted invalid, halfway nearer the
-    /// centre. Returns the runnable candidate, if one is new; tried once.
+    /// a lever that moves neither stays at the reference's value, [`SearchConfig::home`]); while
+    /// predicted invalid, halfway nearer the centre. Returns the runnable candidate, if one is new;
+    /// tried once.
     fn cheap_corner(&mut self) -> Option<usize> {
         if std::mem::replace(&mut self.corner_tried, true) {
             return None;
@@ -738,7 +749,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .map(|d| {
                 let settle = settle.as_ref().map_or(-2.0 * CORNER_SLOPE * self.config.dissipation[d], |s| s[d]);
                 match time_step[d] + settle {
-                    slope if slope.abs() < CORNER_SLOPE => 0.5,
+                    slope if slope.abs() < CORNER_SLOPE => self.config.home.get(d).copied().flatten().unwrap_or(0.5),
                     slope if slope < 0.0 => 1.0,
                     _ => 0.0,
                 }
