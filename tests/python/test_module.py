@@ -244,7 +244,15 @@ def test_runs_release_the_interpreter(tiny):
 def test_ctrl_c_stops_the_runs_and_raises_keyboard_interrupt(tiny):
     endless = dict(tiny, run=dict(tiny["run"], stop_at_settle=False, duration=1e4))
     code = f"import demsweep\nprint('running', flush=True)\ndemsweep.run({endless!r}, seeds=2)\n"
-    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # A shell that runs the tests in the background ignores SIGINT, and a child started with SIGINT
+    # ignored gets no KeyboardInterrupt: the child starts with the default action, as from a terminal.
+    child = subprocess.Popen(
+        [sys.executable, "-c", code],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     assert child.stdout.readline().strip() == "running"
     time.sleep(0.5)
     child.send_signal(signal.SIGINT)
