@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use demsweep::output::table::ColumnData;
-use demsweep::output::{self, Field, OutputError, SummaryTable, dyn_sink, layout, reader, stored};
+use demsweep::output::{self, Field, MemorySink, OutputError, SummaryTable, dyn_sink, layout, reader, stored};
 use demsweep::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
 use demsweep::physics::record::{DISK_FIELDS, Snapshot};
 use demsweep::runner::{self, ProgressMode, RunCounts, RunOptions};
@@ -33,10 +33,6 @@ use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
 mod command {
     pub mod cli;
 }
-
-mod memory;
-
-use memory::InMemory;
 
 create_exception!(_native, DemsweepError, PyException, "Any error the demsweep library reports.");
 create_exception!(
@@ -291,13 +287,14 @@ fn run_batch<'py>(
 
 /// Runs every run of `plans` on `jobs` worker threads into memory: each plan's summary table.
 fn run_in_memory(py: Python<'_>, plans: &[study::Plan], jobs: usize) -> PyResult<Vec<SummaryTable>> {
-    let results: Vec<InMemory> = plans.iter().map(|_| InMemory::default()).collect();
+    let results: Vec<MemorySink> = plans.iter().map(|_| MemorySink::default()).collect();
     let batches = (plans.iter().zip(&results))
         .map(|(plan, memory)| runner::Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(memory.clone())] })
         .collect();
     let stop = Arc::new(AtomicBool::new(false));
     detached(py, &stop, || runner::run_batches(batches, jobs, &stop))?.map_err(results_error)?;
-    let complete = |(plan, memory): (&study::Plan, &InMemory)| memory.summary().filter(|t| t.len() == plan.runs.len());
+    let complete =
+        |(plan, memory): (&study::Plan, &MemorySink)| memory.summary().filter(|t| t.len() == plan.runs.len());
     let tables: Option<Vec<_>> = plans.iter().zip(&results).map(complete).collect();
     tables.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }

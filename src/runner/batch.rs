@@ -38,33 +38,10 @@ pub fn run_batches(batches: Vec<Batch<'_>>, requested: usize, stop: &Arc<AtomicB
 
 #[cfg(test)]
 mod tests {
-    use std::convert::Infallible;
     use std::path::Path;
-    use std::sync::Mutex;
 
     use super::*;
-    use crate::output::{ResultSink, RunResult, SummaryTable, Tables, dyn_sink};
-
-    /// The summary a batch's sink receives at the end.
-    #[derive(Clone, Default)]
-    struct Summary(Arc<Mutex<Option<SummaryTable>>>);
-
-    impl ResultSink for Summary {
-        type Error = Infallible;
-
-        fn accept(&mut self, _: &RunResult) -> Result<(), Infallible> {
-            Ok(())
-        }
-
-        fn commit(&mut self) -> Result<(), Infallible> {
-            Ok(())
-        }
-
-        fn finish(self: Box<Self>, tables: &Tables) -> Result<(), Infallible> {
-            *self.0.lock().unwrap() = Some(tables.summary.clone());
-            Ok(())
-        }
-    }
+    use crate::output::{MemorySink, SummaryTable, dyn_sink};
 
     #[test]
     fn each_batch_gets_its_own_runs_whatever_the_workers() {
@@ -77,14 +54,14 @@ mod tests {
         };
         let (three, one) = (plan(vec![5, 1, 3]), plan(vec![1]));
         let summaries = |jobs: usize| {
-            let sinks = [Summary::default(), Summary::default()];
+            let sinks = [MemorySink::default(), MemorySink::default()];
             let batches = [&three, &one]
                 .iter()
                 .zip(&sinks)
                 .map(|(plan, sink)| Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(sink.clone())] })
                 .collect();
             run_batches(batches, jobs, &Arc::new(AtomicBool::new(false))).unwrap();
-            sinks.map(|sink| sink.0.lock().unwrap().take().expect("finished").without_timing())
+            sinks.map(|sink| sink.summary().expect("finished").without_timing())
         };
         let [first, second] = summaries(1);
         let two = summaries(2);
