@@ -330,14 +330,10 @@ mod tests {
     use super::*;
     use crate::study::ParamValue;
 
-    fn lever(key: &str, range: LeverRange) -> Lever {
-        Lever { key: key.into(), path: key.split('.').map(String::from).collect(), range }
-    }
-
     #[test]
     fn the_grid_spans_every_lever_within_its_size() {
-        let linear = |k: &str| lever(k, LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
-        let list = lever(
+        let linear = |k: &str| Lever::new(k, LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
+        let list = Lever::new(
             "integrator.scheme",
             LeverRange::List(vec![ParamValue::Text("a".into()), ParamValue::Text("b".into())]),
         );
@@ -359,8 +355,8 @@ mod tests {
     #[test]
     fn half_steps_stay_inside_the_range_and_leave_lists_alone() {
         let levers = [
-            lever("a", LeverRange::Linear { low: 0.0, high: 1.0, integer: false }),
-            lever("b", LeverRange::List(vec![ParamValue::Int(1), ParamValue::Int(2)])),
+            Lever::new("a", LeverRange::Linear { low: 0.0, high: 1.0, integer: false }),
+            Lever::new("b", LeverRange::List(vec![ParamValue::Int(1), ParamValue::Int(2)])),
         ];
         let step = 1.0 / (levels(&levers)[0].len() - 1) as f64;
         assert_eq!(half_steps(&levers, &[0.0, 0.25]), vec![vec![step / 2.0, 0.25]]);

@@ -137,14 +137,12 @@ pub fn stepped_down(setting: &StandardSetting, factor: f64) -> Option<StandardSe
 mod tests {
     use super::*;
 
-    fn lever(key: &str, range: LeverRange) -> Lever {
-        Lever { key: key.into(), path: key.split('.').map(String::from).collect(), range }
-    }
-
     #[test]
     fn a_stepped_down_rung_rounds_its_fraction_down() {
-        let levers =
-            [lever("integrator.contact_time_fraction", LeverRange::Linear { low: 0.01, high: 0.2, integer: false })];
+        let levers = [Lever::new(
+            "integrator.contact_time_fraction",
+            LeverRange::Linear { low: 0.01, high: 0.2, integer: false },
+        )];
         let ladder = standard_settings(&SceneConfig::default(), &levers);
         assert_eq!(ladder[0].values, vec![(levers[0].key.clone(), ParamValue::Float(0.1))], "at the limit");
         let stepped = stepped_down(&ladder[0], 0.8 / 1.08).unwrap();
@@ -155,8 +153,9 @@ mod tests {
     #[test]
     fn the_ladder_sets_only_the_levers_it_is_given() {
         let scene = SceneConfig::default();
-        let damping = lever("damping.local", LeverRange::Linear { low: 0.0, high: 0.1, integer: false });
-        let restitution = lever("material.restitution", LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
+        let damping = Lever::new("damping.local", LeverRange::Linear { low: 0.0, high: 0.1, integer: false });
+        let restitution =
+            Lever::new("material.restitution", LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
         let ladder = standard_settings(&scene, &[restitution.clone(), damping.clone()]);
         assert_eq!(ladder.len(), 1, "{ladder:?}");
         assert_eq!(
@@ -165,8 +164,10 @@ mod tests {
             "clamped to the range"
         );
         assert!(standard_settings(&scene, &[restitution]).is_empty());
-        let step =
-            lever("integrator.time_step", LeverRange::List(vec![ParamValue::Float(1e-6), ParamValue::Float(4e-6)]));
+        let step = Lever::new(
+            "integrator.time_step",
+            LeverRange::List(vec![ParamValue::Float(1e-6), ParamValue::Float(4e-6)]),
+        );
         let ladder = standard_settings(&scene, &[step, damping]);
         let keys: Vec<Vec<&str>> = ladder.iter().map(|s| s.values.iter().map(|(k, _)| k.as_str()).collect()).collect();
         assert_eq!(keys, vec![vec!["integrator.time_step"], vec!["integrator.time_step", "damping.local"]]);

@@ -93,8 +93,8 @@ struct Search<'a, E> {
     next_seed: u64,
     /// The most the spend may reach while the time-step path runs (cost units).
     path_limit: f64,
-    /// Whether the cheap corner was proposed.
-    corner_tried: bool,
+    /// The cheap corner once proposed: its candidate, if it was a new runnable one.
+    corner: Option<Option<usize>>,
 }
 
 /// What the time-step path does next.
@@ -136,7 +136,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             spent: 0.0,
             next_seed,
             path_limit: f64::INFINITY,
-            corner_tried: false,
+            corner: None,
         }
     }
 
@@ -155,7 +155,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
         if initial > 0 {
             let mut fresh = self.explore(initial.max(2), Origin::Initial);
-            fresh.extend(self.cheap_corner());
+            // The corner, when the standard settings' turn left no room to run it.
+            fresh.extend(self.cheap_corner().filter(|&k| self.result.candidates[k].runs.is_empty()));
             self.evaluate_new(&fresh, search_end)?;
             self.pattern_search(search_end)?;
         }
@@ -737,11 +738,17 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// (else the lever's dissipation, [`SearchConfig::dissipation`]) say is cheaper ([`CORNER_SLOPE`]:
     /// a lever that moves neither stays at the reference's value, [`SearchConfig::home`]); while
     /// predicted invalid, halfway nearer the centre. Returns the runnable candidate, if one is new;
-    /// tried once.
+    /// proposed once, the same candidate after.
     fn cheap_corner(&mut self) -> Option<usize> {
-        if std::mem::replace(&mut self.corner_tried, true) {
-            return None;
+        if let Some(corner) = self.corner {
+            return corner;
         }
+        let corner = self.propose_corner();
+        self.corner = Some(corner);
+        corner
+    }
+
+    fn propose_corner(&mut self) -> Option<usize> {
         let dims = self.config.dims;
         let time_step = self.time_step_slopes();
         let settle = self.settle_fit().map(|fit| fit[1..].to_vec());

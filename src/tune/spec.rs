@@ -67,6 +67,11 @@ pub struct Lever {
 }
 
 impl Lever {
+    /// A lever on the dotted scene key `key` (e.g. `material.restitution`) over `range`.
+    pub fn new(key: &str, range: LeverRange) -> Self {
+        Self { key: key.into(), path: key.split('.').map(String::from).collect(), range }
+    }
+
     /// The value at normalized coordinate `u` in [0, 1] (log ranges are uniform in log scale).
     pub fn value(&self, u: f64) -> ParamValue {
         let u = u.clamp(0.0, 1.0);
