@@ -15,25 +15,30 @@ fn tune_against_the_ladder_writes_its_table() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("tiny_bench.toml");
     std::fs::write(&file, TUNE.replace("name = \"tiny_tune\"", "name = \"tiny_bench\"")).unwrap();
-    let options = TuneBenchOptions { tunes: vec![file], jobs: 2, out_dir: dir.join("out"), work_dir: dir.join("work") };
+    let (out_dir, work_dir) = (dir.join("out"), dir.join("work"));
+    let options = TuneBenchOptions { tunes: vec![file], jobs: 2, out_dir, work_dir, ladder_seeds: 4 };
     let rows = tune_bench(&options).expect("the bench runs");
     assert_eq!(rows.len(), 1);
     let row = &rows[0];
     let run = row.rungs.iter().filter(|r| r.state != "not_run").count();
+    let confirmations = row.rungs.iter().filter(|r| r.reason.contains("confirmed on 4 more fresh seeds")).count();
+    assert_eq!(row.ladder_seeds, 4);
     assert!(
-        (4 + 2 * run..=4 * (run + 1)).contains(&row.ladder_runs),
-        "a fresh reference on 4 seeds and every rung that ran on 2 to 4: {row:?}"
+        (4 + 2 * run + 4 * confirmations..=4 * (run + 1 + confirmations)).contains(&row.ladder_runs),
+        "a fresh reference on 4 seeds, every rung that ran on 2 to 4, each confirmation on 4: {row:?}"
     );
     let raced_out = row.rungs.iter().filter(|r| r.state == "raced_out").count();
-    assert!(row.ladder_runs <= 4 + 4 * (run - raced_out) + 2 * raced_out, "{row:?}");
-    if let Some((cost, setting)) = row
-        .rungs
-        .iter()
-        .filter(|r| r.state == "equivalent")
-        .map(|r| (r.cost_ratio, &r.setting))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-    {
-        assert_eq!(row.ladder_ratio, cost, "the best is the cheapest equivalent rung ({setting}): {row:?}");
+    assert!(row.ladder_runs <= 4 + 4 * (run - raced_out + confirmations) + 2 * raced_out, "{row:?}");
+    // The best is the cheapest equivalent rung whose confirmation passed; every cheaper equivalent rung
+    // was tried and not confirmed.
+    let equivalent = |r: &&demsweep::bench::tune_ladder::Rung| r.state == "equivalent";
+    match row.rungs.iter().skip(1).find(|r| r.reason.starts_with("confirmed")) {
+        Some(best) => {
+            assert_eq!(row.ladder_best, best.setting, "{row:?}");
+            let cheaper = row.rungs.iter().skip(1).filter(equivalent).filter(|r| r.cost_ratio < best.cost_ratio);
+            assert!(cheaper.clone().all(|r| r.reason.starts_with("not confirmed")), "{row:?}");
+        }
+        None => assert!(row.ladder_ratio.is_nan() && row.ladder_best == "none", "{row:?}"),
     }
     let grid: Vec<_> = row.rungs.iter().filter(|r| r.setting.starts_with("material.restitution = ")).collect();
     let restitutions: std::collections::BTreeSet<_> =

@@ -222,3 +222,29 @@ fn the_cheap_corner_lowers_the_restitution_and_keeps_the_users_numerical_damping
     let (cost, best) = answer(&result);
     assert!(best.point[1] <= 0.3 && cost < 0.7, "{cost} at {:?}", best.point);
 }
+
+#[test]
+fn after_a_time_step_path_left_undecided_the_search_prices_its_points_at_their_own_time_step() {
+    // The first lever, a stiffness, makes the time step up to four times cheaper (1 - 0.75 x); above
+    // x = 0.9 the pile moves by 0.045 against a margin of 0.05, which no number of seeds decides. The
+    // time-step path runs there and stays undecided, leaving 7 of 16 reference runs: priced at the
+    // reference's time step, a verification round alone would take 8; priced at their own time step,
+    // the other settings still fit and hold the answer.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.75 * p[0],
+        offset: |p| if p[0] > 0.9 { 0.045 } else { 0.0 },
+        standards: vec![(vec![1.0, 0.5], 1.0)],
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { standards: 1, path: true, max_spend: 16.0, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    assert!(!result.path.0.is_empty(), "the path ran: {:?}\n{}", result.path, dump(&result));
+    let (cost, best) = answer(&result);
+    assert!(
+        best.standard.is_none() && best.point[0] <= 0.9 && cost < 0.6,
+        "{cost} at {:?}\n{}",
+        best.point,
+        dump(&result)
+    );
+}

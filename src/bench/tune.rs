@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use super::tune_ladder::{DEAR, GridLadder, LADDER_FACTORS, MAX_GRID, Rung, grid_ladder};
+use super::tune_ladder::{DEAR, GridLadder, LADDER_FACTORS, LADDER_SEEDS, MAX_GRID, Rung, grid_ladder};
 use super::{BenchError, CsvRow, create_folder, markdown_table, write_csv, write_file};
 use crate::stats;
 use crate::tune::model::SearchResult;
@@ -29,6 +29,8 @@ pub struct TuneBenchOptions {
     pub out_dir: PathBuf,
     /// Where the runs' results files go.
     pub work_dir: PathBuf,
+    /// Fresh seeds of the ladder (at least; the reference's count when larger).
+    pub ladder_seeds: usize,
 }
 
 impl Default for TuneBenchOptions {
@@ -38,6 +40,7 @@ impl Default for TuneBenchOptions {
             jobs: 0,
             out_dir: PathBuf::from(super::LATEST_DIR),
             work_dir: PathBuf::from(super::LATEST_DIR).join("tune_work"),
+            ladder_seeds: LADDER_SEEDS,
         }
     }
 }
@@ -69,6 +72,8 @@ pub struct TuneBenchRow {
     pub ladder_best: String,
     /// Runs of the ladder.
     pub ladder_runs: usize,
+    /// Fresh seeds each rung of the ladder may run on.
+    pub ladder_seeds: usize,
     /// Tune's answer on the ladder's fresh seeds: its cost ratio (NaN when there is no answer).
     pub answer_on_ladder_ratio: f64,
     /// Its standing there (`equivalent`, `infeasible`, …; empty when there is no answer).
@@ -91,6 +96,7 @@ impl CsvRow for TuneBenchRow {
         ("ladder_best", ""),
         ("ladder_cost_ratio", ""),
         ("ladder_runs", ""),
+        ("ladder_seeds", ""),
         ("answer_on_ladder_cost_ratio", ""),
         ("answer_on_ladder_state", ""),
         ("tune_over_ladder", ""),
@@ -111,6 +117,7 @@ impl CsvRow for TuneBenchRow {
             q(&self.ladder_best),
             format!("{:.4}", self.ladder_ratio),
             self.ladder_runs.to_string(),
+            self.ladder_seeds.to_string(),
             format!("{:.4}", self.answer_on_ladder_ratio),
             self.answer_on_ladder_state.clone(),
             format!("{:.3}", self.tune_ratio / self.ladder_ratio),
@@ -168,8 +175,8 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         force: true,
         ..Default::default()
     };
-    let GridLadder { rungs, best, answer, runs: ladder_runs } = match undecided_metric.is_empty() {
-        true => grid_ladder(spec, result, ladder_options)?,
+    let GridLadder { rungs, best, answer, runs: ladder_runs, seeds: ladder_seeds } = match undecided_metric.is_empty() {
+        true => grid_ladder(spec, result, ladder_options, options.ladder_seeds)?,
         false => GridLadder::default(),
     };
     let answer_on_ladder = answer.map(|r| (r.cost_ratio, r.state)).unwrap_or((f64::NAN, String::new()));
@@ -193,6 +200,7 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         ladder_ratio,
         ladder_best,
         ladder_runs,
+        ladder_seeds,
         answer_on_ladder_ratio: answer_on_ladder.0,
         answer_on_ladder_state: answer_on_ladder.1,
         goal_met: answered && spent <= spec.search.max_spend,
@@ -208,12 +216,15 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
     let _ = writeln!(
         text,
         "Regenerate with `demsweep bench tune --update-results` (or on any tune file: `demsweep bench tune --tune \
-         FILE`). The ladder, on fresh seeds (a reference of its own on the same seeds): tune's answer, the \
+         FILE`). The ladder, on fresh seeds (a reference of its own on the same seeds; {} or the reference's count): tune's answer, the \
          standard settings and the time step at {} of the first, a grid over the levers (at most {MAX_GRID} \
          points) and the half-steps around its best point, judged as tune judges; runs stop at {DEAR} times the \
-         reference's cost. Cost ratio: mean particle-steps per run over the reference's (tune: on its fresh \
-         verification seeds). Goal: tune within {GOAL_RATIO}x of the ladder's cheapest valid, equivalent rung \
-         (or it stops naming a metric it cannot decide), spending at most its limit.\n",
+         reference's cost. The ladder's best is the cheapest valid, equivalent rung that is so again on as many \
+         further fresh seeds (confirmed, as tune verifies). Cost ratio: mean particle-steps per run over the \
+         reference's (tune: on its fresh verification seeds; the ladder's best: over both sets). Goal: tune \
+         within {GOAL_RATIO}x of the ladder's best (no answer counts as 1), or it stops naming a metric it \
+         cannot decide, spending at most its limit.\n",
+        rows.first().map_or(LADDER_SEEDS, |r| r.ladder_seeds),
         LADDER_FACTORS.map(|f| f.to_string()).join(", ")
     );
     let header = [

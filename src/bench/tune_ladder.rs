@@ -5,11 +5,16 @@
 //! settings of its levers and the time-step rungs below the first ([`LADDER_FACTORS`]), and a full
 //! grid over the levers (each continuous lever at evenly spaced levels, as many as keep the grid within
 //! [`MAX_GRID`] points; a list lever at every value); then the half-steps around the cheapest valid,
-//! equivalent grid point. A fresh reference on the same seeds is the yardstick: every rung is judged
-//! against it (validity over the runs together, every kept metric equivalent by two one-sided tests),
-//! and runs are stopped at [`DEAR`] times its mean cost, where they can no longer be an answer. The
-//! rungs race: every one runs on the first seeds, and only those that can still be the cheapest valid,
-//! equivalent one get the rest (see [`run_settings`]).
+//! equivalent grid point. A fresh reference on the same seeds (at least [`LADDER_SEEDS`]) is the
+//! yardstick: every rung is judged against it (validity over the runs together, every kept metric
+//! equivalent by two one-sided tests), and runs are stopped at [`DEAR`] times its mean cost, where they
+//! can no longer be an answer. The rungs race: every one runs on the first seeds, and only those that
+//! can still be the cheapest valid, equivalent one get the rest (see [`run_settings`]).
+//!
+//! The cheapest of some hundred judgements is partly luck (on a noisy metric, one rung among many
+//! undecided ones comes out equivalent by chance), so the ladder's answer is confirmed as tune's is
+//! verified: the equivalent rungs, cheapest first, run on as many further fresh seeds and are judged
+//! on those alone; the first that passes is the ladder's best ([`confirm`]).
 
 use super::BenchError;
 use crate::tune::judge::{check_figures, predicted_breach};
@@ -37,6 +42,15 @@ pub struct Rung {
 /// The first seed number of the ladder: far past any seed tune gives its reference, search or
 /// verification runs.
 pub const FRESH_SEEDS: u64 = 1_000_000;
+
+/// The ladder runs every rung on this many fresh seeds by default (the reference's count when larger).
+pub const LADDER_SEEDS: usize = 10;
+
+/// The first seed of the confirmation runs: past the ladder's own seeds.
+const CONFIRM_SEEDS: u64 = FRESH_SEEDS + 500_000;
+
+/// Most equivalent rungs whose confirmation is tried.
+const CONFIRM_TRIES: usize = 3;
 
 /// The grid holds at most this many points.
 pub const MAX_GRID: usize = 81;
@@ -73,18 +87,28 @@ pub struct GridLadder {
     /// Every rung: tune's answer (when there is one) first, then the standard settings, the grid and the
     /// half-steps.
     pub rungs: Vec<Rung>,
-    /// The cheapest valid, equivalent rung other than tune's answer: cost ratio and setting.
+    /// The cheapest valid, equivalent rung other than tune's answer that its confirmation runs also
+    /// show valid and equivalent: cost ratio (over both sets of runs) and setting.
     pub best: Option<(f64, String)>,
     /// Tune's answer on the ladder's seeds: its rung.
     pub answer: Option<Rung>,
     /// Runs made, the fresh reference's included.
     pub runs: usize,
+    /// Fresh seeds a rung may run on (as many again confirm the best).
+    pub seeds: usize,
 }
 
-/// Runs the ladder of `spec` (after its tune: `spec.standards` holds every standard setting tune ran).
-pub fn grid_ladder(spec: &TuneSpec, result: &SearchResult, options: TuneOptions) -> Result<GridLadder, BenchError> {
+/// Runs the ladder of `spec` (after its tune: `spec.standards` holds every standard setting tune ran) on
+/// `seeds` fresh seeds, or the reference's count when larger.
+pub fn grid_ladder(
+    spec: &TuneSpec,
+    result: &SearchResult,
+    options: TuneOptions,
+    seeds: usize,
+) -> Result<GridLadder, BenchError> {
     let mut evaluator = RunEvaluator::new(spec, &options);
-    let seeds: Vec<u64> = (0..result.reference.len() as u64).map(|s| FRESH_SEEDS + s).collect();
+    let count = result.reference.len().max(seeds) as u64;
+    let seeds: Vec<u64> = (0..count).map(|s| FRESH_SEEDS + s).collect();
     let reference_jobs: Vec<Job> = seeds.iter().map(|&seed| job(0, &[], None, Role::Reference, seed, None)).collect();
     let reference = evaluator.evaluate(&reference_jobs).map_err(BenchError::Tune)?;
     if let Some((seed, failure)) = seeds.iter().zip(&reference).find_map(|(&s, o)| Some((s, o.failure.clone()?))) {
@@ -95,7 +119,7 @@ pub fn grid_ladder(spec: &TuneSpec, result: &SearchResult, options: TuneOptions)
     judged.reference_checks = check_figures(&reference, &[]);
     judged.reference = reference;
     let cap = (spec.search.objective == Objective::ParticleSteps).then(|| DEAR * judged.reference_cost());
-    let mut ladder = GridLadder { runs: seeds.len(), ..GridLadder::default() };
+    let mut ladder = GridLadder { runs: seeds.len(), seeds: seeds.len(), ..GridLadder::default() };
 
     let answer = result.recommended.map(|k| &result.candidates[k]);
     let mut first = Vec::new();
@@ -113,24 +137,62 @@ pub fn grid_ladder(spec: &TuneSpec, result: &SearchResult, options: TuneOptions)
     let mut judged_rungs = run_settings(&mut evaluator, &judged, &first, &seeds, cap, &mut ladder.runs)?;
     if answer.is_some() {
         ladder.answer = Some(judged_rungs.remove(0));
+        first.remove(0);
     }
     let best_point = judged_rungs
         .iter()
-        .zip(first.iter().skip(usize::from(answer.is_some())))
+        .zip(&first)
         .filter(|(rung, s)| rung.state == "equivalent" && s.standard.is_none())
         .min_by(|a, b| a.0.cost_ratio.total_cmp(&b.0.cost_ratio))
         .map(|(_, s)| s.point.clone());
     if let Some(point) = best_point {
         let near: Vec<Setting> = half_steps(&spec.levers, &point).iter().map(|p| point_setting(spec, p)).collect();
         judged_rungs.extend(run_settings(&mut evaluator, &judged, &near, &seeds, cap, &mut ladder.runs)?);
+        first.extend(near);
     }
-    ladder.best = judged_rungs
-        .iter()
-        .filter(|rung| rung.state == "equivalent")
-        .min_by(|a, b| a.cost_ratio.total_cmp(&b.cost_ratio))
-        .map(|rung| (rung.cost_ratio, rung.setting.clone()));
+    let confirm_seeds: Vec<u64> = (0..count).map(|s| CONFIRM_SEEDS + s).collect();
+    let mut trial =
+        Trial { evaluator: &mut evaluator, judged: &judged, seeds: &confirm_seeds, cap, runs: &mut ladder.runs };
+    ladder.best = confirm(&mut trial, &first, &mut judged_rungs)?;
     ladder.rungs = ladder.answer.iter().cloned().chain(judged_rungs).collect();
     Ok(ladder)
+}
+
+/// What running settings on some seeds needs: the evaluator, the yardstick, the seeds, the cost cap
+/// and the run count to add to.
+struct Trial<'a> {
+    evaluator: &'a mut RunEvaluator<'a>,
+    judged: &'a SearchResult,
+    seeds: &'a [u64],
+    cap: Option<f64>,
+    runs: &'a mut usize,
+}
+
+/// The ladder's best: the equivalent rungs, cheapest first (at most [`CONFIRM_TRIES`]), each run on
+/// the confirmation seeds and judged on those runs alone; the first that is valid and equivalent there
+/// too, with its cost over both sets. Each tried rung's reason says how its confirmation went.
+fn confirm(trial: &mut Trial, settings: &[Setting], rungs: &mut [Rung]) -> Result<Option<(f64, String)>, BenchError> {
+    let mut order: Vec<usize> = (0..rungs.len()).filter(|&k| rungs[k].state == "equivalent").collect();
+    order.sort_by(|&a, &b| rungs[a].cost_ratio.total_cmp(&rungs[b].cost_ratio));
+    let reference = trial.judged.reference_cost();
+    for k in order.into_iter().take(CONFIRM_TRIES) {
+        let mut outcomes = vec![Vec::new()];
+        let setting = std::slice::from_ref(&settings[k]);
+        run_round(trial.evaluator, setting, &[0], trial.seeds, trial.cap, &mut outcomes, trial.runs)?;
+        let a = trial.judged.assess_runs(&outcomes[0]);
+        let n = trial.seeds.len();
+        if a.state == State::Feasible {
+            let cost = (rungs[k].cost_ratio + a.cost / reference) / 2.0;
+            rungs[k].reason = format!("confirmed on {n} more fresh seeds (cost there {:.3})", a.cost / reference);
+            return Ok(Some((cost, rungs[k].setting.clone())));
+        }
+        let why = match &a.state {
+            State::Infeasible(why) => why.to_string(),
+            other => other.name().to_string(),
+        };
+        rungs[k].reason = format!("not confirmed on {n} more fresh seeds: {why}");
+    }
+    Ok(None)
 }
 
 fn mean(outcomes: &[crate::tune::model::Outcome], k: usize) -> f64 {

@@ -60,6 +60,10 @@ enum Which {
         /// Worker threads (default: all cores).
         #[arg(long, short = 'j')]
         jobs: Option<usize>,
+        /// Fresh seeds of the ladder's rungs (default 10; the reference's count when larger); as many
+        /// again confirm its best.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(2..))]
+        ladder_seeds: Option<u64>,
     },
 }
 
@@ -83,13 +87,14 @@ pub fn bench(args: &BenchArgs) -> ExitCode {
         Which::Skipping { study } => {
             skipping_options(study, out.clone()).and_then(|o| skipping(&o)).map(|_| "skipping.md")
         }
-        Which::Tune { tunes, jobs } => {
+        Which::Tune { tunes, jobs, ladder_seeds } => {
             let defaults = TuneBenchOptions::default();
             let options = TuneBenchOptions {
                 tunes: if tunes.is_empty() { defaults.tunes } else { tunes.clone() },
                 jobs: jobs.unwrap_or(0),
                 work_dir: out.join("tune_work"),
                 out_dir: out.clone(),
+                ladder_seeds: ladder_seeds.map_or(defaults.ladder_seeds, |n| n as usize),
             };
             tune_bench(&options).map(|_| "tune.md")
         }

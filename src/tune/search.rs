@@ -469,14 +469,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// How many more candidates (at `seeds` runs each) the spend limit leaves room for, keeping a
     /// verification round of the candidate that would be verified. Runs are priced at the cheapest
-    /// candidate still in the running, else at the shortest settle time measured at the reference's time
-    /// step: a gate; each candidate is priced on its own when it runs ([`Self::evaluate_new`]).
+    /// candidate still in the running, else at the least a runnable candidate may cost
+    /// ([`Self::least_cost`]): a gate; each candidate is priced on its own when it runs
+    /// ([`Self::evaluate_new`]).
     fn affordable(&self) -> usize {
         let c = self.config;
         let reference = self.result.reference_cost();
         let running = self.running_costs().into_iter().reduce(f64::min);
-        let fastest = self.settle_factors().into_iter().map(|(_, f)| f).fold(1.0, f64::min);
-        let unit = running.unwrap_or(fastest * reference);
+        let unit = running.unwrap_or_else(|| self.least_cost() * reference);
         let left = c.max_spend * reference - self.spent - c.verify_seeds as f64 * unit;
         if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
     }
@@ -703,11 +703,23 @@ impl<'a, E: Evaluator> Search<'a, E> {
         cand.relative_cost.unwrap_or(1.0) * settle.clamp(0.05, 20.0)
     }
 
+    /// The least any runnable setting may cost in reference runs: the cheapest time step of those
+    /// proposed (the cheap corner's, once proposed) at the shortest settle time measured so far.
+    fn least_cost(&self) -> f64 {
+        let runnable = self.result.candidates.iter().filter(|c| c.predicted_invalid.is_none());
+        runnable.map(|c| self.optimistic_cost(c)).fold(self.optimistic_cost_at(1.0), f64::min)
+    }
+
     /// The least a candidate may cost in reference runs: its time step's cost at the shortest settle
     /// time measured so far (relative to the reference's, at most 1).
     fn optimistic_cost(&self, cand: &Candidate) -> f64 {
+        self.optimistic_cost_at(cand.relative_cost.unwrap_or(1.0))
+    }
+
+    /// [`Self::optimistic_cost`] of a setting whose time step costs `relative_cost`.
+    fn optimistic_cost_at(&self, relative_cost: f64) -> f64 {
         let fastest = self.settle_factors().into_iter().map(|(_, f)| f).fold(1.0, f64::min);
-        cand.relative_cost.unwrap_or(1.0) * fastest
+        relative_cost * fastest
     }
 
     /// Per settled candidate (every run settled): its point and its mean cost over its time step's
