@@ -176,7 +176,7 @@ fn a_time_step_path_whose_rungs_all_fail_leaves_spend_for_the_other_levers() {
             .all(|&k| matches!(result.assess(&result.candidates[k]).state, State::Infeasible(_) | State::Cut))
     );
     let evaluated = result.candidates.iter().filter(|c| c.standard.is_none() && !c.runs.is_empty()).count();
-    assert!(evaluated >= 3, "the other levers were evaluated: {evaluated} settings");
+    assert!(evaluated >= 2, "the other levers were evaluated: {evaluated} settings");
     let (cost, best) = answer(&result);
     assert!(best.standard.is_none() && cost < 0.8, "{cost}");
 }
@@ -198,6 +198,8 @@ fn a_cheap_corner_that_needs_more_than_max_seeds_to_decide_is_found() {
     let (cost, best) = answer(&result);
     assert!(best.point[0] > 0.85, "the cheap corner is the answer: {:?} at {cost}", best.point);
     assert!(best.runs.len() > config.max_seeds, "it got the seeds that decide it: {}", best.runs.len());
+    let searched: Vec<u64> = stand_in.jobs.iter().filter(|j| j.role != Role::Verify).map(|j| j.seed).collect();
+    assert!(best.verify_seeds.iter().all(|s| !searched.contains(s)), "verified on seeds the search never ran");
     let spent: f64 = result
         .reference
         .iter()

@@ -25,7 +25,8 @@
 //!    to `max_seeds`. A new candidate predicted dearer than the cheapest one still in the running runs
 //!    one seed first, cut at that cost; points predicted [`FAR_TOO_DEAR`] are not run.
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
-//!    search, judged on those runs alone.
+//!    search (they start past the run budget), judged on those runs alone: while there is no answer,
+//!    as soon as a candidate is valid and equivalent; else when the search ends.
 
 use std::collections::HashSet;
 
@@ -125,7 +126,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             path: (Vec::new(), PathEnd::NotRun),
             wall_rates: Vec::new(),
         };
-        let next_seed = config.reference_seeds.max(config.max_seeds) as u64;
+        // No candidate runs more search seeds, nor the reference more seeds, than the whole budget.
+        let next_seed = config.reference_seeds.max(config.budget) as u64;
         Self {
             config,
             evaluator,
@@ -423,6 +425,17 @@ impl<'a, E: Evaluator> Search<'a, E> {
             }
             if self.extra_seeds(search_end)? {
                 continue;
+            }
+            // Without an answer, the cheapest feasible candidate is verified before the search spends
+            // on, as the time-step path's and the standard settings' are: an answer in hand is worth
+            // more than a slightly cheaper one the spend may not reach (on a noisy metric a
+            // verification may take several rounds).
+            if self.result.recommended.is_none() && self.incumbent().0.is_some() {
+                let before = self.result.runs;
+                self.verify(|_| true)?;
+                if self.result.runs > before {
+                    continue;
+                }
             }
             // One pattern-search round, around the best point of the lever space.
             let cost = self.incumbent().1;
@@ -1032,6 +1045,24 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .map(|(k, _, _)| k)
     }
 
+    /// The verification round (runs, price in reference runs) of the cheapest other candidate that would
+    /// be verified if candidate `k` failed: feasible in the search, not verified, cheaper than the
+    /// reference; (0, 0) when there is none.
+    fn fallback(&self, k: usize) -> (usize, f64) {
+        let result = &self.result;
+        let reference = result.reference_cost();
+        let seeds = self.config.verify_seeds;
+        result
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|&(j, c)| j != k && c.verification.is_empty())
+            .map(|(_, c)| (result.assess(c), c.runs.len().max(seeds)))
+            .filter(|(a, _)| a.state == State::Feasible && a.cost < reference)
+            .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
+            .map_or((0, 0.0), |(a, n)| (n, n as f64 * a.cost / reference))
+    }
+
     /// Runs candidate `k` on fresh seeds, `verify_seeds` at a time: once more when undecided, and
     /// again (up to [`VERIFY_ROUNDS`]) while the runs so far say two more rounds would decide it
     /// ([`runs_to_decide`]). Some(true) when it passes, Some(false) when it fails, None when the budget
@@ -1042,7 +1073,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let size = c.verify_seeds.max(self.result.candidates[k].runs.len());
         for round in 0..VERIFY_ROUNDS {
             let cost = self.result.assess(&self.result.candidates[k]).cost / self.result.reference_cost();
-            if !self.fits(size, Some(cost)) {
+            // A further round leaves room for the next candidate's first round, should this one fail.
+            let (more, fallback) = if round == 0 { (0, 0.0) } else { self.fallback(k) };
+            if !self.fits_price(size + more, size as f64 * cost + fallback) {
                 return Ok(None);
             }
             let cand = &self.result.candidates[k];
