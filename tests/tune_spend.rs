@@ -14,7 +14,8 @@ use tune_common::{hash, normal};
 /// A function of a point of the lever space.
 type Field = fn(&[f64]) -> f64;
 
-/// A reference run costs 100 (time step 1, settle time 1, metric 1 with spread 0.01). A setting at
+/// A reference run costs 100 (time step 1, settle time 1, metric 1 with spread `reference_spread`,
+/// 0.01 unless set). A setting at
 /// point `p` has time step `1 / step_cost(p)` and settle time `settle(p)`: a run costs
 /// `100 · step_cost · settle`; its metric is `1 + offset(p)` plus Gaussian noise of sd `spread(p)`. A
 /// run at a point where `settles` is false never settles and costs five times as much, unless cut.
@@ -26,6 +27,7 @@ struct StandIn {
     offset: Field,
     spread: Field,
     settles: fn(&[f64], bool) -> bool,
+    reference_spread: f64,
     standards: Vec<(Vec<f64>, f64)>,
     jobs: Vec<Job>,
 }
@@ -38,6 +40,7 @@ impl StandIn {
             offset: |_| 0.0,
             spread: |_| 0.01,
             settles: |_, _| true,
+            reference_spread: 0.01,
             standards: Vec::new(),
             jobs: Vec::new(),
         }
@@ -78,7 +81,7 @@ impl Evaluator for StandIn {
             .iter()
             .map(|job| {
                 if job.role == Role::Reference {
-                    return Outcome::settled(100.0, vec![1.0 + 0.01 * normal(job.seed)]);
+                    return Outcome::settled(100.0, vec![1.0 + self.reference_spread * normal(job.seed)]);
                 }
                 let (p, step, standard) = self.setting(&job.point, job.standard);
                 let key =
@@ -249,4 +252,28 @@ fn after_a_time_step_path_left_undecided_the_search_prices_its_points_at_their_o
         best.point,
         dump(&result)
     );
+}
+
+#[test]
+fn a_candidate_the_references_own_spread_leaves_undecided_gets_a_larger_reference() {
+    // The reference's metric spreads more than any candidate's (its first seed is an outlier), and
+    // every setting sits 0.025 from it against a margin of 0.05: with the reference's 6 runs no number
+    // of candidate seeds decides (the interval never gets narrower than about 0.022 around the
+    // difference); with 12 a few more do.
+    let stand_in =
+        StandIn { settle: |p| 1.0 - 0.5 * p[0], offset: |_| 0.025, reference_spread: 0.015, ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { max_spend: 30.0, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    assert!(
+        result.reference.len() > config.reference_seeds,
+        "the reference grew: {}\n{}",
+        result.reference.len(),
+        dump(&result)
+    );
+    assert!(result.reference.len() <= 2 * config.reference_seeds, "at most doubled: {}", result.reference.len());
+    let (cost, _) = answer(&result);
+    assert!(cost < 0.8, "{cost}\n{}", dump(&result));
+    let seeds: Vec<u64> = stand_in.jobs.iter().filter(|j| j.role == Role::Reference).map(|j| j.seed).collect();
+    assert_eq!(seeds, (0..result.reference.len() as u64).collect::<Vec<_>>(), "each reference seed once");
 }

@@ -263,7 +263,18 @@ pub fn decidability(reference: &[Outcome], margins: &[f64], max_seeds: usize) ->
 /// `t(0.95, n + n_r − 2) · √(s²/n + s_r²/n_r) < margin − |d|`; None when no number would (the
 /// difference sits on the margin, or the reference's own runs leave too wide an interval).
 pub fn runs_to_decide(reference: &[Outcome], runs: &[Outcome], margins: &[f64]) -> Option<usize> {
-    let n_r = reference.len();
+    runs_to_decide_with(reference, runs, margins, reference.len())
+}
+
+/// [`runs_to_decide`] with the reference grown to `reference_runs` runs whose mean and spread stay as
+/// they are.
+pub fn runs_to_decide_with(
+    reference: &[Outcome],
+    runs: &[Outcome],
+    margins: &[f64],
+    reference_runs: usize,
+) -> Option<usize> {
+    let n_r = reference_runs.max(reference.len());
     let column = |set: &[Outcome], k: usize| stats::describe(&set.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
     margins.iter().enumerate().try_fold(runs.len(), |most, (k, &margin)| {
         let (r, c) = (column(reference, k), column(runs, k));

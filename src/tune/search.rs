@@ -22,7 +22,8 @@
 //!    are recorded and never run); then a pattern search (compass search, Kolda, Lewis & Torczon
 //!    2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer than it.
 //!    Every candidate starts with `seeds` runs; an undecided one that could still win gets more, up
-//!    to `max_seeds`. A new candidate predicted dearer than the cheapest one still in the running runs
+//!    to `max_seeds`, then sequentially the seeds that decide it; where the reference's own spread is
+//!    what keeps it undecided, the reference grows ([`Search::grow_reference`]). A new candidate predicted dearer than the cheapest one still in the running runs
 //!    one seed first, cut at that cost; points predicted [`FAR_TOO_DEAR`] are not run.
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
 //!    search (they start past the run budget), judged on those runs alone: while there is no answer,
@@ -31,7 +32,7 @@
 use std::collections::HashSet;
 
 use super::design::{self, PRIMES, QUANT};
-use super::judge::{check_figures, cure_factor, decidability, predicted_breach, runs_to_decide};
+use super::judge::{check_figures, cure_factor, decidability, predicted_breach, runs_to_decide, runs_to_decide_with};
 use super::model::{
     Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchResult, State,
     TuneError,
@@ -171,10 +172,18 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let jobs: Vec<Job> = (0..c.reference_seeds as u64)
             .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
             .collect();
-        let outcomes = self.evaluate(&jobs)?;
-        if let Some((seed, failure)) = outcomes.iter().enumerate().find_map(|(s, o)| Some((s, o.failure.clone()?))) {
-            return Err(TuneError::ReferenceFailed { seed: seed as u64, failure });
+        self.add_reference(&jobs)
+    }
+
+    /// Runs reference `jobs` and adds them to the reference's runs; the margins and the reference's
+    /// validity figures follow all its runs. A run that fails stops the tune.
+    fn add_reference(&mut self, jobs: &[Job]) -> Result<(), TuneError> {
+        let c = self.config;
+        let outcomes = self.evaluate(jobs)?;
+        if let Some((job, failure)) = jobs.iter().zip(&outcomes).find_map(|(j, o)| Some((j, o.failure.clone()?))) {
+            return Err(TuneError::ReferenceFailed { seed: job.seed, failure });
         }
+        let outcomes: Vec<Outcome> = self.result.reference.iter().cloned().chain(outcomes).collect();
         let mut margins = Vec::new();
         for (k, &(tolerance, absolute)) in c.tolerances.iter().enumerate() {
             let values: Vec<f64> = outcomes.iter().map(|o| o.metrics[k]).collect();
@@ -190,6 +199,54 @@ impl<'a, E: Evaluator> Search<'a, E> {
         self.result.reference = outcomes;
         self.result.margins = margins;
         Ok(())
+    }
+
+    /// The cheapest way to decide undecided candidate `cand` when more of its own seeds alone cannot
+    /// (the reference's spread is what keeps its interval wide): `g` more reference runs (a multiple
+    /// of `seeds`, the reference at most doubled) and the candidate runs in all that then decide it
+    /// (at most [`SEQUENTIAL_SEEDS`] times `max_seeds`), with the price of both and of verifying it
+    /// on as many fresh seeds, in reference runs. None when no growth would.
+    fn reference_growth(&self, cand: &Candidate) -> Option<(usize, usize, f64)> {
+        let c = self.config;
+        let result = &self.result;
+        let n_r = result.reference.len();
+        let cost = result.assess(cand).cost / result.reference_cost();
+        let most = SEQUENTIAL_SEEDS * c.max_seeds;
+        (1..)
+            .map(|k| k * c.seeds)
+            .take_while(|&g| n_r + g <= 2 * c.reference_seeds)
+            .filter_map(|g| {
+                let needed = runs_to_decide_with(&result.reference, &cand.runs, &result.margins, n_r + g)?;
+                let more = needed.saturating_sub(cand.runs.len());
+                (needed <= most).then(|| (g, needed, g as f64 + (more + needed.max(c.verify_seeds)) as f64 * cost))
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+    }
+
+    /// Grows the reference when that is what decides the cheapest undecided candidate that would beat
+    /// the incumbent by a clear margin ([`CLEAR_MARGIN`]) and its own seeds alone cannot
+    /// ([`Self::reference_growth`]), within the spend limit; whether it did.
+    fn grow_reference(&mut self) -> Result<bool, TuneError> {
+        let result = &self.result;
+        let bound = (CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
+        let growth = result
+            .candidates
+            .iter()
+            .map(|c| (result.assess(c), c))
+            .filter(|(a, c)| a.state == State::Undecided && a.cost < bound && self.more_seeds(c).is_none())
+            .filter(|(a, _)| a.n >= self.config.max_seeds)
+            .min_by(|x, y| x.0.cost.total_cmp(&y.0.cost))
+            .and_then(|(_, c)| self.reference_growth(c));
+        let Some((g, needed, price)) = growth else { return Ok(false) };
+        if !self.fits_price(g + 2 * needed, price) {
+            return Ok(false);
+        }
+        let first = self.result.reference.len() as u64;
+        let jobs: Vec<Job> = (first..first + g as u64)
+            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
+            .collect();
+        self.add_reference(&jobs)?;
+        Ok(true)
     }
 
     /// Runs a batch, counting its runs and cost.
@@ -837,7 +894,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             }
         }
         if chosen.is_empty() {
-            return Ok(false);
+            return self.grow_reference();
         }
         self.run_more(&chosen)?;
         Ok(true)
