@@ -145,7 +145,9 @@ fn a_tune_over_a_stages_keys_changes_only_its_levers_and_names_the_stage() {
         .replace(
             "\"integrator.time_step\" = { log = [5e-6, 2.5e-5] }",
             "\"stages.fill.damping.local\" = { linear = [0.0, 0.7] }\n\"stages.fill.until.time\" = { linear = [0.02, 0.2] }",
-        );
+        )
+        // Its settings cost about a reference deposition each: room for a second verification round.
+        .replace("budget = 40\n", "budget = 40\nmax_spend = 40\n");
     let file = write(&dir, "tiny_tune.toml", &tune);
     let out = dir.join("out");
     let run = demsweep(&["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "2"]);
