@@ -277,3 +277,22 @@ fn a_candidate_the_references_own_spread_leaves_undecided_gets_a_larger_referenc
     let seeds: Vec<u64> = stand_in.jobs.iter().filter(|j| j.role == Role::Reference).map(|j| j.seed).collect();
     assert_eq!(seeds, (0..result.reference.len() as u64).collect::<Vec<_>>(), "each reference seed once");
 }
+
+#[test]
+fn the_time_step_path_stops_stepping_down_where_the_cheap_corner_is_cheaper() {
+    // The first lever, a stiffness, makes the time step up to five times cheaper (1 - 0.8 x). The
+    // time-step path's first rung (the reference's stiffness at 2.5 times its step) sits on the
+    // margin; a smaller step only costs more, while the softest stiffness costs 0.2 and keeps the pile.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.8 * p[0],
+        offset: |p| if p[0] < 0.1 { 0.045 } else { 0.0 },
+        standards: vec![(vec![0.0, 0.5], 2.5)],
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { standards: 1, path: true, max_spend: 30.0, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    assert_eq!(result.path.0.len(), 1, "one rung, no step down: {:?}\n{}", result.path, dump(&result));
+    let (cost, best) = answer(&result);
+    assert!(best.standard.is_none() && cost < 0.3, "{cost} at {:?}\n{}", best.point, dump(&result));
+}

@@ -12,6 +12,13 @@ use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::RunnerError;
 use crate::stats::Equivalence;
 
+/// The first seed of the verification runs (seed numbers count from the reference's placement seed):
+/// past the run budget, which neither the reference nor any candidate's search seeds can reach, so
+/// verification runs are always fresh.
+pub fn first_verification_seed(budget: usize, reference_seeds: usize) -> u64 {
+    budget.max(reference_seeds) as u64
+}
+
 /// What a search needs to know.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SearchConfig {

@@ -35,7 +35,7 @@ use super::design::{self, PRIMES, QUANT};
 use super::judge::{check_figures, cure_factor, decidability, predicted_breach, runs_to_decide, runs_to_decide_with};
 use super::model::{
     Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchResult, State,
-    TuneError,
+    TuneError, first_verification_seed,
 };
 use crate::physics::rng::Rng;
 use crate::physics::warning::{ValidityWarning, WarningKind};
@@ -97,6 +97,9 @@ struct Search<'a, E> {
     path_limit: f64,
     /// The cheap corner once proposed: its candidate, if it was a new runnable one.
     corner: Option<Option<usize>>,
+    /// The cost of the cheap corner's time step ([`Candidate::relative_cost`]), as the time-step path
+    /// starts.
+    corner_cost: Option<f64>,
 }
 
 /// What the time-step path does next.
@@ -127,8 +130,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             path: (Vec::new(), PathEnd::NotRun),
             wall_rates: Vec::new(),
         };
-        // No candidate runs more search seeds, nor the reference more seeds, than the whole budget.
-        let next_seed = config.reference_seeds.max(config.budget) as u64;
+        let next_seed = first_verification_seed(config.budget, config.reference_seeds);
         Self {
             config,
             evaluator,
@@ -140,6 +142,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             next_seed,
             path_limit: f64::INFINITY,
             corner: None,
+            corner_cost: None,
         }
     }
 
@@ -289,6 +292,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             return Ok(());
         }
         let share = if self.config.dims > 1 { PATH_SHARE } else { 1.0 };
+        // The cheap corner's time step is known before the path steps down, to weigh its rungs against.
+        self.corner_cost = self.corner_cost();
         let left = self.config.max_spend * self.result.reference_cost() - self.spent;
         self.path_limit = self.spent + share * left.max(0.0);
         let mut step = PathStep::Rung(1.0, None);
@@ -416,7 +421,10 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let (rung_cost, best_cost) = (rung_cost.unwrap_or(1.0), best_cost.unwrap_or(0.0));
         let (seeds, verify) = (self.config.seeds, self.config.verify_seeds);
         let price = seeds as f64 * rung_cost + verify as f64 * rung_cost.max(best_cost);
-        match self.fits_path(seeds + verify, price) {
+        // A bisection (no measured check to cure) to a step dearer than the cheap corner's is no longer
+        // the cheapest thing left to try.
+        let dearer = from.is_none() && self.corner_cost.is_some_and(|c| c * PATH_RESOLUTION < rung_cost);
+        match self.fits_path(seeds + verify, price) && !dearer {
             true => PathStep::Rung(next, from),
             false => verify_best(),
         }
@@ -831,19 +839,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     fn propose_corner(&mut self) -> Option<usize> {
-        let dims = self.config.dims;
-        let time_step = self.time_step_slopes();
-        let settle = self.settle_fit().map(|fit| fit[1..].to_vec());
-        let mut corner: Vec<f64> = (0..dims)
-            .map(|d| {
-                let settle = settle.as_ref().map_or(-2.0 * CORNER_SLOPE * self.config.dissipation[d], |s| s[d]);
-                match time_step[d] + settle {
-                    slope if slope.abs() < CORNER_SLOPE => self.config.home.get(d).copied().flatten().unwrap_or(0.5),
-                    slope if slope < 0.0 => 1.0,
-                    _ => 0.0,
-                }
-            })
-            .collect();
+        let mut corner = self.corner_start();
         for _ in 0..CORNER_TRIES {
             let before = self.result.candidates.len();
             if let Some(k) = self.propose(&corner, Origin::Initial) {
@@ -853,6 +849,37 @@ impl<'a, E: Evaluator> Search<'a, E> {
                 return None;
             }
             corner.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5));
+        }
+        None
+    }
+
+    /// The cheap corner as first tried (see [`Self::cheap_corner`]), before any is found invalid.
+    fn corner_start(&mut self) -> Vec<f64> {
+        let time_step = self.time_step_slopes();
+        let settle = self.settle_fit().map(|fit| fit[1..].to_vec());
+        (0..self.config.dims)
+            .map(|d| {
+                let settle = settle.as_ref().map_or(-2.0 * CORNER_SLOPE * self.config.dissipation[d], |s| s[d]);
+                match time_step[d] + settle {
+                    slope if slope.abs() < CORNER_SLOPE => self.config.home.get(d).copied().flatten().unwrap_or(0.5),
+                    slope if slope < 0.0 => 1.0,
+                    _ => 0.0,
+                }
+            })
+            .collect()
+    }
+
+    /// The predicted cost of the cheap corner's time step, screened without proposing it (halfway
+    /// nearer the centre while predicted invalid, as [`Self::cheap_corner`] does).
+    fn corner_cost(&mut self) -> Option<f64> {
+        let mut corner = self.corner_start();
+        for _ in 0..CORNER_TRIES {
+            let screen = self.evaluator.screen(&design::snap(&corner, &self.config.levels), None);
+            match &screen.predicted {
+                Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none() => return screen.relative_cost,
+                Ok(_) => corner.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5)),
+                Err(_) => return None,
+            }
         }
         None
     }

@@ -2,7 +2,7 @@
 //! validity warnings its scene's own `limits` predict ([`predicted_warnings`]), and lever ranges
 //! clipped where they reach past a limit ([`clip_levers`]).
 
-use super::model::ScreenError;
+use super::model::{ScreenError, first_verification_seed};
 use super::spec::{DIGITS, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
@@ -12,8 +12,9 @@ use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step}
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
 const CLIP_STEPS: usize = 24;
 
-/// A range is clipped where any of this many placement seeds (the reference's and the next ones, those
-/// the tune's runs use) predicts a breach: the hardest impact differs from seed to seed.
+/// A range is clipped where any of this many placement seeds from the reference's on, or as many from
+/// the first verification seed on (the seeds the tune's runs use), predicts a breach: the hardest
+/// impact differs from seed to seed.
 const CLIP_SEEDS: u64 = 16;
 
 /// What a scene resolves to: its JSON with the time step that actually runs in place of the fractions
@@ -46,7 +47,7 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 }
 
 /// Clips every continuous lever's range where, with the other keys at the reference's values, it
-/// reaches past a validity limit on any of [`CLIP_SEEDS`] placements (the end predicted invalid while
+/// reaches past a validity limit on any of twice [`CLIP_SEEDS`] placements (the end predicted invalid while
 /// the reference's value is valid): the new end is the last valid value found by bisection. Returns a
 /// warning per clipped lever naming the limit. A lever with no valid value found is left as it is
 /// (the screen rejects its points).
@@ -55,6 +56,9 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
     let placements: Vec<Vec<InitialDisk>> = match spec.initial.as_deref() {
         Some(disks) => vec![disks.clone()],
         None => (0..CLIP_SEEDS)
+            .chain(
+                (0..CLIP_SEEDS).map(|s| s + first_verification_seed(spec.search.budget, spec.search.reference_seeds())),
+            )
             .filter_map(|s| {
                 let mut scene = spec.reference.clone();
                 scene.placement.seed = scene.placement.seed.wrapping_add(s);
@@ -129,11 +133,15 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
             LeverRange::Linear { low: new_low, high: new_high, integer }
         };
         named.dedup();
+        let over = match spec.initial {
+            Some(_) => "the placement file's disks".to_string(),
+            None => format!("{} placement seeds, the search's and the verification's", placements.len()),
+        };
         warnings.push(format!(
-            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {CLIP_SEEDS} placement \
-             seeds with the other keys at the reference's values): clipped to [{new_low}, {new_high}]",
+            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {over}, with the other \
+             keys at the reference's values): clipped to [{new_low}, {new_high}]",
             lever.key,
-            named.join(" and ")
+            named.join(" and "),
         ));
     }
     warnings
