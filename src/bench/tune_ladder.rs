@@ -9,12 +9,12 @@
 //! yardstick: every rung is judged against it (validity over the runs together, every kept metric
 //! equivalent by two one-sided tests), and runs are stopped at [`DEAR`] times its mean cost, where they
 //! can no longer be an answer. The rungs race: every one runs on the first seeds, and only those that
-//! can still be the cheapest valid, equivalent one get the rest (see [`run_settings`]).
+//! can still be the cheapest valid, equivalent one get the rest (see `run_settings`).
 //!
 //! The cheapest of some hundred judgements is partly luck (on a noisy metric, one rung among many
 //! undecided ones comes out equivalent by chance), so the ladder's answer is confirmed as tune's is
 //! verified: the equivalent rungs, cheapest first, run on as many further fresh seeds and are judged
-//! on those alone; the first that passes is the ladder's best ([`confirm`]).
+//! on those alone; the first that passes is the ladder's best (`confirm`).
 
 use super::BenchError;
 use crate::tune::judge::{check_figures, predicted_breach};
