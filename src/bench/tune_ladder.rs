@@ -109,7 +109,7 @@ pub fn grid_ladder(
     let mut evaluator = RunEvaluator::new(spec, &options);
     let count = result.reference.len().max(seeds) as u64;
     let seeds: Vec<u64> = (0..count).map(|s| FRESH_SEEDS + s).collect();
-    let reference_jobs: Vec<Job> = seeds.iter().map(|&seed| job(0, &[], None, Role::Reference, seed, None)).collect();
+    let reference_jobs: Vec<Job> = seeds.iter().copied().map(Job::reference).collect();
     let reference = evaluator.evaluate(&reference_jobs).map_err(BenchError::Tune)?;
     if let Some((seed, failure)) = seeds.iter().zip(&reference).find_map(|(&s, o)| Some((s, o.failure.clone()?))) {
         return Err(BenchError::Tune(TuneError::ReferenceFailed { seed, failure }));

@@ -93,11 +93,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         seed: s.seed,
         initial: s.initial,
         dissipation: spec.levers.iter().map(|l| ladder::dissipation(&l.key)).collect(),
-        home: {
-            let reference = spec.reference_values();
-            let home = |key: &str| reference.iter().find(|(k, _, _)| k == key).and_then(|(_, _, u)| *u);
-            spec.levers.iter().map(|l| home(&l.key)).collect()
-        },
+        home: spec.reference_coordinates(),
         standards: spec.standards.len(),
         path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
         max_spend: s.max_spend,

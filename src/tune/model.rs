@@ -93,6 +93,13 @@ pub struct Job {
     pub cap: Option<f64>,
 }
 
+impl Job {
+    /// The reference's run on replicate `seed`.
+    pub fn reference(seed: u64) -> Self {
+        Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None }
+    }
+}
+
 /// Why a run cannot count.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RunFailure {

@@ -169,7 +169,6 @@ fn ended(runs: &[&Outcome]) -> String {
     if parts.is_empty() { String::new() } else { format!(" ({})", parts.join("; ")) }
 }
 
-/// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
 /// With wall time as the objective: how runs were priced, and each configuration's rate with its
 /// spread between batches (empty otherwise).
 fn wall_rate_lines(result: &SearchResult) -> String {
@@ -196,6 +195,7 @@ fn wall_rate_lines(result: &SearchResult) -> String {
     text
 }
 
+/// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
 pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
     if !result.undecidable.is_empty() {
         return undecidable_text(spec, result);

@@ -172,9 +172,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     fn reference(&mut self) -> Result<(), TuneError> {
         let c = self.config;
-        let jobs: Vec<Job> = (0..c.reference_seeds as u64)
-            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
-            .collect();
+        let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
         self.add_reference(&jobs)
     }
 
@@ -245,9 +243,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             return Ok(false);
         }
         let first = self.result.reference.len() as u64;
-        let jobs: Vec<Job> = (first..first + g as u64)
-            .map(|seed| Job { candidate: 0, point: Vec::new(), role: Role::Reference, seed, standard: None, cap: None })
-            .collect();
+        let jobs: Vec<Job> = (first..first + g as u64).map(Job::reference).collect();
         self.add_reference(&jobs)?;
         Ok(true)
     }
@@ -751,19 +747,25 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// many seeds as its search runs, at least `verify_seeds`): the dearer of the cheapest one's round
     /// (verified first) and the cheapest feasible one's (the answer when the cheaper ones fail).
     fn pending_reservation(&self) -> Option<f64> {
+        let rounds = [self.cheapest_pending(false, None), self.cheapest_pending(true, None)];
+        rounds.into_iter().flatten().map(|(_, price)| price).reduce(f64::max)
+    }
+
+    /// The verification round (runs, price in reference runs: on as many seeds as its search runs, at
+    /// least `verify_seeds`) of the cheapest candidate in the running not yet verified, other than
+    /// `except`; with `feasible_only`, of the cheapest feasible one.
+    fn cheapest_pending(&self, feasible_only: bool, except: Option<usize>) -> Option<(usize, f64)> {
         let reference = self.result.reference_cost();
         let seeds = self.config.verify_seeds;
-        let pending = |feasible_only: bool| {
-            self.result
-                .candidates
-                .iter()
-                .filter(|c| c.verification.is_empty() && self.in_running(c))
-                .map(|c| (self.result.assess(c), c.runs.len().max(seeds) as f64))
-                .filter(|(a, _)| !feasible_only || a.state == State::Feasible)
-                .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
-                .map(|(a, n)| a.cost / reference * n)
-        };
-        [pending(false), pending(true)].into_iter().flatten().reduce(f64::max)
+        self.result
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|&(j, c)| Some(j) != except && c.verification.is_empty() && self.in_running(c))
+            .map(|(_, c)| (self.result.assess(c), c.runs.len().max(seeds)))
+            .filter(|(a, _)| !feasible_only || a.state == State::Feasible)
+            .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
+            .map(|(a, n)| (n, a.cost / reference * n as f64))
     }
 
     /// A candidate's predicted cost in reference runs: its time step's ([`Candidate::relative_cost`])
@@ -848,7 +850,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if self.result.candidates.len() == before {
                 return None;
             }
-            corner.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5));
+            halfway_to_centre(&mut corner);
         }
         None
     }
@@ -877,7 +879,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let screen = self.evaluator.screen(&design::snap(&corner, &self.config.levels), None);
             match &screen.predicted {
                 Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none() => return screen.relative_cost,
-                Ok(_) => corner.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5)),
+                Ok(_) => halfway_to_centre(&mut corner),
                 Err(_) => return None,
             }
         }
@@ -1129,24 +1131,6 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .map(|(k, _, _)| k)
     }
 
-    /// The verification round (runs, price in reference runs) of the cheapest other candidate that would
-    /// be verified if candidate `k` failed: feasible in the search, not verified, cheaper than the
-    /// reference; (0, 0) when there is none.
-    fn fallback(&self, k: usize) -> (usize, f64) {
-        let result = &self.result;
-        let reference = result.reference_cost();
-        let seeds = self.config.verify_seeds;
-        result
-            .candidates
-            .iter()
-            .enumerate()
-            .filter(|&(j, c)| j != k && c.verification.is_empty())
-            .map(|(_, c)| (result.assess(c), c.runs.len().max(seeds)))
-            .filter(|(a, _)| a.state == State::Feasible && a.cost < reference)
-            .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
-            .map_or((0, 0.0), |(a, n)| (n, n as f64 * a.cost / reference))
-    }
-
     /// Runs candidate `k` on fresh seeds, `verify_seeds` at a time: once more when undecided, and
     /// again (up to [`VERIFY_ROUNDS`]) while the runs so far say two more rounds would decide it
     /// ([`runs_to_decide`]). Some(true) when it passes, Some(false) when it fails, None when the budget
@@ -1158,7 +1142,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
         for round in 0..VERIFY_ROUNDS {
             let cost = self.result.assess(&self.result.candidates[k]).cost / self.result.reference_cost();
             // A further round leaves room for the next candidate's first round, should this one fail.
-            let (more, fallback) = if round == 0 { (0, 0.0) } else { self.fallback(k) };
+            let fallback = if round == 0 { None } else { self.cheapest_pending(true, Some(k)) };
+            let (more, fallback) = fallback.unwrap_or((0, 0.0));
             if !self.fits_price(size + more, size as f64 * cost + fallback) {
                 return Ok(None);
             }
@@ -1192,6 +1177,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         Ok(Some(false))
     }
+}
+
+/// Moves a point of the lever space halfway to the centre of every lever's range.
+fn halfway_to_centre(point: &mut [f64]) {
+    point.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5));
 }
 
 /// The factor of the time step that brings a predicted warning that grows with it (a time step past

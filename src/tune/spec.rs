@@ -308,6 +308,14 @@ impl TuneSpec {
         self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect()
     }
 
+    /// Per lever, in order: the normalized coordinate of the reference's value, when the reference
+    /// sets it ([`Self::reference_values`]) and it lies in the range.
+    pub fn reference_coordinates(&self) -> Vec<Option<f64>> {
+        let values = self.reference_values();
+        let coordinate = |key: &str| values.iter().find(|(k, _, _)| k == key).and_then(|(_, _, c)| *c);
+        self.levers.iter().map(|l| coordinate(&l.key)).collect()
+    }
+
     /// The reference scene's value of each lever that it sets (or whose default lies in the range),
     /// and its normalized coordinate when it lies in the range.
     pub fn reference_values(&self) -> Vec<(String, ParamValue, Option<f64>)> {

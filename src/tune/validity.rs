@@ -98,7 +98,7 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
                 Err(_) => Some("a placement that fails"),
             })
         };
-        let inside = spec.reference_values().into_iter().find(|(k, _, _)| *k == lever.key).and_then(|(_, _, c)| c);
+        let inside = spec.reference_coordinates()[d];
         let (bad_low, bad_high) = (problem(0.0), problem(1.0));
         let clean = inside.filter(|&u| problem(u).is_none());
         if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
