@@ -59,3 +59,15 @@ fn tune_against_the_ladder_writes_its_table() {
     let md = std::fs::read_to_string(options.out_dir.join("tune.md")).unwrap();
     assert!(md.contains("| tiny_bench |"), "{md}");
 }
+
+#[test]
+fn a_ladder_seed_count_past_its_range_is_refused_not_a_panic() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["bench", "tune", "--ladder-seeds", "1000000000000000000", "--tune", "missing.toml"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--ladder-seeds") && stderr.contains("2..=1000"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -60,9 +60,9 @@ enum Which {
         /// Worker threads (default: all cores).
         #[arg(long, short = 'j')]
         jobs: Option<usize>,
-        /// Fresh seeds of the ladder's rungs (default 10; the reference's count when larger); as many
-        /// again confirm its best.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(2..))]
+        /// Fresh seeds of the ladder's rungs (2 to 1000; default 10; the reference's count when
+        /// larger); as many again confirm its best.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(2..=1000))]
         ladder_seeds: Option<u64>,
     },
 }
