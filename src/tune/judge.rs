@@ -258,6 +258,28 @@ pub fn decidability(reference: &[Outcome], margins: &[f64], max_seeds: usize) ->
         .collect()
 }
 
+/// Whether the reference's mean of some kept metric among `metrics` stands apart from the candidates':
+/// every candidate mean in `means` (per candidate, per metric; at least two candidates) lies on the
+/// same side of it, and their median lies outside the reference mean's own 95 % interval,
+/// `t(0.975, n_r − 1) · s_r / √n_r`. A few reference seeds may be a chance draw; more of them tell a
+/// lucky reference from a real shift of every setting.
+pub fn reference_stands_apart(reference: &[Outcome], means: &[Vec<f64>], metrics: &[bool]) -> bool {
+    let n_r = reference.len();
+    if n_r < 2 || means.len() < 2 {
+        return false;
+    }
+    (0..metrics.len()).filter(|&k| metrics[k]).any(|k| {
+        let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+        let half = stats::student_t_quantile(0.975, (n_r - 1) as f64) * r.std / (n_r as f64).sqrt();
+        let mut column: Vec<f64> = means.iter().map(|m| m[k] - r.mean).collect();
+        column.sort_by(f64::total_cmp);
+        let middle = column.len() / 2;
+        let median = if column.len() % 2 == 1 { column[middle] } else { 0.5 * (column[middle - 1] + column[middle]) };
+        let one_side = column.iter().all(|d| d.signum() == median.signum());
+        one_side && median.abs() > half
+    })
+}
+
 /// How many candidate runs in all would decide every kept metric with the reference as run, when
 /// the candidate's difference and spread stay as they are: the smallest n with
 /// `t(0.95, n + n_r − 2) · √(s²/n + s_r²/n_r) < margin − |d|`; None when no number would (the
@@ -319,6 +341,19 @@ mod tests {
         assert!(!marginal[0].passes, "{marginal:?}");
         let far = check_figures(&energy(&[0.004, 0.021, 0.005]), &[]);
         assert!(!far[0].passes, "a run beyond twice the limit breaks it: {far:?}");
+    }
+
+    #[test]
+    fn a_reference_stands_apart_only_when_every_candidate_sits_on_one_side_past_its_interval() {
+        // Reference mean 1.0, standard deviation 0.0141 over 6 runs: its 95 % interval is ±0.0148.
+        let reference: Vec<Outcome> =
+            [0.99, 1.01, 0.98, 1.02, 1.0, 1.0].iter().map(|&v| Outcome::settled(1.0, vec![v])).collect();
+        let means = |values: &[f64]| values.iter().map(|&v| vec![v]).collect::<Vec<_>>();
+        assert!(reference_stands_apart(&reference, &means(&[0.97, 0.975, 0.96]), &[true]));
+        assert!(!reference_stands_apart(&reference, &means(&[0.97, 0.975, 0.96]), &[false]), "not a metric asked");
+        assert!(!reference_stands_apart(&reference, &means(&[0.97, 1.01, 0.96]), &[true]), "one on the other side");
+        assert!(!reference_stands_apart(&reference, &means(&[0.995, 0.99, 0.97]), &[true]), "median inside");
+        assert!(!reference_stands_apart(&reference, &means(&[0.96]), &[true]), "one candidate says little");
     }
 
     #[test]

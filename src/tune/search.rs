@@ -32,14 +32,17 @@
 use std::collections::HashSet;
 
 use super::design::{self, PRIMES, QUANT};
-use super::judge::{check_figures, cure_factor, decidability, predicted_breach, runs_to_decide, runs_to_decide_with};
+use super::judge::{
+    check_figures, cure_factor, decidability, predicted_breach, reference_stands_apart, runs_to_decide,
+    runs_to_decide_with,
+};
 use super::model::{
     Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchResult, State,
     TuneError, first_verification_seed,
 };
 use crate::physics::rng::Rng;
 use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::stats::{self, fit};
+use crate::stats::{self, Decision, fit};
 
 /// A point of the lever space predicted (from its time step) to cost more than this times the cheapest
 /// candidate still in the running is not run: levers that shorten settling (damping, fill height)
@@ -100,6 +103,16 @@ struct Search<'a, E> {
     /// The cost of the cheap corner's time step ([`Candidate::relative_cost`]), as the time-step path
     /// starts.
     corner_cost: Option<f64>,
+}
+
+/// More reference runs and what they are priced with.
+struct Growth {
+    /// Reference runs to add.
+    runs: usize,
+    /// Runs in all that the price covers (against the run budget).
+    priced_runs: usize,
+    /// Their price, in reference runs.
+    price: f64,
 }
 
 /// What the time-step path does next.
@@ -226,7 +239,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// Grows the reference when that is what decides the cheapest undecided candidate that would beat
     /// the incumbent by a clear margin ([`CLEAR_MARGIN`]) and its own seeds alone cannot
-    /// ([`Self::reference_growth`]), within the spend limit; whether it did.
+    /// ([`Self::reference_growth`]), or when its own mean is in doubt ([`Self::doubtful_reference`]),
+    /// within the spend limit; whether it did.
     fn grow_reference(&mut self) -> Result<bool, TuneError> {
         let result = &self.result;
         let bound = (CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
@@ -238,14 +252,56 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .filter(|(a, _)| a.n >= self.config.max_seeds)
             .min_by(|x, y| x.0.cost.total_cmp(&y.0.cost))
             .and_then(|(_, c)| self.reference_growth(c));
-        let Some((g, needed, price)) = growth else { return Ok(false) };
-        if !self.fits_price(g + 2 * needed, price) {
+        let growth = growth.map(|(g, needed, price)| Growth { runs: g, priced_runs: g + 2 * needed, price });
+        match growth.or_else(|| self.doubtful_reference()) {
+            Some(growth) => self.grow(growth),
+            None => Ok(false),
+        }
+    }
+
+    /// Runs `growth`'s reference runs when its price fits the spend limit; whether it did.
+    fn grow(&mut self, growth: Growth) -> Result<bool, TuneError> {
+        if !self.fits_price(growth.priced_runs, growth.price) {
             return Ok(false);
         }
         let first = self.result.reference.len() as u64;
-        let jobs: Vec<Job> = (first..first + g as u64).map(Job::reference).collect();
+        let jobs: Vec<Job> = (first..first + growth.runs as u64).map(Job::reference).collect();
         self.add_reference(&jobs)?;
         Ok(true)
+    }
+
+    /// `seeds` more reference runs when the reference's own mean is in doubt: it stands apart
+    /// ([`reference_stands_apart`]) from the candidates whose `seeds` or more search runs all settled,
+    /// on a kept metric that leaves one cheaper than the reference undecided with its difference
+    /// inside the margin (past it, the candidate is likely different whatever the reference's mean).
+    /// Priced with a verification round of the cheapest candidate pending; the reference at most
+    /// doubled.
+    fn doubtful_reference(&self) -> Option<Growth> {
+        let c = self.config;
+        let result = &self.result;
+        if result.reference.len() + c.seeds > 2 * c.reference_seeds {
+            return None;
+        }
+        let settled = |cand: &&Candidate| {
+            cand.runs.len() >= c.seeds && cand.runs.iter().all(|o| o.failure.is_none() && !o.metrics.is_empty())
+        };
+        let ran: Vec<&Candidate> = result.candidates.iter().filter(settled).collect();
+        let mut open = vec![false; result.margins.len()];
+        for cand in &ran {
+            let a = result.assess(cand);
+            if a.state == State::Undecided && a.cost < result.reference_cost() {
+                for (k, test) in a.tests.iter().enumerate() {
+                    open[k] |= test.decision == Decision::Undecided && test.difference.abs() < result.margins[k];
+                }
+            }
+        }
+        let means: Vec<Vec<f64>> =
+            ran.iter().map(|cand| (0..result.margins.len()).map(|k| column_mean(&cand.runs, k)).collect()).collect();
+        if !reference_stands_apart(&result.reference, &means, &open) {
+            return None;
+        }
+        let (verify, price) = self.pending_reservation().map_or((0, 0.0), |p| (c.verify_seeds, p));
+        Some(Growth { runs: c.seeds, priced_runs: c.seeds + verify, price: c.seeds as f64 + price })
     }
 
     /// Runs a batch, counting its runs and cost.
@@ -906,8 +962,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .collect()
     }
 
-    /// Gives more seeds to undecided candidates that could still win; false when there are none.
+    /// Gives more seeds to undecided candidates that could still win, after more reference runs where
+    /// the reference's own mean is in doubt ([`Self::doubtful_reference`]); false when there are none.
     fn extra_seeds(&mut self, end: usize) -> Result<bool, TuneError> {
+        if let Some(growth) = self.doubtful_reference()
+            && self.grow(growth)?
+        {
+            return Ok(true);
+        }
         let (_, incumbent_cost) = self.incumbent();
         let reference = self.result.reference_cost();
         let (mut chosen, mut runs, mut price) = (Vec::new(), 0, 0.0);
@@ -1177,6 +1239,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         Ok(Some(false))
     }
+}
+
+/// The mean of kept metric `k` over `runs`.
+fn column_mean(runs: &[Outcome], k: usize) -> f64 {
+    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
 }
 
 /// Moves a point of the lever space halfway to the centre of every lever's range.
