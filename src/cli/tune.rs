@@ -130,8 +130,8 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
     let mut dearest = reference_cost;
     for (d, lever) in spec.levers.iter().enumerate() {
         for u in [0.0, 1.0] {
-            let mut point: Vec<f64> = spec.reference_values().iter().map(|(_, _, c)| c.unwrap_or(0.5)).collect();
-            point.resize(spec.levers.len(), 0.5);
+            // Only lever d's value is set on the reference scene: the other coordinates do not matter.
+            let mut point = vec![0.5; spec.levers.len()];
             point[d] = u;
             let mut values: Vec<_> = spec.values(&point);
             values.retain(|(k, _)| *k == lever.key);
