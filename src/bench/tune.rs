@@ -211,6 +211,19 @@ fn nan_ratio() -> stats::Ratio {
     stats::ratio_interval(&[], &[])
 }
 
+/// `x` to `decimals` places, "-" where there is no figure (no answer, no rung run).
+fn figure(x: f64, decimals: usize) -> String {
+    if x.is_finite() { format!("{x:.decimals$}") } else { "-".to_string() }
+}
+
+fn interval(ratio: f64, low: f64, high: f64) -> String {
+    if ratio.is_finite() { format!("{ratio:.3} ({}-{})", figure(low, 3), figure(high, 3)) } else { "-".to_string() }
+}
+
+fn on_ladder(ratio: f64, state: &str) -> String {
+    if ratio.is_finite() { format!("{ratio:.3}, {state}") } else { "-".to_string() }
+}
+
 fn markdown(rows: &[TuneBenchRow]) -> String {
     let mut text = String::from("# Tune against a brute-force ladder over its levers\n\n");
     let _ = writeln!(
@@ -246,12 +259,12 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
                 r.scene.clone(),
                 r.disks.to_string(),
                 r.tune_answer.clone(),
-                format!("{:.3} ({:.3}-{:.3})", r.tune_ratio, r.tune_ratio_low, r.tune_ratio_high),
+                interval(r.tune_ratio, r.tune_ratio_low, r.tune_ratio_high),
                 format!("{:.1}", r.tune_spend),
                 r.ladder_best.clone(),
-                format!("{:.3}", r.ladder_ratio),
-                format!("{:.2}", r.tune_ratio / r.ladder_ratio),
-                format!("{:.3}, {}", r.answer_on_ladder_ratio, r.answer_on_ladder_state),
+                figure(r.ladder_ratio, 3),
+                figure(r.tune_ratio / r.ladder_ratio, 2),
+                on_ladder(r.answer_on_ladder_ratio, &r.answer_on_ladder_state),
                 r.goal_met.to_string(),
             ]
         })
@@ -261,8 +274,30 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
     for r in rows {
         let _ = writeln!(text, "- **{}** ladder ({} runs):", r.scene, r.ladder_runs);
         for rung in &r.rungs {
-            let _ = writeln!(text, "  - {}: cost {:.3}, {} {}", rung.setting, rung.cost_ratio, rung.state, rung.reason);
+            let _ = writeln!(
+                text,
+                "  - {}: cost {}, {} {}",
+                rung.setting,
+                figure(rung.cost_ratio, 3),
+                rung.state,
+                rung.reason
+            );
         }
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_without_an_answer_or_ladder_shows_dashes_not_nan() {
+        assert_eq!(interval(f64::NAN, f64::NAN, f64::NAN), "-");
+        assert_eq!(interval(0.2513, 0.224, 0.2819), "0.251 (0.224-0.282)");
+        assert_eq!(figure(0.2513 / f64::NAN, 2), "-");
+        assert_eq!(figure(0.885, 2), "0.89");
+        assert_eq!(on_ladder(f64::NAN, ""), "-");
+        assert_eq!(on_ladder(0.282, "equivalent"), "0.282, equivalent");
+    }
 }
