@@ -97,6 +97,10 @@ impl Evaluator for StandIn {
         Screen { identity: format!("{a} {b}"), predicted: Ok(self.predicted(a)), resolved, relative_cost }
     }
 
+    fn reference_identity(&mut self) -> String {
+        "0.3 0.2".to_string()
+    }
+
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
         let (a, b) = self.standards[standard];
         self.standards.push((a * factor, b));

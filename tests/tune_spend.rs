@@ -1,7 +1,7 @@
 //! Where the tune spends: on stand-ins whose cost is its time step's times a settle time, the search
-//! evaluates damping levers that leave the time step alone, a time-step path whose rungs all fail
-//! leaves spend for the other levers, and a cheap corner that needs more than `max_seeds` seeds to
-//! decide gets them and is the answer.
+//! evaluates damping levers that leave the time step alone (never the reference's own setting again),
+//! a time-step path whose rungs all fail leaves spend for the other levers, and a cheap corner that
+//! needs more than `max_seeds` seeds to decide gets them and is the answer.
 
 mod tune_common;
 
@@ -20,7 +20,8 @@ type Field = fn(&[f64]) -> f64;
 /// `100 · step_cost · settle`; its metric is `1 + offset(p)` plus Gaussian noise of sd `spread(p)`. A
 /// run at a point where `settles` is false never settles and costs five times as much, unless cut.
 /// Standard setting k is the point `standards[k].0` with its time step divided by `standards[k].1`
-/// (`step_down` adds the same point with a smaller step).
+/// (`step_down` adds the same point with a smaller step). The reference is the setting at point
+/// `reference_at` when one is given (a lever space that contains it), else no point.
 struct StandIn {
     step_cost: Field,
     settle: Field,
@@ -29,6 +30,7 @@ struct StandIn {
     settles: fn(&[f64], bool) -> bool,
     reference_spread: f64,
     reference_bias: fn(u64) -> f64,
+    reference_at: Option<Vec<f64>>,
     standards: Vec<(Vec<f64>, f64)>,
     jobs: Vec<Job>,
 }
@@ -43,6 +45,7 @@ impl StandIn {
             settles: |_, _| true,
             reference_spread: 0.01,
             reference_bias: |_| 0.0,
+            reference_at: None,
             standards: Vec::new(),
             jobs: Vec::new(),
         }
@@ -64,11 +67,15 @@ impl Evaluator for StandIn {
     fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
         let (p, step, _) = self.setting(point, standard);
         Screen {
-            identity: format!("{p:?} {step}"),
+            identity: identity(&p, step),
             predicted: Ok(Vec::new()),
             resolved: Vec::new(),
             relative_cost: Some(step),
         }
+    }
+
+    fn reference_identity(&mut self) -> String {
+        self.reference_at.as_ref().map_or("reference".to_string(), |p| identity(p, (self.step_cost)(p)))
     }
 
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
@@ -103,6 +110,10 @@ impl Evaluator for StandIn {
             })
             .collect())
     }
+}
+
+fn identity(point: &[f64], step: f64) -> String {
+    format!("{point:?} {step}")
 }
 
 fn config() -> SearchConfig {
@@ -158,6 +169,22 @@ fn a_damping_only_tune_evaluates_damping_settings() {
     assert!(evaluated >= 3, "the damping levers were searched: {evaluated} settings\n{}", dump(&result));
     let (cost, best) = answer(&result);
     assert!(best.standard.is_none() && cost < 0.55, "a cheaper damping setting is the answer: {cost}");
+}
+
+#[test]
+fn a_numerical_damping_tune_never_reruns_the_references_own_setting() {
+    // Two numerical damping levers (no cheap end: the corner stays at the reference's values, the
+    // origin) that shorten the settle time a little: the reference's own setting is no candidate,
+    // and the spend goes to damping settings that can win.
+    let stand_in =
+        StandIn { settle: |p| 1.0 - 0.1 * p[0] - 0.05 * p[1], reference_at: Some(vec![0.0, 0.0]), ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { home: vec![Some(0.0), Some(0.0)], ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let origin = stand_in.jobs.iter().filter(|j| j.role != Role::Reference && j.point == [0.0, 0.0]).count();
+    assert_eq!(origin, 0, "the reference's setting ran as a candidate:\n{}", dump(&result));
+    let (cost, best) = answer(&result);
+    assert!(cost < 0.95, "a damping setting is the answer: {cost} at {:?}", best.point);
 }
 
 #[test]

@@ -296,6 +296,10 @@ impl Evaluator for RunEvaluator<'_> {
         Screen { identity, predicted, resolved, relative_cost }
     }
 
+    fn reference_identity(&mut self) -> String {
+        validity::identity(&self.spec.reference, self.spec.initial.as_deref().map(Vec::as_slice))
+    }
+
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {
         let stepped = ladder::stepped_down(&self.standards[standard], factor)?;
         self.standards.push(stepped);

@@ -289,6 +289,9 @@ pub trait Evaluator {
     /// What `point` (or standard setting `standard`, when given) resolves to and what it is
     /// predicted to break.
     fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen;
+    /// What the reference resolves to (see [`Screen::identity`]): a setting that resolves to the
+    /// same runs is the reference, never a candidate.
+    fn reference_identity(&mut self) -> String;
     /// Runs `jobs` (as one parallel batch); outcomes in job order.
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError>;
     /// A new standard setting: standard `standard` with the fraction of the time scale that sets its

@@ -580,6 +580,9 @@ fn decision_name(d: stats::Decision) -> &'static str {
 pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) -> String {
     match &a.state {
         State::NotRun(reason) => format!("not run: {reason}"),
+        State::Feasible if a.cost >= result.reference_cost() => {
+            "valid and equivalent, but no cheaper than the reference (only cheaper settings are verified)".into()
+        }
         State::Feasible => "acceptable during the search, but the budget ran out before it was verified".into(),
         State::Cut => {
             "cut: its runs were stopped at their cost cap once it could no longer win, before they settled".into()

@@ -9,6 +9,7 @@
 //!    reference mean (or the absolute tolerance). The reference's own validity figures are recorded:
 //!    a check it breaks holds every candidate to no worse than it. A reference that diverges or does
 //!    not settle stops the tune; so does a kept metric its spread cannot decide ([`decidability`]).
+//!    A setting that resolves to the reference's own runs is never a candidate.
 //! 2. **The time-step path** ([`Search::path`]), when a time-step key is a lever, before anything
 //!    else: the first standard setting (the time-step lever alone at its largest valid value) and, below it, the same setting with a
 //!    smaller time step, down to the reference's (valid and equivalent by definition). A rung whose
@@ -186,6 +187,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     fn reference(&mut self) -> Result<(), TuneError> {
         let c = self.config;
         let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
+        self.seen.insert(self.evaluator.reference_identity());
         self.add_reference(&jobs)
     }
 
