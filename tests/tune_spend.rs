@@ -188,6 +188,30 @@ fn a_numerical_damping_tune_never_reruns_the_references_own_setting() {
 }
 
 #[test]
+fn a_candidate_likely_different_gets_no_more_seeds() {
+    // The cheap half of the first lever (a stiffness) shifts the metric by twice the margin, with a
+    // seed-to-seed spread that leaves its first 3 runs undecided: more of them would only decide it
+    // different. The rest keeps the pile.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.5 * p[0],
+        offset: |p| if p[0] > 0.5 { 0.1 } else { 0.0 },
+        spread: |p| if p[0] > 0.5 { 0.05 } else { 0.01 },
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { max_spend: 30.0, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let shifted: Vec<_> = result.candidates.iter().filter(|c| c.point.first().is_some_and(|&x| x > 0.5)).collect();
+    let undecided = shifted.iter().filter(|c| result.assess(c).state == State::Undecided).count();
+    assert!(undecided > 0, "a shifted setting ran and stayed undecided:\n{}", dump(&result));
+    for cand in shifted.iter().filter(|c| result.assess(c).state == State::Undecided) {
+        assert_eq!(cand.runs.len(), config.seeds, "no seeds past its first:\n{}", dump(&result));
+    }
+    let (cost, best) = answer(&result);
+    assert!(best.point[0] <= 0.5 && cost < 0.8, "{cost} at {:?}", best.point);
+}
+
+#[test]
 fn a_time_step_path_whose_rungs_all_fail_leaves_spend_for_the_other_levers() {
     // The time step at its largest value never settles, nor does any smaller step the path tries; the
     // other lever (the second coordinate, a damping) settles sooner where it is larger.

@@ -258,6 +258,14 @@ pub fn decidability(reference: &[Outcome], margins: &[f64], max_seeds: usize) ->
         .collect()
 }
 
+/// Whether more seeds are futile (a stopping rule for futility, as in sequential trials): on some
+/// kept metric an undecided test's difference lies past its margin and its 90 % interval wholly on
+/// that side of zero, so that more runs would most likely decide it different.
+pub fn likely_different(tests: &[Equivalence], margins: &[f64]) -> bool {
+    let past = |t: &Equivalence, m: f64| (t.difference > m && t.low > 0.0) || (t.difference < -m && t.high < 0.0);
+    tests.iter().zip(margins).any(|(t, &m)| t.decision == Decision::Undecided && past(t, m))
+}
+
 /// Whether the reference's mean of some kept metric among `metrics` stands apart from the candidates':
 /// every candidate mean in `means` (per candidate, per metric; at least two candidates) lies on the
 /// same side of it, and their median lies outside the reference mean's own 95 % interval,
@@ -354,6 +362,21 @@ mod tests {
         assert!(!reference_stands_apart(&reference, &means(&[0.97, 1.01, 0.96]), &[true]), "one on the other side");
         assert!(!reference_stands_apart(&reference, &means(&[0.995, 0.99, 0.97]), &[true]), "median inside");
         assert!(!reference_stands_apart(&reference, &means(&[0.96]), &[true]), "one candidate says little");
+    }
+
+    #[test]
+    fn more_seeds_are_futile_only_past_the_margin_and_clear_of_zero() {
+        let reference = [0.99, 1.01, 0.98, 1.02, 1.0, 1.0];
+        let test = |candidate: &[f64]| stats::equivalence(&reference, candidate, 0.05);
+        let far = test(&[1.04, 1.10, 1.07]);
+        assert_eq!(far.decision, Decision::Undecided, "{far:?}");
+        assert!(likely_different(&[far], &[0.05]), "past the margin, its interval clear of zero: {far:?}");
+        let near = test(&[1.01, 1.07, 1.05]);
+        assert!(near.difference < 0.05 && near.decision == Decision::Undecided, "{near:?}");
+        assert!(!likely_different(&[near], &[0.05]), "inside the margin more seeds may decide it: {near:?}");
+        let wide = test(&[0.95, 1.25, 0.98]);
+        assert!(wide.difference > 0.05 && wide.low < 0.0, "{wide:?}");
+        assert!(!likely_different(&[wide], &[0.05]), "an interval across zero says little: {wide:?}");
     }
 
     #[test]

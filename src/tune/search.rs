@@ -22,8 +22,9 @@
 //!    design (a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted invalid
 //!    are recorded and never run); then a pattern search (compass search, Kolda, Lewis & Torczon
 //!    2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer than it.
-//!    Every candidate starts with `seeds` runs; an undecided one that could still win gets more, up
-//!    to `max_seeds`, then sequentially the seeds that decide it; where the reference's own spread is
+//!    Every candidate starts with `seeds` runs; an undecided one that could still win (and is not
+//!    likely different) gets more, up to `max_seeds`, then sequentially the seeds that decide it;
+//!    where the reference's own spread is
 //!    what keeps it undecided, the reference grows ([`Search::grow_reference`]). A new candidate predicted dearer than the cheapest one still in the running runs
 //!    one seed first, cut at that cost; points predicted [`FAR_TOO_DEAR`] are not run.
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
@@ -34,8 +35,8 @@ use std::collections::HashSet;
 
 use super::design::{self, PRIMES, QUANT};
 use super::judge::{
-    check_figures, cure_factor, decidability, predicted_breach, reference_stands_apart, runs_to_decide,
-    runs_to_decide_with,
+    check_figures, cure_factor, decidability, likely_different, predicted_breach, reference_stands_apart,
+    runs_to_decide, runs_to_decide_with,
 };
 use super::model::{
     Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchResult, State,
@@ -616,11 +617,12 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// How many more search seeds candidate `cand` gets: an undecided one `seeds` at a time up to
     /// `max_seeds`; past that, one that would beat the incumbent by a clear margin ([`CLEAR_MARGIN`])
     /// gets the seeds its runs so far say decide it ([`runs_to_decide`]), up to [`SEQUENTIAL_SEEDS`]
-    /// times `max_seeds` and within the spend limit. None: it gets no more (decided, or it cannot be).
+    /// times `max_seeds` and within the spend limit. None: it gets no more (decided, it cannot be, or
+    /// more seeds would most likely decide it different, [`likely_different`]).
     fn more_seeds(&self, cand: &Candidate) -> Option<usize> {
         let c = self.config;
         let a = self.result.assess(cand);
-        if a.state != State::Undecided || a.n == 0 {
+        if a.state != State::Undecided || a.n == 0 || likely_different(&a.tests, &self.result.margins) {
             return None;
         }
         if a.n < c.max_seeds {
