@@ -6,7 +6,7 @@
 mod tune_common;
 
 use demsweep::tune::model::{
-    Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchResult, State, TuneError,
+    Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchEnd, SearchResult, State, TuneError,
 };
 use demsweep::tune::search::search;
 use tune_common::{hash, normal};
@@ -209,6 +209,17 @@ fn a_candidate_likely_different_gets_no_more_seeds() {
     }
     let (cost, best) = answer(&result);
     assert!(best.point[0] <= 0.5 && cost < 0.8, "{cost} at {:?}", best.point);
+}
+
+#[test]
+fn the_search_says_whether_the_spend_limit_or_the_run_budget_ended_it() {
+    // A damping lever that shortens settling a little: each limit in turn is the one that binds.
+    let stand_in = || StandIn { settle: |p| 1.0 - 0.2 * p[0], ..StandIn::new() };
+    let spend = search(&SearchConfig { max_spend: 12.0, ..config() }, &mut stand_in()).unwrap();
+    assert_eq!(spend.end, SearchEnd::SpendLimit, "{}", dump(&spend));
+    let runs = search(&SearchConfig { budget: 40, max_spend: 100.0, ..config() }, &mut stand_in()).unwrap();
+    assert_eq!(runs.end, SearchEnd::RunBudget, "{}", dump(&runs));
+    assert!(runs.runs <= 40);
 }
 
 #[test]

@@ -515,6 +515,20 @@ pub enum PathEnd {
     Undecided(usize),
 }
 
+/// Why the search over the levers ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SearchEnd {
+    /// It did not start: a kept metric the reference cannot decide stopped the tune.
+    NotSearched,
+    /// What the spend limit left paid for neither another setting's first seeds nor the seeds that
+    /// would decide one, each with a verification round in reserve.
+    SpendLimit,
+    /// The run budget, less its verification reserve, is used up.
+    RunBudget,
+    /// Neither the pattern search nor the design proposed a new setting that could still win.
+    Exhausted,
+}
+
 /// What the search found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SearchResult {
@@ -538,6 +552,8 @@ pub struct SearchResult {
     pub undecidable: Vec<Undecidable>,
     /// The time-step path's rungs (candidate indices, in the order run) and how it ended.
     pub path: (Vec<usize>, PathEnd),
+    /// Why the search over the levers ended.
+    pub end: SearchEnd,
     /// With wall time as the objective: the rate each configuration's runs were priced at.
     pub wall_rates: Vec<super::wall_rate::WallRate>,
 }

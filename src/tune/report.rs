@@ -8,7 +8,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::judge::broken_by_reference;
-use super::model::{Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, RunFailure, SearchResult, State};
+use super::model::{
+    Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, RunFailure, SearchEnd, SearchResult, State,
+};
 use super::{TuneSpec, seed_text};
 use crate::output::{csv, guard};
 use crate::physics::number::short;
@@ -304,10 +306,28 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 }
                 None => text.push_str("No candidate's runs all settled and passed the validity checks. "),
             }
+            text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spent));
             text.push_str(&budget_line);
         }
     }
     text.trim_end().to_string()
+}
+
+/// Why the search over the levers ended, as a sentence (empty when it did not start); `left`: the
+/// reference depositions of the spend limit that the whole tune left unspent.
+fn end_line(end: SearchEnd, budget: usize, left: f64) -> String {
+    match end {
+        SearchEnd::NotSearched => String::new(),
+        SearchEnd::SpendLimit => format!(
+            "The search ended with the spend limit too near for another setting's first seeds or the seeds \
+             that would decide one, with a verification round in reserve: {} reference depositions were left. ",
+            (10.0 * left.max(0.0)).floor() / 10.0
+        ),
+        SearchEnd::RunBudget => {
+            format!("The search ended at the run budget ({budget} runs, less what verification keeps back). ")
+        }
+        SearchEnd::Exhausted => "The search ended when it proposed no new setting that could still win. ".into(),
+    }
 }
 
 /// The recommendation's cost against the best valid standard setting's, with its interval.
@@ -890,7 +910,7 @@ pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tune::model::{Origin, PathEnd};
+    use crate::tune::model::{Origin, PathEnd, SearchEnd};
 
     fn candidate(id: usize, standard: Option<usize>, runs: Vec<Outcome>) -> Candidate {
         Candidate {
@@ -919,8 +939,19 @@ mod tests {
             budget: 100,
             undecidable: Vec::new(),
             path: (Vec::new(), PathEnd::NotRun),
+            end: SearchEnd::NotSearched,
             wall_rates: Vec::new(),
         }
+    }
+
+    #[test]
+    fn the_sheet_says_why_the_search_ended_never_overstating_what_was_left() {
+        assert_eq!(end_line(SearchEnd::NotSearched, 150, 14.0), "");
+        let spend = end_line(SearchEnd::SpendLimit, 150, 6.27);
+        assert!(spend.contains("spend limit") && spend.ends_with("6.2 reference depositions were left. "), "{spend}");
+        assert!(end_line(SearchEnd::SpendLimit, 150, -0.3).contains(": 0 reference depositions were left"));
+        assert!(end_line(SearchEnd::RunBudget, 150, 9.0).contains("the run budget (150 runs"));
+        assert!(end_line(SearchEnd::Exhausted, 150, 9.0).contains("no new setting that could still win"));
     }
 
     #[test]

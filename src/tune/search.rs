@@ -39,8 +39,8 @@ use super::judge::{
     runs_to_decide, runs_to_decide_with,
 };
 use super::model::{
-    Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchResult, State,
-    TuneError, first_verification_seed,
+    Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchEnd,
+    SearchResult, State, TuneError, first_verification_seed,
 };
 use crate::physics::rng::Rng;
 use crate::physics::warning::{ValidityWarning, WarningKind};
@@ -143,6 +143,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             budget: config.budget,
             undecidable: Vec::new(),
             path: (Vec::new(), PathEnd::NotRun),
+            end: SearchEnd::NotSearched,
             wall_rates: Vec::new(),
         };
         let next_seed = first_verification_seed(config.budget, config.reference_seeds);
@@ -174,13 +175,15 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let search_end = c.budget.saturating_sub(3 * c.verify_seeds);
         let room = (search_end.saturating_sub(self.result.runs)) / (2 * c.seeds);
         let initial = c.initial.unwrap_or((2 * c.dims + 2).max(6)).min(room).min(self.affordable());
-        if initial > 0 {
+        self.result.end = if initial > 0 {
             let mut fresh = self.explore(initial.max(2), Origin::Initial);
             // The corner, when the standard settings' turn left no room to run it.
             fresh.extend(self.cheap_corner().filter(|&k| self.result.candidates[k].runs.is_empty()));
             self.evaluate_new(&fresh, search_end)?;
-            self.pattern_search(search_end)?;
-        }
+            self.pattern_search(search_end)?
+        } else {
+            self.stopped(search_end)
+        };
         self.verify(|_| true)?;
         Ok(self.result)
     }
@@ -532,8 +535,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
         self.verify(|c| c.standard.is_some())
     }
 
-    /// The pattern search and exploration until the budget or the spend limit ends it.
-    fn pattern_search(&mut self, search_end: usize) -> Result<(), TuneError> {
+    /// Why nothing more can run: the run budget (below `search_end`) when a candidate's first seeds
+    /// would pass it, else the spend limit.
+    fn stopped(&self, search_end: usize) -> SearchEnd {
+        if self.result.runs + self.config.seeds > search_end { SearchEnd::RunBudget } else { SearchEnd::SpendLimit }
+    }
+
+    /// The pattern search and exploration until the budget or the spend limit ends it; why it ended.
+    fn pattern_search(&mut self, search_end: usize) -> Result<SearchEnd, TuneError> {
         let c = self.config;
         let mut step: f64 = 0.25;
         let mut center: Option<usize> = None;
@@ -541,7 +550,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let mut best_cost = f64::INFINITY;
         loop {
             if self.result.runs + c.seeds.min(c.max_seeds) > search_end || self.affordable() == 0 {
-                return Ok(());
+                return Ok(self.stopped(search_end));
             }
             if self.extra_seeds(search_end)? {
                 continue;
@@ -591,11 +600,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if fresh.is_empty() {
                 fresh = self.explore((c.dims + 1).max(2), Origin::Explore);
                 if fresh.is_empty() {
-                    return Ok(());
+                    return Ok(SearchEnd::Exhausted);
                 }
             }
             if self.evaluate_new(&fresh, search_end)? == 0 {
-                return Ok(());
+                return Ok(self.stopped(search_end));
             }
         }
     }
