@@ -11,8 +11,9 @@
 //!    not settle stops the tune; so does a kept metric its spread cannot decide ([`decidability`]).
 //!    A setting that resolves to the reference's own runs is never a candidate.
 //! 2. **The time-step path** ([`Search::path`]), when a time-step key is a lever, before anything
-//!    else: the first standard setting (the time-step lever alone at its largest valid value) and, below it, the same setting with a
-//!    smaller time step, down to the reference's (valid and equivalent by definition). A rung whose
+//!    else: the first standard setting (the time-step lever alone at its largest valid value) and,
+//!    below it, the same setting with a smaller time step, down to the reference's (valid and
+//!    equivalent by definition). A rung whose
 //!    runs break a measured check steps down by the fitted error model ([`cure_factor`]); one that
 //!    differs bisects (geometric mean) towards the last good rung or the reference, until the two
 //!    are within [`PATH_RESOLUTION`]; the cheapest good rung is verified on fresh seeds, and a failed
@@ -24,9 +25,10 @@
 //!    2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer than it.
 //!    Every candidate starts with `seeds` runs; an undecided one that could still win (and is not
 //!    likely different) gets more, up to `max_seeds`, then sequentially the seeds that decide it;
-//!    where the reference's own spread is
-//!    what keeps it undecided, the reference grows ([`Search::grow_reference`]). A new candidate predicted dearer than the cheapest one still in the running runs
-//!    one seed first, cut at that cost; points predicted [`FAR_TOO_DEAR`] are not run.
+//!    where the reference's own spread is what keeps it undecided, the reference grows
+//!    ([`Search::grow_reference`]). A new candidate predicted dearer than the cheapest one still in
+//!    the running runs one seed first, cut at that cost; points predicted [`FAR_TOO_DEAR`] are not
+//!    run. The search records why it ended ([`SearchEnd`]).
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
 //!    search (they start past the run budget), judged on those runs alone: while there is no answer,
 //!    as soon as a candidate is valid and equivalent; else when the search ends.
