@@ -212,7 +212,7 @@ fn a_candidate_likely_different_gets_no_more_seeds() {
 }
 
 #[test]
-fn the_search_says_whether_the_spend_limit_or_the_run_budget_ended_it() {
+fn the_search_says_whether_the_spend_limit_the_run_budget_or_its_settings_ended_it() {
     // A damping lever that shortens settling a little: each limit in turn is the one that binds.
     let stand_in = || StandIn { settle: |p| 1.0 - 0.2 * p[0], ..StandIn::new() };
     let spend = search(&SearchConfig { max_spend: 12.0, ..config() }, &mut stand_in()).unwrap();
@@ -220,6 +220,10 @@ fn the_search_says_whether_the_spend_limit_or_the_run_budget_ended_it() {
     let runs = search(&SearchConfig { budget: 40, max_spend: 100.0, ..config() }, &mut stand_in()).unwrap();
     assert_eq!(runs.end, SearchEnd::RunBudget, "{}", dump(&runs));
     assert!(runs.runs <= 40);
+    // Two values of each lever: every setting runs, and the search runs out of settings.
+    let few = SearchConfig { levels: vec![Some(2), Some(2)], max_spend: 100.0, ..config() };
+    let exhausted = search(&few, &mut stand_in()).unwrap();
+    assert_eq!(exhausted.end, SearchEnd::Exhausted, "{}", dump(&exhausted));
 }
 
 #[test]

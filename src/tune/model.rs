@@ -525,7 +525,8 @@ pub enum SearchEnd {
     SpendLimit,
     /// The run budget, less its verification reserve, is used up.
     RunBudget,
-    /// Neither the pattern search nor the design proposed a new setting that could still win.
+    /// Neither the pattern search nor the design proposed a new setting that could still win, and
+    /// none is left in the running.
     Exhausted,
 }
 

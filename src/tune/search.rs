@@ -602,7 +602,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if fresh.is_empty() {
                 fresh = self.explore((c.dims + 1).max(2), Origin::Explore);
                 if fresh.is_empty() {
-                    return Ok(SearchEnd::Exhausted);
+                    // With a candidate in the running, unverified and cheaper than the answer so far,
+                    // the spend left it there.
+                    let answer = self.answer_cost();
+                    let waiting = self.result.candidates.iter().any(|c| {
+                        c.verification.is_empty() && self.in_running(c) && self.result.assess(c).cost < answer
+                    });
+                    return Ok(if waiting { self.stopped(search_end) } else { SearchEnd::Exhausted });
                 }
             }
             if self.evaluate_new(&fresh, search_end)? == 0 {
