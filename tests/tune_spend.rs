@@ -5,6 +5,7 @@
 
 mod tune_common;
 
+use demsweep::physics::warning::{ValidityWarning, WarningKind};
 use demsweep::tune::model::{
     Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchEnd, SearchResult, State, TuneError,
 };
@@ -21,7 +22,8 @@ type Field = fn(&[f64]) -> f64;
 /// run at a point where `settles` is false never settles and costs five times as much, unless cut.
 /// Standard setting k is the point `standards[k].0` with its time step divided by `standards[k].1`
 /// (`step_down` adds the same point with a smaller step). The reference is the setting at point
-/// `reference_at` when one is given (a lever space that contains it), else no point.
+/// `reference_at` when one is given (a lever space that contains it), else no point. A point where
+/// `unstable` holds is predicted past the integrator's stable step.
 struct StandIn {
     step_cost: Field,
     settle: Field,
@@ -31,6 +33,7 @@ struct StandIn {
     reference_spread: f64,
     reference_bias: fn(u64) -> f64,
     reference_at: Option<Vec<f64>>,
+    unstable: Field,
     standards: Vec<(Vec<f64>, f64)>,
     jobs: Vec<Job>,
 }
@@ -46,6 +49,7 @@ impl StandIn {
             reference_spread: 0.01,
             reference_bias: |_| 0.0,
             reference_at: None,
+            unstable: |_| 0.0,
             standards: Vec::new(),
             jobs: Vec::new(),
         }
@@ -66,9 +70,15 @@ impl StandIn {
 impl Evaluator for StandIn {
     fn screen(&mut self, point: &[f64], standard: Option<usize>) -> Screen {
         let (p, step, _) = self.setting(point, standard);
+        let unstable = (self.unstable)(&p);
+        let warnings = if unstable > 0.0 {
+            vec![ValidityWarning::new(WarningKind::IntegratorStability, 1.0 + unstable, 1.0)]
+        } else {
+            Vec::new()
+        };
         Screen {
             identity: identity(&p, step),
-            predicted: Ok(Vec::new()),
+            predicted: Ok(warnings),
             resolved: Vec::new(),
             relative_cost: Some(step),
         }
@@ -295,6 +305,29 @@ fn the_cheap_corner_lowers_the_restitution_and_keeps_the_users_numerical_damping
     assert_eq!(first.point, vec![0.0, 0.0], "the corner comes first:\n{}", dump(&result));
     let (cost, best) = answer(&result);
     assert!(best.point[1] <= 0.3 && cost < 0.7, "{cost} at {:?}", best.point);
+}
+
+#[test]
+fn a_cheap_corner_past_the_stable_step_backs_off_the_damping_and_keeps_the_step() {
+    // A restitution (first lever, dissipative downwards) and a time-step fraction (second, cheaper
+    // upwards): the lowest restitution at the largest step is past the stable step, which grows with
+    // the restitution. Raising the restitution a quarter keeps the largest step and is valid; the step
+    // lowered is valid too but dearer, and so is moving both.
+    let stand_in = StandIn {
+        step_cost: |p| 1.0 - 0.6 * p[1],
+        settle: |p| 0.6 + 0.4 * p[0],
+        unstable: |p| p[1] - 0.8 - 0.8 * p[0],
+        ..StandIn::new()
+    };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { dissipation: vec![-1.0, 0.0], ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let skipped: Vec<_> = result.candidates.iter().filter(|c| c.predicted_invalid.is_some()).collect();
+    assert_eq!(skipped.first().map(|c| c.point.clone()), Some(vec![0.0, 1.0]), "the corner:\n{}", dump(&result));
+    let first = result.candidates.iter().find(|c| c.predicted_invalid.is_none()).expect("a runnable point");
+    assert_eq!(first.point, vec![0.25, 1.0], "the step kept, the restitution raised:\n{}", dump(&result));
+    let (cost, _) = answer(&result);
+    assert!(cost < 0.33, "{cost}");
 }
 
 #[test]

@@ -81,7 +81,8 @@ const PATH_SHARE: f64 = 0.5;
 /// corner at the centre of its range.
 const CORNER_SLOPE: f64 = 0.05;
 
-/// Most tries of the cheap corner, each halfway nearer the centre than the one predicted invalid.
+/// Most tries of the cheap corner, each nearer the centre than the one predicted invalid (and most
+/// halvings of one lever's distance to the centre within a try).
 const CORNER_TRIES: usize = 4;
 
 /// Runs the search.
@@ -906,8 +907,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// time step (screened at both ends, the other levers at the centre) and the measured settle times
     /// (else the lever's dissipation, [`SearchConfig::dissipation`]) say is cheaper ([`CORNER_SLOPE`]:
     /// a lever that moves neither stays at the reference's value, [`SearchConfig::home`]); while
-    /// predicted invalid, halfway nearer the centre. Returns the runnable candidate, if one is new;
-    /// proposed once, the same candidate after.
+    /// predicted invalid, nearer the centre ([`Self::nearer_corner`]). Returns the runnable candidate,
+    /// if one is new; proposed once, the same candidate after.
     fn cheap_corner(&mut self) -> Option<usize> {
         if let Some(corner) = self.corner {
             return corner;
@@ -927,9 +928,36 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if self.result.candidates.len() == before {
                 return None;
             }
-            halfway_to_centre(&mut corner);
+            corner = self.nearer_corner(&corner);
         }
         None
+    }
+
+    /// The next try after `corner` was predicted invalid: the cheapest predicted valid setting with
+    /// one lever moved towards the centre (halving its distance up to [`CORNER_TRIES`] times; a
+    /// restitution raised where it is the damping that breaks the step's limit keeps the step), else
+    /// every lever halfway nearer.
+    fn nearer_corner(&mut self, corner: &[f64]) -> Vec<f64> {
+        let mut all = corner.to_vec();
+        halfway_to_centre(&mut all);
+        let mut best: Option<(Vec<f64>, f64)> = None;
+        for d in 0..corner.len() {
+            let mut one = corner.to_vec();
+            for _ in 0..CORNER_TRIES {
+                one[d] = 0.5 + 0.5 * (one[d] - 0.5);
+                let screen = self.evaluator.screen(&design::snap(&one, &self.config.levels), None);
+                let valid =
+                    matches!(&screen.predicted, Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none());
+                if valid {
+                    let cost = screen.relative_cost.unwrap_or(f64::INFINITY);
+                    if best.as_ref().is_none_or(|(_, c)| cost < *c) {
+                        best = Some((one.clone(), cost));
+                    }
+                    break;
+                }
+            }
+        }
+        best.map_or(all, |(one, _)| one)
     }
 
     /// The cheap corner as first tried (see [`Self::cheap_corner`]), before any is found invalid.
@@ -956,7 +984,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let screen = self.evaluator.screen(&design::snap(&corner, &self.config.levels), None);
             match &screen.predicted {
                 Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none() => return screen.relative_cost,
-                Ok(_) => halfway_to_centre(&mut corner),
+                Ok(_) => corner = self.nearer_corner(&corner),
                 Err(_) => return None,
             }
         }
