@@ -279,10 +279,8 @@ pub fn reference_stands_apart(reference: &[Outcome], means: &[Vec<f64>], metrics
     (0..metrics.len()).filter(|&k| metrics[k]).any(|k| {
         let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
         let half = stats::student_t_quantile(0.975, (n_r - 1) as f64) * r.std / (n_r as f64).sqrt();
-        let mut column: Vec<f64> = means.iter().map(|m| m[k] - r.mean).collect();
-        column.sort_by(f64::total_cmp);
-        let middle = column.len() / 2;
-        let median = if column.len() % 2 == 1 { column[middle] } else { 0.5 * (column[middle - 1] + column[middle]) };
+        let column: Vec<f64> = means.iter().map(|m| m[k] - r.mean).collect();
+        let median = fit::quantile(&column, 0.5);
         let one_side = column.iter().all(|d| d.signum() == median.signum());
         one_side && median.abs() > half
     })

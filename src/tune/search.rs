@@ -13,12 +13,11 @@
 //! 2. **The time-step path** ([`Search::path`]), when a time-step key is a lever, before anything
 //!    else: the first standard setting (the time-step lever alone at its largest valid value) and,
 //!    below it, the same setting with a smaller time step, down to the reference's (valid and
-//!    equivalent by definition). A rung whose
-//!    runs break a measured check steps down by the fitted error model ([`cure_factor`]); one that
-//!    differs bisects (geometric mean) towards the last good rung or the reference, until the two
-//!    are within [`PATH_RESOLUTION`]; the cheapest good rung is verified on fresh seeds, and a failed
-//!    verification leads to the rung that cures it and a new verification. Only the run budget and
-//!    the spend limit stop it; nothing else runs before it ends.
+//!    equivalent by definition). A rung whose runs break a measured check steps down by the fitted
+//!    error model ([`cure_factor`]); one that differs bisects (geometric mean) towards the last good
+//!    rung or the reference, until the two are within [`PATH_RESOLUTION`]; the cheapest good rung is
+//!    verified on fresh seeds, and a failed verification leads to the rung that cures it and a new
+//!    verification. Only the run budget and the spend limit stop it; nothing else runs before it ends.
 //! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
 //!    design (a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted invalid
 //!    are recorded and never run); then a pattern search (compass search, Kolda, Lewis & Torczon
@@ -41,7 +40,7 @@ use super::judge::{
     runs_to_decide, runs_to_decide_with,
 };
 use super::model::{
-    Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, SearchConfig, SearchEnd,
+    Candidate, Evaluator, Job, NotRun, Origin, Outcome, PathEnd, Rejection, Role, Screen, SearchConfig, SearchEnd,
     SearchResult, State, TuneError, first_verification_seed,
 };
 use crate::physics::rng::Rng;
@@ -248,8 +247,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// Grows the reference when that is what decides the cheapest undecided candidate that would beat
     /// the incumbent by a clear margin ([`CLEAR_MARGIN`]) and its own seeds alone cannot
-    /// ([`Self::reference_growth`]), or when its own mean is in doubt ([`Self::doubtful_reference`]),
-    /// within the spend limit; whether it did.
+    /// ([`Self::reference_growth`]), within the spend limit; whether it did. (A reference whose own
+    /// mean is in doubt is grown first, by [`Self::extra_seeds`].)
     fn grow_reference(&mut self) -> Result<bool, TuneError> {
         let result = &self.result;
         let bound = (CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
@@ -261,9 +260,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .filter(|(a, _)| a.n >= self.config.max_seeds)
             .min_by(|x, y| x.0.cost.total_cmp(&y.0.cost))
             .and_then(|(_, c)| self.reference_growth(c));
-        let growth = growth.map(|(g, needed, price)| Growth { runs: g, priced_runs: g + 2 * needed, price });
-        match growth.or_else(|| self.doubtful_reference()) {
-            Some(growth) => self.grow(growth),
+        match growth {
+            Some((g, needed, price)) => self.grow(Growth { runs: g, priced_runs: g + 2 * needed, price }),
             None => Ok(false),
         }
     }
@@ -944,11 +942,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
         for d in 0..corner.len() {
             let mut one = corner.to_vec();
             for _ in 0..CORNER_TRIES {
-                one[d] = 0.5 + 0.5 * (one[d] - 0.5);
+                halfway_to_centre(&mut one[d..=d]);
                 let screen = self.evaluator.screen(&design::snap(&one, &self.config.levels), None);
-                let valid =
-                    matches!(&screen.predicted, Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none());
-                if valid {
+                if self.predicted_valid(&screen) {
                     let cost = screen.relative_cost.unwrap_or(f64::INFINITY);
                     if best.as_ref().is_none_or(|(_, c)| cost < *c) {
                         best = Some((one.clone(), cost));
@@ -976,19 +972,27 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .collect()
     }
 
-    /// The predicted cost of the cheap corner's time step, screened without proposing it (halfway
-    /// nearer the centre while predicted invalid, as [`Self::cheap_corner`] does).
+    /// The predicted cost of the cheap corner's time step, screened without proposing it (nearer the
+    /// centre while predicted invalid, as [`Self::cheap_corner`] does).
     fn corner_cost(&mut self) -> Option<f64> {
         let mut corner = self.corner_start();
         for _ in 0..CORNER_TRIES {
             let screen = self.evaluator.screen(&design::snap(&corner, &self.config.levels), None);
-            match &screen.predicted {
-                Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none() => return screen.relative_cost,
-                Ok(_) => corner = self.nearer_corner(&corner),
-                Err(_) => return None,
+            if screen.predicted.is_err() {
+                return None;
             }
+            if self.predicted_valid(&screen) {
+                return screen.relative_cost;
+            }
+            corner = self.nearer_corner(&corner);
         }
         None
+    }
+
+    /// Whether a screened setting starts and is predicted to break no limit beyond what the
+    /// reference's own runs are held to.
+    fn predicted_valid(&self, screen: &Screen) -> bool {
+        matches!(&screen.predicted, Ok(w) if predicted_breach(w, &self.result.reference_checks).is_none())
     }
 
     /// Per lever: the log of the predicted cost at the top of its range over that at the bottom (the

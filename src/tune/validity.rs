@@ -47,9 +47,9 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 }
 
 /// Clips every continuous lever's range where, with the other keys at the reference's values, it
-/// reaches past a validity limit on any of twice [`CLIP_SEEDS`] placements (the end predicted invalid while
-/// the reference's value is valid): the new end is the last valid value found by bisection. Returns a
-/// warning per clipped lever naming the limit. A lever with no valid value found is left as it is
+/// reaches past a validity limit on any of twice [`CLIP_SEEDS`] placements (the end predicted invalid
+/// while the reference's value is valid): the new end is the last valid value found by bisection.
+/// Returns a warning per clipped lever naming the limit. A lever with no valid value found is left as it is
 /// (the screen rejects its points).
 pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
     let mut warnings = Vec::new();
@@ -66,7 +66,9 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
             })
             .collect(),
     };
-    for d in 0..spec.levers.len() {
+    // Each lever's reference coordinate depends on its own range only, read before it is clipped.
+    let home = spec.reference_coordinates();
+    for (d, inside) in home.into_iter().enumerate() {
         let lever = spec.levers[d].clone();
         let (low, high, integer, log) = match lever.range {
             LeverRange::Linear { low, high, integer } => (low, high, integer, false),
@@ -98,7 +100,6 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
                 Err(_) => Some("a placement that fails"),
             })
         };
-        let inside = spec.reference_coordinates()[d];
         let (bad_low, bad_high) = (problem(0.0), problem(1.0));
         let clean = inside.filter(|&u| problem(u).is_none());
         if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
