@@ -173,6 +173,37 @@ fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_tune() {
     assert_eq!(table(&out), table(&reference_out));
 }
 
+/// The runs a tune's stdout says it took from the file.
+fn from_the_file(stdout: &str) -> usize {
+    let counts = stdout.lines().rev().find(|l| l.contains(" from the file)")).expect("the closing line");
+    counts.split(", ").nth(1).and_then(|t| t.split(' ').next()?.parse().ok()).expect("a count")
+}
+
+#[test]
+fn a_resumed_tune_notes_only_the_stored_runs_it_did_not_replay() {
+    let dir = runner_common::scratch("tune_unplanned");
+    let file = write_tune(&dir, TUNE);
+    let out = dir.join("out");
+    let first = tune(&file, &out, &["--jobs", "2"]);
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first.stderr));
+    let stored = summary::read(&out.join("tiny_tune.h5")).unwrap().len();
+    // Replaying the same tune: the runs its later batches take from the file are not "unplanned".
+    let again = tune(&file, &out, &["--resume", "--jobs", "2"]);
+    assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
+    assert_eq!(from_the_file(&text(&again.stdout)), stored, "every run replayed");
+    assert!(!text(&again.stderr).contains("note:"), "{}", text(&again.stderr));
+    // Another search seed goes another way: the stored runs it leaves are named once, at the end.
+    write_tune(&dir, &TUNE.replace("seed = 3\n", "seed = 4\n"));
+    let other = tune(&file, &out, &["--resume", "--jobs", "2"]);
+    assert_eq!(other.status.code(), Some(0), "{}", text(&other.stderr));
+    let reused = from_the_file(&text(&other.stdout));
+    let stderr = text(&other.stderr);
+    let notes: Vec<&str> = stderr.lines().filter(|l| l.starts_with("note:")).collect();
+    let expected = format!("{} stored run(s) were not replayed by this tune", stored - reused);
+    assert!(reused < stored && notes.len() == 1 && notes[0].contains(&expected), "{stderr}");
+    assert!(!stderr.contains("--drop-unplanned"), "demsweep tune has no such option: {stderr}");
+}
+
 #[test]
 fn bad_tune_files_give_every_problem_and_write_nothing() {
     let dir = runner_common::scratch("tune_bad");

@@ -14,7 +14,8 @@ use demsweep::output::{self, ShardSpec};
 use demsweep::plot::{self, ChartOptions};
 use demsweep::report::ReportContext;
 use demsweep::runner::{
-    self, CommitPolicy, EXIT_PARTIAL, ProgressMode, RunCounts, RunOptions, RunReport, SweepOutcome, interrupt,
+    self, CommitPolicy, EXIT_PARTIAL, NotePolicy, ProgressMode, RunCounts, RunOptions, RunReport, SweepOutcome,
+    interrupt,
 };
 use demsweep::stats::compare::{self, Tolerance};
 use demsweep::stats::points::{self, Points};
@@ -247,6 +248,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         },
         commit: CommitPolicy { interval: args.commit_interval, ..CommitPolicy::default() },
         stop,
+        notes: NotePolicy::All,
     };
     match demsweep::workflow::run_study(plan, &options) {
         Ok(run) => {

@@ -200,6 +200,14 @@ pub fn run(args: &TuneArgs) -> ExitCode {
     for e in &written.chart_errors {
         errln!("chart not drawn: {e}");
     }
+    if outcome.unplanned > 0 {
+        errln!(
+            "note: {}: {} stored run(s) were not replayed by this tune (an earlier tune of this file went \
+             another way): kept in the file, left out of its summary and report",
+            outcome.results.display(),
+            outcome.unplanned
+        );
+    }
     outln!(
         "{} runs ({} made now, {} from the file), {:.3e} particle-steps, {:.1} s",
         outcome.ran + outcome.reused,

@@ -26,7 +26,7 @@ mod writer_thread;
 
 pub use batch::{Batch, run_batches};
 pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
-pub use notes::{RunNote, WorkerCap};
+pub use notes::{NotePolicy, RunNote, WorkerCap};
 pub use outcome::{EXIT_PARTIAL, RunCounts, SweepOutcome};
 pub use progress::ProgressMode;
 pub use warnings::WarningDigest;
@@ -68,6 +68,8 @@ pub struct RunOptions {
     pub commit: CommitPolicy,
     /// Set (e.g. by Ctrl-C) to stop: running simulations are interrupted and not recorded.
     pub stop: Arc<AtomicBool>,
+    /// Which notes are printed before the runs start.
+    pub notes: NotePolicy,
 }
 
 /// What a sweep did.
@@ -222,7 +224,7 @@ pub fn run_plan_with(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink>) -> 
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     notes.extend(capped);
-    RunNote::print_all(&notes, &path, options.progress);
+    RunNote::print_all(notes.iter().filter(|n| options.notes.prints(n)), &path, options.progress);
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
     let sinks = std::iter::once(output::dyn_sink(writer)).chain(sinks).collect();

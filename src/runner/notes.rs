@@ -59,6 +59,24 @@ pub enum WorkerCap {
     Cores(usize),
 }
 
+/// Which of a sweep's notes it prints before its runs start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NotePolicy {
+    /// Every note.
+    #[default]
+    All,
+    /// All but the stored runs the plan does not hold: the plan is the part run so far of one that
+    /// grows (a tune's batches), so that only its caller knows at the end which stored runs it left.
+    PlanGrows,
+}
+
+impl NotePolicy {
+    /// Whether `note` is printed.
+    pub fn prints(self, note: &RunNote) -> bool {
+        self == NotePolicy::All || !matches!(note, RunNote::Unplanned { .. })
+    }
+}
+
 impl RunNote {
     /// Whether the note is about stored results (runs that run again, are reused or deleted): such
     /// notes are shown whatever the progress display, the others not when it is quiet.
@@ -72,8 +90,8 @@ impl RunNote {
     }
 
     /// Prints the notes a sweep into `results` shows with the `progress` display, as `note:` lines.
-    pub fn print_all(notes: &[RunNote], results: &Path, progress: ProgressMode) {
-        for note in notes.iter().filter(|n| n.about_stored_runs() || progress != ProgressMode::Quiet) {
+    pub fn print_all<'a>(notes: impl IntoIterator<Item = &'a RunNote>, results: &Path, progress: ProgressMode) {
+        for note in notes.into_iter().filter(|n| n.about_stored_runs() || progress != ProgressMode::Quiet) {
             crate::output::terminal::err(format_args!("note: {}\n", note.line(results)));
         }
     }

@@ -31,7 +31,7 @@ pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
 use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::runner::{self, ProgressMode, RunOptions, RunnerError};
+use crate::runner::{self, NotePolicy, ProgressMode, RunNote, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
 use model::{Reading, RunFailure, ScreenError};
 use wall_rate::WallRates;
@@ -68,6 +68,9 @@ pub struct TuneReport {
     pub ran: usize,
     /// Particle-steps of every run, all included.
     pub total_particle_steps: f64,
+    /// Stored runs of the results file that this tune did not replay (an earlier tune of the file
+    /// that went another way): kept in the file, left out of its summary and report.
+    pub unplanned: usize,
 }
 
 /// The search's configuration from a tune file.
@@ -115,6 +118,7 @@ pub fn tune(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneReport, Tu
     let mut evaluator = RunEvaluator::new(spec, options);
     let searched = search::search(&search_config(spec), &mut evaluator);
     let (reused, ran, total_particle_steps) = (evaluator.reused, evaluator.ran, evaluator.particle_steps);
+    let unplanned = evaluator.unplanned;
     let wall_rates = evaluator.wall_rates.all().to_vec();
     spec.standards = evaluator.standards;
     let mut result = searched?;
@@ -125,6 +129,7 @@ pub fn tune(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneReport, Tu
         reused,
         ran,
         total_particle_steps,
+        unplanned,
     })
 }
 
@@ -204,6 +209,8 @@ pub struct RunEvaluator<'a> {
     pub ran: usize,
     /// Particle-steps of every run evaluated.
     pub particle_steps: f64,
+    /// Stored runs the latest batch's plan did not hold.
+    pub unplanned: usize,
     /// With wall time as the objective: each configuration's wall time per particle-step.
     pub wall_rates: WallRates,
 }
@@ -232,6 +239,7 @@ impl<'a> RunEvaluator<'a> {
             reused: 0,
             ran: 0,
             particle_steps: 0.0,
+            unplanned: 0,
             wall_rates: WallRates::default(),
         }
     }
@@ -322,9 +330,18 @@ impl Evaluator for RunEvaluator<'_> {
             force: first && self.options.force,
             progress: ProgressMode::Quiet,
             stop: self.options.stop.clone(),
+            notes: NotePolicy::PlanGrows,
             ..Default::default()
         };
         let report = runner::run_plan(&self.plan, &options)?;
+        self.unplanned = report
+            .notes
+            .iter()
+            .find_map(|n| match n {
+                RunNote::Unplanned { ids, .. } => Some(ids.len()),
+                _ => None,
+            })
+            .unwrap_or(0);
         if report.interrupted {
             return Err(TuneError::Interrupted);
         }
