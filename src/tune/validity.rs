@@ -3,19 +3,24 @@
 //! clipped where they reach past a limit ([`clip_levers`]).
 
 use super::model::{ScreenError, first_verification_seed};
-use super::spec::{DIGITS, LeverRange, TuneSpec};
+use super::spec::{DIGITS, Lever, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step};
+use rayon::prelude::*;
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
 const CLIP_STEPS: usize = 24;
 
-/// A range is clipped where any of this many placement seeds from the reference's on, or as many from
-/// the first verification seed on (the seeds the tune's runs use), predicts a breach: the hardest
-/// impact differs from seed to seed.
+/// A range is bisected on this many placement seeds from the reference's on and as many from the
+/// first verification seed on: the hardest impact differs from seed to seed.
 const CLIP_SEEDS: u64 = 16;
+
+/// A bisected end is confirmed on this many seeds from the reference's on and as many from the first
+/// verification seed on (every seed a tune of the default budget runs); a seed that breaks it joins
+/// the bisection's and the end is bisected again.
+const CONFIRM_SEEDS: u64 = 128;
 
 /// What a scene resolves to: its JSON with the time step that actually runs in place of the fractions
 /// that chose it (two settings with the same identity make the same runs).
@@ -47,27 +52,25 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 }
 
 /// Clips every continuous lever's range where, with the other keys at the reference's values, it
-/// reaches past a validity limit on any of twice [`CLIP_SEEDS`] placements (the end predicted invalid
-/// while the reference's value is valid): the new end is the last valid value found by bisection.
-/// Returns a warning per clipped lever naming the limit. A lever with no valid value found is left as it is
-/// (the screen rejects its points).
+/// reaches past a validity limit on any placement seed the tune's runs use (the end predicted invalid
+/// while the reference's value is valid): the new end is the last valid value found by bisection on
+/// twice [`CLIP_SEEDS`] placements, confirmed on twice [`CONFIRM_SEEDS`]. Returns a warning per
+/// clipped lever naming the limit. A lever with no valid value found is left as it is (the screen
+/// rejects its points).
 pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
-    let mut warnings = Vec::new();
-    let placements: Vec<Vec<InitialDisk>> = match spec.initial.as_deref() {
+    let first = first_verification_seed(spec.search.budget, spec.search.reference_seeds());
+    let seeds = |count: u64| (0..count).chain((0..count).map(move |s| s + first));
+    let bisected: Vec<u64> = seeds(CLIP_SEEDS).collect();
+    let mut confirm: Vec<u64> = seeds(CONFIRM_SEEDS).filter(|s| !bisected.contains(s)).collect();
+    confirm.sort_unstable();
+    confirm.dedup();
+    let mut placements: Vec<Vec<InitialDisk>> = match spec.initial.as_deref() {
         Some(disks) => vec![disks.clone()],
-        None => (0..CLIP_SEEDS)
-            .chain(
-                (0..CLIP_SEEDS).map(|s| s + first_verification_seed(spec.search.budget, spec.search.reference_seeds())),
-            )
-            .filter_map(|s| {
-                let mut scene = spec.reference.clone();
-                scene.placement.seed = scene.placement.seed.wrapping_add(s);
-                placement::generate(&scene).ok()
-            })
-            .collect(),
+        None => bisected.iter().filter_map(|&s| placement_at(spec, s)).collect(),
     };
     // Each lever's reference coordinate depends on its own range only, read before it is clipped.
     let home = spec.reference_coordinates();
+    let mut warnings = Vec::new();
     for (d, inside) in home.into_iter().enumerate() {
         let lever = spec.levers[d].clone();
         let (low, high, integer, log) = match lever.range {
@@ -80,28 +83,12 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         }
         // A lever that moves the disks is judged on its own placement; any other on every seed's.
         let own_placement = ["particles.", "domain.", "placement."].iter().any(|p| lever.key.starts_with(p));
-        let named = |warnings: Vec<ValidityWarning>| {
-            warnings.first().map(|w| match w.kind {
-                WarningKind::IntegratorStability => "the stable step of integrator.scheme at this damping",
-                kind => kind.limit_key(),
-            })
+        let confirm = if own_placement || spec.initial.is_some() { &[][..] } else { &confirm[..] };
+        let problem = |u: f64, placements: &[Vec<InitialDisk>]| {
+            breach(spec, &lever, u, if own_placement { &[] } else { placements })
         };
-        // The limit a value breaks (its key), or "a placement" when it cannot start.
-        let problem = |u: f64| -> Option<&'static str> {
-            let scene = spec.scene(&[(lever.key.clone(), lever.value(u))]).ok()?;
-            if own_placement || placements.is_empty() {
-                return match predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)) {
-                    Ok(w) => named(w),
-                    Err(_) => Some("a placement that fails"),
-                };
-            }
-            placements.iter().find_map(|disks| match predicted_warnings(&scene, Some(disks)) {
-                Ok(w) => named(w),
-                Err(_) => Some("a placement that fails"),
-            })
-        };
-        let (bad_low, bad_high) = (problem(0.0), problem(1.0));
-        let clean = inside.filter(|&u| problem(u).is_none());
+        let (bad_low, bad_high) = (problem(0.0, &placements), problem(1.0, &placements));
+        let clean = inside.filter(|&u| problem(u, &placements).is_none());
         if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
             continue;
         }
@@ -109,16 +96,18 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         let mut named = Vec::new();
         for (end, bad) in [(0.0, bad_low), (1.0, bad_high)] {
             let Some(reason) = bad else { continue };
-            let Some(mut good) = clean.or(if end == 0.0 { Some(1.0) } else { Some(0.0) }) else { continue };
-            let mut wrong = end;
-            for _ in 0..CLIP_STEPS {
-                let mid = 0.5 * (good + wrong);
-                if problem(mid).is_some() { wrong = mid } else { good = mid }
+            let good = clean.unwrap_or(1.0 - end);
+            let mut found = bisect(|u| problem(u, &placements).is_some(), good, end);
+            // A seed past the bisection's that breaks the end found joins them, and the end is
+            // bisected again on all of them.
+            while let Some(disks) = confirm.par_iter().find_map_first(|&s| breaking_placement(spec, &lever, found, s)) {
+                placements.push(disks);
+                found = bisect(|u| problem(u, &placements).is_some(), good, found);
             }
             if end == 0.0 {
-                ends.0 = good
+                ends.0 = found
             } else {
-                ends.1 = good
+                ends.1 = found
             }
             named.push(reason);
         }
@@ -136,7 +125,7 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         named.dedup();
         let over = match spec.initial {
             Some(_) => "the placement file's disks".to_string(),
-            None => format!("{} placement seeds, the search's and the verification's", placements.len()),
+            None => format!("{} placement seeds, the search's and the verification's", 2 * CONFIRM_SEEDS),
         };
         warnings.push(format!(
             "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {over}, with the other \
@@ -146,6 +135,46 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         ));
     }
     warnings
+}
+
+/// The reference's placement with its seed moved by `offset`; None when it cannot be placed.
+fn placement_at(spec: &TuneSpec, offset: u64) -> Option<Vec<InitialDisk>> {
+    let mut scene = spec.reference.clone();
+    scene.placement.seed = scene.placement.seed.wrapping_add(offset);
+    placement::generate(&scene).ok()
+}
+
+/// The limit (its key) that lever coordinate `u` breaks on any of `placements` (on the scene's own
+/// placement when there are none), or "a placement that fails" when it cannot start.
+fn breach(spec: &TuneSpec, lever: &Lever, u: f64, placements: &[Vec<InitialDisk>]) -> Option<&'static str> {
+    let scene = spec.scene(&[(lever.key.clone(), lever.value(u))]).ok()?;
+    let named = |warnings: Result<Vec<ValidityWarning>, ScreenError>| match warnings {
+        Ok(w) => w.first().map(|w| match w.kind {
+            WarningKind::IntegratorStability => "the stable step of integrator.scheme at this damping",
+            kind => kind.limit_key(),
+        }),
+        Err(_) => Some("a placement that fails"),
+    };
+    if placements.is_empty() {
+        return named(predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)));
+    }
+    placements.iter().find_map(|disks| named(predicted_warnings(&scene, Some(disks))))
+}
+
+/// The placement at seed offset `offset` when lever coordinate `u` breaks a limit on it.
+fn breaking_placement(spec: &TuneSpec, lever: &Lever, u: f64, offset: u64) -> Option<Vec<InitialDisk>> {
+    let disks = placement_at(spec, offset)?;
+    breach(spec, lever, u, std::slice::from_ref(&disks)).map(|_| disks)
+}
+
+/// The last coordinate between `good` (not broken) and `wrong` that `broken` accepts as not broken,
+/// by [`CLIP_STEPS`] bisection steps.
+fn bisect(broken: impl Fn(f64) -> bool, mut good: f64, mut wrong: f64) -> f64 {
+    for _ in 0..CLIP_STEPS {
+        let mid = 0.5 * (good + wrong);
+        if broken(mid) { wrong = mid } else { good = mid }
+    }
+    good
 }
 
 /// `x` rounded to the lever digits, up (`up`) or down: a clipped range's end moved inwards.
