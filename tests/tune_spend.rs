@@ -23,7 +23,8 @@ type Field = fn(&[f64]) -> f64;
 /// Standard setting k is the point `standards[k].0` with its time step divided by `standards[k].1`
 /// (`step_down` adds the same point with a smaller step). The reference is the setting at point
 /// `reference_at` when one is given (a lever space that contains it), else no point. A point where
-/// `unstable` holds is predicted past the integrator's stable step.
+/// `unstable` holds is predicted past the integrator's stable step. A verification run settles
+/// `verify_settle` times as long as a search run at the same point (1 unless set).
 struct StandIn {
     step_cost: Field,
     settle: Field,
@@ -35,6 +36,7 @@ struct StandIn {
     reference_at: Option<Vec<f64>>,
     unstable: Field,
     standards: Vec<(Vec<f64>, f64)>,
+    verify_settle: f64,
     jobs: Vec<Job>,
 }
 
@@ -51,6 +53,7 @@ impl StandIn {
             reference_at: None,
             unstable: |_| 0.0,
             standards: Vec::new(),
+            verify_settle: 1.0,
             jobs: Vec::new(),
         }
     }
@@ -108,7 +111,8 @@ impl Evaluator for StandIn {
                     p.iter().fold(step.to_bits(), |h, x| hash(h ^ x.to_bits())) ^ job.seed.wrapping_mul(0x9e37_79b9);
                 let metric = 1.0 + (self.offset)(&p) + (self.spread)(&p) * normal(key);
                 let settles = (self.settles)(&p, standard);
-                let cost = 100.0 * step * if settles { (self.settle)(&p) } else { 5.0 };
+                let fresh = if job.role == Role::Verify { self.verify_settle } else { 1.0 };
+                let cost = 100.0 * step * if settles { (self.settle)(&p) * fresh } else { 5.0 };
                 let mut outcome = Outcome::settled(cost, vec![metric]);
                 if !settles {
                     outcome.failure = Some(RunFailure::NotSettled);
@@ -417,4 +421,25 @@ fn a_reference_whose_first_seeds_drew_high_grows_and_the_pile_is_kept() {
     assert!(result.reference.len() > config.reference_seeds, "the reference grew\n{}", dump(&result));
     let (cost, _) = answer(&result);
     assert!(cost < 0.8, "{cost}\n{}", dump(&result));
+}
+
+#[test]
+fn a_setting_that_saves_nothing_on_its_fresh_seeds_is_no_answer() {
+    // One damping lever that shortens settling by at most 5 % on the search's seeds; on fresh seeds
+    // every setting settles 10 % later (the search's seeds drew short): each verified candidate
+    // passes on the pile but costs more than the reference there.
+    let mut stand_in = StandIn { settle: |p| 1.0 - 0.05 * p[0], verify_settle: 1.1, ..StandIn::new() };
+    let config = SearchConfig { dims: 1, levels: vec![None], dissipation: vec![0.0], home: vec![None], ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let passed: Vec<_> = result
+        .candidates
+        .iter()
+        .filter(|c| result.assess_verification(c).is_some_and(|v| v.state == State::Feasible))
+        .collect();
+    assert!(!passed.is_empty(), "a candidate passed its verification\n{}", dump(&result));
+    for cand in passed {
+        let verified = result.assess_verification(cand).expect("verified").cost;
+        assert!(verified > result.reference_cost(), "dearer on its fresh seeds: {verified}");
+    }
+    assert_eq!(result.recommended, None, "no answer\n{}", dump(&result));
 }

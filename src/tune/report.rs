@@ -281,6 +281,18 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 result.candidates.iter().filter(|c| !c.verification.is_empty()).collect();
             for cand in &failed_verification {
                 let a = result.assess_verification(cand).expect("verified");
+                if a.state == State::Feasible {
+                    let _ = write!(
+                        text,
+                        "Candidate {} ({}) passed verification on seeds {} but cost {} of the reference there: it \
+                         saves nothing. ",
+                        cand.id,
+                        settings(spec, cand),
+                        seed_text(spec, &cand.verify_seeds),
+                        short(a.cost / stats::describe(&reference).mean),
+                    );
+                    continue;
+                }
                 let _ = write!(
                     text,
                     "Candidate {} ({}) was equivalent during the search but failed verification on seeds {}: {}. ",
@@ -304,7 +316,10 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                         metric_lines(spec, result, &a)
                     );
                 }
-                None => text.push_str("No candidate's runs all settled and passed the validity checks. "),
+                None => {
+                    let other = if failed_verification.is_empty() { "" } else { " other" };
+                    let _ = write!(text, "No{other} candidate's runs all settled and passed the validity checks. ");
+                }
             }
             text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spent));
             text.push_str(&budget_line);
@@ -625,7 +640,9 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
                     short(t.low),
                     short(t.high),
                     short(*m),
-                    t.seeds_needed.map(|n| format!("; about {n} seeds would decide it")).unwrap_or_default()
+                    t.seeds_needed
+                        .map(|n| format!("; about {n} seeds a side, the reference's included, would decide it"))
+                        .unwrap_or_default()
                 ),
                 None => a.state.name().into(),
             }

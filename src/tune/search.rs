@@ -1218,9 +1218,11 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// Makes candidate `k`, which passed its verification, the answer when its verified cost is below
-    /// the answer so far's: the answer is the cheapest verified candidate. Whether it did.
+    /// the answer so far's and the reference's: the answer is the cheapest verified candidate, and one
+    /// that saves nothing on its fresh seeds is none. Whether it did.
     fn accept(&mut self, k: usize) -> bool {
-        let cheaper = self.result.assess_runs(&self.result.candidates[k].verification).cost < self.answer_cost();
+        let verified = self.result.assess_runs(&self.result.candidates[k].verification).cost;
+        let cheaper = verified < self.answer_cost().min(self.result.reference_cost());
         if cheaper {
             self.result.recommended = Some(k);
         }
