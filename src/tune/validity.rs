@@ -58,76 +58,29 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 /// clipped lever naming the limit. A lever with no valid value found is left as it is (the screen
 /// rejects its points).
 pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
-    let first = first_verification_seed(spec.search.budget, spec.search.reference_seeds());
-    let seeds = |count: u64| (0..count).chain((0..count).map(move |s| s + first));
-    let bisected: Vec<u64> = seeds(CLIP_SEEDS).collect();
-    let mut confirm: Vec<u64> = seeds(CONFIRM_SEEDS).filter(|s| !bisected.contains(s)).collect();
-    confirm.sort_unstable();
-    confirm.dedup();
-    // The ranges overlap where the run budget is below CONFIRM_SEEDS: count each seed once.
-    let screened = bisected.len() + confirm.len();
-    let mut placements: Vec<Vec<InitialDisk>> = match spec.initial.as_deref() {
-        Some(disks) => vec![disks.clone()],
-        None => bisected.iter().filter_map(|&s| placement_at(spec, s)).collect(),
-    };
+    let mut placements = Placements::new(spec);
     // Each lever's reference coordinate depends on its own range only, read before it is clipped.
     let home = spec.reference_coordinates();
     let mut warnings = Vec::new();
     for (d, inside) in home.into_iter().enumerate() {
         let lever = spec.levers[d].clone();
-        let (low, high, integer, log) = match lever.range {
-            LeverRange::Linear { low, high, integer } => (low, high, integer, false),
-            LeverRange::Log { low, high, integer } => (low, high, integer, true),
-            LeverRange::List(_) => continue,
+        let (low, high, log) = match lever.range {
+            LeverRange::Linear { low, high, integer: false } => (low, high, false),
+            LeverRange::Log { low, high, integer: false } => (low, high, true),
+            _ => continue,
         };
-        if integer {
-            continue;
-        }
-        // A lever that moves the disks is judged on its own placement; any other on every seed's.
-        let own_placement = ["particles.", "domain.", "placement."].iter().any(|p| lever.key.starts_with(p));
-        let confirm = if own_placement || spec.initial.is_some() { &[][..] } else { &confirm[..] };
-        let problem = |u: f64, placements: &[Vec<InitialDisk>]| {
-            breach(spec, &lever, u, if own_placement { &[] } else { placements })
-        };
-        let (bad_low, bad_high) = (problem(0.0, &placements), problem(1.0, &placements));
-        let clean = inside.filter(|&u| problem(u, &placements).is_none());
-        if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
-            continue;
-        }
-        let mut ends = (0.0, 1.0);
-        let mut named = Vec::new();
-        for (end, bad) in [(0.0, bad_low), (1.0, bad_high)] {
-            let Some(reason) = bad else { continue };
-            let good = clean.unwrap_or(1.0 - end);
-            let mut found = bisect(|u| problem(u, &placements).is_some(), good, end);
-            // A seed past the bisection's that breaks the end found joins them, and the end is
-            // bisected again on all of them.
-            while let Some(disks) = confirm.par_iter().find_map_first(|&s| breaking_placement(spec, &lever, found, s)) {
-                placements.push(disks);
-                found = bisect(|u| problem(u, &placements).is_some(), good, found);
-            }
-            if end == 0.0 {
-                ends.0 = found
-            } else {
-                ends.1 = found
-            }
-            named.push(reason);
-        }
-        if named.is_empty() {
-            continue;
-        }
+        let Some((ends, named)) = clipped_ends(spec, &lever, inside, &mut placements) else { continue };
         // The ends as found, rounded inwards so that the clipped range stays within the limit.
         let raw = |u: f64| if log { low * (high / low).powf(u) } else { low + (high - low) * u };
         let (new_low, new_high) = (round_inward(raw(ends.0), true), round_inward(raw(ends.1), false));
         spec.levers[d].range = if log {
-            LeverRange::Log { low: new_low, high: new_high, integer }
+            LeverRange::Log { low: new_low, high: new_high, integer: false }
         } else {
-            LeverRange::Linear { low: new_low, high: new_high, integer }
+            LeverRange::Linear { low: new_low, high: new_high, integer: false }
         };
-        named.dedup();
         let over = match spec.initial {
             Some(_) => "the placement file's disks".to_string(),
-            None => format!("{screened} placement seeds, the search's and the verification's"),
+            None => format!("{} placement seeds, the search's and the verification's", placements.screened),
         };
         warnings.push(format!(
             "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {over}, with the other \
@@ -137,6 +90,88 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
         ));
     }
     warnings
+}
+
+/// The placements a clipped end is judged on: those it is bisected on (growing by each seed that
+/// breaks an end found) and those it is confirmed on, generated once for every lever.
+struct Placements {
+    /// Those an end is bisected on: the first [`CLIP_SEEDS`] of the search's seeds and of the
+    /// verification's (the placement file's disks alone when there is one), and each seed that broke
+    /// an end found.
+    bisected: Vec<Vec<InitialDisk>>,
+    /// The further seeds an end is confirmed on.
+    confirm_seeds: Vec<u64>,
+    /// Their placements, once generated.
+    confirm: Option<Vec<Vec<InitialDisk>>>,
+    /// Distinct seeds screened (the ranges overlap where the run budget is below CONFIRM_SEEDS).
+    screened: usize,
+}
+
+impl Placements {
+    fn new(spec: &TuneSpec) -> Self {
+        let first = first_verification_seed(spec.search.budget, spec.search.reference_seeds());
+        let seeds = |count: u64| (0..count).chain((0..count).map(move |s| s + first));
+        let bisected_seeds: Vec<u64> = seeds(CLIP_SEEDS).collect();
+        let mut confirm_seeds: Vec<u64> = seeds(CONFIRM_SEEDS).filter(|s| !bisected_seeds.contains(s)).collect();
+        confirm_seeds.sort_unstable();
+        confirm_seeds.dedup();
+        let bisected = match spec.initial.as_deref() {
+            Some(disks) => vec![disks.clone()],
+            None => bisected_seeds.iter().filter_map(|&s| placement_at(spec, s)).collect(),
+        };
+        let screened = bisected_seeds.len() + confirm_seeds.len();
+        Self { bisected, confirm_seeds, confirm: None, screened }
+    }
+
+    /// The first confirmation placement (in seed order) on which `lever` at coordinate `u` breaks a
+    /// limit; the confirmation placements are generated, in parallel, on first use.
+    fn breaking(&mut self, spec: &TuneSpec, lever: &Lever, u: f64) -> Option<Vec<InitialDisk>> {
+        let seeds = &self.confirm_seeds;
+        let confirm =
+            self.confirm.get_or_insert_with(|| seeds.par_iter().filter_map(|&s| placement_at(spec, s)).collect());
+        confirm.par_iter().find_first(|disks| breach(spec, lever, u, std::slice::from_ref(disks)).is_some()).cloned()
+    }
+}
+
+/// A lever's clipped ends in the normalized coordinate and the limits they stop at, or None when
+/// neither end breaks one (or no valid value is found). `inside`: the reference's coordinate, when
+/// within the range. A lever that moves the disks is judged on its own placement; any other on every
+/// seed's, and a seed past the bisection's that breaks an end found joins them, the end bisected again.
+fn clipped_ends(
+    spec: &TuneSpec,
+    lever: &Lever,
+    inside: Option<f64>,
+    placements: &mut Placements,
+) -> Option<((f64, f64), Vec<&'static str>)> {
+    let own_placement = ["particles.", "domain.", "placement."].iter().any(|p| lever.key.starts_with(p));
+    let confirmed = !own_placement && spec.initial.is_none();
+    let problem = |u: f64, disks: &[Vec<InitialDisk>]| breach(spec, lever, u, if own_placement { &[] } else { disks });
+    let (bad_low, bad_high) = (problem(0.0, &placements.bisected), problem(1.0, &placements.bisected));
+    let clean = inside.filter(|&u| problem(u, &placements.bisected).is_none());
+    if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
+        return None;
+    }
+    let mut ends = (0.0, 1.0);
+    let mut named = Vec::new();
+    for (end, bad) in [(0.0, bad_low), (1.0, bad_high)] {
+        let Some(reason) = bad else { continue };
+        let good = clean.unwrap_or(1.0 - end);
+        let mut found = bisect(|u| problem(u, &placements.bisected).is_some(), good, end);
+        // A seed past the bisection's that breaks the end found joins them, and the end is bisected
+        // again on all of them.
+        while let Some(disks) = confirmed.then(|| placements.breaking(spec, lever, found)).flatten() {
+            placements.bisected.push(disks);
+            found = bisect(|u| problem(u, &placements.bisected).is_some(), good, found);
+        }
+        if end == 0.0 {
+            ends.0 = found
+        } else {
+            ends.1 = found
+        }
+        named.push(reason);
+    }
+    named.dedup();
+    (!named.is_empty()).then_some((ends, named))
 }
 
 /// The reference's placement with its seed moved by `offset`; None when it cannot be placed.
@@ -161,12 +196,6 @@ fn breach(spec: &TuneSpec, lever: &Lever, u: f64, placements: &[Vec<InitialDisk>
         return named(predicted_warnings(&scene, spec.initial.as_deref().map(Vec::as_slice)));
     }
     placements.iter().find_map(|disks| named(predicted_warnings(&scene, Some(disks))))
-}
-
-/// The placement at seed offset `offset` when lever coordinate `u` breaks a limit on it.
-fn breaking_placement(spec: &TuneSpec, lever: &Lever, u: f64, offset: u64) -> Option<Vec<InitialDisk>> {
-    let disks = placement_at(spec, offset)?;
-    breach(spec, lever, u, std::slice::from_ref(&disks)).map(|_| disks)
 }
 
 /// The last coordinate between `good` (not broken) and `wrong` that `broken` accepts as not broken,
