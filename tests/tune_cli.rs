@@ -40,6 +40,13 @@ fn tune(file: &Path, out: &Path, extra: &[&str]) -> Output {
     demsweep(&args)
 }
 
+/// [`tune`], which must exit 0.
+fn tuned(file: &Path, out: &Path, extra: &[&str]) -> Output {
+    let output = tune(file, out, extra);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    output
+}
+
 #[test]
 fn a_tiny_tune_runs_end_to_end() {
     let dir = runner_common::scratch("tune_end_to_end");
@@ -52,8 +59,7 @@ fn a_tiny_tune_runs_end_to_end() {
     assert!(text(&plan.stdout).contains("budget bound"), "{}", text(&plan.stdout));
 
     let out = dir.join("out");
-    let run = tune(&file, &out, &["--jobs", "2"]);
-    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let run = tuned(&file, &out, &["--jobs", "2"]);
     let stdout = text(&run.stdout);
     let said = paragraph(&stdout);
     // The answer is a point of the lever space or a standard setting (verified before the search).
@@ -129,8 +135,7 @@ fn a_tiny_tune_runs_end_to_end() {
     let said_refused = text(&refused.stderr);
     assert_eq!(refused.status.code(), Some(1), "{said_refused}");
     assert!(said_refused.contains("was made by demsweep 0.0.9") && said_refused.contains("--accept-version"));
-    let accepted = tune(&file, &out, &["--resume", "--accept-version", "--jobs", "2"]);
-    assert_eq!(accepted.status.code(), Some(0), "{}", text(&accepted.stderr));
+    let accepted = tuned(&file, &out, &["--resume", "--accept-version", "--jobs", "2"]);
     assert_eq!(paragraph(&text(&accepted.stdout)), said, "the same answer from the same runs");
 }
 
@@ -139,8 +144,7 @@ fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_tune() {
     let dir = runner_common::scratch("tune_kill");
     let file = write_tune(&dir, TUNE);
     let reference_out = dir.join("reference");
-    let reference = tune(&file, &reference_out, &["--jobs", "2"]);
-    assert_eq!(reference.status.code(), Some(0), "{}", text(&reference.stderr));
+    let reference = tuned(&file, &reference_out, &["--jobs", "2"]);
 
     let out = dir.join("killed");
     let mut child = Command::new(env!("CARGO_BIN_EXE_demsweep"))
@@ -160,8 +164,7 @@ fn killed_with_sigkill_then_resumed_equals_an_uninterrupted_tune() {
     assert_eq!(child.wait().unwrap().code(), None, "killed by a signal");
     let kept = summary::read(&results).unwrap().len();
 
-    let resumed = tune(&file, &out, &["--resume", "--jobs", "2"]);
-    assert_eq!(resumed.status.code(), Some(0), "{}", text(&resumed.stderr));
+    let resumed = tuned(&file, &out, &["--resume", "--jobs", "2"]);
     let said = text(&resumed.stdout);
     assert!(said.contains("from the file"), "{said}");
     assert_eq!(paragraph(&said), paragraph(&text(&reference.stdout)));
@@ -184,18 +187,15 @@ fn a_resumed_tune_notes_only_the_stored_runs_it_did_not_replay() {
     let dir = runner_common::scratch("tune_unplanned");
     let file = write_tune(&dir, TUNE);
     let out = dir.join("out");
-    let first = tune(&file, &out, &["--jobs", "2"]);
-    assert_eq!(first.status.code(), Some(0), "{}", text(&first.stderr));
+    tuned(&file, &out, &["--jobs", "2"]);
     let stored = summary::read(&out.join("tiny_tune.h5")).unwrap().len();
     // Replaying the same tune: the runs its later batches take from the file are not "unplanned".
-    let again = tune(&file, &out, &["--resume", "--jobs", "2"]);
-    assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
+    let again = tuned(&file, &out, &["--resume", "--jobs", "2"]);
     assert_eq!(from_the_file(&text(&again.stdout)), stored, "every run replayed");
     assert!(!text(&again.stderr).contains("note:"), "{}", text(&again.stderr));
     // Another search seed goes another way: the stored runs it leaves are named once, at the end.
     write_tune(&dir, &TUNE.replace("seed = 3\n", "seed = 4\n"));
-    let other = tune(&file, &out, &["--resume", "--jobs", "2"]);
-    assert_eq!(other.status.code(), Some(0), "{}", text(&other.stderr));
+    let other = tuned(&file, &out, &["--resume", "--jobs", "2"]);
     let reused = from_the_file(&text(&other.stdout));
     let stderr = text(&other.stderr);
     let notes: Vec<&str> = stderr.lines().filter(|l| l.starts_with("note:")).collect();
@@ -273,8 +273,7 @@ fn a_tune_without_a_time_step_lever_changes_no_time_step_key() {
     assert_eq!(plan.status.code(), Some(0), "{}", text(&plan.stderr));
     assert!(planned.contains("  local damping 0.2") && !planned.contains("time step at"), "{planned}");
     let out = dir.join("out");
-    let run = tune(&file, &out, &["--jobs", "2"]);
-    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    tuned(&file, &out, &["--jobs", "2"]);
     let summary = std::fs::read_to_string(out.join("tiny_tune_summary.csv")).unwrap();
     let mut lines = summary.lines();
     let column = lines.next().unwrap().split(',').position(|c| c == "time_step").expect("a time_step column");
@@ -298,8 +297,7 @@ fn a_wall_time_tune_states_the_same_cost_when_rerun() {
     let sheets: Vec<String> = ["first", "second"]
         .iter()
         .map(|name| {
-            let run = tune(&file, &dir.join(name), &["--jobs", "2"]);
-            assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+            let run = tuned(&file, &dir.join(name), &["--jobs", "2"]);
             paragraph(&text(&run.stdout))
         })
         .collect();
