@@ -1,0 +1,56 @@
+//! The search: find the cheapest point of a normalized lever space `[0, 1]^d` (or setting of the
+//! ladder) whose replicated runs are valid and equivalent to the reference's on every kept metric.
+//!
+//! It is generic over an [`Evaluator`](crate::tune::model::Evaluator) (real runs through the
+//! runner, or a cheap analytic stand-in in tests) and deterministic: every choice depends only on
+//! the configuration, its seed and the outcomes of earlier batches, processed in job order.
+//! Judgements are in `judge`.
+//!
+//! 1. The reference runs on `reference_seeds` seeds; each metric's margin is its tolerance times
+//!    the reference mean (or the absolute tolerance). The reference's own validity figures are
+//!    recorded: a check it breaks holds every candidate to no worse than it. A reference that
+//!    diverges or does not settle stops the tune; so does a kept metric its spread cannot decide
+//!    ([`decidability`](crate::tune::judge::decidability)). A setting that resolves to the
+//!    reference's own runs is never a candidate.
+//! 2. **The time-step path** ([`Search::path`](run::Search::path)), when a time-step key is a
+//!    lever, before anything else: the first standard setting (the time-step lever alone at its
+//!    largest valid value) and, below it, the same setting with a smaller time step, down to the
+//!    reference's (valid and equivalent by definition). A rung whose runs break a measured check
+//!    steps down by the fitted error model ([`cure_factor`](crate::tune::judge::cure_factor)); one
+//!    that differs bisects (geometric mean) towards the last good rung or the reference, until the
+//!    two are within [`PATH_RESOLUTION`](path::PATH_RESOLUTION); the cheapest good rung is verified
+//!    on fresh seeds, and a failed verification leads to the rung that cures it and a new
+//!    verification. Only the run budget and the spend limit stop it; nothing else runs before it
+//!    ends.
+//! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
+//!    design (a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted
+//!    invalid are recorded and never run); then a pattern search (compass search, Kolda, Lewis &
+//!    Torczon 2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer
+//!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and
+//!    is not likely different) gets more, up to `max_seeds`, then sequentially the seeds that
+//!    decide it; where the reference's own spread is what keeps it undecided, the reference grows
+//!    ([`Search::grow_reference`](run::Search::grow_reference)). A new candidate predicted dearer
+//!    than the cheapest one still in the running runs one seed first, cut at that cost; points
+//!    predicted [`FAR_TOO_DEAR`](predict::FAR_TOO_DEAR) are not run. The search records why it
+//!    ended ([`SearchEnd`](crate::tune::model::SearchEnd)).
+//! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
+//!    search (they start past the run budget), judged on those runs alone: while there is no
+//!    answer, as soon as a candidate is valid and equivalent; else when the search ends. The answer
+//!    is the cheapest verified candidate that costs less than the reference on its fresh seeds.
+//!
+//! The files: `run` holds the search's state and its order of work; `reference` (1), `path` (2),
+//! `explore` and `corner` (3), `verify` (4); `seeds` gives undecided candidates their further seeds,
+//! `predict` prices a setting before it runs, `spend` keeps every batch within the budget and the
+//! spend limit.
+
+mod corner;
+mod explore;
+mod path;
+mod predict;
+mod reference;
+mod run;
+mod seeds;
+mod spend;
+mod verify;
+
+pub use run::search;

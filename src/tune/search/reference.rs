@@ -1,0 +1,136 @@
+//! The reference's runs: the first `reference_seeds`, and more where its own spread or a chance
+//! draw keeps candidates undecided.
+
+use super::run::{Growth, Search};
+use super::seeds;
+use crate::stats::{self, Decision};
+use crate::tune::judge::{check_figures, reference_stands_apart, runs_to_decide_with};
+use crate::tune::model::{Candidate, Evaluator, Job, Outcome, State, TuneError};
+
+impl<'a, E: Evaluator> Search<'a, E> {
+    pub(super) fn reference(&mut self) -> Result<(), TuneError> {
+        let c = self.config;
+        let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
+        self.seen.insert(self.evaluator.reference_identity());
+        self.add_reference(&jobs)
+    }
+
+    /// Runs reference `jobs` and adds them to the reference's runs; the margins and the reference's
+    /// validity figures follow all its runs. A run that fails stops the tune.
+    pub(super) fn add_reference(&mut self, jobs: &[Job]) -> Result<(), TuneError> {
+        let c = self.config;
+        let outcomes = self.evaluate(jobs)?;
+        if let Some((job, failure)) = jobs.iter().zip(&outcomes).find_map(|(j, o)| Some((j, o.failure.clone()?))) {
+            return Err(TuneError::ReferenceFailed { seed: job.seed, failure });
+        }
+        let outcomes: Vec<Outcome> = self.result.reference.iter().cloned().chain(outcomes).collect();
+        let mut margins = Vec::new();
+        for (k, &(tolerance, absolute)) in c.tolerances.iter().enumerate() {
+            let values: Vec<f64> = outcomes.iter().map(|o| o.metrics[k]).collect();
+            let mean = stats::describe(&values).mean;
+            let margin = if absolute { tolerance } else { tolerance * mean.abs() };
+            if !(margin > 0.0 && margin.is_finite()) {
+                let metric = c.metrics.get(k).cloned().unwrap_or_else(|| format!("number {}", k + 1));
+                return Err(TuneError::NoMargin { metric, mean });
+            }
+            margins.push(margin);
+        }
+        self.result.reference_checks = check_figures(&outcomes, &[]);
+        self.result.reference = outcomes;
+        self.result.margins = margins;
+        Ok(())
+    }
+
+    /// The cheapest way to decide undecided candidate `cand` when more of its own seeds alone
+    /// cannot (the reference's spread is what keeps its interval wide): `g` more reference runs (a
+    /// multiple of `seeds`, the reference at most doubled) and the candidate runs in all that then
+    /// decide it (at most [`seeds::SEQUENTIAL_SEEDS`] times `max_seeds`), with the price of both
+    /// and of verifying it on as many fresh seeds, in reference runs. None when no growth would.
+    pub(super) fn reference_growth(&self, cand: &Candidate) -> Option<(usize, usize, f64)> {
+        let c = self.config;
+        let result = &self.result;
+        let n_r = result.reference.len();
+        let cost = result.assess(cand).cost / result.reference_cost();
+        let most = seeds::SEQUENTIAL_SEEDS * c.max_seeds;
+        (1..)
+            .map(|k| k * c.seeds)
+            .take_while(|&g| n_r + g <= 2 * c.reference_seeds)
+            .filter_map(|g| {
+                let needed = runs_to_decide_with(&result.reference, &cand.runs, &result.margins, n_r + g)?;
+                let more = needed.saturating_sub(cand.runs.len());
+                (needed <= most).then(|| (g, needed, g as f64 + (more + needed.max(c.verify_seeds)) as f64 * cost))
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+    }
+
+    /// Grows the reference when that is what decides the cheapest undecided candidate that would
+    /// beat the incumbent by a clear margin ([`seeds::CLEAR_MARGIN`]) and its own seeds alone
+    /// cannot ([`Self::reference_growth`]), within the spend limit; whether it did. (A reference
+    /// whose own mean is in doubt is grown first, by [`Self::extra_seeds`].)
+    pub(super) fn grow_reference(&mut self) -> Result<bool, TuneError> {
+        let result = &self.result;
+        let bound = (seeds::CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
+        let growth = result
+            .candidates
+            .iter()
+            .map(|c| (result.assess(c), c))
+            .filter(|(a, c)| a.state == State::Undecided && a.cost < bound && self.more_seeds(c).is_none())
+            .filter(|(a, _)| a.n >= self.config.max_seeds)
+            .min_by(|x, y| x.0.cost.total_cmp(&y.0.cost))
+            .and_then(|(_, c)| self.reference_growth(c));
+        match growth {
+            Some((g, needed, price)) => self.grow(Growth { runs: g, priced_runs: g + 2 * needed, price }),
+            None => Ok(false),
+        }
+    }
+
+    /// Runs `growth`'s reference runs when its price fits the spend limit; whether it did.
+    pub(super) fn grow(&mut self, growth: Growth) -> Result<bool, TuneError> {
+        if !self.fits_price(growth.priced_runs, growth.price) {
+            return Ok(false);
+        }
+        let first = self.result.reference.len() as u64;
+        let jobs: Vec<Job> = (first..first + growth.runs as u64).map(Job::reference).collect();
+        self.add_reference(&jobs)?;
+        Ok(true)
+    }
+
+    /// `seeds` more reference runs when the reference's own mean is in doubt: it stands apart
+    /// ([`reference_stands_apart`]) from the candidates whose `seeds` or more search runs all
+    /// settled, on a kept metric that leaves one cheaper than the reference undecided with its
+    /// difference inside the margin (past it, the candidate is likely different whatever the
+    /// reference's mean). Priced with a verification round of the cheapest candidate pending; the
+    /// reference at most doubled.
+    pub(super) fn doubtful_reference(&self) -> Option<Growth> {
+        let c = self.config;
+        let result = &self.result;
+        if result.reference.len() + c.seeds > 2 * c.reference_seeds {
+            return None;
+        }
+        let settled = |cand: &&Candidate| {
+            cand.runs.len() >= c.seeds && cand.runs.iter().all(|o| o.failure.is_none() && !o.metrics.is_empty())
+        };
+        let ran: Vec<&Candidate> = result.candidates.iter().filter(settled).collect();
+        let mut open = vec![false; result.margins.len()];
+        for cand in &ran {
+            let a = result.assess(cand);
+            if a.state == State::Undecided && a.cost < result.reference_cost() {
+                for (k, test) in a.tests.iter().enumerate() {
+                    open[k] |= test.decision == Decision::Undecided && test.difference.abs() < result.margins[k];
+                }
+            }
+        }
+        let means: Vec<Vec<f64>> =
+            ran.iter().map(|cand| (0..result.margins.len()).map(|k| column_mean(&cand.runs, k)).collect()).collect();
+        if !reference_stands_apart(&result.reference, &means, &open) {
+            return None;
+        }
+        let (verify, price) = self.pending_reservation().map_or((0, 0.0), |p| (c.verify_seeds, p));
+        Some(Growth { runs: c.seeds, priced_runs: c.seeds + verify, price: c.seeds as f64 + price })
+    }
+}
+
+/// The mean of kept metric `k` over `runs`.
+pub(super) fn column_mean(runs: &[Outcome], k: usize) -> f64 {
+    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
+}

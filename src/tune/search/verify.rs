@@ -1,0 +1,148 @@
+//! Verification on fresh seeds, judged on those runs alone, and the answer: the cheapest verified
+//! candidate that saves something.
+
+use super::run::Search;
+use crate::stats;
+use crate::tune::judge::runs_to_decide;
+use crate::tune::model::{Candidate, Evaluator, Job, Role, State, TuneError};
+use std::collections::HashSet;
+
+/// Most verification rounds of one candidate.
+pub(super) const VERIFY_ROUNDS: usize = 4;
+
+impl<'a, E: Evaluator> Search<'a, E> {
+    /// Whether fresh runs would likely confirm a feasible candidate: on every metric, its
+    /// difference so far plus the 90 % interval half-width expected with `2 × verify_seeds` fresh
+    /// runs stays below 0.9 of the margin (the search's winners look better than they are: the 0.9
+    /// allows for that).
+    pub(super) fn verifiable(&self, cand: &Candidate) -> bool {
+        let n = (2 * self.config.verify_seeds) as f64;
+        let reference = &self.result.reference;
+        (0..self.result.margins.len()).all(|k| {
+            let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let c = stats::describe(&cand.runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let se = (c.std * c.std / n + r.std * r.std / r.n as f64).sqrt();
+            let t = stats::student_t_quantile(0.95, n + r.n as f64 - 2.0);
+            let upper = (c.mean - r.mean).abs() + if se > 0.0 { t * se } else { 0.0 };
+            upper < 0.9 * self.result.margins[k]
+        })
+    }
+
+    /// Verifies the cheapest feasible candidates among those `keep` accepts (and cheaper than the
+    /// recommendation so far) on fresh seeds until one passes (it becomes the recommendation) or
+    /// the budget ends. After a failure, only candidates that stood further inside the tolerances
+    /// during the search (largest |difference|/tolerance below 0.9 of the failed one's) are tried:
+    /// the failure says the edge of the acceptable region is nearer than the search runs showed.
+    pub(super) fn verify(&mut self, keep: impl Fn(&Candidate) -> bool) -> Result<(), TuneError> {
+        let mut tried = HashSet::new();
+        let mut limit = f64::INFINITY;
+        let bound = self.answer_cost();
+        while let Some(k) = self.next_to_verify(&tried, limit, |c| keep(c) && self.result.assess(c).cost < bound) {
+            tried.insert(k);
+            match self.verify_candidate(k)? {
+                Some(true) => {
+                    if self.accept(k) {
+                        return Ok(());
+                    }
+                }
+                Some(false) => {
+                    let cand = &self.result.candidates[k];
+                    if self.result.assess_verification(cand).is_some_and(|a| a.state != State::Undecided) {
+                        limit = 0.9 * self.result.assess(cand).worst;
+                    }
+                }
+                None => return Ok(()),
+            }
+        }
+        Ok(())
+    }
+
+    /// The verified cost of the answer so far (infinite without one).
+    pub(super) fn answer_cost(&self) -> f64 {
+        let verified = |k: usize| self.result.assess_runs(&self.result.candidates[k].verification).cost;
+        self.result.recommended.map_or(f64::INFINITY, verified)
+    }
+
+    /// Makes candidate `k`, which passed its verification, the answer when its verified cost is
+    /// below the answer so far's and the reference's: the answer is the cheapest verified
+    /// candidate, and one that saves nothing on its fresh seeds is none. Whether it did.
+    pub(super) fn accept(&mut self, k: usize) -> bool {
+        let verified = self.result.assess_runs(&self.result.candidates[k].verification).cost;
+        let cheaper = verified < self.answer_cost().min(self.result.reference_cost());
+        if cheaper {
+            self.result.recommended = Some(k);
+        }
+        cheaper
+    }
+
+    /// The next candidate to verify: feasible in the search, cheaper than the reference, not tried,
+    /// standing inside `limit`; those whose difference leaves room for the verification's interval
+    /// first, then the cheapest.
+    pub(super) fn next_to_verify(
+        &self,
+        tried: &HashSet<usize>,
+        limit: f64,
+        keep: impl Fn(&Candidate) -> bool,
+    ) -> Option<usize> {
+        let result = &self.result;
+        result
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|(k, cand)| !tried.contains(k) && cand.verification.is_empty() && keep(cand))
+            .filter_map(|(k, cand)| {
+                let a = result.assess(cand);
+                let cheaper = result.cheapest_feasible(|c| c.id == cand.id).0.is_some();
+                (cheaper && a.state == State::Feasible && a.worst < limit).then(|| (k, a.cost, self.verifiable(cand)))
+            })
+            .min_by(|a, b| b.2.cmp(&a.2).then(a.1.total_cmp(&b.1)).then(a.0.cmp(&b.0)))
+            .map(|(k, _, _)| k)
+    }
+
+    /// Runs candidate `k` on fresh seeds, `verify_seeds` at a time: once more when undecided, and
+    /// again (up to [`VERIFY_ROUNDS`]) while the runs so far say two more rounds would decide it
+    /// ([`runs_to_decide`]). Some(true) when it passes, Some(false) when it fails, None when the
+    /// budget or the spend limit leaves no room.
+    pub(super) fn verify_candidate(&mut self, k: usize) -> Result<Option<bool>, TuneError> {
+        let c = self.config;
+        // A candidate the search decided on more seeds than a round has is verified on as many.
+        let size = c.verify_seeds.max(self.result.candidates[k].runs.len());
+        for round in 0..VERIFY_ROUNDS {
+            let cost = self.result.assess(&self.result.candidates[k]).cost / self.result.reference_cost();
+            // A further round leaves room for the next candidate's first round, should this one fail.
+            let fallback = if round == 0 { None } else { self.cheapest_pending(true, Some(k)) };
+            let (more, fallback) = fallback.unwrap_or((0, 0.0));
+            if !self.fits_price(size + more, size as f64 * cost + fallback) {
+                return Ok(None);
+            }
+            let cand = &self.result.candidates[k];
+            let seeds: Vec<u64> = (self.next_seed..self.next_seed + size as u64).collect();
+            self.next_seed += size as u64;
+            let jobs: Vec<Job> = seeds
+                .iter()
+                .map(|&seed| Job {
+                    candidate: cand.id,
+                    point: cand.point.clone(),
+                    role: Role::Verify,
+                    seed,
+                    standard: cand.standard,
+                    cap: None,
+                })
+                .collect();
+            let outcomes = self.evaluate(&jobs)?;
+            let cand = &mut self.result.candidates[k];
+            cand.verification.extend(outcomes);
+            cand.verify_seeds.extend(seeds);
+            let result = &self.result;
+            let runs = &result.candidates[k].verification;
+            let soon =
+                || runs_to_decide(&result.reference, runs, &result.margins).is_some_and(|n| n <= runs.len() + 2 * size);
+            match result.assess_runs(runs).state {
+                State::Feasible => return Ok(Some(true)),
+                State::Undecided if round == 0 || soon() => continue,
+                _ => return Ok(Some(false)),
+            }
+        }
+        Ok(Some(false))
+    }
+}
