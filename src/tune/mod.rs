@@ -247,11 +247,7 @@ impl<'a> RunEvaluator<'a> {
     fn planned_run(&self, job: &Job, index: usize) -> PlannedRun {
         let parameters = job_parameters(self.spec, &self.standards, job);
         let scene = match job.role {
-            Role::Reference => {
-                let mut scene = self.spec.reference.clone();
-                scene.placement.seed = self.spec.reference.placement.seed.wrapping_add(job.seed);
-                Ok(scene)
-            }
+            Role::Reference => Ok(self.spec.reference_at(job.seed)),
             _ => setting_scene(self.spec, &self.standards, &job.point, job.standard, job.seed),
         };
         // An invalid scene becomes a run that fails with the reason (status error): the runner

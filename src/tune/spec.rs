@@ -275,6 +275,13 @@ impl TuneSpec {
         Ok(scene)
     }
 
+    /// The reference scene with its placement seed moved by `offset` (a tune's seed number).
+    pub fn reference_at(&self, offset: u64) -> SceneConfig {
+        let mut scene = self.reference.clone();
+        scene.placement.seed = self.reference.placement.seed.wrapping_add(offset);
+        scene
+    }
+
     /// The scene of a standard setting.
     pub fn standard_scene(&self, standard: &StandardSetting) -> Result<SceneConfig, SceneError> {
         self.scene(&standard.values)

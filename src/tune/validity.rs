@@ -176,9 +176,7 @@ fn clipped_ends(
 
 /// The reference's placement with its seed moved by `offset`; None when it cannot be placed.
 fn placement_at(spec: &TuneSpec, offset: u64) -> Option<Vec<InitialDisk>> {
-    let mut scene = spec.reference.clone();
-    scene.placement.seed = scene.placement.seed.wrapping_add(offset);
-    placement::generate(&scene).ok()
+    placement::generate(&spec.reference_at(offset)).ok()
 }
 
 /// The limit (its key) that lever coordinate `u` breaks on any of `placements` (on the scene's own
