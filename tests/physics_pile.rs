@@ -139,6 +139,14 @@ fn frictionless_side_walls_put_the_whole_weight_on_the_floor() {
     println!("normal force width {width:.4}, floor mean contact force {floor_force:.4e} N");
     assert!(width > 0.2 && width < 2.0, "a pile under its weight is loaded unevenly (force chains)");
     assert!(floor_force > 0.0, "the floor carries the pile");
+    // The surface height is the height of the bulk: the disk area over the width at it packs about as
+    // densely as the interior, while the highest disk top lies above it.
+    let area: f64 = rec.final_state.r.iter().map(|r| std::f64::consts::PI * r * r).sum();
+    let (surface, top) = (rec.pile["surface_height"], rec.pile["pile_height"]);
+    let packing = area / (0.2 * surface);
+    println!("surface height {surface:.5} m, pile height {top:.5} m, packing below the surface {packing:.4}");
+    assert!(surface < top, "{surface} against {top}");
+    assert!((packing / rec.pile["packing_fraction_interior"] - 1.0).abs() < 0.1, "{packing}");
 }
 
 #[test]

@@ -4,6 +4,10 @@
 //! Only contacts that carry force (`F_n > 0`) count. The metrics, their names and units are declared
 //! in [`super::quantity::PILE_METRICS`]; the definitions:
 //! - pile height: the highest disk top; packing fraction: disk area over width times height;
+//! - surface height: the mean height of the free surface over the box width: at each of many
+//!   evenly spaced points across the width, the top of the highest disk above it (0 where no disk is
+//!   above it), averaged; one grain on top of a pile of width `W` moves it by about `d² / W` where it
+//!   moves the pile height by `d`;
 //! - interior packing fraction: disk area inside a window `2 d_max` away from the side walls and the
 //!   floor, up to `2 d_max` below the pile's surface (its highest disk top), over the window's area;
 //!   disks clipped to the window exactly;
@@ -38,7 +42,7 @@ pub struct PileGeometry<'a> {
 }
 
 /// Number of pile metrics (the length of [`super::quantity::PILE_METRICS`], which checks it).
-pub const PILE_METRIC_COUNT: usize = 13;
+pub const PILE_METRIC_COUNT: usize = 14;
 
 /// The pile metrics of one state, in the order of `quantity::PILE_METRICS` (NaN where undefined, e.g.
 /// no contacts); measured and looked up by name in `quantity`, which declares them.
@@ -94,6 +98,11 @@ impl<'a> Pile<'a> {
     /// The highest disk top (m); 0 without disks.
     pub fn height(&self) -> f64 {
         surface(self.geometry)
+    }
+
+    /// See [`surface_height`].
+    pub fn surface_height(&self) -> f64 {
+        surface_height(self.geometry)
     }
 
     /// Disk area over the box width times the pile height; NaN without height.
@@ -237,6 +246,39 @@ pub fn interior_packing_fraction(pile: &PileGeometry) -> f64 {
 /// The highest disk top (m); 0 without disks.
 fn surface(pile: &PileGeometry) -> f64 {
     pile.y.iter().zip(pile.r).map(|(y, r)| y + r).fold(0.0, f64::max)
+}
+
+/// Points across the width per mean disk radius at which [`surface_height`] finds the surface.
+const SURFACE_POINTS_PER_RADIUS: f64 = 16.0;
+
+/// Points across the width [`surface_height`] uses at most, whatever the disks' sizes.
+const SURFACE_POINTS_MAX: f64 = 1.0e6;
+
+/// Mean height of the free surface over the box width (m): the width is cut into equal intervals,
+/// [`SURFACE_POINTS_PER_RADIUS`] per mean radius, and at each interval's midpoint `x` the surface is
+/// the top of the highest disk above it, `y_i + √(r_i² − (x − x_i)²)`, or 0 where no disk is
+/// above it; NaN without disks or width. Disks reaching past a side wall count where they are.
+pub fn surface_height(pile: &PileGeometry) -> f64 {
+    let n = pile.r.len();
+    if n == 0 || !(pile.width > 0.0) {
+        return f64::NAN;
+    }
+    let mean_radius = pile.r.iter().sum::<f64>() / n as f64;
+    let points = (SURFACE_POINTS_PER_RADIUS * pile.width / mean_radius).ceil().clamp(1.0, SURFACE_POINTS_MAX) as usize;
+    let spacing = pile.width / points as f64;
+    let mut top = vec![0.0_f64; points];
+    for ((&x, &y), &r) in pile.x.iter().zip(pile.y).zip(pile.r) {
+        let first = ((x - r) / spacing - 0.5).ceil().max(0.0) as usize;
+        let last = ((x + r) / spacing - 0.5).floor().min(points as f64 - 1.0);
+        if last < 0.0 {
+            continue;
+        }
+        for (k, slot) in top.iter_mut().enumerate().take(last as usize + 1).skip(first) {
+            let dx = (k as f64 + 0.5) * spacing - x;
+            *slot = slot.max(y + (r * r - dx * dx).max(0.0).sqrt());
+        }
+    }
+    top.iter().sum::<f64>() / points as f64
 }
 
 /// Exact area of the disk of radius `r` at `(cx, cy)` inside the rectangle `[x0, x1, y0, y1]` (m²).
@@ -413,5 +455,35 @@ mod tests {
         let metrics = PileMetrics::measure(&geometry, &[]);
         assert!((metrics["pile_height"] - 0.4).abs() < 1e-15);
         assert!((metrics["packing_fraction"] - 2.0 * PI * 0.01 / (0.5 * 0.4)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn surface_height_of_a_flat_row_is_its_mean_top() {
+        // A row of 10 touching disks of radius 0.05 on the floor of a box 1 m wide: the surface is a
+        // row of half circles, mean height r + (π/4) r over the width.
+        let x: Vec<f64> = (0..10).map(|i| 0.05 + 0.1 * i as f64).collect();
+        let geometry = PileGeometry { x: &x, y: &[0.05; 10], r: &[0.05; 10], weight: 1.0, width: 1.0 };
+        let surface = PileMetrics::measure(&geometry, &[])["surface_height"];
+        let exact = 0.05 + PI / 4.0 * 0.05;
+        assert!((surface / exact - 1.0).abs() < 1e-3, "{surface} vs {exact}");
+    }
+
+    #[test]
+    fn one_grain_on_top_moves_the_surface_height_by_its_share_of_the_width() {
+        // 40 disks of radius 0.0125 side by side (width 1), then one more on top: the pile height
+        // grows by a diameter, the surface height by about a diameter times its share of the width.
+        let r = 0.0125;
+        let mut x: Vec<f64> = (0..40).map(|i| r + 2.0 * r * i as f64).collect();
+        let mut y = vec![r; 40];
+        let flat = PileGeometry { x: &x, y: &y, r: &[r; 40], weight: 1.0, width: 1.0 };
+        let before = PileMetrics::measure(&flat, &[]);
+        x.push(2.0 * r * 20.0);
+        y.push(r + 2.0 * r * (0.75_f64).sqrt());
+        let grain = PileGeometry { x: &x, y: &y, r: &[r; 41], weight: 1.0, width: 1.0 };
+        let after = PileMetrics::measure(&grain, &[]);
+        let height = after["pile_height"] - before["pile_height"];
+        let surface = after["surface_height"] - before["surface_height"];
+        assert!((height - 2.0 * r * 0.75_f64.sqrt()).abs() < 1e-12, "{height}");
+        assert!(surface > 0.0 && surface < 0.05 * height, "{surface} against {height}");
     }
 }

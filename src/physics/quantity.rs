@@ -123,6 +123,12 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 11] = [
 pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
     Quantity { name: "pile_height", unit: "m", description: "Highest disk top.", value: |pile| pile.height() },
     Quantity {
+        name: "surface_height",
+        unit: "m",
+        description: "Mean height of the pile's free surface over the box width (the top of the highest disk above each point).",
+        value: |pile| pile.surface_height(),
+    },
+    Quantity {
         name: "packing_fraction",
         unit: "",
         description: "Disk area over the box width times the pile height.",
