@@ -260,7 +260,7 @@ const SURFACE_POINTS_MAX: f64 = 1.0e6;
 /// above it; NaN without disks or width. Disks reaching past a side wall count where they are.
 pub fn surface_height(pile: &PileGeometry) -> f64 {
     let n = pile.r.len();
-    if n == 0 || !(pile.width > 0.0) {
+    if n == 0 || pile.width.is_nan() || pile.width <= 0.0 {
         return f64::NAN;
     }
     let mean_radius = pile.r.iter().sum::<f64>() / n as f64;
