@@ -28,7 +28,14 @@ fn timed(scene: &SceneConfig) -> (f64, Vec<InitialDisk>) {
 }
 
 fn interior(scene: &SceneConfig, x: &[f64], y: &[f64], r: &[f64]) -> f64 {
-    interior_packing_fraction(&PileGeometry { x, y, r, weight: 0.0, width: scene.domain.width })
+    interior_packing_fraction(&PileGeometry {
+        x,
+        y,
+        r,
+        weight: 0.0,
+        width: scene.domain.width,
+        thickness: scene.particles.thickness,
+    })
 }
 
 fn interior_of(scene: &SceneConfig, disks: &[InitialDisk]) -> f64 {

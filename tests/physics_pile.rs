@@ -5,11 +5,13 @@ mod common;
 
 use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::contact::HertzMindlin;
-use demsweep::physics::contact_record::Partner;
+use demsweep::physics::contact_network::ContactNetwork;
+use demsweep::physics::contact_record::{Partner, PileContact};
 use demsweep::physics::particles::InitialDisk;
-use demsweep::physics::pile::fabric;
+use demsweep::physics::pile::{PileGeometry, fabric};
 use demsweep::physics::run_scene;
 use demsweep::physics::simulation::{Control, Simulation};
+use demsweep::physics::stress::{band_stress, stress_profile};
 
 /// A scene without gravity whose disks are given in memory, in a `width` x `height` box.
 fn static_scene(width: f64, height: f64) -> SceneConfig {
@@ -147,6 +149,70 @@ fn frictionless_side_walls_put_the_whole_weight_on_the_floor() {
     println!("surface height {surface:.5} m, pile height {top:.5} m, packing below the surface {packing:.4}");
     assert!(surface < top, "{surface} against {top}");
     assert!((packing / rec.pile["packing_fraction_interior"] - 1.0).abs() < 0.1, "{packing}");
+}
+
+/// The contacts of a stored state as the pile measures see them.
+fn pile_contacts(network: &ContactNetwork) -> Vec<PileContact> {
+    (0..network.first.len())
+        .map(|k| {
+            let second = network.second[k];
+            let partner =
+                if second >= 0 { Partner::Disk(second as usize) } else { Partner::Wall((-1 - second) as usize) };
+            let disk = network.first[k] as usize;
+            PileContact {
+                disk,
+                partner,
+                normal: [network.normal_x[k], network.normal_y[k]],
+                normal_force: network.normal_force[k],
+                tangential_force: network.tangential_force[k],
+                friction: 0.0,
+                overlap_ratio: 0.0,
+                history: (0.0, 0.0),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn the_stress_of_a_pile_at_rest_balances_its_weight() {
+    // 120 disks settled with frictionless side walls: across every horizontal line the contacts
+    // carry the weight of the disks above it, so each band's σ_yy times the width and thickness is
+    // the band's mean of that weight; just above the floor (below every centre) it is the whole
+    // weight.
+    let rec = settled_pile(120, 0.2, 0.8, 0.0);
+    let state = &rec.final_state;
+    let mut contacts = pile_contacts(&state.contacts);
+    // Wall contacts reach from the centre to the wall: the floor's by the centre's height.
+    for c in contacts.iter_mut().filter(|c| c.partner == Partner::Wall(0)) {
+        c.overlap_ratio = 1.0 - state.y[c.disk] / state.r[c.disk];
+    }
+    let default = SceneConfig::default();
+    let (density, thickness, g) = (default.material.density, default.particles.thickness, -default.gravity[1]);
+    let weights: Vec<f64> = state.r.iter().map(|r| density * std::f64::consts::PI * r * r * thickness * g).collect();
+    let total: f64 = weights.iter().sum();
+    let geometry = PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: total, width: 0.2, thickness };
+    let lowest_centre = state.y.iter().cloned().fold(f64::INFINITY, f64::min);
+    let floor = band_stress(&geometry, &contacts, [0.0, 0.5 * lowest_centre]);
+    println!("floor band: σ_yy W h = {:.6} N, weight {total:.6} N", floor.yy * 0.2 * thickness);
+    assert!((floor.yy * 0.2 * thickness / total - 1.0).abs() < 0.01, "{floor:?}");
+    // Bands of 2 cm through the pile: the mean over the band of the weight above each line in it.
+    let weight_above_mean = |[bottom, top]: [f64; 2]| {
+        let lines = 200;
+        let weight_above = |h: f64| state.y.iter().zip(&weights).filter(|(y, _)| **y > h).map(|(_, w)| w).sum::<f64>();
+        (0..lines).map(|k| weight_above(bottom + (k as f64 + 0.5) / lines as f64 * (top - bottom))).sum::<f64>()
+            / lines as f64
+    };
+    let top = rec.pile["surface_height"];
+    let edges: Vec<f64> = (0..).map(|k| 0.02 * k as f64).take_while(|h| *h < top).collect();
+    for (band, stress) in edges.windows(2).zip(stress_profile(&geometry, &contacts, &edges)) {
+        let expected = weight_above_mean([band[0], band[1]]);
+        let carried = stress.yy * 0.2 * thickness;
+        println!("band {:.2}-{:.2} m: σ_yy W h {carried:.5} N, weight above {expected:.5} N", band[0], band[1]);
+        assert!((carried - expected).abs() < 0.01 * total, "band {band:?}: {carried} against {expected}");
+    }
+    // The pile's mean stress is compressive, vertical larger than horizontal without wall friction.
+    let (p, q) = (rec.pile["stress_pressure"], rec.pile["stress_deviatoric"]);
+    assert!(p > 0.0 && q > 0.0 && rec.pile["stress_yy"] > rec.pile["stress_xx"], "{p} {q}");
 }
 
 #[test]

@@ -45,6 +45,7 @@ pub mod simulation;
 pub mod size_distribution;
 pub mod stability;
 pub mod stage;
+pub mod stress;
 pub mod time_step;
 pub mod vector;
 pub mod walls;

@@ -20,11 +20,15 @@
 //! - fabric anisotropy `a = 2 (λ₁ − λ₂)` of `φ = (1/C) Σ n ⊗ n` over disk–disk contacts
 //!   (Rothenburg & Bathurst 1989), with the major principal direction (rad from +x, in [0, π));
 //! - sliding fraction: share of contacts with friction whose tangential force is at the Coulomb limit;
-//! - mean overlap ratio: overlap over the smaller radius, averaged over contacts.
+//! - mean overlap ratio: overlap over the smaller radius, averaged over contacts;
+//! - stress (Pa, compression positive): the Love–Weber average of every contact's force times its
+//!   branch vector over the area below the surface height (`super::stress`); its components
+//!   `σ_xx`, `σ_yy`, `σ_xy`, pressure `(σ_xx + σ_yy)/2` and deviatoric stress (Mohr's circle radius).
 
 use serde::{Deserialize, Serialize};
 
 use super::contact_record::{Partner, PileContact};
+use super::stress::{Stress, band_stress};
 
 /// The disks of a pile and its box.
 #[derive(Clone, Copy, Debug)]
@@ -39,10 +43,12 @@ pub struct PileGeometry<'a> {
     pub weight: f64,
     /// Box width (m).
     pub width: f64,
+    /// Disk thickness (m): the depth over which the contact forces act, for stresses.
+    pub thickness: f64,
 }
 
 /// Number of pile metrics (the length of [`super::quantity::PILE_METRICS`], which checks it).
-pub const PILE_METRIC_COUNT: usize = 14;
+pub const PILE_METRIC_COUNT: usize = 19;
 
 /// The pile metrics of one state, in the order of `quantity::PILE_METRICS` (NaN where undefined, e.g.
 /// no contacts); measured and looked up by name in `quantity`, which declares them.
@@ -98,6 +104,15 @@ impl<'a> Pile<'a> {
     /// The highest disk top (m); 0 without disks.
     pub fn height(&self) -> f64 {
         surface(self.geometry)
+    }
+
+    /// The stress of the pile: its contacts' Love–Weber sum over the area below the surface height
+    /// (see [`super::stress`]); NaN without a surface.
+    pub fn stress(&self) -> Stress {
+        let (top, surface) = (self.height(), self.surface_height());
+        let whole = band_stress(self.geometry, &self.carrying, [0.0, top]);
+        let scale = top / surface;
+        Stress { xx: whole.xx * scale, yy: whole.yy * scale, xy: whole.xy * scale }
     }
 
     /// See [`surface_height`].
@@ -388,7 +403,7 @@ mod tests {
         let r = rattlers(7, &contacts);
         assert_eq!(r, [false, false, false, true, true, true, true]);
         let metrics = PileMetrics::measure(
-            &PileGeometry { x: &[0.0; 7], y: &[0.0; 7], r: &[0.1; 7], weight: 2.0, width: 1.0 },
+            &PileGeometry { x: &[0.0; 7], y: &[0.0; 7], r: &[0.1; 7], weight: 2.0, width: 1.0, thickness: 1.0 },
             &contacts,
         );
         assert!((metrics["rattler_fraction"] - 4.0 / 7.0).abs() < 1e-12);
@@ -403,7 +418,7 @@ mod tests {
         idle.normal_force = 0.0;
         let sliding = PileContact { tangential_force: 0.5, ..pair(1, 2, 0.0) };
         let metrics = PileMetrics::measure(
-            &PileGeometry { x: &[0.0; 3], y: &[0.0; 3], r: &[0.1; 3], weight: 1.0, width: 1.0 },
+            &PileGeometry { x: &[0.0; 3], y: &[0.0; 3], r: &[0.1; 3], weight: 1.0, width: 1.0, thickness: 1.0 },
             &[idle, sliding, pair(0, 2, 0.0)],
         );
         assert!((metrics["coordination_number"] - 4.0 / 3.0).abs() < 1e-12);
@@ -418,7 +433,8 @@ mod tests {
         let mut contacts: Vec<PileContact> =
             forces.iter().enumerate().map(|(k, &f)| PileContact { normal_force: f, ..pair(k, k + 1, 0.0) }).collect();
         contacts.push(PileContact { normal_force: 40.0, ..wall(0, 0) });
-        let geometry = PileGeometry { x: &[0.0; 6], y: &[0.0; 6], r: &[0.1; 6], weight: 1.0, width: 1.0 };
+        let geometry =
+            PileGeometry { x: &[0.0; 6], y: &[0.0; 6], r: &[0.1; 6], weight: 1.0, width: 1.0, thickness: 1.0 };
         let metrics = PileMetrics::measure(&geometry, &contacts);
         let expect = 3.5f64.sqrt() / 3.0;
         assert!(
@@ -442,7 +458,8 @@ mod tests {
             PileContact { normal_force: 10.0, ..wall(3, 1) },
             PileContact { normal_force: 5.0, ..pair(0, 1, 0.0) },
         ];
-        let geometry = PileGeometry { x: &[0.0; 4], y: &[0.0; 4], r: &[0.1; 4], weight: 9.0, width: 1.0 };
+        let geometry =
+            PileGeometry { x: &[0.0; 4], y: &[0.0; 4], r: &[0.1; 4], weight: 9.0, width: 1.0, thickness: 1.0 };
         let metrics = PileMetrics::measure(&geometry, &contacts);
         assert_eq!(metrics["floor_mean_contact_force"], 3.0);
         assert_eq!(metrics["floor_load_ratio"], 1.0, "9 N on the floor carry 9 N");
@@ -451,7 +468,8 @@ mod tests {
     #[test]
     fn height_and_packing_fraction_of_two_stacked_disks() {
         // Two disks of radius 0.1 stacked at x = 0.5 in a box 0.5 wide: top 0.4, area 2 π 0.01.
-        let geometry = PileGeometry { x: &[0.5, 0.5], y: &[0.1, 0.3], r: &[0.1, 0.1], weight: 1.0, width: 0.5 };
+        let geometry =
+            PileGeometry { x: &[0.5, 0.5], y: &[0.1, 0.3], r: &[0.1, 0.1], weight: 1.0, width: 0.5, thickness: 1.0 };
         let metrics = PileMetrics::measure(&geometry, &[]);
         assert!((metrics["pile_height"] - 0.4).abs() < 1e-15);
         assert!((metrics["packing_fraction"] - 2.0 * PI * 0.01 / (0.5 * 0.4)).abs() < 1e-15);
@@ -462,7 +480,7 @@ mod tests {
         // A row of 10 touching disks of radius 0.05 on the floor of a box 1 m wide: the surface is a
         // row of half circles, mean height r + (π/4) r over the width.
         let x: Vec<f64> = (0..10).map(|i| 0.05 + 0.1 * i as f64).collect();
-        let geometry = PileGeometry { x: &x, y: &[0.05; 10], r: &[0.05; 10], weight: 1.0, width: 1.0 };
+        let geometry = PileGeometry { x: &x, y: &[0.05; 10], r: &[0.05; 10], weight: 1.0, width: 1.0, thickness: 1.0 };
         let surface = PileMetrics::measure(&geometry, &[])["surface_height"];
         let exact = 0.05 + PI / 4.0 * 0.05;
         assert!((surface / exact - 1.0).abs() < 1e-3, "{surface} vs {exact}");
@@ -475,11 +493,11 @@ mod tests {
         let r = 0.0125;
         let mut x: Vec<f64> = (0..40).map(|i| r + 2.0 * r * i as f64).collect();
         let mut y = vec![r; 40];
-        let flat = PileGeometry { x: &x, y: &y, r: &[r; 40], weight: 1.0, width: 1.0 };
+        let flat = PileGeometry { x: &x, y: &y, r: &[r; 40], weight: 1.0, width: 1.0, thickness: 1.0 };
         let before = PileMetrics::measure(&flat, &[]);
         x.push(2.0 * r * 20.0);
         y.push(r + 2.0 * r * (0.75_f64).sqrt());
-        let grain = PileGeometry { x: &x, y: &y, r: &[r; 41], weight: 1.0, width: 1.0 };
+        let grain = PileGeometry { x: &x, y: &y, r: &[r; 41], weight: 1.0, width: 1.0, thickness: 1.0 };
         let after = PileMetrics::measure(&grain, &[]);
         let height = after["pile_height"] - before["pile_height"];
         let surface = after["surface_height"] - before["surface_height"];

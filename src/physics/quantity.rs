@@ -200,6 +200,36 @@ pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
         description: "Mean overlap over the smaller radius.",
         value: |pile| pile.mean_overlap_ratio(),
     },
+    Quantity {
+        name: "stress_pressure",
+        unit: "Pa",
+        description: "Mean normal stress (σ_xx + σ_yy)/2 of the pile's Love–Weber stress, compression positive.",
+        value: |pile| pile.stress().pressure(),
+    },
+    Quantity {
+        name: "stress_deviatoric",
+        unit: "Pa",
+        description: "Deviatoric stress √(((σ_xx − σ_yy)/2)² + σ_xy²) of the pile: the largest shear stress.",
+        value: |pile| pile.stress().deviatoric(),
+    },
+    Quantity {
+        name: "stress_xx",
+        unit: "Pa",
+        description: "Horizontal normal stress of the pile (Love–Weber over the area below its surface height).",
+        value: |pile| pile.stress().xx,
+    },
+    Quantity {
+        name: "stress_yy",
+        unit: "Pa",
+        description: "Vertical normal stress of the pile (Love–Weber over the area below its surface height).",
+        value: |pile| pile.stress().yy,
+    },
+    Quantity {
+        name: "stress_xy",
+        unit: "Pa",
+        description: "Shear stress of the pile (Love–Weber, symmetrised).",
+        value: |pile| pile.stress().xy,
+    },
 ];
 
 impl PileMetrics {

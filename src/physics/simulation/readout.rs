@@ -143,8 +143,9 @@ impl<L: ContactLaw> Simulation<L> {
     pub(super) fn pile_metrics_of(&self, contacts: &[PileContact]) -> PileMetrics {
         let p = &*self.scene_particles();
         let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
-        let geometry =
-            PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight: p.mass.iter().sum::<f64>() * g, width: self.walls.width };
+        let weight = p.mass.iter().sum::<f64>() * g;
+        let (width, thickness) = (self.walls.width, self.scene.particles.thickness);
+        let geometry = PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight, width, thickness };
         PileMetrics::measure(&geometry, contacts)
     }
 }
