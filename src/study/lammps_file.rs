@@ -6,6 +6,8 @@
 //! them) and, when present, `Velocities` (`id vx vy vz wx wy wz`: ω is `wz`). Dump file (its first
 //! line `ITEM: TIMESTEP`): the columns `x`, `y` (or `xu`, `yu`; `xs`, `ys` scaled to the box),
 //! `radius` or `diameter` (else `particles.radius`), and the optional `id`, `vx`, `vy`, `omegaz`.
+//! A data file's first line is its title, whatever it says; a triclinic box is refused (the box is
+//! rectangular).
 //! Disks are taken in the order of their atom ids; `z` and the rest are not read (the disks lie in
 //! the plane), and LAMMPS keeps no rotation angle of a sphere, so every angle starts at 0.
 
@@ -51,7 +53,8 @@ pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, Lammps
         dump(&lines, default_radius)?
     } else {
         atom_style_sphere(text)?;
-        data(lines.get(1..).unwrap_or_default())?
+        let after_title: Vec<(usize, &str)> = lines.into_iter().filter(|(number, _)| *number > 1).collect();
+        data(&after_title)?
     };
     if disks.is_empty() {
         return Err(LammpsError::new(LammpsProblem::NoAtoms));
@@ -60,9 +63,10 @@ pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, Lammps
 }
 
 /// Refuses a data file whose `Atoms` section names an atom style other than `sphere` (the columns
-/// differ); a section without a style is read as `sphere`.
+/// differ); a section without a style is read as `sphere`. The first line is the title, whatever it says.
 fn atom_style_sphere(text: &str) -> Result<(), LammpsError> {
-    let style = text.lines().find_map(|l| l.trim().strip_prefix("Atoms")).and_then(|rest| rest.split('#').nth(1));
+    let style =
+        text.lines().skip(1).find_map(|l| l.trim().strip_prefix("Atoms")).and_then(|rest| rest.split('#').nth(1));
     match style.map(str::trim) {
         Some(style) if !style.is_empty() && style != "sphere" => {
             Err(LammpsError::new(LammpsProblem::AtomStyle(style.to_string())))
@@ -106,6 +110,15 @@ fn atom_id(number: usize, value: f64) -> Result<u64, LammpsError> {
     }
 }
 
+/// An atom count: a whole number ≥ 0; the error names the line.
+fn atom_count(number: usize, value: f64) -> Result<usize, LammpsError> {
+    if value >= 0.0 && value.fract() == 0.0 && value < 1e15 {
+        Ok(value as usize)
+    } else {
+        Err(LammpsError::at(number, LammpsProblem::AtomCount(value)))
+    }
+}
+
 /// A disk's radius from a diameter or radius column; the error names the line.
 fn positive(number: usize, what: &'static str, value: f64) -> Result<f64, LammpsError> {
     if value > 0.0 { Ok(value) } else { Err(LammpsError::at(number, LammpsProblem::NotPositive { what, value })) }
@@ -143,7 +156,10 @@ fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, LammpsError> {
     let Some(&(count_line, count_text)) = header_count("atoms") else {
         return Err(LammpsError::new(LammpsProblem::NoAtomsLine));
     };
-    let count = numbers(count_line, count_text, 1)?[0] as usize;
+    let count = atom_count(count_line, numbers(count_line, count_text, 1)?[0])?;
+    if let Some(&(tilt_line, _)) = lines.iter().find(|(_, l)| l.ends_with("xy xz yz")) {
+        return Err(LammpsError::at(tilt_line, LammpsProblem::Triclinic));
+    }
     let section = |name: &str| {
         let start =
             lines.iter().position(|(_, l)| section_name(l).is_some_and(|s| s.split_whitespace().next() == Some(name)));
@@ -205,8 +221,11 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let count_at = item(COUNT)?;
     let &(count_line, count_text) =
         snapshot.get(count_at + 1).ok_or(LammpsError::new(LammpsProblem::EndsAfter(COUNT)))?;
-    let count = numbers(count_line, count_text, 1)?[0] as usize;
+    let count = atom_count(count_line, numbers(count_line, count_text, 1)?[0])?;
     let bounds_at = item("BOX BOUNDS").ok();
+    if let Some(&(tilt_line, _)) = bounds_at.map(|k| &snapshot[k]).filter(|(_, l)| l.contains(" xy ")) {
+        return Err(LammpsError::at(tilt_line, LammpsProblem::Triclinic));
+    }
     let bound = |axis: usize| -> Result<(f64, f64), LammpsError> {
         let bounds = bounds_at.and_then(|k| snapshot.get(k + 1 + axis));
         let &(number, line) = bounds.ok_or(LammpsError::new(LammpsProblem::NoBoxBounds))?;
@@ -310,6 +329,33 @@ mod tests {
         assert!(
             parse(unscaled, 1.0).unwrap_err().to_string().contains("no `ITEM: BOX BOUNDS`: needed to unscale `xs`")
         );
+    }
+
+    #[test]
+    fn the_first_line_of_a_data_file_is_its_title_whatever_it_says() {
+        let read = parse(DATA, 1.0).unwrap();
+        for title in ["Atoms # atomic, by hand", "", "# from a script", "2 atoms"] {
+            let titled = DATA.replacen("LAMMPS data file from demsweep", title, 1);
+            assert_eq!(parse(&titled, 1.0).as_ref(), Ok(&read), "title {title:?}");
+        }
+    }
+
+    #[test]
+    fn a_fractional_atom_count_and_a_triclinic_box_are_refused_at_their_line() {
+        let fractional = DATA.replace("2 atoms", "2.5 atoms");
+        assert_eq!(
+            parse(&fractional, 1.0).unwrap_err().to_string(),
+            "line 3: the atom count 2.5 is not a whole number ≥ 0"
+        );
+        let tilted = DATA.replace("zlo zhi\n", "zlo zhi\n0.05 0 0 xy xz yz\n");
+        assert!(parse(&tilted, 1.0).unwrap_err().to_string().starts_with("line 9: a triclinic box"));
+        let dump = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS xy xz yz pp pp pp\n0 0.1 0.02\n\
+                    0 0.2 0\n-1 1 0\nITEM: ATOMS x y\n0.01 0.02\n";
+        assert!(parse(dump, 1.0).unwrap_err().to_string().starts_with("line 5: a triclinic box"));
+        let half = dump
+            .replace("BOX BOUNDS xy xz yz pp pp pp\n0 0.1 0.02", "BOX BOUNDS pp pp pp\n0 0.1")
+            .replace("\n1\n", "\n1.5\n");
+        assert_eq!(parse(&half, 1.0).unwrap_err().to_string(), "line 4: the atom count 1.5 is not a whole number ≥ 0");
     }
 
     #[test]
