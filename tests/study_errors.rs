@@ -159,6 +159,30 @@ fn disks_that_cannot_fit_are_caught_before_running() {
 }
 
 #[test]
+fn disks_that_cannot_fit_are_one_error_for_all_seeds_with_their_count() {
+    let text = "[scene]\nparticles.count = 3000\nplacement.max_attempts = 50\n[sweep]\nreplicates = 4\n";
+    let e = single_error("jam_seeds", text, 2, "scene.particles.count");
+    assert_eq!((e.run.as_deref(), e.runs_affected), (Some("r0000"), 4), "{e}");
+    assert!(e.to_string().contains("(run r0000 and 3 more runs): random placement fit only"), "{e}");
+}
+
+#[test]
+fn a_length_in_mm_that_makes_the_box_too_small_is_named_with_its_si_value() {
+    let normal = "[scene.particles.size_distribution]\nkind = \"normal\"\nmean = 4\nstd = 0.5\nmin = 3\nmax = 5\n";
+    let found = errors("mm_distribution", normal);
+    let reasons: Vec<String> = found.iter().map(|e| format!("{}: {}", e.key, e.reason)).collect();
+    assert!(reasons.iter().any(|r| r.starts_with("scene.domain.width: 0.4 m is narrower")), "{reasons:#?}");
+    let mean = "scene.particles.size_distribution.mean: 4 m is implausible for this key (plausible: 1e-7 to 1 m); \
+                units are SI: did you mean 0.004 m (4 mm)";
+    assert!(reasons.iter().any(|r| r.starts_with(mean)), "{reasons:#?}");
+    assert!(reasons.iter().all(|r| !r.starts_with("scene.particles.size_distribution.std")), "0.5 m is plausible");
+    let radius = errors("mm_radius", "[scene]\nparticles.radius = 7\n");
+    assert_eq!(radius.len(), 2, "{radius:#?}");
+    assert_eq!((radius[1].key.as_str(), radius[1].location.map(|l| l.line)), ("scene.particles.radius", Some(2)));
+    assert!(radius[1].reason.contains("units are SI: did you mean 0.007 m (7 mm)"), "{}", radius[1]);
+}
+
+#[test]
 fn zero_disks() {
     let e = single_error("zero", "[scene]\nparticles.count = 0\n", 2, "scene.particles.count");
     assert_eq!(e.reason, "a scene needs at least one disk, got 0");

@@ -14,7 +14,8 @@ use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_w
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
-use crate::physics::config::PlacementKind;
+use crate::physics::config::{PlacementConfig, PlacementKind};
+use crate::physics::keys::implausible_values;
 use crate::physics::number::short;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
@@ -235,6 +236,9 @@ struct Planner<'a> {
     contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, PlacementFileError>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
     failed_placements: HashMap<String, (String, String)>,
+    /// The first seed's problem of each setup whose placement failed, by the sections without the
+    /// seed: later seeds that fail too report it, so that it is one problem with a count of runs.
+    first_failures: HashMap<String, (String, String)>,
     /// The last placement that succeeded: its setup and disks.
     last_placement: Option<(String, Arc<Vec<InitialDisk>>)>,
     /// Warnings so far, one per kind and place.
@@ -252,7 +256,7 @@ impl<'a> Planner<'a> {
     fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
         let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
         let (initial_files, failed_placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
-        let contact_files = HashMap::new();
+        let (contact_files, first_failures) = (HashMap::new(), HashMap::new());
         let last_placement = None;
         Self {
             file,
@@ -263,6 +267,7 @@ impl<'a> Planner<'a> {
             initial_files,
             contact_files,
             failed_placements,
+            first_failures,
             last_placement,
             warnings,
         }
@@ -389,7 +394,13 @@ impl<'a> Planner<'a> {
         initial: Option<&Arc<Vec<InitialDisk>>>,
     ) -> Result<(), Vec<StudyError>> {
         if let Err(issues) = scene.validate() {
-            return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
+            // A length written in mm is often why a box is too small: the hint of a value that looks
+            // written in another unit goes with the errors.
+            let hints = implausible_values(scene).into_iter();
+            let hints = hints.filter(|h| !h.suggestions.is_empty() && issues.iter().all(|i| i.key != h.key));
+            let hints: Vec<StudyError> = hints.map(|h| self.problem(point, &h.key, h.to_string())).collect();
+            let errors = issues.into_iter().map(|i| self.problem(point, &i.key, i.reason));
+            return Err(errors.chain(hints).collect());
         }
         if let Some((key, reason)) = resources::memory_problem(scene) {
             return Err(vec![self.problem(point, key, reason)]);
@@ -398,7 +409,7 @@ impl<'a> Planner<'a> {
             let warning = self.problem(point, key, reason);
             self.warnings.push(warning);
         }
-        for implausible in crate::physics::keys::implausible_values(scene) {
+        for implausible in implausible_values(scene) {
             let warning = self.problem(point, &implausible.key, implausible.to_string());
             self.warnings.push(warning);
         }
@@ -426,10 +437,10 @@ impl<'a> Planner<'a> {
     }
 
     /// The disks of a generated placement, or its problem (key, reason). A failure is remembered per
-    /// setup; the disks only for the last setup (consecutive runs often share it; keeping every
-    /// setup's disks could fill the memory).
+    /// setup, and reported in the words of the setup's first failing seed; the disks only for the
+    /// last setup (consecutive runs often share it; keeping every setup's disks could fill the memory).
     fn try_placement(&mut self, scene: &SceneConfig) -> Placed {
-        let setup = serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default();
+        let setup = placement_setup(scene);
         if let Some((last, disks)) = &self.last_placement
             && *last == setup
         {
@@ -445,12 +456,25 @@ impl<'a> Planner<'a> {
             Ok(disks) => Ok(Arc::new(disks)),
             Err(e) => Err((e.key, e.reason)),
         };
-        match &outcome {
-            Ok(disks) => self.last_placement = Some((setup, disks.clone())),
-            Err(problem) => drop(self.failed_placements.insert(setup, problem.clone())),
+        match outcome {
+            Ok(disks) => {
+                self.last_placement = Some((setup, disks.clone()));
+                Ok(disks)
+            }
+            Err(problem) => {
+                let any_seed =
+                    SceneConfig { placement: PlacementConfig { seed: 0, ..scene.placement.clone() }, ..scene.clone() };
+                let first = self.first_failures.entry(placement_setup(&any_seed)).or_insert(problem).clone();
+                self.failed_placements.insert(setup, first.clone());
+                Err(first)
+            }
         }
-        outcome
     }
+}
+
+/// The scene sections a generated placement depends on, as one string.
+fn placement_setup(scene: &SceneConfig) -> String {
+    serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default()
 }
 
 /// Sampling that cannot sample: an interval longer than the run, frames past its end (key, reason).
