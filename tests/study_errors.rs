@@ -277,6 +277,29 @@ fn placement_file_problems_name_the_csv_line_and_column() {
 }
 
 #[test]
+fn a_placement_file_without_radii_refuses_a_radius_key_that_draws_radii() {
+    let dir = StudyDir::new("drawn-radii");
+    dir.write("init.csv", "x,y\n0.1,0.1\n0.2,0.1\n0.3,0.1\n");
+    dir.write("init.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y\n1 0.1 0.1\n");
+    let mix = "particles.size_distribution = { kind = \"discrete\", radii = [0.002, 0.004], fractions = [1, 2] }\n";
+    for (file, kind, radii) in [
+        ("init.csv", "file", mix),
+        ("init.csv", "file", "particles.radii = [0.004, 0.004, 0.004]\n"),
+        ("init.dump", "lammps", "particles.radius_max = 0.02\n"),
+    ] {
+        let text = format!("[scene]\nplacement.kind = \"{kind}\"\nplacement.file = \"{file}\"\n{radii}");
+        let errors = errors_at(&dir.write("s.toml", &text));
+        assert_eq!((errors.len(), errors[0].key.as_str()), (1, "scene.placement.file"), "{errors:#?}");
+        let key = radii.split(" =").next().unwrap();
+        let reason = format!(
+            "{key} draws radii for generated placements only: give every disk's radius in the file, or remove {key} \
+             so that every disk gets particles.radius"
+        );
+        assert!(errors[0].reason.contains(file) && errors[0].reason.ends_with(&reason), "{}", errors[0]);
+    }
+}
+
+#[test]
 fn contact_file_problems_name_the_csv_line_column_and_key() {
     let dir = StudyDir::new("contacterr");
     let text =

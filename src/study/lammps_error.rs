@@ -78,6 +78,8 @@ pub enum LammpsProblem {
         /// Why the bounds cannot be read.
         cause: Box<LammpsError>,
     },
+    /// A dump without a `radius` or `diameter` column in a scene whose radius key (its name) draws radii.
+    NoRadii(&'static str),
     /// A dump without a position column.
     NoColumn {
         /// The plain column's name.
@@ -158,6 +160,9 @@ impl fmt::Display for LammpsProblem {
             LammpsProblem::EndsAfter(item) => write!(f, "the file ends after `ITEM: {item}`"),
             LammpsProblem::NoBoxBounds => write!(f, "no `ITEM: BOX BOUNDS`"),
             LammpsProblem::Unscale { column, cause } => write!(f, "{cause}: needed to unscale `{column}`"),
+            LammpsProblem::NoRadii(key) => {
+                write!(f, "no `radius` or `diameter` column, and {}", super::csv_error::drawn_radii(key))
+            }
             LammpsProblem::NoColumn { plain, scaled } => write!(f, "no `{plain}` column (nor `{scaled}`)"),
             LammpsProblem::SnapshotRows { rows, atoms } => {
                 write!(f, "the snapshot has {rows} atoms, its header says {atoms}")

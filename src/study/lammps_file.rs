@@ -15,42 +15,47 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::csv_error::PlacementFileError;
-use super::initial_csv::Quoting;
+use super::initial_csv::{MissingRadius, Quoting};
 use super::lammps_error::{LammpsError, LammpsProblem};
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 
 /// Reads the disks of a placement file of `kind`: a LAMMPS data or dump file ([`read`]), else a
-/// CSV ([`super::initial_csv::read`]).
+/// CSV ([`super::initial_csv::read`]); `missing`: what a disk without a radius in the file gets.
 pub fn read_placement(
     kind: PlacementKind,
     path: &Path,
-    default_radius: f64,
+    missing: MissingRadius,
     folder: &Path,
 ) -> Result<Vec<InitialDisk>, PlacementFileError> {
     match kind {
-        PlacementKind::Lammps => read(path, default_radius, folder),
-        _ => super::initial_csv::read(path, default_radius, folder),
+        PlacementKind::Lammps => read(path, missing, folder),
+        _ => super::initial_csv::read(path, missing, folder),
     }
 }
 
 /// Reads the disks of a LAMMPS data or dump file (a regular file of at most the size of a placement
 /// CSV); errors name the file and line, and say what is wrong only when the file lies in the study's
 /// `folder` (see [`Quoting`]).
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
+pub fn read(
+    path: &Path,
+    missing: impl Into<MissingRadius>,
+    folder: &Path,
+) -> Result<Vec<InitialDisk>, PlacementFileError> {
     let text = super::initial_csv::read_text(path)?;
-    parse(&text, default_radius).map_err(|error| PlacementFileError::Lammps {
+    parse(&text, missing).map_err(|error| PlacementFileError::Lammps {
         path: path.to_path_buf(),
         error: Box::new(error),
         quoted: Quoting::of(path, folder) == Quoting::Quoted,
     })
 }
 
-/// Parses a LAMMPS data file, or a dump file when its first line is `ITEM: TIMESTEP`.
-pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
+/// Parses a LAMMPS data file, or a dump file when its first line is `ITEM: TIMESTEP`; `missing`:
+/// what a disk of a dump without radii gets.
+pub fn parse(text: &str, missing: impl Into<MissingRadius>) -> Result<Vec<InitialDisk>, LammpsError> {
     let lines = numbered(text);
     let disks = if lines.first().is_some_and(|(_, l)| l.starts_with("ITEM:")) {
-        dump(&lines, default_radius)?
+        dump(&lines, missing.into())?
     } else {
         atom_style_sphere(text)?;
         let after_title: Vec<(usize, &str)> = lines.into_iter().filter(|(number, _)| *number > 1).collect();
@@ -210,7 +215,7 @@ fn find_column(names: &[&str], options: &[&'static str]) -> Option<(usize, &'sta
 }
 
 /// The disks of a dump file's last snapshot.
-fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
+fn dump(lines: &[(usize, &str)], missing: MissingRadius) -> Result<Vec<InitialDisk>, LammpsError> {
     const COUNT: &str = "NUMBER OF ATOMS";
     let last = lines.iter().rposition(|(_, l)| l.starts_with("ITEM: TIMESTEP")).unwrap_or(0);
     let snapshot = &lines[last..];
@@ -250,6 +255,11 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let x = position(0, ["x", "xu"], ["xs", "xsu"])?;
     let y = position(1, ["y", "yu"], ["ys", "ysu"])?;
     let radius = column(&["radius", "diameter"]);
+    let default_radius = match (radius, missing) {
+        (None, MissingRadius::Drawn(key)) => return Err(LammpsError::at(atoms_line, LammpsProblem::NoRadii(key))),
+        (_, MissingRadius::Radius(radius)) => radius,
+        (Some(_), MissingRadius::Drawn(_)) => 0.0, // not read: every row gives its radius
+    };
     let optional = |name: &'static str| column(&[name]).map(|(k, _)| k);
     let (id, vx, vy, omega) = (optional("id"), optional("vx"), optional("vy"), optional("omegaz"));
     let rows = &snapshot[atoms_at + 1..];

@@ -11,6 +11,7 @@ use super::axes::{self, Axis, Sweep};
 use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
+use super::initial_csv::MissingRadius;
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
@@ -230,8 +231,9 @@ struct Planner<'a> {
     base: &'a toml::Table,
     sweep: &'a Sweep,
     study_dir: PathBuf,
-    /// Placement files read so far, by path, kind and default radius.
-    initial_files: HashMap<(PathBuf, PlacementKind, u64), InitialStates>,
+    /// Placement files read so far, by path, kind and what a disk without a radius gets (the
+    /// radius's bits, or the key that draws radii).
+    initial_files: HashMap<(PathBuf, PlacementKind, Result<u64, &'static str>), InitialStates>,
     /// Contact files read so far, by path and the disks and walls they were checked against.
     contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, PlacementFileError>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
@@ -341,7 +343,9 @@ impl<'a> Planner<'a> {
     }
 
     /// File placement: the disks read from `placement.file` (relative to the study's folder);
-    /// sets `particles.count` to their number.
+    /// sets `particles.count` to their number. The file gives the radii, else `particles.radius`
+    /// does; a radius key that draws radii is refused with a file without them, and warned of with a
+    /// file with them (it draws none).
     fn initial_states(
         &mut self,
         point: &RunPoint,
@@ -351,13 +355,25 @@ impl<'a> Planner<'a> {
             return Ok(None);
         };
         let path = self.study_dir.join(name);
-        let (kind, radius) = (scene.placement.kind, scene.particles.radius);
+        let (kind, missing) = (scene.placement.kind, MissingRadius::of(&scene.particles));
+        let radius_key = match missing {
+            MissingRadius::Radius(radius) => Ok(radius.to_bits()),
+            MissingRadius::Drawn(key) => Err(key),
+        };
         let disks = self
             .initial_files
-            .entry((path.clone(), kind, radius.to_bits()))
-            .or_insert_with(|| lammps_file::read_placement(kind, &path, radius, &self.study_dir).map(Arc::new))
+            .entry((path.clone(), kind, radius_key))
+            .or_insert_with(|| lammps_file::read_placement(kind, &path, missing, &self.study_dir).map(Arc::new))
             .clone()
             .map_err(|reason| vec![self.problem(point, "placement.file", reason.to_string())])?;
+        if let MissingRadius::Drawn(key) = missing {
+            let reason = format!(
+                "draws no radius: {} gives every disk's own (a placement file keeps its radii); remove {key}",
+                path.display()
+            );
+            let warning = self.problem(point, key, reason);
+            self.warnings.push(warning);
+        }
         scene.particles.count = disks.len();
         Ok(Some(disks))
     }
