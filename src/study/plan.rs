@@ -304,6 +304,7 @@ impl<'a> Planner<'a> {
         }
         let initial = self.initial_states(&point, &mut scene)?;
         self.check_scene(&point, &scene, initial.as_ref())?;
+        self.warn_copies(&point, &scene);
         let initial_contacts = self.initial_contacts(&point, &scene)?;
         let mut run = PlannedRun::new(point.id, index, parameters, scene, initial);
         run.initial_contacts = initial_contacts;
@@ -450,6 +451,24 @@ impl<'a> Planner<'a> {
             self.warnings.push(warning);
         }
         Ok(())
+    }
+
+    /// Seeds that replicate nothing: the study's seeds (replicates or a `placement.seed` axis) run
+    /// identical copies of a scene whose disks do not depend on the seed.
+    fn warn_copies(&mut self, point: &RunPoint, scene: &SceneConfig) {
+        let seed_axis = self.sweep.axes.iter().find(|axis| axis.key() == "placement.seed");
+        let seeds = seed_axis.map_or(self.sweep.replicates, |axis| axis.values.len());
+        if seeds < 2 || placement::draws_from_seed(scene) {
+            return;
+        }
+        let kind = serde_json::to_string(&scene.placement.kind).unwrap_or_default();
+        let reason = format!(
+            "placement.kind = {kind} places the same disks whatever placement.seed: the study's {seeds} seeds run \
+             identical copies, whose spread is 0 (95 % intervals of ±0, comparisons on zero variance); use \
+             random or dropped placement or drawn radii, or drop the seeds"
+        );
+        let warning = self.problem(point, "placement.kind", reason);
+        self.warnings.push(warning);
     }
 
     /// The disks of a generated placement, or its problem (key, reason). A failure is remembered per
