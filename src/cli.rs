@@ -456,12 +456,13 @@ fn note_long_cost(plan: &Plan, cores: usize) {
 }
 
 /// What each distinct `particles.size_distribution` of the plan gives its disks: the count of each
-/// class of a discrete mixture, or the range and mean drawn with the first run's placement seed.
+/// class of a discrete mixture, or the range and mean drawn with the first run's placement seed
+/// (none for a placement file, whose disks keep their own radii).
 fn size_notes(plan: &Plan) -> Vec<String> {
     use demsweep::physics::number::significant;
     let mut seen = Vec::new();
     let mut notes = Vec::new();
-    for run in &plan.runs {
+    for run in plan.runs.iter().filter(|run| !run.scene.placement.kind.reads_file()) {
         let p = &run.scene.particles;
         let Some(distribution) = p.size_distribution.as_ref().filter(|d| !seen.contains(&(*d, p.count))) else {
             continue;

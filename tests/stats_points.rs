@@ -182,6 +182,26 @@ fn ratio_interval_by_the_delta_method_on_logs() {
 }
 
 #[test]
+fn compare_notes_points_whose_runs_are_copies_of_one_run() {
+    let copies = SummaryTable::from_rows(&[
+        row(0, 0.5, 1, Some(0.40), 0.80, 1000),
+        row(1, 0.5, 2, Some(0.50), 0.82, 1200),
+        row(2, 0.9, 1, Some(1.0), 0.70, 2000),
+        row(3, 0.9, 2, Some(1.0), 0.70, 2000),
+        row(4, 0.9, 3, Some(1.0), 0.70, 2000),
+    ]);
+    let comparison = compare::compare(&Points::new(&copies), "restitution=0.5", &[]).unwrap();
+    assert_eq!(comparison.notes.len(), 1, "{:?}", comparison.notes);
+    assert!(
+        comparison.notes[0].starts_with("the runs of material.restitution=0.9 are copies of one run"),
+        "{}",
+        comparison.notes[0]
+    );
+    let comparison = compare::compare(&Points::new(&summary()), "restitution=0.5", &[]).unwrap();
+    assert!(comparison.notes.is_empty(), "runs that differ somewhere are no copies: {:?}", comparison.notes);
+}
+
+#[test]
 fn compare_finds_points_and_refuses_unknown_ones() {
     let table = summary();
     let points = Points::new(&table);

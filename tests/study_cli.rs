@@ -142,6 +142,17 @@ fn check_states_what_a_size_distribution_gives_and_placement_draws_it() {
     let out = demsweep(&["check", study.to_str().unwrap()]);
     let stdout = text(&out.stdout);
     assert!(stdout.contains("particles.size_distribution: 90 disks, normal: with placement seed 12345"), "{stdout}");
+    // A placement file keeps its radii: check states no draw from the distribution, and warns of it.
+    dir.write("pile.csv", "x,y,r\n0.05,0.05,0.01\n0.15,0.05,0.02\n");
+    let file = "placement.kind = \"file\"\nplacement.file = \"pile.csv\"\n";
+    let out = demsweep(&["check", dir.write("file.toml", &format!("{scene}{mix}{file}")).to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(!text(&out.stdout).contains("particles.size_distribution:"), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stderr).contains("scene.particles.size_distribution (run r0000): draws no radius"),
+        "{}",
+        text(&out.stderr)
+    );
     let both = dir.write("both.toml", &format!("{scene}particles.radius_max = 0.02\n{normal}"));
     let out = demsweep(&["check", both.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));

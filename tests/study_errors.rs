@@ -159,6 +159,30 @@ fn disks_that_cannot_fit_are_caught_before_running() {
 }
 
 #[test]
+fn disks_that_cannot_fit_are_one_error_for_all_seeds_with_their_count() {
+    let text = "[scene]\nparticles.count = 3000\nplacement.max_attempts = 50\n[sweep]\nreplicates = 4\n";
+    let e = single_error("jam_seeds", text, 2, "scene.particles.count");
+    assert_eq!((e.run.as_deref(), e.runs_affected), (Some("r0000"), 4), "{e}");
+    assert!(e.to_string().contains("(run r0000 and 3 more runs): random placement fit only"), "{e}");
+}
+
+#[test]
+fn a_length_in_mm_that_makes_the_box_too_small_is_named_with_its_si_value() {
+    let normal = "[scene.particles.size_distribution]\nkind = \"normal\"\nmean = 4\nstd = 0.5\nmin = 3\nmax = 5\n";
+    let found = errors("mm_distribution", normal);
+    let reasons: Vec<String> = found.iter().map(|e| format!("{}: {}", e.key, e.reason)).collect();
+    assert!(reasons.iter().any(|r| r.starts_with("scene.domain.width: 0.4 m is narrower")), "{reasons:#?}");
+    let mean = "scene.particles.size_distribution.mean: 4 m is implausible for this key (plausible: 1e-7 to 1 m); \
+                units are SI: did you mean 0.004 m (4 mm)";
+    assert!(reasons.iter().any(|r| r.starts_with(mean)), "{reasons:#?}");
+    assert!(reasons.iter().all(|r| !r.starts_with("scene.particles.size_distribution.std")), "0.5 m is plausible");
+    let radius = errors("mm_radius", "[scene]\nparticles.radius = 7\n");
+    assert_eq!(radius.len(), 2, "{radius:#?}");
+    assert_eq!((radius[1].key.as_str(), radius[1].location.map(|l| l.line)), ("scene.particles.radius", Some(2)));
+    assert!(radius[1].reason.contains("units are SI: did you mean 0.007 m (7 mm)"), "{}", radius[1]);
+}
+
+#[test]
 fn zero_disks() {
     let e = single_error("zero", "[scene]\nparticles.count = 0\n", 2, "scene.particles.count");
     assert_eq!(e.reason, "a scene needs at least one disk, got 0");
@@ -250,6 +274,29 @@ fn placement_file_problems_name_the_csv_line_and_column() {
     assert!(errors_at(&study)[0].reason.ends_with("line 1: the file has a header but no disks"));
     dir.write("init.csv", "x,y\n0.1,0.1\n0.5,0.1\n");
     assert!(errors_at(&study)[0].reason.starts_with("disk 2 (x = 0.5, y = 0.1, r = 0.01) is not inside the box"));
+}
+
+#[test]
+fn a_placement_file_without_radii_refuses_a_radius_key_that_draws_radii() {
+    let dir = StudyDir::new("drawn-radii");
+    dir.write("init.csv", "x,y\n0.1,0.1\n0.2,0.1\n0.3,0.1\n");
+    dir.write("init.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x y\n1 0.1 0.1\n");
+    let mix = "particles.size_distribution = { kind = \"discrete\", radii = [0.002, 0.004], fractions = [1, 2] }\n";
+    for (file, kind, radii) in [
+        ("init.csv", "file", mix),
+        ("init.csv", "file", "particles.radii = [0.004, 0.004, 0.004]\n"),
+        ("init.dump", "lammps", "particles.radius_max = 0.02\n"),
+    ] {
+        let text = format!("[scene]\nplacement.kind = \"{kind}\"\nplacement.file = \"{file}\"\n{radii}");
+        let errors = errors_at(&dir.write("s.toml", &text));
+        assert_eq!((errors.len(), errors[0].key.as_str()), (1, "scene.placement.file"), "{errors:#?}");
+        let key = radii.split(" =").next().unwrap();
+        let reason = format!(
+            "{key} draws radii for generated placements only: give every disk's radius in the file, or remove {key} \
+             so that every disk gets particles.radius"
+        );
+        assert!(errors[0].reason.contains(file) && errors[0].reason.ends_with(&reason), "{}", errors[0]);
+    }
 }
 
 #[test]

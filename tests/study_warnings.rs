@@ -50,6 +50,47 @@ fn overlapping_initial_disks_below_the_divergence_limit_are_warned_with_rows() {
 }
 
 #[test]
+fn a_radius_key_beside_a_placement_file_with_radii_is_warned_as_drawing_none() {
+    let dir = StudyDir::new("file-radii");
+    dir.write("init.csv", "x,y,r\n0.1,0.1,0.01\n0.2,0.1,0.02\n");
+    let text = "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\nparticles.radius_max = 0.03\n";
+    let plan = demsweep::study::load(&dir.write("s.toml", text)).unwrap();
+    let radii: Vec<f64> = plan.runs[0].initial.as_ref().unwrap().iter().map(|d| d.r).collect();
+    assert_eq!(radii, [0.01, 0.02], "the file's radii");
+    let drawn = with_key(&plan.warnings, "scene.particles.radius_max");
+    assert_eq!((drawn.len(), drawn[0].location.map(|l| l.line)), (1, Some(4)), "{:#?}", plan.warnings);
+    assert!(drawn[0].reason.starts_with("draws no radius: ") && drawn[0].reason.contains("init.csv"), "{}", drawn[0]);
+}
+
+#[test]
+fn seeds_of_a_placement_that_does_not_draw_from_them_are_warned_as_copies() {
+    let lattice = format!("{SMALL_SCENE}placement.kind = \"lattice\"\n[sweep]\nreplicates = 3\n");
+    let warnings = plan("copies", &lattice).warnings;
+    let copies = with_key(&warnings, "scene.placement.kind");
+    assert_eq!(copies.len(), 1, "{warnings:#?}");
+    assert_eq!((copies[0].runs_affected, copies[0].location.map(|l| l.line)), (3, Some(5)));
+    assert!(copies[0].reason.contains("the study's 3 seeds run identical copies"), "{}", copies[0]);
+    let dir = StudyDir::new("copies-file");
+    dir.write("init.csv", "x,y\n0.1,0.1\n0.2,0.1\n");
+    let file =
+        "[scene]\nplacement.kind = \"file\"\nplacement.file = \"init.csv\"\n[sweep]\n\"placement.seed\" = [1, 2]\n";
+    let warnings = demsweep::study::load(&dir.write("s.toml", file)).unwrap().warnings;
+    assert!(with_key(&warnings, "scene.placement.kind")[0].reason.contains("the study's 2 seeds"), "{warnings:#?}");
+    for drawn in ["", "placement.kind = \"lattice\"\nparticles.radius_max = 0.012\n"] {
+        let text = format!("{SMALL_SCENE}{drawn}[sweep]\nreplicates = 3\n");
+        let warnings = plan("drawn", &text).warnings;
+        assert!(with_key(&warnings, "scene.placement.kind").is_empty(), "{drawn}: {warnings:#?}");
+    }
+    assert!(
+        with_key(
+            &plan("one", &format!("{SMALL_SCENE}placement.kind = \"lattice\"\n")).warnings,
+            "scene.placement.kind"
+        )
+        .is_empty()
+    );
+}
+
+#[test]
 fn predicted_validity_is_warned_once_per_kind_with_the_runs_it_affects() {
     let text =
         "[scene]\nparticles.count = 20\nrun.duration = 0.01\n[sweep]\n\"material.youngs_modulus\" = [2e4, 3e4, 1e11]\n";

@@ -8,6 +8,7 @@ use serde_json::Value;
 
 use super::SceneConfig;
 use super::key_spec::KeyDoc;
+use super::size_distribution::SizeDistribution;
 
 /// One scene key, ready to print.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,26 +127,58 @@ const OTHER_UNITS: &[(&str, &[(&str, f64)])] = &[
 ];
 
 /// The values of `scene` outside their key's plausible SI range, each with the values it would have
-/// in SI had it been written in a likely other unit (those that fall inside the range).
+/// in SI had it been written in a likely other unit (those that fall inside the range). The lengths of
+/// `particles.radii` and `particles.size_distribution` are judged as `particles.radius` is (the
+/// first implausible entry of a list).
 pub fn implausible_values(scene: &SceneConfig) -> Vec<ImplausibleValue> {
     let Ok(values) = serde_json::to_value(scene) else { return Vec::new() };
-    let mut found = Vec::new();
-    for key in scene_keys() {
-        let Some((low, high)) = key.plausible else { continue };
-        let value = key.path.split('.').try_fold(&values, |v, part| v.get(part)).and_then(Value::as_f64);
-        let Some(value) = value.filter(|v| v.is_finite() && !(low..=high).contains(v)) else { continue };
-        let others = OTHER_UNITS.iter().find(|(unit, _)| *unit == key.unit).map_or(&[][..], |(_, others)| others);
-        let suggestions =
-            others.iter().map(|(unit, factor)| (value * factor, *unit)).filter(|(si, _)| (low..=high).contains(si));
-        found.push(ImplausibleValue {
-            suggestions: suggestions.collect(),
-            key: key.path,
-            value,
-            unit: key.unit,
-            plausible: (low, high),
-        });
+    let keys = scene_keys();
+    let mut found: Vec<ImplausibleValue> = keys
+        .iter()
+        .filter_map(|key| {
+            let value = key.path.split('.').try_fold(&values, |v, part| v.get(part)).and_then(Value::as_f64)?;
+            implausible(key, key.path.clone(), value)
+        })
+        .collect();
+    if let Some(radius) = keys.iter().find(|k| k.path == "particles.radius") {
+        for (path, list) in radius_lists(scene) {
+            found.extend(list.iter().find_map(|value| implausible(radius, path.to_string(), *value)));
+        }
     }
     found
+}
+
+/// `value` at `path` when it lies outside the plausible range of `key`, with its likely units.
+fn implausible(key: &Key, path: String, value: f64) -> Option<ImplausibleValue> {
+    let (low, high) = key.plausible?;
+    if !value.is_finite() || (low..=high).contains(&value) {
+        return None;
+    }
+    let others = OTHER_UNITS.iter().find(|(unit, _)| *unit == key.unit).map_or(&[][..], |(_, others)| others);
+    let suggestions =
+        others.iter().map(|(unit, factor)| (value * factor, *unit)).filter(|(si, _)| (low..=high).contains(si));
+    Some(ImplausibleValue {
+        suggestions: suggestions.collect(),
+        key: path,
+        value,
+        unit: key.unit,
+        plausible: (low, high),
+    })
+}
+
+/// The radii a scene lists, and the lengths of its size distribution, by key.
+fn radius_lists(scene: &SceneConfig) -> [(&'static str, Vec<f64>); 6] {
+    let p = &scene.particles;
+    let d = p.size_distribution.as_ref();
+    let length = |get: fn(&SizeDistribution) -> Option<f64>| d.and_then(get).into_iter().collect();
+    [
+        ("particles.radii", p.radii.clone().unwrap_or_default()),
+        ("particles.size_distribution.radii", d.and_then(|d| d.radii.clone()).unwrap_or_default()),
+        ("particles.size_distribution.mean", length(|d| d.mean)),
+        ("particles.size_distribution.std", length(|d| d.std)),
+        ("particles.size_distribution.min", length(|d| d.min)),
+        ("particles.size_distribution.max", length(|d| d.max)),
+    ]
 }
 
 /// The keys as a Markdown table (the docs' key table is this, verbatim).

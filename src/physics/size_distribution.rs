@@ -156,6 +156,14 @@ impl SizeDistribution {
             fail("fractions", format!("every fraction must be >= 0, found {}", exact(*bad)));
         } else if !fractions.is_empty() && fractions.iter().sum::<f64>() <= 0.0 {
             fail("fractions", "must not all be 0".into());
+        } else if fractions.len() == radii.len() && radii.iter().all(|r| r.is_finite() && *r > 0.0) {
+            let total: f64 = self.number_weights().iter().sum();
+            if !(total.is_finite() && total > 0.0) {
+                fail(
+                    "fractions",
+                    "and radii lie too many orders of magnitude apart to give shares of the number".into(),
+                );
+            }
         }
     }
 
@@ -207,6 +215,18 @@ impl SizeDistribution {
         if self.kind == Some(DistributionKind::Lognormal) { (min.ln(), max.ln()) } else { (min, max) }
     }
 
+    /// A discrete mixture's weights by number (an area or mass share `f` of radius `r` weighs
+    /// `f / r²`), scaled by powers of two (exact) so that the largest fraction and the smallest
+    /// radius lie in [1, 2): their sum is finite however large the fractions. Empty for the other kinds.
+    fn number_weights(&self) -> Vec<f64> {
+        let (Some(radii), Some(fractions)) = (&self.radii, &self.fractions) else { return Vec::new() };
+        let by_number = self.by.unwrap_or_default() == FractionBasis::Number;
+        let f_scale = binade(fractions.iter().copied().fold(0.0, f64::max));
+        let r_scale = binade(radii.iter().copied().fold(f64::INFINITY, f64::min));
+        let weight = |r: f64, f: f64| if by_number { f / f_scale } else { f / f_scale / (r / r_scale).powi(2) };
+        radii.iter().zip(fractions).map(|(r, f)| weight(*r, *f)).collect()
+    }
+
     /// The smallest and largest radius the distribution can give (of a valid distribution).
     pub fn bounds(&self) -> (f64, f64) {
         match self.kind.unwrap_or(DistributionKind::Discrete) {
@@ -219,13 +239,10 @@ impl SizeDistribution {
     }
 
     /// A discrete mixture's number of disks of each class for `count` disks: the fractions turned
-    /// into shares of the number (an area or mass share `f` of radius `r` is `f / r²` of the
-    /// number), rounded by largest remainders so that they sum to `count`. Empty for the other kinds.
+    /// into shares of the number ([`Self::number_weights`]), rounded by largest remainders so that
+    /// they sum to `count`. Empty for the other kinds.
     pub fn class_counts(&self, count: usize) -> Vec<usize> {
-        let (Some(radii), Some(fractions)) = (&self.radii, &self.fractions) else { return Vec::new() };
-        let by_number = self.by.unwrap_or_default() == FractionBasis::Number;
-        let weights: Vec<f64> =
-            radii.iter().zip(fractions).map(|(r, f)| if by_number { *f } else { f / (r * r) }).collect();
+        let weights = self.number_weights();
         let total: f64 = weights.iter().sum();
         let exact: Vec<f64> = weights.iter().map(|w| w / total * count as f64).collect();
         let mut counts: Vec<usize> = exact.iter().map(|x| x.floor() as usize).collect();
@@ -305,6 +322,12 @@ impl SizeDistribution {
     }
 }
 
+/// The power of two at or below a positive normal `x` (1 for any other `x`): dividing by it is exact.
+fn binade(x: f64) -> f64 {
+    let power = f64::from_bits(x.to_bits() & 0x7FF0_0000_0000_0000);
+    if power.is_normal() && x.is_finite() { power } else { 1.0 }
+}
+
 /// A normal distribution.
 #[derive(Clone, Copy, Debug)]
 struct Normal {
@@ -372,6 +395,24 @@ mod tests {
         assert_eq!(radii, mix.sample(900, &mut Rng::new(7)), "the same seed, the same disks");
         let three = distribution("kind = \"discrete\"\nradii = [1, 2, 3]\nfractions = [1, 1, 1]\n");
         assert_eq!(three.class_counts(10), [4, 3, 3], "largest remainders: the counts sum to the count");
+    }
+
+    #[test]
+    fn the_counts_sum_to_the_count_however_large_the_fractions() {
+        for by in ["number", "area"] {
+            for (radii, fractions) in [("[0.002, 0.004]", "[1e308, 1e308]"), ("[0.002, 0.004]", "[5e-324, 1e308]")] {
+                let text = format!("kind = \"discrete\"\nradii = {radii}\nfractions = {fractions}\nby = \"{by}\"\n");
+                let mix = distribution(&text);
+                assert!(mix.issues().is_empty(), "{text}");
+                assert_eq!(mix.class_counts(16).iter().sum::<usize>(), 16, "{text}");
+                assert_eq!(mix.sample(16, &mut Rng::new(1)).len(), 16, "{text}");
+            }
+        }
+        let huge = distribution("kind = \"discrete\"\nradii = [0.002, 0.004]\nfractions = [1e308, 1e308]\n");
+        assert_eq!(huge.class_counts(16), [8, 8], "equal shares");
+        let apart =
+            distribution("kind = \"discrete\"\nradii = [1e-200, 1]\nfractions = [1e-300, 1e308]\nby = \"area\"\n");
+        assert!(apart.issues()[0].reason.contains("orders of magnitude apart"), "{:?}", apart.issues());
     }
 
     #[test]

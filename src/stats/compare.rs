@@ -25,6 +25,9 @@ const COST_COLUMNS: [&str; 2] = ["particle_steps", "steps"];
 /// Wall-clock time column.
 const WALL_TIME: &str = "wall_time";
 
+/// The measured times: the columns that differ between runs of one scene.
+const MEASURED_TIMES: [&str; 2] = [WALL_TIME, "cpu_time"];
+
 /// A metric to keep within a relative tolerance: `METRIC=TOL` on the command line.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tolerance {
@@ -123,6 +126,7 @@ pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<C
     if points.rows(reference).len() < 2 {
         notes.push("the reference has fewer than 2 runs: every decision is undecided (add replicates)".into());
     }
+    notes.extend(copies_note(points));
     let ratio =
         |point: usize, column: &str| ratio_interval(&points.values(reference, column), &points.values(point, column));
     let compared = (0..points.len())
@@ -143,6 +147,27 @@ pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<C
         })
         .collect();
     Ok(Comparison { reference, kept, cost_column: cost_column.to_string(), notes, points: compared })
+}
+
+/// A note naming the points whose runs are copies of one run: two or more that agree exactly in
+/// every column but the measured times (their seeds replicated nothing: a placement that does not
+/// draw from `placement.seed`), so that their decisions rest on zero variance, not on evidence.
+fn copies_note(points: &Points) -> Option<String> {
+    let metrics: Vec<&str> = points.metric_names().into_iter().filter(|m| !MEASURED_TIMES.contains(m)).collect();
+    let copies = |p: usize| {
+        let columns: Vec<Vec<f64>> =
+            metrics.iter().map(|m| points.values(p, m).into_iter().filter(|v| v.is_finite()).collect()).collect();
+        columns.iter().any(|c| c.len() >= 2) && columns.iter().all(|c| c.iter().all(|v| *v == c[0]))
+    };
+    let labels: Vec<String> = (0..points.len()).filter(|&p| copies(p)).map(|p| points.label(p)).collect();
+    (!labels.is_empty()).then(|| {
+        format!(
+            "the runs of {} are copies of one run (equal in every column but the times: their seeds replicated \
+             nothing, as a placement that does not draw from placement.seed does): their spread of 0 makes \
+             decisions on zero variance, not on evidence",
+            labels.join("; ")
+        )
+    })
 }
 
 /// The metrics to keep: `keep` checked against the numeric columns, or the defaults present.

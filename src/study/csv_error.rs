@@ -88,6 +88,8 @@ pub enum CsvProblem {
     NoDisks,
     /// A radius ≤ 0.
     Radius(f64),
+    /// A header without the `r` column in a scene whose radius key (its name) draws radii.
+    NoRadii(&'static str),
     /// A body index that is no whole number.
     NotWhole(f64),
     /// A disk index past the placement's disks.
@@ -167,6 +169,7 @@ impl fmt::Display for CsvProblem {
             CsvProblem::NotFinite(field) => write!(f, "must be finite, got {field}"),
             CsvProblem::NoDisks => write!(f, "the file has a header but no disks"),
             CsvProblem::Radius(r) => write!(f, "a radius must be > 0, got {r}"),
+            CsvProblem::NoRadii(key) => write!(f, "the header has no \"r\" column, and {}", drawn_radii(key)),
             CsvProblem::NotWhole(value) => write!(f, "{value} is not a whole number"),
             CsvProblem::NoSuchDisk { index, disks } => write!(
                 f,
@@ -185,6 +188,14 @@ impl fmt::Display for CsvProblem {
 }
 
 impl std::error::Error for CsvError {}
+
+/// Why a placement file must give its disks' radii in a scene with the radius key `key`, and what to do.
+pub(super) fn drawn_radii(key: &str) -> String {
+    format!(
+        "{key} draws radii for generated placements only: give every disk's radius in the file, or remove {key} \
+         so that every disk gets particles.radius"
+    )
+}
 
 /// Why a placement or contact file (CSV or LAMMPS) gives no disks or contacts, naming the file.
 #[derive(Clone, Debug)]

@@ -14,6 +14,7 @@ use std::path::Path;
 
 use super::csv_error::{ColumnAt, CsvError, CsvProblem, PlacementFileError};
 use super::file::ReadTextError;
+use crate::physics::config::ParticlesConfig;
 use crate::physics::contact_record::Partner;
 use crate::physics::particles::{InitialContact, InitialDisk};
 
@@ -40,6 +41,35 @@ const CONTACT_COLUMNS: [Column; 4] = [("first", ""), ("second", ""), ("tangentia
 
 /// Largest placement (or contact) file read (bytes): a million disks with every column take about 100 MB.
 pub const MAX_PLACEMENT_BYTES: u64 = 256 << 20;
+
+/// What a disk gets whose placement file gives no radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MissingRadius {
+    /// This radius (m): `particles.radius`.
+    Radius(f64),
+    /// Nothing: the scene's radius key (its name) draws radii for generated placements only, so the
+    /// file must give every disk's radius.
+    Drawn(&'static str),
+}
+
+impl MissingRadius {
+    /// What the disks of a placement file without radii get in a scene of `particles`.
+    pub fn of(particles: &ParticlesConfig) -> Self {
+        let drawn = [
+            ("particles.radii", particles.radii.is_some()),
+            ("particles.radius_max", particles.radius_max.is_some()),
+            ("particles.size_distribution", particles.size_distribution.is_some()),
+        ];
+        drawn.into_iter().find(|(_, given)| *given).map_or(Self::Radius(particles.radius), |(key, _)| Self::Drawn(key))
+    }
+}
+
+impl From<f64> for MissingRadius {
+    /// Every disk without a radius gets `radius`.
+    fn from(radius: f64) -> Self {
+        Self::Radius(radius)
+    }
+}
 
 /// Whether errors about a file's content may quote its text.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,8 +104,12 @@ impl Quoting {
 /// Reads the disks of a placement CSV (a regular file of at most [`MAX_PLACEMENT_BYTES`], a leading
 /// byte-order mark skipped); errors name the file, line and column, quoting the file only when it
 /// lies in the study's `folder`.
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
-    parse(&read_text(path)?, default_radius, Quoting::of(path, folder))
+pub fn read(
+    path: &Path,
+    missing: impl Into<MissingRadius>,
+    folder: &Path,
+) -> Result<Vec<InitialDisk>, PlacementFileError> {
+    parse(&read_text(path)?, missing, Quoting::of(path, folder))
         .map_err(|error| PlacementFileError::Csv { path: path.to_path_buf(), error: Box::new(error) })
 }
 
@@ -114,14 +148,20 @@ fn file_kind(kind: std::fs::FileType) -> &'static str {
     }
 }
 
-/// Parses placement CSV text; disks without an `r` column get `default_radius`.
-/// Errors name the line (1-based) and, for a bad value, the column number and name.
-pub fn parse(text: &str, default_radius: f64, quoting: Quoting) -> Result<Vec<InitialDisk>, CsvError> {
-    let mut defaults = [0.0; COLUMNS.len()];
-    defaults[2] = default_radius;
+/// Parses placement CSV text; without an `r` column, the disks get the radius `missing` gives (or
+/// none: an error). Errors name the line (1-based) and, for a bad value, the column number and name.
+pub fn parse(text: &str, missing: impl Into<MissingRadius>, quoting: Quoting) -> Result<Vec<InitialDisk>, CsvError> {
     let rows = Table::parse(text, (&COLUMNS, REQUIRED), quoting)?;
     if rows.rows.is_empty() {
         return Err(CsvError { line: rows.header_line, column: None, problem: CsvProblem::NoDisks });
+    }
+    let mut defaults = [0.0; COLUMNS.len()];
+    match missing.into() {
+        MissingRadius::Radius(radius) => defaults[2] = radius,
+        MissingRadius::Drawn(key) if !rows.header.contains(&2) => {
+            return Err(CsvError { line: rows.header_line, column: None, problem: CsvProblem::NoRadii(key) });
+        }
+        MissingRadius::Drawn(_) => {}
     }
     let disks = rows.rows.iter().map(|&(line, ref values)| {
         let row = rows.values(values, &defaults);

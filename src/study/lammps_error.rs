@@ -30,6 +30,10 @@ pub enum LammpsProblem {
     },
     /// A field that is no finite number (the field as written).
     NotANumber(String),
+    /// An atom count that is no whole number ≥ 0.
+    AtomCount(f64),
+    /// A triclinic box (tilt factors `xy xz yz`): demsweep's box is rectangular.
+    Triclinic,
     /// An atom id that is no whole number ≥ 1.
     AtomId(f64),
     /// A diameter or radius ≤ 0.
@@ -74,6 +78,8 @@ pub enum LammpsProblem {
         /// Why the bounds cannot be read.
         cause: Box<LammpsError>,
     },
+    /// A dump without a `radius` or `diameter` column in a scene whose radius key (its name) draws radii.
+    NoRadii(&'static str),
     /// A dump without a position column.
     NoColumn {
         /// The plain column's name.
@@ -132,6 +138,12 @@ impl fmt::Display for LammpsProblem {
             ),
             LammpsProblem::FewFields { found, expected } => write!(f, "{found} fields, expected at least {expected}"),
             LammpsProblem::NotANumber(field) => write!(f, "\"{field}\" is not a number"),
+            LammpsProblem::AtomCount(value) => write!(f, "the atom count {value} is not a whole number ≥ 0"),
+            LammpsProblem::Triclinic => write!(
+                f,
+                "a triclinic box (tilt factors xy xz yz): demsweep's box is rectangular, so the tilt would be lost; \
+                 write the file from an orthogonal box"
+            ),
             LammpsProblem::AtomId(value) => write!(f, "atom id {value} is not a whole number ≥ 1"),
             LammpsProblem::NotPositive { what, value } => write!(f, "the {what} must be > 0, got {value}"),
             LammpsProblem::IdTwice { id, first } => write!(f, "atom id {id} appears twice (first on line {first})"),
@@ -148,6 +160,9 @@ impl fmt::Display for LammpsProblem {
             LammpsProblem::EndsAfter(item) => write!(f, "the file ends after `ITEM: {item}`"),
             LammpsProblem::NoBoxBounds => write!(f, "no `ITEM: BOX BOUNDS`"),
             LammpsProblem::Unscale { column, cause } => write!(f, "{cause}: needed to unscale `{column}`"),
+            LammpsProblem::NoRadii(key) => {
+                write!(f, "no `radius` or `diameter` column, and {}", super::csv_error::drawn_radii(key))
+            }
             LammpsProblem::NoColumn { plain, scaled } => write!(f, "no `{plain}` column (nor `{scaled}`)"),
             LammpsProblem::SnapshotRows { rows, atoms } => {
                 write!(f, "the snapshot has {rows} atoms, its header says {atoms}")

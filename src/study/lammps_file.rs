@@ -6,6 +6,8 @@
 //! them) and, when present, `Velocities` (`id vx vy vz wx wy wz`: ω is `wz`). Dump file (its first
 //! line `ITEM: TIMESTEP`): the columns `x`, `y` (or `xu`, `yu`; `xs`, `ys` scaled to the box),
 //! `radius` or `diameter` (else `particles.radius`), and the optional `id`, `vx`, `vy`, `omegaz`.
+//! A data file's first line is its title, whatever it says; a triclinic box is refused (the box is
+//! rectangular).
 //! Disks are taken in the order of their atom ids; `z` and the rest are not read (the disks lie in
 //! the plane), and LAMMPS keeps no rotation angle of a sphere, so every angle starts at 0.
 
@@ -13,45 +15,51 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::csv_error::PlacementFileError;
-use super::initial_csv::Quoting;
+use super::initial_csv::{MissingRadius, Quoting};
 use super::lammps_error::{LammpsError, LammpsProblem};
 use crate::physics::config::PlacementKind;
 use crate::physics::particles::InitialDisk;
 
 /// Reads the disks of a placement file of `kind`: a LAMMPS data or dump file ([`read`]), else a
-/// CSV ([`super::initial_csv::read`]).
+/// CSV ([`super::initial_csv::read`]); `missing`: what a disk without a radius in the file gets.
 pub fn read_placement(
     kind: PlacementKind,
     path: &Path,
-    default_radius: f64,
+    missing: MissingRadius,
     folder: &Path,
 ) -> Result<Vec<InitialDisk>, PlacementFileError> {
     match kind {
-        PlacementKind::Lammps => read(path, default_radius, folder),
-        _ => super::initial_csv::read(path, default_radius, folder),
+        PlacementKind::Lammps => read(path, missing, folder),
+        _ => super::initial_csv::read(path, missing, folder),
     }
 }
 
 /// Reads the disks of a LAMMPS data or dump file (a regular file of at most the size of a placement
 /// CSV); errors name the file and line, and say what is wrong only when the file lies in the study's
 /// `folder` (see [`Quoting`]).
-pub fn read(path: &Path, default_radius: f64, folder: &Path) -> Result<Vec<InitialDisk>, PlacementFileError> {
+pub fn read(
+    path: &Path,
+    missing: impl Into<MissingRadius>,
+    folder: &Path,
+) -> Result<Vec<InitialDisk>, PlacementFileError> {
     let text = super::initial_csv::read_text(path)?;
-    parse(&text, default_radius).map_err(|error| PlacementFileError::Lammps {
+    parse(&text, missing).map_err(|error| PlacementFileError::Lammps {
         path: path.to_path_buf(),
         error: Box::new(error),
         quoted: Quoting::of(path, folder) == Quoting::Quoted,
     })
 }
 
-/// Parses a LAMMPS data file, or a dump file when its first line is `ITEM: TIMESTEP`.
-pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
+/// Parses a LAMMPS data file, or a dump file when its first line is `ITEM: TIMESTEP`; `missing`:
+/// what a disk of a dump without radii gets.
+pub fn parse(text: &str, missing: impl Into<MissingRadius>) -> Result<Vec<InitialDisk>, LammpsError> {
     let lines = numbered(text);
     let disks = if lines.first().is_some_and(|(_, l)| l.starts_with("ITEM:")) {
-        dump(&lines, default_radius)?
+        dump(&lines, missing.into())?
     } else {
         atom_style_sphere(text)?;
-        data(lines.get(1..).unwrap_or_default())?
+        let after_title: Vec<(usize, &str)> = lines.into_iter().filter(|(number, _)| *number > 1).collect();
+        data(&after_title)?
     };
     if disks.is_empty() {
         return Err(LammpsError::new(LammpsProblem::NoAtoms));
@@ -60,9 +68,10 @@ pub fn parse(text: &str, default_radius: f64) -> Result<Vec<InitialDisk>, Lammps
 }
 
 /// Refuses a data file whose `Atoms` section names an atom style other than `sphere` (the columns
-/// differ); a section without a style is read as `sphere`.
+/// differ); a section without a style is read as `sphere`. The first line is the title, whatever it says.
 fn atom_style_sphere(text: &str) -> Result<(), LammpsError> {
-    let style = text.lines().find_map(|l| l.trim().strip_prefix("Atoms")).and_then(|rest| rest.split('#').nth(1));
+    let style =
+        text.lines().skip(1).find_map(|l| l.trim().strip_prefix("Atoms")).and_then(|rest| rest.split('#').nth(1));
     match style.map(str::trim) {
         Some(style) if !style.is_empty() && style != "sphere" => {
             Err(LammpsError::new(LammpsProblem::AtomStyle(style.to_string())))
@@ -106,6 +115,15 @@ fn atom_id(number: usize, value: f64) -> Result<u64, LammpsError> {
     }
 }
 
+/// An atom count: a whole number ≥ 0; the error names the line.
+fn atom_count(number: usize, value: f64) -> Result<usize, LammpsError> {
+    if value >= 0.0 && value.fract() == 0.0 && value < 1e15 {
+        Ok(value as usize)
+    } else {
+        Err(LammpsError::at(number, LammpsProblem::AtomCount(value)))
+    }
+}
+
 /// A disk's radius from a diameter or radius column; the error names the line.
 fn positive(number: usize, what: &'static str, value: f64) -> Result<f64, LammpsError> {
     if value > 0.0 { Ok(value) } else { Err(LammpsError::at(number, LammpsProblem::NotPositive { what, value })) }
@@ -143,7 +161,10 @@ fn data(lines: &[(usize, &str)]) -> Result<Vec<InitialDisk>, LammpsError> {
     let Some(&(count_line, count_text)) = header_count("atoms") else {
         return Err(LammpsError::new(LammpsProblem::NoAtomsLine));
     };
-    let count = numbers(count_line, count_text, 1)?[0] as usize;
+    let count = atom_count(count_line, numbers(count_line, count_text, 1)?[0])?;
+    if let Some(&(tilt_line, _)) = lines.iter().find(|(_, l)| l.ends_with("xy xz yz")) {
+        return Err(LammpsError::at(tilt_line, LammpsProblem::Triclinic));
+    }
     let section = |name: &str| {
         let start =
             lines.iter().position(|(_, l)| section_name(l).is_some_and(|s| s.split_whitespace().next() == Some(name)));
@@ -194,7 +215,7 @@ fn find_column(names: &[&str], options: &[&'static str]) -> Option<(usize, &'sta
 }
 
 /// The disks of a dump file's last snapshot.
-fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>, LammpsError> {
+fn dump(lines: &[(usize, &str)], missing: MissingRadius) -> Result<Vec<InitialDisk>, LammpsError> {
     const COUNT: &str = "NUMBER OF ATOMS";
     let last = lines.iter().rposition(|(_, l)| l.starts_with("ITEM: TIMESTEP")).unwrap_or(0);
     let snapshot = &lines[last..];
@@ -205,8 +226,11 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let count_at = item(COUNT)?;
     let &(count_line, count_text) =
         snapshot.get(count_at + 1).ok_or(LammpsError::new(LammpsProblem::EndsAfter(COUNT)))?;
-    let count = numbers(count_line, count_text, 1)?[0] as usize;
+    let count = atom_count(count_line, numbers(count_line, count_text, 1)?[0])?;
     let bounds_at = item("BOX BOUNDS").ok();
+    if let Some(&(tilt_line, _)) = bounds_at.map(|k| &snapshot[k]).filter(|(_, l)| l.contains(" xy ")) {
+        return Err(LammpsError::at(tilt_line, LammpsProblem::Triclinic));
+    }
     let bound = |axis: usize| -> Result<(f64, f64), LammpsError> {
         let bounds = bounds_at.and_then(|k| snapshot.get(k + 1 + axis));
         let &(number, line) = bounds.ok_or(LammpsError::new(LammpsProblem::NoBoxBounds))?;
@@ -231,6 +255,11 @@ fn dump(lines: &[(usize, &str)], default_radius: f64) -> Result<Vec<InitialDisk>
     let x = position(0, ["x", "xu"], ["xs", "xsu"])?;
     let y = position(1, ["y", "yu"], ["ys", "ysu"])?;
     let radius = column(&["radius", "diameter"]);
+    let default_radius = match (radius, missing) {
+        (None, MissingRadius::Drawn(key)) => return Err(LammpsError::at(atoms_line, LammpsProblem::NoRadii(key))),
+        (_, MissingRadius::Radius(radius)) => radius,
+        (Some(_), MissingRadius::Drawn(_)) => 0.0, // not read: every row gives its radius
+    };
     let optional = |name: &'static str| column(&[name]).map(|(k, _)| k);
     let (id, vx, vy, omega) = (optional("id"), optional("vx"), optional("vy"), optional("omegaz"));
     let rows = &snapshot[atoms_at + 1..];
@@ -310,6 +339,33 @@ mod tests {
         assert!(
             parse(unscaled, 1.0).unwrap_err().to_string().contains("no `ITEM: BOX BOUNDS`: needed to unscale `xs`")
         );
+    }
+
+    #[test]
+    fn the_first_line_of_a_data_file_is_its_title_whatever_it_says() {
+        let read = parse(DATA, 1.0).unwrap();
+        for title in ["Atoms # atomic, by hand", "", "# from a script", "2 atoms"] {
+            let titled = DATA.replacen("LAMMPS data file from demsweep", title, 1);
+            assert_eq!(parse(&titled, 1.0).as_ref(), Ok(&read), "title {title:?}");
+        }
+    }
+
+    #[test]
+    fn a_fractional_atom_count_and_a_triclinic_box_are_refused_at_their_line() {
+        let fractional = DATA.replace("2 atoms", "2.5 atoms");
+        assert_eq!(
+            parse(&fractional, 1.0).unwrap_err().to_string(),
+            "line 3: the atom count 2.5 is not a whole number ≥ 0"
+        );
+        let tilted = DATA.replace("zlo zhi\n", "zlo zhi\n0.05 0 0 xy xz yz\n");
+        assert!(parse(&tilted, 1.0).unwrap_err().to_string().starts_with("line 9: a triclinic box"));
+        let dump = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS xy xz yz pp pp pp\n0 0.1 0.02\n\
+                    0 0.2 0\n-1 1 0\nITEM: ATOMS x y\n0.01 0.02\n";
+        assert!(parse(dump, 1.0).unwrap_err().to_string().starts_with("line 5: a triclinic box"));
+        let half = dump
+            .replace("BOX BOUNDS xy xz yz pp pp pp\n0 0.1 0.02", "BOX BOUNDS pp pp pp\n0 0.1")
+            .replace("\n1\n", "\n1.5\n");
+        assert_eq!(parse(&half, 1.0).unwrap_err().to_string(), "line 4: the atom count 1.5 is not a whole number ≥ 0");
     }
 
     #[test]

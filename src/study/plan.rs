@@ -11,10 +11,12 @@ use super::axes::{self, Axis, Sweep};
 use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
 use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
+use super::initial_csv::MissingRadius;
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
-use crate::physics::config::PlacementKind;
+use crate::physics::config::{PlacementConfig, PlacementKind};
+use crate::physics::keys::implausible_values;
 use crate::physics::number::short;
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
@@ -229,12 +231,16 @@ struct Planner<'a> {
     base: &'a toml::Table,
     sweep: &'a Sweep,
     study_dir: PathBuf,
-    /// Placement files read so far, by path, kind and default radius.
-    initial_files: HashMap<(PathBuf, PlacementKind, u64), InitialStates>,
+    /// Placement files read so far, by path, kind and what a disk without a radius gets (the
+    /// radius's bits, or the key that draws radii).
+    initial_files: HashMap<(PathBuf, PlacementKind, Result<u64, &'static str>), InitialStates>,
     /// Contact files read so far, by path and the disks and walls they were checked against.
     contact_files: HashMap<(PathBuf, usize, usize), Result<InitialContacts, PlacementFileError>>,
     /// Placements that failed, by the scene sections they depend on: (key, reason).
     failed_placements: HashMap<String, (String, String)>,
+    /// The first seed's problem of each setup whose placement failed, by the sections without the
+    /// seed: later seeds that fail too report it, so that it is one problem with a count of runs.
+    first_failures: HashMap<String, (String, String)>,
     /// The last placement that succeeded: its setup and disks.
     last_placement: Option<(String, Arc<Vec<InitialDisk>>)>,
     /// Warnings so far, one per kind and place.
@@ -252,7 +258,7 @@ impl<'a> Planner<'a> {
     fn new(file: &'a StudyFile, doc: &'a Document, base: &'a toml::Table, sweep: &'a Sweep) -> Self {
         let study_dir = file.path.parent().map(Path::to_path_buf).unwrap_or_default();
         let (initial_files, failed_placements, warnings) = (HashMap::new(), HashMap::new(), ErrorSink::by_kind());
-        let contact_files = HashMap::new();
+        let (contact_files, first_failures) = (HashMap::new(), HashMap::new());
         let last_placement = None;
         Self {
             file,
@@ -263,6 +269,7 @@ impl<'a> Planner<'a> {
             initial_files,
             contact_files,
             failed_placements,
+            first_failures,
             last_placement,
             warnings,
         }
@@ -297,6 +304,7 @@ impl<'a> Planner<'a> {
         }
         let initial = self.initial_states(&point, &mut scene)?;
         self.check_scene(&point, &scene, initial.as_ref())?;
+        self.warn_copies(&point, &scene);
         let initial_contacts = self.initial_contacts(&point, &scene)?;
         let mut run = PlannedRun::new(point.id, index, parameters, scene, initial);
         run.initial_contacts = initial_contacts;
@@ -336,7 +344,9 @@ impl<'a> Planner<'a> {
     }
 
     /// File placement: the disks read from `placement.file` (relative to the study's folder);
-    /// sets `particles.count` to their number.
+    /// sets `particles.count` to their number. The file gives the radii, else `particles.radius`
+    /// does; a radius key that draws radii is refused with a file without them, and warned of with a
+    /// file with them (it draws none).
     fn initial_states(
         &mut self,
         point: &RunPoint,
@@ -346,13 +356,25 @@ impl<'a> Planner<'a> {
             return Ok(None);
         };
         let path = self.study_dir.join(name);
-        let (kind, radius) = (scene.placement.kind, scene.particles.radius);
+        let (kind, missing) = (scene.placement.kind, MissingRadius::of(&scene.particles));
+        let radius_key = match missing {
+            MissingRadius::Radius(radius) => Ok(radius.to_bits()),
+            MissingRadius::Drawn(key) => Err(key),
+        };
         let disks = self
             .initial_files
-            .entry((path.clone(), kind, radius.to_bits()))
-            .or_insert_with(|| lammps_file::read_placement(kind, &path, radius, &self.study_dir).map(Arc::new))
+            .entry((path.clone(), kind, radius_key))
+            .or_insert_with(|| lammps_file::read_placement(kind, &path, missing, &self.study_dir).map(Arc::new))
             .clone()
             .map_err(|reason| vec![self.problem(point, "placement.file", reason.to_string())])?;
+        if let MissingRadius::Drawn(key) = missing {
+            let reason = format!(
+                "draws no radius: {} gives every disk's own (a placement file keeps its radii); remove {key}",
+                path.display()
+            );
+            let warning = self.problem(point, key, reason);
+            self.warnings.push(warning);
+        }
         scene.particles.count = disks.len();
         Ok(Some(disks))
     }
@@ -389,7 +411,13 @@ impl<'a> Planner<'a> {
         initial: Option<&Arc<Vec<InitialDisk>>>,
     ) -> Result<(), Vec<StudyError>> {
         if let Err(issues) = scene.validate() {
-            return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
+            // A length written in mm is often why a box is too small: the hint of a value that looks
+            // written in another unit goes with the errors.
+            let hints = implausible_values(scene).into_iter();
+            let hints = hints.filter(|h| !h.suggestions.is_empty() && issues.iter().all(|i| i.key != h.key));
+            let hints: Vec<StudyError> = hints.map(|h| self.problem(point, &h.key, h.to_string())).collect();
+            let errors = issues.into_iter().map(|i| self.problem(point, &i.key, i.reason));
+            return Err(errors.chain(hints).collect());
         }
         if let Some((key, reason)) = resources::memory_problem(scene) {
             return Err(vec![self.problem(point, key, reason)]);
@@ -398,7 +426,7 @@ impl<'a> Planner<'a> {
             let warning = self.problem(point, key, reason);
             self.warnings.push(warning);
         }
-        for implausible in crate::physics::keys::implausible_values(scene) {
+        for implausible in implausible_values(scene) {
             let warning = self.problem(point, &implausible.key, implausible.to_string());
             self.warnings.push(warning);
         }
@@ -425,11 +453,29 @@ impl<'a> Planner<'a> {
         Ok(())
     }
 
+    /// Seeds that replicate nothing: the study's seeds (replicates or a `placement.seed` axis) run
+    /// identical copies of a scene whose disks do not depend on the seed.
+    fn warn_copies(&mut self, point: &RunPoint, scene: &SceneConfig) {
+        let seed_axis = self.sweep.axes.iter().find(|axis| axis.key() == "placement.seed");
+        let seeds = seed_axis.map_or(self.sweep.replicates, |axis| axis.values.len());
+        if seeds < 2 || placement::draws_from_seed(scene) {
+            return;
+        }
+        let kind = serde_json::to_string(&scene.placement.kind).unwrap_or_default();
+        let reason = format!(
+            "placement.kind = {kind} places the same disks whatever placement.seed: the study's {seeds} seeds run \
+             identical copies, whose spread is 0 (95 % intervals of ±0, comparisons on zero variance); use \
+             random or dropped placement or drawn radii, or drop the seeds"
+        );
+        let warning = self.problem(point, "placement.kind", reason);
+        self.warnings.push(warning);
+    }
+
     /// The disks of a generated placement, or its problem (key, reason). A failure is remembered per
-    /// setup; the disks only for the last setup (consecutive runs often share it; keeping every
-    /// setup's disks could fill the memory).
+    /// setup, and reported in the words of the setup's first failing seed; the disks only for the
+    /// last setup (consecutive runs often share it; keeping every setup's disks could fill the memory).
     fn try_placement(&mut self, scene: &SceneConfig) -> Placed {
-        let setup = serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default();
+        let setup = placement_setup(scene);
         if let Some((last, disks)) = &self.last_placement
             && *last == setup
         {
@@ -445,12 +491,25 @@ impl<'a> Planner<'a> {
             Ok(disks) => Ok(Arc::new(disks)),
             Err(e) => Err((e.key, e.reason)),
         };
-        match &outcome {
-            Ok(disks) => self.last_placement = Some((setup, disks.clone())),
-            Err(problem) => drop(self.failed_placements.insert(setup, problem.clone())),
+        match outcome {
+            Ok(disks) => {
+                self.last_placement = Some((setup, disks.clone()));
+                Ok(disks)
+            }
+            Err(problem) => {
+                let any_seed =
+                    SceneConfig { placement: PlacementConfig { seed: 0, ..scene.placement.clone() }, ..scene.clone() };
+                let first = self.first_failures.entry(placement_setup(&any_seed)).or_insert(problem).clone();
+                self.failed_placements.insert(setup, first.clone());
+                Err(first)
+            }
         }
-        outcome
     }
+}
+
+/// The scene sections a generated placement depends on, as one string.
+fn placement_setup(scene: &SceneConfig) -> String {
+    serde_json::to_string(&(&scene.domain, &scene.particles, &scene.placement)).unwrap_or_default()
 }
 
 /// Sampling that cannot sample: an interval longer than the run, frames past its end (key, reason).

@@ -11,6 +11,7 @@ use crate::physics::quantity;
 use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text};
+use crate::study::initial_csv::MissingRadius;
 use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{AxisError, OutputOptions, ParamValue, lammps_file};
 
@@ -83,7 +84,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         match lammps_file::read_placement(
             spec.reference.placement.kind,
             &folder.join(name),
-            spec.reference.particles.radius,
+            MissingRadius::of(&spec.reference.particles),
             folder,
         ) {
             Ok(disks) => {

@@ -30,6 +30,18 @@ pub fn radii(scene: &SceneConfig, rng: &mut Rng) -> Vec<f64> {
     }
 }
 
+/// Whether the disks a scene starts from vary with `placement.seed`: random and dropped placement
+/// draw their positions from it; a lattice only its radii, when they differ from the next seed's
+/// (a uniform range or a size distribution); a placement file never.
+pub fn draws_from_seed(scene: &SceneConfig) -> bool {
+    let drawn = |seed: u64| radii(scene, &mut Rng::new(seed));
+    match scene.placement.kind {
+        PlacementKind::Random | PlacementKind::Dropped => true,
+        PlacementKind::Lattice => drawn(scene.placement.seed) != drawn(scene.placement.seed.wrapping_add(1)),
+        PlacementKind::File | PlacementKind::Lammps => false,
+    }
+}
+
 /// Generated initial disks of a scene whose placement is `random`, `lattice` or `dropped`
 /// (`random` and `lattice` lowered by `placement.lowered_by`: [`lowered::lowered`]).
 /// `file` placement is the caller's: it reads the states and passes them to the simulation.
@@ -54,4 +66,26 @@ fn worst_overlap(d: &[InitialDisk]) -> f64 {
     let overlap = |a: &InitialDisk, b: &InitialDisk| (1.0 - (a.x - b.x).hypot(a.y - b.y) / (a.r + b.r)).max(0.0);
     let pairs = (0..d.len()).flat_map(|i| (i + 1..d.len()).map(move |j| (i, j)));
     pairs.map(|(i, j)| overlap(&d[i], &d[j])).fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_random_dropped_and_drawn_radii_vary_with_the_seed() {
+        let of_kind = |kind| {
+            let mut scene = SceneConfig::default();
+            scene.placement.kind = kind;
+            draws_from_seed(&scene)
+        };
+        let kinds = [PlacementKind::Random, PlacementKind::Dropped, PlacementKind::Lattice, PlacementKind::File];
+        assert_eq!(kinds.map(of_kind), [true, true, false, false]);
+        let mut scene = SceneConfig::default();
+        scene.placement.kind = PlacementKind::Lattice;
+        scene.particles.radius_max = Some(0.012);
+        assert!(draws_from_seed(&scene), "a lattice of drawn radii");
+        scene.particles.radius_max = Some(scene.particles.radius);
+        assert!(!draws_from_seed(&scene), "a range of one radius draws the same radii");
+    }
 }
