@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::output::OutputError;
-use crate::output::guard::Existing;
+use crate::output::guard::{self, Existing, GuardError};
 use crate::output::reader::DamagedGroup;
 use crate::plot::PlotError;
 use crate::report::{self, ReportContext};
@@ -155,16 +155,34 @@ impl fmt::Display for TuneRunError {
 /// the tune's report section and the report page.
 pub fn tune_file(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneRun, TuneRunError> {
     let started = Instant::now();
+    let existing = Existing::Ours { force: options.force };
+    check_tune_files(spec, options).map_err(|e| TuneRunError::Write(WriteError::File(e)))?;
     let outcome = tune::tune(spec, options).map_err(TuneRunError::Tune)?;
     let text = tune::report::paragraph(spec, &outcome.result);
     let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let written = tune::report::write_all(spec, &outcome.result, &dir, &text).map_err(TuneRunError::Write)?;
-    let section = tune::report::report_section(spec, &outcome.result, &text)
-        .map_err(SectionError::Chart)
-        .and_then(|s| report::write_tune_section(&outcome.results, &spec.name, &s).map_err(SectionError::Write));
+    let written = tune::report::write_all(spec, &outcome.result, &dir, &text, existing).map_err(TuneRunError::Write)?;
+    let section =
+        tune::report::report_section(spec, &outcome.result, &text).map_err(SectionError::Chart).and_then(|s| {
+            report::write_tune_section(&outcome.results, &spec.name, &s, existing).map_err(SectionError::Write)
+        });
     let jobs =
         if options.jobs == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { options.jobs };
     let context = ReportContext { jobs: Some(jobs), elapsed: Some(started.elapsed().as_secs_f64()) };
-    let page = report::write_report(&outcome.results, (None, Existing::Ours { force: options.force }), &context);
+    let page = report::write_report(&outcome.results, (None, existing), &context);
     Ok(TuneRun { report: outcome, recommendation: text, written, section, page })
+}
+
+/// Checks, before a tune runs, that the files it writes beside its results (its tables and their
+/// sidecars, its text files, its report section) may be replaced: only files demsweep wrote unless
+/// `--force`, no link or folder.
+fn check_tune_files(spec: &TuneSpec, options: &TuneOptions) -> Result<(), GuardError> {
+    let results = tune::results_path(spec, options.out_dir.as_deref());
+    let dir = results.parent().unwrap_or(Path::new("."));
+    let [candidates, skipped, text @ ..] = tune::report::files(spec, dir);
+    let tables = [&candidates, &skipped].map(|csv| [csv.clone(), crate::output::csv::metadata_path(csv)]);
+    let section = report::tune_section_path(&results, &spec.name);
+    let existing = Existing::Ours { force: options.force };
+    let check = |path: &PathBuf| guard::check_replaceable(path, &[&results], existing);
+    let checked = tables.iter().flatten().chain(&text).chain([&section]).try_for_each(check);
+    checked.map_err(|e| if options.resume { e.resuming() } else { e })
 }

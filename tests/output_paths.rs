@@ -155,3 +155,19 @@ fn run_force_replaces_only_a_results_file() {
     assert!(stderr(&out).contains("paths.h5") && stderr(&out).contains("not one"), "{}", stderr(&out));
     assert_eq!(snapshot(&work), before);
 }
+
+#[test]
+fn a_folder_or_link_at_a_sidecar_path_is_refused_before_running() {
+    let (work, results) = results("paths_sidecar");
+    std::fs::write(work.join("precious.txt"), "precious").unwrap();
+    let sidecar = results.join("paths_summary.csv-metadata.json");
+    std::fs::remove_file(&sidecar).unwrap();
+    std::fs::create_dir(&sidecar).unwrap();
+    let args = ["run", "paths.toml", "--out", "results", "--force", "--progress", "quiet"];
+    refused(&work, &work, &args, "paths_summary.csv-metadata.json", "is not a file");
+    std::fs::remove_dir(&sidecar).unwrap();
+    std::os::unix::fs::symlink(work.join("precious.txt"), &sidecar).unwrap();
+    refused(&work, &work, &args, "paths_summary.csv-metadata.json", "symbolic link");
+    let csv = ["summary", "results/paths.h5", "--csv", "results/paths_summary.csv", "--force"];
+    refused(&work, &work, &csv, "paths_summary.csv-metadata.json", "symbolic link");
+}

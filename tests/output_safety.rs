@@ -224,3 +224,79 @@ fn a_shard_cut_short_is_merged_as_missing_and_its_rerun_says_how() {
     assert!(run(&study_file, &shards, &["--shard", "2/3", "--force"]).status.success());
     assert!(demsweep(&["merge", path(&dir.join("m")), path(&shards), "--force"]).status.success());
 }
+
+/// A user's CSV with CRLF line ends, which a spreadsheet writes.
+const USER_CSV: &str = "sample,comment\r\nA1,looks fine\r\n";
+
+#[test]
+fn a_users_crlf_csv_is_kept() {
+    let dir = runner_common::scratch("safety_crlf_csv");
+    let study_file = study(&dir, "0.2");
+    let out = dir.join("d");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("s_summary.csv"), USER_CSV).unwrap();
+    let refused = run(&study_file, &out, &[]);
+    assert_eq!(refused.status.code(), Some(1), "{}", stderr(&refused));
+    assert!(stderr(&refused).contains("s_summary.csv: refused: exists and was not written by demsweep"));
+    assert!(!out.join("s.h5").exists(), "refused before any run");
+    std::fs::remove_file(out.join("s_summary.csv")).unwrap();
+    assert!(run(&study_file, &out, &[]).status.success());
+    let results = out.join("s.h5");
+    let mine = dir.join("mine.csv");
+    for args in [
+        vec!["summary", path(&results), "--csv", path(&mine)],
+        vec!["compare", path(&results), "--reference", "r0000", "--csv", path(&mine)],
+    ] {
+        std::fs::write(&mine, USER_CSV).unwrap();
+        let refused = demsweep(&args);
+        assert_eq!(refused.status.code(), Some(1), "{args:?}: {}", stderr(&refused));
+        assert!(stderr(&refused).contains("was not written by demsweep"), "{}", stderr(&refused));
+        assert_eq!(std::fs::read_to_string(&mine).unwrap(), USER_CSV, "{args:?}");
+        assert!(!dir.join("mine.csv-metadata.json").exists(), "{args:?}");
+        assert!(demsweep(&[&args[..], &["--force"]].concat()).status.success(), "{args:?} --force");
+        assert!(demsweep(&args).status.success(), "{args:?}: its own CSV is replaced");
+        std::fs::remove_file(dir.join("mine.csv-metadata.json")).unwrap();
+    }
+}
+
+#[test]
+fn ownership_rests_on_a_binding_not_on_a_resemblance() {
+    let dir = runner_common::scratch("safety_binding");
+    let study_file = study(&dir, "0.2");
+    let out = dir.join("d");
+    assert!(run(&study_file, &out, &[]).status.success());
+    let results = out.join("s.h5");
+    let summary_csv = |args: &[&str]| demsweep(&[&["summary", path(&results)], args].concat());
+    let refused = |output: Output, path: &Path| {
+        assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+        assert!(stderr(&output).contains(&format!("{}: refused", path.display())), "{}", stderr(&output));
+    };
+
+    // A user's CSV saved over demsweep's, its sidecar still there: the sidecar no longer describes it.
+    let mine = dir.join("mine.csv");
+    assert!(summary_csv(&["--csv", path(&mine)]).status.success());
+    std::fs::write(&mine, USER_CSV).unwrap();
+    refused(summary_csv(&["--csv", path(&mine)]), &mine);
+    assert_eq!(std::fs::read_to_string(&mine).unwrap(), USER_CSV);
+    std::fs::write(out.join("s_summary.csv"), USER_CSV).unwrap();
+    refused(run(&study_file, &out, &["--resume"]), &out.join("s_summary.csv"));
+    assert_eq!(std::fs::read_to_string(out.join("s_summary.csv")).unwrap(), USER_CSV);
+
+    // A user's own file at a sidecar path.
+    let other = dir.join("other.csv");
+    let sidecar = dir.join("other.csv-metadata.json");
+    std::fs::write(&sidecar, "{\"my\": \"notes\"}\n").unwrap();
+    refused(summary_csv(&["--csv", path(&other)]), &sidecar);
+    assert_eq!(std::fs::read_to_string(&sidecar).unwrap(), "{\"my\": \"notes\"}\n");
+    assert!(!other.exists(), "the table is not written without its sidecar");
+
+    // A user's page that quotes the generator tag in its body.
+    let notes = dir.join("notes.html");
+    let page = format!(
+        "<!DOCTYPE html><html><head><title>notes</title></head><body><p>demsweep marks its pages with <code>{}</code></p></body></html>\n",
+        demsweep::output::guard::HTML_MARK
+    );
+    std::fs::write(&notes, &page).unwrap();
+    refused(demsweep(&["report", path(&results), "--out", path(&notes)]), &notes);
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), page);
+}

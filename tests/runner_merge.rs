@@ -165,3 +165,21 @@ fn shard_file_names_are_zero_padded_and_an_unpadded_one_is_continued() {
     options.shard = Some(ShardSpec { index: 3, count: 4 });
     assert!(results_path(&plan, &options).ends_with("padded.shard-3-of-4.h5"));
 }
+
+#[test]
+fn merged_tables_have_their_sidecars_and_leave_no_temporary_files() {
+    let plan = runner_common::sweep("merge_sidecars", 4);
+    let shards_dir = runner_common::scratch("merge_sidecars_shards");
+    (1..=2).for_each(|k| drop(run_shard(&plan, &shards_dir, k, 2)));
+    let out = runner_common::scratch("merge_sidecars_out");
+    let merged = merge(&out, std::slice::from_ref(&shards_dir), &Default::default()).expect("merge");
+    for table in [&merged.summary_csv, &merged.points_csv] {
+        let sidecar = table.with_file_name(format!("{}-metadata.json", table.file_name().unwrap().to_string_lossy()));
+        let meta: serde_json::Value = serde_json::from_slice(&std::fs::read(&sidecar).unwrap()).unwrap();
+        assert_eq!(meta["url"].as_str(), table.file_name().unwrap().to_str(), "{}", sidecar.display());
+        assert!(demsweep::output::guard::made_by_demsweep(table), "{}", table.display());
+    }
+    let names: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|name| !name.contains("merging")), "{names:?}");
+}

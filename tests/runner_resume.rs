@@ -6,7 +6,7 @@ mod runner_common;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use demsweep::output::summary;
+use demsweep::output::{csv_path, points_csv_path, summary};
 use demsweep::runner::{CommitPolicy, run_plan};
 
 /// Runs long enough (tens of milliseconds each) for the sweep to be stopped midway.
@@ -87,4 +87,33 @@ fn resume_runs_again_the_runs_that_failed_with_an_error() {
     assert_eq!((resumed.already_done, resumed.ran, resumed.failed(), resumed.exit_code()), (3, 1, 0, 0));
     let reference = run_plan(&plan, &runner_common::options(&runner_common::scratch("resume_failed_ref"), 2)).unwrap();
     assert_eq!(summary::read(&resumed.results).unwrap().without_timing(), reference.summary.without_timing());
+}
+
+/// The CSV metadata sidecar of `table`.
+fn metadata_path(table: &std::path::Path) -> std::path::PathBuf {
+    table.with_file_name(format!("{}-metadata.json", table.file_name().unwrap().to_string_lossy()))
+}
+
+#[test]
+fn a_resume_takes_its_own_tables_left_without_their_sidecars() {
+    let plan = runner_common::sweep("own_tables", 4);
+    let dir = runner_common::scratch("own_tables");
+    let done = run_plan(&plan, &runner_common::options(&dir, 2)).unwrap();
+    let tables = [csv_path(&done.results), points_csv_path(&done.results)];
+    // A command killed between a table and its sidecar, a full disk, a sidecar deleted.
+    tables.iter().for_each(|table| std::fs::remove_file(metadata_path(table)).unwrap());
+    let mut again = runner_common::options(&dir, 2);
+    again.resume = true;
+    let resumed = run_plan(&plan, &again).expect("its own tables are recognised");
+    assert_eq!((resumed.already_done, resumed.ran), (4, 0));
+    assert!(tables.iter().all(|table| metadata_path(table).is_file()), "the sidecars are written again");
+
+    // A user's table there is kept, and the refusal advises no flag that would run the stored runs again.
+    let mine = "sample,comment\r\nA1,looks fine\r\n";
+    std::fs::remove_file(metadata_path(&tables[0])).unwrap();
+    std::fs::write(&tables[0], mine).unwrap();
+    let refused = run_plan(&plan, &again).unwrap_err().to_string();
+    assert!(refused.contains("own_tables_summary.csv: refused"), "{refused}");
+    assert!(refused.contains("move it elsewhere, then resume again") && !refused.contains("--force"), "{refused}");
+    assert_eq!(std::fs::read_to_string(&tables[0]).unwrap(), mine);
 }

@@ -308,3 +308,42 @@ fn a_wall_time_tune_states_the_same_cost_when_rerun() {
     assert_eq!(cost(&sheets[0]), cost(&sheets[1]), "{}\n---\n{}", sheets[0], sheets[1]);
     assert!(sheets[0].contains("ns per particle-step"), "{}", sheets[0]);
 }
+
+#[test]
+fn tune_refuses_to_replace_a_users_best_toml_and_its_other_files() {
+    let dir = runner_common::scratch("tune_users_files");
+    let file = write_tune(&dir, TUNE);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let mine = [
+        ("tiny_tune_best.toml", "# my best settings\nname = \"mine\"\n"),
+        ("tiny_tune_scene_change.toml", "[scene]\n"),
+        ("tiny_tune_recommendation.txt", "my notes\n"),
+        ("tiny_tune_tune.json", "{\"mine\": true}\n"),
+        ("tiny_tune_candidates.csv", "sample,comment\r\nA1,looks fine\r\n"),
+    ];
+    for (name, text) in mine {
+        std::fs::write(out.join(name), text).unwrap();
+    }
+    let refused = tune(&file, &out, &[]);
+    let said = text(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(1), "{said}");
+    assert!(said.contains("refused: exists and was not written by demsweep"), "{said}");
+    assert!(!out.join("tiny_tune.h5").exists(), "refused before any run");
+    for (name, text) in mine {
+        assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), text, "{name} kept");
+    }
+    // Each refused alone, named.
+    for (name, _) in mine {
+        let others: Vec<&str> = mine.iter().map(|(n, _)| *n).filter(|n| n != &name).collect();
+        let moved = dir.join("moved");
+        std::fs::create_dir_all(&moved).unwrap();
+        others.iter().for_each(|n| std::fs::rename(out.join(n), moved.join(n)).unwrap());
+        let refused = tune(&file, &out, &[]);
+        assert!(text(&refused.stderr).contains(&format!("{name}: refused")), "{name}: {}", text(&refused.stderr));
+        others.iter().for_each(|n| std::fs::rename(moved.join(n), out.join(n)).unwrap());
+    }
+    tuned(&file, &out, &["--force"]);
+    assert_ne!(std::fs::read_to_string(out.join("tiny_tune_best.toml")).unwrap(), mine[0].1, "--force replaces it");
+    tuned(&file, &out, &["--resume"]);
+}

@@ -90,7 +90,7 @@ pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), BenchError> {
     write_file(path, &String::from_utf8_lossy(&text))?;
     let mut columns = csv::ColumnMeta::declared_from_rows(&names, &values);
     columns.iter_mut().zip(R::COLUMNS).for_each(|(column, (_, unit))| column.unit = unit.to_string());
-    Ok(csv::write_metadata(path, &columns)?)
+    Ok(csv::write_metadata(path, &columns, crate::output::guard::Existing::Any)?)
 }
 
 /// Writes a text file, creating its folder; the error names the path.

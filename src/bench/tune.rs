@@ -139,7 +139,8 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Bench
         let result = &report.result;
         let paragraph = crate::tune::report::paragraph(&spec, result);
         crate::output::terminal::err(format_args!("{paragraph}\n"));
-        let written = crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph)?;
+        let written =
+            crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph, crate::output::guard::Existing::Any)?;
         create_folder(&options.out_dir)?;
         for chart in written.files.iter().filter(|f| f.extension().is_some_and(|e| e == "png")) {
             let name = chart.file_name().unwrap_or_default().to_string_lossy().into_owned();

@@ -34,7 +34,8 @@ pub struct TuneArgs {
     /// (else such a resume is refused, naming the run and both versions).
     #[arg(long, requires = "resume")]
     accept_version: bool,
-    /// Replace an existing results file.
+    /// Replace an existing results file, and any file at the tune's output paths (by default only
+    /// files demsweep wrote).
     #[arg(long)]
     force: bool,
     /// No line per batch.

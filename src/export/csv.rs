@@ -11,6 +11,7 @@ use std::path::Path;
 
 use super::{Format, RunToExport, State, WriteError};
 use crate::output::csv;
+use crate::output::guard::Existing;
 
 /// The format's row of [`super::FORMATS`].
 pub const FORMAT: Format = Format {
@@ -63,7 +64,7 @@ fn write_metadata(folder: &Path, name: &str, columns: &[Column]) -> Result<(), W
             description: description.to_string(),
         })
         .collect();
-    csv::write_metadata(&folder.join(name), &meta).map_err(WriteError::Create)
+    csv::write_metadata(&folder.join(name), &meta, Existing::Any).map_err(WriteError::Create)
 }
 
 /// Writes each state's `<run>_<label>.csv` (the disks), `<run>_<label>_contacts.csv` and

@@ -2,7 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{OutputError, Tables, guard, summary};
+use super::guard::{self, Existing, Refusal};
+use super::layout::{POINTS, SUMMARY};
+use super::{OutputError, Tables, csv, reader, summary};
 
 /// The summary CSV path next to a results file: `<stem>_summary.csv`.
 pub fn csv_path(results: &Path) -> PathBuf {
@@ -33,17 +35,40 @@ fn sibling(results: &Path, what: &str) -> PathBuf {
 /// ([`check_companions`]).
 pub fn write_csv_files(results: &Path, tables: &Tables) -> Result<(PathBuf, PathBuf), OutputError> {
     let (summary, points) = (csv_path(results), points_csv_path(results));
-    summary::write_csv(&summary, &tables.summary, guard::Existing::Any)?;
-    summary::write_csv(&points, &tables.points, guard::Existing::Any)?;
+    summary::write_csv(&summary, &tables.summary, Existing::Any)?;
+    summary::write_csv(&points, &tables.points, Existing::Any)?;
     Ok((summary, points))
 }
 
-/// Checks, before a results file is written, that the files written beside it (its CSV files and
-/// report page) may be: no link, and only files demsweep wrote unless `force`.
-pub fn check_companions(results: &Path, force: bool) -> Result<(), OutputError> {
-    for path in [csv_path(results), points_csv_path(results), report_path(results)] {
-        guard::check_replaceable(&path, &[results], guard::Existing::Ours { force })
-            .map_err(|e| OutputError::refused(&path, e))?;
-    }
-    Ok(())
+/// Checks, before a results file is written, that the files written beside it (its CSV tables, their
+/// sidecars and its report page) may be: no link or folder, and only files demsweep wrote unless
+/// `force`. A CSV table is demsweep's also when its names line is that of the table the results file
+/// stores (a table whose sidecar was lost: a command killed between the two, a full disk). Beside a
+/// file being resumed (`resume`), a refusal says to move the file away, not to pass `--force` (which
+/// would run the stored runs again).
+pub fn check_companions(results: &Path, force: bool, resume: bool) -> Result<(), OutputError> {
+    let check = |path: &Path| guard::check_replaceable(path, &[results], Existing::Ours { force });
+    let table = |path: &Path, table: &str| match check(path) {
+        Err(e) if e.refusal == Refusal::NotMadeByDemsweep && names_stored(results, path, table) => Ok(()),
+        checked => checked,
+    };
+    let (summary, points) = (csv_path(results), points_csv_path(results));
+    let checked = table(&summary, SUMMARY)
+        .and_then(|()| check(&csv::metadata_path(&summary)))
+        .and_then(|()| table(&points, POINTS))
+        .and_then(|()| check(&csv::metadata_path(&points)))
+        .and_then(|()| check(&report_path(results)));
+    checked.map_err(|e| {
+        let e = if resume { e.resuming() } else { e };
+        OutputError::refused(&e.path.clone(), e)
+    })
+}
+
+/// Whether the CSV table `csv` starts with the names line of the table `name` that `results` stores.
+fn names_stored(results: &Path, csv: &Path, name: &str) -> bool {
+    let Some(names) = reader::stored_names(results, name) else { return false };
+    let mut line = Vec::new();
+    csv::write_record(&mut line, &names).expect("writing to memory");
+    let mut start = vec![0; line.len()];
+    std::fs::File::open(csv).and_then(|mut f| std::io::Read::read_exact(&mut f, &mut start)).is_ok() && start == line
 }

@@ -5,11 +5,15 @@
 //! numbers as numbers. What each column is — its unit, datatype and meaning — is in a sidecar beside
 //! the file, `<file>.csv-metadata.json`, in the W3C "CSV on the Web" metadata vocabulary (CSVW: the
 //! file name a CSVW processor looks for first; columns' `titles`, `datatype`, `dc:description`, and
-//! the unit as schema.org's `schema:unitText`, a property of CSVW's default context).
+//! the unit as schema.org's `schema:unitText`, a property of CSVW's default context). The sidecar
+//! also records the file's size and CRC-32 (`demsweep:content`), which bind the two: a file edited or
+//! replaced since is no longer demsweep's ([`super::guard::made_by_demsweep`]).
 
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+pub use super::guard::metadata_path;
+use super::guard::{self, CONTENT_KEY, Content, Existing, GuardError, Refusal};
 use super::table::{ColumnData, SummaryTable};
 use crate::physics::quantity;
 
@@ -108,14 +112,6 @@ impl ColumnMeta {
     }
 }
 
-/// The sidecar of the CSV file at `csv`: `<csv>-metadata.json` (`summary.csv` →
-/// `summary.csv-metadata.json`, the file-specific metadata a CSVW processor locates first).
-pub fn metadata_path(csv: &Path) -> PathBuf {
-    let mut name = csv.file_name().unwrap_or_default().to_os_string();
-    name.push("-metadata.json");
-    csv.with_file_name(name)
-}
-
 /// A CSVW column name: the bare name with every character a URI template variable name cannot hold
 /// (other than letters, digits, `_` and inner `.`) percent-encoded.
 fn csvw_name(name: &str) -> String {
@@ -133,8 +129,9 @@ fn csvw_name(name: &str) -> String {
 }
 
 /// The CSVW metadata of the table in the file `url` (a name relative to the sidecar) whose columns
-/// are `columns`: one header line, CRLF line ends, an empty cell a missing value.
-pub fn metadata(url: &str, columns: &[ColumnMeta]) -> serde_json::Value {
+/// are `columns` and whose bytes have `content`: one header line, CRLF line ends, an empty cell a
+/// missing value.
+pub fn metadata(url: &str, columns: &[ColumnMeta], content: Content) -> serde_json::Value {
     let column = |c: &ColumnMeta| {
         let mut entry =
             serde_json::json!({"name": csvw_name(&c.name), "titles": c.name, "datatype": c.datatype.name()});
@@ -150,17 +147,35 @@ pub fn metadata(url: &str, columns: &[ColumnMeta]) -> serde_json::Value {
         "@context": "http://www.w3.org/ns/csvw",
         "url": url,
         "dc:creator": "demsweep",
+        CONTENT_KEY: content.to_json(),
         "dialect": {"header": true, "lineTerminators": ["\r\n", "\n"]},
         "tableSchema": {"columns": columns.iter().map(column).collect::<Vec<_>>()},
     })
 }
 
-/// Writes the sidecar of the CSV file at `csv` (see [`metadata_path`], [`metadata`]).
-pub fn write_metadata(csv: &Path, columns: &[ColumnMeta]) -> Result<(), super::guard::GuardError> {
+/// Writes the sidecar of the CSV file at `csv`, just written (see [`metadata_path`], [`metadata`]),
+/// replacing a file there as `existing` allows.
+pub fn write_metadata(csv: &Path, columns: &[ColumnMeta], existing: Existing) -> Result<(), GuardError> {
     let url = csv.file_name().unwrap_or_default().to_string_lossy();
-    let mut text = serde_json::to_string_pretty(&metadata(&url, columns)).expect("JSON of strings");
+    let bytes =
+        std::fs::read(csv).map_err(|e| GuardError { path: csv.to_path_buf(), refusal: Refusal::Io(e.to_string()) })?;
+    let mut text =
+        serde_json::to_string_pretty(&metadata(&url, columns, Content::of(&bytes))).expect("JSON of strings");
     text.push('\n');
-    super::guard::write(&metadata_path(csv), text.as_bytes(), &[])
+    guard::write_with(&metadata_path(csv), &[], existing, |out| out.write_all(text.as_bytes()))
+}
+
+/// Writes the CSV file `path` whole or not at all (`body` writes its lines), then its sidecar
+/// ([`write_metadata`]), replacing files there as `existing` allows: both are checked first.
+pub fn write_file(
+    path: &Path,
+    columns: &[ColumnMeta],
+    existing: Existing,
+    body: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), GuardError> {
+    guard::check_replaceable(&metadata_path(path), &[], existing)?;
+    guard::write_with(path, &[], existing, body)?;
+    write_metadata(path, columns, existing)
 }
 
 /// The columns of `table`, declared (see [`ColumnMeta::declared`]) with their datatypes.
@@ -199,9 +214,13 @@ mod tests {
             ColumnMeta::declared("material.youngs_modulus", Datatype::Double),
             ColumnMeta::declared("settle_time", Datatype::Double),
         ];
-        let meta = metadata("s_summary.csv", &columns);
+        let meta = metadata("s_summary.csv", &columns, Content::of(b"a\r\n"));
         assert_eq!(meta["@context"], "http://www.w3.org/ns/csvw");
         assert_eq!(meta["url"], "s_summary.csv");
+        assert_eq!(
+            meta[CONTENT_KEY],
+            serde_json::json!({"bytes": 3, "crc32": format!("{:08x}", crc32fast::hash(b"a\r\n"))})
+        );
         let listed = meta["tableSchema"]["columns"].as_array().unwrap();
         assert_eq!(listed[0]["titles"], "run_id");
         assert!(listed[0].get("schema:unitText").is_none(), "no unit for text: {}", listed[0]);
@@ -219,6 +238,22 @@ mod tests {
         assert_eq!(csvw_name("contact.linear.kn"), "contact.linear.kn");
         assert_eq!(csvw_name("wall time"), "wall%20time");
         assert_eq!(csvw_name("_x."), "%5Fx%2E");
+    }
+
+    #[test]
+    fn a_csv_table_is_demsweeps_while_its_sidecar_records_its_content() {
+        let dir = std::env::temp_dir().join(format!("demsweep-csv-bound-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let table = dir.join("t.csv");
+        let columns = [ColumnMeta::declared("a", Datatype::Integer)];
+        let ours = Existing::Ours { force: false };
+        write_file(&table, &columns, ours, |out| out.write_all(b"a\r\n1\r\n")).unwrap();
+        assert!(guard::made_by_demsweep(&table) && guard::made_by_demsweep(&metadata_path(&table)));
+        write_file(&table, &columns, ours, |out| out.write_all(b"a\r\n2\r\n")).unwrap();
+        assert!(guard::made_by_demsweep(&table), "its own table is replaced");
+        std::fs::write(&table, "a\r\n3\r\n").unwrap();
+        assert!(!guard::made_by_demsweep(&table), "a table edited since is the user's");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -32,15 +32,8 @@ pub const HTML_MARK: &str = "<meta name=\"generator\" content=\"demsweep\">";
 /// The mark that starts every SVG chart file demsweep writes (an XML comment).
 pub const SVG_MARK: &str = "<!-- made by demsweep -->\n";
 
-/// The mark of the CSV metadata sidecars demsweep writes (CSV on the Web's `dc:creator`, as
-/// `output::csv::metadata` writes it).
-pub const SIDECAR_MARK: &str = "\"dc:creator\": \"demsweep\"";
-
 /// The PNG text chunk (keyword, text) of every PNG chart demsweep writes.
 pub const PNG_MARK: (&str, &str) = ("Software", "demsweep");
-
-/// How many first bytes of a file [`made_by_demsweep`] reads (a points CSV's two header lines fit).
-const MARK_WINDOW: u64 = 256 << 10;
 
 /// What an existing file at an output path may be, to be replaced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +66,9 @@ pub enum Refusal {
     Exists,
     /// The file exists, demsweep did not write it, and `--force` was not given.
     NotMadeByDemsweep,
+    /// The file exists and demsweep did not write it, beside a results file being resumed (which
+    /// `--force` would run again from the start).
+    NotMadeByDemsweepResuming,
     /// The folder exists but demsweep did not make it (it lacks the marker).
     NotOurs(&'static str),
     /// `--force` replaces a results file, and this is none (no HDF5 signature).
@@ -106,6 +102,11 @@ impl fmt::Display for Refusal {
                 f,
                 "refused: exists and was not written by demsweep: pass --force to replace it, or choose another path"
             ),
+            Self::NotMadeByDemsweepResuming => write!(
+                f,
+                "refused: exists and was not written by demsweep (no table of this results file): move it \
+                 elsewhere, then resume again (the stored runs are kept)"
+            ),
             Self::NotOurs(kind) => write!(
                 f,
                 "refused: exists but was not written by demsweep {kind} (no {} marker in it): remove it \
@@ -126,6 +127,15 @@ impl GuardError {
     /// The reason without the path (for errors that name the path themselves).
     pub fn refusal_text(&self) -> String {
         self.refusal.to_string()
+    }
+
+    /// The refusal beside results being resumed: a file not demsweep's is to be moved away, as
+    /// `--force` would run the stored runs again.
+    pub fn resuming(self) -> Self {
+        match self.refusal {
+            Refusal::NotMadeByDemsweep => Self { refusal: Refusal::NotMadeByDemsweepResuming, ..self },
+            _ => self,
+        }
     }
 }
 
@@ -194,44 +204,122 @@ pub fn check_replaceable(path: &Path, inputs: &[&Path], existing: Existing) -> R
     }
 }
 
-/// Whether the file at `path` is one demsweep wrote, by its first bytes: a report page, chart or
-/// CSV metadata sidecar with its mark ([`HTML_MARK`], [`SVG_MARK`], [`PNG_MARK`], [`SIDECAR_MARK`];
-/// report pages of earlier versions by their title), a CSV table whose sidecar
-/// (`NAME.csv-metadata.json`) has demsweep's mark, or a CSV table of earlier versions (a names
-/// line, then a units line of as many cells, none a number).
+/// Whether the file at `path` is one demsweep wrote, by a mark a file of its kind cannot hold by
+/// accident, at a fixed place:
+/// - a report page: its head, before the `<title>`, holds [`HTML_MARK`] (pages of earlier versions:
+///   their title ends " demsweep report");
+/// - an SVG chart starts with [`SVG_MARK`]; a PNG chart has [`PNG_MARK`] before its image data;
+/// - a text file starts with [`stamp`]'s line, whose CRC-32 the rest still has;
+/// - a JSON file is an object whose `dc:creator` is `demsweep`; a CSV metadata sidecar
+///   (`NAME-metadata.json`) also names `NAME` as its `url`;
+/// - a CSV table's sidecar is demsweep's and records the table's size and CRC-32, which it still has
+///   (an edited table is the user's).
 pub fn made_by_demsweep(path: &Path) -> bool {
-    let Some(start) = first_bytes(path) else { return false };
-    let png_mark = format!("tEXt{}\0{}", PNG_MARK.0, PNG_MARK.1);
-    let marks = [HTML_MARK, " demsweep report</title>", SVG_MARK, &png_mark, SIDECAR_MARK];
-    marks.iter().any(|mark| contains(&start, mark)) || is_table_csv(&start) || has_our_sidecar(path)
+    let Ok(bytes) = std::fs::read(path) else { return false };
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    is_our_page(&bytes)
+        || bytes.starts_with(SVG_MARK.as_bytes())
+        || is_our_png(&bytes)
+        || is_stamped(&bytes)
+        || serde_json::from_slice(&bytes).is_ok_and(|json| is_our_json(&json, &name))
+        || bound_to_sidecar(path, &bytes)
 }
 
-/// The first [`MARK_WINDOW`] bytes of the file at `path`; None when it cannot be read.
-fn first_bytes(path: &Path) -> Option<Vec<u8>> {
-    let mut start = Vec::new();
-    File::open(path).and_then(|file| file.take(MARK_WINDOW).read_to_end(&mut start)).ok().map(|_| start)
+/// The size and CRC-32 of a file's bytes: what a CSV table's sidecar records of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Content {
+    /// Its size (bytes).
+    pub bytes: u64,
+    /// Its CRC-32 (IEEE, as zlib's `crc32`).
+    pub crc32: u32,
 }
 
-/// Whether `bytes` hold `mark`.
-fn contains(bytes: &[u8], mark: &str) -> bool {
-    bytes.windows(mark.len()).any(|w| w == mark.as_bytes())
+impl Content {
+    /// The content of `bytes`.
+    pub fn of(bytes: &[u8]) -> Self {
+        Self { bytes: bytes.len() as u64, crc32: crc32fast::hash(bytes) }
+    }
+
+    /// As a sidecar records it: `{"bytes": N, "crc32": "8 hex digits"}`.
+    pub fn to_json(self) -> serde_json::Value {
+        serde_json::json!({"bytes": self.bytes, "crc32": format!("{:08x}", self.crc32)})
+    }
+
+    /// Read back from [`Self::to_json`]'s form.
+    fn from_json(json: &serde_json::Value) -> Option<Self> {
+        let crc32 = u32::from_str_radix(json.get("crc32")?.as_str()?, 16).ok()?;
+        Some(Self { bytes: json.get("bytes")?.as_u64()?, crc32 })
+    }
 }
 
-/// Whether the CSV metadata sidecar of `path` (`NAME-metadata.json` beside it) has demsweep's mark.
-fn has_our_sidecar(path: &Path) -> bool {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
+/// The key under which a CSV table's sidecar records the table's [`Content`].
+pub const CONTENT_KEY: &str = "demsweep:content";
+
+/// The start of the first line of a text file demsweep stamps ([`stamp`]).
+const STAMP: &str = "# written by demsweep; crc32 of the lines below: ";
+
+/// `text` headed by a line that binds it to demsweep ([`made_by_demsweep`]): the stamp with the
+/// CRC-32 of `text`, so that a file edited since counts as the user's.
+pub fn stamp(text: &str) -> String {
+    format!("{STAMP}{:08x} (an edited file is kept)\n{text}", crc32fast::hash(text.as_bytes()))
+}
+
+/// Whether `bytes` start with [`stamp`]'s line and the rest has its CRC-32.
+fn is_stamped(bytes: &[u8]) -> bool {
+    let Some(rest) = bytes.strip_prefix(STAMP.as_bytes()) else { return false };
+    let Some(end) = rest.iter().position(|&b| b == b'\n') else { return false };
+    let recorded = std::str::from_utf8(rest.get(..8).unwrap_or_default()).ok();
+    recorded.and_then(|hex| u32::from_str_radix(hex, 16).ok()) == Some(crc32fast::hash(&rest[end + 1..]))
+}
+
+/// Whether `bytes` are a report page demsweep wrote: an HTML document whose head holds
+/// [`HTML_MARK`] before its `<title>`, or whose title ends " demsweep report" (earlier versions).
+fn is_our_page(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(4096)];
+    let Some(head) = head.strip_prefix(b"<!DOCTYPE html>") else { return false };
+    let Some(title) = find(head, "<title>") else { return false };
+    let Some(title_end) = find(head, "</title>").filter(|&end| end > title) else { return false };
+    let head_ends = find(head, "</head>").unwrap_or(head.len());
+    title_end < head_ends
+        && (find(&head[..title], HTML_MARK).is_some() || head[..title_end].ends_with(b" demsweep report"))
+}
+
+/// Whether `bytes` are a PNG image with [`PNG_MARK`] in a chunk before its image data.
+fn is_our_png(bytes: &[u8]) -> bool {
+    let header = &bytes[..find(bytes, "IDAT").unwrap_or(0)];
+    header.starts_with(b"\x89PNG\r\n\x1a\n") && find(header, &format!("tEXt{}\0{}", PNG_MARK.0, PNG_MARK.1)).is_some()
+}
+
+/// Whether `json`, in the file `name`, is an object demsweep wrote (its `dc:creator`); for a CSV
+/// metadata sidecar (`NAME-metadata.json`), one that describes `NAME` (its `url`).
+fn is_our_json(json: &serde_json::Value, name: &str) -> bool {
+    let text = |key: &str| json.get(key).and_then(serde_json::Value::as_str);
+    let described = name.strip_suffix("-metadata.json").is_none_or(|table| text("url") == Some(table));
+    text("dc:creator") == Some("demsweep") && described
+}
+
+/// Whether the CSV table `bytes` at `path` is bound to its sidecar: demsweep's sidecar of it,
+/// recording the table's [`Content`].
+fn bound_to_sidecar(path: &Path, bytes: &[u8]) -> bool {
+    let sidecar = metadata_path(path);
+    let Some(json) = std::fs::read(&sidecar).ok().and_then(|text| serde_json::from_slice(&text).ok()) else {
+        return false;
+    };
+    let name = sidecar.file_name().unwrap_or_default().to_string_lossy();
+    is_our_json(&json, &name) && json.get(CONTENT_KEY).and_then(Content::from_json) == Some(Content::of(bytes))
+}
+
+/// The sidecar of the CSV file at `csv`: `<csv>-metadata.json` (`summary.csv` →
+/// `summary.csv-metadata.json`, the file-specific metadata a CSVW processor locates first).
+pub fn metadata_path(csv: &Path) -> PathBuf {
+    let mut name = csv.file_name().unwrap_or_default().to_os_string();
     name.push("-metadata.json");
-    first_bytes(&path.with_file_name(name)).is_some_and(|start| contains(&start, SIDECAR_MARK))
+    csv.with_file_name(name)
 }
 
-/// Whether `start` begins as demsweep's CSV tables do: a names line and a units line of as many
-/// cells, none of them a number, each ended by CR LF.
-fn is_table_csv(start: &[u8]) -> bool {
-    let text = String::from_utf8_lossy(start);
-    let mut lines = text.split("\r\n");
-    let (Some(names), Some(units), Some(_)) = (lines.next(), lines.next(), lines.next()) else { return false };
-    let unit = |cell: &str| !cell.contains('\n') && cell.trim().parse::<f64>().is_err();
-    !names.is_empty() && names.split(',').count() == units.split(',').count() && units.split(',').all(unit)
+/// Where `bytes` first hold `mark`.
+fn find(bytes: &[u8], mark: &str) -> Option<usize> {
+    bytes.windows(mark.len()).position(|w| w == mark.as_bytes())
 }
 
 /// Creates (or truncates) the file `path` after [`check_file`], without following a link.
@@ -501,20 +589,32 @@ mod tests {
     #[test]
     fn an_existing_file_is_replaced_only_when_demsweep_wrote_it_or_by_force() {
         let dir = temp("ours");
-        let file = dir.join("f");
         let ours = Existing::Ours { force: false };
-        for (text, replaceable) in [
-            ("my notes\n".to_string(), false),
-            ("a,b\r\n1,2\r\n".to_string(), false),
-            ("a,b,c\r\ns,,kg/m3\r\n1,2,3\r\n".to_string(), true),
-            (format!("<html><head>{HTML_MARK}<title>t</title>"), true),
-            (format!("{SVG_MARK}<svg></svg>"), true),
+        let page = "<!DOCTYPE html><html><head><meta charset=\"utf-8\">";
+        for (name, text, replaceable) in [
+            ("notes.txt", "my notes\n".to_string(), false),
+            ("t.csv", "a,b\r\n1,2\r\n".to_string(), false),
+            ("t.csv", "sample,comment\r\nA1,looks fine\r\n".to_string(), false),
+            ("p.html", format!("{page}{HTML_MARK}<title>t</title>"), true),
+            ("p.html", format!("{page}<title>t</title></head><body><code>{HTML_MARK}</code>"), false),
+            ("p.html", format!("<html><head>{HTML_MARK}<title>t</title>"), false),
+            ("c.svg", format!("{SVG_MARK}<svg></svg>"), true),
+            ("c.svg", format!("<svg>{SVG_MARK}</svg>"), false),
+            ("best.toml", stamp("a = 1\n"), true),
+            ("best.toml", stamp("a = 1\n").replace("a = 1", "a = 2"), false),
+            ("s_tune.json", "{\"dc:creator\": \"demsweep\"}".to_string(), true),
+            ("s_tune.json", "{\"mine\": \"dc:creator demsweep\"}".to_string(), false),
+            ("t.csv-metadata.json", "{\"dc:creator\": \"demsweep\", \"url\": \"t.csv\"}".to_string(), true),
+            ("t.csv-metadata.json", "{\"dc:creator\": \"demsweep\", \"url\": \"u.csv\"}".to_string(), false),
         ] {
+            let file = dir.join(name);
             std::fs::write(&file, &text).unwrap();
-            assert_eq!(check_replaceable(&file, &[], ours).is_ok(), replaceable, "{text:?}");
+            assert_eq!(check_replaceable(&file, &[], ours).is_ok(), replaceable, "{name}: {text:?}");
             assert!(check_replaceable(&file, &[], Existing::Ours { force: true }).is_ok());
             assert!(check_replaceable(&file, &[], Existing::Any).is_ok());
+            std::fs::remove_file(&file).unwrap();
         }
+        let file = dir.join("mine");
         std::fs::write(&file, "mine").unwrap();
         assert_eq!(write_with(&file, &[], ours, |_| Ok(())).unwrap_err().refusal, Refusal::NotMadeByDemsweep);
         assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");

@@ -4,7 +4,7 @@ use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::Path;
 
-use hdf5_pure::{DType, Dataset, File};
+use hdf5_pure::{AttrValue, DType, Dataset, File};
 
 use super::error::OutputReason;
 use super::header::FileHeader;
@@ -288,10 +288,9 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
     let group = file.group(name).map_err(err)?;
     let attrs = group.attrs().map_err(err)?;
     // No `columns`: a table whose writing was cut short (see `writer::write_columns`).
-    let Some(names) = attrs.get(SUMMARY_COLUMNS).and_then(|a| a.as_strings()) else { return Ok(None) };
+    let Some(names) = table_names(&attrs) else { return Ok(None) };
     let columns = names
         .iter()
-        .filter(|name| ![layout::RUN_GROUP, layout::RUN_MADE_BY].contains(&name.as_str()))
         .map(|name| {
             let dataset = group.dataset(name).map_err(err)?;
             Ok(column_data(&dataset).ok().map(|data| Column { name: name.clone(), data }))
@@ -303,6 +302,25 @@ pub fn stored_table(file: &File, path: &Path, name: &str) -> Result<Option<Summa
     let Some(columns) = columns else { return Ok(None) };
     let rows = columns.first().map_or(0, |c| c.data.len());
     Ok(columns.iter().all(|c| c.data.len() == rows).then_some(SummaryTable { columns }))
+}
+
+/// The names of the columns of the table stored in the group `name` of the results file `path`
+/// (`/summary`, `/points`), its data unread; `None` when the file has no complete such table.
+pub fn stored_names(path: &Path, name: &str) -> Option<Vec<String>> {
+    let file = open(path).ok()?;
+    table_names(&file.group(name).ok()?.attrs().ok()?)
+}
+
+/// The table's column names from its group's attributes (its `columns` less the file's own).
+fn table_names(attrs: &HashMap<String, AttrValue>) -> Option<Vec<String>> {
+    let names = attrs.get(SUMMARY_COLUMNS)?.as_strings()?;
+    Some(
+        names
+            .iter()
+            .filter(|name| ![layout::RUN_GROUP, layout::RUN_MADE_BY].contains(&name.as_str()))
+            .cloned()
+            .collect(),
+    )
 }
 
 fn column_data(dataset: &Dataset) -> Result<ColumnData, hdf5_pure::Error> {

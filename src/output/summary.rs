@@ -16,11 +16,10 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
 
 /// Writes a table (the summary or the points) as a CSV file (the names line, RFC 4180 quoting,
 /// missing values empty), whole or not at all, and its metadata sidecar (units, datatypes:
-/// [`csv::write_metadata`]); an existing file is replaced as `existing` allows.
+/// [`csv::write_file`]); existing files are replaced as `existing` allows.
 pub fn write_csv(path: &Path, table: &SummaryTable, existing: Existing) -> Result<(), OutputError> {
-    let refused = |e| OutputError::refused(path, e);
-    super::guard::write_with(path, &[], existing, |mut out| csv::write_table(&mut out, table)).map_err(refused)?;
-    csv::write_metadata(path, &csv::table_columns(table)).map_err(refused)
+    csv::write_file(path, &csv::table_columns(table), existing, |mut out| csv::write_table(&mut out, table))
+        .map_err(|e| OutputError::refused(&e.path.clone(), e))
 }
 
 /// Writes the summary as an aligned text table (headed by labels, [`quantity::label`], columns separated by two spaces, floats to 6

@@ -295,8 +295,9 @@ impl ResultsWriter {
         }
     }
 
-    /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file.
-    fn write_tables(mut self, tables: &Tables) -> Result<(), OutputError> {
+    /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file
+    /// (as a sink's [`ResultSink::finish`] does, without the CSV files beside it).
+    pub fn close(mut self, tables: &Tables) -> Result<(), OutputError> {
         self.commit()?;
         let err = |e| hdf5_error(&self.path, e);
         let stored = AttrValue::I64(self.groups.len() as i64);
@@ -364,7 +365,7 @@ impl ResultSink for ResultsWriter {
 
     fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError> {
         let path = self.path.clone();
-        self.write_tables(tables)?;
+        self.close(tables)?;
         write_csv_files(&path, tables).map(drop)
     }
 }

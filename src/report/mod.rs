@@ -65,11 +65,19 @@ pub fn tune_section_path(results: &Path, study_name: &str) -> PathBuf {
     results.with_file_name(format!("{study_name}_tune.json"))
 }
 
-/// Writes the tune's section next to its results file (see [`TuneSection`]).
-pub fn write_tune_section(results: &Path, study_name: &str, section: &TuneSection) -> Result<PathBuf, OutputError> {
+/// Writes the tune's section next to its results file (see [`TuneSection`]), marked as demsweep's
+/// (`"dc:creator": "demsweep"`), replacing a file there as `existing` allows.
+pub fn write_tune_section(
+    results: &Path,
+    study_name: &str,
+    section: &TuneSection,
+    existing: Existing,
+) -> Result<PathBuf, OutputError> {
     let path = tune_section_path(results, study_name);
-    let json = serde_json::to_string(section).map_err(|e| OutputError::new(&path, e.to_string()))?;
-    guard::write(&path, json.as_bytes(), &[results]).map_err(|e| OutputError::new(&path, e.refusal_text()))?;
+    let mut json = serde_json::to_value(section).map_err(|e| OutputError::new(&path, e.to_string()))?;
+    json["dc:creator"] = "demsweep".into();
+    guard::write_with(&path, &[results], existing, |out| out.write_all(json.to_string().as_bytes()))
+        .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
     Ok(path)
 }
 

@@ -8,9 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::output::guard;
 use crate::output::header::{FileHeader, utc_now};
 use crate::output::lock::ResultsLock;
-use crate::output::{
-    OutputError, OutputReason, ResultSink, ResultsWriter, SummaryRow, csv_path, points_csv_path, reader,
-};
+use crate::output::{OutputError, OutputReason, ResultsWriter, SummaryRow, reader, write_csv_files};
 use crate::stats::points;
 use crate::study::identity::fnv;
 use crate::study::plan::run_id;
@@ -118,15 +116,16 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
     }
     let shard_files: Vec<&Path> = shards.iter().map(|s| s.path.as_path()).collect();
     guard::check_results_replaceable(&results, &shard_files).map_err(|e| OutputError::refused(&results, e))?;
-    crate::output::check_companions(&results, options.force)?;
+    crate::output::check_companions(&results, options.force, false)?;
     let header = if studies {
         combined_header(&shards)
     } else {
         FileHeader { created: utc_now(), shard: None, ..first.clone() }
     };
     let header = FileHeader { study_name: name, ..header };
-    // Written under a temporary name (with its CSV files) and renamed when complete: a killed merge
-    // leaves no partial file under the final name (and an existing one stays until replaced).
+    // Written under a temporary name and renamed when complete, then its CSV files (checked above):
+    // a killed merge leaves no partial file under the final name (and an existing one stays until
+    // replaced).
     let partial = results.with_extension("merging.h5");
     // Copies keep every dataset of the shards; the options only matter for newly simulated runs.
     let mut writer = ResultsWriter::create(&partial, &header, OutputOptions::default())?;
@@ -152,15 +151,9 @@ pub fn merge(out_dir: &Path, inputs: &[PathBuf], options: &MergeOptions) -> Resu
     }
     let rows: Vec<SummaryRow> = shards.iter().flat_map(|s| s.rows.iter().cloned()).collect();
     let tables = points::tables(&rows);
-    ResultSink::finish(Box::new(writer), &tables)?;
-    for (from, to) in [
-        (csv_path(&partial), csv_path(&results)),
-        (points_csv_path(&partial), points_csv_path(&results)),
-        (partial, results.clone()),
-    ] {
-        std::fs::rename(&from, &to).map_err(|e| OutputError::io(&to, e))?;
-    }
-    let (summary_csv, points_csv) = (csv_path(&results), points_csv_path(&results));
+    writer.close(&tables)?;
+    std::fs::rename(&partial, &results).map_err(|e| OutputError::io(&results, e))?;
+    let (summary_csv, points_csv) = write_csv_files(&results, &tables)?;
     let shard_count = if studies { 0 } else { first.shard.as_ref().map_or(0, |s| s.spec.count) };
     Ok(MergeReport {
         results,

@@ -337,7 +337,7 @@ fn open_results(
     std::fs::create_dir_all(dir).map_err(|e| OutputError::io_doing(dir, "cannot create the output directory", e))?;
     check_writable(dir)?;
     // The CSV files and report page are written last: checked before anything runs or is replaced.
-    output::check_companions(path, options.force)?;
+    output::check_companions(path, options.force, options.resume)?;
     let lock = ResultsLock::acquire(path)?;
     let exists = path.exists();
     if exists && options.resume {

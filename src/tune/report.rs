@@ -12,6 +12,7 @@ use super::model::{
     Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, RunFailure, SearchEnd, SearchResult, State,
 };
 use super::{TuneSpec, seed_text};
+use crate::output::guard::Existing;
 use crate::output::{csv, guard};
 use crate::physics::number::short;
 use crate::physics::quantity::{self, PILE_METRICS};
@@ -650,28 +651,40 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
     }
 }
 
+/// The files [`write_all`] writes into `dir` (the charts aside): `<name>_candidates.csv`,
+/// `<name>_skipped.csv` (each with its sidecar), `<name>_best.toml`, `<name>_scene_change.toml`
+/// and `<name>_recommendation.txt`.
+pub fn files(spec: &TuneSpec, dir: &Path) -> [PathBuf; 5] {
+    ["candidates.csv", "skipped.csv", "best.toml", "scene_change.toml", "recommendation.txt"]
+        .map(|what| dir.join(format!("{}_{what}", spec.name)))
+}
+
 /// Writes `<name>_candidates.csv`, `<name>_best.toml` (when there is a recommendation), the charts and
-/// `<name>_recommendation.txt` into `dir`.
-pub fn write_all(spec: &TuneSpec, result: &SearchResult, dir: &Path, text: &str) -> Result<Written, WriteError> {
+/// `<name>_recommendation.txt` into `dir` ([`files`]), replacing files there as `existing` allows (the
+/// text files stamped as demsweep's: [`guard::stamp`]).
+pub fn write_all(
+    spec: &TuneSpec,
+    result: &SearchResult,
+    dir: &Path,
+    text: &str,
+    existing: Existing,
+) -> Result<Written, WriteError> {
     let mut written = Written::default();
     std::fs::create_dir_all(dir).map_err(|error| WriteError::CreateDir { dir: dir.to_path_buf(), error })?;
-    let csv = dir.join(format!("{}_candidates.csv", spec.name));
-    write_records(&candidate_records(spec, result), &csv)?;
-    written.files.push(csv);
-    let skipped = dir.join(format!("{}_skipped.csv", spec.name));
-    write_records(&skipped_records(spec, result), &skipped)?;
-    written.files.push(skipped);
+    let [csv, skipped, best, change, note] = files(spec, dir);
+    write_records(&candidate_records(spec, result), &csv, existing)?;
+    write_records(&skipped_records(spec, result), &skipped, existing)?;
+    written.files.extend([csv, skipped]);
+    let mut write = |path: PathBuf, text: &str| -> Result<(), WriteError> {
+        guard::write_with(&path, &[], existing, |out| out.write_all(guard::stamp(text).as_bytes()))?;
+        written.files.push(path);
+        Ok(())
+    };
     if let Some(k) = result.recommended {
-        let best = dir.join(format!("{}_best.toml", spec.name));
-        guard::write(&best, best_study(spec, result, k).as_bytes(), &[])?;
-        written.files.push(best);
-        let change = dir.join(format!("{}_scene_change.toml", spec.name));
-        guard::write(&change, scene_change(spec, &result.candidates[k]).as_bytes(), &[])?;
-        written.files.push(change);
+        write(best, &best_study(spec, result, k))?;
+        write(change, &scene_change(spec, &result.candidates[k]))?;
     }
-    let note = dir.join(format!("{}_recommendation.txt", spec.name));
-    guard::write(&note, format!("{text}\n").as_bytes(), &[])?;
-    written.files.push(note);
+    write(note, &format!("{text}\n"))?;
     let plots = dir.join("plots");
     let options = ChartOptions { format: Format::Png, subject: Some(spec.name.clone()), ..Default::default() };
     let (points, recommended) = cost_points(result);
@@ -750,17 +763,16 @@ fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
 
 /// Writes a table as CSV (the column names, then the rows), whole or not at all
 /// ([`guard::write_with`]), and its metadata sidecar (units, datatypes from the cells' types).
-fn write_records(table: &Table, path: &Path) -> Result<(), guard::GuardError> {
-    guard::write_with(path, &[], guard::Existing::Any, |out| {
+fn write_records(table: &Table, path: &Path, existing: Existing) -> Result<(), guard::GuardError> {
+    let columns: Vec<csv::ColumnMeta> =
+        table.columns.iter().enumerate().map(|(k, name)| csv::ColumnMeta::declared(name, table.datatype(k))).collect();
+    csv::write_file(path, &columns, existing, |out| {
         csv::write_record(&mut *out, &table.columns)?;
         table.rows.iter().try_for_each(|row| {
             let fields: Vec<String> = row.iter().map(ToString::to_string).collect();
             csv::write_record(&mut *out, &fields)
         })
-    })?;
-    let columns: Vec<csv::ColumnMeta> =
-        table.columns.iter().enumerate().map(|(k, name)| csv::ColumnMeta::declared(name, table.datatype(k))).collect();
-    csv::write_metadata(path, &columns)
+    })
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.

@@ -221,7 +221,9 @@ def test_tune_does_what_the_command_does(tmp_path):
     path = tmp_path / "tiny_tune.toml"
     path.write_text((ROOT / "tests" / "data" / "tiny_tune.toml").read_text())
     done = demsweep.tune(path, out=tmp_path / "out", jobs=2)
-    assert done["recommendation"] == (tmp_path / "out" / "tiny_tune_recommendation.txt").read_text().strip()
+    # The file's first line is demsweep's stamp (what it binds the file to), then the paragraph.
+    note = (tmp_path / "out" / "tiny_tune_recommendation.txt").read_text()
+    assert note.startswith("# written by demsweep") and done["recommendation"] == note.split("\n", 1)[1].strip()
     assert all(pathlib.Path(f).exists() for f in done["files"])
     runs = demsweep.open(done["results"]).summary
     assert len(runs) == done["ran"] and 10 <= len(runs) <= 40
