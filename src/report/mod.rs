@@ -646,7 +646,7 @@ fn pile_charts_section(svgs: &Svgs) -> String {
     }
     let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
     format!(
-        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over each grid point's runs with its 95 % interval, against each swept parameter; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
+        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over the runs at each value of the two chart axes (replicates and further swept parameters) with its 95 % interval, against each of them; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
     )
 }
 
