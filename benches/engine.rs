@@ -25,6 +25,7 @@
 //! `cargo bench --bench engine -- --update-results` writes the committed `results/bench/engine.csv`
 //! instead.
 
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use demsweep::bench::{reference_deposition, reference_disks};
@@ -41,7 +42,9 @@ fn time_run(scene: &SceneConfig, disks: Option<Vec<InitialDisk>>, threads: usize
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
     let start = Instant::now();
     let rec = pool
-        .install(|| run_scene_on(scene, disks, None, Threads::new(threads), &mut |_| Control::Continue))
+        .install(|| {
+            run_scene_on(scene, disks, None, Threads::new(threads), &AtomicBool::new(false), &mut |_| Control::Continue)
+        })
         .expect("scene runs");
     let seconds = start.elapsed().as_secs_f64();
     let n = rec.final_state.x.len() as f64;

@@ -15,6 +15,7 @@
 //! `ENGINE_RUN_ROLLING=μ0` with that `material.rolling_friction`; `ENGINE_RUN_CONTACT=TOML` with
 //! that `[contact]` table (e.g. `damping = "viscous"`: a composition no preset has).
 
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use demsweep::bench::{reference_deposition, reference_disks};
@@ -65,7 +66,9 @@ fn main() {
     let given = Threads { count: threads.max(1), min_disks };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(pool_threads).build().expect("a thread pool");
     let start = Instant::now();
-    let rec = pool.install(|| run_scene_on(&s, disks, None, given, &mut |_| Control::Continue)).expect("scene runs");
+    let rec = pool
+        .install(|| run_scene_on(&s, disks, None, given, &AtomicBool::new(false), &mut |_| Control::Continue))
+        .expect("scene runs");
     let seconds = start.elapsed().as_secs_f64();
     let f = &rec.final_state;
     let n = f.x.len() as f64;

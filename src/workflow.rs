@@ -51,9 +51,9 @@ pub fn load_study(path: &Path, out: Option<&Path>) -> Result<(Plan, Option<Strin
     Ok((plan, space))
 }
 
-/// The report page written after a sweep or tune: where it went and the run groups left out of it,
-/// or why there is none.
-pub type Page = Result<(PathBuf, Vec<DamagedGroup>), OutputError>;
+/// The report page written after a sweep or tune: where it went, the run groups left out of it and
+/// the charts that could not be drawn, or why there is none.
+pub type Page = Result<(PathBuf, Vec<DamagedGroup>, Vec<PlotError>), OutputError>;
 
 /// What `demsweep run` did: the sweep and its report page.
 #[derive(Clone, Debug)]

@@ -5,6 +5,7 @@
 
 use std::path::Path;
 use std::process::Command;
+use std::sync::atomic::AtomicBool;
 
 use demsweep::output::{history, reader, stored};
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
@@ -29,7 +30,8 @@ fn scene(count: usize, duration: f64) -> SceneConfig {
 fn run_on(scene: &SceneConfig, threads: usize) -> RunRecord {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let given = Threads { count: threads, min_disks: 0 };
-    pool.install(|| run_scene_on(scene, None, None, given, &mut |_| Control::Continue)).unwrap()
+    pool.install(|| run_scene_on(scene, None, None, given, &AtomicBool::new(false), &mut |_| Control::Continue))
+        .unwrap()
 }
 
 /// The bits of a run's final state, histories and energy balance.

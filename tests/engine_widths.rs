@@ -2,6 +2,7 @@
 //! the width the engine picks on a machine changes its speed, never its results.
 
 use std::process::Command;
+use std::sync::atomic::AtomicBool;
 
 use demsweep::physics::config::{ContactLawKind, IntegratorKind, SceneConfig};
 use demsweep::physics::simulation::Control;
@@ -35,7 +36,8 @@ fn scene(variant: u8) -> SceneConfig {
 /// The bits of the final state and the kinetic energy history of `scene` run in `width`.
 fn bits_in(width: Width, scene: &SceneConfig) -> Vec<u64> {
     assert_eq!(vector::use_width(width), width);
-    let record = run_scene_on(scene, None, None, Threads::new(1), &mut |_| Control::Continue).unwrap();
+    let record =
+        run_scene_on(scene, None, None, Threads::new(1), &AtomicBool::new(false), &mut |_| Control::Continue).unwrap();
     let (f, h) = (&record.final_state, &record.history);
     let columns = [&f.x, &f.y, &f.vx, &f.vy, &f.omega, &f.angle, &f.contact_force, &h.kinetic_translational];
     columns.iter().flat_map(|c| c.iter().map(|v| v.to_bits())).collect()

@@ -112,6 +112,33 @@ fn sigterm_and_sighup_stop_cleanly_like_ctrl_c() {
     }
 }
 
+/// A complete study sweeping `material.<axis>` over two values, run in `dir`; its results file.
+fn one_axis_results(dir: &Path, axis: &str) -> PathBuf {
+    let study = dir.join(format!("{axis}.toml"));
+    let text = format!(
+        "name = \"{axis}\"\n[scene]\nparticles.count = 12\ndomain.width = 0.12\ndomain.height = 0.2\n\
+         run.duration = 0.05\n[sweep]\n\"material.{axis}\" = [0.3, 0.6]\n[output]\nframes = false\n"
+    );
+    std::fs::write(&study, text).unwrap();
+    let out = dir.join(axis);
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--progress", "quiet"]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    out.join(format!("{axis}.h5"))
+}
+
+#[test]
+fn merging_complete_studies_of_different_axes_succeeds_whatever_their_charts() {
+    let dir = runner_common::scratch("cli_merge_axes");
+    let (first, second) = (one_axis_results(&dir, "restitution"), one_axis_results(&dir, "friction"));
+    let merged = dir.join("merged");
+    let args = [merged.to_str().unwrap(), first.to_str().unwrap(), second.to_str().unwrap()];
+    let out = demsweep(&["merge", args[0], args[1], args[2], "--name", "both"]);
+    assert_eq!(out.status.code(), Some(0), "a chart decides nothing: {}", stderr(&out));
+    assert!(stderr(&out).contains("warning: chart not drawn on the report page: "), "{}", stderr(&out));
+    assert_eq!(summary::read(&merged.join("both.h5")).unwrap().len(), 4);
+    assert!(merged.join("both_report.html").is_file());
+}
+
 #[test]
 fn summary_history_and_merge_commands() {
     let dir = runner_common::scratch("cli_commands");

@@ -158,6 +158,48 @@ fn kill_9_loses_at_most_the_commit_interval_even_when_runs_are_tiny() {
     assert!(committed >= finished, "{committed} of the {finished} runs finished 4 s before kill -9 were committed");
 }
 
+/// A short run and one of 300 disks sampled only at its start and end: 1000 s simulated, hours of
+/// computing between its two samples (run side by side: the longer starts first).
+const FAR_APART_SAMPLES: &str = r#"name = "shared"
+[scene]
+particles.count = 300
+particles.radius = 0.005
+domain.width = 0.2
+domain.height = 0.3
+run.sample_interval = 1000.0
+run.stop_at_settle = false
+[sweep]
+"run.duration" = [0.01, 1000.0]
+[output]
+frames = false
+"#;
+
+#[test]
+fn sigterm_ends_a_run_between_far_apart_samples_within_a_second() {
+    let dir = runner_common::scratch("hard_sigterm_between_samples");
+    let study = write_study(&dir, FAR_APART_SAMPLES);
+    let out = dir.join("out");
+    let (s, o) = (study.to_str().unwrap(), out.to_str().unwrap());
+    let mut child = command(&["run", s, "--out", o, "--jobs", "2", "--commit-interval", "0.05", "--progress", "quiet"])
+        .spawn()
+        .unwrap();
+    runner_common::wait_for_first_commit(&out.join("shared.h5"), &mut child);
+    std::thread::sleep(Duration::from_millis(300)); // well into the long run's first sample interval
+    let sent = Instant::now();
+    assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
+    while child.try_wait().unwrap().is_none() && sent.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let took = sent.elapsed();
+    let _ = child.kill();
+    let ended = child.wait_with_output().unwrap();
+    assert!(took < Duration::from_secs(1), "the sweep ended {took:?} after SIGTERM");
+    assert_eq!(ended.status.code(), Some(130), "{}", stderr(&ended));
+    assert!(stderr(&ended).contains("--resume"), "{}", stderr(&ended));
+    let kept = summary::read(&out.join("shared.h5")).unwrap();
+    assert_eq!(kept.len(), 1, "the finished run is kept, the interrupted one is not");
+}
+
 /// Overwrites 64 bytes around the value of the `id` attribute of the run group of `id` in `results`
 /// (the run id written just after the attribute's name, not the link to the group in its batch),
 /// damaging that run group only.

@@ -378,7 +378,7 @@ fn run_study<'py>(
     answer.set_item("results", &report.results)?;
     answer.set_item("summary_csv", &report.summary_csv)?;
     answer.set_item("points_csv", &report.points_csv)?;
-    answer.set_item("report", run.page.as_ref().ok().map(|(page, _)| page))?;
+    answer.set_item("report", run.page.as_ref().ok().map(|(page, ..)| page))?;
     answer.set_item("selected", report.selected)?;
     answer.set_item("already_done", report.already_done)?;
     answer.set_item("ran", report.ran)?;
@@ -416,7 +416,7 @@ fn tune<'py>(
     let best = result.recommended.map(|k| demsweep::tune::report::settings(&spec, &result.candidates[k]));
     answer.set_item("recommended", best)?;
     answer.set_item("files", &run.written.files)?;
-    answer.set_item("report", run.page.as_ref().ok().map(|(page, _)| page))?;
+    answer.set_item("report", run.page.as_ref().ok().map(|(page, ..)| page))?;
     answer.set_item("ran", run.report.ran)?;
     answer.set_item("reused", run.report.reused)?;
     answer.set_item("particle_steps", run.report.total_particle_steps)?;

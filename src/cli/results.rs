@@ -504,20 +504,30 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
 pub fn report(args: &ReportArgs) -> ExitCode {
     let out = (args.out.as_deref(), Existing::Ours { force: args.force });
     match demsweep::report::write_report(&args.results, out, &ReportContext::default()) {
-        Ok((path, damaged)) => {
+        Ok((path, damaged, not_drawn)) => {
             outln!("report: {}", path.display());
+            charts_not_drawn(&not_drawn);
             damage_status(&args.results, &damaged)
         }
         Err(e) => report_error(Err(e)),
     }
 }
 
-/// Says where the report page of `results` went (and which run groups it left out), or why there is
-/// none (the results are safe, but the command did not write all it was asked to): false then.
+/// Warns of each study chart the report page left out: the page is written, the command's job done.
+fn charts_not_drawn(not_drawn: &[demsweep::plot::PlotError]) {
+    for chart in not_drawn {
+        errln!("warning: chart not drawn on the report page: {chart}");
+    }
+}
+
+/// Says where the report page of `results` went (and which run groups and charts it left out), or
+/// why there is none (the results are safe, but the command did not write all it was asked to):
+/// false then.
 pub fn page_written(results: &Path, page: demsweep::workflow::Page) -> bool {
     match page {
-        Ok((path, damaged)) => {
+        Ok((path, damaged, not_drawn)) => {
             outln!("report: {}", path.display());
+            charts_not_drawn(&not_drawn);
             damage_status(results, &damaged);
             true
         }

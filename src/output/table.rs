@@ -86,7 +86,10 @@ impl ColumnData {
     /// past the column's end) empty.
     pub fn text(&self, i: usize) -> String {
         match self {
-            ColumnData::Float(v) => v.get(i).filter(|x| !x.is_nan()).map_or(String::new(), |x| format!("{x:?}")),
+            // `+ 0.0` writes a negative zero as 0 (a zero energy or ratio is not negative).
+            ColumnData::Float(v) => {
+                v.get(i).filter(|x| !x.is_nan()).map_or(String::new(), |x| format!("{:?}", x + 0.0))
+            }
             ColumnData::Int(v) => v.get(i).map_or(String::new(), i64::to_string),
             ColumnData::Bool(v) => v.get(i).map_or(String::new(), bool::to_string),
             ColumnData::Text(v) => v.get(i).cloned().unwrap_or_default(),
@@ -349,6 +352,12 @@ mod tests {
         assert_eq!(shown, ["0.396396", "1234.57", "2.50000e-7", "0", "-", "3", "1.50000e9"]);
         assert_eq!(column.text(0), "0.39639599999999997", "the CSV keeps every digit");
         assert_eq!(column.text(4), "", "a missing value is an empty CSV cell");
+    }
+
+    #[test]
+    fn a_negative_zero_is_written_as_zero() {
+        let column = ColumnData::Float(vec![-0.0, -1e-300]);
+        assert_eq!((column.text(0), column.text(1)), ("0.0".to_string(), "-1e-300".to_string()));
     }
 
     #[test]

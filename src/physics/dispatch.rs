@@ -3,6 +3,7 @@
 //! ([`ContactConfig::dispatch`](super::contact::ContactConfig::dispatch)).
 
 use std::fmt;
+use std::sync::atomic::AtomicBool;
 
 use super::config::{ConfigIssue, SceneConfig};
 use super::contact::{LawVisitor, RegisteredLaw};
@@ -81,16 +82,18 @@ pub fn run_scene_with_history(
     contacts: Option<&[InitialContact]>,
     observer: &mut dyn FnMut(&Progress) -> Control,
 ) -> Result<RunRecord, RunError> {
-    run_scene_on(scene, disks, contacts, Threads::default(), observer)
+    run_scene_on(scene, disks, contacts, Threads::default(), &AtomicBool::new(false), observer)
 }
 
 /// [`run_scene_with_history`] on `threads` (of the current rayon pool; the results are the same
-/// bits on any number: see [`super::parallel`]).
+/// bits on any number: see [`super::parallel`]), interrupted within a step of `stop` being set (see
+/// [`Simulation::run_until`]).
 pub fn run_scene_on(
     scene: &SceneConfig,
     disks: Option<Vec<InitialDisk>>,
     contacts: Option<&[InitialContact]>,
     threads: Threads,
+    stop: &AtomicBool,
     observer: &mut dyn FnMut(&Progress) -> Control,
 ) -> Result<RunRecord, RunError> {
     if let Err(issues) = scene.validate() {
@@ -113,6 +116,7 @@ pub fn run_scene_on(
         disks: &'a [InitialDisk],
         contacts: &'a [InitialContact],
         threads: Threads,
+        stop: &'a AtomicBool,
         observer: &'a mut dyn FnMut(&Progress) -> Control,
     }
     impl LawVisitor for Run<'_> {
@@ -120,10 +124,11 @@ pub fn run_scene_on(
         fn visit<L: RegisteredLaw>(self, law: &L) -> RunRecord {
             let mut simulation = Simulation::with_history(self.scene, self.disks, self.contacts, law.clone());
             simulation.set_threads(self.threads);
-            simulation.run(self.observer)
+            simulation.run_until(self.stop, self.observer)
         }
     }
-    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts: contacts.unwrap_or_default(), threads, observer }))
+    let contacts = contacts.unwrap_or_default();
+    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts, threads, stop, observer }))
 }
 
 /// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.

@@ -126,6 +126,13 @@ const OTHER_UNITS: &[(&str, &[(&str, f64)])] = &[
     ("N/m", &[("kN/m", 1e3), ("MN/m", 1e6)]),
 ];
 
+/// `value` in a unit of `factor` to SI, to 13 significant digits: `5 µm` is `5e-6 m`, not the
+/// `4.9999999999999996e-6` that the product is in floating point.
+fn in_si(value: f64, factor: f64) -> f64 {
+    let si = value * factor;
+    format!("{si:.12e}").parse().unwrap_or(si)
+}
+
 /// The values of `scene` outside their key's plausible SI range, each with the values it would have
 /// in SI had it been written in a likely other unit (those that fall inside the range). The lengths of
 /// `particles.radii` and `particles.size_distribution` are judged as `particles.radius` is (the
@@ -156,7 +163,7 @@ fn implausible(key: &Key, path: String, value: f64) -> Option<ImplausibleValue> 
     }
     let others = OTHER_UNITS.iter().find(|(unit, _)| *unit == key.unit).map_or(&[][..], |(_, others)| others);
     let suggestions =
-        others.iter().map(|(unit, factor)| (value * factor, *unit)).filter(|(si, _)| (low..=high).contains(si));
+        others.iter().map(|(unit, factor)| (in_si(value, *factor), *unit)).filter(|(si, _)| (low..=high).contains(si));
     Some(ImplausibleValue {
         suggestions: suggestions.collect(),
         key: path,
@@ -208,5 +215,16 @@ mod tests {
         assert_eq!(found[1].suggestions[0], (1e10, "GPa"));
         assert!(found[1].to_string().contains("units are SI: did you mean 1e10 Pa (10 GPa)"), "{}", found[1]);
         assert!(implausible_values(&SceneConfig::default()).is_empty(), "the defaults are plausible");
+    }
+
+    #[test]
+    fn a_radius_in_micrometres_is_suggested_in_its_meaningful_digits() {
+        let mut scene = SceneConfig::default();
+        scene.particles.radius = 5.0;
+        let found = implausible_values(&scene);
+        let radius = found.iter().find(|f| f.key == "particles.radius").expect("5 m is an implausible radius");
+        assert!(radius.suggestions.contains(&(5e-6, "µm")), "{:?}", radius.suggestions);
+        let text = radius.to_string();
+        assert!(text.contains("did you mean 0.005 m (5 mm) or 0.05 m (5 cm) or 5e-6 m (5 µm)?"), "{text}");
     }
 }

@@ -353,7 +353,11 @@ pub const MAX_METRIC_X_VALUES: usize = 200;
 pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[SummaryRow]) {
     let axes = StudyAxes::choose(rows);
     let Some(x) = axes.x.as_deref() else { return };
-    let summary = SummaryTable::from_rows(rows);
+    // The points of the two axes: further swept parameters are averaged over, as on the
+    // settle-time chart (else a line would zigzag through their values at each x).
+    let on_axes: Vec<SummaryRow> =
+        rows.iter().map(|r| with_parameters(r, &[Some(x), axes.series.as_deref()])).collect();
+    let summary = SummaryTable::from_rows(&on_axes);
     let points = Points::new(&summary);
     let along = [(x, axes.series.as_deref())].into_iter().chain(axes.series.as_deref().map(|y| (y, Some(x))));
     let mut lines = HashSet::new(); // (axis, value of the other axis drawn as a line) of each chart
@@ -380,6 +384,13 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
             });
         }
     }
+}
+
+/// `row` with only the parameters `kept`.
+fn with_parameters(row: &SummaryRow, kept: &[Option<&str>]) -> SummaryRow {
+    let mut row = row.clone();
+    row.parameters.retain(|(key, _)| kept.contains(&Some(key.as_str())));
+    row
 }
 
 /// The values of parameter `of` kept on the pile-metric charts against `axis`: at most `limit`,
@@ -634,6 +645,41 @@ mod tests {
         assert!(chart("floor_load_ratio_vs_material.restitution").contains("material.friction = 11"));
         let note = "pile-metric charts against material.restitution: lines for 8 of the 12 values of material.friction";
         assert!(sink.notes.iter().any(|n| n.starts_with(note)), "{:?}", sink.notes);
+    }
+
+    #[test]
+    fn pile_metric_charts_average_over_a_third_axis() {
+        use ParamValue::Float;
+        let metric = quantity::final_value_declarations().position(|q| q.name == "floor_load_ratio").unwrap();
+        let mut rows = Vec::new();
+        for (e, mu, rolling) in three_axis_grid() {
+            let parameters = [
+                ("material.restitution", Float(e)),
+                ("material.friction", Float(mu)),
+                ("material.rolling_friction", Float(rolling)),
+            ];
+            let mut run = row(rows.len(), &parameters);
+            run.final_values[metric] = e + mu + rolling;
+            rows.push(run);
+        }
+        let mut sink = SvgCharts::new((1000, 700));
+        pile_metric_charts(&mut sink, "study", &rows);
+        let chart = |name: &str| &sink.charts.iter().find(|(n, _)| n == name).unwrap().1;
+        // One marker per (restitution, friction): the three rolling frictions are averaged over.
+        let markers = |svg: &str| svg.matches("r=\"4\"").count();
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.restitution")), 2 * 2);
+        assert_eq!(markers(chart("floor_load_ratio_vs_material.friction")), 2 * 2);
+    }
+
+    /// Two restitutions x two frictions x three rolling frictions.
+    fn three_axis_grid() -> Vec<(f64, f64, f64)> {
+        let mut grid = Vec::new();
+        for e in [0.1, 0.9] {
+            for mu in [0.2, 0.6] {
+                grid.extend([0.0, 0.1, 0.2].map(|rolling| (e, mu, rolling)));
+            }
+        }
+        grid
     }
 
     #[test]

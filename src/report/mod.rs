@@ -92,12 +92,14 @@ fn read_tune_section(results: &Path, study_name: &str) -> Option<(PathBuf, serde
 
 /// Writes the report of the results file `results` to `out` (default: [`report_path`]) from its
 /// readable runs, whole or not at all, replacing a file there as `existing` allows; returns where it
-/// went and the run groups that could not be read (left out).
+/// went, the run groups that could not be read (left out) and the study charts that could not be
+/// drawn (left out: warnings, as the summary they come from is whole). A run whose stored data
+/// cannot be read is an error.
 pub fn write_report(
     results: &Path,
     (out, existing): (Option<&Path>, Existing),
     context: &ReportContext,
-) -> Result<(PathBuf, Vec<DamagedGroup>), OutputError> {
+) -> Result<(PathBuf, Vec<DamagedGroup>, Vec<PlotError>), OutputError> {
     let file = reader::open(results)?;
     let header = reader::header(&file, results)?;
     let (rows, damaged) = reader::scan(&file, results)?;
@@ -120,7 +122,7 @@ pub fn write_report(
         elapsed: context.elapsed.or(recorded.map(|(_, wall)| wall)),
     };
     let mut page = html::Page::new(&header.study_name);
-    let mut failures = Vec::new();
+    let (mut failures, mut not_drawn) = (Vec::new(), Vec::new());
     // A tune's page shows its answer first, its warnings grouped by kind, and no study charts: a
     // tune's runs are not a grid, so averages over the levers mean nothing.
     let tune = read_tune_section(results, &header.study_name);
@@ -149,7 +151,7 @@ pub fn write_report(
         let mut pile = Svgs::new();
         results::pile_metric_charts(&mut pile, &header.study_name, &rows);
         page.push(&pile_charts_section(&pile));
-        failures.extend(study.drawn.failures.into_iter().chain(pile.drawn.failures));
+        not_drawn.extend(study.drawn.failures.into_iter().chain(pile.drawn.failures));
     }
     let mut runs = String::from("<h2 id=\"runs\">Runs</h2><div class=\"runs\">");
     if rows.len() > charted.len() {
@@ -171,7 +173,7 @@ pub fn write_report(
     guard::write_with(&path, &[results], existing, |out| out.write_all(page.finish().as_bytes()))
         .map_err(|e| OutputError::new(&path, e.refusal_text()))?;
     match failures.is_empty() {
-        true => Ok((path, damaged)),
+        true => Ok((path, damaged, not_drawn)),
         false => Err(unreadable(results, &path, &failures)),
     }
 }
@@ -654,7 +656,7 @@ fn pile_charts_section(svgs: &Svgs) -> String {
     }
     let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
     format!(
-        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over each grid point's runs with its 95 % interval, against each swept parameter; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
+        "<h2 id=\"pile-metrics\">Pile metrics</h2><p class=\"note\">Mean over the runs at each value of the two chart axes (replicates and further swept parameters) with its 95 % interval, against each of them; each series is shifted a little along x so that intervals at one value stay apart.</p><div class=\"grid2\">{charts}</div>"
     )
 }
 

@@ -1,7 +1,7 @@
 //! Running one planned run: the simulation on this thread, panics caught, wall and CPU time measured.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use crate::output::{RunResult, SummaryRow};
@@ -11,8 +11,8 @@ use crate::physics::{Threads, run_scene_on};
 use crate::study::PlannedRun;
 
 /// Runs one simulation on `threads` (of the current pool); `observe` sees every progress sample. Returns `None` when `stop` interrupted
-/// it (an interrupted run is not a result: it runs again on `--resume`). Errors and panics become
-/// results with status `error` and the message.
+/// it (within a step of being set; an interrupted run is not a result: it runs again on `--resume`).
+/// Errors and panics become results with status `error` and the message.
 pub fn run_one(
     run: &PlannedRun,
     stop: &AtomicBool,
@@ -24,11 +24,11 @@ pub fn run_one(
     let initial = run.initial.as_ref().map(|disks| disks.as_ref().clone());
     let mut observer = |p: &Progress| {
         observe(p);
-        if stop.load(Ordering::Relaxed) { Control::Stop } else { Control::Continue }
+        Control::Continue
     };
     let contacts = run.initial_contacts.as_deref().map(Vec::as_slice);
     let outcome =
-        catch_unwind(AssertUnwindSafe(|| run_scene_on(&run.scene, initial, contacts, threads, &mut observer)));
+        catch_unwind(AssertUnwindSafe(|| run_scene_on(&run.scene, initial, contacts, threads, stop, &mut observer)));
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
         Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),

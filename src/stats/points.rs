@@ -219,9 +219,10 @@ pub fn view(points: &SummaryTable, metrics: &[&str]) -> Result<SummaryTable, Unk
 }
 
 /// `mean ± half` rounded to its interval (see [`rounded`]); `mean` alone to 6 significant digits
-/// without a half-width, `-` without a mean.
+/// without a half-width or with a zero one (every run the same: a count of 2 in each is `2`), `-`
+/// without a mean.
 pub fn plus_minus(mean: Option<f64>, half: Option<f64>) -> String {
-    match (mean.filter(|m| m.is_finite()), half.filter(|h| h.is_finite())) {
+    match (mean.filter(|m| m.is_finite()), half.filter(|h| h.is_finite() && *h != 0.0)) {
         (None, _) => "-".to_string(),
         (Some(m), None) => short_float(m),
         (Some(m), Some(h)) => {
@@ -258,7 +259,8 @@ mod tests {
     fn intervals_are_rounded_to_two_significant_digits_of_the_half_width() {
         assert_eq!(plus_minus(Some(0.368243), Some(0.0478264)), "0.368 ± 0.048");
         assert_eq!(plus_minus(Some(12345.6), Some(234.5)), "12350 ± 230");
-        assert_eq!(plus_minus(Some(2.5), Some(0.0)), "2.50000 ± 0.00000");
+        assert_eq!(plus_minus(Some(2.0), Some(0.0)), "2", "a count without spread");
+        assert_eq!(plus_minus(Some(2.5), Some(0.0)), "2.5");
         assert_eq!(plus_minus(Some(3.2047e-5), Some(1.13e-6)), "(3.20 ± 0.11)e-5");
         assert_eq!(plus_minus(Some(-0.0001), Some(0.05)), "0.000 ± 0.050", "no negative zero");
         assert_eq!(plus_minus(Some(0.5), None), "0.5");

@@ -19,6 +19,7 @@ use crate::physics::rolling;
 use crate::physics::walls::BoxWalls;
 use crate::physics::warning::ValidityWarning;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a running simulation tells its caller at every sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -205,7 +206,13 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Runs to the end, to settling, to divergence, or until the observer says stop; through the
     /// scene's stages first, if it has any (settling counts in the physical stage only).
-    pub fn run(mut self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
+    pub fn run(self, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
+        self.run_until(&AtomicBool::new(false), observer)
+    }
+
+    /// [`Self::run`] that also ends, as [`RunStatus::Interrupted`], within a step of `stop` being set
+    /// (the step loop reads it after every step: samples may be far apart, steps never are).
+    pub fn run_until(mut self, stop: &AtomicBool, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
         let stability = self.stability();
         let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
         warnings.extend(stability.warnings.iter().cloned());
@@ -216,6 +223,9 @@ impl<L: ContactLaw> Simulation<L> {
         let mut history = History::default();
         let mut recorded_frames = Vec::new();
         let (status, message) = loop {
+            if stop.load(Ordering::Relaxed) {
+                break (RunStatus::Interrupted, Some(stopped_at(self.time())));
+            }
             let s = self.sample();
             if segment.frames.due(self.step) {
                 recorded_frames.push(self.snapshot());
@@ -239,7 +249,7 @@ impl<L: ContactLaw> Simulation<L> {
                 kinetic_energy: s.kinetic(),
             };
             if observer(&progress) == Control::Stop {
-                break (RunStatus::Interrupted, Some(format!("stopped by request at t = {:.6} s", s.time)));
+                break (RunStatus::Interrupted, Some(stopped_at(s.time)));
             }
             if settled && self.scene.run.stop_at_settle {
                 break (RunStatus::Settled, None);
@@ -256,7 +266,7 @@ impl<L: ContactLaw> Simulation<L> {
                 if frame_due {
                     recorded_frames.push(self.snapshot());
                 }
-                if !self.energy.power_finite() {
+                if !self.energy.power_finite() || stop.load(Ordering::Relaxed) {
                     break;
                 }
             }
@@ -292,6 +302,11 @@ impl<L: ContactLaw> Simulation<L> {
             last_step,
         }
     }
+}
+
+/// The message of a run stopped at time `t` (s).
+fn stopped_at(t: f64) -> String {
+    format!("stopped by request at t = {t:.6} s")
 }
 
 /// The step counts of one stage of a run (its time step's).
