@@ -280,6 +280,20 @@ pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Va
     Ok(())
 }
 
+/// Sets each of `values` in `table` with [`set_path`], those that rename a table of an array last:
+/// every path names the tables of arrays as `table` names them, whatever the order of `values`.
+pub(crate) fn set_paths<'a>(
+    table: &mut toml::Table,
+    values: impl IntoIterator<Item = (&'a [String], toml::Value)>,
+) -> Result<(), SetPathError> {
+    let (names, others): (Vec<_>, Vec<_>) =
+        values.into_iter().partition(|(path, _)| path.last().is_some_and(|key| key == "name"));
+    for (path, value) in others.into_iter().chain(names) {
+        set_path(table, path, value)?;
+    }
+    Ok(())
+}
+
 /// Where in `items` the table whose `name` is `name` is.
 fn named(items: &[toml::Value], name: &str) -> Option<usize> {
     items.iter().position(|t| t.is_table() && t.get("name").and_then(|n| n.as_str()) == Some(name))

@@ -10,7 +10,7 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
-use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
+use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, set_paths, tree_with, tree_within};
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
@@ -306,9 +306,8 @@ impl<'a> Planner<'a> {
     /// The base scene with this run's swept values set.
     fn scene(&self, point: &RunPoint) -> Result<SceneConfig, Vec<StudyError>> {
         let mut tree = self.base.clone();
-        for (axis, value) in self.sweep.axes.iter().zip(&point.chosen) {
-            set_path(&mut tree, &axis.path, value.to_toml()).expect("axes were checked against the base scene");
-        }
+        let values = self.sweep.axes.iter().zip(&point.chosen).map(|(axis, value)| (&axis.path[..], value.to_toml()));
+        set_paths(&mut tree, values).expect("axes were checked against the base scene");
         toml::Value::Table(tree).try_into::<SceneConfig>().map_err(|e| {
             let span = self.doc.span(&["scene".to_string()]);
             vec![self.file.error(span, "scene", e.message()).in_run(&point.id)]
