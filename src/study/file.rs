@@ -228,6 +228,17 @@ fn collect_spans(table: &DeTable<'_>, prefix: &mut KeyPath, spans: &mut HashMap<
         spans.entry(prefix.clone()).or_insert_with(|| key.span());
         if let Some(inner) = value.get_ref().as_table() {
             collect_spans(inner, prefix, spans);
+        } else if let Some(items) = value.get_ref().as_array() {
+            // The tables of an array named by their `name` (`[[scene.stages]]`): their keys under it.
+            for item in items {
+                let Some(inner) = item.get_ref().as_table() else { continue };
+                let name = inner.iter().find(|(k, _)| k.get_ref().as_ref() == "name");
+                let Some(name) = name.and_then(|(_, v)| v.get_ref().as_str()) else { continue };
+                prefix.push(name.to_string());
+                spans.entry(prefix.clone()).or_insert_with(|| item.span());
+                collect_spans(inner, prefix, spans);
+                prefix.pop();
+            }
         }
         prefix.pop();
     }

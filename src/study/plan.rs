@@ -15,7 +15,7 @@ use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
 use crate::physics::config::PlacementKind;
-use crate::physics::number::short;
+use crate::physics::number::{exact, short};
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
 use crate::physics::walls::BoxWalls;
@@ -415,10 +415,16 @@ impl<'a> Planner<'a> {
             }
             None => self.try_placement(scene).map_err(|(key, reason)| vec![self.problem(point, &key, reason)])?,
         };
-        let span = self.doc.span(&["scene".to_string()]);
-        for predicted in crate::physics::predict_stability(scene, &disks).warnings {
-            let reason = format!("predicted: {predicted}{}", contacts_named(scene, predicted.kind));
-            let warning = self.file.error(span.clone(), "scene", reason).of_rule(predicted.kind).in_run(&point.id);
+        let own = crate::physics::predict_stability(scene, &disks).warnings;
+        let stages = crate::physics::predict_stage_warnings(scene, &disks, &own);
+        for (stage, predicted) in
+            own.into_iter().map(|w| (None, w)).chain(stages.into_iter().map(|(k, w)| (Some(k), w)))
+        {
+            let (key, value) = scene.key_at_fault(predicted.kind, stage);
+            let during = stage.map(|k| format!(" in stage \"{}\"", scene.stages[k].name)).unwrap_or_default();
+            let reason = format!("predicted{during}: {predicted}{}", contacts_named(scene, predicted.kind));
+            let mut warning = self.problem(point, &key, reason).of_rule(predicted.kind);
+            warning.value = warning.value.or_else(|| Some(exact(value)));
             self.warnings.push(warning);
         }
         Ok(())
