@@ -390,7 +390,8 @@ impl<'a> Planner<'a> {
         if let Err(issues) = scene.validate() {
             return Err(issues.into_iter().map(|i| self.problem(point, &i.key, i.reason)).collect());
         }
-        if let Some((key, reason)) = resources::memory_problem(scene) {
+        if let Some((key, reason)) = resources::stage_table_problem(scene).or_else(|| resources::memory_problem(scene))
+        {
             return Err(vec![self.problem(point, key, reason)]);
         }
         for (key, reason) in sampling_warnings(scene) {
