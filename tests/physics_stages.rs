@@ -268,3 +268,23 @@ fn a_rise_of_friction_while_disks_slide_keeps_the_energy_balance_to_the_integrat
     );
     assert!(b.energy_balance_error.abs() <= 5.0 * a.energy_balance_error.abs(), "{b:?}", b = b.energy_balance_error);
 }
+
+/// A record as text, every number to its last bit (`{:?}` prints the shortest round-trip form),
+/// the stage ends left out.
+fn whole(r: &RunRecord) -> String {
+    format!("{:?}", RunRecord { stage_ends: Vec::new(), ..r.clone() })
+}
+
+#[test]
+fn a_no_op_stage_ending_off_the_sampling_grid_leaves_the_whole_record_bit_identical_settle_time_included() {
+    for seed in [1, 2, 3] {
+        let mut plain = deposition(seed);
+        plain.integrator.time_step = None;
+        let mut staged = plain.clone();
+        staged.stages = vec![stage("name = \"fill\"\nuntil.time = 0.3\ndamping.local = 0.0\n")];
+        let (a, b) = (run(&plain), run(&staged));
+        assert!(a.settle_time.is_some(), "seed {seed} settles");
+        assert_eq!(a.settle_time, b.settle_time, "seed {seed}");
+        assert_eq!(whole(&a), whole(&b), "seed {seed}");
+    }
+}

@@ -38,8 +38,8 @@ fn check_prints_the_warnings_it_can_predict_without_failing() {
     for expected in [
         "paper_table1.toml:22:1: scene.material.youngs_modulus (run r0000): 20000 Pa is implausible for this key",
         "units are SI: did you mean 2e10 Pa (20000 MPa)",
-        "paper_table1.toml:28:2: scene (run r0000): predicted: an impact at 3.37 m/s would overlap 0.8144 radii",
-        "paper_table1.toml:28:2: scene (run r0000): predicted: the settled pile's weight would press the bottom disks 8.528 radii into the floor",
+        "paper_table1.toml:22:1: scene.material.youngs_modulus: value 20000 (run r0000): predicted: an impact at 3.37 m/s would overlap 0.8144 radii",
+        "paper_table1.toml:22:1: scene.material.youngs_modulus: value 20000 (run r0000): predicted: the settled pile's weight would press the bottom disks 8.528 radii into the floor",
     ] {
         assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(expected)), "{expected}\n{stderr}");
     }

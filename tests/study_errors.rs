@@ -517,3 +517,48 @@ fn a_dropped_pile_above_the_box_is_refused_at_the_swept_kind() {
     assert!(e.reason.contains(" of 20 disks in the 0.4 m wide box below domain.height = 0.03 m"), "{e}");
     assert!(e.to_string().contains("(run r0001)"), "{e}");
 }
+
+#[test]
+fn a_non_finite_number_in_an_unused_contact_models_table_is_refused_by_key() {
+    for (text, value) in [("nan", "NaN"), ("inf", "inf")] {
+        let study = format!("{SMALL_SCENE}[scene.contact.linear]\nnormal_stiffness = {text}\n");
+        let errors = errors("unused_nan", &study);
+        assert_eq!(errors.len(), 1, "{errors:#?}");
+        assert_eq!(errors[0].key, "scene.contact.linear.normal_stiffness", "{}", errors[0]);
+        assert_eq!(errors[0].location.map(|l| l.line), Some(6), "{}", errors[0]);
+        assert!(errors[0].reason.contains(&format!("must be a finite number, got {value}")), "{}", errors[0]);
+    }
+}
+
+/// A study of `count` stages named by 200 characters each (223 bytes of the stage table's
+/// description a stage; 2 of them give the row's offsets past 255 bytes).
+fn many_stages(count: usize) -> String {
+    let mut text = SMALL_SCENE.to_string();
+    for k in 0..count {
+        text.push_str(&format!("[[scene.stages]]\nname = \"{:x<200}\"\nuntil.time = 1e-5\n", format!("s{k}_")));
+    }
+    text
+}
+
+#[test]
+fn more_stages_than_a_results_file_can_describe_are_refused_at_check_with_the_limit() {
+    // 8 + 293 x 223 = 65347 bytes fit in HDF5's 65535; 294 stages need 65570.
+    let errors = errors("too_many_stages", &many_stages(294));
+    assert_eq!(errors.len(), 1, "{errors:#?}");
+    assert_eq!(errors[0].key, "scene.stages", "{}", errors[0]);
+    assert!(
+        errors[0].reason.starts_with("294 stages need 65570 bytes to describe their end times in the results file, past HDF5's limit of 65535 bytes"),
+        "{}",
+        errors[0]
+    );
+    // The most that fit are run and stored.
+    let dir = StudyDir::new("most_stages");
+    let study = dir.write("most.toml", &many_stages(293));
+    let out = dir.path.join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["run", study.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(out.join("most.h5").exists());
+}

@@ -191,3 +191,54 @@ fn the_planned_cost_is_an_upper_bound_at_the_smallest_step_of_the_stages() {
         assert_eq!(b.estimated_cost, 2.0 * a.estimated_cost, "the whole duration at half the step");
     }
 }
+
+#[test]
+fn a_swept_stage_name_sets_its_stages_keys_whatever_the_order_of_the_axes() {
+    let dir = runner_common::scratch("stages_renamed");
+    let name = "\"stages.fill.name\" = [\"a\", \"z\"]\n";
+    let damping = "\"stages.fill.damping.local\" = [0.1, 0.2]\n";
+    for sweep in [format!("{name}{damping}"), format!("{damping}{name}")] {
+        let edited = STUDY.replacen(
+            "\"stages.fill.damping.local\" = [0.2, 0.6]\n\"stages.fill.until.time\" = [0.1, 0.25]\n",
+            &sweep,
+            1,
+        );
+        let file = write(&dir, "renamed.toml", &edited);
+        let check = demsweep(&["check", file.to_str().unwrap()]);
+        assert_eq!(check.status.code(), Some(0), "{sweep}: {}", text(&check.stderr));
+        let plan = demsweep::study::load(&file).unwrap();
+        let mut stages: Vec<(String, Option<f64>)> =
+            plan.runs.iter().map(|r| (r.scene.stages[0].name.clone(), r.scene.stages[0].damping.local)).collect();
+        stages.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let expected = [("a", 0.1), ("a", 0.2), ("z", 0.1), ("z", 0.2)].map(|(n, d)| (n.to_string(), Some(d)));
+        assert_eq!(stages, expected, "{sweep}");
+    }
+}
+
+#[test]
+fn a_tune_over_a_stages_name_and_another_of_its_keys_evaluates_its_candidates() {
+    let dir = runner_common::scratch("stages_tuned_renamed");
+    let tune = tune_common::TUNE
+        .replace(
+            "[levers]\n",
+            "[[scene.stages]]\nname = \"fill\"\nuntil.time = 0.05\ndamping.local = 0.3\n\n[levers]\n",
+        )
+        .replace(
+            "\"integrator.time_step\" = { log = [5e-6, 2.5e-5] }",
+            "\"stages.fill.name\" = [\"fill\", \"pour\"]\n\"stages.fill.damping.local\" = { linear = [0.0, 0.7] }",
+        );
+    let file = write(&dir, "renamed_tune.toml", &tune);
+    let check = demsweep(&["check", file.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stderr));
+    let out = dir.join("out");
+    let run = demsweep(&["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "2"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let candidates = std::fs::read_to_string(out.join("tiny_tune_candidates.csv")).unwrap();
+    // Settings other than the reference's were run, each with a stage name of the lever's.
+    let rows: Vec<Vec<&str>> = candidates.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let run: Vec<&Vec<&str>> =
+        rows.iter().filter(|r| r[1] != "reference" && r[5].parse::<u32>().is_ok_and(|n| n > 0)).collect();
+    assert!(!run.is_empty(), "no setting was run:\n{candidates}");
+    assert!(run.iter().all(|r| ["fill", "pour"].contains(&r[3])), "{candidates}");
+    assert!(run.iter().any(|r| r[3] == "pour"), "the renamed stage's settings were run too:\n{candidates}");
+}

@@ -91,19 +91,78 @@ fn seeds_of_a_placement_that_does_not_draw_from_them_are_warned_as_copies() {
 }
 
 #[test]
-fn predicted_validity_is_warned_once_per_kind_with_the_runs_it_affects() {
+fn predicted_validity_is_warned_once_per_kind_and_value_at_the_key_at_fault() {
     let text =
         "[scene]\nparticles.count = 20\nrun.duration = 0.01\n[sweep]\n\"material.youngs_modulus\" = [2e4, 3e4, 1e11]\n";
     let warnings = plan("predicted", text).warnings;
     let impact: Vec<&StudyError> =
         warnings.iter().filter(|w| w.reason.starts_with("predicted: an impact at")).collect();
-    assert_eq!(impact.len(), 1, "{warnings:#?}");
-    assert_eq!(
-        (impact[0].key.as_str(), impact[0].run.as_deref(), impact[0].runs_affected),
-        ("scene", Some("r0000"), 2)
-    );
+    assert_eq!(impact.len(), 2, "{warnings:#?}");
+    for (w, (value, run)) in impact.iter().zip([("20000.0", "r0000"), ("30000.0", "r0001")]) {
+        assert_eq!(
+            (w.key.as_str(), w.value.as_deref(), w.run.as_deref(), w.location.map(|l| l.line)),
+            ("sweep.\"material.youngs_modulus\"", Some(value), Some(run), Some(5))
+        );
+    }
     assert!(impact[0].reason.contains("would overlap") && impact[0].reason.contains("E = 2.000e4 Pa"), "{}", impact[0]);
     assert!(warnings.iter().any(|w| w.reason.contains("into the floor")), "{warnings:#?}");
+    // Not swept: the scene's key, its line and its value.
+    let text = "[scene]\nparticles.count = 20\nrun.duration = 0.01\n\nmaterial.youngs_modulus = 2e4\n";
+    let warnings = plan("predicted_unswept", text).warnings;
+    let impact = warnings.iter().find(|w| w.reason.starts_with("predicted: an impact at")).expect("an impact warning");
+    assert_eq!(
+        (impact.key.as_str(), impact.value.as_deref(), impact.location.map(|l| l.line)),
+        ("scene.material.youngs_modulus", Some("20000"), Some(5))
+    );
+}
+
+#[test]
+fn a_stage_step_past_the_limit_is_warned_like_a_scenes_at_the_stages_key() {
+    let scene = |step: &str, stage: &str| {
+        format!(
+            "[scene]\nparticles.count = 20\nrun.duration = 0.01\nmaterial.youngs_modulus = 1e11\n\
+             integrator.time_step = {step}\n\
+             [[scene.stages]]\nname = \"fill\"\nuntil.time = 0.005\n{stage}"
+        )
+    };
+    let kinds = |warnings: &[StudyError]| {
+        let mut kinds: Vec<_> = warnings.iter().filter_map(|w| w.rule).collect();
+        kinds.sort();
+        kinds
+    };
+    let in_scene = plan("step_in_scene", &scene("0.01", "")).warnings;
+    let predicted: Vec<&StudyError> = in_scene.iter().filter(|w| w.rule.is_some()).collect();
+    assert!(!predicted.is_empty(), "the scene's step past the limit is warned");
+    for w in predicted {
+        assert_eq!((w.key.as_str(), w.value.as_deref()), ("scene.integrator.time_step", Some("0.01")), "{w}");
+    }
+    let in_stage = plan("step_in_stage", &scene("1e-5", "integrator.time_step = 0.01\n")).warnings;
+    assert_eq!(kinds(&in_stage), kinds(&in_scene), "{in_stage:#?}");
+    for w in in_stage.iter().filter(|w| w.rule.is_some()) {
+        assert_eq!(
+            (w.key.as_str(), w.value.as_deref(), w.location.map(|l| l.line)),
+            ("scene.stages.fill.integrator.time_step", Some("0.01"), Some(9)),
+            "{w}"
+        );
+        assert!(w.reason.starts_with("predicted in stage \"fill\": "), "{w}");
+    }
+    // Under --strict, check refuses it as it refuses the scene's.
+    let dir = StudyDir::new("step_in_stage_strict");
+    let file = dir.write("s.toml", &scene("1e-5", "integrator.time_step = 0.01\n"));
+    let check = std::process::Command::new(env!("CARGO_BIN_EXE_demsweep"))
+        .args(["check", "--strict", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(check.status.code(), Some(2), "{}", String::from_utf8_lossy(&check.stderr));
+    // A stage that sets the scene's own step adds nothing.
+    let same = plan("step_same", &scene("1e-5", "integrator.time_step = 1e-5\n")).warnings;
+    assert!(same.iter().all(|w| w.rule.is_none()), "{same:#?}");
+    // Tune's screen predicts the same of a setting.
+    let staged = &plan("step_in_stage_screen", &scene("1e-5", "integrator.time_step = 0.01\n")).runs[0];
+    let screened = demsweep::tune::validity::predicted_warnings(&staged.scene, None).unwrap();
+    let mut screened: Vec<_> = screened.iter().map(|w| w.kind).collect();
+    screened.sort();
+    assert_eq!(screened, kinds(&in_scene));
 }
 
 #[test]

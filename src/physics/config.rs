@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::key_spec::scene_section;
 use super::number::{exact, significant};
+use super::warning::WarningKind;
 
 pub use super::contact::{ContactConfig, ContactLawKind};
 pub use super::scheme::IntegratorKind;
@@ -811,6 +812,27 @@ impl SceneConfig {
 }
 
 impl SceneConfig {
+    /// The key whose value a validity warning of `kind` is about, dotted as in `[scene]`, and its
+    /// value: the time step in the form it is given for the rules of the step and the energy
+    /// balance, the Young's modulus for overlaps. For stage `stage` (an index of `stages`), the
+    /// stage's key (`stages.NAME.KEY`) where the stage sets it.
+    pub fn key_at_fault(&self, kind: WarningKind, stage: Option<usize>) -> (String, f64) {
+        let stage = stage.map(|k| &self.stages[k]);
+        let i = stage.map_or(self.integrator.clone(), |s| self.in_stage(s).integrator);
+        let (key, value) = match (kind, i.contact_time_fraction, i.rayleigh_fraction) {
+            (WarningKind::ImpactOverlap | WarningKind::StaticOverlap | WarningKind::Overlap, _, _) => {
+                ("material.youngs_modulus", self.material.youngs_modulus)
+            }
+            (_, Some(fraction), _) => ("integrator.contact_time_fraction", fraction),
+            (_, None, Some(fraction)) => ("integrator.rayleigh_fraction", fraction),
+            _ => ("integrator.time_step", i.time_step.unwrap_or(DEFAULT_TIME_STEP)),
+        };
+        match stage {
+            Some(s) if s.keys().contains(&key) => (format!("stages.{}.{key}", s.name), value),
+            _ => (key.to_string(), value),
+        }
+    }
+
     /// The scene as `stage` runs it: this scene with the stage's keys in place (and no stages).
     pub fn in_stage(&self, stage: &StageConfig) -> SceneConfig {
         let mut s = SceneConfig { stages: Vec::new(), ..self.clone() };

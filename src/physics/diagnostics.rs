@@ -142,8 +142,9 @@ impl SettleDetector {
         Self { criterion: criterion.clone(), since: None, settle_time: None }
     }
 
-    /// Feeds one sample; returns true once the pile has settled.
-    pub fn update(&mut self, s: &Sample) -> bool {
+    /// Feeds one sample; returns true once the pile has settled. Without `may_settle` (in a stage
+    /// before the physics) the quiet stretch is followed but does not settle the pile yet.
+    pub fn update(&mut self, s: &Sample, may_settle: bool) -> bool {
         if self.settle_time.is_some() {
             return true;
         }
@@ -151,11 +152,17 @@ impl SettleDetector {
             && self.criterion.kinetic_energy_threshold.is_none_or(|k| s.kinetic() < k);
         self.since = if quiet { self.since.or(Some(s.time)) } else { None };
         if let Some(start) = self.since
+            && may_settle
             && s.time - start >= self.criterion.hold_time - 1e-12
         {
             self.settle_time = Some(start);
         }
         self.settle_time.is_some()
+    }
+
+    /// Starts the quiet stretch afresh (at a switch of stages that changes the run's settings).
+    pub fn restart(&mut self) {
+        self.since = None;
     }
 }
 
@@ -174,7 +181,7 @@ mod tests {
         let ubf = [f64::NAN, 0.5, 0.005, 0.005, 0.2, 0.004, 0.004, 0.004];
         let mut settled_at = None;
         for (k, u) in ubf.iter().enumerate() {
-            if d.update(&sample(k as f64 * 0.01, *u)) && settled_at.is_none() {
+            if d.update(&sample(k as f64 * 0.01, *u), true) && settled_at.is_none() {
                 settled_at = Some(k);
             }
         }

@@ -16,6 +16,7 @@ use super::simulation::{Control, Progress, Simulation};
 use super::stability::{self, StabilityReport};
 use super::time_step::{self, ResolvedTimeStep, with_time_step};
 use super::walls::BoxWalls;
+use super::warning::ValidityWarning;
 
 /// Why a scene could not be run; its text is made where a person reads it.
 #[derive(Clone, Debug, PartialEq)]
@@ -161,4 +162,20 @@ pub fn predict_stability(scene: &SceneConfig, disks: &[InitialDisk]) -> Stabilit
     let mut report = scene.contact.dispatch(Assess(scene, &particles, &materials, &walls));
     report.warnings.splice(0..0, resolved.warning);
     report
+}
+
+/// The validity warnings predicted for the stages of `scene` from `disks` beyond `own` (the scene's
+/// own prediction): each stage as the scene with its keys ([`SceneConfig::in_stage`]), so that a
+/// stage's time step and damping meet the rules a scene's meet; a stage that changes nothing they
+/// look at adds none. Each with the index of its stage, in stage order.
+pub fn predict_stage_warnings(
+    scene: &SceneConfig,
+    disks: &[InitialDisk],
+    own: &[ValidityWarning],
+) -> Vec<(usize, ValidityWarning)> {
+    let stage_warnings = |(k, stage)| {
+        let predicted = predict_stability(&scene.in_stage(stage), disks).warnings;
+        predicted.into_iter().filter(|w| !own.contains(w)).map(move |w| (k, w))
+    };
+    scene.stages.iter().enumerate().flat_map(stage_warnings).collect()
 }

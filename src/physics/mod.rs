@@ -58,7 +58,10 @@ pub const PHYSICS_VERSION: u32 = 2;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
-pub use dispatch::{RunError, predict_stability, run_scene, run_scene_on, run_scene_with_history, scene_time_step};
+pub use dispatch::{
+    RunError, predict_stability, predict_stage_warnings, run_scene, run_scene_on, run_scene_with_history,
+    scene_time_step,
+};
 pub use neighbors::CellGrid;
 pub use parallel::Threads;
 pub use record::{RunRecord, RunStatus};

@@ -228,6 +228,17 @@ fn collect_spans(table: &DeTable<'_>, prefix: &mut KeyPath, spans: &mut HashMap<
         spans.entry(prefix.clone()).or_insert_with(|| key.span());
         if let Some(inner) = value.get_ref().as_table() {
             collect_spans(inner, prefix, spans);
+        } else if let Some(items) = value.get_ref().as_array() {
+            // The tables of an array named by their `name` (`[[scene.stages]]`): their keys under it.
+            for item in items {
+                let Some(inner) = item.get_ref().as_table() else { continue };
+                let name = inner.iter().find(|(k, _)| k.get_ref().as_ref() == "name");
+                let Some(name) = name.and_then(|(_, v)| v.get_ref().as_str()) else { continue };
+                prefix.push(name.to_string());
+                spans.entry(prefix.clone()).or_insert_with(|| item.span());
+                collect_spans(inner, prefix, spans);
+                prefix.pop();
+            }
         }
         prefix.pop();
     }
@@ -277,6 +288,20 @@ pub(crate) fn set_path(table: &mut toml::Table, path: &[String], value: toml::Va
         return Err(SetPathError::NamesATable { path: dotted(path), array: dotted(&path[..depth - 1]) });
     }
     here.insert(last.clone(), value);
+    Ok(())
+}
+
+/// Sets each of `values` in `table` with [`set_path`], those that rename a table of an array last:
+/// every path names the tables of arrays as `table` names them, whatever the order of `values`.
+pub(crate) fn set_paths<'a>(
+    table: &mut toml::Table,
+    values: impl IntoIterator<Item = (&'a [String], toml::Value)>,
+) -> Result<(), SetPathError> {
+    let (names, others): (Vec<_>, Vec<_>) =
+        values.into_iter().partition(|(path, _)| path.last().is_some_and(|key| key == "name"));
+    for (path, value) in others.into_iter().chain(names) {
+        set_path(table, path, value)?;
+    }
     Ok(())
 }
 

@@ -10,14 +10,14 @@ use serde::de::DeserializeOwned;
 use super::axes::{self, Axis, Sweep};
 use super::csv_error::PlacementFileError;
 use super::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean, plain_types, suggest_nearest};
-use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, tree_with, tree_within};
+use super::file::{Document, KeyPath, StudyFile, dotted, leaves, set_path, set_paths, tree_with, tree_within};
 use super::initial_csv::MissingRadius;
 use super::{
     OutputOptions, ParamValue, Plan, PlannedRun, RunIdentity, initial_csv, lammps_file, name, reference, resources,
 };
 use crate::physics::config::{PlacementConfig, PlacementKind};
 use crate::physics::keys::implausible_values;
-use crate::physics::number::short;
+use crate::physics::number::{exact, short};
 use crate::physics::particles::{InitialContact, InitialDisk};
 use crate::physics::placement;
 use crate::physics::walls::BoxWalls;
@@ -314,9 +314,8 @@ impl<'a> Planner<'a> {
     /// The base scene with this run's swept values set.
     fn scene(&self, point: &RunPoint) -> Result<SceneConfig, Vec<StudyError>> {
         let mut tree = self.base.clone();
-        for (axis, value) in self.sweep.axes.iter().zip(&point.chosen) {
-            set_path(&mut tree, &axis.path, value.to_toml()).expect("axes were checked against the base scene");
-        }
+        let values = self.sweep.axes.iter().zip(&point.chosen).map(|(axis, value)| (&axis.path[..], value.to_toml()));
+        set_paths(&mut tree, values).expect("axes were checked against the base scene");
         toml::Value::Table(tree).try_into::<SceneConfig>().map_err(|e| {
             let span = self.doc.span(&["scene".to_string()]);
             vec![self.file.error(span, "scene", e.message()).in_run(&point.id)]
@@ -419,7 +418,8 @@ impl<'a> Planner<'a> {
             let errors = issues.into_iter().map(|i| self.problem(point, &i.key, i.reason));
             return Err(errors.chain(hints).collect());
         }
-        if let Some((key, reason)) = resources::memory_problem(scene) {
+        if let Some((key, reason)) = resources::stage_table_problem(scene).or_else(|| resources::memory_problem(scene))
+        {
             return Err(vec![self.problem(point, key, reason)]);
         }
         for (key, reason) in sampling_warnings(scene) {
@@ -444,10 +444,16 @@ impl<'a> Planner<'a> {
             }
             None => self.try_placement(scene).map_err(|(key, reason)| vec![self.problem(point, &key, reason)])?,
         };
-        let span = self.doc.span(&["scene".to_string()]);
-        for predicted in crate::physics::predict_stability(scene, &disks).warnings {
-            let reason = format!("predicted: {predicted}{}", contacts_named(scene, predicted.kind));
-            let warning = self.file.error(span.clone(), "scene", reason).of_rule(predicted.kind).in_run(&point.id);
+        let own = crate::physics::predict_stability(scene, &disks).warnings;
+        let stages = crate::physics::predict_stage_warnings(scene, &disks, &own);
+        for (stage, predicted) in
+            own.into_iter().map(|w| (None, w)).chain(stages.into_iter().map(|(k, w)| (Some(k), w)))
+        {
+            let (key, value) = scene.key_at_fault(predicted.kind, stage);
+            let during = stage.map(|k| format!(" in stage \"{}\"", scene.stages[k].name)).unwrap_or_default();
+            let reason = format!("predicted{during}: {predicted}{}", contacts_named(scene, predicted.kind));
+            let mut warning = self.problem(point, &key, reason).of_rule(predicted.kind);
+            warning.value = warning.value.or_else(|| Some(exact(value)));
             self.warnings.push(warning);
         }
         Ok(())

@@ -36,6 +36,27 @@ pub fn run_memory(scene: &SceneConfig) -> u64 {
     run_memory_parts(scene).iter().fold(0, |sum, (_, part)| sum.saturating_add(*part))
 }
 
+/// The largest description of a datatype a results file can hold, in bytes: HDF5 keeps it in one
+/// object header message, whose size field has 16 bits.
+const DATATYPE_LIMIT: usize = 65_535;
+
+/// Why the results file cannot store the end times of `scene`'s stages, if it cannot: they are one
+/// row of float fields named by the stages (`stage_end_times`), whose description (8 bytes, then a
+/// field's name, a NUL, its offset in the fewest bytes that hold the row's size and an 8-byte
+/// float's 20-byte description per stage) must fit [`DATATYPE_LIMIT`]. The key is `stages`.
+pub fn stage_table_problem(scene: &SceneConfig) -> Option<(&'static str, String)> {
+    let count = scene.stages.len();
+    let offset = (1..8).find(|bytes| (count * 8) >> (8 * bytes) == 0).unwrap_or(8);
+    let size = 8 + scene.stages.iter().map(|s| s.name.len() + 1 + offset + 20).sum::<usize>();
+    (size > DATATYPE_LIMIT).then(|| {
+        let reason = format!(
+            "{count} stages need {size} bytes to describe their end times in the results file, past HDF5's \
+             limit of {DATATYPE_LIMIT} bytes for one datatype: use fewer stages or shorter stage names"
+        );
+        ("stages", reason)
+    })
+}
+
 /// Why a run of `scene` cannot fit in this machine's memory, if it cannot, with the scene key that
 /// takes most of it (`None` also where the machine's memory is unknown).
 pub fn memory_problem(scene: &SceneConfig) -> Option<(&'static str, String)> {

@@ -11,7 +11,7 @@ use serde::Deserialize;
 use crate::physics::SceneConfig;
 use crate::physics::config::ConfigIssue;
 use crate::physics::particles::InitialDisk;
-use crate::study::file::{KeyPath, SetPathError, set_path};
+use crate::study::file::{KeyPath, SetPathError, set_paths};
 use crate::study::{OutputOptions, ParamValue};
 
 /// Significant digits lever values are rounded to (clean values in the best study, and candidates
@@ -303,10 +303,8 @@ impl TuneSpec {
 
     fn edited_tree(&self, values: &[(String, ParamValue)]) -> Result<toml::Table, SetPathError> {
         let mut tree = self.base.clone();
-        for (key, value) in values {
-            let path: KeyPath = key.split('.').map(String::from).collect();
-            set_path(&mut tree, &path, value.to_toml())?;
-        }
+        let paths: Vec<KeyPath> = values.iter().map(|(key, _)| key.split('.').map(String::from).collect()).collect();
+        set_paths(&mut tree, paths.iter().map(|p| &p[..]).zip(values.iter().map(|(_, v)| v.to_toml())))?;
         Ok(tree)
     }
 

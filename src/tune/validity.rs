@@ -7,7 +7,7 @@ use super::spec::{DIGITS, Lever, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
 use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::physics::{SceneConfig, placement, predict_stability, scene_time_step};
+use crate::physics::{SceneConfig, placement, predict_stability, predict_stage_warnings, scene_time_step};
 use rayon::prelude::*;
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
@@ -34,21 +34,30 @@ pub fn identity(scene: &SceneConfig, disks: Option<&[InitialDisk]>) -> String {
 
 /// The validity warnings predicted for a scene before running it (a capped time step, a time step
 /// past the contact-time limit, an impact or static overlap past the Hertz validity ratio, a
-/// damping rate too strong for the step), with the disks it starts from; or why it cannot start.
+/// damping rate too strong for the step), with the disks it starts from, then those its stages add
+/// (see [`predict_stage_warnings`]); or why it cannot start.
 pub fn predicted_warnings(
     scene: &SceneConfig,
     initial: Option<&[InitialDisk]>,
 ) -> Result<Vec<ValidityWarning>, ScreenError> {
-    predicted_report(scene, initial).map(|report| report.warnings)
+    let disks = disks_of(scene, initial)?;
+    let mut warnings = predict_stability(scene, &disks).warnings;
+    let stages = predict_stage_warnings(scene, &disks, &warnings);
+    warnings.extend(stages.into_iter().map(|(_, w)| w));
+    Ok(warnings)
 }
 
 /// The stability prediction of a scene from its initial disks (generated when `initial` is None).
 pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<StabilityReport, ScreenError> {
-    let disks = match initial {
-        Some(disks) => disks.to_vec(),
-        None => placement::generate(scene).map_err(ScreenError::Placement)?,
-    };
-    Ok(predict_stability(scene, &disks))
+    Ok(predict_stability(scene, &disks_of(scene, initial)?))
+}
+
+/// The disks a scene starts from: `initial`, or its placement generated.
+fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<Vec<InitialDisk>, ScreenError> {
+    match initial {
+        Some(disks) => Ok(disks.to_vec()),
+        None => placement::generate(scene).map_err(ScreenError::Placement),
+    }
 }
 
 /// Clips every continuous lever's range where, with the other keys at the reference's values, it

@@ -14,6 +14,7 @@ use super::rolling::{ConstantTorque, NoRolling};
 use super::sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
 use super::tangential::{LinearTangential, MindlinTangential};
 use crate::physics::key_spec::{KeyDoc, KeySpec, scene_section};
+use crate::physics::number::exact;
 
 /// Work done with the scene's law, whichever it is (a generic closure).
 pub trait LawVisitor {
@@ -182,8 +183,31 @@ impl ContactConfig {
         AnyRolling::from_contact(self).coefficient(rolling_friction)
     }
 
-    /// Problems with the chosen models' parameters and with their combination, as (full key, reason).
+    /// Problems with the chosen models' parameters and with their combination, and non-finite
+    /// numbers in any model's table, chosen or not (the scene keeps every table), as (full key,
+    /// reason).
     pub fn problems(&self) -> Vec<(String, String)> {
+        let mut problems = self.chosen_problems();
+        let reported: Vec<String> = problems.iter().map(|(key, _)| key.clone()).collect();
+        problems.extend(self.non_finite().into_iter().filter(|(key, _)| !reported.contains(key)));
+        problems
+    }
+
+    /// Every number of the models' tables that is not finite, as (full key, reason).
+    fn non_finite(&self) -> Vec<(String, String)> {
+        let Ok(toml::Value::Table(tables)) = toml::Value::try_from(self) else { return Vec::new() };
+        let numbers = tables.iter().filter_map(|(table, keys)| Some((table, keys.as_table()?)));
+        let numbers = numbers.flat_map(|(table, keys)| keys.iter().map(move |(key, value)| (table, key, value)));
+        numbers
+            .filter_map(|(table, key, value)| {
+                let x = value.as_float().filter(|x| !x.is_finite())?;
+                Some((format!("contact.{table}.{key}"), format!("must be a finite number, got {}", exact(x))))
+            })
+            .collect()
+    }
+
+    /// Problems with the chosen models' parameters and with their combination.
+    fn chosen_problems(&self) -> Vec<(String, String)> {
         let c = self.composition();
         let normal = AnyNormal::from_contact(self);
         let in_table = |table: Option<&str>, problems: Problems| {

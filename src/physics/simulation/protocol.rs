@@ -46,8 +46,11 @@ pub(super) struct Protocol {
     pub(super) stages: Vec<StageSettings>,
     /// The stage running now.
     pub(super) current: usize,
-    /// The step and time (s) the current stage began at.
-    pub(super) origin: (u64, f64),
+    /// The step the current stage began at.
+    pub(super) began: u64,
+    /// The step and time (s) the current time step began at: the run's clock, and with it the
+    /// sampling grid, counts from there, through switches that keep the step.
+    pub(super) clock: (u64, f64),
     /// The step at which the current stage's `until.time` ends it (`u64::MAX`: none).
     pub(super) time_limit: u64,
     /// When each finished stage ended (s).
@@ -67,7 +70,8 @@ impl Protocol {
             })
             .collect();
         stages.push(StageSettings::of(scene, law, disks));
-        let mut protocol = Self { stages, current: 0, origin: (0, 0.0), time_limit: u64::MAX, ended: Vec::new() };
+        let mut protocol =
+            Self { stages, current: 0, began: 0, clock: (0, 0.0), time_limit: u64::MAX, ended: Vec::new() };
         protocol.time_limit = protocol.limit_of_current();
         protocol
     }
@@ -90,15 +94,19 @@ impl Protocol {
     /// Ends the current stage at `step` and time `time` (s) and begins the next.
     pub(super) fn begin_next(&mut self, step: u64, time: f64) {
         self.ended.push(time);
+        let dt = self.now().dt;
         self.current += 1;
-        self.origin = (step, time);
+        self.began = step;
+        if self.now().dt != dt {
+            self.clock = (step, time);
+        }
         self.time_limit = self.limit_of_current();
     }
 
     fn limit_of_current(&self) -> u64 {
         let stage = self.now();
         match stage.until.as_ref().and_then(|u| u.time) {
-            Some(t) => self.origin.0.saturating_add((t / stage.dt).round().max(1.0) as u64),
+            Some(t) => self.began.saturating_add((t / stage.dt).round().max(1.0) as u64),
             None => u64::MAX,
         }
     }

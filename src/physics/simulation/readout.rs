@@ -47,7 +47,7 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// Simulated time (s).
     pub fn time(&self) -> f64 {
-        let (step, time) = self.protocol.origin;
+        let (step, time) = self.protocol.clock;
         time + (self.step - step) as f64 * self.context.dt
     }
 

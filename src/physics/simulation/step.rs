@@ -14,7 +14,7 @@ use crate::physics::monitor::{FrameSchedule, Monitor};
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::{Team, Threads};
 use crate::physics::particles::Particles;
-use crate::physics::record::{History, RunRecord, RunStatus};
+use crate::physics::record::{History, RunRecord, RunStatus, Snapshot};
 use crate::physics::rolling;
 use crate::physics::walls::BoxWalls;
 use crate::physics::warning::ValidityWarning;
@@ -222,14 +222,14 @@ impl<L: ContactLaw> Simulation<L> {
         let mut settle = SettleDetector::new(&self.scene.settle);
         let mut history = History::default();
         let mut recorded_frames = Vec::new();
+        if segment.frames.due(self.step) {
+            recorded_frames.push(self.snapshot());
+        }
         let (status, message) = loop {
             if stop.load(Ordering::Relaxed) {
                 break (RunStatus::Interrupted, Some(stopped_at(self.time())));
             }
             let s = self.sample();
-            if segment.frames.due(self.step) {
-                recorded_frames.push(self.snapshot());
-            }
             history.push(&s);
             monitor.observe(&s);
             let power_finite = self.energy.power_finite();
@@ -237,10 +237,9 @@ impl<L: ContactLaw> Simulation<L> {
                 break (RunStatus::Diverged, Some(reason));
             }
             while self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
-                self.next_stage();
-                segment = self.segment();
+                self.switch_stage(&mut segment, &mut settle);
             }
-            let settled = self.protocol.in_physical_stage() && settle.update(&s);
+            let settled = settle.update(&s, self.protocol.in_physical_stage());
             let progress = Progress {
                 step: self.step,
                 time: s.time,
@@ -257,19 +256,7 @@ impl<L: ContactLaw> Simulation<L> {
             if self.step >= segment.last_step {
                 break (if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None);
             }
-            // Step to the next sample (or the stage's end), recording frames on the way; a
-            // non-finite power ends early.
-            let next = (self.step + segment.sample_every).min(segment.last_step).min(self.protocol.time_limit);
-            while self.step < next {
-                let frame_due = self.step + 1 < next && segment.frames.due(self.step + 1);
-                self.advance(frame_due || self.step + 1 == next);
-                if frame_due {
-                    recorded_frames.push(self.snapshot());
-                }
-                if !self.energy.power_finite() || stop.load(Ordering::Relaxed) {
-                    break;
-                }
-            }
+            self.step_to_next_sample(&mut segment, &mut settle, &mut recorded_frames, stop);
         };
         warnings.extend(monitor.warnings(&self.scene.limits));
         let contacts = self.contacts();
@@ -292,13 +279,55 @@ impl<L: ContactLaw> Simulation<L> {
         }
     }
 
-    /// The step counts of the current stage: its sampling, its frames, the run's last step.
+    /// Steps to the next sample of the grid (or the run's last step), recording frames on the way.
+    /// A stage whose time is up between samples ends on its step, with no sample there, so that a
+    /// stage that changes nothing leaves the samples as they were. A non-finite power or `stop` ends
+    /// early.
+    fn step_to_next_sample(
+        &mut self,
+        segment: &mut Segment,
+        settle: &mut SettleDetector,
+        frames: &mut Vec<Snapshot>,
+        stop: &AtomicBool,
+    ) {
+        loop {
+            let sample = segment.next_sample(self.step);
+            let next = sample.min(self.protocol.time_limit);
+            while self.step < next {
+                let frame_due = segment.frames.due(self.step + 1);
+                self.advance(frame_due || self.step + 1 == sample);
+                if frame_due {
+                    frames.push(self.snapshot());
+                }
+                if !self.energy.power_finite() || stop.load(Ordering::Relaxed) {
+                    return;
+                }
+            }
+            if self.step == sample {
+                return;
+            }
+            self.switch_stage(segment, settle);
+        }
+    }
+
+    /// Ends the current stage and begins the next: the segment follows the next stage's step, and
+    /// the quiet stretch of the settle criterion starts afresh where the settings change.
+    fn switch_stage(&mut self, segment: &mut Segment, settle: &mut SettleDetector) {
+        if self.next_stage() {
+            settle.restart();
+        }
+        *segment = self.segment();
+    }
+
+    /// The step counts of the current time step, on the grid of the run's clock (see
+    /// [`Protocol::clock`]): its sampling, its frames, the run's last step.
     fn segment(&self) -> Segment {
-        let (dt, origin) = (self.context.dt, self.protocol.origin);
-        let last_step = origin.0 + ((self.scene.run.duration - origin.1) / dt).round().max(1.0) as u64;
+        let (dt, clock) = (self.context.dt, self.protocol.clock);
+        let last_step = clock.0 + ((self.scene.run.duration - clock.1) / dt).round().max(1.0) as u64;
         Segment {
+            first: clock.0,
             sample_every: ((self.scene.run.sample_interval / dt).round() as u64).max(1),
-            frames: FrameSchedule::new(&self.scene, origin, dt, last_step),
+            frames: FrameSchedule::new(&self.scene, clock, dt, last_step),
             last_step,
         }
     }
@@ -309,12 +338,22 @@ fn stopped_at(t: f64) -> String {
     format!("stopped by request at t = {t:.6} s")
 }
 
-/// The step counts of one stage of a run (its time step's).
+/// The step counts of a stretch of a run with one time step.
 struct Segment {
+    /// The step the grid of samples starts at.
+    first: u64,
     /// Steps between samples.
     sample_every: u64,
     /// The steps at which frames are recorded.
     frames: FrameSchedule,
     /// The step at which the run's duration is reached.
     last_step: u64,
+}
+
+impl Segment {
+    /// The first sample after `step` (the last step at the latest).
+    fn next_sample(&self, step: u64) -> u64 {
+        let past = (step - self.first) % self.sample_every;
+        (step + self.sample_every - past).min(self.last_step)
+    }
 }

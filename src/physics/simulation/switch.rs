@@ -12,8 +12,8 @@ impl<L: ContactLaw> Simulation<L> {
     /// energy lost leaves the stored energy with no work done, which the ledger counts as
     /// dissipated (see [`crate::physics::energy`]). A multistep scheme starts afresh when the step
     /// or the scheme changes (its history holds accelerations of the old step), and continues
-    /// otherwise.
-    pub(super) fn next_stage(&mut self) {
+    /// otherwise. Returns whether any setting changed.
+    pub(super) fn next_stage(&mut self) -> bool {
         let time = self.time();
         let now = self.protocol.now();
         let before = (now.dt, now.scheme, now.materials, now.damping);
@@ -22,7 +22,8 @@ impl<L: ContactLaw> Simulation<L> {
         protocol.begin_next(self.step, time);
         let next = protocol.now();
         let (dt, scheme, materials) = (next.dt, next.scheme, next.materials);
-        if before != (dt, scheme, materials, next.damping) {
+        let changed = before != (dt, scheme, materials, next.damping);
+        if changed {
             // The powers jump here: the step that ended closes with those before.
             self.energy.close_before_jump(powers, before.0);
         }
@@ -38,6 +39,7 @@ impl<L: ContactLaw> Simulation<L> {
         if (before.0, before.1) != (dt, scheme) {
             self.integrator = Integrator::new(scheme);
         }
+        changed
     }
 
     /// Evaluates the forces of the current state again, with the springs as they are: the contact
