@@ -443,3 +443,28 @@ fn a_setting_that_saves_nothing_on_its_fresh_seeds_is_no_answer() {
     }
     assert_eq!(result.recommended, None, "no answer\n{}", dump(&result));
 }
+
+#[test]
+fn a_fixed_time_step_damping_only_tune_with_ten_reference_seeds_evaluates_a_damping_setting() {
+    // Two damping levers and a fixed time step; the reference runs on 10 seeds, leaving 10 of the 20
+    // reference depositions. Priced at the reference's cost, a candidate's first 3 seeds and its
+    // verification (8) come to 12.1 with the margin: nothing would run. The standard setting settles
+    // at 0.7 of the reference and every setting keeps the pile: its first seeds, cut where they could
+    // no longer leave room to verify it, are information, and it and its verification fit.
+    let stand_in =
+        StandIn { settle: |p| 0.9 - 0.3 * p[0] - 0.1 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { standards: 1, reference_seeds: 10, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
+    assert!(evaluated >= 1, "a damping setting ran: {evaluated} settings\n{}", dump(&result));
+    let (cost, _) = answer(&result);
+    assert!(cost < 0.9, "a damping setting is the answer: {cost}\n{}", dump(&result));
+    let spent: f64 = result
+        .reference
+        .iter()
+        .chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)))
+        .map(|o| o.cost)
+        .sum();
+    assert!(spent <= config.max_spend * 100.0, "within the spend limit: {spent}");
+}

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use clap::Args;
+use demsweep::physics::number::short;
 use demsweep::runner::interrupt;
 use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec};
 use demsweep::workflow::{self, TuneRunError};
@@ -73,6 +74,7 @@ pub fn check(path: &Path, strict: bool) -> ExitCode {
                 spec.keep.len(),
                 spec.search.budget
             );
+            outln!("{}", spend_text(&spec));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -122,6 +124,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         s.max_spend,
         s.seed
     );
+    outln!("{}", spend_text(&spec));
     // The dearest run over the reference and every lever's extremes bounds the cost of a run.
     let cost = |scene: demsweep::physics::SceneConfig| {
         demsweep::study::PlannedRun::new(String::new(), 0, Vec::new(), scene, spec.initial.clone()).estimated_cost
@@ -151,6 +154,38 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         duration(seconds / cores as f64)
     );
     ExitCode::SUCCESS
+}
+
+/// What the spend limit buys before any run ([`tune::search::spend_plan`]), as `check` and `plan`
+/// say it: where it buys no candidate at the reference's cost, the `max_spend` or
+/// `reference_seeds` that would.
+fn spend_text(spec: &TuneSpec) -> String {
+    let s = &spec.search;
+    let p = tune::search::spend_plan(&tune::search_config(spec));
+    let mut text = format!(
+        "spend: the reference's {} runs take {} of max_spend = {} reference depositions; the {} left pay for {} \
+         candidate(s) at the reference's cost per run ({} seeds each, a verification round of {} in reserve)",
+        s.reference_seeds(),
+        short(p.reference),
+        short(s.max_spend),
+        short(p.left),
+        p.candidates,
+        s.seeds,
+        s.verify_seeds()
+    );
+    if p.candidates == 0 {
+        if let Some(cap) = p.cut_at {
+            text += &format!(
+                "; the first candidate's seeds run cut at {} of the reference's cost, where its verification still fits",
+                short(cap)
+            );
+        }
+        text += &format!("; one candidate at the reference's cost needs max_spend = {}", short(p.max_spend));
+        if let Some(n) = p.reference_seeds {
+            text += &format!(" or reference_seeds = {n}");
+        }
+    }
+    text
 }
 
 /// `demsweep tune FILE`.
