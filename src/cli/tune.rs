@@ -41,6 +41,10 @@ pub struct TuneArgs {
     /// No line per batch.
     #[arg(long)]
     quiet: bool,
+    /// Most reference depositions the tune may spend, instead of the file's `[search] max_spend`:
+    /// with --resume, a tune the spend left undecided continues from its stored runs.
+    #[arg(long, value_name = "N")]
+    max_spend: Option<f64>,
 }
 
 /// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
@@ -194,6 +198,13 @@ pub fn run(args: &TuneArgs) -> ExitCode {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
+    if let Some(n) = args.max_spend {
+        if !(n >= 1.0 && n.is_finite()) {
+            errln!("tune: --max-spend must be at least 1 reference deposition, got {n}; nothing was run");
+            return ExitCode::from(INVALID_STUDY);
+        }
+        spec.search.max_spend = n;
+    }
     let stop = Arc::new(AtomicBool::new(false));
     if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
         errln!("warning: {e}");
