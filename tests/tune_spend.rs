@@ -443,3 +443,91 @@ fn a_setting_that_saves_nothing_on_its_fresh_seeds_is_no_answer() {
     }
     assert_eq!(result.recommended, None, "no answer\n{}", dump(&result));
 }
+
+#[test]
+fn a_fixed_time_step_damping_only_tune_with_ten_reference_seeds_evaluates_a_damping_setting() {
+    // Two damping levers and a fixed time step; the reference runs on 10 seeds, leaving 10 of the 20
+    // reference depositions. Priced at the reference's cost, a candidate's first 3 seeds and its
+    // verification (8) come to 12.1 with the margin: nothing would run. The standard setting settles
+    // at 0.7 of the reference and every setting keeps the pile: its first seeds, cut where they could
+    // no longer leave room to verify it, are information, and it and its verification fit.
+    let stand_in =
+        StandIn { settle: |p| 0.9 - 0.3 * p[0] - 0.1 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
+    let mut stand_in = stand_in;
+    let config = SearchConfig { standards: 1, reference_seeds: 10, ..config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
+    assert!(evaluated >= 1, "a damping setting ran: {evaluated} settings\n{}", dump(&result));
+    let (cost, _) = answer(&result);
+    assert!(cost < 0.9, "a damping setting is the answer: {cost}\n{}", dump(&result));
+    let spent: f64 = result
+        .reference
+        .iter()
+        .chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)))
+        .map(|o| o.cost)
+        .sum();
+    assert!(spent <= config.max_spend * 100.0, "within the spend limit: {spent}");
+}
+
+#[test]
+fn the_sheet_lists_a_cheaper_undecided_candidate_and_a_larger_spend_resumed_decides_it() {
+    // The cheap corner of the stiffness-like first lever (above x = 0.85, about a third of the
+    // reference's cost) keeps the pile but its metric spreads ten times more: within 20 reference
+    // depositions its verification stays undecided. The sheet names it, its metric, its seeds a side
+    // and the spend that decides it; the tune resumed with that spend replays every stored run and
+    // goes on verifying it to a decision.
+    let stand_in = || StandIn {
+        step_cost: |p| 1.0 - 0.6 * p[0],
+        settle: |p| 1.0 - 0.3 * p[1],
+        spread: |p| if p[0] > 0.85 { 0.1 } else { 0.01 },
+        ..StandIn::new()
+    };
+    let spec = demsweep::tune::load(std::path::Path::new("tests/data/tiny_tune.toml")).unwrap();
+    let mut first = stand_in();
+    let result = search(&config(), &mut first).unwrap();
+    let sheet = demsweep::tune::report::paragraph(&spec, &result);
+    let listed = sheet.lines().find(|l| l.starts_with("Undecided, cheaper: candidate "));
+    let listed = listed.unwrap_or_else(|| panic!("the sheet lists the undecided candidate:\n{sheet}"));
+    assert!(listed.contains("pile_height undecided") && listed.contains("seeds a side"), "{listed}");
+    assert!(!sheet.contains("nothing cheaper"), "{sheet}");
+    let id: usize = listed["Undecided, cheaper: candidate ".len()..].split(' ').next().unwrap().parse().unwrap();
+    let resume = sheet.split("--resume --max-spend ").nth(1).and_then(|r| r.split('`').next()?.parse::<f64>().ok());
+    let max_spend = resume.unwrap_or_else(|| panic!("the sheet names the spend:\n{sheet}"));
+    let mut second = stand_in();
+    let more = search(&SearchConfig { max_spend, ..config() }, &mut second).unwrap();
+    let stored: Vec<String> = first.jobs.iter().map(|j| format!("{j:?}")).collect();
+    let replayed: Vec<String> = second.jobs.iter().map(|j| format!("{j:?}")).collect();
+    assert!(stored.iter().all(|j| replayed.contains(j)), "every stored run replayed:\n{}", dump(&more));
+    let (before, after) = (&result.candidates[id - 1], &more.candidates[id - 1]);
+    assert_eq!(before.point, after.point);
+    assert!(after.verification.len() > before.verification.len(), "verified further:\n{}", dump(&more));
+    let decided = more.assess_verification(after).expect("verified").state;
+    assert_ne!(decided, State::Undecided, "decided on its fresh seeds:\n{}", dump(&more));
+}
+
+#[test]
+fn the_sheet_names_the_keep_line_that_would_hold_an_unkept_metric_beyond_two_sigma() {
+    // The answer's fresh runs read fabric_anisotropy (not kept) ten reference spreads higher than the
+    // reference's and every other pile metric as the reference does.
+    let mut stand_in =
+        StandIn { settle: |p| 1.0 - 0.5 * p[0] - 0.2 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
+    let mut result = search(&SearchConfig { standards: 1, max_spend: 30.0, ..config() }, &mut stand_in).unwrap();
+    let names = demsweep::tune::keepable_metrics();
+    let pile = |shift: f64, key: u64| {
+        names.iter().map(|n| 1.0 + 0.01 * normal(key) + if n == "fabric_anisotropy" { shift } else { 0.0 }).collect()
+    };
+    for (i, run) in result.reference.iter_mut().enumerate() {
+        run.pile = pile(0.0, i as u64);
+    }
+    let k = result.recommended.unwrap_or_else(|| panic!("an answer\n{}", dump(&result)));
+    for (i, run) in result.candidates[k].verification.iter_mut().enumerate() {
+        run.pile = pile(0.1, 1000 + i as u64);
+    }
+    let spec = demsweep::tune::load(std::path::Path::new("tests/data/tiny_tune.toml")).unwrap();
+    let sheet = demsweep::tune::report::paragraph(&spec, &result);
+    let line = sheet.lines().find(|l| l.trim_start().starts_with("fabric_anisotropy:"));
+    let line = line.unwrap_or_else(|| panic!("a fabric_anisotropy line:\n{sheet}"));
+    assert!(line.contains("beyond 2σ; to hold it within 2σ, add `fabric_anisotropy = { absolute = "), "{line}");
+    let kept = sheet.lines().find(|l| l.trim_start().starts_with("pile_height:")).expect("pile_height");
+    assert!(!kept.contains("beyond 2σ"), "{kept}");
+}

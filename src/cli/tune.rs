@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use clap::Args;
+use demsweep::physics::number::short;
 use demsweep::runner::interrupt;
 use demsweep::tune::{self, TuneError, TuneOptions, TuneSpec};
 use demsweep::workflow::{self, TuneRunError};
@@ -41,6 +42,10 @@ pub struct TuneArgs {
     /// No line per batch.
     #[arg(long)]
     quiet: bool,
+    /// Most reference depositions the tune may spend, instead of the file's `[search] max_spend`:
+    /// with --resume, a tune the spend left undecided continues from its stored runs.
+    #[arg(long, value_name = "N")]
+    max_spend: Option<f64>,
 }
 
 /// The tune file's spec, or its problems printed to stderr and the exit status of an invalid file.
@@ -74,6 +79,7 @@ pub fn check(path: &Path, strict: bool) -> ExitCode {
                 spec.keep.len(),
                 spec.search.budget
             );
+            outln!("{}", spend_text(&spec));
             ExitCode::SUCCESS
         }
         Err(code) => code,
@@ -123,6 +129,7 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
         s.max_spend,
         s.seed
     );
+    outln!("{}", spend_text(&spec));
     // The dearest run over the reference and every lever's extremes bounds the cost of a run.
     let cost = |scene: demsweep::physics::SceneConfig| {
         demsweep::study::PlannedRun::new(String::new(), 0, Vec::new(), scene, spec.initial.clone()).estimated_cost
@@ -154,12 +161,51 @@ pub fn plan(path: &Path, cores: usize) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// What the spend limit buys before any run ([`tune::search::spend_plan`]), as `check` and `plan`
+/// say it: where it buys no candidate at the reference's cost, the `max_spend` or
+/// `reference_seeds` that would.
+fn spend_text(spec: &TuneSpec) -> String {
+    let s = &spec.search;
+    let p = tune::search::spend_plan(&tune::search_config(spec));
+    let mut text = format!(
+        "spend: the reference's {} runs take {} of max_spend = {} reference depositions; the {} left pay for {} \
+         candidate(s) at the reference's cost per run ({} seeds each, a verification round of {} in reserve)",
+        s.reference_seeds(),
+        short(p.reference),
+        short(s.max_spend),
+        short(p.left),
+        p.candidates,
+        s.seeds,
+        s.verify_seeds()
+    );
+    if p.candidates == 0 {
+        if let Some(cap) = p.cut_at {
+            text += &format!(
+                "; the first candidate's seeds run cut at {} of the reference's cost, where its verification still fits",
+                short(cap)
+            );
+        }
+        text += &format!("; one candidate at the reference's cost needs max_spend = {}", short(p.max_spend));
+        if let Some(n) = p.reference_seeds {
+            text += &format!(" or reference_seeds = {n}");
+        }
+    }
+    text
+}
+
 /// `demsweep tune FILE`.
 pub fn run(args: &TuneArgs) -> ExitCode {
     let mut spec = match load_or_report(&args.file, false) {
         Ok((spec, _)) => spec,
         Err(code) => return code,
     };
+    if let Some(n) = args.max_spend {
+        if !(n >= 1.0 && n.is_finite()) {
+            errln!("tune: --max-spend must be at least 1 reference deposition, got {n}; nothing was run");
+            return ExitCode::from(INVALID_STUDY);
+        }
+        spec.search.max_spend = n;
+    }
     let stop = Arc::new(AtomicBool::new(false));
     if let Err(e) = interrupt::install_ctrl_c(stop.clone()) {
         errln!("warning: {e}");

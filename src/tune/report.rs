@@ -11,6 +11,7 @@ use super::judge::broken_by_reference;
 use super::model::{
     Assessment, Candidate, CheckFigure, Outcome, PathEnd, Rejection, RunFailure, SearchEnd, SearchResult, State,
 };
+use super::search::PRICE_MARGIN;
 use super::{TuneSpec, seed_text};
 use crate::output::guard::Existing;
 use crate::output::{csv, guard};
@@ -233,13 +234,18 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 cand.id,
                 resolved_time_step(spec, cand)
             );
+            let undecided = undecided_lines(spec, result, result.assess(cand).cost);
             if cand.standard.is_some() {
                 let searched = result.candidates.iter().any(|c| c.standard.is_none() && !c.runs.is_empty());
-                text.push_str(match searched {
-                    true => "The search found nothing cheaper than this standard setting: it is the answer.\n",
-                    false => "No search run was made: this standard setting is the answer.\n",
+                text.push_str(match (searched, undecided.is_empty()) {
+                    (true, true) => "The search found nothing cheaper than this standard setting: it is the answer.\n",
+                    (true, false) => {
+                        "The search left cheaper settings undecided: this standard setting is the answer so far.\n"
+                    }
+                    (false, _) => "No search run was made: this standard setting is the answer.\n",
                 });
             }
+            text.push_str(&undecided);
             let _ = writeln!(
                 text,
                 "Cost ({objective}, on the fresh verification seeds): {} of the reference (95 % interval {}-{}), a \
@@ -324,6 +330,11 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
             }
             text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spent));
             text.push_str(&budget_line);
+            let undecided = undecided_lines(spec, result, result.reference_cost());
+            if !undecided.is_empty() {
+                text.push('\n');
+                text.push_str(&undecided);
+            }
         }
     }
     text.trim_end().to_string()
@@ -403,7 +414,14 @@ fn pile_lines(spec: &TuneSpec, result: &SearchResult, cand: &Candidate) -> Strin
         let sigmas = if spread > 0.0 { t.difference / spread } else { t.difference * f64::INFINITY };
         let kept = spec.keep.iter().position(|keep| keep.metric == *name);
         let tolerance = kept.map(|i| format!(", kept within ±{}", short(result.margins[i]))).unwrap_or_default();
-        let flag = if sigmas.abs() > 2.0 { " — beyond 2σ" } else { "" };
+        let flag = match (sigmas.abs() > 2.0, kept) {
+            (false, _) => String::new(),
+            (true, Some(_)) => " — beyond 2σ".into(),
+            (true, None) => format!(
+                " — beyond 2σ; to hold it within 2σ, add `{name} = {{ absolute = {} }}` to [keep]",
+                short(2.0 * spread)
+            ),
+        };
         let in_sigmas =
             if sigmas.is_finite() { format!("{}σ", short(sigmas)) } else { "the reference does not vary".into() };
         let _ = writeln!(
@@ -612,6 +630,86 @@ fn decision_name(d: stats::Decision) -> &'static str {
     }
 }
 
+/// The cheapest candidates (up to [`UNDECIDED_LISTED`]) that cost less than `bound` in the search
+/// and were left undecided, unverified: each with its cost, the metric, the seeds a side that would
+/// decide it and the `max_spend` that pays for them and a verification on as many fresh seeds; then
+/// the command that continues from the stored runs. Empty when there are none.
+fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64) -> String {
+    // Undecided in the search and not verified, or on its fresh seeds.
+    let standing = |c: &Candidate| result.assess_verification(c).unwrap_or_else(|| result.assess(c));
+    let mut open: Vec<(&Candidate, Assessment)> = result
+        .candidates
+        .iter()
+        .map(|c| (c, standing(c)))
+        .filter(|(_, a)| a.state == State::Undecided && a.cost < bound && !a.tests.is_empty())
+        .collect();
+    open.sort_by(|x, y| x.1.cost.total_cmp(&y.1.cost).then(x.0.id.cmp(&y.0.id)));
+    let (spent, reference) = (spend(result), result.reference_cost());
+    let mut text = String::new();
+    let mut most: f64 = 0.0;
+    for (cand, a) in open.iter().take(UNDECIDED_LISTED) {
+        let Some((k, t)) = worst_test(result, a) else { continue };
+        let cost = a.cost / reference;
+        let verified = !cand.verification.is_empty();
+        let _ = write!(
+            text,
+            "Undecided, cheaper: candidate {} ({}) at {} of the reference on {} {}seeds, {} undecided (difference {}, \
+             90 % interval {} to {}, tolerance ±{})",
+            cand.id,
+            settings(spec, cand),
+            short(cost),
+            a.n,
+            if verified { "fresh verification " } else { "" },
+            spec.keep[k].metric,
+            short(t.difference),
+            short(t.low),
+            short(t.high),
+            short(result.margins[k])
+        );
+        match t.seeds_needed {
+            Some(n) => {
+                let more = n.saturating_sub(a.n) as f64 * cost + n.saturating_sub(result.reference.len()) as f64;
+                let verify = if verified { 0.0 } else { n.max(spec.search.verify_seeds()) as f64 * cost };
+                let needed = (10.0 * (spent + PRICE_MARGIN * (more + verify))).ceil() / 10.0;
+                most = most.max(needed);
+                let _ = writeln!(
+                    text,
+                    ": about {n} seeds a side, the reference's included, would decide it; {} needs max_spend = {}.",
+                    if verified { "that" } else { "with its verification on as many fresh seeds that" },
+                    short(needed)
+                );
+            }
+            None => {
+                let _ = writeln!(text, ": no number of seeds would decide it.");
+            }
+        }
+    }
+    if most > spec.search.max_spend {
+        let _ = writeln!(
+            text,
+            "`demsweep tune {} --resume --max-spend {}` continues from the stored runs, repeating none.",
+            spec.path.display(),
+            short(most)
+        );
+    }
+    text
+}
+
+/// Most undecided cheaper candidates the answer sheet lists.
+const UNDECIDED_LISTED: usize = 2;
+
+/// The kept metric furthest from equivalence (|difference| over its margin) among those not
+/// equivalent, with its test.
+fn worst_test<'a>(result: &SearchResult, a: &'a Assessment) -> Option<(usize, &'a stats::Equivalence)> {
+    a.tests
+        .iter()
+        .zip(&result.margins)
+        .enumerate()
+        .filter(|(_, (t, _))| t.decision != stats::Decision::Equivalent)
+        .max_by(|x, y| (x.1.0.difference.abs() / x.1.1).total_cmp(&(y.1.0.difference.abs() / y.1.1)))
+        .map(|(k, (t, _))| (k, t))
+}
+
 /// Why an assessment is not acceptable, naming the failing metric.
 pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) -> String {
     match &a.state {
@@ -624,30 +722,21 @@ pub fn failure_reason(spec: &TuneSpec, result: &SearchResult, a: &Assessment) ->
             "cut: its runs were stopped at their cost cap once it could no longer win, before they settled".into()
         }
         State::Infeasible(reason @ (Rejection::Failed(_) | Rejection::Invalid(_))) => reason.to_string(),
-        _ => {
-            let worst = a
-                .tests
-                .iter()
-                .zip(&result.margins)
-                .enumerate()
-                .filter(|(_, (t, _))| t.decision != stats::Decision::Equivalent)
-                .max_by(|x, y| (x.1.0.difference.abs() / x.1.1).total_cmp(&(y.1.0.difference.abs() / y.1.1)));
-            match worst {
-                Some((k, (t, m))) => format!(
-                    "{} is {} (difference {}, 90 % interval {} to {}, tolerance ±{}{})",
-                    spec.keep[k].metric,
-                    decision_name(t.decision),
-                    short(t.difference),
-                    short(t.low),
-                    short(t.high),
-                    short(*m),
-                    t.seeds_needed
-                        .map(|n| format!("; about {n} seeds a side, the reference's included, would decide it"))
-                        .unwrap_or_default()
-                ),
-                None => a.state.name().into(),
-            }
-        }
+        _ => match worst_test(result, a) {
+            Some((k, t)) => format!(
+                "{} is {} (difference {}, 90 % interval {} to {}, tolerance ±{}{})",
+                spec.keep[k].metric,
+                decision_name(t.decision),
+                short(t.difference),
+                short(t.low),
+                short(t.high),
+                short(result.margins[k]),
+                t.seeds_needed
+                    .map(|n| format!("; about {n} seeds a side, the reference's included, would decide it"))
+                    .unwrap_or_default()
+            ),
+            None => a.state.name().into(),
+        },
     }
 }
 

@@ -16,19 +16,27 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let search_end = c.budget.saturating_sub(3 * c.verify_seeds);
         for k in usize::from(c.path)..c.standards {
             if let Some(index) = self.propose_standard(k, Origin::Standard)
-                && self.fits_candidate(index)
+                && self.run_first(index)?
             {
-                self.run_more(&[(index, c.seeds)])?;
                 self.step_down(index)?;
             }
         }
-        if let Some(k) = self.cheap_corner()
-            && self.fits_candidate(k)
-        {
-            self.run_more(&[(k, c.seeds)])?;
+        if let Some(k) = self.cheap_corner() {
+            self.run_first(k)?;
         }
         while self.extra_seeds(search_end)? {}
         self.verify(|c| c.standard.is_some())
+    }
+
+    /// Runs candidate `k`'s first seeds when they fit the spend limit with room to verify it (cut
+    /// where only that fits, [`Self::first_round`]); whether they ran.
+    pub(super) fn run_first(&mut self, k: usize) -> Result<bool, TuneError> {
+        let Some(cap) = self.fits_candidate(k) else { return Ok(false) };
+        if let Some(cap) = cap {
+            self.first_caps.insert(self.result.candidates[k].id, cap);
+        }
+        self.run_more(&[(k, self.config.seeds)])?;
+        Ok(true)
     }
 
     /// Why nothing more can run: the run budget (below `search_end`) when a candidate's first seeds
@@ -234,12 +242,19 @@ impl<'a, E: Evaluator> Search<'a, E> {
         for k in order {
             let time_step = self.result.candidates[k].relative_cost.unwrap_or(1.0);
             let per_run = if unfitted { self.expected_cost(k).max(time_step) } else { self.expected_cost(k) };
-            let cost = seeds as f64 * per_run;
-            let runs = (chosen.len() + 1) * seeds;
-            if self.result.runs + runs <= end && self.fits_price(runs, price + cost + self.reservation(k)) {
-                chosen.push((k, seeds));
-                price += cost;
+            let runs = chosen.len() * seeds;
+            if self.result.runs + runs + seeds > end {
+                continue;
             }
+            match self.first_round(k, runs, price, per_run) {
+                Some(None) => price += seeds as f64 * per_run,
+                Some(Some(cap)) => {
+                    self.first_caps.insert(self.result.candidates[k].id, cap);
+                    price += seeds as f64 * cap / self.result.reference_cost();
+                }
+                None => continue,
+            }
+            chosen.push((k, seeds));
         }
         self.run_more(&chosen)?;
         Ok(chosen.len())

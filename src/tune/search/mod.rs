@@ -54,3 +54,4 @@ mod spend;
 mod verify;
 
 pub use run::search;
+pub use spend::{PRICE_MARGIN, SpendPlan, spend_plan};

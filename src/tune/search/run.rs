@@ -7,7 +7,7 @@ use crate::tune::judge::decidability;
 use crate::tune::model::{
     Evaluator, Job, Origin, Outcome, PathEnd, SearchConfig, SearchEnd, SearchResult, TuneError, first_verification_seed,
 };
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// Runs the search.
 pub fn search<E: Evaluator>(config: &SearchConfig, evaluator: &mut E) -> Result<SearchResult, TuneError> {
@@ -33,6 +33,9 @@ pub(super) struct Search<'a, E> {
     /// ([`Candidate::relative_cost`](crate::tune::model::Candidate::relative_cost)), as the
     /// time-step path starts.
     pub(super) corner_cost: Option<f64>,
+    /// Per candidate id: the cost cap of its first seeds where they fit the spend limit only cut
+    /// ([`Search::first_round`]).
+    pub(super) first_caps: HashMap<usize, f64>,
 }
 
 /// More reference runs and what they are priced with.
@@ -87,6 +90,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             path_limit: f64::INFINITY,
             corner: None,
             corner_cost: None,
+            first_caps: HashMap::new(),
         }
     }
 

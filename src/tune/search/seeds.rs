@@ -95,7 +95,15 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// the reference) is expected to lose: its first run is stopped as soon as it alone costs that
     /// much, the point where the prediction is confirmed (a run that settles sooner than the
     /// reference's, e.g. with more damping, still ends below it and counts).
+    ///
+    /// First seeds that fit the spend limit only cut ([`Self::first_round`]) are cut there too.
     pub(super) fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
+        let spend = self.first_caps.get(&cand.id).copied().filter(|_| cand.runs.is_empty());
+        let win = self.win_cap(cand, more);
+        win.map_or(spend, |w| Some(spend.map_or(w, |s| s.min(w))))
+    }
+
+    fn win_cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
         if cand.runs.is_empty() && self.predicted_dear(cand) {
             return self.config.cut_runs.then_some(self.likely_cost());
         }

@@ -1,11 +1,12 @@
 //! Whether runs fit the run budget and the spend limit, with a verification round kept in reserve.
 
+use super::predict::FAR_TOO_DEAR;
 use super::run::Search;
-use crate::tune::model::{Evaluator, State};
+use crate::tune::model::{Evaluator, SearchConfig, State};
 
 /// A batch is priced this much above its predicted cost against the spend limit: settle times
 /// spread.
-pub(super) const PRICE_MARGIN: f64 = 1.1;
+pub const PRICE_MARGIN: f64 = 1.1;
 
 impl<'a, E: Evaluator> Search<'a, E> {
     /// Whether `runs` more runs predicted at `relative_cost` of a reference run each fit the run
@@ -43,14 +44,45 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let reference = self.result.reference_cost();
         let running = self.running_costs().into_iter().reduce(f64::min);
         let unit = running.unwrap_or_else(|| self.least_cost() * reference);
-        let left = c.max_spend * reference - self.spent - c.verify_seeds as f64 * unit;
-        if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
+        let count = |unit: f64| {
+            let left = c.max_spend * reference - self.spent - c.verify_seeds as f64 * unit;
+            if left > 0.0 { (left / (c.seeds as f64 * unit)).floor() as usize } else { 0 }
+        };
+        // First seeds are information: a round cut where it leaves room to verify it
+        // ([`Self::first_round`]) is one more candidate.
+        match count(unit) {
+            0 if c.cut_runs => count(unit / FAR_TOO_DEAR).min(1),
+            n => n,
+        }
     }
 
-    /// Whether candidate `k`'s first seeds fit the spend limit with room to verify it.
-    pub(super) fn fits_candidate(&self, k: usize) -> bool {
-        let seeds = self.config.seeds;
-        self.fits_price(seeds, seeds as f64 * self.expected_cost(k) + self.reservation(k))
+    /// Whether candidate `k`'s first seeds fit the spend limit with room to verify it, and the cost
+    /// cap of each of those runs (see [`Self::first_round`]).
+    pub(super) fn fits_candidate(&self, k: usize) -> Option<Option<f64>> {
+        self.first_round(k, 0, 0.0, self.expected_cost(k))
+    }
+
+    /// How candidate `k`'s first seeds, after `runs` runs priced at `price` reference runs already
+    /// chosen for the batch, fit the run budget and the spend limit with room to verify it: Some(None)
+    /// at its predicted cost `per_run` (reference runs); Some(Some(cap)) only when each run is cut at
+    /// `cap` (a cost), the most a run may cost for the round and its verification at that cost to
+    /// fit, when that is at least its time step's cost over [`FAR_TOO_DEAR`] (a setting that settles
+    /// that much sooner than the reference is rare): first seeds are information, and a candidate
+    /// that settles soon enough is verified within the spend; None when neither fits.
+    pub(super) fn first_round(&self, k: usize, runs: usize, price: f64, per_run: f64) -> Option<Option<f64>> {
+        let c = self.config;
+        let runs = runs + c.seeds;
+        let seeds = c.seeds as f64;
+        if self.fits_price(runs, price + seeds * per_run + self.reservation(k)) {
+            return Some(None);
+        }
+        let reference = self.result.reference_cost();
+        let left = (c.max_spend * reference - self.spent) / (PRICE_MARGIN * reference) - price;
+        let pending = self.pending_reservation().unwrap_or(0.0);
+        let cap = (left / (seeds + c.verify_seeds as f64)).min((left - pending) / seeds);
+        let floor = self.result.candidates[k].relative_cost.unwrap_or(1.0) / FAR_TOO_DEAR;
+        let fits = c.cut_runs && cap >= floor && self.result.runs + runs <= c.budget;
+        fits.then_some(Some(cap * reference))
     }
 
     /// What a verification round would cost (in reference runs) when candidate `k` may be the one
@@ -85,5 +117,50 @@ impl<'a, E: Evaluator> Search<'a, E> {
             .filter(|(a, _)| !feasible_only || a.state == State::Feasible)
             .min_by(|a, b| a.0.cost.total_cmp(&b.0.cost))
             .map(|(a, n)| (n, a.cost / reference * n as f64))
+    }
+}
+
+/// What the spend limit buys before any run (see [`spend_plan`]), in reference depositions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpendPlan {
+    /// The reference's own runs.
+    pub reference: f64,
+    /// What the spend limit leaves after them.
+    pub left: f64,
+    /// Candidates whose first seeds that pays for at the reference's cost per run, with a
+    /// verification round in reserve (priced [`PRICE_MARGIN`] above).
+    pub candidates: usize,
+    /// Without one: the cost per run, over the reference's, at which the first candidate's seeds are
+    /// cut so that its verification still fits, when a candidate settling that soon is plausible
+    /// ([`FAR_TOO_DEAR`]).
+    pub cut_at: Option<f64>,
+    /// The `max_spend` that pays for one candidate at the reference's cost.
+    pub max_spend: f64,
+    /// The most `reference_seeds` (not below the default's least) that leave room for one
+    /// candidate at the reference's cost; None when even that many do not.
+    pub reference_seeds: Option<usize>,
+}
+
+/// What `config`'s spend limit buys before any run: the reference's `reference_seeds` runs, then
+/// candidates at the reference's cost per run, each `seeds` runs, the first with a verification
+/// round of `verify_seeds` in reserve, as the search prices them.
+pub fn spend_plan(config: &SearchConfig) -> SpendPlan {
+    let reference = config.reference_seeds as f64;
+    let left = (config.max_spend - reference).max(0.0);
+    let (seeds, verify) = (config.seeds as f64, config.verify_seeds as f64);
+    let first = PRICE_MARGIN * (seeds + verify);
+    let candidates = match left >= first {
+        true => 1 + ((left - first) / (PRICE_MARGIN * seeds)).floor() as usize,
+        false => 0,
+    };
+    let cap = left / first;
+    let least = (2 * config.seeds).max(6) as f64;
+    SpendPlan {
+        reference,
+        left,
+        candidates,
+        cut_at: (candidates == 0 && config.cut_runs && cap >= 1.0 / FAR_TOO_DEAR).then_some(cap),
+        max_spend: reference + first,
+        reference_seeds: ((config.max_spend - first).floor() >= least).then_some((config.max_spend - first) as usize),
     }
 }
