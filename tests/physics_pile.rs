@@ -5,8 +5,7 @@ mod common;
 
 use demsweep::physics::config::{PlacementKind, SceneConfig};
 use demsweep::physics::contact::HertzMindlin;
-use demsweep::physics::contact_network::ContactNetwork;
-use demsweep::physics::contact_record::{Partner, PileContact};
+use demsweep::physics::contact_record::Partner;
 use demsweep::physics::particles::InitialDisk;
 use demsweep::physics::pile::{PileGeometry, fabric};
 use demsweep::physics::run_scene;
@@ -151,28 +150,6 @@ fn frictionless_side_walls_put_the_whole_weight_on_the_floor() {
     assert!((packing / rec.pile["packing_fraction_interior"] - 1.0).abs() < 0.1, "{packing}");
 }
 
-/// The contacts of a stored state as the pile measures see them.
-fn pile_contacts(network: &ContactNetwork) -> Vec<PileContact> {
-    (0..network.first.len())
-        .map(|k| {
-            let second = network.second[k];
-            let partner =
-                if second >= 0 { Partner::Disk(second as usize) } else { Partner::Wall((-1 - second) as usize) };
-            let disk = network.first[k] as usize;
-            PileContact {
-                disk,
-                partner,
-                normal: [network.normal_x[k], network.normal_y[k]],
-                normal_force: network.normal_force[k],
-                tangential_force: network.tangential_force[k],
-                friction: 0.0,
-                overlap_ratio: 0.0,
-                history: (0.0, 0.0),
-            }
-        })
-        .collect()
-}
-
 #[test]
 fn the_stress_of_a_pile_at_rest_balances_its_weight() {
     // 120 disks settled with frictionless side walls: across every horizontal line the contacts
@@ -181,11 +158,7 @@ fn the_stress_of_a_pile_at_rest_balances_its_weight() {
     // weight.
     let rec = settled_pile(120, 0.2, 0.8, 0.0);
     let state = &rec.final_state;
-    let mut contacts = pile_contacts(&state.contacts);
-    // Wall contacts reach from the centre to the wall: the floor's by the centre's height.
-    for c in contacts.iter_mut().filter(|c| c.partner == Partner::Wall(0)) {
-        c.overlap_ratio = 1.0 - state.y[c.disk] / state.r[c.disk];
-    }
+    let contacts = state.contacts.pile_contacts(&state.r);
     let default = SceneConfig::default();
     let (density, thickness, g) = (default.material.density, default.particles.thickness, -default.gravity[1]);
     let weights: Vec<f64> = state.r.iter().map(|r| density * std::f64::consts::PI * r * r * thickness * g).collect();

@@ -73,6 +73,31 @@ impl ContactNetwork {
         network
     }
 
+    /// The contacts as the pile measures see them, for disks of radii `r` (a stored state's
+    /// network back into [`PileContact`]s; friction reads 0: the network keeps only whether a contact
+    /// slides).
+    pub fn pile_contacts(&self, r: &[f64]) -> Vec<PileContact> {
+        (0..self.len())
+            .map(|k| {
+                let disk = self.first[k] as usize;
+                let (partner, smaller) = match usize::try_from(self.second[k]) {
+                    Ok(j) => (Partner::Disk(j), r[disk].min(r[j])),
+                    Err(_) => (Partner::Wall((-1 - self.second[k]) as usize), r[disk]),
+                };
+                PileContact {
+                    disk,
+                    partner,
+                    normal: [self.normal_x[k], self.normal_y[k]],
+                    normal_force: self.normal_force[k],
+                    tangential_force: self.tangential_force[k],
+                    friction: 0.0,
+                    overlap_ratio: self.overlap[k] / smaller,
+                    history: (self.tangential_spring[k], self.law_state[k]),
+                }
+            })
+            .collect()
+    }
+
     /// Number of contacts.
     pub fn len(&self) -> usize {
         self.first.len()
