@@ -22,13 +22,12 @@
 //! - sliding fraction: share of contacts with friction whose tangential force is at the Coulomb limit;
 //! - mean overlap ratio: overlap over the smaller radius, averaged over contacts;
 //! - stress (Pa, compression positive): the Love–Weber average of every contact's force times its
-//!   branch vector over the area below the surface height (`super::stress`); its components
+//!   branch vector over the area below the surface height (`super::stress`, which measures it); its components
 //!   `σ_xx`, `σ_yy`, `σ_xy`, pressure `(σ_xx + σ_yy)/2` and deviatoric stress (Mohr's circle radius).
 
 use serde::{Deserialize, Serialize};
 
 use super::contact_record::{Partner, PileContact};
-use super::stress::{Stress, band_stress};
 
 /// The disks of a pile and its box.
 #[derive(Clone, Copy, Debug)]
@@ -106,13 +105,14 @@ impl<'a> Pile<'a> {
         surface(self.geometry)
     }
 
-    /// The stress of the pile: its contacts' Love–Weber sum over the area below the surface height
-    /// (see [`super::stress`]); NaN without a surface.
-    pub fn stress(&self) -> Stress {
-        let (top, surface) = (self.height(), self.surface_height());
-        let whole = band_stress(self.geometry, &self.carrying, [0.0, top]);
-        let scale = top / surface;
-        Stress { xx: whole.xx * scale, yy: whole.yy * scale, xy: whole.xy * scale }
+    /// The disks and the box.
+    pub fn geometry(&self) -> &PileGeometry<'a> {
+        self.geometry
+    }
+
+    /// The contacts that carry force.
+    pub fn carrying(&self) -> &[PileContact] {
+        &self.carrying
     }
 
     /// See [`surface_height`].

@@ -12,6 +12,7 @@
 use super::contact_record::PileContact;
 use super::pile::{PILE_METRIC_COUNT, Pile, PileGeometry, PileMetrics};
 use super::record::{DISK_FIELDS, History, RunRecord};
+use super::stress::pile_stress;
 
 /// One declared quantity; `value` says how it is computed (`()` where the runner measures it).
 #[derive(Clone, Copy, Debug)]
@@ -204,31 +205,31 @@ pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
         name: "stress_pressure",
         unit: "Pa",
         description: "Mean normal stress (σ_xx + σ_yy)/2 of the pile's Love–Weber stress, compression positive.",
-        value: |pile| pile.stress().pressure(),
+        value: |pile| pile_stress(pile).pressure(),
     },
     Quantity {
         name: "stress_deviatoric",
         unit: "Pa",
         description: "Deviatoric stress √(((σ_xx − σ_yy)/2)² + σ_xy²) of the pile: the largest shear stress.",
-        value: |pile| pile.stress().deviatoric(),
+        value: |pile| pile_stress(pile).deviatoric(),
     },
     Quantity {
         name: "stress_xx",
         unit: "Pa",
         description: "Horizontal normal stress of the pile (Love–Weber over the area below its surface height).",
-        value: |pile| pile.stress().xx,
+        value: |pile| pile_stress(pile).xx,
     },
     Quantity {
         name: "stress_yy",
         unit: "Pa",
         description: "Vertical normal stress of the pile (Love–Weber over the area below its surface height).",
-        value: |pile| pile.stress().yy,
+        value: |pile| pile_stress(pile).yy,
     },
     Quantity {
         name: "stress_xy",
         unit: "Pa",
         description: "Shear stress of the pile (Love–Weber, symmetrised).",
-        value: |pile| pile.stress().xy,
+        value: |pile| pile_stress(pile).xy,
     },
 ];
 

@@ -11,7 +11,7 @@
 //! the two off-diagonal sums).
 
 use super::contact_record::{Partner, PileContact};
-use super::pile::PileGeometry;
+use super::pile::{Pile, PileGeometry};
 
 /// A 2D stress tensor (Pa, compression positive).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -57,6 +57,15 @@ pub fn band_stress(geometry: &PileGeometry, contacts: &[PileContact], [bottom, t
         }
     }
     Stress { xx: sum[0][0] / area, yy: sum[1][1] / area, xy: 0.5 * (sum[0][1] + sum[1][0]) / area }
+}
+
+/// The stress of a pile: its contacts' Love–Weber sum over the box width times its surface height
+/// (every branch vector counts whole); NaN without a surface.
+pub fn pile_stress(pile: &Pile) -> Stress {
+    let (top, surface) = (pile.height(), pile.surface_height());
+    let whole = band_stress(pile.geometry(), pile.carrying(), [0.0, top]);
+    let scale = top / surface;
+    Stress { xx: whole.xx * scale, yy: whole.yy * scale, xy: whole.xy * scale }
 }
 
 /// The stress in each band between consecutive `edges` (increasing heights, m).

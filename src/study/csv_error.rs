@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::file::ReadTextError;
-use super::lammps_error::LammpsError;
+use super::lammps_error::{LammpsError, drawn_radii};
 
 /// A column of a CSV line: its position (from 1) and, when the header has named it, its name.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -188,14 +188,6 @@ impl fmt::Display for CsvProblem {
 }
 
 impl std::error::Error for CsvError {}
-
-/// Why a placement file must give its disks' radii in a scene with the radius key `key`, and what to do.
-pub(super) fn drawn_radii(key: &str) -> String {
-    format!(
-        "{key} draws radii for generated placements only: give every disk's radius in the file, or remove {key} \
-         so that every disk gets particles.radius"
-    )
-}
 
 /// Why a placement or contact file (CSV or LAMMPS) gives no disks or contacts, naming the file.
 #[derive(Clone, Debug)]

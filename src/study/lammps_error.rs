@@ -161,7 +161,7 @@ impl fmt::Display for LammpsProblem {
             LammpsProblem::NoBoxBounds => write!(f, "no `ITEM: BOX BOUNDS`"),
             LammpsProblem::Unscale { column, cause } => write!(f, "{cause}: needed to unscale `{column}`"),
             LammpsProblem::NoRadii(key) => {
-                write!(f, "no `radius` or `diameter` column, and {}", super::csv_error::drawn_radii(key))
+                write!(f, "no `radius` or `diameter` column, and {}", drawn_radii(key))
             }
             LammpsProblem::NoColumn { plain, scaled } => write!(f, "no `{plain}` column (nor `{scaled}`)"),
             LammpsProblem::SnapshotRows { rows, atoms } => {
@@ -172,3 +172,11 @@ impl fmt::Display for LammpsProblem {
 }
 
 impl std::error::Error for LammpsError {}
+
+/// Why a placement file must give its disks' radii in a scene with the radius key `key`, and what to do.
+pub(super) fn drawn_radii(key: &str) -> String {
+    format!(
+        "{key} draws radii for generated placements only: give every disk's radius in the file, or remove {key} \
+         so that every disk gets particles.radius"
+    )
+}
