@@ -162,6 +162,12 @@ fn dump(result: &SearchResult) -> String {
     lines.collect::<Vec<_>>().join("\n")
 }
 
+/// What a search spent: the cost of every run it made (reference depositions times 100).
+fn spent(result: &SearchResult) -> f64 {
+    let candidates = result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification));
+    result.reference.iter().chain(candidates).map(|o| o.cost).sum()
+}
+
 /// The answer's verified mean cost over the reference's, and the answer.
 fn answer(result: &SearchResult) -> (f64, &demsweep::tune::model::Candidate) {
     let best = &result.candidates[result.recommended.unwrap_or_else(|| panic!("no answer:\n{}", dump(result)))];
@@ -286,12 +292,7 @@ fn a_cheap_corner_that_needs_more_than_max_seeds_to_decide_is_found() {
     assert!(best.runs.len() > config.max_seeds, "it got the seeds that decide it: {}", best.runs.len());
     let searched: Vec<u64> = stand_in.jobs.iter().filter(|j| j.role != Role::Verify).map(|j| j.seed).collect();
     assert!(best.verify_seeds.iter().all(|s| !searched.contains(s)), "verified on seeds the search never ran");
-    let spent: f64 = result
-        .reference
-        .iter()
-        .chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)))
-        .map(|o| o.cost)
-        .sum();
+    let spent = spent(&result);
     assert!(spent <= config.max_spend * 100.0, "{spent}");
 }
 
@@ -460,12 +461,7 @@ fn a_fixed_time_step_damping_only_tune_with_ten_reference_seeds_evaluates_a_damp
     assert!(evaluated >= 1, "a damping setting ran: {evaluated} settings\n{}", dump(&result));
     let (cost, _) = answer(&result);
     assert!(cost < 0.9, "a damping setting is the answer: {cost}\n{}", dump(&result));
-    let spent: f64 = result
-        .reference
-        .iter()
-        .chain(result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification)))
-        .map(|o| o.cost)
-        .sum();
+    let spent = spent(&result);
     assert!(spent <= config.max_spend * 100.0, "within the spend limit: {spent}");
 }
 
