@@ -139,9 +139,9 @@ fn granular_model(
     let what = if wall { "disk-wall" } else { "disk-disk" };
     let tangential_ratio = loading.tangential_damping / loading.normal_damping;
     if law == "hertz_mindlin" {
-        // LAMMPS mixes a pair's material with itself, E_eff = E / (2 (1 − ν²)), and (measured with
-        // the 29 Sep 2021 version Debian ships) a wall's as E_eff = E / (2 (1 − ν)): the E below gives
-        // the run's E*, the ν the run's G*/E* (LAMMPS's Mindlin G_eff of that E and ν).
+        // LAMMPS mixes a pair's material with itself, E_eff = E / (2 (1 − ν²)), and a wall's as
+        // E_eff = E / (2 (1 − ν)): the E below gives the run's E*, the ν the run's G*/E* (LAMMPS's
+        // Mindlin G_eff of that E and ν).
         let nu = poisson_for(material);
         let modulus = if wall { 2.0 * (1.0 - nu) } else { 2.0 * (1.0 - nu * nu) } * material.e_star;
         if wall {

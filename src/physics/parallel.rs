@@ -83,9 +83,7 @@ pub struct Team {
 
 /// Parts per thread a section is cut into when a team has more than one thread (see [`part_end`]):
 /// parts that take longer (more contacts) are made up for by others, as threads claim parts while
-/// any is left. On 2 threads the last parts of a region are a 64th of the section each: at 40 000
-/// disks the run's own thread spent 5 % of its time waiting for the other's last part with 3 per
-/// thread, 2.7 % with 5, 1.7 % with 8 (`perf`).
+/// any is left; more parts shorten the wait for the last one and cost a claim each.
 const PARTS_PER_THREAD: usize = 6;
 
 /// Units before the end of part `k` of a section of `units` units cut into `parts` parts in

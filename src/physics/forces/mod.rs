@@ -5,7 +5,7 @@
 //!    copied into a small table, one array per quantity (branching on contact in short lists only,
 //!    see `TouchingPairs::collect`). In short lists each block keeps its touching pairs' rows (which
 //!    pairs, their disks, radii, `R*` and `m*`) from step to step: a block whose pairs touch as at
-//!    the previous step (some 98 % of the blocks of a settling pile) only gathers positions and
+//!    the previous step (most blocks of a settling pile) only gathers positions and
 //!    velocities (`TouchingPairs::gather_unchanged`; the springs are kept with the rows). The
 //!    same touching test decides: for its pairs in contact, in stage 2's geometry loop; for its
 //!    pairs apart, in the gather: at every step for the few nearly touching, for the others only

@@ -104,7 +104,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Stage 1: appends the touching pairs of `block` to the table with what stage 2 needs; pairs
     /// out of contact lose their spring.
     ///
-    /// Some 30 % of candidates do not touch. With `PREDICTED`, the loop branches on it: in a short
+    /// Many candidates do not touch. With `PREDICTED`, the loop branches on it: in a short
     /// list whose contacts change slowly, the CPU's branch predictor learns the pattern from step
     /// to step and the branch costs nearly nothing. In a long list it cannot, and each mispredicted
     /// branch also waits for the loads of both disks' positions, from L3 or memory when the list is

@@ -226,11 +226,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
         fit::log_linear(&rows, self.config.dims)
     }
 
-    /// Runs `seeds` runs of each new candidate (in order, as many whole candidates as fit below
-    /// `end`); returns how many candidates ran. Runs `seeds` runs of each new candidate, cheapest
-    /// predicted first (see [`Self::expected_cost`]), as many as fit below `end` and the spend
-    /// limit (each with room to verify it, see [`Self::fits_candidate`]); returns how many
-    /// candidates ran.
+    /// Runs `seeds` runs of each new candidate, cheapest predicted first (see
+    /// [`Self::expected_cost`]), as many as fit below `end` and the spend limit (each with room to
+    /// verify it, see [`Self::fits_candidate`]); returns how many candidates ran.
     pub(super) fn evaluate_new(&mut self, fresh: &[usize], end: usize) -> Result<usize, TuneError> {
         let seeds = self.config.seeds;
         let mut order = fresh.to_vec();
