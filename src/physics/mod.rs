@@ -54,7 +54,7 @@ pub mod warning;
 /// The version of the physics: bumped by every change that changes a run's results, so that runs
 /// stored by another version are not reused as if this one had made them (see `study::identity`).
 /// What each version changed is in the history of this line (git).
-pub const PHYSICS_VERSION: u32 = 2;
+pub const PHYSICS_VERSION: u32 = 3;
 
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
