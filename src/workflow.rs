@@ -81,20 +81,11 @@ pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerEr
 }
 
 /// A tune file's spec and its warnings (clipped lever ranges, the reference scene's predicted
-/// validity warnings), each as printed after the file's path.
+/// validity warnings), each naming the file.
 pub fn load_tune(path: &Path) -> Result<(TuneSpec, Vec<String>), StudyErrors> {
     let spec = tune::load(path)?;
-    let mut warnings = spec.warnings.clone();
-    match tune::validity::predicted_warnings(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) {
-        Ok(predicted) => warnings.extend(predicted.iter().map(|w| {
-            format!(
-                "scene (the reference): predicted: {w}. The reference itself breaks {}: tune holds every candidate \
-                 to no worse than the reference on it",
-                w.kind.limit_key()
-            )
-        })),
-        Err(reason) => warnings.push(format!("scene (the reference): {reason}")),
-    }
+    let clipped = spec.warnings.iter().map(|w| format!("{}: {w}", path.display()));
+    let warnings = clipped.chain(tune::reference_warnings(&spec)).collect();
     Ok((spec, warnings))
 }
 

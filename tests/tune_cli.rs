@@ -244,6 +244,31 @@ fn bad_tune_files_give_every_problem_and_write_nothing() {
 }
 
 #[test]
+fn check_names_the_file_line_and_key_of_the_references_predicted_warnings() {
+    let dir = runner_common::scratch("tune_reference_warnings");
+    let stage = "[[scene.stages]]\nname = \"fill\"\nuntil.time = 0.1\nintegrator.time_step = 2e-4\n\n[levers]\n";
+    let tune = TUNE.replace("time_step = 7e-6", "time_step = 1e-4").replace("[levers]\n", stage);
+    let file = write_tune(&dir, &tune);
+    let check = demsweep(&["check", file.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stderr));
+    let stderr = text(&check.stderr);
+    let line = |written: &str| tune.lines().position(|l| l == written).unwrap() + 1;
+    let name = file.display().to_string();
+    for expected in [
+        format!(
+            "{name}:{}:12: scene.integrator.time_step: value 0.0001: predicted: ",
+            line("integrator.time_step = 1e-4")
+        ),
+        format!(
+            "{name}:{}:12: scene.stages.fill.integrator.time_step: value 0.0002: predicted in stage \"fill\": ",
+            line("integrator.time_step = 2e-4")
+        ),
+    ] {
+        assert!(stderr.contains(&format!("warning: {expected}")), "missing `{expected}` in:\n{stderr}");
+    }
+}
+
+#[test]
 fn a_tolerance_the_reference_cannot_decide_stops_after_the_reference_with_its_own_exit_status() {
     let dir = runner_common::scratch("tune_undecidable");
     let file = write_tune(&dir, &TUNE.replace("pile_height = 0.25", "pile_height = 1e-6"));

@@ -420,7 +420,7 @@ fn tune<'py>(
     answer.set_item("ran", run.report.ran)?;
     answer.set_item("reused", run.report.reused)?;
     answer.set_item("particle_steps", run.report.total_particle_steps)?;
-    answer.set_item("warnings", warnings.iter().map(|w| format!("{}: {w}", path.display())).collect::<Vec<_>>())?;
+    answer.set_item("warnings", warnings)?;
     Ok(answer)
 }
 

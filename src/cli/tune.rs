@@ -58,7 +58,7 @@ pub fn load_or_report(path: &Path, strict: bool) -> Result<(TuneSpec, usize), Ex
         ExitCode::from(INVALID_STUDY)
     })?;
     for warning in &warnings {
-        errln!("warning: {}: {warning}", path.display());
+        errln!("warning: {warning}");
     }
     refuse_warnings(path, warnings.len(), strict)?;
     Ok((spec, warnings.len()))

@@ -8,6 +8,7 @@ use crate::physics::SceneConfig;
 use crate::physics::number::exact;
 use crate::physics::placement;
 use crate::physics::quantity;
+use crate::physics::warning::ValidityWarning;
 use crate::study::axes::{self, RangeEnds, Spacing};
 use crate::study::errors::{ErrorSink, StudyError, StudyErrors, did_you_mean};
 use crate::study::file::{Document, KeyPath, MAX_STUDY_BYTES, StudyFile, quoted_key, read_text};
@@ -128,6 +129,33 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         spec.standards = ladder::standard_settings(&spec.reference, &spec.levers);
     }
     sink.into_result(spec)
+}
+
+/// The reference scene's predicted validity warnings, each at the key at fault as a study's are
+/// (`FILE:LINE:COLUMN: scene.KEY: value V: predicted: ...`, a stage's key where a stage breaks the rule).
+pub fn reference_warnings(spec: &TuneSpec) -> Vec<String> {
+    let file = StudyFile::new(&spec.path, spec.text.clone());
+    let doc = Document::parse(&file).ok();
+    let span = |key: &str| {
+        let path: KeyPath = std::iter::once("scene").chain(key.split('.')).map(String::from).collect();
+        doc.as_ref().and_then(|doc| doc.nearest_span(&path))
+    };
+    let scene = &spec.reference;
+    let predicted = match validity::predicted_in_stages(scene, spec.initial.as_deref().map(Vec::as_slice)) {
+        Ok(predicted) => predicted,
+        Err(reason) => return vec![file.error(span(""), "scene", format!("the reference: {reason}")).to_string()],
+    };
+    let warning = |(stage, w): (Option<usize>, ValidityWarning)| {
+        let (key, value) = scene.key_at_fault(w.kind, stage);
+        let during = stage.map(|k| format!(" in stage \"{}\"", scene.stages[k].name)).unwrap_or_default();
+        let reason = format!(
+            "predicted{during}: {w}. The reference itself breaks {}: tune holds every candidate to no worse than \
+             the reference on it",
+            w.kind.limit_key()
+        );
+        file.error(span(&key), format!("scene.{key}"), reason).with_value(exact(value)).to_string()
+    };
+    predicted.into_iter().map(warning).collect()
 }
 
 fn lever_doc_path(path: &[String]) -> KeyPath {

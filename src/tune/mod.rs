@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-pub use file::{is_tune_file, keepable_metrics, load};
+pub use file::{is_tune_file, keepable_metrics, load, reference_warnings};
 pub use model::{Evaluator, Job, Outcome, Role, Screen, SearchConfig, SearchResult, TuneError};
 pub use spec::StandardSetting;
 pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};

@@ -15,6 +15,7 @@ use super::search::PRICE_MARGIN;
 use super::{TuneSpec, seed_text};
 use crate::output::guard::Existing;
 use crate::output::{csv, guard};
+use crate::physics::SceneConfig;
 use crate::physics::number::short;
 use crate::physics::quantity::{self, PILE_METRICS};
 use crate::plot::tune::{CostPoint, LeverSeries, cost_along_levers_chart, cost_vs_difference_chart};
@@ -77,19 +78,33 @@ pub fn settings(spec: &TuneSpec, candidate: &Candidate) -> String {
 }
 
 /// The time step a candidate's runs actually use, and what it is of the contact time (unless its
-/// settings give that fraction: one figure per fraction).
+/// settings give that fraction: one figure per fraction); then each stage's that differs from it.
 fn resolved_time_step(spec: &TuneSpec, candidate: &Candidate) -> String {
     let Ok(scene) = super::candidate_scene(spec, candidate) else { return String::new() };
-    let disks = spec.initial.as_deref().map(Vec::as_slice);
-    let dt = crate::physics::scene_time_step(&scene, disks).dt;
     let given = spec.setting_values(&candidate.point, candidate.standard);
-    let fraction = super::validity::predicted_report(&scene, disks).map(|r| r.dt_over_contact_time);
-    match fraction {
-        Ok(f) if !given.iter().any(|(k, _)| k == "integrator.contact_time_fraction") => {
-            format!("time step {} s ({} of the contact time)", short(dt), short(f))
+    let fraction_given =
+        |prefix: &str| given.iter().any(|(k, _)| k.strip_prefix(prefix) == Some("integrator.contact_time_fraction"));
+    let (dt, mut text) = step_text(spec, &scene, fraction_given(""));
+    for stage in &scene.stages {
+        let (stage_dt, stage_text) =
+            step_text(spec, &scene.in_stage(stage), fraction_given(&format!("stages.{}.", stage.name)));
+        if stage_dt != dt {
+            let _ = write!(text, "; in stage \"{}\": {stage_text}", stage.name);
         }
-        _ => format!("time step {} s", short(dt)),
     }
+    text
+}
+
+/// The time step `scene` runs with, and its text: `time step DT s (F of the contact time)`, the
+/// fraction left out where `fraction_given`.
+fn step_text(spec: &TuneSpec, scene: &SceneConfig, fraction_given: bool) -> (f64, String) {
+    let disks = spec.initial.as_deref().map(Vec::as_slice);
+    let dt = crate::physics::scene_time_step(scene, disks).dt;
+    let text = match super::validity::predicted_report(scene, disks).map(|r| r.dt_over_contact_time) {
+        Ok(f) if !fraction_given => format!("time step {} s ({} of the contact time)", short(dt), short(f)),
+        _ => format!("time step {} s", short(dt)),
+    };
+    (dt, text)
 }
 
 /// The 95 % upper bound of a rate seen `failed` times in `n` trials (Clopper-Pearson).
@@ -1060,6 +1075,47 @@ mod tests {
             end: SearchEnd::NotSearched,
             wall_rates: Vec::new(),
         }
+    }
+
+    /// A tune whose levers are two stages' steps: a contact-time fraction and a time step.
+    const STAGED: &str = r#"
+[scene]
+particles.count = 30
+particles.radius = 0.005
+domain.width = 0.1
+domain.height = 0.15
+material.youngs_modulus = 5e10
+integrator.time_step = 7e-6
+run.duration = 1.0
+[[scene.stages]]
+name = "fill"
+until.time = 0.1
+damping.local = 0.5
+[[scene.stages]]
+name = "calm"
+until.time = 0.1
+damping.local = 0.3
+[levers]
+"stages.fill.integrator.contact_time_fraction" = [0.02, 0.04]
+"stages.calm.integrator.time_step" = [2e-6, 3e-6]
+[keep]
+pile_height = 0.25
+"#;
+
+    #[test]
+    fn the_sheet_states_the_step_of_a_stage_whose_step_a_lever_sets() {
+        let path = std::env::temp_dir().join(format!("demsweep-staged-tune-{}.toml", std::process::id()));
+        std::fs::write(&path, STAGED).unwrap();
+        let spec = crate::tune::load(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let cand = Candidate { point: vec![0.0, 0.0], ..candidate(1, None, Vec::new()) };
+        let scene = crate::tune::candidate_scene(&spec, &cand).unwrap();
+        let dt = |k: usize| crate::physics::scene_time_step(&scene.in_stage(&scene.stages[k]), None).dt;
+        let text = resolved_time_step(&spec, &cand);
+        assert!(text.starts_with(&format!("time step {} s (", short(7e-6))), "{text}");
+        assert!(text.contains(&format!("; in stage \"fill\": time step {} s;", short(dt(0)))), "{text}");
+        assert!(text.contains(&format!("; in stage \"calm\": time step {} s (", short(2e-6))), "{text}");
+        assert!(text.ends_with(" of the contact time)") && dt(0) != 7e-6 && dt(1) == 2e-6, "{text}");
     }
 
     #[test]

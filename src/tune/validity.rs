@@ -40,11 +40,18 @@ pub fn predicted_warnings(
     scene: &SceneConfig,
     initial: Option<&[InitialDisk]>,
 ) -> Result<Vec<ValidityWarning>, ScreenError> {
+    Ok(predicted_in_stages(scene, initial)?.into_iter().map(|(_, w)| w).collect())
+}
+
+/// [`predicted_warnings`], each with the index of the stage it is predicted in (None: the scene's own).
+pub fn predicted_in_stages(
+    scene: &SceneConfig,
+    initial: Option<&[InitialDisk]>,
+) -> Result<Vec<(Option<usize>, ValidityWarning)>, ScreenError> {
     let disks = disks_of(scene, initial)?;
-    let mut warnings = predict_stability(scene, &disks).warnings;
-    let stages = predict_stage_warnings(scene, &disks, &warnings);
-    warnings.extend(stages.into_iter().map(|(_, w)| w));
-    Ok(warnings)
+    let own = predict_stability(scene, &disks).warnings;
+    let stages = predict_stage_warnings(scene, &disks, &own);
+    Ok(own.into_iter().map(|w| (None, w)).chain(stages.into_iter().map(|(k, w)| (Some(k), w))).collect())
 }
 
 /// The stability prediction of a scene from its initial disks (generated when `initial` is None).
