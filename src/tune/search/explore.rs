@@ -2,6 +2,7 @@
 //! around the incumbent.
 
 use super::run::Search;
+use super::spend::FirstRound;
 use crate::stats::fit;
 use crate::tune::design::{self, QUANT};
 use crate::tune::judge::predicted_breach;
@@ -31,10 +32,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// Runs candidate `k`'s first seeds when they fit the spend limit with room to verify it (cut
     /// where only that fits, [`Self::first_round`]); whether they ran.
     pub(super) fn run_first(&mut self, k: usize) -> Result<bool, TuneError> {
-        let Some(cap) = self.fits_candidate(k) else { return Ok(false) };
-        if let Some(cap) = cap {
-            self.first_caps.insert(self.result.candidates[k].id, cap);
-        }
+        let Some(round) = self.fits_candidate(k) else { return Ok(false) };
+        self.cut_first_seeds(k, round);
         self.run_more(&[(k, self.config.seeds)])?;
         Ok(true)
     }
@@ -244,14 +243,13 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if self.result.runs + runs + seeds > end {
                 continue;
             }
-            match self.first_round(k, runs, price, per_run) {
-                Some(None) => price += seeds as f64 * per_run,
-                Some(Some(cap)) => {
-                    self.first_caps.insert(self.result.candidates[k].id, cap);
-                    price += seeds as f64 * cap / self.result.reference_cost();
-                }
-                None => continue,
-            }
+            let Some(round) = self.first_round(k, runs, price, per_run) else { continue };
+            price += seeds as f64
+                * match round {
+                    FirstRound::Whole => per_run,
+                    FirstRound::Cut(cap) => cap / self.result.reference_cost(),
+                };
+            self.cut_first_seeds(k, round);
             chosen.push((k, seeds));
         }
         self.run_more(&chosen)?;

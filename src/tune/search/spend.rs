@@ -8,6 +8,15 @@ use crate::tune::model::{Evaluator, SearchConfig, State};
 /// spread.
 pub const PRICE_MARGIN: f64 = 1.1;
 
+/// How a candidate's first seeds fit the run budget and the spend limit with room to verify it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum FirstRound {
+    /// At the candidate's predicted cost.
+    Whole,
+    /// Only with each run cut at this cost (see [`Search::first_round`]).
+    Cut(f64),
+}
+
 impl<'a, E: Evaluator> Search<'a, E> {
     /// Whether `runs` more runs predicted at `relative_cost` of a reference run each fit the run
     /// budget and the spend limit.
@@ -58,23 +67,23 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// Whether candidate `k`'s first seeds fit the spend limit with room to verify it, and the cost
     /// cap of each of those runs (see [`Self::first_round`]).
-    pub(super) fn fits_candidate(&self, k: usize) -> Option<Option<f64>> {
+    pub(super) fn fits_candidate(&self, k: usize) -> Option<FirstRound> {
         self.first_round(k, 0, 0.0, self.expected_cost(k))
     }
 
     /// How candidate `k`'s first seeds, after `runs` runs priced at `price` reference runs already
-    /// chosen for the batch, fit the run budget and the spend limit with room to verify it: Some(None)
-    /// at its predicted cost `per_run` (reference runs); Some(Some(cap)) only when each run is cut at
-    /// `cap` (a cost), the most a run may cost for the round and its verification at that cost to
-    /// fit, when that is at least its time step's cost over [`FAR_TOO_DEAR`] (a setting that settles
-    /// that much sooner than the reference is rare): first seeds are information, and a candidate
-    /// that settles soon enough is verified within the spend; None when neither fits.
-    pub(super) fn first_round(&self, k: usize, runs: usize, price: f64, per_run: f64) -> Option<Option<f64>> {
+    /// chosen for the batch, fit the run budget and the spend limit with room to verify it: whole at
+    /// its predicted cost `per_run` (reference runs); else cut, each run at the most it may cost for
+    /// the round and its verification at that cost to fit, when that is at least its time step's cost
+    /// over [`FAR_TOO_DEAR`] (a setting that settles that much sooner than the reference is rare):
+    /// first seeds are information, and a candidate that settles soon enough is verified within the
+    /// spend; None when neither fits.
+    pub(super) fn first_round(&self, k: usize, runs: usize, price: f64, per_run: f64) -> Option<FirstRound> {
         let c = self.config;
         let runs = runs + c.seeds;
         let seeds = c.seeds as f64;
         if self.fits_price(runs, price + seeds * per_run + self.reservation(k)) {
-            return Some(None);
+            return Some(FirstRound::Whole);
         }
         let reference = self.result.reference_cost();
         let left = (c.max_spend * reference - self.spent) / (PRICE_MARGIN * reference) - price;
@@ -82,7 +91,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let cap = (left / (seeds + c.verify_seeds as f64)).min((left - pending) / seeds);
         let floor = self.result.candidates[k].relative_cost.unwrap_or(1.0) / FAR_TOO_DEAR;
         let fits = c.cut_runs && cap >= floor && self.result.runs + runs <= c.budget;
-        fits.then_some(Some(cap * reference))
+        fits.then_some(FirstRound::Cut(cap * reference))
+    }
+
+    /// Records the cut of candidate `k`'s first seeds, where its first round is [`FirstRound::Cut`].
+    pub(super) fn cut_first_seeds(&mut self, k: usize, round: FirstRound) {
+        if let FirstRound::Cut(cap) = round {
+            self.first_caps.insert(self.result.candidates[k].id, cap);
+        }
     }
 
     /// What a verification round would cost (in reference runs) when candidate `k` may be the one
@@ -149,10 +165,7 @@ pub fn spend_plan(config: &SearchConfig) -> SpendPlan {
     let left = (config.max_spend - reference).max(0.0);
     let (seeds, verify) = (config.seeds as f64, config.verify_seeds as f64);
     let first = PRICE_MARGIN * (seeds + verify);
-    let candidates = match left >= first {
-        true => 1 + ((left - first) / (PRICE_MARGIN * seeds)).floor() as usize,
-        false => 0,
-    };
+    let candidates = if left >= first { 1 + ((left - first) / (PRICE_MARGIN * seeds)).floor() as usize } else { 0 };
     let cap = left / first;
     let least = (2 * config.seeds).max(6) as f64;
     SpendPlan {
