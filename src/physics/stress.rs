@@ -12,6 +12,7 @@
 
 use super::contact_record::{Partner, PileContact};
 use super::pile::{Pile, PileGeometry};
+use super::record::Snapshot;
 
 /// A 2D stress tensor (Pa, compression positive).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -71,6 +72,94 @@ pub fn pile_stress(pile: &Pile) -> Stress {
 /// The stress in each band between consecutive `edges` (increasing heights, m).
 pub fn stress_profile(geometry: &PileGeometry, contacts: &[PileContact], edges: &[f64]) -> Vec<Stress> {
     edges.windows(2).map(|band| band_stress(geometry, contacts, [band[0], band[1]])).collect()
+}
+
+/// Height of a profile's bands at most, in largest disk diameters: enough layers of grains for the
+/// band average to be a stress.
+pub const PROFILE_BAND_DIAMETERS: f64 = 2.0;
+
+/// The stress of a pile per horizontal band, as columns (one entry per band, from the floor up): the
+/// pile's height (its highest disk top) cut into equal bands of at most
+/// [`PROFILE_BAND_DIAMETERS`] largest diameters; empty without disks.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StressProfile {
+    /// Band bottom (m).
+    pub bottom: Vec<f64>,
+    /// Band top (m).
+    pub top: Vec<f64>,
+    /// The band's stress ([`band_stress`]).
+    pub stress: Vec<Stress>,
+    /// Normal stress on the side walls in the band (Pa): the side walls' normal forces on the disks
+    /// touching them there over twice the band's height times the disks' thickness (the two walls'
+    /// mean).
+    pub wall_normal: Vec<f64>,
+    /// Shear stress on the side walls in the band (Pa): the upward force the side walls' friction
+    /// exerts on the disks there, over the same area (positive when the walls carry weight).
+    pub wall_shear: Vec<f64>,
+}
+
+impl StressProfile {
+    /// The profile of a stored state (its disks and contact network) in a box `width` wide, disks
+    /// `thickness` thick.
+    pub fn of_state(state: &Snapshot, width: f64, thickness: f64) -> Self {
+        // The stress needs no weight.
+        let geometry = PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: f64::NAN, width, thickness };
+        Self::measure(&geometry, &state.contacts.pile_contacts(&state.r))
+    }
+
+    /// The profile of the disks of `geometry` with `contacts`.
+    pub fn measure(geometry: &PileGeometry, contacts: &[PileContact]) -> Self {
+        let edges = profile_edges(geometry);
+        let mut profile = Self::default();
+        for band in edges.windows(2) {
+            let band = [band[0], band[1]];
+            let [normal, shear] = wall_stress(geometry, contacts, band);
+            profile.bottom.push(band[0]);
+            profile.top.push(band[1]);
+            profile.stress.push(band_stress(geometry, contacts, band));
+            profile.wall_normal.push(normal);
+            profile.wall_shear.push(shear);
+        }
+        profile
+    }
+
+    /// Number of bands.
+    pub fn len(&self) -> usize {
+        self.bottom.len()
+    }
+
+    /// Whether it has no band.
+    pub fn is_empty(&self) -> bool {
+        self.bottom.is_empty()
+    }
+}
+
+/// The band edges of a pile's profile (see [`StressProfile`]); none without disks.
+fn profile_edges(geometry: &PileGeometry) -> Vec<f64> {
+    let height = geometry.y.iter().zip(geometry.r).map(|(y, r)| y + r).fold(0.0, f64::max);
+    let largest = geometry.r.iter().copied().fold(0.0, f64::max);
+    if !(height > 0.0 && largest > 0.0) {
+        return Vec::new();
+    }
+    let bands = (height / (PROFILE_BAND_DIAMETERS * 2.0 * largest)).ceil().max(1.0) as usize;
+    (0..=bands).map(|k| height * k as f64 / bands as f64).collect()
+}
+
+/// The side walls' normal and shear stress (Pa) over the band `[bottom, top)`: their contacts'
+/// normal forces and upward friction forces on the disks whose contact point lies in the band, over
+/// twice the band's area.
+fn wall_stress(geometry: &PileGeometry, contacts: &[PileContact], [bottom, top]: [f64; 2]) -> [f64; 2] {
+    let area = 2.0 * (top - bottom) * geometry.thickness;
+    let side = contacts.iter().filter(|c| matches!(c.partner, Partner::Wall(1 | 2)) && c.normal_force > 0.0);
+    let mut sum = [0.0; 2];
+    for contact in side {
+        let (force, branch) = force_and_branch(geometry, contact);
+        if (bottom..top).contains(&(geometry.y[contact.disk] + branch[1])) {
+            sum[0] += contact.normal_force;
+            sum[1] += force[1];
+        }
+    }
+    sum.map(|s| s / area)
 }
 
 /// The force on the contact's first disk and its branch vector (m).
@@ -167,5 +256,62 @@ mod tests {
         // Force on disk 0: (−3, 1); branch (0.2, 0): −f ⊗ l = [[0.6, 0], [−0.2, 0]] over A h = 0.4 m².
         assert!((s.xx - 0.6 / 0.4).abs() < 1e-12 && s.yy == 0.0, "{s:?}");
         assert!((s.xy + 0.1 / 0.4).abs() < 1e-12, "{s:?}");
+    }
+
+    #[test]
+    fn a_profile_cuts_the_pile_height_into_equal_bands_of_at_most_two_diameters() {
+        // Five disks of radius 0.1 stacked: 1 m tall, so three bands of 1/3 m (two diameters: 0.4 m).
+        let (x, y, r) = ([0.5; 5], [0.1, 0.3, 0.5, 0.7, 0.9], [0.1; 5]);
+        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 5.0, width: 1.0, thickness: 1.0 };
+        let contact = |disk, partner, normal_force| PileContact {
+            disk,
+            partner,
+            normal: [0.0, if partner == Partner::Wall(0) { -1.0 } else { 1.0 }],
+            normal_force,
+            tangential_force: 0.0,
+            friction: 0.0,
+            overlap_ratio: 0.0,
+            history: (0.0, 0.0),
+        };
+        let mut contacts: Vec<PileContact> = (0..4).map(|k| contact(k, Partner::Disk(k + 1), 4.0 - k as f64)).collect();
+        contacts.push(contact(0, Partner::Wall(0), 5.0));
+        let profile = StressProfile::measure(&geometry, &contacts);
+        assert_eq!(profile.len(), 3);
+        assert_eq!((profile.bottom[0], *profile.top.last().unwrap()), (0.0, 1.0));
+        let edges = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0];
+        assert_eq!(profile.stress, stress_profile(&geometry, &contacts, &edges));
+        // Without side-wall contacts the walls carry nothing.
+        assert_eq!((profile.wall_normal, profile.wall_shear), (vec![0.0; 3], vec![0.0; 3]));
+    }
+
+    #[test]
+    fn the_side_walls_load_counts_in_the_band_of_its_contact_point() {
+        // Two disks of radius 0.1, one above the other, each pressed against a side wall with 2 N;
+        // the wall's friction holds the lower one up with 1 N.
+        let (x, y, r) = ([0.1, 0.9], [0.1, 0.7], [0.1, 0.1]);
+        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 0.0, width: 1.0, thickness: 0.5 };
+        let wall = |disk, wall, nx: f64, tangential_force| PileContact {
+            disk,
+            partner: Partner::Wall(wall),
+            normal: [nx, 0.0],
+            normal_force: 2.0,
+            tangential_force,
+            friction: 0.5,
+            overlap_ratio: 0.0,
+            history: (0.0, 0.0),
+        };
+        // On the left wall (n = −x) an upward force on the disk is a negative tangential force.
+        let contacts = [wall(0, 1, -1.0, -1.0), wall(1, 2, 1.0, 0.0)];
+        let profile = StressProfile::measure(&geometry, &contacts);
+        // 0.8 m tall: two bands of 0.4 m, each over an area 2 × 0.4 × 0.5 = 0.4 m².
+        assert_eq!(profile.len(), 2);
+        assert!((profile.bottom[1] - 0.4).abs() < 1e-12, "{profile:?}");
+        assert!((profile.wall_normal[0] - 5.0).abs() < 1e-12 && (profile.wall_normal[1] - 5.0).abs() < 1e-12);
+        assert!((profile.wall_shear[0] - 2.5).abs() < 1e-12 && profile.wall_shear[1] == 0.0, "{profile:?}");
+    }
+
+    #[test]
+    fn a_state_without_disks_has_no_profile() {
+        assert!(StressProfile::of_state(&Snapshot::default(), 1.0, 1.0).is_empty());
     }
 }
