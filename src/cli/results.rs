@@ -166,6 +166,10 @@ pub struct HistoryArgs {
     results: PathBuf,
     /// The run id (first column of `demsweep summary`), e.g. r0007.
     run_id: String,
+    /// Print the run's stress profile instead: one line per height band of the settled pile (band
+    /// edges in m, its Love–Weber stress and the side walls' normal and shear stress in Pa).
+    #[arg(long)]
+    stress_profile: bool,
 }
 
 #[derive(Args)]
@@ -490,10 +494,13 @@ fn bad_input(error: &output::OutputError) -> ExitCode {
     ExitCode::from(BAD_INPUT)
 }
 
-/// `demsweep history`: one run's histories as CSV on stdout.
+/// `demsweep history`: one run's histories (or its stress profile) as CSV on stdout.
 pub fn history(args: &HistoryArgs) -> ExitCode {
     let mut csv = Vec::new();
-    let outcome = output::history::to_csv(&args.results, &args.run_id, &mut csv);
+    let outcome = match args.stress_profile {
+        true => output::history::stress_profile_to_csv(&args.results, &args.run_id, &mut csv),
+        false => output::history::to_csv(&args.results, &args.run_id, &mut csv),
+    };
     if outcome.is_ok() {
         out!("{}", String::from_utf8_lossy(&csv));
     }

@@ -68,6 +68,8 @@ pub enum OutputReason {
     NoGroup(String),
     /// A run without histories.
     NoHistories(String),
+    /// The run has no stress profile (failed run, histories off, or a file written before profiles).
+    NoStressProfile(String),
     /// Run groups that cannot be read.
     Damaged(Vec<DamagedGroup>),
     /// A dataset of a run that cannot be read.
@@ -191,6 +193,11 @@ impl fmt::Display for OutputReason {
             NoHistories(run) => {
                 write!(f, "run `{run}` has no histories (failed run, or the study's output.histories is off)")
             }
+            NoStressProfile(run) => write!(
+                f,
+                "run `{run}` has no stress profile (failed run, the study's output.histories is off, or a file \
+                 written before stress profiles)"
+            ),
             Damaged(damaged) => write!(f, "{}", damage_text(damaged)),
             BadData { run, dataset, reason } => write!(f, "run {run}: /{dataset} cannot be read: {reason}"),
             BadCopy { group, reason } => write!(f, "/{group}: {reason}"),

@@ -9,6 +9,7 @@
 //!                          order); attributes and the tables values, parameters, warnings: see
 //!                          `run_attrs`
 //!     history              compound table, one field per series, one row per sample (attr `units`)
+//!     stress_profile       compound table, one row per height band of the settled pile (attr `units`)
 //!     final                compound table, one field per disk property (`DISK_FIELDS`: x, y, vx,
 //!                          vy, omega, angle, r, contact_force), one row per disk (attrs `time`, `units`)
 //!     final_contacts       compound table, one field per contact property, one row per contact
@@ -37,6 +38,7 @@ use super::compound::Field;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::{self, HISTORY_SERIES, SeriesValues};
 use crate::physics::record::{DISK_FIELDS, History, Snapshot};
+use crate::physics::stress::{Stress, StressProfile};
 
 /// The prefix of a batch group's name: the run groups one commit wrote are in `/runs_<k>`, `k` the
 /// commit's number (zero-padded to [`BATCH_DIGITS`] digits, more past 99 999).
@@ -105,6 +107,26 @@ pub const UNITS: &str = "units";
 /// The units of the history table's fields, in order.
 pub fn history_units() -> AttrValue {
     AttrValue::StringArray(HISTORY_SERIES.iter().map(|s| s.quantity.unit.to_string()).collect())
+}
+
+/// The run's stress profile table (written with the histories).
+pub const STRESS_PROFILE: &str = "stress_profile";
+
+/// The stress profile table's fields with their units, in order: band edges (m), the band's stress
+/// components, pressure and deviatoric stress, the side walls' normal and shear stress (Pa).
+pub fn stress_profile_columns(p: &StressProfile) -> [(&'static str, &'static str, Vec<f64>); 9] {
+    let stress = |f: fn(&Stress) -> f64| p.stress.iter().map(f).collect();
+    [
+        ("bottom", "m", p.bottom.clone()),
+        ("top", "m", p.top.clone()),
+        ("stress_xx", "Pa", stress(|s| s.xx)),
+        ("stress_yy", "Pa", stress(|s| s.yy)),
+        ("stress_xy", "Pa", stress(|s| s.xy)),
+        ("stress_pressure", "Pa", stress(Stress::pressure)),
+        ("stress_deviatoric", "Pa", stress(Stress::deviatoric)),
+        ("wall_normal_stress", "Pa", p.wall_normal.clone()),
+        ("wall_shear_stress", "Pa", p.wall_shear.clone()),
+    ]
 }
 
 /// The units of the state tables' fields ([`DISK_FIELDS`]), in order (attribute [`UNITS`]).

@@ -17,7 +17,9 @@ use super::row::{DEMSWEEP_VERSION, SummaryRow};
 use super::sink::{ResultSink, RunResult, Tables};
 use super::table::{Column, ColumnData, SummaryTable};
 use super::{LayoutError, OutputError, OutputReason, hdf5_error, run_attrs, write_csv_files};
+use crate::physics::SceneConfig;
 use crate::physics::record::{DISK_FIELDS, RunRecord, Snapshot};
+use crate::physics::stress::StressProfile;
 use crate::study::OutputOptions;
 
 /// A results file open for writing.
@@ -231,6 +233,9 @@ impl ResultsWriter {
             run_attrs::stage_tables(g, &run.row);
             if let Some(record) = &run.record {
                 stage_record(g, record, output);
+                if output.histories {
+                    stage_stress_profile(g, record, &run.scene);
+                }
             }
         })
         .map_err(|e| hdf5_error(&self.path, e))?;
@@ -493,6 +498,18 @@ fn stage_record(g: &mut StagedGroup<'_>, record: &RunRecord, output: &OutputOpti
     if output.frames && !record.frames.is_empty() {
         g.create_group_with(layout::FRAMES, |g| stage_frames(g, &record.frames));
     }
+}
+
+/// The stress profile of the run's final state (see [`layout::STRESS_PROFILE`]).
+fn stage_stress_profile(g: &mut StagedGroup<'_>, record: &RunRecord, scene: &SceneConfig) {
+    let profile = StressProfile::of_state(&record.final_state, scene.domain.width, scene.particles.thickness);
+    let columns = layout::stress_profile_columns(&profile);
+    let fields: Vec<(&str, Field<'_>)> = columns.iter().map(|(name, _, v)| (*name, Field::F64(v))).collect();
+    let units = columns.iter().map(|(_, unit, _)| unit.to_string()).collect();
+    g.create_dataset(layout::STRESS_PROFILE, |b| {
+        compound::stage(b, &fields);
+        b.set_attr(layout::UNITS, AttrValue::StringArray(units));
+    });
 }
 
 /// The frames as arrays over time: `time` (T), one (T, N) array per disk property, and the contacts

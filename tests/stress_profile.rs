@@ -1,0 +1,77 @@
+//! The stress profile a run stores with its histories, read back by `demsweep history --stress-profile`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn demsweep(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+/// A narrow column of 60 disks with wall friction, settled; `histories` on or off.
+fn run_column(dir: &Path, histories: bool) -> std::path::PathBuf {
+    let study = dir.join("column.toml");
+    let text = format!(
+        "name = \"column\"\n[scene]\nparticles.count = 60\nparticles.radius = 0.005\ndomain.width = 0.05\n\
+         domain.height = 0.3\nwall_material.friction = 0.5\nrun.duration = 1.5\n[output]\nframes = false\n\
+         histories = {histories}\n"
+    );
+    std::fs::write(&study, text).unwrap();
+    let out = dir.join("out");
+    let run = demsweep(&["run", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--progress", "quiet"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    out.join("column.h5")
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("demsweep_stress_profile_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The value of `column` in the first run of a summary CSV.
+fn summary_value(results: &Path, column: &str) -> f64 {
+    let text = std::fs::read_to_string(results.with_file_name("column_summary.csv")).unwrap();
+    let mut lines = text.lines();
+    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = names.iter().position(|n| *n == column).unwrap();
+    lines.next().unwrap().split(',').nth(k).unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_run_stores_its_stress_profile_from_the_floor_to_the_pile_top() {
+    let dir = scratch("stored");
+    let results = run_column(&dir, true);
+    let out = demsweep(&["history", results.to_str().unwrap(), "r0000", "--stress-profile"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "bottom,top,stress_xx,stress_yy,stress_xy,stress_pressure,stress_deviatoric,wall_normal_stress,wall_shear_stress"
+    );
+    let rows: Vec<Vec<f64>> =
+        lines.filter(|l| !l.is_empty()).map(|l| l.split(',').map(|c| c.parse().unwrap()).collect()).collect();
+    // Bands of at most two diameters (2 cm) cover the pile without gaps, up to its highest disk top.
+    let height = summary_value(&results, "pile_height");
+    assert!(rows.len() as f64 >= height / 0.02, "{} bands for {height} m", rows.len());
+    assert_eq!(rows[0][0], 0.0);
+    assert!((rows.last().unwrap()[1] - height).abs() < 1e-12, "{text}");
+    assert!(rows.windows(2).all(|w| w[0][1] == w[1][0]), "{text}");
+    // Compressive, deepest at the floor; the rough walls are pressed and carry weight.
+    let (bottom, top) = (&rows[0], rows.last().unwrap());
+    assert!(bottom[3] > 0.0 && bottom[3] > top[3], "{text}");
+    assert!(rows.iter().all(|r| r[7] >= 0.0) && rows.iter().any(|r| r[7] > 0.0 && r[8] > 0.0), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn without_histories_a_run_has_no_stress_profile_and_says_so() {
+    let dir = scratch("off");
+    let results = run_column(&dir, false);
+    let out = demsweep(&["history", results.to_str().unwrap(), "r0000", "--stress-profile"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("run `r0000` has no stress profile"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
