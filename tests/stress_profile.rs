@@ -9,11 +9,16 @@ fn demsweep(args: &[&str]) -> Output {
 
 /// A narrow column of 60 disks with wall friction, settled; `histories` on or off.
 fn run_column(dir: &Path, histories: bool) -> std::path::PathBuf {
+    run_study(dir, histories, "")
+}
+
+/// The column with the study text `sweep` after its output table.
+fn run_study(dir: &Path, histories: bool, sweep: &str) -> std::path::PathBuf {
     let study = dir.join("column.toml");
     let text = format!(
         "name = \"column\"\n[scene]\nparticles.count = 60\nparticles.radius = 0.005\ndomain.width = 0.05\n\
          domain.height = 0.3\nwall_material.friction = 0.5\nrun.duration = 1.5\n[output]\nframes = false\n\
-         histories = {histories}\n"
+         histories = {histories}\n{sweep}"
     );
     std::fs::write(&study, text).unwrap();
     let out = dir.join("out");
@@ -73,5 +78,18 @@ fn without_histories_a_run_has_no_stress_profile_and_says_so() {
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("run `r0000` has no stress profile"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn compare_keeps_the_pile_stress_as_a_metric() {
+    let dir = scratch("compare");
+    let results = run_study(&dir, false, "[sweep]\n\"wall_material.friction\" = [0.0, 0.5]\nreplicates = 2\n");
+    let r = results.to_str().unwrap();
+    let keep = ["--keep", "stress_pressure=0.5", "--keep", "stress_deviatoric=0.5"];
+    let out = demsweep(&[&["compare", r, "--reference", "friction=0"][..], &keep].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("stress_pressure") && text.contains("stress_deviatoric"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
