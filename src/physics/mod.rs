@@ -40,6 +40,7 @@ pub mod quantity;
 pub mod record;
 pub mod rng;
 mod rolling;
+pub mod run_state;
 mod scheme;
 pub mod simulation;
 pub mod size_distribution;

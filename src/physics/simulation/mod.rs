@@ -7,10 +7,12 @@
 
 mod protocol;
 mod readout;
+mod resume;
 mod setup;
 mod step;
 mod switch;
 #[cfg(test)]
 mod tests;
 
+pub use resume::Resumed;
 pub use step::{Control, Progress, Simulation};

@@ -1,0 +1,136 @@
+//! Checkpoints mid-run: a run resumed from its saved state ends with the bits of the run never
+//! stopped (stages, histories, frames and the final state), whether the state was saved at a
+//! sample or when the run was stopped between two samples.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use demsweep::physics::Threads;
+use demsweep::physics::config::{SceneConfig, StageConfig};
+use demsweep::physics::contact::HertzMindlin;
+use demsweep::physics::placement;
+use demsweep::physics::record::{RunRecord, RunStatus};
+use demsweep::physics::run_state::{Checkpoints, NoCheckpoints, RunState};
+use demsweep::physics::simulation::{Control, Simulation};
+
+/// 200 polydisperse disks poured into a box, a damped fill stage first, frames on the way.
+fn deposition() -> SceneConfig {
+    let mut s = SceneConfig::default();
+    (s.particles.count, s.particles.radius, s.particles.radius_max) = (200, 0.004, Some(0.008));
+    (s.domain.width, s.domain.height) = (0.25, 0.4);
+    s.material.restitution = Some(0.4);
+    s.integrator.time_step = Some(2e-5);
+    (s.run.duration, s.run.stop_at_settle) = (0.5, false);
+    s.run.frame_times = vec![0.1, 0.2001, 0.45];
+    s.placement.seed = 11;
+    s.stages = vec![stage("name = \"fill\"\nuntil.time = 0.15\ndamping.local = 0.3\nintegrator.time_step = 1e-5\n")];
+    s
+}
+
+fn stage(toml_text: &str) -> StageConfig {
+    toml::from_str(toml_text).expect("a stage")
+}
+
+fn simulation(scene: &SceneConfig, threads: usize) -> Simulation<HertzMindlin> {
+    let disks = placement::generate(scene).expect("placement");
+    let mut sim = Simulation::new(scene, &disks);
+    sim.set_threads(Threads { count: threads, min_disks: 0 });
+    sim
+}
+
+/// Keeps the state of the `at`-th sample and the one handed over when the run stops.
+#[derive(Default)]
+struct Keep {
+    samples: u64,
+    at: u64,
+    kept: Vec<RunState>,
+}
+
+impl Checkpoints for Keep {
+    fn due(&mut self, _: u64) -> bool {
+        self.samples += 1;
+        self.samples == self.at
+    }
+    fn save(&mut self, state: RunState) {
+        self.kept.push(state);
+    }
+}
+
+/// The record as text: every number written to the bit (Debug writes floats round-trip).
+fn text(record: &RunRecord) -> String {
+    format!("{record:?}")
+}
+
+fn resumed(scene: &SceneConfig, state: &RunState, threads: usize) -> RunRecord {
+    let mut sim = simulation(scene, threads);
+    let from = sim.resume(state).expect("the state reads back");
+    sim.run_resumable(Some(from), &AtomicBool::new(false), &mut |_| Control::Continue, &mut NoCheckpoints)
+}
+
+#[test]
+fn a_run_resumed_from_a_checkpoint_is_bit_identical_to_the_straight_run() {
+    let scene = deposition();
+    let straight = simulation(&scene, 1).run(&mut |_| Control::Continue);
+    assert_eq!(straight.frames.len(), 3);
+    assert!(straight.stage_ends[0].time.is_some(), "the fill stage ended");
+    // States saved at a sample in the fill stage and one in the physical stage, then the run that
+    // saved the second stopped by its observer at a later sample.
+    for (at, threads) in [(3, 1), (40, 2)] {
+        let mut keep = Keep { at, ..Keep::default() };
+        let mut samples = 0;
+        let mut stop_late = |_: &_| {
+            samples += 1;
+            if samples == at + 5 { Control::Stop } else { Control::Continue }
+        };
+        let sim = simulation(&scene, threads);
+        let stopped = sim.run_resumable(None, &AtomicBool::new(false), &mut stop_late, &mut keep);
+        assert_eq!(stopped.status, RunStatus::Interrupted);
+        assert_eq!(keep.kept.len(), 2, "one state at sample {at}, one when stopped");
+        assert!(keep.kept[0].step < keep.kept[1].step);
+        for state in &keep.kept {
+            assert_eq!(text(&resumed(&scene, state, 1)), text(&straight), "from step {}", state.step);
+        }
+        assert_eq!(text(&resumed(&scene, &keep.kept[1], 2)), text(&straight), "on two threads");
+    }
+}
+
+#[test]
+fn a_run_stopped_between_samples_resumes_to_the_same_bits() {
+    let mut scene = deposition();
+    // Samples far apart: a stop lands between two of them.
+    scene.run.sample_interval = 0.05;
+    let straight = simulation(&scene, 1).run(&mut |_| Control::Continue);
+    let stop = AtomicBool::new(false);
+    let mut keep = Keep::default();
+    let mut samples = 0;
+    let mut late = |_: &_| {
+        samples += 1;
+        if samples == 4 {
+            // Read after the next step: the run stops one step past this sample.
+            stop.store(true, Ordering::Relaxed);
+        }
+        Control::Continue
+    };
+    let stopped = simulation(&scene, 1).run_resumable(None, &stop, &mut late, &mut keep);
+    assert_eq!(stopped.status, RunStatus::Interrupted);
+    let state = &keep.kept[0];
+    assert!(state.step % 2500 != 0, "step {} is between samples", state.step);
+    assert_eq!(text(&resumed(&scene, state, 1)), text(&straight));
+}
+
+#[test]
+fn a_state_of_another_scene_or_damaged_is_refused_naming_the_piece() {
+    let scene = deposition();
+    let mut keep = Keep { at: 2, ..Keep::default() };
+    let mut first = |_: &_| Control::Continue;
+    let mut short = scene.clone();
+    short.run.duration = 0.01;
+    simulation(&short, 1).run_resumable(None, &AtomicBool::new(false), &mut first, &mut keep);
+    let state = keep.kept.pop().expect("a state");
+    let mut fewer = scene.clone();
+    fewer.particles.count = 150;
+    let error = simulation(&fewer, 1).resume(&state).err().expect("refused");
+    assert_eq!(error.piece, "particles", "{error}");
+    let cut = RunState { bytes: state.bytes[..state.bytes.len() / 2].to_vec(), ..state.clone() };
+    let error = simulation(&scene, 1).resume(&cut).err().expect("refused");
+    assert!(error.to_string().starts_with("run state cut short in "), "{error}");
+}
