@@ -134,3 +134,37 @@ fn a_state_of_another_scene_or_damaged_is_refused_naming_the_piece() {
     let error = simulation(&scene, 1).resume(&cut).err().expect("refused");
     assert!(error.to_string().starts_with("run state cut short in "), "{error}");
 }
+
+#[test]
+fn a_checkpoint_file_reads_back_only_for_its_own_run_and_physics() {
+    use demsweep::output::checkpoint::{self, CheckpointError};
+    let dir = std::env::temp_dir().join(format!("demsweep-checkpoint-{}", std::process::id()));
+    let results = dir.join("study.h5");
+    let path = checkpoint::checkpoint_path(&results, "r0003");
+    assert_eq!(path, dir.join("study.checkpoints").join("r0003.checkpoint"));
+    let state = RunState { step: 12, time: 0.5, bytes: vec![1, 2, 3, 250] };
+    checkpoint::write(&path, "run three", &state).expect("written");
+    assert_eq!(checkpoint::read(&path, "run three").expect("read"), Some(state.clone()));
+    let other = checkpoint::read(&path, "run four").unwrap_err();
+    assert_eq!(other.error, CheckpointError::OtherRun { found: "run three".into() });
+    assert!(other.to_string().ends_with("r0003.checkpoint: checkpoint of another run (run three)"), "{other}");
+    let mut bytes = std::fs::read(&path).unwrap();
+    let last = bytes.len() - 6;
+    bytes[last] ^= 1;
+    std::fs::write(&path, &bytes).unwrap();
+    assert_eq!(checkpoint::read(&path, "run three").unwrap_err().error, CheckpointError::Damaged);
+    bytes[8] = 9;
+    std::fs::write(&path, &bytes).unwrap();
+    assert_eq!(checkpoint::read(&path, "run three").unwrap_err().error, CheckpointError::Format { found: 9 });
+    // Another file under the name is not removed; the checkpoint is, with its folder.
+    let stranger = checkpoint::checkpoint_path(&results, "r0004");
+    std::fs::write(&stranger, b"notes").unwrap();
+    checkpoint::remove(&stranger).unwrap();
+    assert!(stranger.exists());
+    std::fs::remove_file(&stranger).unwrap();
+    checkpoint::write(&path, "run three", &state).expect("written");
+    checkpoint::remove(&path).unwrap();
+    assert!(!path.exists() && !path.parent().unwrap().exists());
+    assert_eq!(checkpoint::read(&path, "run three").unwrap(), None);
+    std::fs::remove_dir_all(&dir).ok();
+}
