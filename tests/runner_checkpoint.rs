@@ -4,6 +4,8 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+mod runner_common;
+
 use demsweep::physics::Threads;
 use demsweep::physics::config::{SceneConfig, StageConfig};
 use demsweep::physics::contact::HertzMindlin;
@@ -167,4 +169,121 @@ fn a_checkpoint_file_reads_back_only_for_its_own_run_and_physics() {
     assert!(!path.exists() && !path.parent().unwrap().exists());
     assert_eq!(checkpoint::read(&path, "run three").unwrap(), None);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+mod cli {
+    use std::path::{Path, PathBuf};
+    use std::process::{Child, Command, Stdio};
+    use std::time::{Duration, Instant};
+
+    use super::runner_common;
+    use demsweep::output::{reader, stored, summary};
+
+    /// Two runs of 300 disks for 0.8 s with a fill stage of another time step and frames: a few
+    /// seconds each, long enough to be stopped midway.
+    const STUDY: &str = r#"name = "ckpt"
+[scene]
+particles.count = 300
+particles.radius = 0.003
+domain.width = 0.2
+domain.height = 0.3
+integrator.time_step = 2e-5
+run.duration = 0.8
+run.stop_at_settle = false
+run.frame_times = [0.1, 0.5]
+
+[[scene.stages]]
+name = "fill"
+until.time = 0.1
+damping.local = 0.3
+integrator.time_step = 1e-5
+
+[sweep]
+"material.restitution" = [0.3, 0.6]
+"#;
+
+    fn start(dir: &Path, out: &str, extra: &[&str]) -> Child {
+        Command::new(env!("CARGO_BIN_EXE_demsweep"))
+            .args(["run", "ckpt.toml", "--out", out, "--jobs", "2", "--progress", "quiet"])
+            .args(extra)
+            .current_dir(dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    }
+
+    /// Every stored value of every run, numbers as round-trip text (timing columns aside).
+    fn contents(results: &Path) -> String {
+        let table = summary::read(results).unwrap();
+        let file = reader::open(results).unwrap();
+        let rows = reader::rows(&file, results).unwrap();
+        let runs: Vec<String> = rows
+            .iter()
+            .map(|row| {
+                let run = stored::read_run(&file, results, row).unwrap();
+                format!("{:?}{:?}{:?}", run.history, run.final_state, run.frames)
+            })
+            .collect();
+        format!("{:?}\n{runs:?}", table.without_timing())
+    }
+
+    /// Starts the study with checkpoints every 0.1 s, waits for one, then stops it with `stop`;
+    /// resumes it and returns its contents, the checkpoints having gone.
+    fn stopped_then_resumed(test: &str, stop: impl FnOnce(&mut Child)) -> (String, String) {
+        let dir = runner_common::scratch(test);
+        std::fs::write(dir.join("ckpt.toml"), STUDY).unwrap();
+        let straight = start(&dir, "straight", &["--checkpoint-every", "off"]).wait_with_output().unwrap();
+        assert_eq!(straight.status.code(), Some(0), "{}", String::from_utf8_lossy(&straight.stderr));
+        let mut child = start(&dir, "stopped", &["--checkpoint-every", "0.1s"]);
+        let saved = dir.join("stopped/ckpt.checkpoints");
+        let waited = Instant::now();
+        while !std::fs::read_dir(&saved).is_ok_and(|mut d| d.next().is_some()) {
+            assert!(child.try_wait().unwrap().is_none(), "the sweep ended before a checkpoint");
+            assert!(waited.elapsed() < Duration::from_secs(120), "no checkpoint within two minutes");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        std::thread::sleep(Duration::from_millis(150));
+        stop(&mut child);
+        child.wait().unwrap();
+        let files: Vec<PathBuf> = std::fs::read_dir(&saved).unwrap().map(|e| e.unwrap().path()).collect();
+        assert!(!files.is_empty(), "checkpoints of the runs in progress are kept");
+        let resumed = start(&dir, "stopped", &["--resume"]).wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&resumed.stderr);
+        assert_eq!(resumed.status.code(), Some(0), "{stderr}");
+        assert!(!stderr.contains("afresh"), "every checkpoint read back: {stderr}");
+        let continued = stderr.matches("note: the run continues from ").count();
+        assert!((1..=2).contains(&continued), "{stderr}");
+        assert!(!saved.exists(), "the checkpoints of finished runs are removed");
+        (contents(&dir.join("straight/ckpt.h5")), contents(&dir.join("stopped/ckpt.h5")))
+    }
+
+    #[test]
+    fn killed_with_sigkill_mid_run_then_resumed_from_its_checkpoint_stores_the_same_bits() {
+        let (straight, resumed) = stopped_then_resumed("checkpoint_kill", |child| child.kill().unwrap());
+        assert_eq!(resumed, straight);
+    }
+
+    #[test]
+    fn stopped_by_sigterm_saves_its_runs_in_progress_and_resumes_to_the_same_bits() {
+        let terminate = |child: &mut Child| {
+            // SAFETY: kill(2) on the id of a child process of this test.
+            assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGTERM) }, 0);
+        };
+        let (straight, resumed) = stopped_then_resumed("checkpoint_term", terminate);
+        assert_eq!(resumed, straight);
+    }
+
+    #[test]
+    fn a_bad_interval_is_refused_naming_the_flag() {
+        let dir = runner_common::scratch("checkpoint_flag");
+        std::fs::write(dir.join("ckpt.toml"), STUDY).unwrap();
+        for (value, reason) in [("10", "needs a unit"), ("-1m", "must be > 0"), ("xm", "not a number")] {
+            let flag = format!("--checkpoint-every={value}");
+            let out = start(&dir, "out", &[&flag]).wait_with_output().unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{stderr}");
+            assert!(stderr.contains("--checkpoint-every") && stderr.contains(reason), "{stderr}");
+        }
+    }
 }
