@@ -287,3 +287,62 @@ integrator.time_step = 1e-5
         }
     }
 }
+
+/// Times checkpoints of 10 000 and 40 000 disks (encoding the state, writing the file): run by
+/// hand for results/bench/checkpoint.md (`--ignored --nocapture`); asserts nothing about time.
+#[test]
+#[ignore]
+fn measure_checkpoint_cost() {
+    use demsweep::output::checkpoint;
+    use std::time::{Duration, Instant};
+    struct Timed {
+        asked: Option<Instant>,
+        encode: Vec<Duration>,
+        write: Vec<Duration>,
+        path: std::path::PathBuf,
+        bytes: usize,
+    }
+    impl Checkpoints for Timed {
+        fn due(&mut self, step: u64) -> bool {
+            self.asked = (step > 0).then(Instant::now);
+            self.asked.is_some()
+        }
+        fn save(&mut self, state: RunState) {
+            if let Some(asked) = self.asked.take() {
+                self.encode.push(asked.elapsed());
+                let started = Instant::now();
+                checkpoint::write(&self.path, "measure", &state).unwrap();
+                self.write.push(started.elapsed());
+                self.bytes = std::fs::metadata(&self.path).unwrap().len() as usize;
+            }
+        }
+    }
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("checkpoint_measure");
+    for count in [10_000, 40_000] {
+        let mut scene = SceneConfig::default();
+        (scene.particles.count, scene.particles.radius) = (count, 0.002);
+        let side = (count as f64).sqrt() * 0.0065;
+        (scene.domain.width, scene.domain.height) = (side, 2.0 * side);
+        scene.integrator.time_step = Some(1e-5);
+        (scene.run.sample_interval, scene.run.duration, scene.run.stop_at_settle) = (1e-4, 1.2e-3, false);
+        let path = dir.join(format!("{count}.checkpoint"));
+        let mut timed = Timed { asked: None, encode: Vec::new(), write: Vec::new(), path, bytes: 0 };
+        let started = Instant::now();
+        let sim = simulation(&scene, 1);
+        let built = started.elapsed();
+        sim.run_resumable(None, &AtomicBool::new(false), &mut |_| Control::Continue, &mut timed);
+        let median = |v: &mut Vec<Duration>| {
+            v.sort();
+            v[v.len() / 2].as_secs_f64() * 1e3
+        };
+        println!(
+            "{count} disks: {} checkpoints of {:.1} MB, median encode {:.2} ms, write {:.2} ms; built in {:.2} s, run {:.2} s",
+            timed.write.len(),
+            timed.bytes as f64 / 1e6,
+            median(&mut timed.encode),
+            median(&mut timed.write),
+            built.as_secs_f64(),
+            started.elapsed().as_secs_f64() - built.as_secs_f64(),
+        );
+    }
+}
