@@ -66,10 +66,11 @@ impl Checkpoints for RunCheckpoint {
 
     fn save(&mut self, state: RunState) {
         self.last = Instant::now();
-        if let Err(e) = checkpoint::write(&self.path, &self.identity, &state) {
-            if !std::mem::replace(&mut self.failed, true) {
-                terminal::err(format_args!("warning: {e}; the run goes on without checkpoints\n"));
-            }
+        let written = checkpoint::write(&self.path, &self.identity, &state);
+        if let Err(e) = written
+            && !std::mem::replace(&mut self.failed, true)
+        {
+            terminal::err(format_args!("warning: {e}; checkpoints of this run fail\n"));
         }
     }
 }

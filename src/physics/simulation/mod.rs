@@ -8,11 +8,12 @@
 mod protocol;
 mod readout;
 mod resume;
+mod run_loop;
 mod setup;
 mod step;
 mod switch;
 #[cfg(test)]
 mod tests;
 
-pub use resume::Resumed;
+pub use run_loop::Resumed;
 pub use step::{Control, Progress, Simulation};

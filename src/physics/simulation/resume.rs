@@ -1,31 +1,14 @@
 //! A run's state saved between steps and read back into a simulation of the same scene, so that the
 //! run continues with the bits it would have had (see [`crate::physics::run_state`]).
 
+use super::run_loop::{Resumed, RunLoop};
 use super::step::Simulation;
 use crate::physics::contact::ContactLaw;
 use crate::physics::diagnostics::SettleDetector;
 use crate::physics::forces::TouchingPairs;
 use crate::physics::monitor::Monitor;
-use crate::physics::record::{History, Snapshot};
+use crate::physics::record::History;
 use crate::physics::run_state::{Input, RunState, StateError, StateReason, Visit};
-use crate::physics::stability::StabilityReport;
-
-/// What the step loop keeps besides the simulation.
-pub(super) struct RunLoop {
-    /// The pre-run stability estimate (of the initial state).
-    pub(super) stability: StabilityReport,
-    pub(super) monitor: Monitor,
-    pub(super) settle: SettleDetector,
-    pub(super) history: History,
-    pub(super) frames: Vec<Snapshot>,
-    /// Whether the loop goes on with steps (the sample of this step was taken, or the step lies
-    /// between samples) rather than with a sample.
-    pub(super) stepping: bool,
-}
-
-/// A simulation's run read back from a [`RunState`], ready to go on with
-/// [`Simulation::run_resumable`].
-pub struct Resumed(pub(super) RunLoop);
 
 impl<L: ContactLaw> Simulation<L> {
     /// Every piece of a run's state, in file order, saved or loaded by `v`: one line per piece.

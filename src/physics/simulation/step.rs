@@ -2,7 +2,7 @@
 //! from the first sample to the last.
 
 use super::protocol::Protocol;
-use super::resume::{Resumed, RunLoop};
+use super::run_loop::{Resumed, RunLoop};
 use crate::physics::config::SceneConfig;
 use crate::physics::contact::ContactLaw;
 use crate::physics::contact_sums::ContactSums;
@@ -397,7 +397,7 @@ struct Segment {
 impl Segment {
     /// Whether `step` is one of the samples (the grid's or the last step).
     fn is_sample(&self, step: u64) -> bool {
-        step == self.last_step || (step - self.first) % self.sample_every == 0
+        step == self.last_step || (step - self.first).is_multiple_of(self.sample_every)
     }
 
     /// The first sample after `step` (the last step at the latest).
