@@ -79,6 +79,31 @@ pub struct RunArgs {
     /// Treat the study's warnings as errors: run nothing (exit status 2), for scripts and CI.
     #[arg(long)]
     strict: bool,
+    /// Save the state of each run in progress this often (wall time: `90s`, `10m`, `2h`) and when
+    /// stopped, in OUT/<name>.checkpoints/; --resume continues a run from its checkpoint, to the
+    /// same bits. `off`: none.
+    #[arg(long, value_name = "INTERVAL", default_value = "10m", value_parser = interval)]
+    checkpoint_every: Interval,
+}
+
+/// A checkpoint interval, `None` for none.
+#[derive(Clone, Copy, Debug)]
+struct Interval(Option<Duration>);
+
+/// An interval: a positive number with a unit `s`, `m` or `h`, or `off`.
+fn interval(text: &str) -> Result<Interval, String> {
+    if text == "off" {
+        return Ok(Interval(None));
+    }
+    let unit = text.chars().last().and_then(|c| ["s", "m", "h"].iter().position(|u| u.starts_with(c)));
+    let scale = [1.0, 60.0, 3600.0];
+    let (number, unit) = match unit {
+        Some(k) => (&text[..text.len() - 1], scale[k]),
+        None => return Err(format!("`{text}` needs a unit: s, m or h (e.g. 10m), or off")),
+    };
+    let value: f64 = number.trim().parse().map_err(|_| format!("`{text}` is not a number with a unit (e.g. 10m)"))?;
+    let duration = Duration::try_from_secs_f64(value * unit).ok().filter(|d| !d.is_zero());
+    duration.map(|d| Interval(Some(d))).ok_or(format!("must be > 0 (or off), got {text}"))
 }
 
 /// A positive number of seconds.
@@ -253,6 +278,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         commit: CommitPolicy { interval: args.commit_interval, ..CommitPolicy::default() },
         stop,
         notes: NotePolicy::All,
+        checkpoint_every: args.checkpoint_every.0,
     };
     match demsweep::workflow::run_study(plan, &options) {
         Ok(run) => {

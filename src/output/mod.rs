@@ -5,6 +5,7 @@
 //! the tables the runner computes. This layer reads and writes; it computes no statistics. The
 //! layout is in [`layout`] and docs/results.md.
 
+pub mod checkpoint;
 mod companions;
 pub(crate) mod compound;
 pub(crate) mod copy;

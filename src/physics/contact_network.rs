@@ -108,3 +108,18 @@ impl ContactNetwork {
         self.first.is_empty()
     }
 }
+
+super::run_state::persist_fields!(ContactNetwork {
+    first,
+    second,
+    normal_x,
+    normal_y,
+    normal_force,
+    tangential_force,
+    overlap,
+    point_x,
+    point_y,
+    sliding,
+    tangential_spring,
+    law_state,
+});

@@ -166,6 +166,9 @@ impl SettleDetector {
     }
 }
 
+super::run_state::persist_fields!(ContactTotals { elastic, force_sum, contacts, max_overlap_ratio });
+super::run_state::persist_fields!(SettleDetector { since, settle_time });
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,6 +12,7 @@ use super::parallel::Threads;
 use super::particles::{InitialContact, InitialDisk, Particles};
 use super::placement::PlacementError;
 use super::record::RunRecord;
+use super::run_state::{Checkpoints, NoCheckpoints, RunState, StateError};
 use super::simulation::{Control, Progress, Simulation};
 use super::stability::{self, StabilityReport};
 use super::time_step::{self, ResolvedTimeStep, with_time_step};
@@ -34,6 +35,8 @@ pub enum RunError {
     },
     /// A contact history was given for a scene that names none.
     HistoryNotNamed,
+    /// A saved run state does not read back into this scene's simulation.
+    Checkpoint(StateError),
 }
 
 impl fmt::Display for RunError {
@@ -51,6 +54,7 @@ impl fmt::Display for RunError {
             RunError::HistoryNotNamed => {
                 write!(f, "placement.contacts: a contact history given to a scene that names none")
             }
+            RunError::Checkpoint(e) => write!(f, "{e}"),
         }
     }
 }
@@ -97,6 +101,21 @@ pub fn run_scene_on(
     stop: &AtomicBool,
     observer: &mut dyn FnMut(&Progress) -> Control,
 ) -> Result<RunRecord, RunError> {
+    run_scene_resumable(scene, (disks, contacts), threads, stop, observer, (None, &mut NoCheckpoints))
+}
+
+/// [`run_scene_on`] (`start`: its disks and contacts) from the saved state `from` if given (see
+/// [`Simulation::resume`]), handing `checkpoints` its state as it asks (see
+/// [`Simulation::run_resumable`]). A state that does not read back is [`RunError::Checkpoint`].
+pub fn run_scene_resumable(
+    scene: &SceneConfig,
+    start: (Option<Vec<InitialDisk>>, Option<&[InitialContact]>),
+    threads: Threads,
+    stop: &AtomicBool,
+    observer: &mut dyn FnMut(&Progress) -> Control,
+    (from, checkpoints): (Option<&RunState>, &mut dyn Checkpoints),
+) -> Result<RunRecord, RunError> {
+    let (disks, contacts) = start;
     if let Err(issues) = scene.validate() {
         return Err(RunError::InvalidScene(issues));
     }
@@ -119,17 +138,20 @@ pub fn run_scene_on(
         threads: Threads,
         stop: &'a AtomicBool,
         observer: &'a mut dyn FnMut(&Progress) -> Control,
+        from: Option<&'a RunState>,
+        checkpoints: &'a mut dyn Checkpoints,
     }
     impl LawVisitor for Run<'_> {
-        type Output = RunRecord;
-        fn visit<L: RegisteredLaw>(self, law: &L) -> RunRecord {
+        type Output = Result<RunRecord, RunError>;
+        fn visit<L: RegisteredLaw>(self, law: &L) -> Self::Output {
             let mut simulation = Simulation::with_history(self.scene, self.disks, self.contacts, law.clone());
             simulation.set_threads(self.threads);
-            simulation.run_until(self.stop, self.observer)
+            let resumed = self.from.map(|state| simulation.resume(state)).transpose().map_err(RunError::Checkpoint)?;
+            Ok(simulation.run_resumable(resumed, self.stop, self.observer, self.checkpoints))
         }
     }
     let contacts = contacts.unwrap_or_default();
-    Ok(scene.contact.dispatch(Run { scene, disks: &disks, contacts, threads, stop, observer }))
+    scene.contact.dispatch(Run { scene, disks: &disks, contacts, threads, stop, observer, from, checkpoints })
 }
 
 /// The time step a (validated) scene will run with; `disks`: the initial disks of a file placement.

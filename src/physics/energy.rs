@@ -71,3 +71,11 @@ impl EnergyLedger {
         self.initial_elastic - elastic - works.0 - works.1
     }
 }
+
+super::run_state::persist_fields!(EnergyLedger {
+    contact_work,
+    last_power,
+    damping_work,
+    last_damping_power,
+    initial_elastic,
+});

@@ -17,6 +17,7 @@ use super::config::{DampingConfig, IntegratorKind};
 use super::memory_order::gather;
 use super::parallel::{Split, Team};
 use super::particles::Particles;
+use super::run_state::{Input, Persist, StateError, StateReason};
 use super::vector;
 
 /// What [`Integrator::advance`] reports about the disks it moved.
@@ -464,4 +465,33 @@ fn kick<const DAMPED: bool>(d: &mut Moving<'_>, c: &StepContext, clear: bool) ->
         }
     }
     (power, damping_power)
+}
+
+super::run_state::persist_fields!(Accelerations { ax, ay, alpha });
+
+/// The scheme (a tag) and its history.
+impl Persist for Integrator {
+    fn save(&self, out: &mut Vec<u8>) {
+        match self {
+            Integrator::AdamsBashforthMoulton { previous } => {
+                0u64.save(out);
+                previous.save(out);
+            }
+            Integrator::VelocityVerlet => 1u64.save(out),
+        }
+    }
+    fn load(&mut self, input: &mut Input<'_>) -> Result<(), StateError> {
+        let mut tag = 0u64;
+        tag.load(input)?;
+        *self = match tag {
+            0 => {
+                let mut previous = None;
+                previous.load(input)?;
+                Integrator::AdamsBashforthMoulton { previous }
+            }
+            1 => Integrator::VelocityVerlet,
+            found => return Err(input.error(StateReason::Invalid { found, expected: 1 })),
+        };
+        Ok(())
+    }
 }

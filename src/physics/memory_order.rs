@@ -174,6 +174,8 @@ impl Numbering {
     }
 }
 
+super::run_state::persist_fields!(Numbering { scene_of, far_share_left, renumberings });
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -40,6 +40,7 @@ pub mod quantity;
 pub mod record;
 pub mod rng;
 mod rolling;
+pub mod run_state;
 mod scheme;
 pub mod simulation;
 pub mod size_distribution;
@@ -59,8 +60,8 @@ pub const PHYSICS_VERSION: u32 = 3;
 pub use config::SceneConfig;
 pub use contact::{ContactConfig, ContactLaw, ContactLawKind};
 pub use dispatch::{
-    RunError, predict_stability, predict_stage_warnings, run_scene, run_scene_on, run_scene_with_history,
-    scene_time_step,
+    RunError, predict_stability, predict_stage_warnings, run_scene, run_scene_on, run_scene_resumable,
+    run_scene_with_history, scene_time_step,
 };
 pub use neighbors::CellGrid;
 pub use parallel::Threads;

@@ -146,3 +146,5 @@ impl Monitor {
         w
     }
 }
+
+super::run_state::persist_fields!(Monitor { initial_mechanical, energy_scale, worst_overlap, worst_imbalance });

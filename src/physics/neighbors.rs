@@ -14,6 +14,7 @@ use super::material::{effective_mass, effective_radius};
 use super::memory_order::{FAR_PLACES, gather};
 use super::parallel::{Span, Split, Team};
 use super::particles::{InitialContact, Particles};
+use super::run_state::{Input, Persist, StateError, StateReason, persist_fields};
 use super::walls::BoxWalls;
 use std::ops::Range;
 use std::sync::Mutex;
@@ -21,7 +22,7 @@ use std::sync::Mutex;
 /// A pair `i < j` that may be in contact, with its effective radius and mass (computed once per
 /// build, not once per step). Its tangential spring lives in [`Candidates::springs`], apart, so
 /// that the step loop writes only springs and leaves the pair records clean in cache.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NeighborPair {
     /// First disk (smaller index).
     pub i: u32,
@@ -46,7 +47,7 @@ impl NeighborPair {
 
 /// A disk that may touch a wall (its spring lives in [`Candidates::springs`]), with the contact's
 /// effective mass: the disk's (kept here, so the step loop needs no fetch of the mass array).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallPair {
     /// The disk.
     pub i: u32,
@@ -508,6 +509,48 @@ fn min_max(v: &[f64]) -> (f64, f64) {
     let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
     let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     if lo.is_finite() && hi.is_finite() { (lo, hi) } else { (0.0, 0.0) }
+}
+
+persist_fields!(NeighborPair { i, j, r_star, m_star });
+persist_fields!(WallPair { i, wall, m_star });
+
+/// The entries and their histories (law states as numbers); a list read back counts as a new
+/// build, so that no table kept from before takes it for its own.
+impl<T: Persist + Default, S: ContactState> Persist for Candidates<T, S> {
+    fn save(&self, out: &mut Vec<u8>) {
+        self.entries.save(out);
+        self.springs.save(out);
+        self.states.iter().map(|s| s.to_number()).collect::<Vec<f64>>().save(out);
+    }
+    fn load(&mut self, input: &mut Input<'_>) -> Result<(), StateError> {
+        self.entries.load(input)?;
+        self.springs.load(input)?;
+        let mut states: Vec<f64> = Vec::new();
+        states.load(input)?;
+        for (found, expected) in [(self.springs.len(), self.entries.len()), (states.len(), self.entries.len())] {
+            if found != expected {
+                return Err(input.error(StateReason::Invalid { found: found as u64, expected: expected as u64 }));
+            }
+        }
+        self.states.clear();
+        self.states.extend(states.into_iter().map(S::from_number));
+        self.renumber();
+        Ok(())
+    }
+}
+
+/// The lists and the travel since their build (the grid and scratch are rebuilt as needed).
+impl<S: ContactState> Persist for NeighborList<S> {
+    fn save(&self, out: &mut Vec<u8>) {
+        self.pairs.save(out);
+        self.walls.save(out);
+        self.travel.save(out);
+    }
+    fn load(&mut self, input: &mut Input<'_>) -> Result<(), StateError> {
+        self.pairs.load(input)?;
+        self.walls.load(input)?;
+        self.travel.load(input)
+    }
 }
 
 #[cfg(test)]

@@ -198,3 +198,21 @@ pub struct Forces<'a> {
     /// Sum of contact force magnitudes (N).
     pub contact_force: &'a mut [f64],
 }
+
+super::run_state::persist_fields!(Particles {
+    x,
+    y,
+    vx,
+    vy,
+    omega,
+    angle,
+    r,
+    mass,
+    inv_mass,
+    inv_inertia,
+    fx,
+    fy,
+    torque,
+    rolling,
+    contact_force,
+});

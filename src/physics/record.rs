@@ -235,3 +235,19 @@ impl RunRecord {
         series.last().copied().unwrap_or(f64::NAN)
     }
 }
+
+super::run_state::persist_fields!(History {
+    time,
+    kinetic_translational,
+    kinetic_rotational,
+    potential,
+    elastic,
+    dissipated,
+    numerical_damping_dissipated,
+    total,
+    mechanical,
+    unbalanced_force_ratio,
+    contacts,
+    max_overlap_ratio,
+});
+super::run_state::persist_fields!(Snapshot { time, x, y, vx, vy, omega, angle, r, contact_force, contacts });

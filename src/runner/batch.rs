@@ -33,7 +33,7 @@ pub fn run_batches(batches: Vec<Batch<'_>>, requested: usize, stop: &Arc<AtomicB
     let (jobs, _) = worker_count(requested, todo.len(), cores);
     let view = ProgressView::new(ProgressMode::Quiet, todo.len(), 0, jobs);
     let groups = sinks.into_iter().map(Sinks::new).collect();
-    sweep(&todo, groups, (jobs, pool_threads(requested, cores)), &view, CommitPolicy::default(), stop).map(drop)
+    sweep(&todo, groups, (jobs, pool_threads(requested, cores)), &view, (CommitPolicy::default(), None), stop).map(drop)
 }
 
 #[cfg(test)]

@@ -4,20 +4,26 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use super::checkpoints::RunCheckpoint;
+use crate::output::terminal;
 use crate::output::{RunResult, SummaryRow};
 use crate::physics::RunStatus;
+use crate::physics::run_state::{Checkpoints, NoCheckpoints};
 use crate::physics::simulation::{Control, Progress};
-use crate::physics::{Threads, run_scene_on};
+use crate::physics::{RunError, Threads, run_scene_resumable};
 use crate::study::PlannedRun;
 
-/// Runs one simulation on `threads` (of the current pool); `observe` sees every progress sample. Returns `None` when `stop` interrupted
-/// it (within a step of being set; an interrupted run is not a result: it runs again on `--resume`).
-/// Errors and panics become results with status `error` and the message.
+/// Runs one simulation on `threads` (of the current pool); `observe` sees every progress sample;
+/// `checkpoint`: where its state is saved as it runs and read back from (see [`RunCheckpoint`]).
+/// Returns `None` when `stop` interrupted it (within a step of being set; an interrupted run is not
+/// a result: it runs again on `--resume`, from its checkpoint if it has one). Errors and panics
+/// become results with status `error` and the message.
 pub fn run_one(
     run: &PlannedRun,
     stop: &AtomicBool,
     threads: Threads,
     observe: &mut dyn FnMut(&Progress),
+    checkpoint: Option<RunCheckpoint>,
 ) -> Option<RunResult> {
     let started = Instant::now();
     let cpu_started = thread_cpu_time();
@@ -27,8 +33,23 @@ pub fn run_one(
         Control::Continue
     };
     let contacts = run.initial_contacts.as_deref().map(Vec::as_slice);
-    let outcome =
-        catch_unwind(AssertUnwindSafe(|| run_scene_on(&run.scene, initial, contacts, threads, stop, &mut observer)));
+    let saved = checkpoint.as_ref().and_then(RunCheckpoint::saved);
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let mut checkpoint = checkpoint;
+        let sink: &mut dyn Checkpoints = match checkpoint.as_mut() {
+            Some(file) => file,
+            None => &mut NoCheckpoints,
+        };
+        let start = (initial.clone(), contacts);
+        match run_scene_resumable(&run.scene, start, threads, stop, &mut observer, (saved.as_ref(), &mut *sink)) {
+            Err(RunError::Checkpoint(e)) => {
+                let id = &run.id;
+                terminal::err(format_args!("warning: run {id}: its checkpoint does not fit: {e}; it starts afresh\n"));
+                run_scene_resumable(&run.scene, (initial, contacts), threads, stop, &mut observer, (None, sink))
+            }
+            other => other,
+        }
+    }));
     let (mut row, record) = match outcome {
         Ok(Ok(record)) if record.status == RunStatus::Interrupted => return None,
         Ok(Ok(record)) => (SummaryRow::finished(run.index, &run.id, &run.parameters, &record), Some(record)),

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
 mod batch;
+pub mod checkpoints;
 mod execute;
 pub mod interrupt;
 pub mod merge;
@@ -34,6 +35,7 @@ pub use writer_thread::CommitPolicy;
 
 use crate::output::header::utc_now;
 use crate::output::lock::ResultsLock;
+use crate::output::table::ColumnData;
 use crate::output::{
     self, DynSink, FileHeader, OutputError, OutputReason, ResultsWriter, RunResult, ShardInfo, ShardSpec, SinkError,
     SummaryTable,
@@ -42,6 +44,7 @@ use crate::physics::Threads;
 use crate::physics::parallel::PARALLEL_MIN_DISKS;
 use crate::physics::vector::{self, Width};
 use crate::study::{Plan, PlannedRun, RunIdentity};
+use checkpoints::{Checkpointing, RunCheckpoint};
 use progress::ProgressView;
 
 /// How to run a plan.
@@ -70,6 +73,9 @@ pub struct RunOptions {
     pub stop: Arc<AtomicBool>,
     /// Which notes are printed before the runs start.
     pub notes: NotePolicy,
+    /// Save each run's state this often (wall time) and when the sweep is stopped, beside the
+    /// results (`OUT/<name>.checkpoints/`); `None`: no checkpoints.
+    pub checkpoint_every: Option<std::time::Duration>,
 }
 
 /// What a sweep did.
@@ -230,9 +236,15 @@ pub fn run_plan_with(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink>) -> 
     let sinks = std::iter::once(output::dyn_sink(writer)).chain(sinks).collect();
     let group = writer_thread::Sinks { committed: existing, aliases, ..writer_thread::Sinks::new(sinks) };
     let threads = pool_threads(options.jobs, cores);
-    let swept = sweep(&todo, vec![group], (jobs, threads), &view, options.commit, &options.stop)?;
+    let checkpointing =
+        options.checkpoint_every.map(|every| Checkpointing { results: path.clone(), every, resume: options.resume });
+    let how = (options.commit, checkpointing.as_ref());
+    let swept = sweep(&todo, vec![group], (jobs, threads), &view, how, &options.stop)?;
     let Swept { ran, warnings, mut tables, writer_time } = swept;
     let tables = tables.pop().expect("one group");
+    if let Some(ColumnData::Text(ids)) = tables.summary.column("run_id").map(|c| &c.data) {
+        checkpoints::remove_finished(&path, ids.iter().cloned());
+    }
     let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
     Ok(RunReport {
         results: path,
@@ -442,13 +454,13 @@ fn sweep(
     groups: Vec<writer_thread::Sinks>,
     (jobs, threads): (usize, usize),
     view: &ProgressView,
-    commit: CommitPolicy,
+    (commit, checkpointing): (CommitPolicy, Option<&Checkpointing>),
     stop: &Arc<AtomicBool>,
 ) -> Result<Swept, RunnerError> {
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
     let writing = writer_thread::spawn(groups, receiver, commit, stop.clone());
-    let ran =
-        run_all(todo, (jobs, threads), stop, view, &|position, result| sender.send((todo[position].2, result)).is_ok());
+    let deliver = |position: usize, result| sender.send((todo[position].2, result)).is_ok();
+    let ran = run_all(todo, (jobs, threads), (stop, checkpointing), view, &deliver);
     drop(sender); // the writer thread finishes once the channel closes
     let warnings = view.finish();
     let (tables, writer_time) = writing.join().map_err(|_| RunnerError::WriterPanicked)??;
@@ -463,7 +475,7 @@ fn sweep(
 fn run_all(
     todo: &[Todo],
     (jobs, threads): (usize, usize),
-    stop: &AtomicBool,
+    (stop, checkpointing): (&AtomicBool, Option<&Checkpointing>),
     view: &ProgressView,
     deliver: &(dyn Fn(usize, RunResult) -> bool + Sync),
 ) -> Result<usize, RunnerError> {
@@ -486,7 +498,9 @@ fn run_all(
                     let Some(&(run, identity, _)) = todo.get(position) else { break };
                     let count = if todo.len() - position < threads { threads } else { 1 };
                     let given = Threads { count, min_disks };
-                    let result = execute::run_one(run, stop, given, &mut |p| view.sample(worker, &run.id, p));
+                    let checkpoint = checkpointing.map(|c| RunCheckpoint::new(c, &run.id, identity));
+                    let result =
+                        execute::run_one(run, stop, given, &mut |p| view.sample(worker, &run.id, p), checkpoint);
                     if let Some(mut result) = result {
                         result.row.identity = identity.to_string();
                         view.finished(worker, &result.row);

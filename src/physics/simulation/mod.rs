@@ -7,10 +7,13 @@
 
 mod protocol;
 mod readout;
+mod resume;
+mod run_loop;
 mod setup;
 mod step;
 mod switch;
 #[cfg(test)]
 mod tests;
 
+pub use run_loop::Resumed;
 pub use step::{Control, Progress, Simulation};

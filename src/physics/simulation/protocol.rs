@@ -134,3 +134,5 @@ impl Protocol {
             .collect()
     }
 }
+
+crate::physics::run_state::persist_fields!(Protocol { current, began, clock, time_limit, ended });

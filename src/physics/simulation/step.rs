@@ -2,6 +2,7 @@
 //! from the first sample to the last.
 
 use super::protocol::Protocol;
+use super::run_loop::{Resumed, RunLoop};
 use crate::physics::config::SceneConfig;
 use crate::physics::contact::ContactLaw;
 use crate::physics::contact_sums::ContactSums;
@@ -10,12 +11,13 @@ use crate::physics::energy::EnergyLedger;
 use crate::physics::forces::{self, ContactParameters, TouchingPairs};
 use crate::physics::integrator::{Integrator, Moved, StepContext};
 use crate::physics::memory_order::{self, MemoryOrder, Numbering};
-use crate::physics::monitor::{FrameSchedule, Monitor};
+use crate::physics::monitor::FrameSchedule;
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::{Team, Threads};
 use crate::physics::particles::Particles;
-use crate::physics::record::{History, RunRecord, RunStatus, Snapshot};
+use crate::physics::record::{RunRecord, RunStatus, Snapshot};
 use crate::physics::rolling;
+use crate::physics::run_state::{Checkpoints, NoCheckpoints};
 use crate::physics::walls::BoxWalls;
 use crate::physics::warning::ValidityWarning;
 use std::sync::Mutex;
@@ -212,69 +214,111 @@ impl<L: ContactLaw> Simulation<L> {
 
     /// [`Self::run`] that also ends, as [`RunStatus::Interrupted`], within a step of `stop` being set
     /// (the step loop reads it after every step: samples may be far apart, steps never are).
-    pub fn run_until(mut self, stop: &AtomicBool, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
-        let stability = self.stability();
-        let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
-        warnings.extend(stability.warnings.iter().cloned());
+    pub fn run_until(self, stop: &AtomicBool, observer: &mut dyn FnMut(&Progress) -> Control) -> RunRecord {
+        self.run_resumable(None, stop, observer, &mut NoCheckpoints)
+    }
+
+    /// [`Self::run_until`] from the start, or from where `resumed` left off (see
+    /// [`Self::resume`]), handing `checkpoints` the run's state at the samples it asks for and when
+    /// the run is stopped early: a run resumed from a state ends with the bits of the run that saved
+    /// it had it gone on.
+    pub fn run_resumable(
+        mut self,
+        resumed: Option<Resumed>,
+        stop: &AtomicBool,
+        observer: &mut dyn FnMut(&Progress) -> Control,
+        checkpoints: &mut dyn Checkpoints,
+    ) -> RunRecord {
         let mut segment = self.segment();
-        let mut monitor =
-            Monitor::new(&self.scene_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
-        let mut settle = SettleDetector::new(&self.scene.settle);
-        let mut history = History::default();
-        let mut recorded_frames = Vec::new();
-        if segment.frames.due(self.step) {
-            recorded_frames.push(self.snapshot());
+        let fresh = resumed.is_none();
+        let mut run = resumed.map_or_else(|| self.start(), |Resumed(run)| run);
+        if fresh && segment.frames.due(self.step) {
+            run.frames.push(self.snapshot());
         }
         let (status, message) = loop {
-            if stop.load(Ordering::Relaxed) {
-                break (RunStatus::Interrupted, Some(stopped_at(self.time())));
+            if !run.stepping {
+                if stop.load(Ordering::Relaxed) {
+                    run.stepping = !segment.is_sample(self.step) && self.energy.power_finite();
+                    checkpoints.save(self.state(&mut run));
+                    break (RunStatus::Interrupted, Some(stopped_at(self.time())));
+                }
+                match self.take_sample(&mut run, &mut segment, observer) {
+                    Ok(()) if checkpoints.due(self.step) => checkpoints.save(self.state(&mut run)),
+                    Ok(()) => {}
+                    Err(end) => {
+                        if end.0 == RunStatus::Interrupted {
+                            checkpoints.save(self.state(&mut run));
+                        }
+                        break end;
+                    }
+                }
             }
-            let s = self.sample();
-            history.push(&s);
-            monitor.observe(&s);
-            let power_finite = self.energy.power_finite();
-            if let Some(reason) = monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
-                break (RunStatus::Diverged, Some(reason));
-            }
-            while self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
-                self.switch_stage(&mut segment, &mut settle);
-            }
-            let settled = settle.update(&s, self.protocol.in_physical_stage());
-            let progress = Progress {
-                step: self.step,
-                time: s.time,
-                duration: self.scene.run.duration,
-                unbalanced_force_ratio: s.unbalanced_force_ratio,
-                kinetic_energy: s.kinetic(),
-            };
-            if observer(&progress) == Control::Stop {
-                break (RunStatus::Interrupted, Some(stopped_at(s.time)));
-            }
-            if settled && self.scene.run.stop_at_settle {
-                break (RunStatus::Settled, None);
-            }
-            if self.step >= segment.last_step {
-                break (if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None);
-            }
-            self.step_to_next_sample(&mut segment, &mut settle, &mut recorded_frames, stop);
+            self.step_to_next_sample(&mut segment, &mut run.settle, &mut run.frames, stop);
+            run.stepping = false;
         };
-        warnings.extend(monitor.warnings(&self.scene.limits));
+        self.record(run, status, message)
+    }
+
+    /// Samples the state, watches it and tells the observer; `Err` with how the run ends where it
+    /// ends here.
+    fn take_sample(
+        &mut self,
+        run: &mut RunLoop,
+        segment: &mut Segment,
+        observer: &mut dyn FnMut(&Progress) -> Control,
+    ) -> Result<(), (RunStatus, Option<String>)> {
+        let s = self.sample();
+        run.history.push(&s);
+        run.monitor.observe(&s);
+        let power_finite = self.energy.power_finite();
+        if let Some(reason) = run.monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
+            return Err((RunStatus::Diverged, Some(reason)));
+        }
+        while self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
+            self.switch_stage(segment, &mut run.settle);
+        }
+        let settled = run.settle.update(&s, self.protocol.in_physical_stage());
+        let progress = Progress {
+            step: self.step,
+            time: s.time,
+            duration: self.scene.run.duration,
+            unbalanced_force_ratio: s.unbalanced_force_ratio,
+            kinetic_energy: s.kinetic(),
+        };
+        run.stepping = true;
+        if observer(&progress) == Control::Stop {
+            return Err((RunStatus::Interrupted, Some(stopped_at(s.time))));
+        }
+        if settled && self.scene.run.stop_at_settle {
+            return Err((RunStatus::Settled, None));
+        }
+        if self.step >= segment.last_step {
+            return Err((if settled { RunStatus::Settled } else { RunStatus::NotSettled }, None));
+        }
+        Ok(())
+    }
+
+    /// The record of the run ended with `status` and `message`.
+    fn record(self, run: RunLoop, status: RunStatus, message: Option<String>) -> RunRecord {
+        let mut warnings: Vec<ValidityWarning> = self.time_step_warning.iter().cloned().collect();
+        warnings.extend(run.stability.warnings.iter().cloned());
+        warnings.extend(run.monitor.warnings(&self.scene.limits));
         let contacts = self.contacts();
         RunRecord {
             status,
             message,
             warnings,
-            settle_time: settle.settle_time,
+            settle_time: run.settle.settle_time,
             steps: self.step,
             time_step: self.protocol.physical().dt,
             simulated_time: self.time(),
-            energy_balance_error: monitor.energy_balance_error(),
-            largest_overlap_ratio: monitor.largest_overlap_ratio(),
+            energy_balance_error: run.monitor.energy_balance_error(),
+            largest_overlap_ratio: run.monitor.largest_overlap_ratio(),
             pile: self.pile_metrics_of(&contacts),
-            stability,
-            history,
+            stability: run.stability,
+            history: run.history,
             final_state: self.snapshot_with(&contacts),
-            frames: recorded_frames,
+            frames: run.frames,
             stage_ends: self.protocol.end_times(),
         }
     }
@@ -351,6 +395,11 @@ struct Segment {
 }
 
 impl Segment {
+    /// Whether `step` is one of the samples (the grid's or the last step).
+    fn is_sample(&self, step: u64) -> bool {
+        step == self.last_step || (step - self.first).is_multiple_of(self.sample_every)
+    }
+
     /// The first sample after `step` (the last step at the latest).
     fn next_sample(&self, step: u64) -> u64 {
         let past = (step - self.first) % self.sample_every;
