@@ -3,8 +3,8 @@
 //! Written out here rather than taken from a crate so that the same seed gives the same positions on
 //! every platform and every future version: placement results are part of a study's identity.
 
-/// xoshiro256** generator.
-#[derive(Clone, Debug)]
+/// xoshiro256** generator; its state serializes (a pour's inlet saved in a checkpoint).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Rng {
     s: [u64; 4],
 }
