@@ -741,7 +741,9 @@ impl SceneConfig {
             return;
         }
         match (pour.rate, pour.mass_rate) {
-            (None, None) => c.fail("placement.pour.rate", "a pour needs placement.pour.rate or placement.pour.mass_rate"),
+            (None, None) => {
+                c.fail("placement.pour.rate", "a pour needs placement.pour.rate or placement.pour.mass_rate")
+            }
             (Some(_), Some(_)) => c.exclusive("placement.pour.rate", true, "placement.pour.mass_rate", true),
             (Some(rate), None) => c.positive("placement.pour.rate", rate),
             (None, Some(rate)) => c.positive("placement.pour.mass_rate", rate),
@@ -753,11 +755,15 @@ impl SceneConfig {
             return;
         }
         let [x0, x1, y0, y1] = pour.inlet(d.width, d.height, largest);
-        let sides = [("x_min", x0, 0.0, x1), ("x_max", x1, x0, d.width), ("y_min", y0, 0.0, y1), ("y_max", y1, y0, d.height)];
+        let sides =
+            [("x_min", x0, 0.0, x1), ("x_max", x1, x0, d.width), ("y_min", y0, 0.0, y1), ("y_max", y1, y0, d.height)];
         for (key, value, low, high) in sides {
             if !(value.is_finite() && value >= low && value <= high) {
                 let range = format!("[{}, {}]", significant(low, 6), significant(high, 6));
-                c.fail(&format!("placement.pour.{key}"), format!("must lie in {range} (the box and the inlet's other side), got {}", exact(value)));
+                c.fail(
+                    &format!("placement.pour.{key}"),
+                    format!("must lie in {range} (the box and the inlet's other side), got {}", exact(value)),
+                );
             }
         }
         let room = (x1 - x0).min(y1 - y0);
