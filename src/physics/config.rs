@@ -734,23 +734,25 @@ impl SceneConfig {
     /// A pour needs one rate and an inlet inside the box that holds its largest disk.
     fn check_pour(&self, c: &mut Checker, largest: f64) {
         let (pour, d) = (&self.placement.pour, &self.domain);
+        if let Some(rate) = pour.rate {
+            c.positive("placement.pour.rate", rate);
+        }
+        if let Some(rate) = pour.mass_rate {
+            c.positive("placement.pour.mass_rate", rate);
+        }
+        c.exclusive("placement.pour.rate", pour.rate.is_some(), "placement.pour.mass_rate", pour.mass_rate.is_some());
+        c.finite("placement.pour.velocity[0]", pour.velocity[0]);
+        c.finite("placement.pour.velocity[1]", pour.velocity[1]);
+        c.non_negative("placement.pour.velocity_spread", pour.velocity_spread);
         if self.placement.kind != PlacementKind::Pour {
             if *pour != PourConfig::default() {
                 c.fail("placement.pour", "sets a pour: it needs placement.kind = \"pour\"");
             }
             return;
         }
-        match (pour.rate, pour.mass_rate) {
-            (None, None) => {
-                c.fail("placement.pour.rate", "a pour needs placement.pour.rate or placement.pour.mass_rate")
-            }
-            (Some(_), Some(_)) => c.exclusive("placement.pour.rate", true, "placement.pour.mass_rate", true),
-            (Some(rate), None) => c.positive("placement.pour.rate", rate),
-            (None, Some(rate)) => c.positive("placement.pour.mass_rate", rate),
+        if pour.rate.is_none() && pour.mass_rate.is_none() {
+            c.fail("placement.pour.rate", "a pour needs placement.pour.rate or placement.pour.mass_rate");
         }
-        c.finite("placement.pour.velocity[0]", pour.velocity[0]);
-        c.finite("placement.pour.velocity[1]", pour.velocity[1]);
-        c.non_negative("placement.pour.velocity_spread", pour.velocity_spread);
         if !largest.is_finite() {
             return;
         }
