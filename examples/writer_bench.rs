@@ -174,6 +174,7 @@ fn synthetic_run(index: usize, scene: &SceneConfig) -> RunResult {
         final_state,
         frames: Vec::new(),
         stage_ends: Vec::new(),
+        pour: None,
     };
     let parameters = vec![
         ("material.beta".to_string(), ParamValue::Float(0.1 * (index % 10) as f64)),

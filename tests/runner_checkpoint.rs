@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 mod runner_common;
 
 use demsweep::physics::Threads;
-use demsweep::physics::config::{SceneConfig, StageConfig};
+use demsweep::physics::config::{PlacementKind, SceneConfig, StageConfig};
 use demsweep::physics::contact::HertzMindlin;
 use demsweep::physics::placement;
 use demsweep::physics::record::{RunRecord, RunStatus};
@@ -117,6 +117,32 @@ fn a_run_stopped_between_samples_resumes_to_the_same_bits() {
     let state = &keep.kept[0];
     assert!(state.step % 2500 != 0, "step {} is between samples", state.step);
     assert_eq!(text(&resumed(&scene, state, 1)), text(&straight));
+}
+
+#[test]
+fn a_pour_resumed_mid_insertion_is_bit_identical_to_the_straight_run() {
+    let mut scene = SceneConfig::default();
+    (scene.particles.count, scene.domain.width, scene.domain.height) = (60, 0.2, 0.3);
+    scene.placement.kind = PlacementKind::Pour;
+    (scene.placement.seed, scene.placement.pour.rate) = (5, Some(300.0));
+    (scene.placement.pour.velocity, scene.placement.pour.velocity_spread) = ([0.0, -0.5], 0.1);
+    (scene.run.duration, scene.run.stop_at_settle) = (0.5, false);
+    let straight = simulation(&scene, 1).run(&mut |_| Control::Continue);
+    let pour = straight.pour.expect("a pour");
+    assert_eq!(pour.inserted + pour.refused, 60);
+    // Saved while disks are still coming: part of the stream inserted, its random draws half used.
+    let mut keep = Keep { at: 20, ..Keep::default() };
+    let mut samples = 0;
+    let mut stop_late = |_: &_| {
+        samples += 1;
+        if samples == 25 { Control::Stop } else { Control::Continue }
+    };
+    simulation(&scene, 1).run_resumable(None, &AtomicBool::new(false), &mut stop_late, &mut keep);
+    assert_eq!(keep.kept.len(), 2);
+    for state in &keep.kept {
+        assert!(state.time < 60.0 / 300.0, "saved at {} s, before the last disk", state.time);
+        assert_eq!(text(&resumed(&scene, state, 1)), text(&straight), "from step {}", state.step);
+    }
 }
 
 #[test]

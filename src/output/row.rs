@@ -153,7 +153,7 @@ impl SummaryRow {
             warnings: record.warnings.clone(),
             settle_time: record.settle_time,
             steps: record.steps,
-            particle_steps: record.steps * record.final_state.x.len() as u64,
+            particle_steps: record.particle_steps(),
             simulated_time: record.simulated_time,
             wall_time: 0.0,
             cpu_time: f64::NAN,

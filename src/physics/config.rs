@@ -128,6 +128,8 @@ pub enum PlacementKind {
     File,
     /// Explicit initial states read by the caller from a LAMMPS data or dump file.
     Lammps,
+    /// Disks poured into the running simulation from an inlet region at a rate (`[placement.pour]`).
+    Pour,
 }
 
 impl PlacementKind {
@@ -143,7 +145,7 @@ scene_section! {
 #[serde(deny_unknown_fields, default)]
 pub struct PlacementConfig {
     /// Which generator.
-    #[key(one_of: &["random", "lattice", "dropped", "file", "lammps"])]
+    #[key(one_of: &["random", "lattice", "dropped", "file", "lammps", "pour"])]
     pub kind: PlacementKind,
     /// Seed for random placement and random radii; same seed, same positions on every platform.
     #[key(range: ">= 0")]
@@ -170,7 +172,69 @@ pub struct PlacementConfig {
     /// of that pour without the time of its free fall (m; 0: they start at rest where placed).
     #[key(unit: "m", range: ">= 0")]
     pub lowered_by: f64,
+    /// Pour placement: the inlet, its rate and the disks' initial velocity.
+    #[key(table: Some(PourConfig::KEYS))]
+    pub pour: PourConfig,
 }
+}
+
+scene_section! {
+/// Pouring at a rate (`placement.kind = "pour"`): the disks, radii drawn with the placement seed,
+/// enter one after another during the run at seeded random spots of the inlet rectangle that overlap
+/// no disk there; a disk that finds no free spot in `placement.max_attempts` tries is refused.
+/// Give `rate` or `mass_rate`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PourConfig {
+    /// Disks inserted per second: disk k is due at k / rate.
+    #[key(unit: "1/s", range: "> 0", plausible: Some((1e-3, 1e7)))]
+    pub rate: Option<f64>,
+    /// Mass inserted per second: disk k is due when the disks before it weigh mass_rate times the time.
+    #[key(unit: "kg/s", range: "> 0")]
+    pub mass_rate: Option<f64>,
+    /// The inlet's left edge (m); 0 when not given.
+    #[key(unit: "m", range: "[0, domain.width)")]
+    pub x_min: Option<f64>,
+    /// The inlet's right edge (m); `domain.width` when not given.
+    #[key(unit: "m", range: "(inlet x_min, domain.width]")]
+    pub x_max: Option<f64>,
+    /// The inlet's bottom (m); two largest diameters below `y_max` when not given.
+    #[key(unit: "m", range: "[0, inlet y_max)")]
+    pub y_min: Option<f64>,
+    /// The inlet's top (m); `domain.height` when not given.
+    #[key(unit: "m", range: "(inlet y_min, domain.height]")]
+    pub y_max: Option<f64>,
+    /// Initial velocity of each disk (m/s).
+    #[key(unit: "m/s", range: "finite")]
+    pub velocity: [f64; 2],
+    /// Each velocity component is drawn uniform within this of `velocity` (m/s).
+    #[key(unit: "m/s", range: ">= 0")]
+    pub velocity_spread: f64,
+}
+}
+
+impl Default for PourConfig {
+    fn default() -> Self {
+        Self {
+            rate: None,
+            mass_rate: None,
+            x_min: None,
+            x_max: None,
+            y_min: None,
+            y_max: None,
+            velocity: [0.0, 0.0],
+            velocity_spread: 0.0,
+        }
+    }
+}
+
+impl PourConfig {
+    /// The inlet rectangle `[x_min, x_max, y_min, y_max]` (m) in a `width` × `height` box for disks
+    /// up to `largest` in radius, the keys not given filled in.
+    pub fn inlet(&self, width: f64, height: f64, largest: f64) -> [f64; 4] {
+        let y_max = self.y_max.unwrap_or(height);
+        [self.x_min.unwrap_or(0.0), self.x_max.unwrap_or(width), self.y_min.unwrap_or(y_max - 4.0 * largest), y_max]
+    }
 }
 
 scene_section! {
@@ -433,6 +497,7 @@ impl Default for PlacementConfig {
             contacts: None,
             max_attempts: 10_000,
             lowered_by: 0.0,
+            pour: PourConfig::default(),
         }
     }
 }
@@ -622,6 +687,7 @@ impl SceneConfig {
             c.fail("placement.max_attempts", "must be at least 1");
         }
         self.check_lowering(c, largest);
+        self.check_pour(c, largest);
         c.finite("gravity[0]", self.gravity[0]);
         c.finite("gravity[1]", self.gravity[1]);
         let n = &self.neighbors;
@@ -659,6 +725,59 @@ impl SceneConfig {
                     exact(p.lowered_by),
                     significant(room, 6),
                     exact(self.domain.height),
+                    exact(2.0 * largest)
+                ),
+            );
+        }
+    }
+
+    /// A pour needs one rate and an inlet inside the box that holds its largest disk.
+    fn check_pour(&self, c: &mut Checker, largest: f64) {
+        let (pour, d) = (&self.placement.pour, &self.domain);
+        if let Some(rate) = pour.rate {
+            c.positive("placement.pour.rate", rate);
+        }
+        if let Some(rate) = pour.mass_rate {
+            c.positive("placement.pour.mass_rate", rate);
+        }
+        c.exclusive("placement.pour.rate", pour.rate.is_some(), "placement.pour.mass_rate", pour.mass_rate.is_some());
+        c.finite("placement.pour.velocity[0]", pour.velocity[0]);
+        c.finite("placement.pour.velocity[1]", pour.velocity[1]);
+        c.non_negative("placement.pour.velocity_spread", pour.velocity_spread);
+        if self.placement.kind != PlacementKind::Pour {
+            if *pour != PourConfig::default() {
+                c.fail("placement.pour", "sets a pour: it needs placement.kind = \"pour\"");
+            }
+            return;
+        }
+        if pour.rate.is_none() && pour.mass_rate.is_none() {
+            c.fail("placement.pour.rate", "a pour needs placement.pour.rate or placement.pour.mass_rate");
+        }
+        if !largest.is_finite() {
+            return;
+        }
+        let [x0, x1, y0, y1] = pour.inlet(d.width, d.height, largest);
+        let sides =
+            [("x_min", x0, 0.0, x1), ("x_max", x1, x0, d.width), ("y_min", y0, 0.0, y1), ("y_max", y1, y0, d.height)];
+        for (key, value, low, high) in sides {
+            if !(value.is_finite() && value >= low && value <= high) {
+                let range = format!("[{}, {}]", significant(low, 6), significant(high, 6));
+                c.fail(
+                    &format!("placement.pour.{key}"),
+                    format!("must lie in {range} (the box and the inlet's other side), got {}", exact(value)),
+                );
+            }
+        }
+        let room = (x1 - x0).min(y1 - y0);
+        if room.is_finite() && room < 2.0 * largest {
+            c.fail(
+                "placement.pour",
+                format!(
+                    "the inlet [{}, {}] x [{}, {}] m is narrower than the largest disk diameter {} m",
+                    significant(x0, 6),
+                    significant(x1, 6),
+                    significant(y0, 6),
+                    significant(y1, 6),
                     exact(2.0 * largest)
                 ),
             );

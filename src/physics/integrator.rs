@@ -143,6 +143,16 @@ impl Integrator {
         }
     }
 
+    /// Takes in the disks of `p` from `first` on, added since the last step (a pour): their stored
+    /// accelerations, where the scheme keeps them, as a first step would have them.
+    pub fn add_disks(&mut self, p: &Particles, c: &StepContext, first: usize) {
+        if let Integrator::AdamsBashforthMoulton { previous: Some(a) } = self {
+            for i in first..p.len() {
+                a.push(p, c, i);
+            }
+        }
+    }
+
     /// Completes the step after forces at the new positions have been evaluated.
     pub fn finish(&mut self, p: &mut Particles, c: &StepContext, team: &Team, moved: &mut Vec<Moved>) {
         if let Integrator::VelocityVerlet = self {
@@ -317,19 +327,24 @@ fn verlet_drift(d: &mut Moving<'_>, c: &StepContext) -> Moved {
 
 /// AB1 on the first step equals AB2 with `a_{-1} = a_0`.
 fn first_step_history(p: &Particles, c: &StepContext) -> Accelerations {
-    let n = p.len();
-    let d = &c.damping;
-    let linear = |f: &[f64], v: &[f64], g: f64| -> Vec<f64> {
-        (0..n).map(|i| (f[i] + d.force(f[i], p.mass[i] * g, p.mass[i], v[i])) * p.inv_mass[i] + g).collect()
-    };
-    let angular = |i: usize| {
-        let torque = p.torque[i] + d.force(p.torque[i], 0.0, 1.0 / p.inv_inertia[i], p.omega[i]);
-        torque * p.inv_inertia[i]
-    };
-    Accelerations {
-        ax: linear(&p.fx, &p.vx, c.gravity[0]),
-        ay: linear(&p.fy, &p.vy, c.gravity[1]),
-        alpha: if c.rotation { (0..n).map(angular).collect() } else { Vec::new() },
+    let mut history = Accelerations::default();
+    for i in 0..p.len() {
+        history.push(p, c, i);
+    }
+    history
+}
+
+impl Accelerations {
+    /// Appends the accelerations of disk `i` of `p` at its current forces (as a first step reads them).
+    fn push(&mut self, p: &Particles, c: &StepContext, i: usize) {
+        let d = &c.damping;
+        let linear = |f: f64, v: f64, g: f64| (f + d.force(f, p.mass[i] * g, p.mass[i], v)) * p.inv_mass[i] + g;
+        self.ax.push(linear(p.fx[i], p.vx[i], c.gravity[0]));
+        self.ay.push(linear(p.fy[i], p.vy[i], c.gravity[1]));
+        if c.rotation {
+            let torque = p.torque[i] + d.force(p.torque[i], 0.0, 1.0 / p.inv_inertia[i], p.omega[i]);
+            self.alpha.push(torque * p.inv_inertia[i]);
+        }
     }
 }
 

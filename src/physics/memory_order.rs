@@ -129,6 +129,13 @@ impl Numbering {
         self.scene_of.get(k).map_or(k, |&s| s as usize)
     }
 
+    /// The numbering after a disk was added at the end of the arrays: the scene's next disk.
+    pub fn add_disk(&mut self) {
+        if !self.scene_of.is_empty() {
+            self.scene_of.push(self.scene_of.len() as u32);
+        }
+    }
+
     /// The numbering after the disks were numbered afresh by `order` (see [`strip_order`]),
     /// which left `far_share_left` of the candidate pairs far apart.
     pub fn renumber(&mut self, order: &[u32], far_share_left: f64) {

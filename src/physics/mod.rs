@@ -36,6 +36,7 @@ pub mod parallel;
 pub mod particles;
 pub mod pile;
 pub mod placement;
+pub mod pour;
 pub mod quantity;
 pub mod record;
 pub mod rng;

@@ -41,6 +41,8 @@ impl FrameSchedule {
 /// Watches samples for divergence and validity problems.
 pub(super) struct Monitor {
     initial_mechanical: Option<f64>,
+    /// Energy brought in by a pour's disks so far (J): part of the initial energy.
+    brought_in: f64,
     energy_scale: f64,
     worst_overlap: (f64, f64),
     worst_imbalance: (f64, f64),
@@ -60,15 +62,21 @@ impl Monitor {
         let floor_scale: f64 = (0..p.len()).map(|i| p.mass[i] * gmag * p.r[i]).sum();
         Self {
             initial_mechanical: None,
+            brought_in: 0.0,
             energy_scale: (kt + kr + initial_elastic + potential_drop).max(floor_scale).max(f64::MIN_POSITIVE),
             worst_overlap: (0.0, 0.0),
             worst_imbalance: (0.0, 0.0),
         }
     }
 
+    /// Sets the energy a pour's disks brought in so far (J).
+    pub(super) fn bring_in(&mut self, energy: f64) {
+        self.brought_in = energy;
+    }
+
     /// Records one sample.
     pub(super) fn observe(&mut self, s: &Sample) {
-        let initial = *self.initial_mechanical.get_or_insert(s.mechanical());
+        let initial = *self.initial_mechanical.get_or_insert(s.mechanical()) + self.brought_in;
         if s.max_overlap_ratio > self.worst_overlap.0 {
             self.worst_overlap = (s.max_overlap_ratio, s.time);
         }
@@ -115,7 +123,7 @@ impl Monitor {
                 s.time
             ));
         }
-        let growth = s.mechanical() - self.initial_mechanical.unwrap_or(s.mechanical());
+        let growth = s.mechanical() - self.initial_mechanical.map_or(s.mechanical(), |e| e + self.brought_in);
         let allowed = limits.energy_growth_ratio * self.energy_scale;
         if growth > allowed {
             return Some(format!(

@@ -77,31 +77,33 @@ pub struct Particles {
 impl Particles {
     /// Disks of density `density` and thickness `thickness` at the given initial states.
     pub fn new(disks: &[InitialDisk], density: f64, thickness: f64) -> Self {
-        let n = disks.len();
-        let mut p = Particles {
-            x: disks.iter().map(|d| d.x).collect(),
-            y: disks.iter().map(|d| d.y).collect(),
-            vx: disks.iter().map(|d| d.vx).collect(),
-            vy: disks.iter().map(|d| d.vy).collect(),
-            omega: disks.iter().map(|d| d.omega).collect(),
-            angle: disks.iter().map(|d| d.angle).collect(),
-            r: disks.iter().map(|d| d.r).collect(),
-            mass: Vec::with_capacity(n),
-            inv_mass: Vec::with_capacity(n),
-            inv_inertia: Vec::with_capacity(n),
-            fx: vec![0.0; n],
-            fy: vec![0.0; n],
-            torque: vec![0.0; n],
-            rolling: vec![0.0; n],
-            contact_force: vec![0.0; n],
-        };
-        for &r in &p.r {
-            let m = density * PI * r * r * thickness;
-            p.mass.push(m);
-            p.inv_mass.push(1.0 / m);
-            p.inv_inertia.push(2.0 / (m * r * r));
+        let mut p = Particles::default();
+        for disk in disks {
+            p.push(disk, density, thickness);
         }
         p
+    }
+
+    /// Adds a disk of density `density` and thickness `thickness` at its initial state, with no force.
+    pub fn push(&mut self, d: &InitialDisk, density: f64, thickness: f64) {
+        let m = density * PI * d.r * d.r * thickness;
+        for (column, value) in [
+            (&mut self.x, d.x),
+            (&mut self.y, d.y),
+            (&mut self.vx, d.vx),
+            (&mut self.vy, d.vy),
+            (&mut self.omega, d.omega),
+            (&mut self.angle, d.angle),
+            (&mut self.r, d.r),
+            (&mut self.mass, m),
+            (&mut self.inv_mass, 1.0 / m),
+            (&mut self.inv_inertia, 2.0 / (m * d.r * d.r)),
+        ] {
+            column.push(value);
+        }
+        for column in [&mut self.fx, &mut self.fy, &mut self.torque, &mut self.rolling, &mut self.contact_force] {
+            column.push(0.0);
+        }
     }
 
     /// Number of disks.

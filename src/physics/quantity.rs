@@ -65,7 +65,7 @@ macro_rules! last_sample {
 }
 
 /// Final values of a run taken from its record (before the pile metrics in the summary).
-pub const FINAL_VALUES: [Quantity<RunValue>; 11] = [
+pub const FINAL_VALUES: [Quantity<RunValue>; 13] = [
     Quantity {
         name: "time_step",
         unit: "s",
@@ -116,6 +116,18 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 11] = [
         unit: "s",
         description: "When the scene's own physics began: 0 without stages, else when the last stage of its protocol ended; empty if the run ended first.",
         value: |r| r.stage_ends.last().map_or(0.0, |end| end.time.unwrap_or(f64::NAN)),
+    },
+    Quantity {
+        name: "poured_disks",
+        unit: "",
+        description: "Disks a pour inserted (placement.kind = \"pour\"); empty for other placements.",
+        value: |r| r.pour.map_or(f64::NAN, |pour| pour.inserted as f64),
+    },
+    Quantity {
+        name: "refused_disks",
+        unit: "",
+        description: "Disks a pour refused, finding no free spot in its inlet; empty for other placements.",
+        value: |r| r.pour.map_or(f64::NAN, |pour| pour.refused as f64),
     },
 ];
 

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::contact_record::Partner;
 use super::particles::{InitialContact, InitialDisk};
 use super::pile::PileMetrics;
+use super::pour::PourCount;
 use super::stability::StabilityReport;
 use super::warning::ValidityWarning;
 
@@ -218,6 +219,9 @@ pub struct RunRecord {
     /// When each stage before the physical one ended, in order (none for a scene without stages).
     #[serde(default)]
     pub stage_ends: Vec<StageEndTime>,
+    /// What a pour inserted and refused (`None` for other placements).
+    #[serde(default)]
+    pub pour: Option<PourCount>,
 }
 
 /// When one stage of a deposition protocol ended.
@@ -230,6 +234,11 @@ pub struct StageEndTime {
 }
 
 impl RunRecord {
+    /// Time steps times disks present, summed over the steps: the run's cost.
+    pub fn particle_steps(&self) -> u64 {
+        self.pour.map_or(self.steps * self.final_state.x.len() as u64, |pour| pour.particle_steps)
+    }
+
     /// Last sampled value of a history series, NaN when there is none.
     pub fn last(series: &[f64]) -> f64 {
         series.last().copied().unwrap_or(f64::NAN)

@@ -3,11 +3,13 @@
 //! Written out here rather than taken from a crate so that the same seed gives the same positions on
 //! every platform and every future version: placement results are part of a study's identity.
 
-/// xoshiro256** generator.
-#[derive(Clone, Debug)]
+/// xoshiro256** generator; its state is part of a checkpoint (a pour's inlet).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Rng {
     s: [u64; 4],
 }
+
+super::run_state::persist_fields!(Rng { s });
 
 fn splitmix64(state: &mut u64) -> u64 {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);

@@ -215,6 +215,15 @@ impl<T: Persist + Default> Persist for Option<T> {
     }
 }
 
+impl<T: Persist, const N: usize> Persist for [T; N] {
+    fn save(&self, out: &mut Vec<u8>) {
+        self.iter().for_each(|value| value.save(out));
+    }
+    fn load(&mut self, input: &mut Input<'_>) -> Result<(), StateError> {
+        self.iter_mut().try_for_each(|value| value.load(input))
+    }
+}
+
 impl<A: Persist, B: Persist> Persist for (A, B) {
     fn save(&self, out: &mut Vec<u8>) {
         self.0.save(out);

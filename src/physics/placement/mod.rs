@@ -7,12 +7,14 @@ mod error;
 mod fill;
 mod lattice;
 mod lowered;
+mod pour;
 mod random;
 
 pub use dropped::dropped;
 pub use error::PlacementError;
 pub use fill::Fill;
 pub use lattice::lattice;
+pub use pour::reference as pour_reference;
 pub use random::random;
 
 use super::config::{PlacementKind, SceneConfig};
@@ -36,14 +38,15 @@ pub fn radii(scene: &SceneConfig, rng: &mut Rng) -> Vec<f64> {
 pub fn draws_from_seed(scene: &SceneConfig) -> bool {
     let drawn = |seed: u64| radii(scene, &mut Rng::new(seed));
     match scene.placement.kind {
-        PlacementKind::Random | PlacementKind::Dropped => true,
+        PlacementKind::Random | PlacementKind::Dropped | PlacementKind::Pour => true,
         PlacementKind::Lattice => drawn(scene.placement.seed) != drawn(scene.placement.seed.wrapping_add(1)),
         PlacementKind::File | PlacementKind::Lammps => false,
     }
 }
 
 /// Generated initial disks of a scene whose placement is `random`, `lattice` or `dropped`
-/// (`random` and `lattice` lowered by `placement.lowered_by`: [`lowered::lowered`]).
+/// (`random` and `lattice` lowered by `placement.lowered_by`: [`lowered::lowered`]); of a `pour`,
+/// the disks its estimates see ([`pour::reference`]: the simulation pours them).
 /// `file` placement is the caller's: it reads the states and passes them to the simulation.
 pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError> {
     let mut rng = Rng::new(scene.placement.seed);
@@ -52,6 +55,7 @@ pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError>
         PlacementKind::Random => lowered::lowered(scene, |band| random(band, &radii, &mut rng)),
         PlacementKind::Lattice => lowered::lowered(scene, |band| lattice(band, &radii)),
         PlacementKind::Dropped => dropped(scene, &radii, &mut rng),
+        PlacementKind::Pour => Ok(pour::reference(scene, &radii)),
         PlacementKind::File | PlacementKind::Lammps => Err(PlacementError {
             key: "placement.file".into(),
             reason: "file placement needs the initial states read from the file".into(),
@@ -81,6 +85,7 @@ mod tests {
         };
         let kinds = [PlacementKind::Random, PlacementKind::Dropped, PlacementKind::Lattice, PlacementKind::File];
         assert_eq!(kinds.map(of_kind), [true, true, false, false]);
+        assert!(of_kind(PlacementKind::Pour), "a pour draws its spots");
         let mut scene = SceneConfig::default();
         scene.placement.kind = PlacementKind::Lattice;
         scene.particles.radius_max = Some(0.012);

@@ -35,6 +35,15 @@ impl<L: ContactLaw> Simulation<L> {
         Cow::Owned(p)
     }
 
+    /// The disks the run's estimates see (stability, energy scale): the scene's, or a pour's
+    /// reference disks.
+    pub(super) fn estimated_particles(&self) -> Cow<'_, Particles> {
+        match &self.inlet {
+            Some(inlet) => Cow::Owned(inlet.reference(&self.scene)),
+            None => self.scene_particles(),
+        }
+    }
+
     /// Steps taken.
     pub fn steps(&self) -> u64 {
         self.step
@@ -54,7 +63,7 @@ impl<L: ContactLaw> Simulation<L> {
     /// The pre-run stability estimate for this scene.
     pub fn stability(&self) -> StabilityReport {
         let physical = self.protocol.physical();
-        stability::assess(&self.law, &self.scene, &self.scene_particles(), &physical.materials, &self.walls)
+        stability::assess(&self.law, &self.scene, &self.estimated_particles(), &physical.materials, &self.walls)
     }
 
     /// Diagnostics at the current state; valid after a sampled step (or at time zero).

@@ -7,6 +7,7 @@ use crate::physics::contact::ContactLaw;
 use crate::physics::diagnostics::SettleDetector;
 use crate::physics::forces::TouchingPairs;
 use crate::physics::monitor::Monitor;
+use crate::physics::pour::Inlet;
 use crate::physics::record::History;
 use crate::physics::run_state::{Input, RunState, StateError, StateReason, Visit};
 
@@ -25,13 +26,16 @@ impl<L: ContactLaw> Simulation<L> {
         v.piece("settle", &mut run.settle)?;
         v.piece("history", &mut run.history)?;
         v.piece("frames", &mut run.frames)?;
+        if let Some(inlet) = &mut self.inlet {
+            v.piece("pour", inlet)?;
+        }
         v.piece("stepping", &mut run.stepping)
     }
 
     /// The loop of a run starting now, from this state.
     pub(super) fn start(&self) -> RunLoop {
         let monitor =
-            Monitor::new(&self.scene_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
+            Monitor::new(&self.estimated_particles(), &self.walls, self.scene.gravity, self.energy.initial_elastic);
         RunLoop {
             stability: self.stability(),
             monitor,
@@ -61,6 +65,7 @@ impl<L: ContactLaw> Simulation<L> {
         if !input.finished() {
             return Err(input.error(StateReason::TrailingBytes));
         }
+        let disks = disks + self.inlet.as_ref().map_or(0, Inlet::inserted);
         let p = &self.particles;
         let columns = [&p.x, &p.y, &p.vx, &p.vy, &p.omega, &p.angle, &p.r, &p.mass, &p.inv_mass, &p.inv_inertia];
         let wrong = |found: usize| StateError {

@@ -15,13 +15,15 @@ use crate::physics::memory_order::{MemoryOrder, Numbering};
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::Team;
 use crate::physics::particles::{InitialContact, InitialDisk, Particles};
+use crate::physics::pour::Inlet;
 use crate::physics::rolling;
 use crate::physics::time_step::with_time_step;
 use crate::physics::walls::BoxWalls;
 
 impl<L: RegisteredLaw> Simulation<L> {
     /// A simulation of `scene` from `disks` at time zero, with forces evaluated at the initial
-    /// state. Panics unless `L` is the law of the models `scene.contact` names.
+    /// state (a pour's `disks` are its reference disks, [`crate::physics::placement::generate`]'s:
+    /// it starts from none). Panics unless `L` is the law of the models `scene.contact` names.
     pub fn new(scene: &SceneConfig, disks: &[InitialDisk]) -> Self {
         let law = L::chosen_in(&scene.contact)
             .unwrap_or_else(|| panic!("scene.contact is {}, not the Simulation's law", scene.contact.law_name()));
@@ -45,7 +47,13 @@ impl<L: ContactLaw> Simulation<L> {
         let first = protocol.now();
         let scene = &with_time_step(scene, protocol.physical().dt);
         let materials = first.materials;
-        let particles = Particles::new(disks, materials.density, scene.particles.thickness);
+        let inlet = Inlet::of_scene(scene, materials.density);
+        let mut particles = Particles::new(disks, materials.density, scene.particles.thickness);
+        let skin = scene.neighbors.skin_ratio * particles.max_radius();
+        if inlet.is_some() {
+            // A pour's disks are its reference disks: the box starts empty.
+            particles = Particles::default();
+        }
         let walls = BoxWalls::new(&scene.domain);
         // Springs and spins are followed through the whole run if any stage has friction.
         let all = || protocol.stages.iter().map(|stage| &stage.materials);
@@ -58,7 +66,6 @@ impl<L: ContactLaw> Simulation<L> {
             rotation,
             dt: first.dt,
         };
-        let skin = scene.neighbors.skin_ratio * particles.max_radius();
         let mut sim = Self {
             law,
             scene: scene.clone(),
@@ -83,6 +90,7 @@ impl<L: ContactLaw> Simulation<L> {
             energy: EnergyLedger::default(),
             totals: ContactTotals::default(),
             protocol,
+            inlet,
         };
         sim.rebuild_neighbors();
         sim.neighbors.seed_histories(contacts);

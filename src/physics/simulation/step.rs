@@ -15,6 +15,7 @@ use crate::physics::monitor::FrameSchedule;
 use crate::physics::neighbors::NeighborList;
 use crate::physics::parallel::{Team, Threads};
 use crate::physics::particles::Particles;
+use crate::physics::pour::Inlet;
 use crate::physics::record::{RunRecord, RunStatus, Snapshot};
 use crate::physics::rolling;
 use crate::physics::run_state::{Checkpoints, NoCheckpoints};
@@ -82,6 +83,8 @@ pub struct Simulation<L: ContactLaw> {
     pub(super) totals: ContactTotals,
     /// The run's stages and where it is in them.
     pub(super) protocol: Protocol,
+    /// A pour's inserter (`None` for other placements).
+    pub(super) inlet: Option<Inlet>,
 }
 
 impl<L: ContactLaw> Simulation<L> {
@@ -135,6 +138,26 @@ impl<L: ContactLaw> Simulation<L> {
     pub(super) fn move_disks(&mut self) -> (f64, f64, bool) {
         let moved = self.integrator.advance(&mut self.particles, &self.context, &self.team, &mut self.moved);
         (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
+    }
+
+    /// Inserts the pour's disks due by now, and takes them into the integrator, the numbering and
+    /// the neighbour list.
+    fn pour(&mut self) {
+        let (time, first) = (self.time(), self.particles.len());
+        let Some(inlet) = &mut self.inlet else { return };
+        if inlet.pour(&mut self.particles, time, self.step, self.scene.gravity) == 0 {
+            return;
+        }
+        self.integrator.add_disks(&self.particles, &self.context, first);
+        for _ in first..self.particles.len() {
+            self.numbering.add_disk();
+        }
+        self.rebuild_neighbors();
+    }
+
+    /// Whether a pour has disks still to come.
+    fn pouring(&self) -> bool {
+        self.inlet.as_ref().is_some_and(|inlet| !inlet.done())
     }
 
     /// Builds the neighbour list afresh from the current positions.
@@ -269,15 +292,20 @@ impl<L: ContactLaw> Simulation<L> {
     ) -> Result<(), (RunStatus, Option<String>)> {
         let s = self.sample();
         run.history.push(&s);
+        if let Some(inlet) = &self.inlet {
+            run.monitor.bring_in(inlet.energy_in());
+        }
         run.monitor.observe(&s);
         let power_finite = self.energy.power_finite();
         if let Some(reason) = run.monitor.divergence(&s, &self.particles, power_finite, &self.scene.limits) {
             return Err((RunStatus::Diverged, Some(reason)));
         }
-        while self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
+        // Nothing ends a stage or settles the pile before the pour's last disk.
+        let pouring = self.pouring();
+        while !pouring && self.protocol.stage_over(self.step, &s, self.particles.len(), || self.all_in_contact()) {
             self.switch_stage(segment, &mut run.settle);
         }
-        let settled = run.settle.update(&s, self.protocol.in_physical_stage());
+        let settled = run.settle.update(&s, self.protocol.in_physical_stage() && !pouring);
         let progress = Progress {
             step: self.step,
             time: s.time,
@@ -320,6 +348,7 @@ impl<L: ContactLaw> Simulation<L> {
             final_state: self.snapshot_with(&contacts),
             frames: run.frames,
             stage_ends: self.protocol.end_times(),
+            pour: self.inlet.as_ref().map(|inlet| inlet.count(self.step, self.particles.len())),
         }
     }
 
@@ -340,6 +369,9 @@ impl<L: ContactLaw> Simulation<L> {
             while self.step < next {
                 let frame_due = segment.frames.due(self.step + 1);
                 self.advance(frame_due || self.step + 1 == sample);
+                if self.inlet.as_ref().is_some_and(|inlet| inlet.due_by(self.time())) {
+                    self.pour();
+                }
                 if frame_due {
                     frames.push(self.snapshot());
                 }
