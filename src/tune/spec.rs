@@ -308,9 +308,23 @@ impl TuneSpec {
         Ok(tree)
     }
 
-    /// The lever values of normalized point `u`.
+    /// The lever values of normalized point `u`; a `placement.lowered_by` lever reads 0 where the
+    /// `placement.kind` lever picks a kind that cannot be lowered (dropped, file), so that the two
+    /// levers combine into a valid scene.
     pub fn values(&self, u: &[f64]) -> Vec<(String, ParamValue)> {
-        self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect()
+        let mut values: Vec<(String, ParamValue)> =
+            self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect();
+        let unlowerable = values.iter().any(|(key, value)| {
+            key == "placement.kind" && !matches!(value, ParamValue::Text(kind) if kind == "random" || kind == "lattice")
+        });
+        let lowered = values.iter_mut().find(|(key, _)| key == "placement.lowered_by").filter(|_| unlowerable);
+        if let Some((_, lowered)) = lowered {
+            *lowered = match lowered {
+                ParamValue::Int(_) => ParamValue::Int(0),
+                _ => ParamValue::Float(0.0),
+            };
+        }
+        values
     }
 
     /// Per lever, in order: the normalized coordinate of the reference's value, when the reference
