@@ -30,3 +30,15 @@ fn a_dropped_placement_combines_with_a_lowered_by_lever() {
         assert_eq!(scene.stages[0].damping.local, Some(0.3), "the stage key is a lever");
     }
 }
+
+#[test]
+fn stage_levers_take_the_reference_stage_values() {
+    let spec = demsweep::tune::load(Path::new(FILE)).unwrap();
+    let values: Vec<(String, ParamValue)> = spec.reference_values().into_iter().map(|(k, v, _)| (k, v)).collect();
+    let value = |key: &str| values.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+    assert_eq!(value("stages.fill.damping.local"), Some(ParamValue::Float(0.1)));
+    assert_eq!(value("stages.fill.until.time"), Some(ParamValue::Float(0.3)));
+    let home = spec.reference_coordinates();
+    assert!((home[0].unwrap() - 0.1 / 0.6).abs() < 1e-9, "{home:?}");
+    assert!((home[1].unwrap() - 0.25 / 0.45).abs() < 1e-9, "{home:?}");
+}

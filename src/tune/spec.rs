@@ -335,8 +335,8 @@ impl TuneSpec {
         self.levers.iter().map(|l| coordinate(&l.key)).collect()
     }
 
-    /// The reference scene's value of each lever that it sets (or whose default lies in the range),
-    /// and its normalized coordinate when it lies in the range.
+    /// The reference scene's value of each lever that it sets (or whose default lies in the range; a
+    /// stage's key in the stage of that name), and its normalized coordinate when it lies in the range.
     pub fn reference_values(&self) -> Vec<(String, ParamValue, Option<f64>)> {
         let json = serde_json::to_value(&self.reference).unwrap_or_default();
         self.levers
@@ -344,7 +344,11 @@ impl TuneSpec {
             .filter_map(|lever| {
                 let mut here = &json;
                 for key in &lever.path {
-                    here = here.get(key)?;
+                    here = match here {
+                        // A stage (`stages.NAME.KEY`) is found by its name.
+                        serde_json::Value::Array(items) => items.iter().find(|item| item["name"] == key.as_str())?,
+                        _ => here.get(key)?,
+                    };
                 }
                 let value = match here {
                     serde_json::Value::Number(n) if n.is_i64() => ParamValue::Int(n.as_i64()?),
