@@ -42,3 +42,9 @@ fn stage_levers_take_the_reference_stage_values() {
     assert!((home[0].unwrap() - 0.1 / 0.6).abs() < 1e-9, "{home:?}");
     assert!((home[1].unwrap() - 0.25 / 0.45).abs() < 1e-9, "{home:?}");
 }
+
+#[test]
+fn lowering_the_start_settles_sooner() {
+    assert_eq!(demsweep::tune::ladder::dissipation("placement.lowered_by"), 1.0);
+    assert_eq!(demsweep::tune::ladder::dissipation("stages.fill.damping.local"), 0.0);
+}
