@@ -20,12 +20,13 @@ pub const TIME_STEP_KEYS: [&str; 3] =
 
 /// +1 where raising the key makes each contact dissipate more (the contact damping β, a dissipation
 /// time), -1 where lowering it does (a restitution), 0 otherwise: the direction in which a deposition
-/// settles sooner, other things equal, while keeping its pile. Numerical damping (local, viscous)
-/// also settles sooner but loosens the pile as it grows: 0, its standard setting tries it.
+/// settles sooner, other things equal, while keeping its pile; `placement.lowered_by` +1 too (disks
+/// lowered closer to the floor fall for less time). Numerical damping (local, viscous) also settles
+/// sooner but loosens the pile as it grows: 0, its standard setting tries it.
 pub fn dissipation(key: &str) -> f64 {
     let last = key.rsplit('.').next().unwrap_or(key);
     match last {
-        "beta" | "dissipation_time" => 1.0,
+        "beta" | "dissipation_time" | "lowered_by" => 1.0,
         "restitution" => -1.0,
         _ => 0.0,
     }

@@ -308,9 +308,23 @@ impl TuneSpec {
         Ok(tree)
     }
 
-    /// The lever values of normalized point `u`.
+    /// The lever values of normalized point `u`; a `placement.lowered_by` lever reads 0 where the
+    /// `placement.kind` lever picks a kind that cannot be lowered (dropped, file), so that the two
+    /// levers combine into a valid scene.
     pub fn values(&self, u: &[f64]) -> Vec<(String, ParamValue)> {
-        self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect()
+        let mut values: Vec<(String, ParamValue)> =
+            self.levers.iter().zip(u).map(|(l, &x)| (l.key.clone(), l.value(x))).collect();
+        let unlowerable = values.iter().any(|(key, value)| {
+            key == "placement.kind" && !matches!(value, ParamValue::Text(kind) if kind == "random" || kind == "lattice")
+        });
+        let lowered = values.iter_mut().find(|(key, _)| key == "placement.lowered_by").filter(|_| unlowerable);
+        if let Some((_, lowered)) = lowered {
+            *lowered = match lowered {
+                ParamValue::Int(_) => ParamValue::Int(0),
+                _ => ParamValue::Float(0.0),
+            };
+        }
+        values
     }
 
     /// Per lever, in order: the normalized coordinate of the reference's value, when the reference
@@ -321,8 +335,8 @@ impl TuneSpec {
         self.levers.iter().map(|l| coordinate(&l.key)).collect()
     }
 
-    /// The reference scene's value of each lever that it sets (or whose default lies in the range),
-    /// and its normalized coordinate when it lies in the range.
+    /// The reference scene's value of each lever that it sets (or whose default lies in the range; a
+    /// stage's key in the stage of that name), and its normalized coordinate when it lies in the range.
     pub fn reference_values(&self) -> Vec<(String, ParamValue, Option<f64>)> {
         let json = serde_json::to_value(&self.reference).unwrap_or_default();
         self.levers
@@ -330,7 +344,11 @@ impl TuneSpec {
             .filter_map(|lever| {
                 let mut here = &json;
                 for key in &lever.path {
-                    here = here.get(key)?;
+                    here = match here {
+                        // A stage (`stages.NAME.KEY`) is found by its name.
+                        serde_json::Value::Array(items) => items.iter().find(|item| item["name"] == key.as_str())?,
+                        _ => here.get(key)?,
+                    };
                 }
                 let value = match here {
                     serde_json::Value::Number(n) if n.is_i64() => ParamValue::Int(n.as_i64()?),
