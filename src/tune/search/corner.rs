@@ -1,5 +1,5 @@
 //! The cheap corner: every lever at the end of its range that its time step and the measured settle
-//! times say is cheaper, each list lever (e.g. the integrator's scheme) at its cheapest valid value.
+//! times say is cheaper.
 
 use super::run::Search;
 use crate::tune::design;
@@ -43,35 +43,9 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if self.result.candidates.len() == before {
                 return None;
             }
-            let nearer = self.nearer_corner(&corner);
-            corner = self.cheapest_listed(&nearer);
+            corner = self.nearer_corner(&corner);
         }
         None
-    }
-
-    /// `corner` with each list lever at its value whose setting is predicted valid and cheapest (its
-    /// own value first, kept on a tie): a lever such as `integrator.scheme` sets the stable time step,
-    /// so each of its values' corner is a candidate. A lever with no valid value stays as it is.
-    pub(super) fn cheapest_listed(&mut self, corner: &[f64]) -> Vec<f64> {
-        let mut best = corner.to_vec();
-        for d in 0..self.config.dims {
-            let Some(n) = self.config.levels[d] else { continue };
-            let values = std::iter::once(best[d]).chain((0..n).map(|i| (i as f64 + 0.5) / n as f64));
-            let mut chosen: Option<(f64, f64)> = None;
-            for u in values.collect::<Vec<f64>>() {
-                let mut point = best.clone();
-                point[d] = u;
-                let screen = self.evaluator.screen(&design::snap(&point, &self.config.levels), None);
-                let cost = screen.relative_cost.unwrap_or(f64::INFINITY);
-                if self.predicted_valid(&screen) && chosen.is_none_or(|(_, c)| cost < c) {
-                    chosen = Some((u, cost));
-                }
-            }
-            if let Some((u, _)) = chosen {
-                best[d] = u;
-            }
-        }
-        best
     }
 
     /// The next try after `corner` was predicted invalid: the cheapest predicted valid setting with
@@ -150,8 +124,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if self.predicted_valid(&screen) {
                 return screen.relative_cost;
             }
-            let nearer = self.nearer_corner(&corner);
-            corner = self.cheapest_listed(&nearer);
+            corner = self.nearer_corner(&corner);
         }
         None
     }

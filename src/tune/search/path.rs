@@ -42,7 +42,6 @@ impl<'a, E: Evaluator> Search<'a, E> {
                         self.result.candidates[k].stepped_from = from;
                         self.result.path.0.push(k);
                         match self.settle_seeds(k)? {
-                            true if self.unsettled(k) => PathStep::End(PathEnd::NothingCheaper),
                             true => self.path_next(&rungs, Some(k), false),
                             false => PathStep::End(PathEnd::OutOfBudget),
                         }
@@ -114,14 +113,6 @@ impl<'a, E: Evaluator> Search<'a, E> {
             let cap = self.config.cut_runs.then(|| self.likely_cost());
             self.run_batch(&[(k, more)], Some(cap))?;
         }
-    }
-
-    /// Whether a run of rung `k` did not settle or was cut: a pile that keeps rattling at the paper's
-    /// integrator (a limit cycle) or a rung dearer than the reference ends the path, leaving the
-    /// spend to the other levers (another scheme, more damping).
-    pub(super) fn unsettled(&self, k: usize) -> bool {
-        let runs = &self.result.candidates[k].runs;
-        runs.iter().any(|o| matches!(o.failure, Some(RunFailure::NotSettled | RunFailure::Cut { .. })))
     }
 
     /// The path's next step after judging `last` (a rung run or verified), from every rung so far
