@@ -22,6 +22,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// [`SearchConfig::home`](crate::tune::model::SearchConfig::home)); while predicted invalid,
     /// nearer the centre ([`Self::nearer_corner`]). Returns the runnable candidate, if one is new;
     /// proposed once, the same candidate after.
+    /// A list lever (the integrator scheme) takes the value whose own corner is cheapest
+    /// ([`Self::corner_choice`]).
     pub(super) fn cheap_corner(&mut self) -> Option<usize> {
         if let Some(corner) = self.corner {
             return corner;
@@ -32,7 +34,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     pub(super) fn propose_corner(&mut self) -> Option<usize> {
-        let mut corner = self.corner_start();
+        let mut corner = self.corner_choice();
         for _ in 0..CORNER_TRIES {
             let before = self.result.candidates.len();
             if let Some(k) = self.propose(&corner, Origin::Initial) {
@@ -90,7 +92,30 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The predicted cost of the cheap corner's time step, screened without proposing it (nearer
     /// the centre while predicted invalid, as [`Self::cheap_corner`] does).
     pub(super) fn corner_cost(&mut self) -> Option<f64> {
-        let mut corner = self.corner_start();
+        let corner = self.corner_choice();
+        self.valid_corner_cost(corner)
+    }
+
+    /// The cheap corner's first try: [`Self::corner_start`], or the same with one list lever at
+    /// another of its values (another integrator scheme, whose stable step differs) where that
+    /// corner, once predicted valid, has the cheaper time step: each value's corner is priced at
+    /// its own step. The first tried wins a tie.
+    pub(super) fn corner_choice(&mut self) -> Vec<f64> {
+        let start = self.corner_start();
+        let mut best = (start.clone(), self.valid_corner_cost(start.clone()).unwrap_or(f64::INFINITY));
+        for other in list_values(&start, &self.config.levels) {
+            if let Some(cost) = self.valid_corner_cost(other.clone())
+                && cost < best.1
+            {
+                best = (other, cost);
+            }
+        }
+        best.0
+    }
+
+    /// The predicted cost of the time step `corner` resolves to, moved nearer the centre while
+    /// predicted invalid (at most [`CORNER_TRIES`] times); None when it cannot start or stays invalid.
+    fn valid_corner_cost(&mut self, mut corner: Vec<f64>) -> Option<f64> {
         for _ in 0..CORNER_TRIES {
             let screen = self.evaluator.screen(&design::snap(&corner, &self.config.levels), None);
             if screen.predicted.is_err() {
@@ -103,6 +128,25 @@ impl<'a, E: Evaluator> Search<'a, E> {
         }
         None
     }
+}
+
+/// `point` with one list lever (`levels[d]` of `Some(n)`) moved to each of its other values' bin
+/// centres, one list lever at a time.
+fn list_values(point: &[f64], levels: &[Option<usize>]) -> Vec<Vec<f64>> {
+    let own = design::snap(point, levels);
+    let mut others = Vec::new();
+    for (d, level) in levels.iter().enumerate() {
+        let Some(n) = *level else { continue };
+        for bin in 0..n {
+            let centre = (bin as f64 + 0.5) / n as f64;
+            if centre != own[d] {
+                let mut other = point.to_vec();
+                other[d] = centre;
+                others.push(other);
+            }
+        }
+    }
+    others
 }
 
 /// Moves a point of the lever space halfway to the centre of every lever's range.

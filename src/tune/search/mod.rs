@@ -20,10 +20,12 @@
 //!    that differs bisects (geometric mean) towards the last good rung or the reference, until the
 //!    two are within [`PATH_RESOLUTION`](path::PATH_RESOLUTION); the cheapest good rung is verified
 //!    on fresh seeds, and a failed verification leads to the rung that cures it and a new
-//!    verification. Only the run budget and the spend limit stop it; nothing else runs before it
-//!    ends.
+//!    verification. Only the run budget, the spend limit and a rung whose runs do not settle (a
+//!    limit cycle) stop it; a rung's runs are cut at the cheapest candidate still in the running.
+//!    Nothing else runs before it ends.
 //! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
-//!    design (a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted
+//!    design (the cheap corner, each list lever such as `integrator.scheme` at the value whose own
+//!    valid corner has the cheapest time step; a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted
 //!    invalid are recorded and never run); then a pattern search (compass search, Kolda, Lewis &
 //!    Torczon 2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer
 //!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and

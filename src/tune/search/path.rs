@@ -4,7 +4,7 @@
 use super::run::{PathStep, Search};
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::tune::judge::{cure_factor, runs_to_decide};
-use crate::tune::model::{Evaluator, NotRun, Origin, PathEnd, Rejection, State, TuneError};
+use crate::tune::model::{Evaluator, NotRun, Origin, PathEnd, Rejection, RunFailure, State, TuneError};
 
 /// The time-step path stops bisecting when its best good rung's time step is within this factor of
 /// the smallest bad one's: the answer then costs at most this much more than the boundary.
@@ -109,7 +109,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
             if !self.fits_path(more, more as f64 * self.result.candidates[k].relative_cost.unwrap_or(1.0)) {
                 return Ok(false);
             }
-            let cap = self.config.cut_runs.then(|| self.result.reference_cost());
+            // Cut where it could no longer win: at the cheapest candidate still in the running.
+            let cap = self.config.cut_runs.then(|| self.likely_cost());
             self.run_batch(&[(k, more)], Some(cap))?;
         }
     }
@@ -120,7 +121,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// above the best good one (or the reference) and the spend limit leaves room for one more rung
     /// and a verification, the next rung is the one a measured check's cure gives (for a rung that
     /// broke one), or their geometric mean; else the best good rung is verified (the path's
-    /// answer). A rung whose verification stays undecided beyond what the spend limit can decide
+    /// answer); so is it after a rung whose runs did not settle. A rung whose verification stays undecided beyond what the spend limit can decide
     /// ends the path, naming it. `exhausted`: out of rungs, or a rung rounded to one the path has.
     pub(super) fn path_next(&self, rungs: &[(f64, usize)], last: Option<usize>, exhausted: bool) -> PathStep {
         let result = &self.result;
@@ -139,7 +140,10 @@ impl<'a, E: Evaluator> Search<'a, E> {
         let (top, first) = rungs[0];
         let low = best_good.map_or(top * result.candidates[first].relative_cost.unwrap_or(1.0), |g| g.0);
         let smallest_bad = rungs.iter().filter(|r| !good(r.1)).map(|r| r.0).fold(f64::INFINITY, f64::min);
-        if exhausted || smallest_bad.is_infinite() || smallest_bad / low < PATH_RESOLUTION {
+        // A rung that does not settle (a limit cycle) ends the path: the spend goes to the other levers.
+        let unsettled = last
+            .is_some_and(|k| self.result.candidates[k].runs.iter().any(|o| o.failure == Some(RunFailure::NotSettled)));
+        if exhausted || unsettled || smallest_bad.is_infinite() || smallest_bad / low < PATH_RESOLUTION {
             return verify_best();
         }
         let cured =
