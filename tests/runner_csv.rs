@@ -78,6 +78,8 @@ fn csv_summary_has_the_columns_and_quotes_messages() {
         ("energy_balance_error", ""),
         ("largest_overlap_ratio", ""),
         ("physics_start_time", "s"),
+        ("poured_disks", ""),
+        ("refused_disks", ""),
         ("pile_height", "m"),
         ("surface_height", "m"),
         ("packing_fraction", ""),

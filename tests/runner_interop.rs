@@ -66,6 +66,8 @@ fn run_group(
         ("energy_balance_error", record.map_or(nan, |r| r.energy_balance_error)),
         ("largest_overlap_ratio", record.map_or(nan, |r| r.largest_overlap_ratio)),
         ("physics_start_time", record.map_or(nan, |r| r.stage_ends.last().map_or(0.0, |e| e.time.unwrap_or(nan)))),
+        ("poured_disks", record.and_then(|r| r.pour).map_or(nan, |p| p.inserted as f64)),
+        ("refused_disks", record.and_then(|r| r.pour).map_or(nan, |p| p.refused as f64)),
         ("pile_height", record.map_or(nan, |r| pile_height(&r.final_state))),
         ("packing_fraction", record.map_or(nan, |r| packing_fraction(&r.final_state, run.scene.domain.width))),
     ];
@@ -211,6 +213,29 @@ fn history(r: &RunRecord) -> Value {
     table(f, json!({"units": units}))
 }
 
+/// The stress profile of the run's final state, with the columns and units docs/results.md names.
+fn stress_profile(r: &RunRecord, scene: &demsweep::physics::config::SceneConfig) -> Value {
+    let p = demsweep::physics::stress::StressProfile::of_state(
+        &r.final_state,
+        scene.domain.width,
+        scene.particles.thickness,
+    );
+    let stress = |f: fn(&demsweep::physics::stress::Stress) -> f64| json!(p.stress.iter().map(f).collect::<Vec<_>>());
+    let f = vec![
+        ("bottom", json!(p.bottom)),
+        ("top", json!(p.top)),
+        ("stress_xx", stress(|s| s.xx)),
+        ("stress_yy", stress(|s| s.yy)),
+        ("stress_xy", stress(|s| s.xy)),
+        ("stress_pressure", stress(|s| 0.5 * (s.xx + s.yy))),
+        ("stress_deviatoric", stress(|s| s.deviatoric())),
+        ("wall_normal_stress", json!(p.wall_normal)),
+        ("wall_shear_stress", json!(p.wall_shear)),
+    ];
+    assert!(!p.is_empty(), "a settled pile has a profile to check");
+    table(f, json!({"units": ["m", "m", "Pa", "Pa", "Pa", "Pa", "Pa", "Pa", "Pa"]}))
+}
+
 /// The SI unit of a scene key, from the key table (`demsweep keys`).
 fn key_unit(path: &str) -> &'static str {
     demsweep::physics::keys::scene_keys().into_iter().find(|k| k.path == path).map_or("", |k| k.unit)
@@ -271,6 +296,7 @@ fn expected(plan: &Plan, summary: &SummaryTable) -> Value {
         let (wall, cpu) = (wall[run.index], cpu[run.index]);
         assert!(cpu > 0.0 && cpu <= wall * 1.1 + 0.02, "run {}: cpu_time {cpu} s, wall_time {wall} s", run.id);
         datasets.insert(format!("{base}/history"), history(record));
+        datasets.insert(format!("{base}/stress_profile"), stress_profile(record, &run.scene));
         datasets.insert(format!("{base}/final"), snapshot(&record.final_state));
         stored_contacts += record.final_state.contacts.len();
         datasets.insert(format!("{base}/final_contacts"), contacts(&record.final_state));

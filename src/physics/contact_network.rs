@@ -75,16 +75,16 @@ impl ContactNetwork {
 
     /// The contacts as the pile measures see them, for disks of radii `r` (a stored state's
     /// network back into [`PileContact`]s; friction reads 0: the network keeps only whether a contact
-    /// slides).
+    /// slides). A contact naming a disk the state lacks (a damaged file) is left out.
     pub fn pile_contacts(&self, r: &[f64]) -> Vec<PileContact> {
         (0..self.len())
-            .map(|k| {
+            .filter_map(|k| {
                 let disk = self.first[k] as usize;
                 let (partner, smaller) = match usize::try_from(self.second[k]) {
-                    Ok(j) => (Partner::Disk(j), r[disk].min(r[j])),
-                    Err(_) => (Partner::Wall((-1 - self.second[k]) as usize), r[disk]),
+                    Ok(j) => (Partner::Disk(j), r.get(disk)?.min(*r.get(j)?)),
+                    Err(_) => (Partner::Wall((-1 - self.second[k]) as usize), *r.get(disk)?),
                 };
-                PileContact {
+                Some(PileContact {
                     disk,
                     partner,
                     normal: [self.normal_x[k], self.normal_y[k]],
@@ -93,7 +93,7 @@ impl ContactNetwork {
                     friction: 0.0,
                     overlap_ratio: self.overlap[k] / smaller,
                     history: (self.tangential_spring[k], self.law_state[k]),
-                }
+                })
             })
             .collect()
     }

@@ -134,14 +134,19 @@ impl StressProfile {
     }
 }
 
-/// The band edges of a pile's profile (see [`StressProfile`]); none without disks.
+/// Most bands of a profile: a pile whose disks flew far (a diverged run) gets wider bands, not
+/// more of them.
+const PROFILE_MAX_BANDS: f64 = 200.0;
+
+/// The band edges of a pile's profile (see [`StressProfile`]); none without disks or with a disk
+/// at no finite height.
 fn profile_edges(geometry: &PileGeometry) -> Vec<f64> {
     let height = geometry.y.iter().zip(geometry.r).map(|(y, r)| y + r).fold(0.0, f64::max);
     let largest = geometry.r.iter().copied().fold(0.0, f64::max);
-    if !(height > 0.0 && largest > 0.0) {
+    if !(height > 0.0 && height.is_finite() && largest > 0.0 && largest.is_finite()) {
         return Vec::new();
     }
-    let bands = (height / (PROFILE_BAND_DIAMETERS * 2.0 * largest)).ceil().max(1.0) as usize;
+    let bands = (height / (PROFILE_BAND_DIAMETERS * 2.0 * largest)).ceil().clamp(1.0, PROFILE_MAX_BANDS) as usize;
     (0..=bands).map(|k| height * k as f64 / bands as f64).collect()
 }
 
@@ -313,5 +318,17 @@ mod tests {
     #[test]
     fn a_state_without_disks_has_no_profile() {
         assert!(StressProfile::of_state(&Snapshot::default(), 1.0, 1.0).is_empty());
+    }
+
+    #[test]
+    fn a_diverged_pile_gets_a_bounded_profile_or_none() {
+        let far = |y: f64| {
+            let geometry =
+                PileGeometry { x: &[0.5, 0.5], y: &[0.1, y], r: &[0.1, 0.1], weight: 0.0, width: 1.0, thickness: 1.0 };
+            StressProfile::measure(&geometry, &[]).len()
+        };
+        assert_eq!(far(1e300), PROFILE_MAX_BANDS as usize);
+        assert_eq!(far(f64::INFINITY), 0);
+        assert_eq!(far(0.3), 1);
     }
 }
