@@ -6,6 +6,7 @@
 mod tune_common;
 
 use demsweep::physics::warning::{ValidityWarning, WarningKind};
+use demsweep::study::ParamValue;
 use demsweep::tune::model::{
     Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchResult, State, TuneError,
 };
@@ -147,4 +148,71 @@ fn paper_integrator_rungs_that_never_settle_leave_the_answer_to_velocity_verlet_
     assert_eq!(verified.state, State::Feasible);
     let cost = verified.cost / result.reference_cost();
     assert!(best.point[1] > 0.5 && cost < 0.25, "{cost} at {:?}\n{}", best.point, dump(&result));
+}
+
+/// A tune file whose levers are the integrator and the fraction of the contact time, the contacts
+/// lightly damped (restitution 0.7): velocity Verlet is stable to a larger step than the paper's
+/// integrator.
+const SCHEME_TUNE: &str = r#"name = "schemes"
+[scene]
+domain.width = 0.1
+domain.height = 0.2
+particles.count = 40
+particles.radius = 0.004
+material.youngs_modulus = 1e10
+material.restitution = 0.7
+integrator.contact_time_fraction = 0.02
+run.duration = 1.0
+[levers]
+"integrator.scheme" = ["adams_bashforth_moulton", "velocity_verlet"]
+"integrator.contact_time_fraction" = { log = [0.01, 0.3] }
+[keep]
+packing_fraction_interior = 0.02
+"#;
+
+fn load_scheme_tune() -> demsweep::tune::spec::TuneSpec {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("tune_schemes_ranges");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("schemes.toml");
+    std::fs::write(&path, SCHEME_TUNE).unwrap();
+    demsweep::tune::load(&path).expect("the scheme tune file checks")
+}
+
+/// The scene of `values` and the kinds of validity warnings its reference placement predicts.
+fn predicted(spec: &demsweep::tune::spec::TuneSpec, values: &[(String, ParamValue)]) -> Vec<WarningKind> {
+    let scene = spec.scene(values).unwrap();
+    demsweep::tune::validity::predicted_warnings(&scene, None).unwrap().into_iter().map(|w| w.kind).collect()
+}
+
+#[test]
+fn each_scheme_has_its_own_time_step_top_and_the_range_keeps_the_largest() {
+    let spec = load_scheme_tune();
+    let fraction = &spec.levers[1];
+    let demsweep::tune::spec::LeverRange::Log { high, .. } = fraction.range else { panic!("{:?}", fraction.range) };
+    // Two time-step rungs first, one per scheme, the larger step first; then no other rung.
+    let rungs: Vec<(ParamValue, f64)> = spec.standards[..2]
+        .iter()
+        .map(|s| match s.values.as_slice() {
+            [(scheme_key, scheme), (step_key, ParamValue::Float(step))] => {
+                assert_eq!(
+                    (scheme_key.as_str(), step_key.as_str()),
+                    ("integrator.scheme", "integrator.contact_time_fraction")
+                );
+                (scheme.clone(), *step)
+            }
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let verlet = ParamValue::Text("velocity_verlet".into());
+    let paper = ParamValue::Text("adams_bashforth_moulton".into());
+    assert_eq!((&rungs[0].0, &rungs[1].0), (&verlet, &paper), "{rungs:?}");
+    assert!(rungs[0].1 > 1.3 * rungs[1].1, "{rungs:?}");
+    // The range's top is velocity Verlet's, not clipped at the paper integrator's stable step.
+    assert_eq!(high, rungs[0].1);
+    // Each top is valid at its own scheme; velocity Verlet's step is past the paper integrator's limit.
+    let step = |x: f64| ("integrator.contact_time_fraction".to_string(), ParamValue::Float(x));
+    let scheme = |s: &ParamValue| ("integrator.scheme".to_string(), s.clone());
+    assert!(predicted(&spec, &[scheme(&verlet), step(rungs[0].1)]).is_empty());
+    assert!(predicted(&spec, &[scheme(&paper), step(rungs[1].1)]).is_empty());
+    assert!(predicted(&spec, &[scheme(&paper), step(rungs[0].1)]).contains(&WarningKind::IntegratorStability));
 }

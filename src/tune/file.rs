@@ -126,7 +126,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     }
     if sink.is_empty() {
         spec.warnings = validity::clip_levers(&mut spec);
-        spec.standards = ladder::standard_settings(&spec.reference, &spec.levers);
+        let tops = validity::time_step_tops(&spec);
+        spec.standards = ladder::standard_settings(&spec.reference, &spec.levers, &tops);
     }
     sink.into_result(spec)
 }

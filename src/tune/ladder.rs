@@ -38,28 +38,22 @@ pub fn time_step_lever(levers: &[Lever]) -> Option<&Lever> {
 }
 
 /// The ladder over `levers`: the time-step lever at its largest valid value (the top of the time-step
-/// path, first when there is one), local damping [`STANDARD_LOCAL_DAMPING`] (with that time step),
-/// and [`STANDARD_RAYLEIGH_FRACTION`] of the Rayleigh time; each standard value taken to the nearest
+/// path, first when there is one; with list levers such as `integrator.scheme`, one top for each of
+/// their values in `tops`, largest step first: see [`crate::tune::validity::time_step_tops`]), local
+/// damping [`STANDARD_LOCAL_DAMPING`] (with the first top's time step), and
+/// [`STANDARD_RAYLEIGH_FRACTION`] of the Rayleigh time; each standard value taken to the nearest
 /// value of its lever's range, and a rung only where its levers are given.
-pub fn standard_settings(reference: &SceneConfig, levers: &[Lever]) -> Vec<StandardSetting> {
+pub fn standard_settings(
+    reference: &SceneConfig,
+    levers: &[Lever],
+    tops: &[(Vec<(String, ParamValue)>, ParamValue)],
+) -> Vec<StandardSetting> {
     let lever = |key: &str| levers.iter().find(|l| l.key == key);
-    let mut ladder = Vec::new();
-    let top = time_step_lever(levers).and_then(|l| {
-        let limit = match l.key.as_str() {
-            "integrator.contact_time_fraction" => reference.limits.contact_time_fraction,
-            _ => f64::INFINITY,
-        };
-        Some((l.key.clone(), at_most(l, limit)?))
-    });
-    if let Some((key, value)) = &top {
-        ladder.push(StandardSetting {
-            name: format!("time step at its largest valid value ({key} = {value})"),
-            values: vec![(key.clone(), value.clone())],
-        });
-    }
+    let mut ladder = time_step_rungs(reference, levers, tops);
+    let top = ladder.first().map(|rung| rung.values.clone());
     if let Some(damping) = lever("damping.local").and_then(|l| nearest(l, STANDARD_LOCAL_DAMPING)) {
         let with_step = match &top {
-            Some((key, value)) => format!(" at that time step ({key} = {value})"),
+            Some(values) => format!(" at that time step ({})", in_words(values)),
             None => String::new(),
         };
         ladder.push(StandardSetting {
@@ -69,17 +63,59 @@ pub fn standard_settings(reference: &SceneConfig, levers: &[Lever]) -> Vec<Stand
                     "local damping {damping} (Yade's default {STANDARD_LOCAL_DAMPING}, within the range){with_step}"
                 ),
             },
-            values: top.iter().cloned().chain([("damping.local".to_string(), damping)]).collect(),
+            values: top.iter().flatten().cloned().chain([("damping.local".to_string(), damping)]).collect(),
         });
     }
     let rayleigh = lever("integrator.rayleigh_fraction").and_then(|l| nearest(l, STANDARD_RAYLEIGH_FRACTION));
-    if let Some(fraction) = rayleigh.filter(|f| top.as_ref().is_none_or(|(_, v)| v != f)) {
+    let top_step = top.as_ref().and_then(|values| values.last().map(|(_, v)| v.clone()));
+    if let Some(fraction) = rayleigh.filter(|f| top_step.as_ref() != Some(f)) {
         ladder.push(StandardSetting {
             name: format!("time step at {fraction} of the Rayleigh time"),
             values: vec![("integrator.rayleigh_fraction".to_string(), fraction)],
         });
     }
     ladder
+}
+
+/// The time-step lever at its largest valid value: once at the clipped range's top, or once for each
+/// combination of list-lever values in `tops` (their own largest valid step, largest first); the time
+/// step's key is last in each rung's values.
+fn time_step_rungs(
+    reference: &SceneConfig,
+    levers: &[Lever],
+    tops: &[(Vec<(String, ParamValue)>, ParamValue)],
+) -> Vec<StandardSetting> {
+    let Some(l) = time_step_lever(levers) else { return Vec::new() };
+    let limit = match l.key.as_str() {
+        "integrator.contact_time_fraction" => reference.limits.contact_time_fraction,
+        _ => f64::INFINITY,
+    };
+    let capped = |value: &ParamValue| match value {
+        ParamValue::Float(x) => at_most(l, x.min(limit)),
+        _ => None,
+    };
+    let rungs: Vec<Vec<(String, ParamValue)>> = match tops {
+        [] => at_most(l, limit).map(|value| vec![(l.key.clone(), value)]).into_iter().collect(),
+        _ => tops
+            .iter()
+            .filter_map(|(combination, top)| {
+                let value = capped(top)?;
+                Some(combination.iter().cloned().chain([(l.key.clone(), value)]).collect())
+            })
+            .collect(),
+    };
+    rungs
+        .into_iter()
+        .map(|values| StandardSetting {
+            name: format!("time step at its largest valid value ({})", in_words(&values)),
+            values,
+        })
+        .collect()
+}
+
+/// `key = value, key = value`: a rung's values in words.
+fn in_words(values: &[(String, ParamValue)]) -> String {
+    values.iter().map(|(key, value)| format!("{key} = {value}")).collect::<Vec<_>>().join(", ")
 }
 
 /// The numeric values of a list lever.
@@ -144,7 +180,7 @@ mod tests {
             "integrator.contact_time_fraction",
             LeverRange::Linear { low: 0.01, high: 0.2, integer: false },
         )];
-        let ladder = standard_settings(&SceneConfig::default(), &levers);
+        let ladder = standard_settings(&SceneConfig::default(), &levers, &[]);
         assert_eq!(ladder[0].values, vec![(levers[0].key.clone(), ParamValue::Float(0.1))], "at the limit");
         let stepped = stepped_down(&ladder[0], 0.8 / 1.08).unwrap();
         assert_eq!(stepped.values[0].1, ParamValue::Float(0.074));
@@ -157,19 +193,19 @@ mod tests {
         let damping = Lever::new("damping.local", LeverRange::Linear { low: 0.0, high: 0.1, integer: false });
         let restitution =
             Lever::new("material.restitution", LeverRange::Linear { low: 0.1, high: 0.9, integer: false });
-        let ladder = standard_settings(&scene, &[restitution.clone(), damping.clone()]);
+        let ladder = standard_settings(&scene, &[restitution.clone(), damping.clone()], &[]);
         assert_eq!(ladder.len(), 1, "{ladder:?}");
         assert_eq!(
             ladder[0].values,
             vec![("damping.local".to_string(), ParamValue::Float(0.1))],
             "clamped to the range"
         );
-        assert!(standard_settings(&scene, &[restitution]).is_empty());
+        assert!(standard_settings(&scene, &[restitution], &[]).is_empty());
         let step = Lever::new(
             "integrator.time_step",
             LeverRange::List(vec![ParamValue::Float(1e-6), ParamValue::Float(4e-6)]),
         );
-        let ladder = standard_settings(&scene, &[step, damping]);
+        let ladder = standard_settings(&scene, &[step, damping], &[]);
         let keys: Vec<Vec<&str>> = ladder.iter().map(|s| s.values.iter().map(|(k, _)| k.as_str()).collect()).collect();
         assert_eq!(keys, vec![vec!["integrator.time_step"], vec!["integrator.time_step", "damping.local"]]);
         assert_eq!(ladder[0].values[0].1, ParamValue::Float(4e-6), "the largest listed step");

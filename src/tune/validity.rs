@@ -2,13 +2,19 @@
 //! validity warnings its scene's own `limits` predict ([`predicted_warnings`]), and lever ranges
 //! clipped where they reach past a limit ([`clip_levers`]).
 
+use super::ladder;
 use super::model::{ScreenError, first_verification_seed};
 use super::spec::{DIGITS, Lever, LeverRange, TuneSpec};
 use crate::physics::particles::InitialDisk;
 use crate::physics::stability::StabilityReport;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::physics::{SceneConfig, placement, predict_stability, predict_stage_warnings, scene_time_step};
+use crate::study::ParamValue;
 use rayon::prelude::*;
+
+/// Most combinations of list-lever values a range is judged under (see [`alternatives`]); past it, a
+/// range is judged at the reference's values of the list levers alone.
+const MAX_ALTERNATIVES: usize = 16;
 
 /// Bisection steps of a clipped range end (in the normalized coordinate: 2⁻²⁴ of the range).
 const CLIP_STEPS: usize = 24;
@@ -67,12 +73,14 @@ fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<Vec<
     }
 }
 
-/// Clips every continuous lever's range where, with the other keys at the reference's values, it
-/// reaches past a validity limit on any placement seed the tune's runs use (the end predicted invalid
-/// while the reference's value is valid): the new end is the last valid value found by bisection on
-/// twice [`CLIP_SEEDS`] placements, confirmed on twice [`CONFIRM_SEEDS`]. Returns a warning per
-/// clipped lever naming the limit. A lever with no valid value found is left as it is (the screen
-/// rejects its points).
+/// Clips every continuous lever's range where, with the other continuous keys at the reference's
+/// values, it reaches past a validity limit under every value of the list levers (an
+/// `integrator.scheme` lever: a time step past one scheme's stable step stays in the range while
+/// another scheme is stable there), on any placement seed the tune's runs use (the end predicted
+/// invalid while the reference's value is valid): the new end is the last valid value found by
+/// bisection on twice [`CLIP_SEEDS`] placements, confirmed on twice [`CONFIRM_SEEDS`]. Returns a
+/// warning per clipped lever naming the limit. A lever with no valid value found is left as it is
+/// (the screen rejects its points, each at its own list-lever values).
 pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
     let mut placements = Placements::new(spec);
     // Each lever's reference coordinate depends on its own range only, read before it is clipped.
@@ -85,7 +93,8 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
             LeverRange::Log { low, high, integer: false } => (low, high, true),
             _ => continue,
         };
-        let Some((ends, named)) = clipped_ends(spec, &lever, inside, &mut placements) else { continue };
+        let alternatives = alternatives(spec, &lever);
+        let Some((ends, named)) = clipped_ends(spec, &lever, inside, &alternatives, &mut placements) else { continue };
         // The ends as found, rounded inwards so that the clipped range stays within the limit.
         let raw = |u: f64| if log { low * (high / low).powf(u) } else { low + (high - low) * u };
         let (new_low, new_high) = (round_inward(raw(ends.0), true), round_inward(raw(ends.1), false));
@@ -98,14 +107,70 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
             Some(_) => "the placement file's disks".to_string(),
             None => format!("{} placement seeds, the search's and the verification's", placements.screened),
         };
+        let others = match alternatives.len() {
+            1 => "the other keys at the reference's values",
+            _ => "the other keys at the reference's values, under every value of the list levers",
+        };
         warnings.push(format!(
-            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {over}, with the other \
-             keys at the reference's values): clipped to [{new_low}, {new_high}]",
+            "levers.\"{}\": the range [{low}, {high}] reaches past {} (predicted on {over}, with {others}): \
+             clipped to [{new_low}, {new_high}]",
             lever.key,
             named.join(" and "),
         ));
     }
     warnings
+}
+
+/// The values of the list levers (other than `lever`) that leave the disks where they are, each
+/// combination of them (e.g. each `integrator.scheme`): a value of `lever` is past a limit only when
+/// it is past one under every combination. One empty combination (the reference's values) when there
+/// are none, or more than [`MAX_ALTERNATIVES`].
+fn alternatives(spec: &TuneSpec, lever: &Lever) -> Vec<Vec<(String, ParamValue)>> {
+    let mut combinations = vec![Vec::new()];
+    for other in spec.levers.iter().filter(|l| l.key != lever.key && !moves_disks(&l.key)) {
+        let LeverRange::List(values) = &other.range else { continue };
+        combinations = combinations
+            .iter()
+            .flat_map(|c| values.iter().map(move |v| [c.as_slice(), &[(other.key.clone(), v.clone())]].concat()))
+            .collect();
+        if combinations.len() > MAX_ALTERNATIVES {
+            return vec![Vec::new()];
+        }
+    }
+    combinations
+}
+
+/// Whether a key changes where the disks start (a lever of the placement, the particles or the box).
+fn moves_disks(key: &str) -> bool {
+    ["particles.", "domain.", "placement."].iter().any(|p| key.starts_with(p))
+}
+
+/// The time-step lever's largest valid value under each combination of the list levers' values
+/// (see [`alternatives`]), largest first: each scheme's own top of the time-step ladder. Empty when
+/// there is no time-step lever or no list lever to combine it with (the clipped range's top is then
+/// the only one).
+pub fn time_step_tops(spec: &TuneSpec) -> Vec<(Vec<(String, ParamValue)>, ParamValue)> {
+    let Some(lever) = ladder::time_step_lever(&spec.levers) else { return Vec::new() };
+    let combinations = alternatives(spec, lever);
+    if combinations.len() < 2 {
+        return Vec::new();
+    }
+    let mut placements = Placements::new(spec);
+    let inside = spec.reference_coordinates()[spec.levers.iter().position(|l| l.key == lever.key).unwrap_or(0)];
+    let mut tops: Vec<(Vec<(String, ParamValue)>, f64)> = combinations
+        .into_iter()
+        .filter_map(|combination| {
+            let alone = [combination.clone()];
+            let top = match clipped_ends(spec, lever, inside, &alone, &mut placements) {
+                Some(((_, high), _)) => high,
+                None if breach(spec, lever, 1.0, &placements.bisected, &alone).is_some() => return None,
+                None => 1.0,
+            };
+            Some((combination, top))
+        })
+        .collect();
+    tops.sort_by(|a, b| b.1.total_cmp(&a.1));
+    tops.into_iter().map(|(combination, u)| (combination, lever.value(u))).collect()
 }
 
 /// The placements a clipped end is judged on: those it is bisected on (growing by each seed that
@@ -141,11 +206,20 @@ impl Placements {
 
     /// The first confirmation placement (in seed order) on which `lever` at coordinate `u` breaks a
     /// limit; the confirmation placements are generated, in parallel, on first use.
-    fn breaking(&mut self, spec: &TuneSpec, lever: &Lever, u: f64) -> Option<Vec<InitialDisk>> {
+    fn breaking(
+        &mut self,
+        spec: &TuneSpec,
+        lever: &Lever,
+        u: f64,
+        alternatives: &[Vec<(String, ParamValue)>],
+    ) -> Option<Vec<InitialDisk>> {
         let seeds = &self.confirm_seeds;
         let confirm =
             self.confirm.get_or_insert_with(|| seeds.par_iter().filter_map(|&s| placement_at(spec, s)).collect());
-        confirm.par_iter().find_first(|disks| breach(spec, lever, u, std::slice::from_ref(disks)).is_some()).cloned()
+        confirm
+            .par_iter()
+            .find_first(|disks| breach(spec, lever, u, std::slice::from_ref(disks), alternatives).is_some())
+            .cloned()
     }
 }
 
@@ -157,11 +231,14 @@ fn clipped_ends(
     spec: &TuneSpec,
     lever: &Lever,
     inside: Option<f64>,
+    alternatives: &[Vec<(String, ParamValue)>],
     placements: &mut Placements,
 ) -> Option<((f64, f64), Vec<&'static str>)> {
-    let own_placement = ["particles.", "domain.", "placement."].iter().any(|p| lever.key.starts_with(p));
+    let own_placement = moves_disks(&lever.key);
     let confirmed = !own_placement && spec.initial.is_none();
-    let problem = |u: f64, disks: &[Vec<InitialDisk>]| breach(spec, lever, u, if own_placement { &[] } else { disks });
+    let problem = |u: f64, disks: &[Vec<InitialDisk>]| {
+        breach(spec, lever, u, if own_placement { &[] } else { disks }, alternatives)
+    };
     let (bad_low, bad_high) = (problem(0.0, &placements.bisected), problem(1.0, &placements.bisected));
     let clean = inside.filter(|&u| problem(u, &placements.bisected).is_none());
     if bad_low.is_some() && bad_high.is_some() && clean.is_none() {
@@ -175,7 +252,7 @@ fn clipped_ends(
         let mut found = bisect(|u| problem(u, &placements.bisected).is_some(), good, end);
         // A seed past the bisection's that breaks the end found joins them, and the end is bisected
         // again on all of them.
-        while let Some(disks) = confirmed.then(|| placements.breaking(spec, lever, found)).flatten() {
+        while let Some(disks) = confirmed.then(|| placements.breaking(spec, lever, found, alternatives)).flatten() {
             placements.bisected.push(disks);
             found = bisect(|u| problem(u, &placements.bisected).is_some(), good, found);
         }
@@ -196,9 +273,31 @@ fn placement_at(spec: &TuneSpec, offset: u64) -> Option<Vec<InitialDisk>> {
 }
 
 /// The limit (its key) that lever coordinate `u` breaks on any of `placements` (on the scene's own
-/// placement when there are none), or "a placement that fails" when it cannot start.
-fn breach(spec: &TuneSpec, lever: &Lever, u: f64, placements: &[Vec<InitialDisk>]) -> Option<&'static str> {
-    let scene = spec.scene(&[(lever.key.clone(), lever.value(u))]).ok()?;
+/// placement when there are none) under every combination of list-lever values in `alternatives`,
+/// or "a placement that fails" when it cannot start; the first combination's limit is named.
+fn breach(
+    spec: &TuneSpec,
+    lever: &Lever,
+    u: f64,
+    placements: &[Vec<InitialDisk>],
+    alternatives: &[Vec<(String, ParamValue)>],
+) -> Option<&'static str> {
+    let mut reasons = alternatives.iter().map(|combination| {
+        let values: Vec<(String, ParamValue)> =
+            combination.iter().cloned().chain([(lever.key.clone(), lever.value(u))]).collect();
+        breach_at(spec, &values, placements)
+    });
+    let first = reasons.next().flatten()?;
+    reasons.all(|r| r.is_some()).then_some(first)
+}
+
+/// The limit that the reference with `values` breaks on any of `placements` (see [`breach`]).
+fn breach_at(
+    spec: &TuneSpec,
+    values: &[(String, ParamValue)],
+    placements: &[Vec<InitialDisk>],
+) -> Option<&'static str> {
+    let scene = spec.scene(values).ok()?;
     let named = |warnings: Result<Vec<ValidityWarning>, ScreenError>| match warnings {
         Ok(w) => w.first().map(|w| match w.kind {
             WarningKind::IntegratorStability => "the stable step of integrator.scheme at this damping",
