@@ -149,7 +149,7 @@ pub fn tune_file(spec: &mut TuneSpec, options: &TuneOptions) -> Result<TuneRun, 
     let existing = Existing::Ours { force: options.force };
     check_tune_files(spec, options).map_err(|e| TuneRunError::Write(WriteError::File(e)))?;
     let outcome = tune::tune(spec, options).map_err(TuneRunError::Tune)?;
-    let text = tune::report::paragraph(spec, &outcome.result);
+    let text = tune::report::paragraph(spec, &outcome.result, options.out_dir.as_deref());
     let dir = outcome.results.parent().unwrap_or(Path::new(".")).to_path_buf();
     let written = tune::report::write_all(spec, &outcome.result, &dir, &text, existing).map_err(TuneRunError::Write)?;
     let section =

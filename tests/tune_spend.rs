@@ -481,12 +481,18 @@ fn the_sheet_lists_a_cheaper_undecided_candidate_and_a_larger_spend_resumed_deci
     let spec = demsweep::tune::load(std::path::Path::new("tests/data/tiny_tune.toml")).unwrap();
     let mut first = stand_in();
     let result = search(&config(), &mut first).unwrap();
-    let sheet = demsweep::tune::report::paragraph(&spec, &result);
+    let out = std::path::Path::new("elsewhere/tiny");
+    let sheet = demsweep::tune::report::paragraph(&spec, &result, Some(out));
     let listed = sheet.lines().find(|l| l.starts_with("Undecided, cheaper: candidate "));
     let listed = listed.unwrap_or_else(|| panic!("the sheet lists the undecided candidate:\n{sheet}"));
     assert!(listed.contains("pile_height undecided") && listed.contains("seeds a side"), "{listed}");
     assert!(!sheet.contains("nothing cheaper"), "{sheet}");
     let id: usize = listed["Undecided, cheaper: candidate ".len()..].split(' ').next().unwrap().parse().unwrap();
+    // The command names the --out folder the tune was given, where its stored runs are.
+    assert!(
+        sheet.contains("`demsweep tune tests/data/tiny_tune.toml --out elsewhere/tiny --resume --max-spend "),
+        "{sheet}"
+    );
     let resume = sheet.split("--resume --max-spend ").nth(1).and_then(|r| r.split('`').next()?.parse::<f64>().ok());
     let max_spend = resume.unwrap_or_else(|| panic!("the sheet names the spend:\n{sheet}"));
     let mut second = stand_in();
@@ -520,7 +526,7 @@ fn the_sheet_names_the_keep_line_that_would_hold_an_unkept_metric_beyond_two_sig
         run.pile = pile(0.1, 1000 + i as u64);
     }
     let spec = demsweep::tune::load(std::path::Path::new("tests/data/tiny_tune.toml")).unwrap();
-    let sheet = demsweep::tune::report::paragraph(&spec, &result);
+    let sheet = demsweep::tune::report::paragraph(&spec, &result, None);
     let line = sheet.lines().find(|l| l.trim_start().starts_with("fabric_anisotropy:"));
     let line = line.unwrap_or_else(|| panic!("a fabric_anisotropy line:\n{sheet}"));
     assert!(line.contains("beyond 2σ; to hold it within 2σ, add `fabric_anisotropy = { absolute = "), "{line}");

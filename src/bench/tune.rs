@@ -137,7 +137,7 @@ pub fn tune_bench(options: &TuneBenchOptions) -> Result<Vec<TuneBenchRow>, Bench
             TuneOptions { jobs: options.jobs, out_dir: Some(tune_dir.clone()), force: true, ..Default::default() };
         let report = tune::tune(&mut spec, &tune_options)?;
         let result = &report.result;
-        let paragraph = crate::tune::report::paragraph(&spec, result);
+        let paragraph = crate::tune::report::paragraph(&spec, result, Some(&tune_dir));
         crate::output::terminal::err(format_args!("{paragraph}\n"));
         let written =
             crate::tune::report::write_all(&spec, result, &tune_dir, &paragraph, crate::output::guard::Existing::Any)?;

@@ -215,7 +215,8 @@ fn wall_rate_lines(result: &SearchResult) -> String {
 }
 
 /// The answer sheet: the recommendation (or why there is none) first, then what it was checked on.
-pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
+/// `out_dir`: the `--out` folder the tune was given, which the `--resume` command it suggests names.
+pub fn paragraph(spec: &TuneSpec, result: &SearchResult, out_dir: Option<&Path>) -> String {
     if !result.undecidable.is_empty() {
         return undecidable_text(spec, result);
     }
@@ -249,7 +250,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
                 cand.id,
                 resolved_time_step(spec, cand)
             );
-            let undecided = undecided_lines(spec, result, result.assess(cand).cost);
+            let undecided = undecided_lines(spec, result, result.assess(cand).cost, out_dir);
             if cand.standard.is_some() {
                 let searched = result.candidates.iter().any(|c| c.standard.is_none() && !c.runs.is_empty());
                 text.push_str(match (searched, undecided.is_empty()) {
@@ -345,7 +346,7 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult) -> String {
             }
             text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spent));
             text.push_str(&budget_line);
-            let undecided = undecided_lines(spec, result, result.reference_cost());
+            let undecided = undecided_lines(spec, result, result.reference_cost(), out_dir);
             if !undecided.is_empty() {
                 text.push('\n');
                 text.push_str(&undecided);
@@ -648,8 +649,9 @@ fn decision_name(d: stats::Decision) -> &'static str {
 /// The cheapest candidates (up to [`UNDECIDED_LISTED`]) that cost less than `bound` in the search
 /// and were left undecided, unverified: each with its cost, the metric, the seeds a side that would
 /// decide it and the `max_spend` that pays for them and a verification on as many fresh seeds; then
-/// the command that continues from the stored runs. Empty when there are none.
-fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64) -> String {
+/// the command that continues from the stored runs (with `--out` where the tune was given one).
+/// Empty when there are none.
+fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64, out_dir: Option<&Path>) -> String {
     // Undecided in the search and not verified, or on its fresh seeds.
     let standing = |c: &Candidate| result.assess_verification(c).unwrap_or_else(|| result.assess(c));
     let mut open: Vec<(&Candidate, Assessment)> = result
@@ -702,8 +704,9 @@ fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64) -> String
     if most > spec.search.max_spend {
         let _ = writeln!(
             text,
-            "`demsweep tune {} --resume --max-spend {}` continues from the stored runs, repeating none.",
+            "`demsweep tune {}{} --resume --max-spend {}` continues from the stored runs, repeating none.",
             spec.path.display(),
+            out_dir.map_or(String::new(), |d| format!(" --out {}", d.display())),
             short(most)
         );
     }
