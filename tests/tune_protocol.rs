@@ -48,3 +48,65 @@ fn lowering_the_start_settles_sooner() {
     assert_eq!(demsweep::tune::ladder::dissipation("placement.lowered_by"), 1.0);
     assert_eq!(demsweep::tune::ladder::dissipation("stages.fill.damping.local"), 0.0);
 }
+
+/// A 30-disk deposition whose levers are a fill stage's local damping and end time.
+const STAGE_TUNE: &str = r#"name = "stage_levers"
+[scene]
+particles.count = 30
+particles.radius = 0.005
+domain.width = 0.1
+domain.height = 0.15
+material.youngs_modulus = 5e10
+material.restitution = 0.5
+integrator.time_step = 7e-6
+run.duration = 1.0
+run.sample_interval = 2e-3
+settle.hold_time = 0.03
+
+[[scene.stages]]
+name = "fill"
+until.time = 0.1
+damping.local = 0.1
+
+[levers]
+"stages.fill.damping.local" = { linear = [0.0, 0.6] }
+"stages.fill.until.time" = { linear = [0.05, 0.3] }
+
+[keep]
+pile_height = 0.25
+
+[search]
+seeds = 2
+max_seeds = 4
+reference_seeds = 4
+verify_seeds = 3
+budget = 40
+seed = 3
+"#;
+
+#[test]
+fn a_tune_with_stage_levers_meets_its_brute_force_ladder() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("tune_protocol_ladder");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("stage_levers.toml");
+    std::fs::write(&file, STAGE_TUNE).unwrap();
+    let options = demsweep::bench::tune::TuneBenchOptions {
+        tunes: vec![file],
+        out_dir: dir.join("out"),
+        work_dir: dir.join("work"),
+        ladder_seeds: 2,
+        ..Default::default()
+    };
+    let rows = demsweep::bench::tune::tune_bench(&options).expect("the tune and its ladder run");
+    let row = &rows[0];
+    // The ladder runs over the stage's keys and finds a cheaper stage setting than the reference's.
+    assert!(row.ladder_best.contains("stages.fill."), "{}", row.ladder_best);
+    assert!(row.ladder_ratio < 1.0, "{}", row.ladder_ratio);
+    // Tune's verified answer within 1.25x of it (no answer counts as the reference's cost), within its spend.
+    assert!(
+        row.goal_met,
+        "tune {} ({}) against the ladder's {} ({})",
+        row.tune_answer, row.tune_ratio, row.ladder_best, row.ladder_ratio
+    );
+}
