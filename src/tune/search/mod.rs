@@ -46,12 +46,14 @@
 //! `seeds` (more seeds where they decide) and `explore` (3), `verify` (4). Beneath them, what the
 //! steps share, each file calling only those below it: `batch` runs a candidate's further seeds,
 //! `propose` records new candidates, `reserve` keeps a verification round in reserve, `predict`
-//! prices a setting before it runs, `standing` says which candidates are still in the running and
-//! `spend` whether runs fit the budget and the spend limit.
+//! prices a setting before it runs, `standing` says which candidates are still in the running,
+//! `cure` by how much a smaller time step cures a broken check and `spend` whether runs fit the
+//! budget and the spend limit.
 
 mod batch;
 mod context;
 mod corner;
+mod cure;
 mod explore;
 mod path;
 mod predict;

@@ -2,10 +2,10 @@
 //! bisected towards the reference's until a rung is valid, equivalent and verified.
 
 use super::context::{Context, Flow};
+use super::cure::judge_time_step_cure;
 use super::spend::PRICE_MARGIN;
-use crate::physics::warning::{ValidityWarning, WarningKind};
-use crate::tune::judge::{cure_factor, runs_to_decide};
-use crate::tune::model::{Evaluator, NotRun, Origin, PathEnd, Rejection, RunFailure, State, TuneError};
+use crate::tune::judge::runs_to_decide;
+use crate::tune::model::{Evaluator, NotRun, Origin, PathEnd, RunFailure, State, TuneError};
 
 /// The time-step path stops bisecting when its best good rung's time step is within this factor of
 /// the smallest bad one's: the answer then costs at most this much more than the boundary.
@@ -220,44 +220,5 @@ impl<E: Evaluator> Context<'_, E> {
         let needed = runs_to_decide(&result.reference, &cand.verification, &result.margins);
         let more = needed.map(|n| n.saturating_sub(cand.verification.len()));
         undecided && more.is_none_or(|more| !self.fits(more, cand.relative_cost))
-    }
-
-    /// The factor that cures the measured check candidate `k`'s runs (its verification runs, when
-    /// it has them) break, and `k`.
-    pub(super) fn cure(&self, k: usize) -> Option<(f64, usize)> {
-        let cand = &self.result.candidates[k];
-        let a = match self.result.assess_verification(cand) {
-            Some(a) => a,
-            None => self.result.assess(cand),
-        };
-        let State::Infeasible(Rejection::Invalid(check)) = a.state else { return None };
-        let reference = self.result.reference_checks.iter().find(|c| c.kind == check.kind);
-        cure_factor(&check, reference, cand.relative_cost).map(|f| (f, k))
-    }
-}
-
-/// The factor of the time step that brings a predicted warning that grows with it (a time step past
-/// the contact-time or damping-rate limit, or capped by the latter) just under its limit; None for
-/// one a smaller step does not cure.
-fn judge_time_step_cure(warning: &ValidityWarning) -> Option<f64> {
-    let scales = matches!(
-        warning.kind,
-        WarningKind::TimeStepCapped
-            | WarningKind::ContactTimeFraction
-            | WarningKind::DampingRate
-            | WarningKind::IntegratorStability
-    );
-    (scales && warning.value > 0.0).then(|| 0.99 * warning.limit / warning.value)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_predicted_time_step_problem_is_cured_by_the_ratio_of_its_limit() {
-        let capped = ValidityWarning::new(WarningKind::TimeStepCapped, 2e-5, 1e-5);
-        assert!((judge_time_step_cure(&capped).unwrap() - 0.495).abs() < 1e-12);
-        assert_eq!(judge_time_step_cure(&ValidityWarning::new(WarningKind::ImpactOverlap, 0.2, 0.1)), None);
     }
 }
