@@ -12,9 +12,9 @@
 //!    diverges or does not settle stops the tune; so does a kept metric its spread cannot decide
 //!    ([`decidability`](crate::tune::judge::decidability)). A setting that resolves to the
 //!    reference's own runs is never a candidate.
-//! 2. **The time-step path** ([`path`](path::step)), when a time-step key is a
-//!    lever, before anything else: the first standard setting (the time-step lever alone at its
-//!    largest valid value) and, below it, the same setting with a smaller time step, down to the
+//! 2. **The time-step path** ([`path`](path::step)), when a time-step key is a lever, before
+//!    anything else: the first standard setting (the time-step lever alone at its largest valid
+//!    value) and, below it, the same setting with a smaller time step, down to the
 //!    reference's (valid and equivalent by definition). A rung whose runs break a measured check
 //!    steps down by the fitted error model ([`cure_factor`](crate::tune::judge::cure_factor)); one
 //!    that differs bisects (geometric mean) towards the last good rung or the reference, until the
