@@ -1,39 +1,39 @@
 //! The cheap corner: every lever at the end of its range that its time step and the measured settle
 //! times say is cheaper.
 
-use super::run::Search;
+use super::context::{Context, Flow};
 use crate::tune::design;
-use crate::tune::model::{Evaluator, Origin};
+use crate::tune::model::{Evaluator, Origin, TuneError};
 
 /// A lever whose end moves a setting's predicted cost by less than this fraction leaves the cheap
 /// corner at the centre of its range.
-pub(super) const CORNER_SLOPE: f64 = 0.05;
+const CORNER_SLOPE: f64 = 0.05;
 
 /// Most tries of the cheap corner, each nearer the centre than the one predicted invalid (and most
 /// halvings of one lever's distance to the centre within a try).
-pub(super) const CORNER_TRIES: usize = 4;
+const CORNER_TRIES: usize = 4;
 
-impl<'a, E: Evaluator> Search<'a, E> {
+/// The step: the cheap corner proposed ([`Context::propose_corner`]) and its first seeds run when
+/// they fit the spend limit with room to verify it.
+pub(super) fn step<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
+    cx.corner = cx.propose_corner();
+    if let Some(k) = cx.corner {
+        cx.run_first(k)?;
+    }
+    Ok(Flow::Next)
+}
+
+impl<E: Evaluator> Context<'_, E> {
     /// The point a DEM engineer tries first: every lever at the end of its range that the predicted
     /// time step (screened at both ends, the other levers at the centre) and the measured settle
     /// times (else the lever's dissipation,
     /// [`SearchConfig::dissipation`](crate::tune::model::SearchConfig::dissipation)) say is cheaper
     /// ([`CORNER_SLOPE`]: a lever that moves neither stays at the reference's value,
     /// [`SearchConfig::home`](crate::tune::model::SearchConfig::home)); while predicted invalid,
-    /// nearer the centre ([`Self::nearer_corner`]). Returns the runnable candidate, if one is new;
-    /// proposed once, the same candidate after.
+    /// nearer the centre ([`Self::nearer_corner`]). Returns the runnable candidate, if one is new.
     /// A list lever (the integrator scheme) takes the value whose own corner is cheapest
     /// ([`Self::corner_choice`]).
-    pub(super) fn cheap_corner(&mut self) -> Option<usize> {
-        if let Some(corner) = self.corner {
-            return corner;
-        }
-        let corner = self.propose_corner();
-        self.corner = Some(corner);
-        corner
-    }
-
-    pub(super) fn propose_corner(&mut self) -> Option<usize> {
+    fn propose_corner(&mut self) -> Option<usize> {
         let mut corner = self.corner_choice();
         for _ in 0..CORNER_TRIES {
             let before = self.result.candidates.len();
@@ -52,7 +52,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// one lever moved towards the centre (halving its distance up to [`CORNER_TRIES`] times; a
     /// restitution raised where it is the damping that breaks the step's limit keeps the step),
     /// else every lever halfway nearer.
-    pub(super) fn nearer_corner(&mut self, corner: &[f64]) -> Vec<f64> {
+    fn nearer_corner(&mut self, corner: &[f64]) -> Vec<f64> {
         let mut all = corner.to_vec();
         halfway_to_centre(&mut all);
         let mut best: Option<(Vec<f64>, f64)> = None;
@@ -73,8 +73,8 @@ impl<'a, E: Evaluator> Search<'a, E> {
         best.map_or(all, |(one, _)| one)
     }
 
-    /// The cheap corner as first tried (see [`Self::cheap_corner`]), before any is found invalid.
-    pub(super) fn corner_start(&mut self) -> Vec<f64> {
+    /// The cheap corner as first tried (see [`Self::propose_corner`]), before any is found invalid.
+    fn corner_start(&mut self) -> Vec<f64> {
         let time_step = self.time_step_slopes();
         let settle = self.settle_fit().map(|fit| fit[1..].to_vec());
         (0..self.config.dims)
@@ -90,7 +90,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// The predicted cost of the cheap corner's time step, screened without proposing it (nearer
-    /// the centre while predicted invalid, as [`Self::cheap_corner`] does).
+    /// the centre while predicted invalid, as [`Self::propose_corner`] does).
     pub(super) fn corner_cost(&mut self) -> Option<f64> {
         let corner = self.corner_choice();
         self.valid_corner_cost(corner)
@@ -100,7 +100,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// another of its values (another integrator scheme, whose stable step differs) where that
     /// corner, once predicted valid, has the cheaper time step: each value's corner is priced at
     /// its own step. The first tried wins a tie.
-    pub(super) fn corner_choice(&mut self) -> Vec<f64> {
+    fn corner_choice(&mut self) -> Vec<f64> {
         let start = self.corner_start();
         let mut best = (start.clone(), self.valid_corner_cost(start.clone()).unwrap_or(f64::INFINITY));
         for other in list_values(&start, &self.config.levels) {
@@ -150,6 +150,6 @@ fn list_values(point: &[f64], levels: &[Option<usize>]) -> Vec<Vec<f64>> {
 }
 
 /// Moves a point of the lever space halfway to the centre of every lever's range.
-pub(super) fn halfway_to_centre(point: &mut [f64]) {
+fn halfway_to_centre(point: &mut [f64]) {
     point.iter_mut().for_each(|x| *x = 0.5 + 0.5 * (*x - 0.5));
 }

@@ -12,9 +12,9 @@
 //!    diverges or does not settle stops the tune; so does a kept metric its spread cannot decide
 //!    ([`decidability`](crate::tune::judge::decidability)). A setting that resolves to the
 //!    reference's own runs is never a candidate.
-//! 2. **The time-step path** ([`Search::path`](run::Search::path)), when a time-step key is a
-//!    lever, before anything else: the first standard setting (the time-step lever alone at its
-//!    largest valid value) and, below it, the same setting with a smaller time step, down to the
+//! 2. **The time-step path** ([`path`](path::step)), when a time-step key is a lever, before
+//!    anything else: the first standard setting (the time-step lever alone at its largest valid
+//!    value) and, below it, the same setting with a smaller time step, down to the
 //!    reference's (valid and equivalent by definition). A rung whose runs break a measured check
 //!    steps down by the fitted error model ([`cure_factor`](crate::tune::judge::cure_factor)); one
 //!    that differs bisects (geometric mean) towards the last good rung or the reference, until the
@@ -31,28 +31,40 @@
 //!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and
 //!    is not likely different) gets more, up to `max_seeds`, then sequentially the seeds that
 //!    decide it; where the reference's own spread is what keeps it undecided, the reference grows
-//!    ([`Search::grow_reference`](run::Search::grow_reference)). A new candidate predicted dearer
+//!    ([`grow_reference`](context::Context::grow_reference)). A new candidate predicted dearer
 //!    than the cheapest one still in the running runs one seed first, cut at that cost; points
-//!    predicted [`FAR_TOO_DEAR`](predict::FAR_TOO_DEAR) are not run. The search records why it
+//!    predicted [`FAR_TOO_DEAR`](spend::FAR_TOO_DEAR) are not run. The search records why it
 //!    ended ([`SearchEnd`](crate::tune::model::SearchEnd)).
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
 //!    search (they start past the run budget), judged on those runs alone: while there is no
 //!    answer, as soon as a candidate is valid and equivalent; else when the search ends. The answer
 //!    is the cheapest verified candidate that costs less than the reference on its fresh seeds.
 //!
-//! The files: `run` holds the search's state and its order of work; `reference` (1), `path` (2),
-//! `explore` and `corner` (3), `verify` (4); `seeds` gives undecided candidates their further seeds,
-//! `predict` prices a setting before it runs, `spend` keeps every batch within the budget and the
-//! spend limit.
+//! The files: `run` lists the steps in their order of work, each a function of one shared
+//! [`Context`](context::Context) (the configuration, the evaluator, the candidate table, the spend
+//! and the fresh seeds) in a file of its own: `reference` (1), `path` (2), `standards`, `corner`,
+//! `seeds` (more seeds where they decide) and `explore` (3), `verify` (4). Beneath them, what the
+//! steps share, each file calling only those below it: `batch` runs a candidate's further seeds,
+//! `propose` records new candidates, `reserve` keeps a verification round in reserve, `predict`
+//! prices a setting before it runs, `standing` says which candidates are still in the running,
+//! `cure` by how much a smaller time step cures a broken check and `spend` whether runs fit the
+//! budget and the spend limit.
 
+mod batch;
+mod context;
 mod corner;
+mod cure;
 mod explore;
 mod path;
 mod predict;
+mod propose;
 mod reference;
+mod reserve;
 mod run;
 mod seeds;
 mod spend;
+mod standards;
+mod standing;
 mod verify;
 
 pub use run::search;

@@ -1,18 +1,14 @@
 //! A setting's cost before it runs: its time step's cost times the settle time the runs so far
 //! predict.
 
-use super::run::Search;
+use super::context::Context;
+use super::spend::FAR_TOO_DEAR;
 use crate::stats::{self, fit};
 use crate::tune::design;
 use crate::tune::judge::predicted_breach;
 use crate::tune::model::{Candidate, Evaluator, Screen};
 
-/// A point of the lever space predicted (from its time step) to cost more than this times the
-/// cheapest candidate still in the running is not run: levers that shorten settling (damping, fill
-/// height) rarely take a third off the reference's settle time.
-pub(super) const FAR_TOO_DEAR: f64 = 1.5;
-
-impl<'a, E: Evaluator> Search<'a, E> {
+impl<E: Evaluator> Context<'_, E> {
     /// A candidate's predicted cost in reference runs: its time step's
     /// ([`Candidate::relative_cost`]) times the settle time the settled runs so far predict at its
     /// point (the log-linear fit of measured cost over predicted, [`Self::settle_fit`]; without
@@ -37,19 +33,19 @@ impl<'a, E: Evaluator> Search<'a, E> {
 
     /// The least a candidate may cost in reference runs: its time step's cost at the shortest
     /// settle time measured so far (relative to the reference's, at most 1).
-    pub(super) fn optimistic_cost(&self, cand: &Candidate) -> f64 {
+    fn optimistic_cost(&self, cand: &Candidate) -> f64 {
         self.optimistic_cost_at(cand.relative_cost.unwrap_or(1.0))
     }
 
     /// [`Self::optimistic_cost`] of a setting whose time step costs `relative_cost`.
-    pub(super) fn optimistic_cost_at(&self, relative_cost: f64) -> f64 {
+    fn optimistic_cost_at(&self, relative_cost: f64) -> f64 {
         let fastest = self.settle_factors().into_iter().map(|(_, f)| f).fold(1.0, f64::min);
         relative_cost * fastest
     }
 
     /// Per settled candidate (every run settled): its point and its mean cost over its time step's
     /// predicted cost, the settle time relative to the reference's.
-    pub(super) fn settle_factors(&self) -> Vec<(Vec<f64>, f64)> {
+    fn settle_factors(&self) -> Vec<(Vec<f64>, f64)> {
         let reference = self.result.reference_cost();
         self.result
             .candidates

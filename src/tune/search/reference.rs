@@ -1,23 +1,37 @@
 //! The reference's runs: the first `reference_seeds`, and more where its own spread or a chance
 //! draw keeps candidates undecided.
 
-use super::run::{Growth, Search};
-use super::seeds;
+use super::context::{Context, Flow};
+use super::standing::{CLEAR_MARGIN, SEQUENTIAL_SEEDS};
 use crate::stats::{self, Decision};
-use crate::tune::judge::{check_figures, reference_stands_apart, runs_to_decide_with};
+use crate::tune::judge::{check_figures, decidability, reference_stands_apart, runs_to_decide_with};
 use crate::tune::model::{Candidate, Evaluator, Job, Outcome, State, TuneError};
 
-impl<'a, E: Evaluator> Search<'a, E> {
-    pub(super) fn reference(&mut self) -> Result<(), TuneError> {
-        let c = self.config;
-        let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
-        self.seen.insert(self.evaluator.reference_identity());
-        self.add_reference(&jobs)
-    }
+/// More reference runs and what they are priced with.
+pub(super) struct Growth {
+    /// Reference runs to add.
+    pub(super) runs: usize,
+    /// Runs in all that the price covers (against the run budget).
+    pub(super) priced_runs: usize,
+    /// Their price, in reference runs.
+    pub(super) price: f64,
+}
 
+/// The step: the reference runs on `reference_seeds` seeds; a kept metric its spread cannot decide
+/// ([`decidability`]) stops the search.
+pub(super) fn step<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
+    let c = cx.config;
+    let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
+    cx.seen.insert(cx.evaluator.reference_identity());
+    cx.add_reference(&jobs)?;
+    cx.result.undecidable = decidability(&cx.result.reference, &cx.result.margins, c.max_seeds);
+    Ok(if cx.result.undecidable.is_empty() { Flow::Next } else { Flow::Stop })
+}
+
+impl<E: Evaluator> Context<'_, E> {
     /// Runs reference `jobs` and adds them to the reference's runs; the margins and the reference's
     /// validity figures follow all its runs. A run that fails stops the tune.
-    pub(super) fn add_reference(&mut self, jobs: &[Job]) -> Result<(), TuneError> {
+    fn add_reference(&mut self, jobs: &[Job]) -> Result<(), TuneError> {
         let c = self.config;
         let outcomes = self.evaluate(jobs)?;
         if let Some((job, failure)) = jobs.iter().zip(&outcomes).find_map(|(j, o)| Some((j, o.failure.clone()?))) {
@@ -44,14 +58,14 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The cheapest way to decide undecided candidate `cand` when more of its own seeds alone
     /// cannot (the reference's spread is what keeps its interval wide): `g` more reference runs (a
     /// multiple of `seeds`, the reference at most doubled) and the candidate runs in all that then
-    /// decide it (at most [`seeds::SEQUENTIAL_SEEDS`] times `max_seeds`), with the price of both
+    /// decide it (at most [`SEQUENTIAL_SEEDS`] times `max_seeds`), with the price of both
     /// and of verifying it on as many fresh seeds, in reference runs. None when no growth would.
-    pub(super) fn reference_growth(&self, cand: &Candidate) -> Option<(usize, usize, f64)> {
+    fn reference_growth(&self, cand: &Candidate) -> Option<(usize, usize, f64)> {
         let c = self.config;
         let result = &self.result;
         let n_r = result.reference.len();
         let cost = result.assess(cand).cost / result.reference_cost();
-        let most = seeds::SEQUENTIAL_SEEDS * c.max_seeds;
+        let most = SEQUENTIAL_SEEDS * c.max_seeds;
         (1..)
             .map(|k| k * c.seeds)
             .take_while(|&g| n_r + g <= 2 * c.reference_seeds)
@@ -64,12 +78,12 @@ impl<'a, E: Evaluator> Search<'a, E> {
     }
 
     /// Grows the reference when that is what decides the cheapest undecided candidate that would
-    /// beat the incumbent by a clear margin ([`seeds::CLEAR_MARGIN`]) and its own seeds alone
+    /// beat the incumbent by a clear margin ([`CLEAR_MARGIN`]) and its own seeds alone
     /// cannot ([`Self::reference_growth`]), within the spend limit; whether it did. (A reference
     /// whose own mean is in doubt is grown first, by [`Self::extra_seeds`].)
     pub(super) fn grow_reference(&mut self) -> Result<bool, TuneError> {
         let result = &self.result;
-        let bound = (seeds::CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
+        let bound = (CLEAR_MARGIN * self.incumbent().1).min(result.reference_cost());
         let growth = result
             .candidates
             .iter()
@@ -131,6 +145,6 @@ impl<'a, E: Evaluator> Search<'a, E> {
 }
 
 /// The mean of kept metric `k` over `runs`.
-pub(super) fn column_mean(runs: &[Outcome], k: usize) -> f64 {
+fn column_mean(runs: &[Outcome], k: usize) -> f64 {
     stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
 }

@@ -1,21 +1,34 @@
 //! Verification on fresh seeds, judged on those runs alone, and the answer: the cheapest verified
 //! candidate that saves something.
 
-use super::run::Search;
+use super::context::{Context, Flow};
 use crate::stats;
 use crate::tune::judge::runs_to_decide;
 use crate::tune::model::{Candidate, Evaluator, Job, Role, State, TuneError};
 use std::collections::HashSet;
 
 /// Most verification rounds of one candidate.
-pub(super) const VERIFY_ROUNDS: usize = 4;
+const VERIFY_ROUNDS: usize = 4;
 
-impl<'a, E: Evaluator> Search<'a, E> {
+/// The step after the standard settings: the cheapest of them verified, when cheaper than the
+/// answer so far.
+pub(super) fn standards<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
+    cx.verify(|c| c.standard.is_some())?;
+    Ok(Flow::Next)
+}
+
+/// The last step: any candidate cheaper than the answer so far verified.
+pub(super) fn all<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
+    cx.verify(|_| true)?;
+    Ok(Flow::Next)
+}
+
+impl<E: Evaluator> Context<'_, E> {
     /// Whether fresh runs would likely confirm a feasible candidate: on every metric, its
     /// difference so far plus the 90 % interval half-width expected with `2 × verify_seeds` fresh
     /// runs stays below 0.9 of the margin (the search's winners look better than they are: the 0.9
     /// allows for that).
-    pub(super) fn verifiable(&self, cand: &Candidate) -> bool {
+    fn verifiable(&self, cand: &Candidate) -> bool {
         let n = (2 * self.config.verify_seeds) as f64;
         let reference = &self.result.reference;
         (0..self.result.margins.len()).all(|k| {
@@ -78,12 +91,7 @@ impl<'a, E: Evaluator> Search<'a, E> {
     /// The next candidate to verify: feasible in the search, cheaper than the reference, not tried,
     /// standing inside `limit`; those whose difference leaves room for the verification's interval
     /// first, then the cheapest.
-    pub(super) fn next_to_verify(
-        &self,
-        tried: &HashSet<usize>,
-        limit: f64,
-        keep: impl Fn(&Candidate) -> bool,
-    ) -> Option<usize> {
+    fn next_to_verify(&self, tried: &HashSet<usize>, limit: f64, keep: impl Fn(&Candidate) -> bool) -> Option<usize> {
         let result = &self.result;
         result
             .candidates

@@ -1,0 +1,91 @@
+//! Batches of search runs: a candidate's further seeds, cut where they can no longer win.
+
+use super::context::Context;
+use crate::tune::model::{Candidate, Evaluator, Job, Role, TuneError};
+
+impl<E: Evaluator> Context<'_, E> {
+    /// Runs candidate `k`'s first seeds when they fit the spend limit with room to verify it (cut
+    /// where only that fits, [`Self::first_round`]); whether they ran.
+    pub(super) fn run_first(&mut self, k: usize) -> Result<bool, TuneError> {
+        let Some(round) = self.fits_candidate(k) else { return Ok(false) };
+        self.cut_first_seeds(k, round);
+        self.run_more(&[(k, self.config.seeds)])?;
+        Ok(true)
+    }
+
+    /// The cost past which a further run of `cand` (which will then have `more` further runs)
+    /// proves that it cannot beat the incumbent (the reference itself while there is none): with
+    /// every other run costing nothing, its mean would still reach the incumbent's.
+    ///
+    /// A new candidate predicted dearer (see [`Candidate::relative_cost`]) than the cheapest one
+    /// still in the running ([`Self::likely_cost`]: the incumbent, a valid undecided candidate or
+    /// the reference) is expected to lose: its first run is stopped as soon as it alone costs that
+    /// much, the point where the prediction is confirmed (a run that settles sooner than the
+    /// reference's, e.g. with more damping, still ends below it and counts).
+    ///
+    /// First seeds that fit the spend limit only cut ([`Self::first_round`]) are cut there too.
+    pub(super) fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
+        let spend = self.first_caps.get(&cand.id).copied().filter(|_| cand.runs.is_empty());
+        let win = self.win_cap(cand, more);
+        win.map_or(spend, |w| Some(spend.map_or(w, |s| s.min(w))))
+    }
+
+    fn win_cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
+        if cand.runs.is_empty() && self.predicted_dear(cand) {
+            return self.config.cut_runs.then_some(self.likely_cost());
+        }
+        let incumbent = self.incumbent().1;
+        let spent: f64 = cand.runs.iter().map(|o| o.cost).sum();
+        self.config.cut_runs.then(|| (cand.runs.len() + more) as f64 * incumbent - spent).filter(|c| c.is_finite())
+    }
+
+    /// Runs `more` further search seeds of each candidate, as one batch; a new candidate predicted
+    /// dearer than the cheapest one in the running ([`Self::predicted_dear`]) first runs one seed
+    /// alone, and the rest only when that run ended below its cap and valid.
+    pub(super) fn run_more(&mut self, chosen: &[(usize, usize)]) -> Result<(), TuneError> {
+        let probe =
+            |s: &Self, k: usize| s.result.candidates[k].runs.is_empty() && s.predicted_dear(&s.result.candidates[k]);
+        let probes: Vec<(usize, usize)> =
+            chosen.iter().filter(|&&(k, more)| more > 1 && probe(self, k)).map(|&(k, _)| (k, 1)).collect();
+        if probes.is_empty() {
+            return self.run_batch(chosen, None);
+        }
+        self.run_batch(&probes, None)?;
+        let rest: Vec<(usize, usize)> = chosen
+            .iter()
+            .filter_map(|&(k, more)| match probes.iter().any(|&(p, _)| p == k) {
+                true if self.result.candidates[k].runs.iter().any(|o| o.failure.is_some() || o.has_warning()) => None,
+                true => Some((k, more - 1)),
+                false => Some((k, more)),
+            })
+            .collect();
+        self.run_batch(&rest, None)
+    }
+
+    /// Runs `more` further search seeds of each candidate, as one batch, cut at `cap` when given,
+    /// else at [`Self::cap`].
+    pub(super) fn run_batch(&mut self, chosen: &[(usize, usize)], cap: Option<Option<f64>>) -> Result<(), TuneError> {
+        let mut jobs = Vec::new();
+        for &(k, more) in chosen {
+            let cand = &self.result.candidates[k];
+            let cap = cap.unwrap_or_else(|| self.cap(cand, more));
+            let first = cand.runs.len() as u64;
+            jobs.extend((first..first + more as u64).map(|seed| Job {
+                candidate: cand.id,
+                point: cand.point.clone(),
+                role: Role::Search,
+                seed,
+                standard: cand.standard,
+                cap,
+            }));
+        }
+        if jobs.is_empty() {
+            return Ok(());
+        }
+        let outcomes = self.evaluate(&jobs)?;
+        for (job, outcome) in jobs.iter().zip(outcomes) {
+            self.result.candidates[job.candidate - 1].runs.push(outcome);
+        }
+        Ok(())
+    }
+}
