@@ -8,8 +8,8 @@ as pandas DataFrames and its arrays as NumPy arrays. Guide: docs/python.md of th
 - ``run_batch(scenes, seeds=None, jobs=0)``: many scenes on one pool of worker threads (the
   interpreter released), a DataFrame per scene; the values do not depend on ``jobs``.
 - ``run_study(path, ...)`` and ``tune(path, ...)``: ``demsweep run`` and ``demsweep tune``.
-- ``open(path)``: a results file: ``.summary``, ``.points``, ``.history(run)``, ``.final(run)``,
-  ``.frames(run)``, ``.scene(run)``.
+- ``open(path)``: a results file: ``.summary``, ``.points``, ``.history(run)``,
+  ``.stress_profile(run)``, ``.final(run)``, ``.frames(run)``, ``.scene(run)``.
 
 Units are SI, one per quantity: ``UNITS`` maps every summary column, history series and disk field
 to its unit; each DataFrame's ``attrs["units"]`` holds its columns' units (swept keys' included), as
@@ -63,7 +63,8 @@ __all__ = [
     "tune",
 ]
 
-#: The SI unit of every summary column, history series and disk field ("" when dimensionless).
+#: The SI unit of every summary column, history series, stress profile column and disk field ("" when
+#: dimensionless).
 UNITS: dict[str, str] = _native.units()
 
 
@@ -165,6 +166,20 @@ class Results:
     def history(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's sampled series (``t`` and the rest, see ``UNITS``) as arrays, or None."""
         return _arrays(self._file.history(run))
+
+    def stress_profile(self, run: RunKey) -> _pd.DataFrame | None:
+        """The run's stress profile, or None: one row per height band of its settled pile from the
+        floor up, as ``demsweep history RESULTS RUN --stress-profile`` prints it (``bottom``, ``top``
+        in m; the band's Love–Weber stress ``stress_xx``, ``stress_yy``, ``stress_xy``, its
+        ``stress_pressure`` and ``stress_deviatoric``, the side walls' ``wall_normal_stress`` and
+        ``wall_shear_stress``, in Pa, compression positive); stored with the histories."""
+        stored = self._file.stress_profile(run)
+        if stored is None:
+            return None
+        columns, units = stored
+        frame = _pd.DataFrame(columns)
+        frame.attrs["units"] = units
+        return frame
 
     def final(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's final state: ``time``, one array per disk field, ``contacts`` (arrays)."""

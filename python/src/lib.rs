@@ -424,7 +424,8 @@ fn tune<'py>(
     Ok(answer)
 }
 
-/// `units()`: the SI unit of every summary column, history series and disk field (empty: none).
+/// `units()`: the SI unit of every summary column, history series, stress profile column and disk
+/// field (empty: none).
 #[pyfunction]
 fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let dict = PyDict::new(py);
@@ -436,6 +437,9 @@ fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     }
     for field in &DISK_FIELDS {
         dict.set_item(field.name, field.unit)?;
+    }
+    for (name, unit, _) in layout::stress_profile_columns(&Default::default()) {
+        dict.set_item(name, unit)?;
     }
     Ok(dict)
 }
@@ -548,6 +552,22 @@ impl Results {
             }
         }
         Ok(Some(dict))
+    }
+
+    /// The run's stress profile: its columns (one list per field, a value per height band) and
+    /// their units; `None` when the file has none for it.
+    fn stress_profile<'py>(
+        &self,
+        py: Python<'py>,
+        run: &Bound<'py, PyAny>,
+    ) -> PyResult<Option<(Bound<'py, PyDict>, Bound<'py, PyDict>)>> {
+        let Some(profile) = self.stored(run)?.stress_profile else { return Ok(None) };
+        let (columns, units) = (PyDict::new(py), PyDict::new(py));
+        for (name, unit, values) in layout::stress_profile_columns(&profile) {
+            columns.set_item(name, values)?;
+            units.set_item(name, unit)?;
+        }
+        Ok(Some((columns, units)))
     }
 
     /// The run's final state (see `snapshot`); `None` when the file has none for it.
