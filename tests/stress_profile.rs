@@ -93,3 +93,33 @@ fn compare_keeps_the_pile_stress_as_a_metric() {
     assert!(text.contains("stress_pressure") && text.contains("stress_deviatoric"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn plot_and_report_chart_the_stress_profile_of_a_run_that_stores_one() {
+    let dir = scratch("chart");
+    for histories in [true, false] {
+        let sub = dir.join(histories.to_string());
+        std::fs::create_dir_all(&sub).unwrap();
+        let results = run_column(&sub, histories);
+        let svg = results.with_file_name("svg");
+        let args = ["plot", results.to_str().unwrap(), "--format", "svg", "--out", svg.to_str().unwrap()];
+        let out = demsweep(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let chart = std::fs::read_to_string(svg.join("r0000_stress_profile.svg"));
+        let page = std::fs::read_to_string(results.with_file_name("column_report.html")).unwrap();
+        match histories {
+            true => {
+                let chart = chart.unwrap();
+                let labels =
+                    ["Stress profile", "pressure", "deviatoric stress", "side walls", "height (m)", "stress (Pa)"];
+                assert!(labels.iter().all(|l| chart.contains(l)), "{chart}");
+                assert!(page.contains("Stress profile of the settled pile"), "the report's run section has it");
+            }
+            false => {
+                assert!(chart.is_err(), "no profile stored, no chart");
+                assert!(!page.contains("Stress profile of the settled pile"));
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
