@@ -55,7 +55,10 @@ fn cells(path: &Path, columns: &[&str]) -> Vec<Vec<String>> {
     let mut lines = csv.lines();
     let names: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at: Vec<usize> = columns.iter().map(|c| names.iter().position(|n| n == c).expect(c)).collect();
-    lines.map(|line| line.split(',').collect::<Vec<_>>()).map(|row| at.iter().map(|&k| row[k].to_string()).collect()).collect()
+    lines
+        .map(|line| line.split(',').collect::<Vec<_>>())
+        .map(|row| at.iter().map(|&k| row[k].to_string()).collect())
+        .collect()
 }
 
 #[test]
