@@ -111,8 +111,13 @@ def _warn(answer: dict[str, _typing.Any]) -> dict[str, _typing.Any]:
 
 
 def run_study(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,
-              jobs: int = 0, progress: str = "quiet") -> dict[str, _typing.Any]:
+              jobs: int = 0, progress: str = "quiet",
+              checkpoint_every: float | None = 600.0) -> dict[str, _typing.Any]:
     """``demsweep run PATH``: the results file, CSV files and report page; returns what it did.
+
+    ``checkpoint_every``: ``--checkpoint-every`` in seconds (None: off): each run in progress saves
+    its state that often beside the results; ``resume=True`` continues it from there, to the bits the
+    uninterrupted run stores.
 
     Keys: ``results`` (the HDF5 file, for ``open``), ``summary_csv``, ``points_csv``, ``report``,
     ``selected``, ``already_done``, ``ran``, ``failed``, ``missing``, ``exit_code`` (the command's),
@@ -120,7 +125,7 @@ def run_study(path: PathLike, out: PathLike | None = None, resume: bool = False,
     that run again and why, stored runs the study no longer plans; both also issued as Python
     warnings) and ``run_warnings``.
     """
-    return _warn(_native.run_study(_os.fspath(path), _path(out), resume, force, jobs, progress))
+    return _warn(_native.run_study(_os.fspath(path), _path(out), resume, force, jobs, progress, checkpoint_every))
 
 
 def tune(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,

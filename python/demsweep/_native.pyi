@@ -49,6 +49,7 @@ def run_study(
     force: bool = False,
     jobs: int = 0,
     progress: str = "quiet",
+    checkpoint_every: Optional[float] = None,
 ) -> dict[str, Any]: ...
 def tune(
     path: str,

@@ -21,7 +21,7 @@ use demsweep::study::{self, Seeds, StudyErrors};
 use demsweep::tune::TuneOptions;
 use demsweep::workflow::{self, LoadError};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeError};
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
 
@@ -343,9 +343,21 @@ fn progress_mode(name: &str) -> PyResult<ProgressMode> {
     }
 }
 
-/// `run_study(path, out=None, resume=False, force=False, jobs=0, progress="quiet")`: `demsweep run`.
+/// A checkpoint interval in seconds (`None`: no checkpoints) as the runner takes it.
+fn checkpoint_interval(seconds: Option<f64>) -> PyResult<Option<Duration>> {
+    let Some(seconds) = seconds else { return Ok(None) };
+    match Duration::try_from_secs_f64(seconds) {
+        Ok(interval) if !interval.is_zero() => Ok(Some(interval)),
+        _ => Err(PyValueError::new_err(format!("checkpoint_every must be > 0 seconds (or None), not {seconds}"))),
+    }
+}
+
+/// `run_study(path, out=None, resume=False, force=False, jobs=0, progress="quiet",
+/// checkpoint_every=None)`: `demsweep run` (`checkpoint_every`: `--checkpoint-every` in seconds,
+/// `None` off; the package's `run_study` passes the command's default).
 #[pyfunction]
-#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, progress="quiet"))]
+#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, progress="quiet", checkpoint_every=None))]
+#[allow(clippy::too_many_arguments)] // the command's options, as keyword arguments
 fn run_study<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -354,7 +366,9 @@ fn run_study<'py>(
     force: bool,
     jobs: usize,
     progress: &str,
+    checkpoint_every: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let checkpoint_every = checkpoint_interval(checkpoint_every)?;
     let (plan, space) = workflow::load_study(&path, out.as_deref()).map_err(|e| match e {
         LoadError::Invalid(errors) => study_error(py, &errors, None),
         tune_file => StudyError::new_err(tune_file.to_string()),
@@ -367,6 +381,7 @@ fn run_study<'py>(
         force,
         progress: progress_mode(progress)?,
         stop: stop.clone(),
+        checkpoint_every,
         ..RunOptions::default()
     };
     let run = detached(py, &stop, || workflow::run_study(&plan, &options))?.map_err(results_error)?;
