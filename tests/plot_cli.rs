@@ -102,6 +102,12 @@ fn plots_every_run_and_the_study_at_the_requested_size_diverged_runs_included() 
         let frames = run.frames.len();
         assert!(frames >= 1, "{}: frame at t = 0 recorded", row.id);
         expected.extend([format!("{}_energy.png", row.id), format!("{}_ubf.png", row.id)]);
+        // The stress profile of every run whose pile has bands (a settled run's always has).
+        let bands = run.stress_profile.as_ref().map_or(0, |p| p.bottom.len());
+        assert!(bands > 0 || row.status != RunStatus::Settled, "{}: a settled pile has a stress profile", row.id);
+        if bands > 0 {
+            expected.push(format!("{}_stress_profile.png", row.id));
+        }
         expected.extend((0..frames).map(|k| format!("{}_frame_{k:05}.png", row.id)));
         let final_time = run.final_state.as_ref().unwrap().time;
         let with_final = run.frames.last().is_none_or(|frame| (frame.time - final_time).abs() > 1e-9);

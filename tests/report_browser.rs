@@ -99,7 +99,8 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     assert_eq!(seen["sorted_column"], "material.restitution");
     assert_eq!((seen["sorted_ascending"].as_bool(), seen["sorted_descending"].as_bool()), (Some(true), Some(true)));
     let pile_charts = CHARTED_METRICS.len() - 1; // settle time against restitution is the settle-time chart
-    assert_eq!(seen["charts"], 1 + pile_charts + 9 * 3, "settle time, pile metrics and 3 charts per run: {seen}");
+    let per_run = 4; // energies, unbalanced force ratio, stress profile, final pile
+    assert_eq!(seen["charts"], 1 + pile_charts + 9 * per_run, "settle time, pile metrics and the runs' charts: {seen}");
     assert_eq!(seen["charts_without_size"], 0);
     assert_eq!(seen["bottom_reached"], true);
     assert_eq!(seen["run_links"], 3, "each point links to a run section");

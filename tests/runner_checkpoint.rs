@@ -300,6 +300,47 @@ integrator.time_step = 1e-5
         assert_eq!(resumed, straight);
     }
 
+    /// A short run (r0000) beside a run eight times as long (r0001), no frames.
+    const SHORT_AND_LONG: &str = r#"name = "ckpt"
+[scene]
+particles.count = 300
+particles.radius = 0.003
+domain.width = 0.2
+domain.height = 0.3
+integrator.time_step = 2e-5
+run.stop_at_settle = false
+[output]
+frames = false
+[sweep]
+"run.duration" = [0.3, 2.4]
+"#;
+
+    #[test]
+    fn a_runs_checkpoint_goes_once_the_run_is_stored_while_the_sweep_goes_on_and_other_files_stay() {
+        let dir = runner_common::scratch("checkpoint_stored");
+        std::fs::write(dir.join("ckpt.toml"), SHORT_AND_LONG).unwrap();
+        let saved = dir.join("out/ckpt.checkpoints");
+        std::fs::create_dir_all(&saved).unwrap();
+        std::fs::write(saved.join("notes.txt"), "mine").unwrap();
+        let mut child = start(&dir, "out", &["--checkpoint-every", "0.1s"]);
+        let (short, long) = (saved.join("r0000.checkpoint"), saved.join("r0001.checkpoint"));
+        let waited = Instant::now();
+        let mut wait_for = |what: &str, done: &dyn Fn() -> bool| {
+            while !done() {
+                assert!(child.try_wait().unwrap().is_none(), "the sweep ended before {what}");
+                assert!(waited.elapsed() < Duration::from_secs(120), "not within two minutes: {what}");
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        };
+        wait_for("the short run's checkpoint", &|| short.exists());
+        wait_for("the short run's checkpoint went", &|| !short.exists());
+        assert!(child.try_wait().unwrap().is_none() && long.exists(), "the long run goes on, with its checkpoint");
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        let left: Vec<_> = std::fs::read_dir(&saved).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, ["notes.txt"], "only the checkpoints go");
+    }
+
     #[test]
     fn a_bad_interval_is_refused_naming_the_flag() {
         let dir = runner_common::scratch("checkpoint_flag");

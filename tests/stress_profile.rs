@@ -93,3 +93,70 @@ fn compare_keeps_the_pile_stress_as_a_metric() {
     assert!(text.contains("stress_pressure") && text.contains("stress_deviatoric"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn plot_and_report_chart_the_stress_profile_of_a_run_that_stores_one() {
+    let dir = scratch("chart");
+    for histories in [true, false] {
+        let sub = dir.join(histories.to_string());
+        std::fs::create_dir_all(&sub).unwrap();
+        let results = run_column(&sub, histories);
+        let svg = results.with_file_name("svg");
+        let args = ["plot", results.to_str().unwrap(), "--format", "svg", "--out", svg.to_str().unwrap()];
+        let out = demsweep(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let chart = std::fs::read_to_string(svg.join("r0000_stress_profile.svg"));
+        let page = std::fs::read_to_string(results.with_file_name("column_report.html")).unwrap();
+        match histories {
+            true => {
+                let chart = chart.unwrap();
+                let labels =
+                    ["Stress profile", "pressure", "deviatoric stress", "side walls", "height (m)", "stress (Pa)"];
+                assert!(labels.iter().all(|l| chart.contains(l)), "{chart}");
+                assert!(page.contains("Stress profile of the settled pile"), "the report's run section has it");
+            }
+            false => {
+                assert!(chart.is_err(), "no profile stored, no chart");
+                assert!(!page.contains("Stress profile of the settled pile"));
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn history_writes_a_csv_file_with_each_columns_unit_in_its_sidecar() {
+    let dir = scratch("csv_file");
+    let results = run_column(&dir, true);
+    let r = results.to_str().unwrap();
+    let unit_of = |csv: &Path, name: &str| {
+        let sidecar = std::fs::read_to_string(format!("{}-metadata.json", csv.display())).unwrap();
+        let meta: serde_json::Value = serde_json::from_str(&sidecar).unwrap();
+        let columns = meta["tableSchema"]["columns"].as_array().unwrap().clone();
+        let column = columns.into_iter().find(|c| c["titles"] == name).unwrap_or_else(|| panic!("{name}: {sidecar}"));
+        column.get("schema:unitText").and_then(|u| u.as_str()).unwrap_or("").to_string()
+    };
+    for (flags, units) in [
+        (&["--stress-profile"][..], &[("bottom", "m"), ("stress_pressure", "Pa"), ("wall_shear_stress", "Pa")][..]),
+        (&[][..], &[("t", "s"), ("potential", "J"), ("contacts", "")][..]),
+    ] {
+        let csv = dir.join(format!("table{}.csv", flags.len()));
+        let printed = demsweep(&[&["history", r, "r0000"][..], flags].concat());
+        let written = demsweep(&[&["history", r, "r0000", "--csv", csv.to_str().unwrap()][..], flags].concat());
+        assert!(written.status.success() && written.stdout.is_empty(), "{}", String::from_utf8_lossy(&written.stderr));
+        assert_eq!(std::fs::read(&csv).unwrap(), printed.stdout, "the file holds what the command prints");
+        for (name, unit) in units {
+            assert_eq!(unit_of(&csv, name), *unit, "{name}");
+        }
+    }
+    // A file demsweep did not write is replaced only with --force.
+    let mine = dir.join("mine.csv");
+    std::fs::write(&mine, "mine").unwrap();
+    let args = ["history", r, "r0000", "--stress-profile", "--csv", mine.to_str().unwrap()];
+    let refused = demsweep(&args);
+    assert_eq!(refused.status.code(), Some(1), "{}", String::from_utf8_lossy(&refused.stderr));
+    assert_eq!(std::fs::read_to_string(&mine).unwrap(), "mine");
+    assert!(demsweep(&[&args[..], &["--force"]].concat()).status.success());
+    assert!(std::fs::read_to_string(&mine).unwrap().starts_with("bottom,top,"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

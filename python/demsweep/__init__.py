@@ -8,8 +8,8 @@ as pandas DataFrames and its arrays as NumPy arrays. Guide: docs/python.md of th
 - ``run_batch(scenes, seeds=None, jobs=0)``: many scenes on one pool of worker threads (the
   interpreter released), a DataFrame per scene; the values do not depend on ``jobs``.
 - ``run_study(path, ...)`` and ``tune(path, ...)``: ``demsweep run`` and ``demsweep tune``.
-- ``open(path)``: a results file: ``.summary``, ``.points``, ``.history(run)``, ``.final(run)``,
-  ``.frames(run)``, ``.scene(run)``.
+- ``open(path)``: a results file: ``.summary``, ``.points``, ``.history(run)``,
+  ``.stress_profile(run)``, ``.final(run)``, ``.frames(run)``, ``.scene(run)``.
 
 Units are SI, one per quantity: ``UNITS`` maps every summary column, history series and disk field
 to its unit; each DataFrame's ``attrs["units"]`` holds its columns' units (swept keys' included), as
@@ -63,7 +63,8 @@ __all__ = [
     "tune",
 ]
 
-#: The SI unit of every summary column, history series and disk field ("" when dimensionless).
+#: The SI unit of every summary column, history series, stress profile column and disk field ("" when
+#: dimensionless).
 UNITS: dict[str, str] = _native.units()
 
 
@@ -110,8 +111,13 @@ def _warn(answer: dict[str, _typing.Any]) -> dict[str, _typing.Any]:
 
 
 def run_study(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,
-              jobs: int = 0, progress: str = "quiet") -> dict[str, _typing.Any]:
+              jobs: int = 0, progress: str = "quiet",
+              checkpoint_every: float | None = 600.0) -> dict[str, _typing.Any]:
     """``demsweep run PATH``: the results file, CSV files and report page; returns what it did.
+
+    ``checkpoint_every``: ``--checkpoint-every`` in seconds (None: off): each run in progress saves
+    its state that often beside the results; ``resume=True`` continues it from there, to the bits the
+    uninterrupted run stores.
 
     Keys: ``results`` (the HDF5 file, for ``open``), ``summary_csv``, ``points_csv``, ``report``,
     ``selected``, ``already_done``, ``ran``, ``failed``, ``missing``, ``exit_code`` (the command's),
@@ -119,7 +125,7 @@ def run_study(path: PathLike, out: PathLike | None = None, resume: bool = False,
     that run again and why, stored runs the study no longer plans; both also issued as Python
     warnings) and ``run_warnings``.
     """
-    return _warn(_native.run_study(_os.fspath(path), _path(out), resume, force, jobs, progress))
+    return _warn(_native.run_study(_os.fspath(path), _path(out), resume, force, jobs, progress, checkpoint_every))
 
 
 def tune(path: PathLike, out: PathLike | None = None, resume: bool = False, force: bool = False,
@@ -165,6 +171,20 @@ class Results:
     def history(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's sampled series (``t`` and the rest, see ``UNITS``) as arrays, or None."""
         return _arrays(self._file.history(run))
+
+    def stress_profile(self, run: RunKey) -> _pd.DataFrame | None:
+        """The run's stress profile, or None: one row per height band of its settled pile from the
+        floor up, as ``demsweep history RESULTS RUN --stress-profile`` prints it (``bottom``, ``top``
+        in m; the band's Love–Weber stress ``stress_xx``, ``stress_yy``, ``stress_xy``, its
+        ``stress_pressure`` and ``stress_deviatoric``, the side walls' ``wall_normal_stress`` and
+        ``wall_shear_stress``, in Pa, compression positive); stored with the histories."""
+        stored = self._file.stress_profile(run)
+        if stored is None:
+            return None
+        columns, units = stored
+        frame = _pd.DataFrame(columns)
+        frame.attrs["units"] = units
+        return frame
 
     def final(self, run: RunKey) -> dict[str, _typing.Any] | None:
         """The run's final state: ``time``, one array per disk field, ``contacts`` (arrays)."""

@@ -21,7 +21,7 @@ use demsweep::study::{self, Seeds, StudyErrors};
 use demsweep::tune::TuneOptions;
 use demsweep::workflow::{self, LoadError};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeError};
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString, PyTuple};
 
@@ -343,9 +343,21 @@ fn progress_mode(name: &str) -> PyResult<ProgressMode> {
     }
 }
 
-/// `run_study(path, out=None, resume=False, force=False, jobs=0, progress="quiet")`: `demsweep run`.
+/// A checkpoint interval in seconds (`None`: no checkpoints) as the runner takes it.
+fn checkpoint_interval(seconds: Option<f64>) -> PyResult<Option<Duration>> {
+    let Some(seconds) = seconds else { return Ok(None) };
+    match Duration::try_from_secs_f64(seconds) {
+        Ok(interval) if !interval.is_zero() => Ok(Some(interval)),
+        _ => Err(PyValueError::new_err(format!("checkpoint_every must be > 0 seconds (or None), not {seconds}"))),
+    }
+}
+
+/// `run_study(path, out=None, resume=False, force=False, jobs=0, progress="quiet",
+/// checkpoint_every=None)`: `demsweep run` (`checkpoint_every`: `--checkpoint-every` in seconds,
+/// `None` off; the package's `run_study` passes the command's default).
 #[pyfunction]
-#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, progress="quiet"))]
+#[pyo3(signature = (path, out=None, resume=false, force=false, jobs=0, progress="quiet", checkpoint_every=None))]
+#[allow(clippy::too_many_arguments)] // the command's options, as keyword arguments
 fn run_study<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -354,7 +366,9 @@ fn run_study<'py>(
     force: bool,
     jobs: usize,
     progress: &str,
+    checkpoint_every: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let checkpoint_every = checkpoint_interval(checkpoint_every)?;
     let (plan, space) = workflow::load_study(&path, out.as_deref()).map_err(|e| match e {
         LoadError::Invalid(errors) => study_error(py, &errors, None),
         tune_file => StudyError::new_err(tune_file.to_string()),
@@ -367,6 +381,7 @@ fn run_study<'py>(
         force,
         progress: progress_mode(progress)?,
         stop: stop.clone(),
+        checkpoint_every,
         ..RunOptions::default()
     };
     let run = detached(py, &stop, || workflow::run_study(&plan, &options))?.map_err(results_error)?;
@@ -424,7 +439,8 @@ fn tune<'py>(
     Ok(answer)
 }
 
-/// `units()`: the SI unit of every summary column, history series and disk field (empty: none).
+/// `units()`: the SI unit of every summary column, history series, stress profile column and disk
+/// field (empty: none).
 #[pyfunction]
 fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let dict = PyDict::new(py);
@@ -436,6 +452,9 @@ fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     }
     for field in &DISK_FIELDS {
         dict.set_item(field.name, field.unit)?;
+    }
+    for (name, unit, _) in layout::stress_profile_columns(&Default::default()) {
+        dict.set_item(name, unit)?;
     }
     Ok(dict)
 }
@@ -548,6 +567,22 @@ impl Results {
             }
         }
         Ok(Some(dict))
+    }
+
+    /// The run's stress profile: its columns (one list per field, a value per height band) and
+    /// their units; `None` when the file has none for it.
+    fn stress_profile<'py>(
+        &self,
+        py: Python<'py>,
+        run: &Bound<'py, PyAny>,
+    ) -> PyResult<Option<(Bound<'py, PyDict>, Bound<'py, PyDict>)>> {
+        let Some(profile) = self.stored(run)?.stress_profile else { return Ok(None) };
+        let (columns, units) = (PyDict::new(py), PyDict::new(py));
+        for (name, unit, values) in layout::stress_profile_columns(&profile) {
+            columns.set_item(name, values)?;
+            units.set_item(name, unit)?;
+        }
+        Ok(Some((columns, units)))
     }
 
     /// The run's final state (see `snapshot`); `None` when the file has none for it.

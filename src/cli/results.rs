@@ -195,6 +195,13 @@ pub struct HistoryArgs {
     /// edges in m, its Love–Weber stress and the side walls' normal and shear stress in Pa).
     #[arg(long)]
     stress_profile: bool,
+    /// Write the CSV to this file instead, with its metadata sidecar (<FILE>-metadata.json: each
+    /// column's unit and datatype).
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// Replace any file at --csv (by default only a CSV file demsweep wrote).
+    #[arg(long, requires = "csv")]
+    force: bool,
 }
 
 #[derive(Args)]
@@ -520,12 +527,18 @@ fn bad_input(error: &output::OutputError) -> ExitCode {
     ExitCode::from(BAD_INPUT)
 }
 
-/// `demsweep history`: one run's histories (or its stress profile) as CSV on stdout.
+/// `demsweep history`: one run's histories (or its stress profile) as CSV on stdout, or in a file.
 pub fn history(args: &HistoryArgs) -> ExitCode {
+    use output::history::{self, RunTable};
+    let table = if args.stress_profile { RunTable::StressProfile } else { RunTable::History };
+    if let Some(path) = &args.csv {
+        let existing = Existing::Ours { force: args.force };
+        return report_error(history::write_csv_file(&args.results, &args.run_id, table, (path, existing)));
+    }
     let mut csv = Vec::new();
-    let outcome = match args.stress_profile {
-        true => output::history::stress_profile_to_csv(&args.results, &args.run_id, &mut csv),
-        false => output::history::to_csv(&args.results, &args.run_id, &mut csv),
+    let outcome = match table {
+        RunTable::StressProfile => history::stress_profile_to_csv(&args.results, &args.run_id, &mut csv),
+        RunTable::History => history::to_csv(&args.results, &args.run_id, &mut csv),
     };
     if outcome.is_ok() {
         out!("{}", String::from_utf8_lossy(&csv));

@@ -1,4 +1,5 @@
-//! One run read back from a results file: its scene, histories, final state and frames.
+//! One run read back from a results file: its scene, histories, stress profile, final state and
+//! frames.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -7,6 +8,7 @@ use hdf5_pure::{Dataset, File};
 
 use super::layout::{
     CONTACT_FIELDS, FINAL, FINAL_CONTACTS, FRAME_CONTACT_TABLE, FRAME_CONTACTS, FRAME_INDEX, FRAME_TIME, FRAMES,
+    STRESS_PROFILE,
 };
 use super::row::SummaryRow;
 use super::table::ColumnData;
@@ -15,6 +17,7 @@ use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::quantity::HISTORY_SERIES;
 use crate::physics::record::{DISK_FIELDS, History, Snapshot};
+use crate::physics::stress::{Stress, StressProfile};
 
 /// A run as stored: what was written for it (the parts the study's output options left out are
 /// `None` or empty, as are all of them for a run that failed with an error).
@@ -24,6 +27,8 @@ pub struct StoredRun {
     pub scene: SceneConfig,
     /// The sampled histories (`history`).
     pub history: Option<History>,
+    /// The settled pile's stress per height band (`stress_profile`, stored with the histories).
+    pub stress_profile: Option<StressProfile>,
     /// The state at the end of the run (`final`), with its contacts (`final_contacts`; empty in files
     /// written before contacts were stored).
     pub final_state: Option<Snapshot>,
@@ -52,6 +57,10 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
         .then(|| read_table(file, &format!("{group_path}/history"), path).and_then(|t| history(&t)))
         .transpose()
         .map_err(|e| fail("history", e))?;
+    let stress_profile = has(STRESS_PROFILE)
+        .then(|| read_table(file, &format!("{group_path}/{STRESS_PROFILE}"), path).and_then(|t| stress_profile(&t)))
+        .transpose()
+        .map_err(|e| fail(STRESS_PROFILE, e))?;
     let final_state = has(FINAL)
         .then(|| {
             let mut state = read_snapshot(file, &format!("{group_path}/{FINAL}"), path)?;
@@ -64,7 +73,7 @@ pub fn read_run(file: &File, path: &Path, row: &SummaryRow) -> Result<StoredRun,
         .transpose()
         .map_err(|e| fail(FINAL, e))?;
     let frames = read_frames(file, &group_path, path).map_err(|e| fail("frames", e))?;
-    Ok(StoredRun { scene, history, final_state, frames })
+    Ok(StoredRun { scene, history, stress_profile, final_state, frames })
 }
 
 /// The frames of a run group, in time order, with their contacts where stored: from the arrays over
@@ -282,6 +291,25 @@ fn history(table: &HashMap<String, ColumnData>) -> Result<History, LayoutError> 
         (series.store)(&mut history, values);
     }
     Ok(history)
+}
+
+/// The stress profile from the columns of a `stress_profile` table (see
+/// [`super::layout::stress_profile_columns`]; pressure and deviatoric stress follow from the
+/// components), every column one value per band.
+fn stress_profile(table: &HashMap<String, ColumnData>) -> Result<StressProfile, LayoutError> {
+    let bottom = floats(table, "bottom")?;
+    let [top, xx, yy, xy, wall_normal, wall_shear] =
+        ["top", "stress_xx", "stress_yy", "stress_xy", "wall_normal_stress", "wall_shear_stress"].map(|name| {
+            let column = floats(table, name)?;
+            match column.len() == bottom.len() {
+                true => Ok(column),
+                false => Err(LayoutError::inconsistent(format!("{} values for {} bands", column.len(), bottom.len()))
+                    .within(name)),
+            }
+        });
+    let (xx, yy, xy) = (xx?, yy?, xy?);
+    let stress = (0..bottom.len()).map(|k| Stress { xx: xx[k], yy: yy[k], xy: xy[k] }).collect();
+    Ok(StressProfile { bottom, top: top?, stress, wall_normal: wall_normal?, wall_shear: wall_shear? })
 }
 
 /// Column `name` of a table as floats (integer columns converted).

@@ -3,7 +3,7 @@
 //!
 //! Study charts: settle time against the first swept numeric parameter, one line per value of the
 //! second (if any), and a heatmap over the first two. Per run: energies, unbalanced force ratio,
-//! and a pile snapshot per recorded frame plus the final state.
+//! the settled pile's stress profile, and a pile snapshot per recorded frame plus the final state.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -441,6 +441,9 @@ pub fn run_charts(
             sink.chart(&format!("{}_ubf", row.id), &subject, |o, c| run::ubf_chart(history, marks, o, c));
         }
         None => sink.note(&format!("{}: no histories stored: no energy or UBF chart", row.id)),
+    }
+    if let Some(profile) = stored.stress_profile.as_ref().filter(|p| !p.bottom.is_empty()) {
+        sink.chart(&format!("{}_stress_profile", row.id), &subject, |o, c| run::stress_profile_chart(profile, o, c));
     }
     snapshots(sink, row, &stored, (by, frames));
     if !stored.frames.is_empty() {

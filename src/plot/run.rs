@@ -1,4 +1,5 @@
-//! Charts of one run: energies and unbalanced force ratio against time, and pile snapshots.
+//! Charts of one run: energies and unbalanced force ratio against time, the settled pile's stress
+//! profile, and pile snapshots.
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -12,6 +13,7 @@ use super::style::{self, LINE_WIDTH};
 use super::{Canvas, ChartOptions, DrawResult, Figure, Format, PlotError, render};
 use crate::physics::quantity;
 use crate::physics::record::{History, Snapshot};
+use crate::physics::stress::{Stress, StressProfile};
 
 /// Draws kinetic (translational + rotational), potential, elastic and total (kinetic + potential)
 /// energy against time onto `canvas`, with the end of each stage of the run's protocol marked
@@ -46,6 +48,17 @@ pub fn ubf_chart<'c>(
     canvas: impl Into<Canvas<'c>>,
 ) -> Result<(), PlotError> {
     render(&UbfFigure { history, marks }, options, canvas.into())
+}
+
+/// Draws the stress profile of a settled pile onto `canvas`: each height band's pressure and
+/// deviatoric stress and the side walls' normal stress there (Pa) against the band's middle height
+/// (m), a point per band. Bands whose values are not finite (a diverged run) break the lines.
+pub fn stress_profile_chart<'c>(
+    profile: &StressProfile,
+    options: &ChartOptions,
+    canvas: impl Into<Canvas<'c>>,
+) -> Result<(), PlotError> {
+    render(&StressProfileFigure { profile }, options, canvas.into())
 }
 
 /// Draws the disks of `snapshot` to scale inside the box `box_size` = (width, height) (m),
@@ -304,6 +317,52 @@ impl Figure for EnergyFigure<'_> {
         let mut chart = time_chart(&lower, caption, time, (style::log_span(lo, hi).log_scale(), &energy_label))?;
         draw_lines(&mut chart, &detail)?;
         draw_stage_ends(&mut chart, self.stage_ends, lo..hi, false)?;
+        style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+    }
+}
+
+/// Stress against height, one line per stress of [`stress_profile_chart`].
+struct StressProfileFigure<'a> {
+    profile: &'a StressProfile,
+}
+
+impl Figure for StressProfileFigure<'_> {
+    type Layout = ();
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, options: &ChartOptions) -> DrawResult<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let p = self.profile;
+        let middle: Vec<f64> = p.bottom.iter().zip(&p.top).map(|(b, t)| 0.5 * (b + t)).collect();
+        let pressure: Vec<f64> = p.stress.iter().map(Stress::pressure).collect();
+        let deviatoric: Vec<f64> = p.stress.iter().map(Stress::deviatoric).collect();
+        let stresses = [
+            ("pressure (σxx + σyy)/2", &pressure),
+            ("deviatoric stress", &deviatoric),
+            ("side walls' normal stress", &p.wall_normal),
+        ];
+        let lines: Vec<Line> = (stresses.iter().enumerate())
+            .map(|(k, (label, values))| Line::new(label, style::series_colour(k), (values, &middle), |_| true))
+            .collect();
+        let all = stresses.iter().flat_map(|(_, values)| values.iter().copied());
+        let stress = style::padded(style::finite_bounds(all.chain([0.0])), 0.05);
+        let top = p.top.iter().copied().filter(|h| h.is_finite()).fold(0.0, f64::max);
+        let height = 0.0..if top > 0.0 { top } else { 1.0 };
+        let title = options.title("Stress profile of the settled pile");
+        let mut chart = ChartBuilder::on(root)
+            .caption(&title, style::title_text(root, &title, style::TITLE_SIZE))
+            .margin(MARGIN)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .build_cartesian_2d(stress, height)?;
+        let (x_desc, y_desc) = (quantity::labelled("stress", "Pa"), quantity::labelled("height", "m"));
+        style::numbered_mesh(&mut chart.configure_mesh()).x_desc(x_desc).y_desc(y_desc).draw()?;
+        draw_lines(&mut chart, &lines)?;
+        for line in &lines {
+            let points = line.segments.iter().flatten().map(|&point| Circle::new(point, 3, line.colour.filled()));
+            chart.draw_series(points)?;
+        }
         style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }

@@ -5,8 +5,8 @@
 //! per-point table (columns under header groups with their units, sortable by any column,
 //! filterable by status; [`crate::stats::points`]); the study charts (settle time with 95 %
 //! intervals, heatmap) and the pile-metric charts; the tune, when the file holds one; a section per
-//! charted run (energies, unbalanced force ratio, final pile, and a player of its frames when it has
-//! some), the runs `demsweep plot` chooses, each linked from its point's row.
+//! charted run (energies, unbalanced force ratio, stress profile, final pile, and a player of its
+//! frames when it has some), the runs `demsweep plot` chooses, each linked from its point's row.
 
 mod html;
 mod player;
@@ -689,7 +689,8 @@ fn tune_section(tune: &TuneSection) -> String {
     )
 }
 
-/// A charted run: its energies, unbalanced force ratio and pile, and its deposition's player.
+/// A charted run: its energies, unbalanced force ratio, stress profile and pile, and its deposition's
+/// player.
 fn run_section(row: &SummaryRow, svgs: &Svgs) -> String {
     let charts: String = svgs.drawn.charts.iter().map(|(_, svg)| format!("<div class=\"chart\">{svg}</div>")).collect();
     let notes: String = svgs.drawn.notes.iter().map(|n| format!("<p class=\"note\">{}</p>", escape(n))).collect();

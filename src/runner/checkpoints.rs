@@ -1,12 +1,13 @@
 //! Checkpoints of the runs in progress: each run's state saved beside the results at least every
-//! interval and when the sweep is stopped, read back by `--resume`, removed once the run is stored
-//! (see [`crate::output::checkpoint`]).
+//! interval and when the sweep is stopped, read back by `--resume`, removed as soon as the run is
+//! stored (see [`crate::output::checkpoint`]).
 
+use std::convert::Infallible;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crate::output::checkpoint;
 use crate::output::terminal;
+use crate::output::{ResultSink, RunResult, Tables, checkpoint};
 use crate::physics::run_state::{Checkpoints, RunState};
 
 /// The checkpoints of a sweep: beside which results file, how often, whether old ones are read.
@@ -81,5 +82,72 @@ pub fn remove_finished(results: &Path, ids: impl Iterator<Item = String>) {
         if let Err(e) = checkpoint::remove(&checkpoint::checkpoint_path(results, &id)) {
             terminal::err(format_args!("warning: {e}\n"));
         }
+    }
+}
+
+/// Removes the checkpoint of each run once it is stored: a sink handed the runs after the results
+/// file, so that its commit follows the file's (a commit of the file that fails ends the sweep
+/// before this one runs). Only checkpoint files go ([`checkpoint::remove`]).
+pub struct RemoveStored {
+    results: PathBuf,
+    accepted: Vec<String>,
+}
+
+impl RemoveStored {
+    /// The sink removing the checkpoints of the runs stored in the results file `results`.
+    pub fn new(results: &Path) -> Self {
+        Self { results: results.to_path_buf(), accepted: Vec::new() }
+    }
+}
+
+impl ResultSink for RemoveStored {
+    type Error = Infallible;
+
+    fn accept(&mut self, run: &RunResult) -> Result<(), Infallible> {
+        self.accepted.push(run.row.id.clone());
+        Ok(())
+    }
+
+    fn commit(&mut self) -> Result<(), Infallible> {
+        remove_finished(&self.results, self.accepted.drain(..));
+        Ok(())
+    }
+
+    fn finish(self: Box<Self>, _: &Tables) -> Result<(), Infallible> {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::SummaryRow;
+    use crate::physics::SceneConfig;
+
+    fn stored(id: &str) -> RunResult {
+        RunResult { row: SummaryRow::failed(0, id, &[], "stored"), scene: SceneConfig::default(), record: None }
+    }
+
+    #[test]
+    fn a_checkpoint_goes_at_the_commit_after_its_run_is_stored_and_other_files_stay() {
+        let dir = std::env::temp_dir().join(format!("demsweep_remove_stored_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let results = dir.join("study.h5");
+        let state = RunState { step: 7, time: 0.5, bytes: vec![1, 2, 3] };
+        for id in ["r0000", "r0001"] {
+            checkpoint::write(&checkpoint::checkpoint_path(&results, id), id, &state).unwrap();
+        }
+        let foreign = checkpoint::checkpoint_path(&results, "r0002");
+        std::fs::write(&foreign, "not written by demsweep").unwrap();
+        let mut sink = RemoveStored::new(&results);
+        sink.accept(&stored("r0000")).unwrap();
+        assert!(checkpoint::checkpoint_path(&results, "r0000").exists(), "kept until the run is committed");
+        sink.commit().unwrap();
+        assert!(!checkpoint::checkpoint_path(&results, "r0000").exists(), "removed once stored");
+        assert!(checkpoint::checkpoint_path(&results, "r0001").exists(), "a run in progress keeps its checkpoint");
+        sink.accept(&stored("r0002")).unwrap();
+        sink.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&foreign).unwrap(), "not written by demsweep");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

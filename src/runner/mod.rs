@@ -233,11 +233,12 @@ pub fn run_plan_with(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink>) -> 
     RunNote::print_all(notes.iter().filter(|n| options.notes.prints(n)), &path, options.progress);
     writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
-    let sinks = std::iter::once(output::dyn_sink(writer)).chain(sinks).collect();
-    let group = writer_thread::Sinks { committed: existing, aliases, ..writer_thread::Sinks::new(sinks) };
-    let threads = pool_threads(options.jobs, cores);
     let checkpointing =
         options.checkpoint_every.map(|every| Checkpointing { results: path.clone(), every, resume: options.resume });
+    let remove_stored = checkpointing.as_ref().map(|_| output::dyn_sink(checkpoints::RemoveStored::new(&path)));
+    let sinks = std::iter::once(output::dyn_sink(writer)).chain(remove_stored).chain(sinks).collect();
+    let group = writer_thread::Sinks { committed: existing, aliases, ..writer_thread::Sinks::new(sinks) };
+    let threads = pool_threads(options.jobs, cores);
     let how = (options.commit, checkpointing.as_ref());
     let swept = sweep(&todo, vec![group], (jobs, threads), &view, how, &options.stop)?;
     let Swept { ran, warnings, mut tables, writer_time } = swept;

@@ -17,6 +17,8 @@ batch: list[pd.DataFrame] = demsweep.run_batch([scene, "particles.count = 20"], 
 done = demsweep.run_study("study.toml", out="results", resume=True)
 results: demsweep.Results = demsweep.open(done["results"])
 history = results.history("r0001")
+profile: pd.DataFrame | None = results.stress_profile("r0001")
+done = demsweep.run_study("study.toml", checkpoint_every=None)
 version: str = demsweep.__version__
 units: dict[str, str] = demsweep.UNITS
 try:
@@ -32,6 +34,7 @@ import demsweep
 demsweep.run({"particles.count": 30}, seeds="three")
 demsweep.run_study(42)
 demsweep.open("r.h5").history(2.5)
+demsweep.run_study("study.toml", checkpoint_every="10m")
 """
 
 
@@ -53,4 +56,4 @@ def test_typed_code_checks_clean_and_wrong_types_are_caught(tmp_path):
     assert good.returncode == 0, good.stdout + good.stderr
     bad = mypy(tmp_path, BAD)
     lines = sorted({int(line.split(":")[1]) for line in bad.stdout.splitlines() if ": error:" in line})
-    assert lines == [4, 5, 6], bad.stdout
+    assert lines == [4, 5, 6, 7], bad.stdout
