@@ -204,3 +204,25 @@ fn a_heavily_damped_paper_integrator_at_a_tenth_of_the_contact_time_is_warned() 
     let warnings = plan("light_ab2", &light).warnings;
     assert!(!warnings.iter().any(|w| stable_step(&w)), "{warnings:#?}");
 }
+
+#[test]
+fn stages_that_take_the_whole_run_are_warned_at_the_stage_that_ends_it() {
+    // 0.004 s + 0.006 s of stages that end only by time fill run.duration = 0.01 s: the physics never
+    // starts. A stage that may end sooner (on the unbalanced force ratio) counts for nothing.
+    let stage = |name: &str, time: f64, extra: &str| {
+        format!("[[scene.stages]]\nname = \"{name}\"\nuntil.time = {time}\n{extra}damping.local = 0.1\n")
+    };
+    let text = format!("{SMALL_SCENE}{}{}", stage("fill", 0.004, ""), stage("calm", 0.006, ""));
+    let warnings = plan("stages_past_the_run", &text).warnings;
+    let past = with_key(&warnings, "scene.stages.calm.until.time");
+    assert_eq!(past.len(), 1, "{warnings:#?}");
+    assert_eq!(past[0].location.map(|l| l.line), Some(11));
+    assert!(past[0].reason.starts_with("the stages up to \"calm\" last 0.01 s, run.duration = 0.01 s: the physics"));
+    let sooner = format!(
+        "{SMALL_SCENE}{}{}",
+        stage("fill", 0.004, ""),
+        stage("calm", 0.006, "until.unbalanced_force_ratio = 0.01\n")
+    );
+    let warnings = plan("stages_may_end_sooner", &sooner).warnings;
+    assert!(with_key(&warnings, "scene.stages.calm.until.time").is_empty(), "{warnings:#?}");
+}

@@ -1011,3 +1011,29 @@ fn stage_issues(scene: &SceneConfig) -> Vec<ConfigIssue> {
     }
     issues
 }
+
+impl SceneConfig {
+    /// The stage whose end makes the stages that can end only by time (`until.time` alone) take the
+    /// whole `run.duration`, as (its `until.time` key, why): the physics after them never starts, so
+    /// no run of the scene can settle. None when the physics starts (or may start) within the run.
+    pub fn stages_past_the_run(&self) -> Option<(String, String)> {
+        let mut least = 0.0;
+        for stage in &self.stages {
+            let u = &stage.until;
+            let only_time =
+                u.unbalanced_force_ratio.is_none() && u.kinetic_energy_per_disk.is_none() && !u.all_in_contact;
+            least += u.time.filter(|_| only_time).unwrap_or(0.0);
+            if least >= self.run.duration {
+                let reason = format!(
+                    "the stages up to {:?} last {} s, run.duration = {} s: the physics after the stages never \
+                     starts, so no run can settle (shorten the stages or lengthen run.duration)",
+                    stage.name,
+                    exact(least),
+                    exact(self.run.duration)
+                );
+                return Some((format!("stages.{}.until.time", stage.name), reason));
+            }
+        }
+        None
+    }
+}

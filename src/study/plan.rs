@@ -305,6 +305,9 @@ impl<'a> Planner<'a> {
         let initial = self.initial_states(&point, &mut scene)?;
         self.check_scene(&point, &scene, initial.as_ref())?;
         self.warn_copies(&point, &scene);
+        if let Some((key, reason)) = scene.stages_past_the_run() {
+            self.warnings.push(self.problem(&point, &key, reason));
+        }
         let initial_contacts = self.initial_contacts(&point, &scene)?;
         let mut run = PlannedRun::new(point.id, index, parameters, scene, initial);
         run.initial_contacts = initial_contacts;
