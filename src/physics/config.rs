@@ -68,7 +68,8 @@ pub struct SceneConfig {
 }
 
 scene_section! {
-/// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width`, optional lid `y = height`.
+/// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width` (or a periodic boundary
+/// there), optional lid `y = height`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainConfig {
@@ -81,6 +82,11 @@ pub struct DomainConfig {
     /// Whether a lid wall closes the box at `y = height`.
     #[key(range: "true or false")]
     pub lid: bool,
+    /// Whether the sides are periodic: no side walls, a disk leaving at `x = width` comes back at
+    /// `x = 0` and disks touch across the boundary; the box must be at least two largest disk
+    /// diameters wide.
+    #[key(range: "true or false")]
+    pub periodic_x: bool,
 }
 }
 
@@ -476,7 +482,7 @@ impl Default for SceneConfig {
 
 impl Default for DomainConfig {
     fn default() -> Self {
-        Self { width: 0.4, height: 0.6, lid: false }
+        Self { width: 0.4, height: 0.6, lid: false, periodic_x: false }
     }
 }
 
@@ -674,6 +680,15 @@ impl SceneConfig {
             c.fail(
                 "domain.width",
                 format!("{} m is narrower than the largest disk diameter {} m", exact(d.width), exact(2.0 * largest)),
+            );
+        } else if d.periodic_x && largest.is_finite() && 4.0 * largest > d.width {
+            c.fail(
+                "domain.width",
+                format!(
+                    "{} m is narrower than two largest disk diameters ({} m): with domain.periodic_x a disk would touch another and its image",
+                    exact(d.width),
+                    exact(4.0 * largest)
+                ),
             );
         }
         if self.placement.kind.reads_file() && self.placement.file.is_none() {

@@ -15,7 +15,7 @@ use super::memory_order::{FAR_PLACES, gather};
 use super::parallel::{Span, Split, Team};
 use super::particles::{InitialContact, Particles};
 use super::run_state::{Input, Persist, StateError, StateReason, persist_fields};
-use super::walls::BoxWalls;
+use super::walls::{BoxWalls, Periodic, Sides};
 use std::ops::Range;
 use std::sync::Mutex;
 
@@ -347,15 +347,16 @@ impl<S: Copy + Default + Send + Sync> NeighborList<S> {
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs; the
     /// grid's search shared out between the `team`'s threads in runs of disks (the list is the same).
     pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, team: &Team) {
+        let period = walls.period();
         match self.broad_phase {
-            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, team),
-            BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
+            BroadPhaseKind::Grid => self.grid.collect(p, (self.skin, period), &mut self.pairs.fresh, team),
+            BroadPhaseKind::AllPairs => all_pairs(p, (self.skin, period), &mut self.pairs.fresh),
         }
         self.pairs.swap_in_fresh(team);
         let skin = self.skin;
         self.wall_finds.find(p.len(), team, &mut self.walls.fresh, &|disks, _, found| {
             for i in disks {
-                for (w, wall) in walls.walls.iter().enumerate() {
+                for (w, wall) in walls.touchable() {
                     // NaN positions are kept as candidates, so a diverging disk is still seen.
                     let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
                     if overlap > -skin || overlap.is_nan() {
@@ -385,18 +386,22 @@ impl<S: ContactState> NeighborList<S> {
     }
 }
 
+/// Whether disks `i` and `j` are closer than `r_i + r_j + skin`, across the sides of `period` (m)
+/// to the nearest image.
 #[inline]
-fn within(p: &Particles, i: usize, j: usize, skin: f64) -> bool {
-    let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
+fn within(p: &Particles, i: usize, j: usize, (skin, period): (f64, Option<f64>)) -> bool {
+    let dx = p.x[j] - p.x[i];
+    let dx = period.map_or(dx, |width| Periodic::new(width).dx(dx));
+    let dy = p.y[j] - p.y[i];
     let reach = p.r[i] + p.r[j] + skin;
     dx * dx + dy * dy < reach * reach
 }
 
-fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
+fn all_pairs(p: &Particles, reach: (f64, Option<f64>), out: &mut Vec<NeighborPair>) {
     out.clear();
     for i in 0..p.len() {
         for j in i + 1..p.len() {
-            if within(p, i, j, skin) {
+            if within(p, i, j, reach) {
                 out.push(NeighborPair::new(p, i, j));
             }
         }
@@ -416,12 +421,20 @@ pub struct CellGrid {
     finds: PartFinds<NeighborPair>,
     cols: usize,
     rows: usize,
+    /// Whether the columns wrap around (periodic sides).
+    wraps: bool,
 }
 
 impl CellGrid {
     /// Sorts the disks at `x`, `y` into cells at least `reach` wide (m): any two disks closer than
     /// `reach` are in the same or adjacent cells. Non-finite positions land in an edge cell.
     pub fn build(&mut self, x: &[f64], y: &[f64], reach: f64) {
+        self.build_in(x, y, (reach, None));
+    }
+
+    /// [`Self::build`], with periodic sides `period` (m) apart when given: the columns then span
+    /// `[0, period)`, and the first and last are neighbours.
+    fn build_in(&mut self, x: &[f64], y: &[f64], (reach, period): (f64, Option<f64>)) {
         let n = x.len();
         let (xmin, xmax) = min_max(x);
         let (ymin, ymax) = min_max(y);
@@ -430,13 +443,16 @@ impl CellGrid {
         let mut cell = if reach > 0.0 && reach.is_finite() { reach } else { f64::MAX };
         let max_cells = (2 * n + 16) as f64;
         let span = |lo: f64, hi: f64, c: f64| (((hi - lo) / c).floor() + 1.0).min(1e9);
-        while span(xmin, xmax, cell) * span(ymin, ymax, cell) > max_cells {
+        // Periodic columns: as many whole cells as the period holds, at least one.
+        let columns = |c: f64| period.map_or(span(xmin, xmax, c), |w| (w / c).floor().clamp(1.0, 1e9));
+        while columns(cell) * span(ymin, ymax, cell) > max_cells {
             cell *= 1.5;
         }
-        let (cols, rows) = (span(xmin, xmax, cell) as usize, span(ymin, ymax, cell) as usize);
-        (self.cols, self.rows) = (cols, rows);
+        let (cols, rows) = (columns(cell) as usize, span(ymin, ymax, cell) as usize);
+        (self.cols, self.rows, self.wraps) = (cols, rows, period.is_some());
+        let (x0, column_width) = period.map_or((xmin, cell), |w| (0.0, w / cols as f64));
         let cell_index = |x: f64, y: f64| {
-            let c = (((x - xmin) / cell) as usize).min(cols - 1);
+            let c = (((x - x0) / column_width) as usize).min(cols - 1);
             let r = (((y - ymin) / cell) as usize).min(rows - 1);
             r * cols + c
         };
@@ -476,28 +492,59 @@ impl CellGrid {
         })
     }
 
-    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
-    /// disks shared out in runs between the `team`'s threads, whose pairs are joined in disk order.
-    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, team: &Team) {
+    /// The cells of disk `i`'s row and the rows next to it in the columns next to its own across
+    /// periodic sides, each cell once: the first and last columns are neighbours.
+    fn around_wrapped(&self, i: usize) -> impl Iterator<Item = &[u32]> + '_ {
+        let c = self.cell_of[i] as usize;
+        let (ci, ri) = (c % self.cols, c / self.cols);
+        let cols = self.cols;
+        let columns = [ci, (ci + 1) % cols, (ci + cols - 1) % cols];
+        // Fewer than three columns: each once.
+        let distinct = cols.min(3);
+        (ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1)).flat_map(move |r| {
+            columns.into_iter().take(distinct).map(move |column| {
+                let cell = r * cols + column;
+                &self.members[self.start[cell] as usize..self.start[cell + 1] as usize]
+            })
+        })
+    }
+
+    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin` (across
+    /// periodic sides `period` apart, when given), sorted; the disks shared out in runs between
+    /// the `team`'s threads, whose pairs are joined in disk order.
+    fn collect(&mut self, p: &Particles, reach: (f64, Option<f64>), out: &mut Vec<NeighborPair>, team: &Team) {
         if p.is_empty() {
             return out.clear();
         }
-        self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
+        let (skin, period) = reach;
+        self.build_in(&p.x, &p.y, (2.0 * p.max_radius() + skin, period));
         let mut finds = std::mem::take(&mut self.finds);
-        finds.find(p.len(), team, out, &|disks, row, found| self.pairs_of(p, skin, disks, row, found));
+        finds.find(p.len(), team, out, &|disks, row, found| self.pairs_of(p, reach, disks, row, found));
         self.finds = finds;
     }
 
     /// Appends the candidate pairs `(i, j)` of the disks `i` in `disks` to `out`, sorted.
-    fn pairs_of(&self, p: &Particles, skin: f64, disks: Range<usize>, row: &mut Vec<u32>, out: &mut Vec<NeighborPair>) {
+    fn pairs_of(
+        &self,
+        p: &Particles,
+        reach: (f64, Option<f64>),
+        disks: Range<usize>,
+        row: &mut Vec<u32>,
+        out: &mut Vec<NeighborPair>,
+    ) {
         for i in disks {
             row.clear();
-            for run in self.around(i) {
+            let mut add = |run: &[u32]| {
                 for &j in run {
-                    if j as usize > i && within(p, i, j as usize, skin) {
+                    if j as usize > i && within(p, i, j as usize, reach) {
                         row.push(j);
                     }
                 }
+            };
+            if self.wraps {
+                self.around_wrapped(i).for_each(&mut add);
+            } else {
+                self.around(i).for_each(&mut add);
             }
             row.sort_unstable();
             out.extend(row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
