@@ -492,17 +492,21 @@ impl CellGrid {
         })
     }
 
-    /// The cells of disk `i`'s row and the rows next to it in the columns next to its own across
-    /// periodic sides, each cell once: the first and last columns are neighbours.
-    fn around_wrapped(&self, i: usize) -> impl Iterator<Item = &[u32]> + '_ {
-        let c = self.cell_of[i] as usize;
-        let (ci, ri) = (c % self.cols, c / self.cols);
-        let cols = self.cols;
-        let columns = [ci, (ci + 1) % cols, (ci + cols - 1) % cols];
-        // Fewer than three columns: each once.
-        let distinct = cols.min(3);
-        (ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1)).flat_map(move |r| {
-            columns.into_iter().take(distinct).map(move |column| {
+    /// The cells next to disk `i`'s across periodic sides that [`Self::around`] leaves out: in the
+    /// column at the other side, when disk `i`'s is the first or last of three or more, its row and
+    /// the rows next to it (with fewer columns, `around` has them all).
+    fn across(&self, i: usize) -> impl Iterator<Item = &[u32]> + '_ {
+        let (c, cols) = (self.cell_of[i] as usize, self.cols);
+        let (ci, ri) = (c % cols, c / cols);
+        let other = match ci {
+            _ if !self.wraps || cols < 3 => None,
+            0 => Some(cols - 1),
+            _ if ci == cols - 1 => Some(0),
+            _ => None,
+        };
+        let rows = ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1);
+        other.into_iter().flat_map(move |column| {
+            rows.clone().map(move |r| {
                 let cell = r * cols + column;
                 &self.members[self.start[cell] as usize..self.start[cell + 1] as usize]
             })
@@ -534,17 +538,12 @@ impl CellGrid {
     ) {
         for i in disks {
             row.clear();
-            let mut add = |run: &[u32]| {
+            for run in self.around(i).chain(self.across(i)) {
                 for &j in run {
                     if j as usize > i && within(p, i, j as usize, reach) {
                         row.push(j);
                     }
                 }
-            };
-            if self.wraps {
-                self.around_wrapped(i).for_each(&mut add);
-            } else {
-                self.around(i).for_each(&mut add);
             }
             row.sort_unstable();
             out.extend(row.iter().map(|&j| NeighborPair::new(p, i, j as usize)));
@@ -623,6 +622,39 @@ mod tests {
         assert_eq!(grid.walls.entries, brute.walls.entries);
         assert!(!brute.pairs.entries.is_empty());
         assert_eq!(grid.pairs.entries, brute.pairs.entries);
+    }
+
+    /// The grid's and the all-pairs lists of `disks` between periodic sides `width` apart: equal,
+    /// with pairs across the sides and no side wall candidates.
+    fn periodic_lists_agree(disks: &[InitialDisk], width: f64) {
+        let domain = crate::physics::config::DomainConfig { width, periodic_x: true, ..Default::default() };
+        let p = Particles::new(disks, 1000.0, 1.0);
+        let walls = BoxWalls::new(&domain);
+        let mut grid = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.006);
+        let mut brute = NeighborList::<()>::new(BroadPhaseKind::AllPairs, 0.006);
+        grid.rebuild(&p, &walls, &Team::new(1));
+        brute.rebuild(&p, &walls, &Team::new(1));
+        let far = |q: &&NeighborPair| (p.x[q.j as usize] - p.x[q.i as usize]).abs() > 0.5 * width;
+        assert!(brute.pairs.entries.iter().filter(far).count() > 0, "pairs across the sides");
+        assert_eq!(grid.pairs.entries, brute.pairs.entries);
+        assert!(grid.walls.entries.iter().all(|w| w.wall == 0), "only the floor: {:?}", grid.walls.entries);
+    }
+
+    #[test]
+    fn periodic_grid_finds_exactly_the_all_pairs_set_across_the_sides() {
+        let mut scene = SceneConfig::default();
+        (scene.particles.count, scene.particles.radius_max) = (200, Some(0.012));
+        let width = scene.domain.width;
+        let mut disks = placement::generate(&scene).unwrap();
+        // Half a width over: the disks at the sides of the placement now meet across them.
+        for d in &mut disks {
+            d.x = (d.x + 0.5 * width) % width;
+        }
+        periodic_lists_agree(&disks, width);
+        // A box of one or two grid columns: a row of three disks, the first and last touching
+        // across the sides.
+        let row = [0.005, 0.027, 0.045].map(|x| InitialDisk { x, y: 0.01, r: 0.01, ..Default::default() });
+        periodic_lists_agree(&row, 0.05);
     }
 
     #[test]

@@ -84,12 +84,21 @@ impl Sides for Periodic {
     }
 }
 
-/// Puts every `x` (m) back into `[0, width)`, as periodic sides `width` apart do (NaN stays NaN).
+/// Puts every `x` (m) back into `[0, width)`, as periodic sides `width` apart do (NaN stays NaN):
+/// one width over in a loop without branches (a step moves a disk less than a width), then, only
+/// if some disk was farther out, the rest of the way.
 pub fn wrap(x: &mut [f64], width: f64) {
-    for x in x {
-        if *x < 0.0 || *x >= width {
+    let mut out = false;
+    for x in x.iter_mut() {
+        let v = if *x < 0.0 { *x + width } else { *x };
+        // Rounding can land a tiny negative x on `width` itself: taken on to 0.
+        let v = if v >= width { v - width } else { v };
+        out |= v < 0.0 || v >= width;
+        *x = v;
+    }
+    if out {
+        for x in x.iter_mut().filter(|x| **x < 0.0 || **x >= width) {
             let wrapped = *x - width * (*x / width).floor();
-            // Rounding can land a tiny negative x on `width` itself.
             *x = if wrapped < width { wrapped } else { 0.0 };
         }
     }
@@ -172,9 +181,9 @@ mod tests {
 
     #[test]
     fn wrap_puts_positions_into_the_box() {
-        let mut x = [-0.25, 1.25, 0.5, 1.0, -1e-18, f64::NAN];
+        let mut x = [-0.25, 1.25, 0.5, 1.0, -1e-18, f64::NAN, -2.25, 7.5];
         wrap(&mut x, 1.0);
-        assert_eq!(x[..5], [0.75, 0.25, 0.5, 0.0, 0.0]);
+        assert_eq!([x[0], x[1], x[2], x[3], x[4], x[6], x[7]], [0.75, 0.25, 0.5, 0.0, 0.0, 0.75, 0.5]);
         assert!(x[5].is_nan());
     }
 }
