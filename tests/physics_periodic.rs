@@ -200,6 +200,8 @@ fn a_settled_periodic_pile_packs_as_the_middle_of_a_wide_walled_box() {
         periodic.push(interior);
         walled.push(band_packing(&settled(3 * count, 3.0 * width, false, seed), [width, 2.0 * width], &alone));
         println!("seed {seed}: packing_fraction_interior {}", rec.pile["packing_fraction_interior"]);
+        let floor = rec.pile["floor_load_ratio"];
+        assert!((floor - 1.0).abs() < 1e-3, "no side wall carries weight: the floor carries {floor} of it");
     }
     let ((p, p_spread), (w, w_spread)) = (mean_and_spread(&periodic), mean_and_spread(&walled));
     println!("packing: periodic {p:.4} ± {p_spread:.4} {periodic:?}, walled middle {w:.4} ± {w_spread:.4} {walled:?}");
