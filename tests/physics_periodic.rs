@@ -209,3 +209,30 @@ fn a_settled_periodic_pile_packs_as_the_middle_of_a_wide_walled_box() {
     assert!((p - w).abs() < 3.0 * noise + 0.002, "periodic {p} against walled {w}, noise {noise}");
     assert!(p > 0.78 && p < 0.9, "a random disk packing: {p}");
 }
+
+#[test]
+fn a_poured_disk_clears_the_disks_across_the_periodic_boundary() {
+    // Disks resting in the inlet band along the right side; a pour of many disks into the band
+    // at the left side: none may overlap them through the boundary.
+    let mut s = SceneConfig::default();
+    (s.domain.width, s.domain.height, s.domain.periodic_x) = (0.1, 0.3, true);
+    s.particles.count = 40;
+    s.placement.kind = demsweep::physics::config::PlacementKind::Pour;
+    // The inlet along the left side, within reach of the resting disks through the boundary.
+    (s.placement.pour.rate, s.placement.pour.x_max) = (Some(1e6), Some(0.035));
+    s.validate().unwrap();
+    let mut inlet = demsweep::physics::pour::Inlet::of_scene(&s, 1000.0).unwrap();
+    let resting: Vec<InitialDisk> = (0..6)
+        .map(|k| InitialDisk { x: 0.1 - 0.004, y: 0.27 + 0.005 * k as f64, r: 0.01, ..Default::default() })
+        .collect();
+    let mut p = demsweep::physics::particles::Particles::new(&resting, 1000.0, 1.0);
+    let inserted = inlet.pour(&mut p, 1.0, 0, s.gravity);
+    assert!(inserted >= 1, "{inserted} disks poured");
+    let nearest = |dx: f64| dx - 0.1 * (dx / 0.1).round();
+    for new in resting.len()..p.x.len() {
+        for old in 0..resting.len() {
+            let d = nearest(p.x[new] - p.x[old]).hypot(p.y[new] - p.y[old]);
+            assert!(d >= p.r[new] + p.r[old], "disk {new} at x {} overlaps disk {old} across the boundary", p.x[new]);
+        }
+    }
+}
