@@ -122,7 +122,7 @@ fn a_lone_disk_leaves_on_one_side_and_comes_back_on_the_other_at_its_speed() {
 }
 
 #[test]
-fn periodic_sides_need_two_largest_diameters_and_combine_with_a_lid_and_a_pour() {
+fn periodic_sides_need_two_largest_diameters_and_gravity_down_and_combine_with_a_lid_and_a_pour() {
     let mut s = SceneConfig::default();
     s.domain.periodic_x = true;
     s.domain.lid = true;
@@ -142,6 +142,10 @@ fn periodic_sides_need_two_largest_diameters_and_combine_with_a_lid_and_a_pour()
     );
     s.domain.periodic_x = false;
     assert_eq!(s.validate(), Ok(()), "walled, the same box is wide enough");
+    (s.domain.periodic_x, s.domain.width, s.gravity) = (true, 0.4, [1.0, -9.81]);
+    let issues = s.validate().unwrap_err();
+    assert_eq!(issues[0].key, "domain.periodic_x", "{issues:?}");
+    assert!(issues[0].reason.contains("gravity straight down"), "{}", issues[0]);
 }
 
 /// A pile of `count` disks (radii 0.008-0.012 m) poured at random into a box `width` wide (m),
@@ -235,4 +239,47 @@ fn a_poured_disk_clears_the_disks_across_the_periodic_boundary() {
             assert!(d >= p.r[new] + p.r[old], "disk {new} at x {} overlaps disk {old} across the boundary", p.x[new]);
         }
     }
+}
+
+/// Keeps the run's state at its `at`-th sample.
+struct KeepAt(u64, Vec<demsweep::physics::run_state::RunState>);
+
+impl demsweep::physics::run_state::Checkpoints for KeepAt {
+    fn due(&mut self, _: u64) -> bool {
+        self.0 -= 1;
+        self.0 == 0
+    }
+    fn save(&mut self, state: demsweep::physics::run_state::RunState) {
+        self.1.push(state);
+    }
+}
+
+#[test]
+fn a_periodic_pile_resumed_from_a_checkpoint_is_bit_identical_to_the_straight_run() {
+    // Disks touch across the boundary while the state is saved.
+    let mut s = SceneConfig::default();
+    (s.particles.count, s.particles.radius, s.particles.radius_max) = (150, 0.006, Some(0.009));
+    (s.domain.width, s.domain.height, s.domain.periodic_x) = (0.15, 0.4, true);
+    (s.run.duration, s.run.stop_at_settle) = (0.4, false);
+    let disks = demsweep::physics::placement::generate(&s).unwrap();
+    let straight = Simulation::<HertzMindlin>::new(&s, &disks).run(&mut |_| Control::Continue);
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let mut keep = KeepAt(150, Vec::new());
+    Simulation::<HertzMindlin>::new(&s, &disks).run_resumable(None, &stop, &mut |_| Control::Continue, &mut keep);
+    let state = &keep.1[0];
+    let mut sim = Simulation::<HertzMindlin>::new(&s, &disks);
+    let from = sim.resume(state).unwrap();
+    let resumed = sim.run_resumable(
+        Some(from),
+        &stop,
+        &mut |_| Control::Continue,
+        &mut demsweep::physics::run_state::NoCheckpoints,
+    );
+    assert!(state.step > 0 && state.step < straight.steps, "saved mid-run, at step {}", state.step);
+    assert_eq!(format!("{resumed:?}"), format!("{straight:?}"), "resumed from step {}", state.step);
+    let f = &straight.final_state;
+    let c = &f.contacts;
+    let across = (0..c.len())
+        .filter(|&k| usize::try_from(c.second[k]).is_ok_and(|j| (f.x[j] - f.x[c.first[k] as usize]).abs() > 0.075));
+    assert!(across.count() > 0, "contacts across the boundary");
 }

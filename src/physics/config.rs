@@ -84,7 +84,7 @@ pub struct DomainConfig {
     pub lid: bool,
     /// Whether the sides are periodic: no side walls, a disk leaving at `x = width` comes back at
     /// `x = 0` and disks touch across the boundary; the box must be at least two largest disk
-    /// diameters wide.
+    /// diameters wide, gravity straight down.
     #[key(range: "true or false")]
     pub periodic_x: bool,
 }
@@ -705,6 +705,15 @@ impl SceneConfig {
         self.check_pour(c, largest);
         c.finite("gravity[0]", self.gravity[0]);
         c.finite("gravity[1]", self.gravity[1]);
+        if d.periodic_x && self.gravity[0] != 0.0 {
+            c.fail(
+                "domain.periodic_x",
+                format!(
+                    "periodic sides need gravity straight down, got gravity[0] = {}: the energy balance counts gravity's work by position, which a disk wrapping around would jump",
+                    exact(self.gravity[0])
+                ),
+            );
+        }
         let n = &self.neighbors;
         c.positive("neighbors.skin_ratio", n.skin_ratio);
     }
