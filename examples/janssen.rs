@@ -52,6 +52,7 @@ fn main() {
             weight,
             width: s.domain.width,
             thickness: s.particles.thickness,
+            periodic: s.domain.periodic_x,
         };
         let surface = rec.pile["surface_height"];
         let band = 0.01;

@@ -35,6 +35,7 @@ fn interior(scene: &SceneConfig, x: &[f64], y: &[f64], r: &[f64]) -> f64 {
         weight: 0.0,
         width: scene.domain.width,
         thickness: scene.particles.thickness,
+        periodic: scene.domain.periodic_x,
     })
 }
 

@@ -34,6 +34,19 @@ fn run_on(scene: &SceneConfig, threads: usize) -> RunRecord {
         .unwrap()
 }
 
+#[test]
+fn periodic_pile_is_bit_identical_on_1_2_and_3_threads() {
+    let mut s = scene(1100, 0.25);
+    s.domain.periodic_x = true;
+    let f = same_bits_on_1_2_and_3_threads(&s).final_state;
+    let c = &f.contacts;
+    let across = (0..c.len()).filter(|&k| {
+        usize::try_from(c.second[k]).is_ok_and(|j| (f.x[j] - f.x[c.first[k] as usize]).abs() > 0.5 * s.domain.width)
+    });
+    assert!(across.count() > 0, "contacts across the boundary");
+    assert!(c.second.iter().all(|&w| w != -2 && w != -3), "no side wall touched");
+}
+
 /// The bits of a run's final state, histories and energy balance.
 fn bits(record: &RunRecord) -> Vec<u64> {
     let f = &record.final_state;
@@ -45,8 +58,9 @@ fn bits(record: &RunRecord) -> Vec<u64> {
     bits
 }
 
-/// The scene run on 1, 2 and 3 threads: bit-identical, and it had contacts, walls and spin.
-fn same_bits_on_1_2_and_3_threads(scene: &SceneConfig) {
+/// The scene run on 1, 2 and 3 threads: bit-identical, and it had contacts, walls and spin; the
+/// run on one thread.
+fn same_bits_on_1_2_and_3_threads(scene: &SceneConfig) -> RunRecord {
     let one = run_on(scene, 1);
     let f = &one.final_state;
     let contacts = *one.history.contacts.last().unwrap() as usize;
@@ -57,6 +71,7 @@ fn same_bits_on_1_2_and_3_threads(scene: &SceneConfig) {
         assert_eq!(other.steps, one.steps);
         assert!(bits(&other) == bits(&one), "{threads} threads differ from one");
     }
+    one
 }
 
 #[test]

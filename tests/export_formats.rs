@@ -489,3 +489,78 @@ fn bad_requests_name_the_run_and_the_option_and_leave_nothing_behind() {
     assert!(!cli.status.success());
     assert!(String::from_utf8_lossy(&cli.stderr).contains("no run `r009`"));
 }
+
+/// A frictional 30-disk pile settled between periodic sides 0.12 m apart (run `r000`), with
+/// contacts across the boundary.
+fn periodic_pile(test: &str) -> (PathBuf, Snapshot) {
+    let dir = runner_common::scratch(test);
+    let mut scene = runner_common::tiny_scene(30, 6.0);
+    scene.domain.periodic_x = true;
+    let plan = runner_common::plan(test, vec![(Vec::new(), scene)]);
+    let report = demsweep::runner::run_plan(&plan, &runner_common::options(&dir, 1)).unwrap();
+    let state = final_state(&report.results, "r000");
+    let c = &state.contacts;
+    let across = (0..c.len()).filter(|&k| {
+        usize::try_from(c.second[k]).is_ok_and(|j| (state.x[j] - state.x[c.first[k] as usize]).abs() > 0.06)
+    });
+    assert!(across.count() > 0, "contacts across the boundary");
+    (report.results, state)
+}
+
+#[test]
+fn lammps_continues_a_periodic_pile_with_no_lost_atom() {
+    let (results, state) = periodic_pile("export_lammps_periodic");
+    let out = results.parent().unwrap().join("lammps");
+    export(&request(&results, lammps_format(), &["r000"], out.clone())).unwrap();
+    let script = std::fs::read_to_string(out.join("r000_final.in")).unwrap();
+    assert!(script.contains("boundary p fm p") && !script.contains("xplane"), "periodic x, no side walls:\n{script}");
+    let rows = thermo(&run_lammps(&out, "r000_final.in", 5000));
+    assert_eq!(rows.len(), 6, "thermo every 1000 steps of 5000");
+    let n = state.x.len() as f64;
+    assert!(rows.iter().all(|r| r[2] == n), "every atom kept: {rows:?}");
+    // Without its contacts across the boundary the pile would spread sideways and sink.
+    let first = rows[0][4];
+    let drift = rows.iter().map(|r| (r[4] / first - 1.0).abs()).fold(0.0, f64::max);
+    println!("periodic pile height {first} m, drift over 5000 steps {drift:.2e}");
+    assert!(drift < 0.01, "the pile's height moved by {drift} of {first} m: {rows:?}");
+}
+
+/// The numbers of the VTK data array `name` of `file`.
+fn vtk_array(file: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(file).unwrap();
+    let start = text.find(&format!("Name=\"{name}\"")).unwrap_or_else(|| panic!("{name} in {}", file.display()));
+    let values = &text[start..][text[start..].find('>').unwrap() + 1..];
+    values[..values.find("</DataArray>").unwrap()].split_whitespace().map(|v| v.parse().unwrap()).collect()
+}
+
+#[test]
+fn vtk_draws_a_periodic_pile_whole_at_both_sides() {
+    let (results, state) = periodic_pile("export_vtk_periodic");
+    let out = results.parent().unwrap().join("vtk");
+    export(&request(&results, vtk(), &["r000"], out.clone())).unwrap();
+    let (width, n) = (0.12, state.x.len());
+    // Disks, then the images of those reaching past a side, one width over.
+    let disks = out.join("r000_final_disks.vtp");
+    let (ids, images, points) = (vtk_array(&disks, "id"), vtk_array(&disks, "image"), vtk_array(&disks, "Points"));
+    let crossing: usize =
+        (0..n).map(|i| usize::from(state.x[i] < state.r[i]) + usize::from(state.x[i] + state.r[i] > width)).sum();
+    assert!(crossing > 0 && ids.len() == n + crossing, "{} vertices, {n} disks, {crossing} across a side", ids.len());
+    for (k, (&id, &image)) in ids.iter().zip(&images).enumerate() {
+        let i = id as usize;
+        let shift = points[3 * k] - state.x[i];
+        assert_eq!((image, points[3 * k + 1]), (f64::from(u8::from(k >= n)), state.y[i]), "vertex {k}");
+        assert!(if k < n { shift == 0.0 } else { (shift.abs() - width).abs() < 1e-12 }, "vertex {k} shifted {shift}");
+    }
+    // Every disk-disk contact is drawn to the nearest image of its second disk: no longer than the
+    // two radii.
+    let contacts = out.join("r000_final_contacts.vtp");
+    let (first, second, ends) =
+        (vtk_array(&contacts, "first"), vtk_array(&contacts, "second"), vtk_array(&contacts, "Points"));
+    for k in (0..first.len()).filter(|&k| second[k] >= 0.0) {
+        let (i, j) = (first[k] as usize, second[k] as usize);
+        let length = (ends[6 * k + 3] - ends[6 * k]).hypot(ends[6 * k + 4] - ends[6 * k + 1]);
+        assert!(length <= state.r[i] + state.r[j], "contact {i}-{j} drawn {length} m long");
+    }
+    let walls = vtk_array(&out.join("r000_walls.vtp"), "wall");
+    assert_eq!(walls, [0.0], "the floor alone: no side walls");
+}

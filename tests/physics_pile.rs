@@ -163,7 +163,8 @@ fn the_stress_of_a_pile_at_rest_balances_its_weight() {
     let (density, thickness, g) = (default.material.density, default.particles.thickness, -default.gravity[1]);
     let weights: Vec<f64> = state.r.iter().map(|r| density * std::f64::consts::PI * r * r * thickness * g).collect();
     let total: f64 = weights.iter().sum();
-    let geometry = PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: total, width: 0.2, thickness };
+    let geometry =
+        PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: total, width: 0.2, thickness, periodic: false };
     let lowest_centre = state.y.iter().cloned().fold(f64::INFINITY, f64::min);
     let floor = band_stress(&geometry, &contacts, [0.0, 0.5 * lowest_centre]);
     println!("floor band: σ_yy W h = {:.6} N, weight {total:.6} N", floor.yy * 0.2 * thickness);

@@ -3,15 +3,16 @@
 //!
 //! The data file: one atom per disk with its diameter, a density giving the disk's mass, position
 //! (z = 0), velocity and angular velocity; the box is the scene's (x from the left to the right wall,
-//! y from the floor to the lid or the pile's top) with a thin z slab, as LAMMPS asks of 2D systems.
+//! or across the period of periodic sides, y from the floor to the lid or the pile's top) with a thin
+//! z slab, as LAMMPS asks of 2D systems.
 //! `atom_style sphere` has no rotation angle (LAMMPS integrates none for spheres), so the disks'
 //! angles are not in the file.
 //!
 //! The input script (`<run>_<state>.in`, run as `lmp -in <run>_<state>.in [-var steps N]`): 2D,
 //! `pair_style granular` with the run's law and material where LAMMPS has one (Hertz-Mindlin as
 //! `hertz/material` + `mindlin`; any other law as a linear spring-dashpot at its loading stiffness),
-//! the box walls as `fix wall/gran`, gravity, the run's time step, thermo output with the pile's
-//! height. Its header names everything of the run LAMMPS does not express and what stands in for it.
+//! the box walls as `fix wall/gran` (periodic sides as LAMMPS's periodic x boundary, `boundary p fm
+//! p`), gravity, the run's time step, thermo output with the pile's height. Its header names everything of the run LAMMPS does not express and what stands in for it.
 
 use std::f64::consts::PI;
 use std::io::Write;
@@ -231,11 +232,13 @@ fn input_script(scene: &SceneConfig, state: &State, time_step: f64) -> String {
     let g = gx.hypot(gy);
     let mut fixes = format!(
         "fix integrate all nve/sphere disc\nfix plane all enforce2d\n\
-         fix floor all wall/gran granular {wall} yplane 0 {}\n\
-         fix sides all wall/gran granular {wall} xplane 0 {}\n",
+         fix floor all wall/gran granular {wall} yplane 0 {}\n",
         if scene.domain.lid { scene.domain.height.to_string() } else { "NULL".into() },
-        scene.domain.width
     );
+    if !scene.domain.periodic_x {
+        fixes.push_str(&format!("fix sides all wall/gran granular {wall} xplane 0 {}\n", scene.domain.width));
+    }
+    let x_boundary = if scene.domain.periodic_x { "p" } else { "f" };
     if g > 0.0 {
         fixes.push_str(&format!("fix weight all gravity {g} vector {} {} 0\n", gx / g, gy / g));
     }
@@ -263,7 +266,7 @@ fn input_script(scene: &SceneConfig, state: &State, time_step: f64) -> String {
          # Written as the run had it: {law} contacts between disks of thickness {thickness} m (masses ρπR²h in the \
          data file), material and walls, gravity, 2D, time step {time_step} s.\n\
          # What LAMMPS cannot express as demsweep ran it, and what stands in for it:\n{header}\
-         dimension 2\nunits si\natom_style sphere\nboundary f fm p\ncomm_modify vel yes\n\
+         dimension 2\nunits si\natom_style sphere\nboundary {x_boundary} fm p\ncomm_modify vel yes\n\
          read_data {stem}.data\n\
          neighbor {skin} bin\nneigh_modify delay 0\n\
          pair_style granular\npair_coeff * * {pair}\n\

@@ -3,12 +3,16 @@
 //!
 //! - `<run>_<label>_disks.vtp`: one vertex per disk at its centre (z = 0); point data `id`, `radius`
 //!   (m), `diameter` (m: the scale array of ParaView's 2D circle glyph, which is one unit across), `velocity` (m/s), `angular_velocity` (rad/s, along z), `angle` (rotation about z, rad,
-//!   counter-clockwise), `contact_force` (sum of |F|, N).
+//!   counter-clockwise), `contact_force` (sum of |F|, N). With periodic sides
+//!   (`domain.periodic_x`), after the disks the images of those reaching across a side, one width
+//!   over, with their disk's data (`id` names it) and point data `image` (0 for a disk, 1 for an
+//!   image), so that the pile shows whole at both sides.
 //! - `<run>_<label>_contacts.vtp`: one line per contact, from the first disk's centre to the second's
-//!   (or to the contact point on a wall); cell data `first`, `second` (wall `−1 − k`), `normal`,
-//!   `normal_force`, `tangential_force` (N), `force` (the contact force on `first`, N), `overlap` (m),
-//!   `contact_point` (m), `sliding` (0/1).
-//! - `<run>_walls.vtp`: the box walls as lines (cell data `wall`: 0 floor, 1 left, 2 right, 3 lid).
+//!   (to its image across periodic sides, or to the contact point on a wall); cell data `first`,
+//!   `second` (wall `−1 − k`), `normal`, `normal_force`, `tangential_force` (N), `force` (the
+//!   contact force on `first`, N), `overlap` (m), `contact_point` (m), `sliding` (0/1).
+//! - `<run>_walls.vtp`: the box walls as lines (cell data `wall`: 0 floor, 1 left, 2 right, 3 lid;
+//!   no sides when they are periodic).
 //! - `<run>_disks.pvd`, `<run>_contacts.pvd`: the states in time order (ParaView's time steps).
 //! - `paraview_pile.py`: a ready ParaView view of the folder's runs (`pvpython paraview_pile.py RUN_ID
 //!   --state FILE.pvsm`): true-size disks coloured by contact force, force chains as tubes.
@@ -17,6 +21,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::{Format, RunToExport, State, WriteError};
+use crate::physics::config::DomainConfig;
 use crate::physics::contact_network::ContactNetwork;
 use crate::physics::record::Snapshot;
 
@@ -34,15 +39,15 @@ const PARAVIEW_SCRIPT: &str = include_str!("../../scripts/paraview_pile.py");
 fn write_run(folder: &Path, export: &RunToExport, states: &[State]) -> Result<(), WriteError> {
     let run = export.run;
     let Some(first) = states.first() else { return Ok(()) };
+    let domain = &run.scene.domain;
+    let period = domain.periodic_x.then_some(domain.width);
     for state in states {
         let name = |part: &str| format!("{}_{}_{part}.vtp", state.run, state.label);
-        super::write_file(folder, &name("disks"), |out| disks(out, state.snapshot))?;
-        super::write_file(folder, &name("contacts"), |out| contacts(out, state.snapshot))?;
+        super::write_file(folder, &name("disks"), |out| disks(out, state.snapshot, period))?;
+        super::write_file(folder, &name("contacts"), |out| contacts(out, state.snapshot, period))?;
     }
-    let top = states.iter().flat_map(|s| pile_top(s.snapshot)).fold(run.scene.domain.height, f64::max);
-    super::write_file(folder, &format!("{}_walls.vtp", first.run), |out| {
-        walls(out, run.scene.domain.width, top, run.scene.domain.lid)
-    })?;
+    let top = states.iter().flat_map(|s| pile_top(s.snapshot)).fold(domain.height, f64::max);
+    super::write_file(folder, &format!("{}_walls.vtp", first.run), |out| walls(out, domain, top))?;
     for part in ["disks", "contacts"] {
         super::write_file(folder, &format!("{}_{part}.pvd", first.run), |out| collection(out, states, part))?;
     }
@@ -127,26 +132,51 @@ fn cells(out: &mut dyn Write, tag: &str, count: usize, size: usize) -> std::io::
     writeln!(out, "</{tag}>")
 }
 
-/// The disks of a state as vertices with their point data.
-fn disks(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
-    let n = s.x.len();
+/// The vertices of the disks file: each disk's index and x shift (m), the disks (unshifted), then
+/// across periodic sides `period` apart the images of the disks reaching past a side.
+fn vertices(s: &Snapshot, period: Option<f64>) -> Vec<(usize, f64)> {
+    let mut vertices: Vec<(usize, f64)> = (0..s.x.len()).map(|i| (i, 0.0)).collect();
+    if let Some(width) = period {
+        for i in 0..s.x.len() {
+            if s.x[i] - s.r[i] < 0.0 {
+                vertices.push((i, width));
+            }
+            if s.x[i] + s.r[i] > width {
+                vertices.push((i, -width));
+            }
+        }
+    }
+    vertices
+}
+
+/// The disks of a state as vertices with their point data (and their images across periodic
+/// sides `period` apart).
+fn disks(out: &mut dyn Write, s: &Snapshot, period: Option<f64>) -> std::io::Result<()> {
+    let v = vertices(s, period);
+    let n = v.len();
+    // A column the state lacks (no angles in an older file) stays empty, as before images.
+    let each = |column: fn(&Snapshot) -> &[f64]| v.iter().filter_map(move |&(i, _)| column(s).get(i).copied());
     open_piece(out, Some(s.time), n, n, 0)?;
     writeln!(out, "<PointData Scalars=\"radius\" Vectors=\"velocity\">")?;
-    array(out, "Int64", "id", 1, 0..n)?;
-    array(out, "Float64", "radius", 1, s.r.iter())?;
-    array(out, "Float64", "diameter", 1, s.r.iter().map(|r| 2.0 * r))?;
-    array(out, "Float64", "velocity", 3, (0..n).flat_map(|i| [s.vx[i], s.vy[i], 0.0]))?;
-    array(out, "Float64", "angular_velocity", 3, s.omega.iter().flat_map(|&w| [0.0, 0.0, w]))?;
-    array(out, "Float64", "angle", 1, s.angle.iter())?;
-    array(out, "Float64", "contact_force", 1, s.contact_force.iter())?;
+    array(out, "Int64", "id", 1, v.iter().map(|&(i, _)| i))?;
+    array(out, "Float64", "radius", 1, each(|s| &s.r))?;
+    array(out, "Float64", "diameter", 1, each(|s| &s.r).map(|r| 2.0 * r))?;
+    array(out, "Float64", "velocity", 3, v.iter().flat_map(|&(i, _)| [s.vx[i], s.vy[i], 0.0]))?;
+    array(out, "Float64", "angular_velocity", 3, v.iter().flat_map(|&(i, _)| [0.0, 0.0, s.omega[i]]))?;
+    array(out, "Float64", "angle", 1, each(|s| &s.angle))?;
+    array(out, "Float64", "contact_force", 1, each(|s| &s.contact_force))?;
+    if period.is_some() {
+        array(out, "UInt8", "image", 1, v.iter().map(|&(_, shift)| u8::from(shift != 0.0)))?;
+    }
     writeln!(out, "</PointData>")?;
-    points(out, (0..n).map(|i| [s.x[i], s.y[i]]))?;
+    points(out, v.iter().map(|&(i, shift)| [s.x[i] + shift, s.y[i]]))?;
     cells(out, "Verts", n, 1)?;
     close_piece(out)
 }
 
-/// The contacts of a state as lines with their cell data.
-fn contacts(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
+/// The contacts of a state as lines with their cell data (across periodic sides `period` apart, to
+/// the second disk's nearest image).
+fn contacts(out: &mut dyn Write, s: &Snapshot, period: Option<f64>) -> std::io::Result<()> {
     let c: &ContactNetwork = &s.contacts;
     let n = c.len();
     open_piece(out, Some(s.time), 2 * n, 0, n)?;
@@ -164,7 +194,7 @@ fn contacts(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
     let ends = (0..n).flat_map(|k| {
         let i = c.first[k] as usize;
         let far = match usize::try_from(c.second[k]) {
-            Ok(j) => [s.x[j], s.y[j]],
+            Ok(j) => [s.x[j] + image_shift(s.x[j] - s.x[i], c.normal_x[k], period), s.y[j]],
             Err(_) => [c.point_x[k], c.point_y[k]],
         };
         [[s.x[i], s.y[i]], far]
@@ -174,6 +204,16 @@ fn contacts(out: &mut dyn Write, s: &Snapshot) -> std::io::Result<()> {
     close_piece(out)
 }
 
+/// The x shift (m) that takes the second disk of a contact, `dx` from the first along x and seen in
+/// the direction `normal_x` from it, to its image across periodic sides `period` apart: a whole
+/// width when `dx` points against the normal, else none.
+fn image_shift(dx: f64, normal_x: f64, period: Option<f64>) -> f64 {
+    match period {
+        Some(width) if dx * normal_x < 0.0 => -width.copysign(dx),
+        _ => 0.0,
+    }
+}
+
 /// The contact force on the first body: `−F_n n + F_t t` with `t = (−n_y, n_x)`.
 fn force_on_first(c: &ContactNetwork, k: usize) -> [f64; 3] {
     let [nx, ny] = [c.normal_x[k], c.normal_y[k]];
@@ -181,16 +221,23 @@ fn force_on_first(c: &ContactNetwork, k: usize) -> [f64; 3] {
     [-fn_ * nx - ft * ny, -fn_ * ny + ft * nx, 0.0]
 }
 
-/// The box walls as lines up to `top` (m).
-fn walls(out: &mut dyn Write, width: f64, top: f64, lid: bool) -> std::io::Result<()> {
+/// The box walls of `domain` as lines up to `top` (m).
+fn walls(out: &mut dyn Write, domain: &DomainConfig, top: f64) -> std::io::Result<()> {
+    let width = domain.width;
     let corners = [[0.0, 0.0], [width, 0.0], [0.0, top], [width, top]];
-    let mut lines = vec![[0, 1], [0, 2], [1, 3]];
-    if lid {
-        lines.push([2, 3]);
-    }
+    // Each wall's corners and index: floor, left, right, lid.
+    let all = [([0, 1], 0), ([0, 2], 1), ([1, 3], 2), ([2, 3], 3)];
+    let (lines, index): (Vec<[usize; 2]>, Vec<usize>) = all
+        .into_iter()
+        .filter(|(_, w)| match w {
+            1 | 2 => !domain.periodic_x,
+            3 => domain.lid,
+            _ => true,
+        })
+        .unzip();
     open_piece(out, None, corners.len(), 0, lines.len())?;
     writeln!(out, "<CellData Scalars=\"wall\">")?;
-    array(out, "Int64", "wall", 1, 0..lines.len())?;
+    array(out, "Int64", "wall", 1, index.iter())?;
     writeln!(out, "</CellData>")?;
     points(out, corners.into_iter())?;
     writeln!(out, "<Lines>")?;

@@ -68,7 +68,8 @@ pub struct SceneConfig {
 }
 
 scene_section! {
-/// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width`, optional lid `y = height`.
+/// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width` (or a periodic boundary
+/// there), optional lid `y = height`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainConfig {
@@ -81,6 +82,11 @@ pub struct DomainConfig {
     /// Whether a lid wall closes the box at `y = height`.
     #[key(range: "true or false")]
     pub lid: bool,
+    /// Whether the sides are periodic: no side walls, a disk leaving at `x = width` comes back at
+    /// `x = 0` and disks touch across the boundary; the box must be at least two largest disk
+    /// diameters wide, gravity straight down.
+    #[key(range: "true or false")]
+    pub periodic_x: bool,
 }
 }
 
@@ -476,7 +482,7 @@ impl Default for SceneConfig {
 
 impl Default for DomainConfig {
     fn default() -> Self {
-        Self { width: 0.4, height: 0.6, lid: false }
+        Self { width: 0.4, height: 0.6, lid: false, periodic_x: false }
     }
 }
 
@@ -675,6 +681,15 @@ impl SceneConfig {
                 "domain.width",
                 format!("{} m is narrower than the largest disk diameter {} m", exact(d.width), exact(2.0 * largest)),
             );
+        } else if d.periodic_x && largest.is_finite() && 4.0 * largest > d.width {
+            c.fail(
+                "domain.width",
+                format!(
+                    "{} m is narrower than two largest disk diameters ({} m): with domain.periodic_x a disk would touch another and its image",
+                    exact(d.width),
+                    exact(4.0 * largest)
+                ),
+            );
         }
         if self.placement.kind.reads_file() && self.placement.file.is_none() {
             c.fail("placement.file", "placement.kind = \"file\" or \"lammps\" needs placement.file (a file path)");
@@ -690,6 +705,15 @@ impl SceneConfig {
         self.check_pour(c, largest);
         c.finite("gravity[0]", self.gravity[0]);
         c.finite("gravity[1]", self.gravity[1]);
+        if d.periodic_x && self.gravity[0] != 0.0 {
+            c.fail(
+                "domain.periodic_x",
+                format!(
+                    "periodic sides need gravity straight down, got gravity[0] = {}: the energy balance counts gravity's work by position, which a disk wrapping around would jump",
+                    exact(self.gravity[0])
+                ),
+            );
+        }
         let n = &self.neighbors;
         c.positive("neighbors.skin_ratio", n.skin_ratio);
     }

@@ -9,7 +9,7 @@ use super::neighbors::NeighborList;
 use super::particles::Particles;
 use super::walls::BoxWalls;
 
-/// Every touching disk pair (in neighbour-list order), then every disk-wall contact, with the
+/// Every touching disk pair (in neighbour-list order, across periodic sides to the nearest image), then every disk-wall contact, with the
 /// force the law gives it at this state (springs and law states are left as they are). The disk
 /// pairs' springs are `pair_springs` (the list's as the steps left them, see
 /// [`super::forces::TouchingPairs::springs_of`]).
@@ -25,7 +25,7 @@ pub(super) fn contacts<L: ContactLaw>(
     let pairs = &neighbors.pairs;
     for (k, pair) in pairs.entries.iter().enumerate() {
         let (i, j) = (pair.i as usize, pair.j as usize);
-        let (normal, overlap) = unit_normal_and_overlap(p.x[j] - p.x[i], p.y[j] - p.y[i], p.r[i], p.r[j]);
+        let (normal, overlap) = unit_normal_and_overlap(walls.dx(p.x[j] - p.x[i]), p.y[j] - p.y[i], p.r[i], p.r[j]);
         // The block stage's test: not "apart" (NaN counts as touching there; here it is skipped).
         if overlap > 0.0 {
             let motion = relative_motion(

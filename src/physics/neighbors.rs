@@ -15,7 +15,7 @@ use super::memory_order::{FAR_PLACES, gather};
 use super::parallel::{Span, Split, Team};
 use super::particles::{InitialContact, Particles};
 use super::run_state::{Input, Persist, StateError, StateReason, persist_fields};
-use super::walls::BoxWalls;
+use super::walls::{BoxWalls, Periodic, Sides};
 use std::ops::Range;
 use std::sync::Mutex;
 
@@ -347,15 +347,16 @@ impl<S: Copy + Default + Send + Sync> NeighborList<S> {
     /// Rebuilds the lists from the current positions, keeping springs of surviving pairs; the
     /// grid's search shared out between the `team`'s threads in runs of disks (the list is the same).
     pub fn rebuild(&mut self, p: &Particles, walls: &BoxWalls, team: &Team) {
+        let period = walls.period();
         match self.broad_phase {
-            BroadPhaseKind::Grid => self.grid.collect(p, self.skin, &mut self.pairs.fresh, team),
-            BroadPhaseKind::AllPairs => all_pairs(p, self.skin, &mut self.pairs.fresh),
+            BroadPhaseKind::Grid => self.grid.collect(p, (self.skin, period), &mut self.pairs.fresh, team),
+            BroadPhaseKind::AllPairs => all_pairs(p, (self.skin, period), &mut self.pairs.fresh),
         }
         self.pairs.swap_in_fresh(team);
         let skin = self.skin;
         self.wall_finds.find(p.len(), team, &mut self.walls.fresh, &|disks, _, found| {
             for i in disks {
-                for (w, wall) in walls.walls.iter().enumerate() {
+                for (w, wall) in walls.touchable() {
                     // NaN positions are kept as candidates, so a diverging disk is still seen.
                     let overlap = wall.overlap(p.x[i], p.y[i], p.r[i]);
                     if overlap > -skin || overlap.is_nan() {
@@ -385,18 +386,22 @@ impl<S: ContactState> NeighborList<S> {
     }
 }
 
+/// Whether disks `i` and `j` are closer than `r_i + r_j + skin`, across the sides of `period` (m)
+/// to the nearest image.
 #[inline]
-fn within(p: &Particles, i: usize, j: usize, skin: f64) -> bool {
-    let (dx, dy) = (p.x[j] - p.x[i], p.y[j] - p.y[i]);
+fn within(p: &Particles, i: usize, j: usize, (skin, period): (f64, Option<f64>)) -> bool {
+    let dx = p.x[j] - p.x[i];
+    let dx = period.map_or(dx, |width| Periodic::new(width).dx(dx));
+    let dy = p.y[j] - p.y[i];
     let reach = p.r[i] + p.r[j] + skin;
     dx * dx + dy * dy < reach * reach
 }
 
-fn all_pairs(p: &Particles, skin: f64, out: &mut Vec<NeighborPair>) {
+fn all_pairs(p: &Particles, reach: (f64, Option<f64>), out: &mut Vec<NeighborPair>) {
     out.clear();
     for i in 0..p.len() {
         for j in i + 1..p.len() {
-            if within(p, i, j, skin) {
+            if within(p, i, j, reach) {
                 out.push(NeighborPair::new(p, i, j));
             }
         }
@@ -416,12 +421,20 @@ pub struct CellGrid {
     finds: PartFinds<NeighborPair>,
     cols: usize,
     rows: usize,
+    /// Whether the columns wrap around (periodic sides).
+    wraps: bool,
 }
 
 impl CellGrid {
     /// Sorts the disks at `x`, `y` into cells at least `reach` wide (m): any two disks closer than
     /// `reach` are in the same or adjacent cells. Non-finite positions land in an edge cell.
     pub fn build(&mut self, x: &[f64], y: &[f64], reach: f64) {
+        self.build_in(x, y, (reach, None));
+    }
+
+    /// [`Self::build`], with periodic sides `period` (m) apart when given: the columns then span
+    /// `[0, period)`, and the first and last are neighbours.
+    fn build_in(&mut self, x: &[f64], y: &[f64], (reach, period): (f64, Option<f64>)) {
         let n = x.len();
         let (xmin, xmax) = min_max(x);
         let (ymin, ymax) = min_max(y);
@@ -430,13 +443,16 @@ impl CellGrid {
         let mut cell = if reach > 0.0 && reach.is_finite() { reach } else { f64::MAX };
         let max_cells = (2 * n + 16) as f64;
         let span = |lo: f64, hi: f64, c: f64| (((hi - lo) / c).floor() + 1.0).min(1e9);
-        while span(xmin, xmax, cell) * span(ymin, ymax, cell) > max_cells {
+        // Periodic columns: as many whole cells as the period holds, at least one.
+        let columns = |c: f64| period.map_or(span(xmin, xmax, c), |w| (w / c).floor().clamp(1.0, 1e9));
+        while columns(cell) * span(ymin, ymax, cell) > max_cells {
             cell *= 1.5;
         }
-        let (cols, rows) = (span(xmin, xmax, cell) as usize, span(ymin, ymax, cell) as usize);
-        (self.cols, self.rows) = (cols, rows);
+        let (cols, rows) = (columns(cell) as usize, span(ymin, ymax, cell) as usize);
+        (self.cols, self.rows, self.wraps) = (cols, rows, period.is_some());
+        let (x0, column_width) = period.map_or((xmin, cell), |w| (0.0, w / cols as f64));
         let cell_index = |x: f64, y: f64| {
-            let c = (((x - xmin) / cell) as usize).min(cols - 1);
+            let c = (((x - x0) / column_width) as usize).min(cols - 1);
             let r = (((y - ymin) / cell) as usize).min(rows - 1);
             r * cols + c
         };
@@ -476,25 +492,55 @@ impl CellGrid {
         })
     }
 
-    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin`, sorted; the
-    /// disks shared out in runs between the `team`'s threads, whose pairs are joined in disk order.
-    fn collect(&mut self, p: &Particles, skin: f64, out: &mut Vec<NeighborPair>, team: &Team) {
+    /// The cells next to disk `i`'s across periodic sides that [`Self::around`] leaves out: in the
+    /// column at the other side, when disk `i`'s is the first or last of three or more, its row and
+    /// the rows next to it (with fewer columns, `around` has them all).
+    fn across(&self, i: usize) -> impl Iterator<Item = &[u32]> + '_ {
+        let (c, cols) = (self.cell_of[i] as usize, self.cols);
+        let (ci, ri) = (c % cols, c / cols);
+        let other = match ci {
+            _ if !self.wraps || cols < 3 => None,
+            0 => Some(cols - 1),
+            _ if ci == cols - 1 => Some(0),
+            _ => None,
+        };
+        let rows = ri.saturating_sub(1)..=(ri + 1).min(self.rows - 1);
+        other.into_iter().flat_map(move |column| {
+            rows.clone().map(move |r| {
+                let cell = r * cols + column;
+                &self.members[self.start[cell] as usize..self.start[cell + 1] as usize]
+            })
+        })
+    }
+
+    /// The neighbour list's candidate pairs: every pair closer than `r_i + r_j + skin` (across
+    /// periodic sides `period` apart, when given), sorted; the disks shared out in runs between
+    /// the `team`'s threads, whose pairs are joined in disk order.
+    fn collect(&mut self, p: &Particles, reach: (f64, Option<f64>), out: &mut Vec<NeighborPair>, team: &Team) {
         if p.is_empty() {
             return out.clear();
         }
-        self.build(&p.x, &p.y, 2.0 * p.max_radius() + skin);
+        let (skin, period) = reach;
+        self.build_in(&p.x, &p.y, (2.0 * p.max_radius() + skin, period));
         let mut finds = std::mem::take(&mut self.finds);
-        finds.find(p.len(), team, out, &|disks, row, found| self.pairs_of(p, skin, disks, row, found));
+        finds.find(p.len(), team, out, &|disks, row, found| self.pairs_of(p, reach, disks, row, found));
         self.finds = finds;
     }
 
     /// Appends the candidate pairs `(i, j)` of the disks `i` in `disks` to `out`, sorted.
-    fn pairs_of(&self, p: &Particles, skin: f64, disks: Range<usize>, row: &mut Vec<u32>, out: &mut Vec<NeighborPair>) {
+    fn pairs_of(
+        &self,
+        p: &Particles,
+        reach: (f64, Option<f64>),
+        disks: Range<usize>,
+        row: &mut Vec<u32>,
+        out: &mut Vec<NeighborPair>,
+    ) {
         for i in disks {
             row.clear();
-            for run in self.around(i) {
+            for run in self.around(i).chain(self.across(i)) {
                 for &j in run {
-                    if j as usize > i && within(p, i, j as usize, skin) {
+                    if j as usize > i && within(p, i, j as usize, reach) {
                         row.push(j);
                     }
                 }
@@ -576,6 +622,39 @@ mod tests {
         assert_eq!(grid.walls.entries, brute.walls.entries);
         assert!(!brute.pairs.entries.is_empty());
         assert_eq!(grid.pairs.entries, brute.pairs.entries);
+    }
+
+    /// The grid's and the all-pairs lists of `disks` between periodic sides `width` apart: equal,
+    /// with pairs across the sides and no side wall candidates.
+    fn periodic_lists_agree(disks: &[InitialDisk], width: f64) {
+        let domain = crate::physics::config::DomainConfig { width, periodic_x: true, ..Default::default() };
+        let p = Particles::new(disks, 1000.0, 1.0);
+        let walls = BoxWalls::new(&domain);
+        let mut grid = NeighborList::<()>::new(BroadPhaseKind::Grid, 0.006);
+        let mut brute = NeighborList::<()>::new(BroadPhaseKind::AllPairs, 0.006);
+        grid.rebuild(&p, &walls, &Team::new(1));
+        brute.rebuild(&p, &walls, &Team::new(1));
+        let far = |q: &&NeighborPair| (p.x[q.j as usize] - p.x[q.i as usize]).abs() > 0.5 * width;
+        assert!(brute.pairs.entries.iter().filter(far).count() > 0, "pairs across the sides");
+        assert_eq!(grid.pairs.entries, brute.pairs.entries);
+        assert!(grid.walls.entries.iter().all(|w| w.wall == 0), "only the floor: {:?}", grid.walls.entries);
+    }
+
+    #[test]
+    fn periodic_grid_finds_exactly_the_all_pairs_set_across_the_sides() {
+        let mut scene = SceneConfig::default();
+        (scene.particles.count, scene.particles.radius_max) = (200, Some(0.012));
+        let width = scene.domain.width;
+        let mut disks = placement::generate(&scene).unwrap();
+        // Half a width over: the disks at the sides of the placement now meet across them.
+        for d in &mut disks {
+            d.x = (d.x + 0.5 * width) % width;
+        }
+        periodic_lists_agree(&disks, width);
+        // A box of one or two grid columns: a row of three disks, the first and last touching
+        // across the sides.
+        let row = [0.005, 0.027, 0.045].map(|x| InitialDisk { x, y: 0.01, r: 0.01, ..Default::default() });
+        periodic_lists_agree(&row, 0.05);
     }
 
     #[test]

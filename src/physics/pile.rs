@@ -10,7 +10,8 @@
 //!   moves the pile height by `d`;
 //! - interior packing fraction: disk area inside a window `2 d_max` away from the side walls and the
 //!   floor, up to `2 d_max` below the pile's surface (its highest disk top), over the window's area;
-//!   disks clipped to the window exactly;
+//!   disks clipped to the window exactly; with periodic sides the window spans the whole width (a
+//!   disk across the boundary counts on both sides);
 //! - coordination number `Z = 2 C_dd / N` over disk–disk contacts; the mechanical one after removing
 //!   rattlers, disks with fewer than 2 contacts (walls included), repeatedly until none is left;
 //! - floor load ratio: the floor's normal forces over the disks' total weight (Janssen: below 1 when
@@ -44,6 +45,19 @@ pub struct PileGeometry<'a> {
     pub width: f64,
     /// Disk thickness (m): the depth over which the contact forces act, for stresses.
     pub thickness: f64,
+    /// Whether the sides are periodic (`domain.periodic_x`): no side walls, a disk across the
+    /// boundary counts on both sides.
+    pub periodic: bool,
+}
+
+impl PileGeometry<'_> {
+    /// The x positions (m) at which a disk centred at `x` counts: `x`, and across periodic sides
+    /// also its images one width to either side.
+    fn images(&self, x: f64) -> impl Iterator<Item = f64> + use<> {
+        let shifts: &[f64] = if self.periodic { &[0.0, -1.0, 1.0] } else { &[0.0] };
+        let width = self.width;
+        shifts.iter().map(move |k| x + k * width)
+    }
 }
 
 /// Number of pile metrics (the length of [`super::quantity::PILE_METRICS`], which checks it).
@@ -249,12 +263,15 @@ pub fn fabric(contacts: &[PileContact]) -> (f64, f64) {
 pub fn interior_packing_fraction(pile: &PileGeometry) -> f64 {
     let d_max = 2.0 * pile.r.iter().cloned().fold(0.0, f64::max);
     let surface = surface(pile);
-    let window = [2.0 * d_max, pile.width - 2.0 * d_max, 2.0 * d_max, surface - 2.0 * d_max];
+    let side = if pile.periodic { 0.0 } else { 2.0 * d_max };
+    let window = [side, pile.width - side, 2.0 * d_max, surface - 2.0 * d_max];
     let area = (window[1] - window[0]) * (window[3] - window[2]);
     if !(window[1] > window[0] && window[3] > window[2]) {
         return f64::NAN;
     }
-    let covered: f64 = (0..pile.x.len()).map(|i| disk_area_in_rectangle(pile.x[i], pile.y[i], pile.r[i], window)).sum();
+    let area_of =
+        |i: usize| pile.images(pile.x[i]).map(move |x| disk_area_in_rectangle(x, pile.y[i], pile.r[i], window));
+    let covered: f64 = (0..pile.x.len()).flat_map(area_of).sum();
     covered / area
 }
 
@@ -272,7 +289,8 @@ const SURFACE_POINTS_MAX: f64 = 1.0e6;
 /// Mean height of the free surface over the box width (m): the width is cut into equal intervals,
 /// [`SURFACE_POINTS_PER_RADIUS`] per mean radius, and at each interval's midpoint `x` the surface is
 /// the top of the highest disk above it, `y_i + √(r_i² − (x − x_i)²)`, or 0 where no disk is
-/// above it; NaN without disks or width. Disks reaching past a side wall count where they are.
+/// above it; NaN without disks or width. Disks reaching past a side wall count where they are;
+/// across periodic sides, on both sides.
 pub fn surface_height(pile: &PileGeometry) -> f64 {
     let n = pile.r.len();
     if n == 0 || pile.width.is_nan() || pile.width <= 0.0 {
@@ -282,7 +300,8 @@ pub fn surface_height(pile: &PileGeometry) -> f64 {
     let points = (SURFACE_POINTS_PER_RADIUS * pile.width / mean_radius).ceil().clamp(1.0, SURFACE_POINTS_MAX) as usize;
     let spacing = pile.width / points as f64;
     let mut top = vec![0.0_f64; points];
-    for ((&x, &y), &r) in pile.x.iter().zip(pile.y).zip(pile.r) {
+    let images = (0..n).flat_map(|i| pile.images(pile.x[i]).map(move |x| (x, pile.y[i], pile.r[i])));
+    for (x, y, r) in images {
         let first = ((x - r) / spacing - 0.5).ceil().max(0.0) as usize;
         let last = ((x + r) / spacing - 0.5).floor().min(points as f64 - 1.0);
         if last < 0.0 {
@@ -403,7 +422,15 @@ mod tests {
         let r = rattlers(7, &contacts);
         assert_eq!(r, [false, false, false, true, true, true, true]);
         let metrics = PileMetrics::measure(
-            &PileGeometry { x: &[0.0; 7], y: &[0.0; 7], r: &[0.1; 7], weight: 2.0, width: 1.0, thickness: 1.0 },
+            &PileGeometry {
+                x: &[0.0; 7],
+                y: &[0.0; 7],
+                r: &[0.1; 7],
+                weight: 2.0,
+                width: 1.0,
+                thickness: 1.0,
+                periodic: false,
+            },
             &contacts,
         );
         assert!((metrics["rattler_fraction"] - 4.0 / 7.0).abs() < 1e-12);
@@ -418,7 +445,15 @@ mod tests {
         idle.normal_force = 0.0;
         let sliding = PileContact { tangential_force: 0.5, ..pair(1, 2, 0.0) };
         let metrics = PileMetrics::measure(
-            &PileGeometry { x: &[0.0; 3], y: &[0.0; 3], r: &[0.1; 3], weight: 1.0, width: 1.0, thickness: 1.0 },
+            &PileGeometry {
+                x: &[0.0; 3],
+                y: &[0.0; 3],
+                r: &[0.1; 3],
+                weight: 1.0,
+                width: 1.0,
+                thickness: 1.0,
+                periodic: false,
+            },
             &[idle, sliding, pair(0, 2, 0.0)],
         );
         assert!((metrics["coordination_number"] - 4.0 / 3.0).abs() < 1e-12);
@@ -433,8 +468,15 @@ mod tests {
         let mut contacts: Vec<PileContact> =
             forces.iter().enumerate().map(|(k, &f)| PileContact { normal_force: f, ..pair(k, k + 1, 0.0) }).collect();
         contacts.push(PileContact { normal_force: 40.0, ..wall(0, 0) });
-        let geometry =
-            PileGeometry { x: &[0.0; 6], y: &[0.0; 6], r: &[0.1; 6], weight: 1.0, width: 1.0, thickness: 1.0 };
+        let geometry = PileGeometry {
+            x: &[0.0; 6],
+            y: &[0.0; 6],
+            r: &[0.1; 6],
+            weight: 1.0,
+            width: 1.0,
+            thickness: 1.0,
+            periodic: false,
+        };
         let metrics = PileMetrics::measure(&geometry, &contacts);
         let expect = 3.5f64.sqrt() / 3.0;
         assert!(
@@ -458,8 +500,15 @@ mod tests {
             PileContact { normal_force: 10.0, ..wall(3, 1) },
             PileContact { normal_force: 5.0, ..pair(0, 1, 0.0) },
         ];
-        let geometry =
-            PileGeometry { x: &[0.0; 4], y: &[0.0; 4], r: &[0.1; 4], weight: 9.0, width: 1.0, thickness: 1.0 };
+        let geometry = PileGeometry {
+            x: &[0.0; 4],
+            y: &[0.0; 4],
+            r: &[0.1; 4],
+            weight: 9.0,
+            width: 1.0,
+            thickness: 1.0,
+            periodic: false,
+        };
         let metrics = PileMetrics::measure(&geometry, &contacts);
         assert_eq!(metrics["floor_mean_contact_force"], 3.0);
         assert_eq!(metrics["floor_load_ratio"], 1.0, "9 N on the floor carry 9 N");
@@ -468,8 +517,15 @@ mod tests {
     #[test]
     fn height_and_packing_fraction_of_two_stacked_disks() {
         // Two disks of radius 0.1 stacked at x = 0.5 in a box 0.5 wide: top 0.4, area 2 π 0.01.
-        let geometry =
-            PileGeometry { x: &[0.5, 0.5], y: &[0.1, 0.3], r: &[0.1, 0.1], weight: 1.0, width: 0.5, thickness: 1.0 };
+        let geometry = PileGeometry {
+            x: &[0.5, 0.5],
+            y: &[0.1, 0.3],
+            r: &[0.1, 0.1],
+            weight: 1.0,
+            width: 0.5,
+            thickness: 1.0,
+            periodic: false,
+        };
         let metrics = PileMetrics::measure(&geometry, &[]);
         assert!((metrics["pile_height"] - 0.4).abs() < 1e-15);
         assert!((metrics["packing_fraction"] - 2.0 * PI * 0.01 / (0.5 * 0.4)).abs() < 1e-15);
@@ -480,7 +536,15 @@ mod tests {
         // A row of 10 touching disks of radius 0.05 on the floor of a box 1 m wide: the surface is a
         // row of half circles, mean height r + (π/4) r over the width.
         let x: Vec<f64> = (0..10).map(|i| 0.05 + 0.1 * i as f64).collect();
-        let geometry = PileGeometry { x: &x, y: &[0.05; 10], r: &[0.05; 10], weight: 1.0, width: 1.0, thickness: 1.0 };
+        let geometry = PileGeometry {
+            x: &x,
+            y: &[0.05; 10],
+            r: &[0.05; 10],
+            weight: 1.0,
+            width: 1.0,
+            thickness: 1.0,
+            periodic: false,
+        };
         let surface = PileMetrics::measure(&geometry, &[])["surface_height"];
         let exact = 0.05 + PI / 4.0 * 0.05;
         assert!((surface / exact - 1.0).abs() < 1e-3, "{surface} vs {exact}");
@@ -493,11 +557,12 @@ mod tests {
         let r = 0.0125;
         let mut x: Vec<f64> = (0..40).map(|i| r + 2.0 * r * i as f64).collect();
         let mut y = vec![r; 40];
-        let flat = PileGeometry { x: &x, y: &y, r: &[r; 40], weight: 1.0, width: 1.0, thickness: 1.0 };
+        let flat = PileGeometry { x: &x, y: &y, r: &[r; 40], weight: 1.0, width: 1.0, thickness: 1.0, periodic: false };
         let before = PileMetrics::measure(&flat, &[]);
         x.push(2.0 * r * 20.0);
         y.push(r + 2.0 * r * (0.75_f64).sqrt());
-        let grain = PileGeometry { x: &x, y: &y, r: &[r; 41], weight: 1.0, width: 1.0, thickness: 1.0 };
+        let grain =
+            PileGeometry { x: &x, y: &y, r: &[r; 41], weight: 1.0, width: 1.0, thickness: 1.0, periodic: false };
         let after = PileMetrics::measure(&grain, &[]);
         let height = after["pile_height"] - before["pile_height"];
         let surface = after["surface_height"] - before["surface_height"];

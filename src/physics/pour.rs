@@ -12,6 +12,7 @@ use super::config::SceneConfig;
 use super::particles::{InitialDisk, Particles};
 use super::placement;
 use super::rng::Rng;
+use super::walls::BoxWalls;
 
 /// How many disks a pour inserted and refused, and the particle steps its disks took.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -48,6 +49,8 @@ pub struct Inlet {
     max_attempts: u32,
     density: f64,
     thickness: f64,
+    /// The box's periodic sides, if any: a new disk must clear the disks across them too.
+    walls: BoxWalls,
     /// Sum over inserted disks of the step each entered at (the particle steps not taken).
     steps_absent: u64,
     inserted: u64,
@@ -88,6 +91,7 @@ impl Inlet {
             max_attempts: placement.max_attempts,
             density,
             thickness: scene.particles.thickness,
+            walls: BoxWalls::new(&scene.domain),
             steps_absent: 0,
             inserted: 0,
             refused: 0,
@@ -158,12 +162,13 @@ impl Inlet {
     }
 
     /// A disk of radius `r` at a random spot of the inlet overlapping none of the disks `near` of
-    /// `p`, with a drawn velocity; `None` after `max_attempts` tries.
+    /// `p` (nor their images across periodic sides), with a drawn velocity; `None` after
+    /// `max_attempts` tries.
     fn free_spot(&mut self, p: &Particles, near: &[usize], r: f64) -> Option<InitialDisk> {
         let [x0, x1, y0, y1] = self.region;
         let free = |x: f64, y: f64| {
             near.iter().all(|&k| {
-                let (dx, dy, d) = (p.x[k] - x, p.y[k] - y, p.r[k] + r);
+                let (dx, dy, d) = (self.walls.dx(p.x[k] - x), p.y[k] - y, p.r[k] + r);
                 dx * dx + dy * dy >= d * d
             })
         };

@@ -359,7 +359,7 @@ mod tests {
 
     #[test]
     fn disks_land_on_the_disk_below_not_on_the_floor() {
-        let walls = BoxWalls::new(&DomainConfig { width: 1.0, height: 2.0, lid: false });
+        let walls = BoxWalls::new(&DomainConfig { width: 1.0, height: 2.0, lid: false, periodic_x: false });
         let g = [0.0, -9.81];
         // A resting column of three disks (touching), one disk 0.5 m above it, one alone 1 m up.
         let x = [0.5, 0.5, 0.5, 0.5, 0.2];

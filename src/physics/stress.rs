@@ -103,7 +103,9 @@ impl StressProfile {
     /// `thickness` thick.
     pub fn of_state(state: &Snapshot, width: f64, thickness: f64) -> Self {
         // The stress needs no weight.
-        let geometry = PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: f64::NAN, width, thickness };
+        // The stress needs no weight, nor the sides: its branch vectors follow the contact normals.
+        let geometry =
+            PileGeometry { x: &state.x, y: &state.y, r: &state.r, weight: f64::NAN, width, thickness, periodic: false };
         Self::measure(&geometry, &state.contacts.pile_contacts(&state.r))
     }
 
@@ -173,7 +175,13 @@ fn force_and_branch(geometry: &PileGeometry, c: &PileContact) -> ([f64; 2], [f64
     let force = [-c.normal_force * nx - c.tangential_force * ny, -c.normal_force * ny + c.tangential_force * nx];
     let i = c.disk;
     let branch = match c.partner {
-        Partner::Disk(j) => [geometry.x[j] - geometry.x[i], geometry.y[j] - geometry.y[i]],
+        Partner::Disk(j) => {
+            // A branch against its normal joins the disk to the other's image across periodic
+            // sides (between walls the two never disagree).
+            let dx = geometry.x[j] - geometry.x[i];
+            let dx = if dx * nx < 0.0 { dx - geometry.width.copysign(dx) } else { dx };
+            [dx, geometry.y[j] - geometry.y[i]]
+        }
         Partner::Wall(_) => {
             let reach = geometry.r[i] * (1.0 - c.overlap_ratio);
             [reach * nx, reach * ny]
@@ -199,8 +207,15 @@ mod tests {
     /// Two disks of radius 0.1 and weight 1 N stacked on the floor at x = 0.5 of a box 1 m wide, at
     /// rest: the upper one rests on the lower (1 N), the lower on the floor (2 N).
     fn stack() -> (PileGeometry<'static>, Vec<PileContact>) {
-        let geometry =
-            PileGeometry { x: &[0.5, 0.5], y: &[0.1, 0.3], r: &[0.1, 0.1], weight: 2.0, width: 1.0, thickness: 1.0 };
+        let geometry = PileGeometry {
+            x: &[0.5, 0.5],
+            y: &[0.1, 0.3],
+            r: &[0.1, 0.1],
+            weight: 2.0,
+            width: 1.0,
+            thickness: 1.0,
+            periodic: false,
+        };
         let contact = |disk, partner, normal, normal_force| PileContact {
             disk,
             partner,
@@ -245,8 +260,15 @@ mod tests {
     #[test]
     fn a_sheared_contact_gives_a_symmetric_shear_stress() {
         // One horizontal disk-disk contact with a tangential force: σ_xy from its tangential part.
-        let geometry =
-            PileGeometry { x: &[0.0, 0.2], y: &[0.1, 0.1], r: &[0.1, 0.1], weight: 0.0, width: 1.0, thickness: 2.0 };
+        let geometry = PileGeometry {
+            x: &[0.0, 0.2],
+            y: &[0.1, 0.1],
+            r: &[0.1, 0.1],
+            weight: 0.0,
+            width: 1.0,
+            thickness: 2.0,
+            periodic: false,
+        };
         let c = PileContact {
             disk: 0,
             partner: Partner::Disk(1),
@@ -267,7 +289,7 @@ mod tests {
     fn a_profile_cuts_the_pile_height_into_equal_bands_of_at_most_two_diameters() {
         // Five disks of radius 0.1 stacked: 1 m tall, so three bands of 1/3 m (two diameters: 0.4 m).
         let (x, y, r) = ([0.5; 5], [0.1, 0.3, 0.5, 0.7, 0.9], [0.1; 5]);
-        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 5.0, width: 1.0, thickness: 1.0 };
+        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 5.0, width: 1.0, thickness: 1.0, periodic: false };
         let contact = |disk, partner, normal_force| PileContact {
             disk,
             partner,
@@ -294,7 +316,7 @@ mod tests {
         // Two disks of radius 0.1, one above the other, each pressed against a side wall with 2 N;
         // the wall's friction holds the lower one up with 1 N.
         let (x, y, r) = ([0.1, 0.9], [0.1, 0.7], [0.1, 0.1]);
-        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 0.0, width: 1.0, thickness: 0.5 };
+        let geometry = PileGeometry { x: &x, y: &y, r: &r, weight: 0.0, width: 1.0, thickness: 0.5, periodic: false };
         let wall = |disk, wall, nx: f64, tangential_force| PileContact {
             disk,
             partner: Partner::Wall(wall),
@@ -323,8 +345,15 @@ mod tests {
     #[test]
     fn a_diverged_pile_gets_a_bounded_profile_or_none() {
         let far = |y: f64| {
-            let geometry =
-                PileGeometry { x: &[0.5, 0.5], y: &[0.1, y], r: &[0.1, 0.1], weight: 0.0, width: 1.0, thickness: 1.0 };
+            let geometry = PileGeometry {
+                x: &[0.5, 0.5],
+                y: &[0.1, y],
+                r: &[0.1, 0.1],
+                weight: 0.0,
+                width: 1.0,
+                thickness: 1.0,
+                periodic: false,
+            };
             StressProfile::measure(&geometry, &[]).len()
         };
         assert_eq!(far(1e300), PROFILE_MAX_BANDS as usize);

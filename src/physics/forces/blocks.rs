@@ -9,7 +9,7 @@ use crate::physics::contact_sums::BLOCK;
 use crate::physics::diagnostics::ContactTotals;
 use crate::physics::neighbors::{Candidates, NeighborList, NeighborPair};
 use crate::physics::particles::{Forces, State};
-use crate::physics::walls::Wall;
+use crate::physics::walls::{Sides, Wall};
 use std::borrow::Cow;
 
 /// Fewest disk-wall candidates evaluated together (see `TouchingPairs::contacts`).
@@ -50,7 +50,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
 
     /// Adds all contact forces: disk pairs block by block, and between blocks, in batches, the
     /// disk-wall contacts of disks below the next block's first disk; with `SAMPLE`, also the
-    /// contact sums to `totals`.
+    /// contact sums to `totals`. The disk pairs' x separations are measured across `sides`.
     ///
     /// Every disk's sums come out as if all disk pairs were added first and then the walls (pairs
     /// are sorted by first disk, so no later block touches a disk below the block's first disk),
@@ -58,11 +58,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// just done: in large scenes, a separate pass over the disks at the walls (one in every dozen
     /// or so in a wide pile) would fetch each of them from memory again.
     #[allow(clippy::too_many_arguments)]
-    pub fn contacts<L: ContactLaw<State = S>, const SAMPLE: bool>(
+    pub fn contacts<L: ContactLaw<State = S>, X: Sides, const SAMPLE: bool>(
         &mut self,
         law: &L,
         kinds: [&ContactParameters; 2],
-        (walls, neighbors): (&[Wall], &mut NeighborList<S>),
+        (walls, sides, neighbors): (&[Wall], X, &mut NeighborList<S>),
         s: &State<'_>,
         f: &mut Forces<'_>,
         totals: &mut ContactTotals,
@@ -98,7 +98,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             // whose pairs no longer all touch go through the narrow phase after all.
             let unchanged = short
                 && !SAMPLE
-                && self.gather_unchanged(s, (build, travel), block, states)
+                && self.gather_unchanged((s, sides), (build, travel), block, states)
                 && self.compute_forces::<L, CHECKED>(law, disk_kind);
             if unchanged {
                 #[cfg(test)]
@@ -110,7 +110,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
                 if self.rows.fresher {
                     self.rows.copy_springs(springs);
                 }
-                self.narrow_phase(b, (short, short), s, block, (springs, states));
+                self.narrow_phase(b, (short, short), (s, sides), block, (springs, states));
                 (self.rows.collected, self.rows.travel) = (self.calls, travel);
                 self.compute_forces::<L, COMPUTED>(law, disk_kind);
             }

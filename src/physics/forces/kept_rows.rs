@@ -4,6 +4,7 @@
 
 use crate::physics::contact_sums::BLOCK;
 use crate::physics::neighbors::NeighborPair;
+use crate::physics::walls::Sides;
 
 /// The touching pairs of a block, what of them does not change between neighbour-list builds:
 /// kept from step to step, so that a block whose touching pairs are those of the previous step
@@ -52,12 +53,16 @@ pub(super) struct KeptRows {
 /// has the shares tried).
 pub(super) const NEAR_GAP: f64 = 1.0 / 256.0;
 
-/// The distance of `pair`'s disks (of positions and radii `(x, y, r)`) squared, their radii's sum
-/// and the first disk's position.
+/// The distance of `pair`'s disks (of positions and radii `(x, y, r)`, across `sides`) squared,
+/// their radii's sum and the first disk's position.
 #[inline(always)]
-pub(super) fn apart_pair(pair: &NeighborPair, (x, y, r): (&[f64], &[f64], &[f64])) -> (f64, f64, (f64, f64)) {
+pub(super) fn apart_pair<X: Sides>(
+    pair: &NeighborPair,
+    (x, y, r): (&[f64], &[f64], &[f64]),
+    sides: X,
+) -> (f64, f64, (f64, f64)) {
     let (i, j) = (pair.i as usize, pair.j as usize);
-    let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+    let (dx, dy) = (sides.dx(x[j] - x[i]), y[j] - y[i]);
     (dx * dx + dy * dy, r[i] + r[j], (x[i], y[i]))
 }
 

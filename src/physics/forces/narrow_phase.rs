@@ -9,6 +9,7 @@ use super::table::{Histories, TouchingPairs, stateful};
 use crate::physics::contact_sums::BLOCK;
 use crate::physics::neighbors::NeighborPair;
 use crate::physics::particles::State;
+use crate::physics::walls::Sides;
 
 /// In longer lists, a block whose narrow phase found fewer touching pairs at the previous step
 /// branches too: "not touching" is then the rule, which the branch predictor gets right (falling
@@ -18,20 +19,20 @@ pub(super) const SPARSE_BLOCK: u8 = 16;
 impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// Stage 1 for block `b` of the candidate list, `short` or not (see `collect`); `keep`: whether
     /// the rows are to be kept for the next step (a short list's, on one thread).
-    pub(super) fn narrow_phase(
+    pub(super) fn narrow_phase<X: Sides>(
         &mut self,
         b: usize,
         (short, keep): (bool, bool),
-        s: &State<'_>,
+        (s, sides): (&State<'_>, X),
         block: &[NeighborPair],
         histories: Histories<'_, S>,
     ) {
         if keep {
-            self.collect::<true, true>(s, block, histories);
+            self.collect::<X, true, true>((s, sides), block, histories);
         } else if short || self.touching_before[b] < SPARSE_BLOCK {
-            self.collect::<true, false>(s, block, histories);
+            self.collect::<X, true, false>((s, sides), block, histories);
         } else {
-            self.collect::<false, false>(s, block, histories);
+            self.collect::<X, false, false>((s, sides), block, histories);
         }
         self.touching_before[b] = self.rows.len as u8; // at most BLOCK = 128
     }
@@ -43,9 +44,9 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// apart now touches (the narrow phase then takes the block). Whether the rows' pairs all
     /// still touch, stage 2 checks ([`CHECKED`]), in its vector loop; both with the same touching
     /// test as `collect`'s, so the same rows in the same order.
-    pub(super) fn gather_unchanged(
+    pub(super) fn gather_unchanged<X: Sides>(
         &mut self,
-        s: &State<'_>,
+        (s, sides): (&State<'_>, X),
         (build, travel): (u64, f64),
         block: &[NeighborPair],
         states: &[S],
@@ -59,7 +60,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         let n = s.x.len();
         // Slices of one known length: the asserts below cover all their bounds checks.
         let (x, y, r, vx, vy, omega) = (&s.x[..n], &s.y[..n], &s.r[..n], &s.vx[..n], &s.vy[..n], &s.omega[..n]);
-        let apart = |k: u8| apart_pair(&block[usize::from(k)], (x, y, r));
+        let apart = |k: u8| apart_pair(&block[usize::from(k)], (x, y, r), sides);
         for &k in &rows.apart[..rows.near] {
             let (d2, reach, _) = apart(k);
             if touches(d2, reach) {
@@ -91,7 +92,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         for c in 0..rows.len {
             let [i, j] = rows.bodies[c].map(|b| b as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            (self.dx[c], self.dy[c]) = (x[j] - x[i], y[j] - y[i]);
+            (self.dx[c], self.dy[c]) = (sides.dx(x[j] - x[i]), y[j] - y[i]);
             (self.dvx[c], self.dvy[c]) = (vx[i] - vx[j], vy[i] - vy[j]);
             (self.omega_i[c], self.omega_j[c]) = (omega[i], omega[j]);
             if stateful::<S>() {
@@ -110,10 +111,11 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// branch also waits for the loads of both disks' positions, from L3 or memory when the list is
     /// long; without `PREDICTED` there is no branch: every candidate is written to the next row of
     /// the table, which only a touching one keeps. With `KEEP` (and `PREDICTED`), also the pairs
-    /// apart and their clearance, for [`TouchingPairs::gather_unchanged`].
-    pub(super) fn collect<const PREDICTED: bool, const KEEP: bool>(
+    /// apart and their clearance, for [`TouchingPairs::gather_unchanged`]. The x separations are
+    /// measured across `sides`.
+    pub(super) fn collect<X: Sides, const PREDICTED: bool, const KEEP: bool>(
         &mut self,
-        s: &State<'_>,
+        (s, sides): (&State<'_>, X),
         block: &[NeighborPair],
         histories: Histories<'_, S>,
     ) {
@@ -128,7 +130,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
             let (pair, spring) = (&block[k], &mut springs[k]);
             let (i, j) = (pair.i as usize, pair.j as usize);
             assert!(i < n && j < n, "neighbour pair out of range");
-            let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+            let (dx, dy) = (sides.dx(x[j] - x[i]), y[j] - y[i]);
             let (ri, rj) = (r[i], r[j]);
             let reach = ri + rj;
             let d2 = dx * dx + dy * dy;

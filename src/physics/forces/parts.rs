@@ -9,7 +9,7 @@ use crate::physics::contact_sums::{ADDED, BLOCK, ContactSums, DiskIndex, DiskSum
 use crate::physics::neighbors::{Candidates, NeighborPair, WallPair};
 use crate::physics::parallel::{Split, Team, split_slice};
 use crate::physics::particles::{Forces, State};
-use crate::physics::walls::Wall;
+use crate::physics::walls::{Sides, Wall};
 use std::ops::Range;
 use std::sync::Mutex;
 
@@ -83,14 +83,14 @@ impl<S: Send> Split for Blocks<'_, S> {
 /// The parallel path of a step's contact forces (not sampled: no contact sums): the blocks of
 /// disk pairs and of disk-wall candidates shared out in the `team`'s parts between its threads, each
 /// piece through one of `tables`, the forces stored per candidate in `sums`; then each disk's sum,
-/// disks shared out likewise (see [`super::contact_sums`]). The same bits as
-/// [`TouchingPairs::contacts`].
+/// disks shared out likewise (see [`super::contact_sums`]); the disk pairs' x separations measured
+/// across `sides`. The same bits as [`TouchingPairs::contacts`].
 #[allow(clippy::too_many_arguments)]
-pub fn contacts_in_parts<L: ContactLaw>(
+pub fn contacts_in_parts<L: ContactLaw, X: Sides>(
     tables: &mut Vec<Mutex<TouchingPairs<L::State>>>,
     law: &L,
     kinds: [&ContactParameters; 2],
-    pairs: &mut Candidates<NeighborPair, L::State>,
+    (pairs, sides): (&mut Candidates<NeighborPair, L::State>, X),
     walls: (&[Wall], &mut Candidates<WallPair, L::State>),
     s: &State<'_>,
     f: &mut Forces<'_>,
@@ -121,7 +121,7 @@ pub fn contacts_in_parts<L: ContactLaw>(
         let own = index.own_disks(start..start + part.pairs.entries.len());
         let own = own.start.max(part.sums.first)..own.end.min(part.sums.first + part.sums.fx.len());
         let reaching = index.first_pair_reaching(own.end);
-        table.pair_forces(law, disk_kind, part.pairs, s, short, (&mut part.sums, own.clone(), reaching));
+        table.pair_forces(law, disk_kind, part.pairs, (s, sides), short, (&mut part.sums, own.clone(), reaching));
         table.wall_forces(law, wall_kind, walls, part.walls, s, (&mut part.sums, &own));
     });
     let options = SumOptions {
@@ -137,12 +137,12 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
     /// `sums` (all of whose pairs are in `part`), and stored in the part's rows for the others;
     /// `short`: whether the whole list is short (see `collect`); `reaching`: the first candidate
     /// whose second disk is `own.end` or above.
-    pub(super) fn pair_forces<L: ContactLaw<State = S>>(
+    pub(super) fn pair_forces<L: ContactLaw<State = S>, X: Sides>(
         &mut self,
         law: &L,
         kind: &ContactParameters,
         part: CandidateBlocks<'_, NeighborPair, S>,
-        s: &State<'_>,
+        (s, sides): (&State<'_>, X),
         short: bool,
         (sums, own, reaching): (&mut DiskSums<'_>, Range<usize>, usize),
     ) {
@@ -150,7 +150,7 @@ impl<S: Copy + Default + PartialEq> TouchingPairs<S> {
         while !rest.entries.is_empty() {
             let (block, after) = rest.cut(1);
             let b = block.first_block;
-            self.narrow_phase(b, (short, false), s, block.entries, (block.springs, block.states));
+            self.narrow_phase(b, (short, false), (s, sides), block.entries, (block.springs, block.states));
             self.compute_forces::<L, COMPUTED>(law, kind);
             // Candidates are sorted by first disk, the second the larger: a block whose first
             // disk is the part's own and that ends before `reaching` has only the part's own disks.

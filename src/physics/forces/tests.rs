@@ -6,6 +6,7 @@ use crate::physics::diagnostics::ContactTotals;
 use crate::physics::material::ContactMaterial;
 use crate::physics::neighbors::{Candidates, NeighborList, NeighborPair, WallPair};
 use crate::physics::particles::{InitialDisk, Particles};
+use crate::physics::walls::Walled;
 
 fn kind(allow_tension: bool) -> ContactParameters {
     let material = ContactMaterial { e_star: 5e8, g_star: 2e8, beta: 0.4, friction: 0.5, rolling_friction: 0.0 };
@@ -15,7 +16,12 @@ fn kind(allow_tension: bool) -> ContactParameters {
 
 /// The walls of an open box 1 m wide, 4 m high.
 fn open_box() -> crate::physics::walls::BoxWalls {
-    crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig { width: 1.0, height: 4.0, lid: false })
+    crate::physics::walls::BoxWalls::new(&crate::physics::config::DomainConfig {
+        width: 1.0,
+        height: 4.0,
+        lid: false,
+        periodic_x: false,
+    })
 }
 
 /// Touching pairs with assorted geometry and motion: sticking, sliding both ways, separating
@@ -68,8 +74,8 @@ fn narrow_phase_with_and_without_branch_agree() {
     let (mut branchy, mut branch_free) = (TouchingPairs::<()>::default(), TouchingPairs::<()>::default());
     let (mut springs_branchy, mut springs_branch_free) = (springs.clone(), springs);
     let mut states = vec![(); pairs.len()];
-    branchy.collect::<true, true>(&s, &pairs, (&mut springs_branchy, &mut states));
-    branch_free.collect::<false, false>(&s, &pairs, (&mut springs_branch_free, &mut states));
+    branchy.collect::<Walled, true, true>((&s, Walled), &pairs, (&mut springs_branchy, &mut states));
+    branch_free.collect::<Walled, false, false>((&s, Walled), &pairs, (&mut springs_branch_free, &mut states));
     let touching = branchy.rows.len;
     assert!(touching > 10 && touching < pairs.len() - 10, "{touching} of {} touch", pairs.len());
     assert_eq!(branch_free.rows.len, touching);
@@ -147,7 +153,14 @@ fn blocks_gathered_unchanged_give_the_narrow_phase_bits_as_contacts_come_and_go(
         let mut forces = Vec::new();
         for (table, list) in [(&mut kept, &mut list), (&mut TouchingPairs::default(), &mut afresh)] {
             let (s, mut f) = particles.split();
-            table.contacts::<_, false>(&law, [&kind, &kind], (&walls.walls, &mut *list), &s, &mut f, &mut totals);
+            table.contacts::<_, _, false>(
+                &law,
+                [&kind, &kind],
+                (&walls.walls, Walled, &mut *list),
+                &s,
+                &mut f,
+                &mut totals,
+            );
             let columns = [&f.fx, &f.fy, &f.torque].map(|c| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
             let springs = table.springs_of(&list.pairs).iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             forces.push((columns, springs));

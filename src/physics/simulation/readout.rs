@@ -154,7 +154,8 @@ impl<L: ContactLaw> Simulation<L> {
         let g = self.scene.gravity[0].hypot(self.scene.gravity[1]);
         let weight = p.mass.iter().sum::<f64>() * g;
         let (width, thickness) = (self.walls.width, self.scene.particles.thickness);
-        let geometry = PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight, width, thickness };
+        let periodic = self.walls.periodic;
+        let geometry = PileGeometry { x: &p.x, y: &p.y, r: &p.r, weight, width, thickness, periodic };
         PileMetrics::measure(&geometry, contacts)
     }
 }

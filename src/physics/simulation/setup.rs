@@ -18,7 +18,7 @@ use crate::physics::particles::{InitialContact, InitialDisk, Particles};
 use crate::physics::pour::Inlet;
 use crate::physics::rolling;
 use crate::physics::time_step::with_time_step;
-use crate::physics::walls::BoxWalls;
+use crate::physics::walls::{BoxWalls, wrap};
 
 impl<L: RegisteredLaw> Simulation<L> {
     /// A simulation of `scene` from `disks` at time zero, with forces evaluated at the initial
@@ -55,6 +55,10 @@ impl<L: ContactLaw> Simulation<L> {
             particles = Particles::default();
         }
         let walls = BoxWalls::new(&scene.domain);
+        if let Some(width) = walls.period() {
+            // Disks given past periodic sides (a file's, a dump's) start at their place in the box.
+            wrap(&mut particles.x, width);
+        }
         // Springs and spins are followed through the whole run if any stage has friction.
         let all = || protocol.stages.iter().map(|stage| &stage.materials);
         let tangential = all().any(|m| m.particle.friction > 0.0 || m.wall.friction > 0.0);

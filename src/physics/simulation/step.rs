@@ -19,7 +19,7 @@ use crate::physics::pour::Inlet;
 use crate::physics::record::{RunRecord, RunStatus, Snapshot};
 use crate::physics::rolling;
 use crate::physics::run_state::{Checkpoints, NoCheckpoints};
-use crate::physics::walls::BoxWalls;
+use crate::physics::walls::{BoxWalls, Periodic, Sides, Walled, wrap};
 use crate::physics::warning::ValidityWarning;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -137,6 +137,9 @@ impl<L: ContactLaw> Simulation<L> {
     /// at the start of the step, and whether the neighbour list must be rebuilt.
     pub(super) fn move_disks(&mut self) -> (f64, f64, bool) {
         let moved = self.integrator.advance(&mut self.particles, &self.context, &self.team, &mut self.moved);
+        if let Some(width) = self.walls.period() {
+            wrap(&mut self.particles.x, width);
+        }
         (moved.power, moved.damping_power, self.neighbors.note_step(moved.longest.root()))
     }
 
@@ -193,6 +196,14 @@ impl<L: ContactLaw> Simulation<L> {
     /// contact sums and per-disk contact force magnitudes (on one thread; other steps share the
     /// work between the threads the simulation is given, with the same bits).
     pub(super) fn compute_forces<const SAMPLE: bool>(&mut self) {
+        match self.walls.period() {
+            Some(width) => self.compute_forces_across::<SAMPLE, _>(Periodic::new(width)),
+            None => self.compute_forces_across::<SAMPLE, _>(Walled),
+        }
+    }
+
+    /// [`Self::compute_forces`] with the disk pairs' x separations measured across `sides`.
+    fn compute_forces_across<const SAMPLE: bool, X: Sides>(&mut self, sides: X) {
         // Forces and torques were cleared by the integrator, which read them last, the rolling
         // resistances by `rolling::apply` (or at the start).
         let p = &mut self.particles;
@@ -210,7 +221,7 @@ impl<L: ContactLaw> Simulation<L> {
                 tables,
                 &self.law,
                 kinds,
-                &mut self.neighbors.pairs,
+                (&mut self.neighbors.pairs, sides),
                 walls,
                 &s,
                 &mut f,
@@ -219,10 +230,10 @@ impl<L: ContactLaw> Simulation<L> {
             );
             return;
         }
-        self.touching.contacts::<L, SAMPLE>(
+        self.touching.contacts::<L, X, SAMPLE>(
             &self.law,
             [&self.disk_contacts, &self.wall_contacts],
-            (&self.walls.walls, &mut self.neighbors),
+            (&self.walls.walls, sides, &mut self.neighbors),
             &s,
             &mut f,
             &mut self.totals,
