@@ -234,7 +234,7 @@ fn pile_metric_charts_put_each_point_and_its_interval_where_the_points_table_say
     const FRICTION: &str = "material.friction";
     let mut checked = 0;
     for (axis, colour_axis) in [(RESTITUTION, FRICTION), (FRICTION, RESTITUTION)] {
-        for metric in demsweep::plot::results::CHARTED_METRICS {
+        for metric in demsweep::physics::quantity::charted() {
             let path = plots.join(format!("{metric}_vs_{axis}.svg"));
             if metric == "settle_time" && axis == RESTITUTION {
                 assert!(!path.exists(), "settle time against the first axis is the settle-time chart");
@@ -291,5 +291,5 @@ fn pile_metric_charts_put_each_point_and_its_interval_where_the_points_table_say
             checked += 1;
         }
     }
-    assert_eq!(checked, 2 * demsweep::plot::results::CHARTED_METRICS.len() - 1);
+    assert_eq!(checked, 2 * demsweep::physics::quantity::charted().count() - 1);
 }

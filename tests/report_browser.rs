@@ -11,7 +11,6 @@ mod python_env;
 use std::process::Command;
 
 use demsweep::physics::quantity;
-use demsweep::plot::results::CHARTED_METRICS;
 use serde_json::Value;
 
 /// 3 restitution values x 3 seeds of 25 disks.
@@ -98,7 +97,7 @@ fn the_report_opens_sorts_and_links_in_a_real_browser() {
     the_answer_comes_first(&seen, &dir.join("report_study.h5"));
     assert_eq!(seen["sorted_column"], "material.restitution");
     assert_eq!((seen["sorted_ascending"].as_bool(), seen["sorted_descending"].as_bool()), (Some(true), Some(true)));
-    let pile_charts = CHARTED_METRICS.len() - 1; // settle time against restitution is the settle-time chart
+    let pile_charts = quantity::charted().count() - 1; // settle time against restitution is the settle-time chart
     let per_run = 4; // energies, unbalanced force ratio, stress profile, final pile
     assert_eq!(seen["charts"], 1 + pile_charts + 9 * per_run, "settle time, pile metrics and the runs' charts: {seen}");
     assert_eq!(seen["charts_without_size"], 0);

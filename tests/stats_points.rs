@@ -224,13 +224,13 @@ fn compare_finds_points_and_refuses_unknown_ones() {
     // By default the pile metrics, and cost in particle-steps.
     let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
     let kept: Vec<&str> = comparison.kept.iter().map(|k| k.tolerance.metric.as_str()).collect();
-    assert_eq!(kept, compare::DEFAULT_KEEP.map(|(m, _)| m));
+    assert_eq!(kept, quantity::kept_by_default().map(|(m, _)| m).collect::<Vec<_>>());
     assert_eq!((comparison.notes.len(), comparison.cost_column.as_str()), (0, "particle_steps"));
     assert!(close(comparison.points[0].cost.ratio, 2000.0 / 1200.0, 1e-12));
 
     // A file written before the pile metrics and particle-steps: the fallback, said in a note.
     let mut old = summary();
-    let newer: Vec<&str> = compare::DEFAULT_KEEP.iter().map(|(m, _)| *m).chain(["particle_steps"]).collect();
+    let newer: Vec<&str> = quantity::kept_by_default().map(|(m, _)| m).chain(["particle_steps"]).collect();
     old.columns.retain(|c| !newer.contains(&c.name.as_str()));
     let points = Points::new(&old);
     let comparison = compare::compare(&points, "restitution=0.5", &[]).unwrap();
@@ -250,7 +250,7 @@ fn compare_finds_points_and_refuses_unknown_ones() {
 
     // Read back from an old file, the newer columns exist but hold no value: the same fallback.
     let mut unmeasured = summary();
-    for column in unmeasured.columns.iter_mut().filter(|c| compare::DEFAULT_KEEP.iter().any(|(m, _)| *m == c.name)) {
+    for column in unmeasured.columns.iter_mut().filter(|c| quantity::kept_by_default().any(|(m, _)| m == c.name)) {
         column.data = ColumnData::Float(vec![f64::NAN; column.data.len()]);
     }
     let comparison = compare::compare(&Points::new(&unmeasured), "restitution=0.5", &[]).unwrap();

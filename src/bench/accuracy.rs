@@ -23,7 +23,7 @@ use crate::physics::config::{IntegratorKind, PlacementKind, SceneConfig};
 use crate::physics::contact::HertzMindlin;
 use crate::physics::material::{Materials, beta_from_restitution};
 use crate::physics::particles::InitialDisk;
-use crate::physics::quantity;
+use crate::physics::quantity::{self, PACKING_FRACTION, PILE_HEIGHT, SETTLE_TIME};
 use crate::physics::record::RunRecord;
 use crate::physics::simulation::Simulation;
 use crate::plot::bench::{LogLogSeries, log_log_chart};
@@ -315,9 +315,9 @@ pub fn deposition_scene(options: &AccuracyOptions) -> SceneConfig {
 fn deposition_observables(rec: &RunRecord) -> Observables {
     let h = &rec.history;
     let observables = vec![
-        ("settle_time", rec.settle_time.unwrap_or(f64::NAN)),
-        ("pile_height", rec.pile["pile_height"]),
-        ("packing_fraction", rec.pile["packing_fraction"]),
+        (SETTLE_TIME.name, rec.settle_time.unwrap_or(f64::NAN)),
+        (PILE_HEIGHT.name, rec.pile[PILE_HEIGHT.name]),
+        (PACKING_FRACTION.name, rec.pile[PACKING_FRACTION.name]),
         ("final_potential_energy", RunRecord::last(&h.potential)),
         ("final_elastic_energy", RunRecord::last(&h.elastic)),
         ("final_dissipated_energy", RunRecord::last(&h.dissipated)),

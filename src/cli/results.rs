@@ -11,6 +11,7 @@ use demsweep::output::SummaryTable;
 use demsweep::output::guard::Existing;
 use demsweep::output::table::{ColumnData, short_float};
 use demsweep::output::{self, ShardSpec};
+use demsweep::physics::quantity::{self, SETTLE_TIME};
 use demsweep::plot::{self, ChartOptions};
 use demsweep::report::ReportContext;
 use demsweep::runner::{
@@ -446,10 +447,10 @@ fn run_view(summary: &SummaryTable, known: &[&str], metrics: &[&str]) -> Result<
 /// The metrics `summary --by-point` prints by default: settle time, the default compare metrics
 /// present, cost and wall time.
 fn default_metrics(known: &[&str]) -> Vec<String> {
-    let pile = compare::DEFAULT_KEEP.iter().filter(|(m, _)| known.contains(m)).map(|(m, _)| *m).collect::<Vec<_>>();
+    let pile = quantity::kept_by_default().map(|(m, _)| m).filter(|m| known.contains(m)).collect::<Vec<_>>();
     let pile = if pile.is_empty() { compare::FALLBACK_KEEP.iter().map(|(m, _)| *m).collect() } else { pile };
     let cost = ["particle_steps", "steps"].into_iter().find(|c| known.contains(c));
-    std::iter::once("settle_time")
+    std::iter::once(SETTLE_TIME.name)
         .chain(pile)
         .chain(cost)
         .chain(["wall_time"])
@@ -698,9 +699,10 @@ mod tests {
     fn summary_help_lists_the_default_columns() {
         let help =
             super::super::Cli::command().find_subcommand("summary").unwrap().get_long_about().unwrap().to_string();
-        let pile = compare::DEFAULT_KEEP.iter().chain(&compare::FALLBACK_KEEP).map(|(m, _)| *m);
-        let all: Vec<&str> = ["settle_time", "particle_steps", "steps", "wall_time"].into_iter().chain(pile).collect();
-        let newer = |m: &&str| *m == "particle_steps" || compare::DEFAULT_KEEP.iter().any(|(k, _)| k == m);
+        let pile = quantity::kept_by_default().chain(compare::FALLBACK_KEEP).map(|(m, _)| m);
+        let all: Vec<&str> =
+            [SETTLE_TIME.name, "particle_steps", "steps", "wall_time"].into_iter().chain(pile).collect();
+        let newer = |m: &&str| *m == "particle_steps" || quantity::kept_by_default().any(|(k, _)| k == *m);
         let old: Vec<&str> = all.iter().copied().filter(|m| !newer(m)).collect();
         for metric in default_metrics(&all).iter().chain(&default_metrics(&old)).map(String::as_str).chain(["warnings"])
         {

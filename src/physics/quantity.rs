@@ -3,8 +3,10 @@
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units (HDF5
 //! attributes, the CSV files' metadata sidecars and the labels people read: [`unit`], [`label`]), the
 //! history tables, `compare --keep`, tune's `[keep]`, `summary --metric` and the column table of
-//! docs/results.md all read these tables; nothing else lists the names. Adding a pile metric is one entry in [`PILE_METRICS`] (and its known-answer
-//! test); adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
+//! docs/results.md all read these tables, and so do the metrics kept by default, the report's
+//! per-point columns and `plot`'s charts (each entry's [`Role`]); nothing else lists the names. Adding a
+//! pile metric is its computation in `pile.rs` (and its known-answer test) plus one entry in
+//! [`PILE_METRICS`]; adding a final value one entry in [`FINAL_VALUES`]. The tables are read when a run's
 //! record is turned into a row, never in the step loop.
 //!
 //! Units are SI symbols; an empty unit means dimensionless (a ratio, a fraction, a count).
@@ -23,8 +25,40 @@ pub struct Quantity<F> {
     pub unit: &'static str,
     /// What it is, in one sentence.
     pub description: &'static str,
+    /// Whether it is kept by default, its place in the report and whether it is charted.
+    pub role: Role,
     /// How it is computed.
     pub value: F,
+}
+
+/// How a per-run quantity is presented beyond its column: `compare`'s and tune's default kept
+/// metrics ([`kept_by_default`]), the report's per-point table and `plot`'s charts ([`charted`]) read it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Role {
+    /// Relative tolerance it is kept within when no metric is named; `None`: not kept by default.
+    pub keep: Option<f64>,
+    /// Its column in the report's per-point table.
+    pub report: Report,
+    /// Whether its per-point values are charted against each swept axis.
+    pub charted: bool,
+}
+
+impl Role {
+    /// A column of the report, neither kept by default nor charted.
+    pub const COLUMN: Role = Role { keep: None, report: Report::Column, charted: false };
+    /// No column of the report, neither kept by default nor charted.
+    pub const HIDDEN: Role = Role { report: Report::Hidden, ..Role::COLUMN };
+}
+
+/// A per-run quantity's column in the report's per-point table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Report {
+    /// A column in the header group of the quantity declared before it.
+    Column,
+    /// A column that opens the header group `group`, checked on at first when `shown`.
+    Opens { group: &'static str, shown: bool },
+    /// No column (the energies, raw counts, a direction).
+    Hidden,
 }
 
 /// A name, unit and description, without the computation.
@@ -33,7 +67,7 @@ pub type Declaration = Quantity<()>;
 impl<F> Quantity<F> {
     /// The declaration alone.
     pub fn declaration(&self) -> Declaration {
-        Quantity { name: self.name, unit: self.unit, description: self.description, value: () }
+        Quantity { name: self.name, unit: self.unit, description: self.description, role: self.role, value: () }
     }
 }
 
@@ -45,22 +79,35 @@ pub type RunValue = fn(&RunRecord) -> f64;
 /// What each run reports about how it went, in summary order; the summary row keeps them as typed
 /// fields (an optional settle time, integer step counts).
 pub const OUTCOME: [Declaration; 6] = [
-    declared("settle_time", "s", "Start of the stretch over which the settle criterion held; empty if never."),
-    declared("steps", "", "Time steps taken."),
+    SETTLE_TIME,
+    Quantity { role: Role::HIDDEN, ..declared("steps", "", "Time steps taken.") },
     declared("particle_steps", "", "Time steps times disks: the run's cost, independent of the machine."),
-    declared("simulated_time", "s", "Simulated time reached."),
+    Quantity { role: Role::HIDDEN, ..declared("simulated_time", "s", "Simulated time reached.") },
     declared("wall_time", "s", "Wall-clock time of the simulation, measured by the runner."),
     declared("cpu_time", "s", "CPU time of the simulation's thread, measured by the runner; empty where not measured."),
 ];
 
+/// When a run settled: the study charts' quantity, and the first of the report's per-point columns.
+pub const SETTLE_TIME: Declaration = Quantity {
+    role: Role { report: Report::Opens { group: "settle time & cost", shown: true }, charted: true, ..Role::COLUMN },
+    ..declared("settle_time", "s", "Start of the stretch over which the settle criterion held; empty if never.")
+};
+
+/// A declaration with [`Role::COLUMN`].
 const fn declared(name: &'static str, unit: &'static str, description: &'static str) -> Declaration {
-    Quantity { name, unit, description, value: () }
+    Quantity { name, unit, description, role: Role::COLUMN, value: () }
 }
 
 /// A final value that is the last sample of the history series in the `History` field `$field`.
 macro_rules! last_sample {
-    ($field:ident, $name:literal, $unit:literal, $description:literal) => {
-        Quantity { name: $name, unit: $unit, description: $description, value: |r| RunRecord::last(&r.history.$field) }
+    ($field:ident, $name:literal, $unit:literal, $description:literal, $role:expr) => {
+        Quantity {
+            name: $name,
+            unit: $unit,
+            description: $description,
+            role: $role,
+            value: |r| RunRecord::last(&r.history.$field),
+        }
     };
 }
 
@@ -70,63 +117,85 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 13] = [
         name: "time_step",
         unit: "s",
         description: "Time step used: given, or resolved from the scene's time scales.",
+        role: Role { report: Report::Opens { group: "time step & final state", shown: false }, ..Role::COLUMN },
         value: |r| r.time_step,
     },
     Quantity {
         name: "final_kinetic",
         unit: "J",
         description: "Kinetic energy, translational plus rotational, at the last sample.",
+        role: Role::HIDDEN,
         value: |r| RunRecord::last(&r.history.kinetic_translational) + RunRecord::last(&r.history.kinetic_rotational),
     },
     last_sample!(
         potential,
         "final_potential",
         "J",
-        "Gravitational potential energy at the last sample (zero at the origin)."
+        "Gravitational potential energy at the last sample (zero at the origin).",
+        Role::HIDDEN
     ),
-    last_sample!(elastic, "final_elastic", "J", "Elastic energy stored in the contacts at the last sample."),
+    last_sample!(
+        elastic,
+        "final_elastic",
+        "J",
+        "Elastic energy stored in the contacts at the last sample.",
+        Role::HIDDEN
+    ),
     last_sample!(
         dissipated,
         "final_dissipated",
         "J",
-        "Energy removed by damping and friction, numerical damping included."
+        "Energy removed by damping and friction, numerical damping included.",
+        Role::HIDDEN
     ),
     last_sample!(
         numerical_damping_dissipated,
         "final_numerical_damping_dissipated",
         "J",
-        "The part of final_dissipated removed by numerical damping."
+        "The part of final_dissipated removed by numerical damping.",
+        Role::HIDDEN
     ),
-    last_sample!(mechanical, "final_mechanical", "J", "Kinetic plus potential plus elastic energy at the last sample."),
-    last_sample!(unbalanced_force_ratio, "final_ubf", "", "Unbalanced force ratio at the last sample."),
+    last_sample!(
+        mechanical,
+        "final_mechanical",
+        "J",
+        "Kinetic plus potential plus elastic energy at the last sample.",
+        Role::HIDDEN
+    ),
+    last_sample!(unbalanced_force_ratio, "final_ubf", "", "Unbalanced force ratio at the last sample.", Role::COLUMN),
     Quantity {
         name: "energy_balance_error",
         unit: "",
         description: "Largest absolute error of the energy balance (mechanical + dissipated = initial) over the sampled steps, as a share of the energy available.",
+        role: Role::COLUMN,
         value: |r| r.energy_balance_error,
     },
     Quantity {
         name: "largest_overlap_ratio",
         unit: "",
         description: "Largest overlap over the sampled steps, over the smaller radius of its pair.",
+        role: Role::COLUMN,
         value: |r| r.largest_overlap_ratio,
     },
     Quantity {
         name: "physics_start_time",
         unit: "s",
         description: "When the scene's own physics began: 0 without stages, else when the last stage of its protocol ended; empty if the run ended first.",
+        role: Role::COLUMN,
         value: |r| r.stage_ends.last().map_or(0.0, |end| end.time.unwrap_or(f64::NAN)),
     },
     Quantity {
         name: "poured_disks",
         unit: "",
         description: "Disks a pour inserted (placement.kind = \"pour\"); empty for other placements.",
+        role: Role::COLUMN,
         value: |r| r.pour.map_or(f64::NAN, |pour| pour.inserted as f64),
     },
     Quantity {
         name: "refused_disks",
         unit: "",
         description: "Disks a pour refused, finding no free spot in its inlet; empty for other placements.",
+        role: Role::COLUMN,
         value: |r| r.pour.map_or(f64::NAN, |pour| pour.refused as f64),
     },
 ];
@@ -134,116 +203,150 @@ pub const FINAL_VALUES: [Quantity<RunValue>; 13] = [
 /// The pile metrics, measured once at the end of a run (see [`super::pile`] for the definitions;
 /// only contacts that carry force count).
 pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
-    Quantity { name: "pile_height", unit: "m", description: "Highest disk top.", value: |pile| pile.height() },
+    PILE_HEIGHT,
     Quantity {
         name: "surface_height",
         unit: "m",
         description: "Mean height of the pile's free surface over the box width (the top of the highest disk above each point).",
+        role: Role::COLUMN,
         value: |pile| pile.surface_height(),
     },
-    Quantity {
-        name: "packing_fraction",
-        unit: "",
-        description: "Disk area over the box width times the pile height.",
-        value: |pile| pile.packing_fraction(),
-    },
+    PACKING_FRACTION,
     Quantity {
         name: "packing_fraction_interior",
         unit: "",
         description: "Disk area fraction in a window 2 d_max from the walls, floor and surface.",
+        role: Role { keep: Some(0.01), charted: true, ..Role::COLUMN },
         value: |pile| pile.interior_packing_fraction(),
     },
     Quantity {
         name: "coordination_number",
         unit: "",
         description: "2 C_dd / N over disk-disk contacts.",
+        role: Role {
+            keep: Some(0.03),
+            report: Report::Opens { group: "contacts & forces", shown: false },
+            charted: false,
+        },
         value: |pile| pile.coordination_number(),
     },
     Quantity {
         name: "mechanical_coordination_number",
         unit: "",
         description: "2 C_dd / N after removing rattlers (fewer than 2 contacts) repeatedly.",
+        role: Role { charted: true, ..Role::COLUMN },
         value: |pile| pile.mechanical_coordination_number(),
     },
     Quantity {
         name: "rattler_fraction",
         unit: "",
         description: "Share of disks that are rattlers.",
+        role: Role::COLUMN,
         value: |pile| pile.rattler_fraction(),
     },
     Quantity {
         name: "floor_load_ratio",
         unit: "",
         description: "Floor normal forces over the disks' weight (below 1 when wall friction carries weight).",
+        role: Role { keep: Some(0.02), charted: true, ..Role::COLUMN },
         value: |pile| pile.floor_load_ratio(),
     },
     Quantity {
         name: "floor_mean_contact_force",
         unit: "N",
         description: "Mean normal force of the floor's contacts.",
+        role: Role::COLUMN,
         value: |pile| pile.floor_mean_contact_force(),
     },
     Quantity {
         name: "fabric_anisotropy",
         unit: "",
         description: "2 (λ1 − λ2) of the disk-disk contact-normal fabric tensor.",
+        role: Role { keep: Some(0.25), ..Role::COLUMN },
         value: |pile| pile.fabric_anisotropy(),
     },
     Quantity {
         name: "fabric_direction",
         unit: "rad",
         description: "Major principal direction of the fabric tensor, from +x, in [0, π).",
+        role: Role::HIDDEN,
         value: |pile| pile.fabric_direction(),
     },
     Quantity {
         name: "normal_force_width",
         unit: "",
         description: "Standard deviation over mean of the disk-disk normal forces (0 when uniformly loaded).",
+        role: Role::COLUMN,
         value: |pile| pile.normal_force_width(),
     },
     Quantity {
         name: "sliding_fraction",
         unit: "",
         description: "Share of frictional contacts at the Coulomb limit.",
+        role: Role::COLUMN,
         value: |pile| pile.sliding_fraction(),
     },
     Quantity {
         name: "mean_overlap_ratio",
         unit: "",
         description: "Mean overlap over the smaller radius.",
+        role: Role { charted: true, ..Role::COLUMN },
         value: |pile| pile.mean_overlap_ratio(),
     },
     Quantity {
         name: "stress_pressure",
         unit: "Pa",
         description: "Mean normal stress (σ_xx + σ_yy)/2 of the pile's Love–Weber stress, compression positive.",
+        role: Role::COLUMN,
         value: |pile| pile_stress(pile).pressure(),
     },
     Quantity {
         name: "stress_deviatoric",
         unit: "Pa",
         description: "Deviatoric stress √(((σ_xx − σ_yy)/2)² + σ_xy²) of the pile: the largest shear stress.",
+        role: Role::COLUMN,
         value: |pile| pile_stress(pile).deviatoric(),
     },
     Quantity {
         name: "stress_xx",
         unit: "Pa",
         description: "Horizontal normal stress of the pile (Love–Weber over the area below its surface height).",
+        role: Role::COLUMN,
         value: |pile| pile_stress(pile).xx,
     },
     Quantity {
         name: "stress_yy",
         unit: "Pa",
         description: "Vertical normal stress of the pile (Love–Weber over the area below its surface height).",
+        role: Role::COLUMN,
         value: |pile| pile_stress(pile).yy,
     },
     Quantity {
         name: "stress_xy",
         unit: "Pa",
         description: "Shear stress of the pile (Love–Weber, symmetrised).",
+        role: Role::COLUMN,
         value: |pile| pile_stress(pile).xy,
     },
 ];
+
+/// The pile's height, kept with [`PACKING_FRACTION`] where a file predates the other metrics.
+pub const PILE_HEIGHT: Quantity<PileValue> = Quantity {
+    name: "pile_height",
+    unit: "m",
+    description: "Highest disk top.",
+    role: Role { report: Report::Opens { group: "pile geometry", shown: true }, ..Role::COLUMN },
+    value: |pile| pile.height(),
+};
+
+/// The pile's packing fraction, kept with [`PILE_HEIGHT`] where a file predates the other metrics.
+pub const PACKING_FRACTION: Quantity<PileValue> = Quantity {
+    name: "packing_fraction",
+    unit: "",
+    description: "Disk area over the box width times the pile height.",
+    role: Role::COLUMN,
+    value: |pile| pile.packing_fraction(),
+};
 
 impl PileMetrics {
     /// Measures a pile from its disks and contacts: every metric of [`PILE_METRICS`].
@@ -289,6 +392,17 @@ pub fn final_values(record: &RunRecord) -> [f64; FINAL_VALUE_COUNT] {
 /// Every per-run quantity in summary order: [`OUTCOME`], then the final values.
 pub fn per_run() -> impl Iterator<Item = Declaration> {
     OUTCOME.into_iter().chain(final_value_declarations())
+}
+
+/// The metrics kept by default, with their relative tolerances (see [`Role::keep`]), in summary order.
+pub fn kept_by_default() -> impl Iterator<Item = (&'static str, f64)> {
+    per_run().filter_map(|q| q.role.keep.map(|relative| (q.name, relative)))
+}
+
+/// The quantities charted per point against each swept axis (see [`Role::charted`]): the final
+/// values a deposition is run for, then the outcomes (settle time).
+pub fn charted() -> impl Iterator<Item = &'static str> {
+    final_value_declarations().chain(OUTCOME).filter(|q| q.role.charted).map(|q| q.name)
 }
 
 /// The per-run quantity called `name`; a column `stage_end_time.NAME` is [`STAGE_END_TIME`].
@@ -390,6 +504,7 @@ macro_rules! real_series {
                 name: $name,
                 unit: $unit,
                 description: $description,
+                role: Role::COLUMN,
                 value: |h| SeriesValues::Real(&h.$field),
             },
             store: |h, v| h.$field = v,
@@ -434,6 +549,7 @@ pub const HISTORY_SERIES: [Series; 12] = [
             name: "contacts",
             unit: "",
             description: "Number of contacts, disk-disk and disk-wall.",
+            role: Role::COLUMN,
             value: |h| SeriesValues::Count(&h.contacts),
         },
         store: |h, v| h.contacts = v.into_iter().map(|c| c as u32).collect(),

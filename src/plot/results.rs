@@ -19,7 +19,7 @@ use crate::output::reader::{self, DamagedGroup};
 use crate::output::stored::{self, StoredRun};
 use crate::output::{OutputError, SummaryRow, SummaryTable};
 use crate::physics::RunStatus;
-use crate::physics::quantity;
+use crate::physics::quantity::{self, SETTLE_TIME};
 use crate::physics::record::Snapshot;
 use crate::stats::points::Points;
 use crate::study::ParamValue;
@@ -319,23 +319,13 @@ pub fn study_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[Summary
         return sink.note("no swept numeric parameter with two or more values: no study charts");
     };
     let series = axes.series.as_deref();
-    sink.chart("settle_time", study_name, |o, c| study::settle_time_lines(&points, x, series, o, c));
+    sink.chart(SETTLE_TIME.name, study_name, |o, c| study::settle_time_lines(&points, x, series, o, c));
     let Some(y) = series else { return };
     let cells = sink.chart("settle_time_heatmap", study_name, |o, c| study::settle_time_heatmap(&points, x, y, o, c));
     if let Some(cells) = cells {
         sink.note(&format!("settle time heatmap: {} cells over {x} x {y}", cells.len()));
     }
 }
-
-/// The per-point quantities charted against each swept axis by [`pile_metric_charts`]: the pile
-/// metrics a deposition is run for, then settle time.
-pub const CHARTED_METRICS: [&str; 5] = [
-    "packing_fraction_interior",
-    "mechanical_coordination_number",
-    "floor_load_ratio",
-    "mean_overlap_ratio",
-    "settle_time",
-];
 
 /// Lines a pile-metric chart draws at most (one colour each): more values of the colour axis are
 /// thinned to this many, spread over them.
@@ -346,7 +336,7 @@ pub const MAX_METRIC_LINES: usize = 8;
 /// tens of megabytes of SVG).
 pub const MAX_METRIC_X_VALUES: usize = 200;
 
-/// The pile-metric charts of `rows`: each of [`CHARTED_METRICS`] per grid point (mean and 95 %
+/// The pile-metric charts of `rows`: each of [`quantity::charted`] per grid point (mean and 95 %
 /// interval over its runs, the `/points` statistics) against each chart axis, a line per value of
 /// the other axis of a two-parameter grid (at most [`MAX_METRIC_LINES`]); named `<metric>_vs_<axis>`. Settle time against the first axis is
 /// the settle-time chart's, and is not drawn again.
@@ -370,8 +360,8 @@ pub fn pile_metric_charts(sink: &mut impl ChartSink, study_name: &str, rows: &[S
         shown.extend(thinned(sink, rows, (axis, axis), MAX_METRIC_X_VALUES, "{kept} of its {all} values"));
     }
     for (axis, colour) in along {
-        for metric in CHARTED_METRICS.into_iter().filter(|m| points.metric_names().contains(m)) {
-            if metric == "settle_time" && axis == x {
+        for metric in quantity::charted().filter(|m| points.metric_names().contains(m)) {
+            if metric == SETTLE_TIME.name && axis == x {
                 continue;
             }
             let unit = quantity::unit(metric).unwrap_or("");

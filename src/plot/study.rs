@@ -178,7 +178,7 @@ impl Figure for LinesFigure<'_> {
             .build_cartesian_2d(x_range.clone(), 0.0..top * 1.2)?;
         style::numbered_mesh(&mut chart.configure_mesh())
             .x_desc(self.x_param)
-            .y_desc(quantity::label("settle_time"))
+            .y_desc(quantity::label(quantity::SETTLE_TIME.name))
             .draw()?;
         let row = [(x_range.start, unsettled_row), (x_range.end, unsettled_row)];
         chart.draw_series(DashedLineSeries::new(row, 4, 6, NOT_SETTLED.stroke_width(1)))?;
@@ -355,7 +355,7 @@ impl Figure for HeatmapFigure<'_> {
         let range = self.grid.settle_range();
         let cells = self.draw_cells(&mut chart, root, &range)?;
         let bar_bottom = MARGIN + X_LABEL_AREA + LEGEND_AREA;
-        style::colour_bar(&right, range, &quantity::label("settle_time"), (MARGIN, bar_bottom))?;
+        style::colour_bar(&right, range, &quantity::label(quantity::SETTLE_TIME.name), (MARGIN, bar_bottom))?;
         let legend_top = right.dim_in_pixel().1.saturating_sub(LEGEND_AREA + X_LABEL_AREA);
         self.draw_legend(&right.shrink((20, legend_top), (170, LEGEND_AREA)))?;
         Ok(cells)

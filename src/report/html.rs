@@ -4,44 +4,29 @@ use serde_json::{Value, json};
 
 use crate::output::table::{ColumnData, significant};
 use crate::physics::RunStatus;
-use crate::physics::quantity;
+use crate::physics::quantity::{self, Report};
 use crate::plot::results::spread;
 use crate::stats::points::Points;
 
 use super::table::{Cell, Table};
 
-/// Per-run quantities not shown per point (the energies, raw counts, a direction): every other
-/// declared quantity the file has is a column, with its unit, and then the warning count.
-const NOT_SHOWN: [&str; 9] = [
-    "steps",
-    "simulated_time",
-    "final_kinetic",
-    "final_potential",
-    "final_elastic",
-    "final_dissipated",
-    "final_numerical_damping_dissipated",
-    "final_mechanical",
-    "fabric_direction",
-];
-
-/// The header groups of the per-quantity columns, each from its first quantity on, in the order of
-/// the quantity table ([`quantity::per_run`]): a quantity declared later joins the group it is
-/// declared in.
-const QUANTITY_GROUPS: [(&str, &str); 4] = [
-    ("settle_time", "settle time & cost"),
-    ("time_step", "time step & final state"),
-    ("pile_height", "pile geometry"),
-    ("coordination_number", "contacts & forces"),
-];
 /// Header group of the swept values.
 const POINT_GROUP: &str = "grid point";
 /// Header group of the run counts (all, and by status).
 const RUNS_GROUP: &str = "runs";
 /// Header group of the warning count and the run ids.
 const LAST_GROUP: &str = "warnings & run ids";
-/// Header groups shown at first (the reader checks the others on): the grid point, settle time and
-/// cost, the pile's geometry, and the run ids, so that the table fits a 1280 px page.
-const SHOWN_GROUPS: [&str; 4] = [POINT_GROUP, QUANTITY_GROUPS[0].1, QUANTITY_GROUPS[2].1, LAST_GROUP];
+/// Header groups shown at first (the reader checks the others on): the grid point, the quantities'
+/// groups declared shown (settle time and cost, the pile's geometry), and the run ids, so that the
+/// table fits a 1280 px page.
+fn shown_groups() -> Vec<&'static str> {
+    let declared = quantity::per_run().filter_map(|q| match q.role.report {
+        Report::Opens { group, shown: true } => Some(group),
+        _ => None,
+    });
+    [POINT_GROUP].into_iter().chain(declared).chain([LAST_GROUP]).collect()
+}
+
 /// Grid points the page's table holds at most, spread evenly over the grid (the first and the last
 /// kept): this bounds the page's size, memory and time whatever the grid (a 160 000-point table
 /// would be half a gigabyte of rows to build and nobody's overview); every point stays in the
@@ -49,12 +34,15 @@ const SHOWN_GROUPS: [&str; 4] = [POINT_GROUP, QUANTITY_GROUPS[0].1, QUANTITY_GRO
 pub const MAX_POINT_ROWS: usize = 5000;
 
 /// The columns shown per point, with their units, descriptions and header groups: the declared
-/// quantities but [`NOT_SHOWN`], and the warning count.
+/// quantities but those [`Report::Hidden`], each in the group opened last before it (in the order of
+/// [`quantity::per_run`]), and the warning count.
 fn point_metrics() -> impl Iterator<Item = (&'static str, &'static str, &'static str, &'static str)> {
     let mut group = "";
     let shown = quantity::per_run().filter_map(move |q| {
-        group = QUANTITY_GROUPS.iter().find(|(first, _)| *first == q.name).map_or(group, |(_, name)| name);
-        (!NOT_SHOWN.contains(&q.name)).then_some((q.name, q.unit, q.description, group))
+        if let Report::Opens { group: opened, .. } = q.role.report {
+            group = opened;
+        }
+        (q.role.report != Report::Hidden).then_some((q.name, q.unit, q.description, group))
     });
     shown.chain([("warnings", "", "Validity warnings of the point's runs.", LAST_GROUP)])
 }
@@ -228,7 +216,7 @@ impl PointsTable {
     /// The data the page's script renders, as JSON safe inside a `<script>` element.
     pub fn json(&self) -> String {
         let columns = serde_json::to_string(&self.columns).expect("JSON values serialise");
-        let shown_groups = json!(SHOWN_GROUPS);
+        let shown_groups = json!(shown_groups());
         format!("{{\"columns\":{columns},\"rows\":[{}],\"shown_groups\":{shown_groups}}}", self.rows.join(","))
             .replace("</", "<\\/")
     }
@@ -284,9 +272,7 @@ mod tests {
 
     #[test]
     fn header_groups_start_at_declared_quantities_and_hold_neighbouring_columns() {
-        for (first, group) in QUANTITY_GROUPS {
-            assert!(quantity::find(first).is_some(), "{group} starts at {first}, a declared quantity");
-        }
+        let opened = quantity::per_run().filter(|q| matches!(q.role.report, Report::Opens { .. })).count();
         let mut groups: Vec<&str> = point_metrics().map(|(.., group)| group).collect();
         assert!(!groups.contains(&""), "every shown quantity has a group");
         groups.dedup();
@@ -294,6 +280,6 @@ mod tests {
         distinct.sort();
         distinct.dedup();
         assert_eq!(groups.len(), distinct.len(), "each group's columns side by side: {groups:?}");
-        assert_eq!(groups.len(), QUANTITY_GROUPS.len() + 1, "{groups:?}");
+        assert_eq!(groups.len(), opened + 1, "{groups:?}");
     }
 }

@@ -283,7 +283,7 @@ fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
     let answer = first_answer(&points, spec);
     let reference = spec.map_or(String::new(), |spec| reference_section(&points, spec));
     let mut settled: Vec<(usize, Describe)> = (0..points.len())
-        .map(|p| (p, points.describe(p, "settle_time")))
+        .map(|p| (p, points.describe(p, quantity::SETTLE_TIME.name)))
         .filter(|(_, d)| d.n > 0 && d.mean.is_finite())
         .collect();
     if settled.is_empty() {
@@ -332,7 +332,7 @@ fn verdict(summary: &SummaryTable, spec: Option<&str>) -> String {
          over the settled runs, ± the 95 % confidence half-width). {summary_line}</p>\
          <table class=\"verdict\"><thead><tr><th>grid point</th><th>{}</th><th>settled runs</th>\
          <th>{}</th><th></th></tr></thead><tbody>{rows}</tbody></table>{reference}",
-        escape(&quantity::label("settle_time")),
+        escape(&quantity::label(quantity::SETTLE_TIME.name)),
         escape(&quantity::label("particle_steps_mean")),
     )
 }
@@ -414,7 +414,7 @@ fn reference_answer(points: &Points, verdict: &ReferenceVerdict) -> String {
 fn cheapest_answer(points: &Points, named: bool) -> String {
     let cost = if points.metric_names().contains(&"particle_steps") { "particle_steps" } else { "steps" };
     let cheapest = (0..points.len())
-        .filter(|&p| points.describe(p, "settle_time").n > 0)
+        .filter(|&p| points.describe(p, quantity::SETTLE_TIME.name).n > 0)
         .map(|p| (p, points.describe(p, cost)))
         .filter(|(_, d)| d.mean.is_finite())
         .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean));

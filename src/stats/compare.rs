@@ -7,17 +7,11 @@ use super::errors::{CompareError, UnknownMetric};
 use super::points::{Points, SEED, plus_minus};
 use super::{Decision, Describe, Equivalence, Ratio, equivalence, ratio_interval};
 use crate::output::table::{Column, ColumnData, SummaryTable, short_float};
+use crate::physics::quantity::{self, PACKING_FRACTION, PILE_HEIGHT};
 
-/// Pile metrics kept by default (relative tolerances), those of them a file has.
-pub const DEFAULT_KEEP: [(&str, f64); 4] = [
-    ("packing_fraction_interior", 0.01),
-    ("coordination_number", 0.03),
-    ("floor_load_ratio", 0.02),
-    ("fabric_anisotropy", 0.25),
-];
-
-/// Kept by default when a file has none of [`DEFAULT_KEEP`] (files written before the pile metrics).
-pub const FALLBACK_KEEP: [(&str, f64); 2] = [("packing_fraction", 0.01), ("pile_height", 0.01)];
+/// Kept by default when a file has none of [`quantity::kept_by_default`] (files written before the
+/// pile metrics).
+pub const FALLBACK_KEEP: [(&str, f64); 2] = [(PACKING_FRACTION.name, 0.01), (PILE_HEIGHT.name, 0.01)];
 
 /// Cost columns, the first one present is used: particle-steps, else time steps.
 const COST_COLUMNS: [&str; 2] = ["particle_steps", "steps"];
@@ -109,7 +103,7 @@ pub struct Comparison {
 }
 
 /// Compares every point with the reference named by `reference` (see [`find_point`]) on the
-/// metrics `keep` (the defaults when empty, see [`DEFAULT_KEEP`]). Fails on an unknown or ambiguous
+/// metrics `keep` (the defaults when empty, see [`quantity::kept_by_default`]). Fails on an unknown or ambiguous
 /// point and on a requested metric that is not a numeric column, naming the valid ones.
 pub fn compare(points: &Points, reference: &str, keep: &[Tolerance]) -> Result<Comparison, CompareError> {
     let reference = find_point(points, reference)?;
@@ -187,7 +181,8 @@ fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>
             .map(|(m, r)| Tolerance { metric: m.to_string(), relative: *r })
             .collect()
     };
-    let chosen = present(&DEFAULT_KEEP);
+    let default: Vec<(&str, f64)> = quantity::kept_by_default().collect();
+    let chosen = present(&default);
     if !chosen.is_empty() {
         return Ok((chosen, Vec::new()));
     }
@@ -195,7 +190,7 @@ fn choose_metrics(points: &Points, keep: &[Tolerance]) -> Result<(Vec<Tolerance>
     if fallback.is_empty() {
         return Err(CompareError::NoDefaultMetrics(available.iter().map(ToString::to_string).collect()));
     }
-    let names: Vec<&str> = DEFAULT_KEEP.iter().map(|(m, _)| *m).collect();
+    let names: Vec<&str> = default.iter().map(|(m, _)| *m).collect();
     let used: Vec<&str> = fallback.iter().map(|t| t.metric.as_str()).collect();
     let note = format!(
         "this file has none of the pile metrics {} (written before they existed): keeping {} instead",
@@ -366,7 +361,6 @@ pub fn ratio(r: &Ratio) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::quantity;
 
     #[test]
     fn ratios_are_rounded_to_their_interval() {
@@ -376,10 +370,7 @@ mod tests {
     }
 
     #[test]
-    fn default_metrics_are_declared_quantities() {
-        for (metric, _) in DEFAULT_KEEP.iter().chain(&FALLBACK_KEEP) {
-            assert!(quantity::find(metric).is_some(), "{metric} is not declared in physics::quantity");
-        }
+    fn cost_columns_are_declared_quantities() {
         assert!(COST_COLUMNS.iter().chain([&WALL_TIME]).all(|c| quantity::find(c).is_some()));
     }
 }

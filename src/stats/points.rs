@@ -160,7 +160,7 @@ impl<'a> Points<'a> {
             };
             columns.push(column(name, ints(&count)));
         }
-        let settle = self.summary.column("settle_time").map(|c| &c.data);
+        let settle = self.summary.column(quantity::SETTLE_TIME.name).map(|c| &c.data);
         let unsettled =
             |g: &[usize]| g.iter().filter(|&&r| !settle.and_then(|d| d.number(r)).is_some_and(f64::is_finite)).count();
         columns.push(column("unsettled", ints(&unsettled)));
