@@ -300,7 +300,7 @@ integrator.time_step = 1e-5
         assert_eq!(resumed, straight);
     }
 
-    /// A short run (r0000) beside a run eight times as long (r0001), no frames.
+    /// A short run (r0000) beside a run about seven times as long (r0001), no frames.
     const SHORT_AND_LONG: &str = r#"name = "ckpt"
 [scene]
 particles.count = 300
@@ -312,7 +312,7 @@ run.stop_at_settle = false
 [output]
 frames = false
 [sweep]
-"run.duration" = [0.3, 2.4]
+"run.duration" = [0.6, 4.0]
 "#;
 
     #[test]
@@ -322,7 +322,8 @@ frames = false
         let saved = dir.join("out/ckpt.checkpoints");
         std::fs::create_dir_all(&saved).unwrap();
         std::fs::write(saved.join("notes.txt"), "mine").unwrap();
-        let mut child = start(&dir, "out", &["--checkpoint-every", "0.1s"]);
+        // Commits every 0.2 s store the short run while the long one goes on, however fast the machine.
+        let mut child = start(&dir, "out", &["--checkpoint-every", "0.1s", "--commit-interval", "0.2"]);
         let (short, long) = (saved.join("r0000.checkpoint"), saved.join("r0001.checkpoint"));
         let waited = Instant::now();
         let mut wait_for = |what: &str, done: &dyn Fn() -> bool| {
