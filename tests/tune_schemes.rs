@@ -7,11 +7,9 @@ mod tune_common;
 
 use demsweep::physics::warning::{ValidityWarning, WarningKind};
 use demsweep::study::ParamValue;
-use demsweep::tune::model::{
-    Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchResult, State, TuneError,
-};
+use demsweep::tune::model::{Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, State, TuneError};
 use demsweep::tune::search::search;
-use tune_common::{hash, normal};
+use tune_common::{dump, hash, normal, stand_in_config};
 
 /// The first lever's fraction of the contact time at coordinate `u` (log range 0.01 to 0.2).
 fn fraction(u: f64) -> f64 {
@@ -99,34 +97,12 @@ impl Evaluator for StandIn {
 
 fn config() -> SearchConfig {
     SearchConfig {
-        dims: 2,
         levels: vec![None, Some(2)],
-        tolerances: vec![(0.05, true)],
-        metrics: vec!["pile_height".to_string()],
-        seeds: 3,
-        max_seeds: 8,
-        reference_seeds: 6,
-        verify_seeds: 8,
-        budget: 400,
-        seed: 5,
-        initial: None,
-        dissipation: vec![0.0; 2],
         home: vec![Some((REFERENCE_FRACTION / 0.01).ln() / 20f64.ln()), Some(0.25)],
         standards: 1,
         path: true,
-        max_spend: 20.0,
-        cut_runs: true,
+        ..stand_in_config()
     }
-}
-
-/// Every candidate in a line, for failure messages.
-fn dump(result: &SearchResult) -> String {
-    let lines = result.candidates.iter().map(|c| {
-        let a = result.assess(c);
-        let v = result.assess_verification(c).map(|v| format!("{} {:.3}", v.state.name(), v.cost / 100.0));
-        format!("{} {:?} s{:?} n{} {:.3} {:?} {:?}", c.id, c.point, c.standard, a.n, a.cost / 100.0, a.state, v)
-    });
-    lines.collect::<Vec<_>>().join("\n")
 }
 
 #[test]

@@ -10,7 +10,7 @@ use demsweep::tune::model::{
     Evaluator, Job, Outcome, Role, RunFailure, Screen, SearchConfig, SearchEnd, SearchResult, State, TuneError,
 };
 use demsweep::tune::search::search;
-use tune_common::{hash, normal};
+use tune_common::{dump, hash, normal, stand_in_config};
 
 /// A function of a point of the lever space.
 type Field = fn(&[f64]) -> f64;
@@ -130,38 +130,6 @@ fn identity(point: &[f64], step: f64) -> String {
     format!("{point:?} {step}")
 }
 
-fn config() -> SearchConfig {
-    SearchConfig {
-        dims: 2,
-        levels: vec![None, None],
-        tolerances: vec![(0.05, true)],
-        metrics: vec!["pile_height".to_string()],
-        seeds: 3,
-        max_seeds: 8,
-        reference_seeds: 6,
-        verify_seeds: 8,
-        budget: 400,
-        seed: 5,
-        initial: None,
-        dissipation: vec![0.0; 2],
-        home: vec![None; 2],
-        standards: 0,
-        path: false,
-        max_spend: 20.0,
-        cut_runs: true,
-    }
-}
-
-/// Every candidate in a line, for failure messages.
-fn dump(result: &SearchResult) -> String {
-    let lines = result.candidates.iter().map(|c| {
-        let a = result.assess(c);
-        let v = result.assess_verification(c).map(|v| format!("{} {:.3}", v.state.name(), v.cost / 100.0));
-        format!("{} {:?} s{:?} n{} {:.3} {:?} {:?}", c.id, c.point, c.standard, a.n, a.cost / 100.0, a.state, v)
-    });
-    lines.collect::<Vec<_>>().join("\n")
-}
-
 /// What a search spent: the cost of every run it made (reference depositions times 100).
 fn spent(result: &SearchResult) -> f64 {
     let candidates = result.candidates.iter().flat_map(|c| c.runs.iter().chain(&c.verification));
@@ -184,7 +152,7 @@ fn a_damping_only_tune_evaluates_damping_settings() {
     let stand_in =
         StandIn { settle: |p| 1.0 - 0.5 * p[0] - 0.2 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
     let mut stand_in = stand_in;
-    let result = search(&SearchConfig { standards: 1, max_spend: 30.0, ..config() }, &mut stand_in).unwrap();
+    let result = search(&SearchConfig { standards: 1, max_spend: 30.0, ..stand_in_config() }, &mut stand_in).unwrap();
     let evaluated = result.candidates.iter().filter(|c| c.standard.is_none() && !c.runs.is_empty()).count();
     assert!(evaluated >= 3, "the damping levers were searched: {evaluated} settings\n{}", dump(&result));
     let (cost, best) = answer(&result);
@@ -199,7 +167,7 @@ fn a_numerical_damping_tune_never_reruns_the_references_own_setting() {
     let stand_in =
         StandIn { settle: |p| 1.0 - 0.1 * p[0] - 0.05 * p[1], reference_at: Some(vec![0.0, 0.0]), ..StandIn::new() };
     let mut stand_in = stand_in;
-    let config = SearchConfig { home: vec![Some(0.0), Some(0.0)], ..config() };
+    let config = SearchConfig { home: vec![Some(0.0), Some(0.0)], ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let origin = stand_in.jobs.iter().filter(|j| j.role != Role::Reference && j.point == [0.0, 0.0]).count();
     assert_eq!(origin, 0, "the reference's setting ran as a candidate:\n{}", dump(&result));
@@ -219,7 +187,7 @@ fn a_candidate_likely_different_gets_no_more_seeds() {
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { max_spend: 30.0, ..config() };
+    let config = SearchConfig { max_spend: 30.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let shifted: Vec<_> = result.candidates.iter().filter(|c| c.point.first().is_some_and(|&x| x > 0.5)).collect();
     let undecided = shifted.iter().filter(|c| result.assess(c).state == State::Undecided).count();
@@ -235,13 +203,13 @@ fn a_candidate_likely_different_gets_no_more_seeds() {
 fn the_search_says_whether_the_spend_limit_the_run_budget_or_its_settings_ended_it() {
     // A damping lever that shortens settling a little: each limit in turn is the one that binds.
     let stand_in = || StandIn { settle: |p| 1.0 - 0.2 * p[0], ..StandIn::new() };
-    let spend = search(&SearchConfig { max_spend: 12.0, ..config() }, &mut stand_in()).unwrap();
+    let spend = search(&SearchConfig { max_spend: 12.0, ..stand_in_config() }, &mut stand_in()).unwrap();
     assert_eq!(spend.end, SearchEnd::SpendLimit, "{}", dump(&spend));
-    let runs = search(&SearchConfig { budget: 40, max_spend: 100.0, ..config() }, &mut stand_in()).unwrap();
+    let runs = search(&SearchConfig { budget: 40, max_spend: 100.0, ..stand_in_config() }, &mut stand_in()).unwrap();
     assert_eq!(runs.end, SearchEnd::RunBudget, "{}", dump(&runs));
     assert!(runs.runs <= 40);
     // Two values of each lever: every setting runs, and the search runs out of settings.
-    let few = SearchConfig { levels: vec![Some(2), Some(2)], max_spend: 100.0, ..config() };
+    let few = SearchConfig { levels: vec![Some(2), Some(2)], max_spend: 100.0, ..stand_in_config() };
     let exhausted = search(&few, &mut stand_in()).unwrap();
     assert_eq!(exhausted.end, SearchEnd::Exhausted, "{}", dump(&exhausted));
 }
@@ -258,7 +226,7 @@ fn a_time_step_path_whose_rungs_all_fail_leaves_spend_for_the_other_levers() {
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let result = search(&SearchConfig { standards: 1, path: true, ..config() }, &mut stand_in).unwrap();
+    let result = search(&SearchConfig { standards: 1, path: true, ..stand_in_config() }, &mut stand_in).unwrap();
     assert!(!result.path.0.is_empty(), "the path ran: {:?}\n{}", result.path, dump(&result));
     assert!(
         result
@@ -285,7 +253,7 @@ fn a_cheap_corner_that_needs_more_than_max_seeds_to_decide_is_found() {
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { max_spend: 40.0, ..config() };
+    let config = SearchConfig { max_spend: 40.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let (cost, best) = answer(&result);
     assert!(best.point[0] > 0.85, "the cheap corner is the answer: {:?} at {cost}", best.point);
@@ -304,7 +272,7 @@ fn the_cheap_corner_lowers_the_restitution_and_keeps_the_users_numerical_damping
     let stand_in =
         StandIn { settle: |p| 0.6 + 0.4 * p[0], offset: |p| if p[1] > 0.3 { 0.2 } else { 0.0 }, ..StandIn::new() };
     let mut stand_in = stand_in;
-    let config = SearchConfig { dissipation: vec![-1.0, 0.0], home: vec![Some(0.75), Some(0.0)], ..config() };
+    let config = SearchConfig { dissipation: vec![-1.0, 0.0], home: vec![Some(0.75), Some(0.0)], ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let first = result.candidates.iter().find(|c| c.standard.is_none()).expect("a search point");
     assert_eq!(first.point, vec![0.0, 0.0], "the corner comes first:\n{}", dump(&result));
@@ -325,7 +293,7 @@ fn a_cheap_corner_past_the_stable_step_backs_off_the_damping_and_keeps_the_step(
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { dissipation: vec![-1.0, 0.0], ..config() };
+    let config = SearchConfig { dissipation: vec![-1.0, 0.0], ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let skipped: Vec<_> = result.candidates.iter().filter(|c| c.predicted_invalid.is_some()).collect();
     assert_eq!(skipped.first().map(|c| c.point.clone()), Some(vec![0.0, 1.0]), "the corner:\n{}", dump(&result));
@@ -349,7 +317,7 @@ fn after_a_time_step_path_left_undecided_the_search_prices_its_points_at_their_o
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { standards: 1, path: true, max_spend: 16.0, ..config() };
+    let config = SearchConfig { standards: 1, path: true, max_spend: 16.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     assert!(!result.path.0.is_empty(), "the path ran: {:?}\n{}", result.path, dump(&result));
     let (cost, best) = answer(&result);
@@ -370,7 +338,7 @@ fn a_candidate_the_references_own_spread_leaves_undecided_gets_a_larger_referenc
     let stand_in =
         StandIn { settle: |p| 1.0 - 0.5 * p[0], offset: |_| 0.025, reference_spread: 0.015, ..StandIn::new() };
     let mut stand_in = stand_in;
-    let config = SearchConfig { max_spend: 30.0, ..config() };
+    let config = SearchConfig { max_spend: 30.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     assert!(
         result.reference.len() > config.reference_seeds,
@@ -397,7 +365,7 @@ fn the_time_step_path_stops_stepping_down_where_the_cheap_corner_is_cheaper() {
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { standards: 1, path: true, max_spend: 30.0, ..config() };
+    let config = SearchConfig { standards: 1, path: true, max_spend: 30.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     assert_eq!(result.path.0.len(), 1, "one rung, no step down: {:?}\n{}", result.path, dump(&result));
     let (cost, best) = answer(&result);
@@ -417,7 +385,7 @@ fn a_reference_whose_first_seeds_drew_high_grows_and_the_pile_is_kept() {
         ..StandIn::new()
     };
     let mut stand_in = stand_in;
-    let config = SearchConfig { max_spend: 30.0, ..config() };
+    let config = SearchConfig { max_spend: 30.0, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     assert!(result.reference.len() > config.reference_seeds, "the reference grew\n{}", dump(&result));
     let (cost, _) = answer(&result);
@@ -430,7 +398,8 @@ fn a_setting_that_saves_nothing_on_its_fresh_seeds_is_no_answer() {
     // every setting settles 10 % later (the search's seeds drew short): each verified candidate
     // passes on the pile but costs more than the reference there.
     let mut stand_in = StandIn { settle: |p| 1.0 - 0.05 * p[0], verify_settle: 1.1, ..StandIn::new() };
-    let config = SearchConfig { dims: 1, levels: vec![None], dissipation: vec![0.0], home: vec![None], ..config() };
+    let config =
+        SearchConfig { dims: 1, levels: vec![None], dissipation: vec![0.0], home: vec![None], ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let passed: Vec<_> = result
         .candidates
@@ -455,7 +424,7 @@ fn a_fixed_time_step_damping_only_tune_with_ten_reference_seeds_evaluates_a_damp
     let stand_in =
         StandIn { settle: |p| 0.9 - 0.3 * p[0] - 0.1 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
     let mut stand_in = stand_in;
-    let config = SearchConfig { standards: 1, reference_seeds: 10, ..config() };
+    let config = SearchConfig { standards: 1, reference_seeds: 10, ..stand_in_config() };
     let result = search(&config, &mut stand_in).unwrap();
     let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
     assert!(evaluated >= 1, "a damping setting ran: {evaluated} settings\n{}", dump(&result));
@@ -480,7 +449,7 @@ fn the_sheet_lists_a_cheaper_undecided_candidate_and_a_larger_spend_resumed_deci
     };
     let spec = demsweep::tune::load(std::path::Path::new("tests/data/tiny_tune.toml")).unwrap();
     let mut first = stand_in();
-    let result = search(&config(), &mut first).unwrap();
+    let result = search(&stand_in_config(), &mut first).unwrap();
     let out = std::path::Path::new("elsewhere/tiny");
     let sheet = demsweep::tune::report::paragraph(&spec, &result, Some(out));
     let listed = sheet.lines().find(|l| l.starts_with("Undecided, cheaper: candidate "));
@@ -496,7 +465,7 @@ fn the_sheet_lists_a_cheaper_undecided_candidate_and_a_larger_spend_resumed_deci
     let resume = sheet.split("--resume --max-spend ").nth(1).and_then(|r| r.split('`').next()?.parse::<f64>().ok());
     let max_spend = resume.unwrap_or_else(|| panic!("the sheet names the spend:\n{sheet}"));
     let mut second = stand_in();
-    let more = search(&SearchConfig { max_spend, ..config() }, &mut second).unwrap();
+    let more = search(&SearchConfig { max_spend, ..stand_in_config() }, &mut second).unwrap();
     let stored: Vec<String> = first.jobs.iter().map(|j| format!("{j:?}")).collect();
     let replayed: Vec<String> = second.jobs.iter().map(|j| format!("{j:?}")).collect();
     assert!(stored.iter().all(|j| replayed.contains(j)), "every stored run replayed:\n{}", dump(&more));
@@ -513,7 +482,8 @@ fn the_sheet_names_the_keep_line_that_would_hold_an_unkept_metric_beyond_two_sig
     // reference's and every other pile metric as the reference does.
     let mut stand_in =
         StandIn { settle: |p| 1.0 - 0.5 * p[0] - 0.2 * p[1], standards: vec![(vec![0.5, 0.5], 1.0)], ..StandIn::new() };
-    let mut result = search(&SearchConfig { standards: 1, max_spend: 30.0, ..config() }, &mut stand_in).unwrap();
+    let mut result =
+        search(&SearchConfig { standards: 1, max_spend: 30.0, ..stand_in_config() }, &mut stand_in).unwrap();
     let names = demsweep::tune::keepable_metrics();
     let pile = |shift: f64, key: u64| {
         names.iter().map(|n| 1.0 + 0.01 * normal(key) + if n == "fabric_anisotropy" { shift } else { 0.0 }).collect()
