@@ -125,8 +125,8 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
         }
     }
     if sink.is_empty() {
-        spec.warnings = validity::clip_levers(&mut spec);
-        let tops = validity::time_step_tops(&spec);
+        let (warnings, tops) = validity::clip_levers(&mut spec);
+        spec.warnings = warnings;
         spec.standards = ladder::standard_settings(&spec.reference, &spec.levers, &tops);
     }
     sink.into_result(spec)

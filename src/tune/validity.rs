@@ -79,9 +79,10 @@ fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<Vec<
 /// another scheme is stable there), on any placement seed the tune's runs use (the end predicted
 /// invalid while the reference's value is valid): the new end is the last valid value found by
 /// bisection on twice [`CLIP_SEEDS`] placements, confirmed on twice [`CONFIRM_SEEDS`]. Returns a
-/// warning per clipped lever naming the limit. A lever with no valid value found is left as it is
-/// (the screen rejects its points, each at its own list-lever values).
-pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
+/// warning per clipped lever naming the limit, and the time-step tops of the clipped ranges
+/// ([`time_step_tops`], judged on the same placements). A lever with no valid value found is left as
+/// it is (the screen rejects its points, each at its own list-lever values).
+pub fn clip_levers(spec: &mut TuneSpec) -> (Vec<String>, Vec<StepTop>) {
     let mut placements = Placements::new(spec);
     // Each lever's reference coordinate depends on its own range only, read before it is clipped.
     let home = spec.reference_coordinates();
@@ -118,8 +119,13 @@ pub fn clip_levers(spec: &mut TuneSpec) -> Vec<String> {
             named.join(" and "),
         ));
     }
-    warnings
+    let tops = time_step_tops(spec, &mut placements);
+    (warnings, tops)
 }
+
+/// The time-step lever's largest valid value with the list-lever values it holds for (see
+/// [`time_step_tops`]).
+pub type StepTop = (Vec<(String, ParamValue)>, ParamValue);
 
 /// The values of the list levers (other than `lever`) that leave the disks where they are, each
 /// combination of them (e.g. each `integrator.scheme`): a value of `lever` is past a limit only when
@@ -149,19 +155,18 @@ fn moves_disks(key: &str) -> bool {
 /// (see [`alternatives`]), largest first: each scheme's own top of the time-step ladder. Empty when
 /// there is no time-step lever or no list lever to combine it with (the clipped range's top is then
 /// the only one).
-pub fn time_step_tops(spec: &TuneSpec) -> Vec<(Vec<(String, ParamValue)>, ParamValue)> {
+fn time_step_tops(spec: &TuneSpec, placements: &mut Placements) -> Vec<StepTop> {
     let Some(lever) = ladder::time_step_lever(&spec.levers) else { return Vec::new() };
     let combinations = alternatives(spec, lever);
     if combinations.len() < 2 {
         return Vec::new();
     }
-    let mut placements = Placements::new(spec);
     let inside = spec.reference_coordinates()[spec.levers.iter().position(|l| l.key == lever.key).unwrap_or(0)];
     let mut tops: Vec<(Vec<(String, ParamValue)>, f64)> = combinations
         .into_iter()
         .filter_map(|combination| {
             let alone = [combination.clone()];
-            let top = match clipped_ends(spec, lever, inside, &alone, &mut placements) {
+            let top = match clipped_ends(spec, lever, inside, &alone, placements) {
                 Some(((_, high), _)) => high,
                 None if breach(spec, lever, 1.0, &placements.bisected, &alone).is_some() => return None,
                 None => 1.0,
