@@ -114,6 +114,22 @@ impl<'a> Pile<'a> {
         self.carrying.iter().filter(|c| c.partner == Partner::Wall(0))
     }
 
+    /// Packing fraction at which [`predicted_interior_window`] expects a settled pile: random 2D
+    /// deposits settle at about 0.80-0.86.
+    pub const PREDICTED_PACKING: f64 = 0.82;
+
+    /// The depth (m) a pile of disks of radii `radii` is predicted to settle to across `width`, at
+    /// [`PREDICTED_PACKING`], and the height (m) of its interior window: the window ends 2 largest
+    /// diameters below the highest disk top, which stands about one largest diameter above that depth,
+    /// and starts 2 above the floor ([`interior_packing_fraction`]). At or below 0 the window is
+    /// predicted empty (the metric undefined); below one largest diameter it rests on a few disks, and
+    /// seeds whose pile settles lower leave it empty.
+    pub fn predicted_interior_window(radii: impl Iterator<Item = f64>, width: f64) -> (f64, f64) {
+        let (area, largest) = radii.fold((0.0, 0.0_f64), |(a, l), r| (a + std::f64::consts::PI * r * r, l.max(r)));
+        let depth = area / (width * PREDICTED_PACKING);
+        (depth, depth - 6.0 * largest)
+    }
+
     /// The highest disk top (m); 0 without disks.
     pub fn height(&self) -> f64 {
         surface(self.geometry)
@@ -273,6 +289,22 @@ pub fn interior_packing_fraction(pile: &PileGeometry) -> f64 {
         |i: usize| pile.images(pile.x[i]).map(move |x| disk_area_in_rectangle(x, pile.y[i], pile.r[i], window));
     let covered: f64 = (0..pile.x.len()).flat_map(area_of).sum();
     covered / area
+}
+
+/// Packing fraction at which [`predicted_interior_window`] expects a settled pile: random 2D
+/// deposits settle at about 0.80-0.86.
+pub const PREDICTED_PACKING: f64 = 0.82;
+
+/// The depth (m) a pile of disks of radii `radii` is predicted to settle to across `width`, at
+/// [`PREDICTED_PACKING`], and the height (m) of its interior window: the window ends 2 largest
+/// diameters below the highest disk top, which stands about one largest diameter above that depth,
+/// and starts 2 above the floor ([`interior_packing_fraction`]). At or below 0 the window is
+/// predicted empty (the metric undefined); below one largest diameter it rests on a few disks, and
+/// seeds whose pile settles lower leave it empty.
+pub fn predicted_interior_window(radii: impl Iterator<Item = f64>, width: f64) -> (f64, f64) {
+    let (area, largest) = radii.fold((0.0, 0.0_f64), |(a, l), r| (a + std::f64::consts::PI * r * r, l.max(r)));
+    let depth = area / (width * PREDICTED_PACKING);
+    (depth, depth - 6.0 * largest)
 }
 
 /// The highest disk top (m); 0 without disks.

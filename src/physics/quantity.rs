@@ -212,13 +212,7 @@ pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
         value: |pile| pile.surface_height(),
     },
     PACKING_FRACTION,
-    Quantity {
-        name: "packing_fraction_interior",
-        unit: "",
-        description: "Disk area fraction in a window 2 d_max from the walls, floor and surface.",
-        role: Role { keep: Some(0.01), charted: true, ..Role::COLUMN },
-        value: |pile| pile.interior_packing_fraction(),
-    },
+    PACKING_FRACTION_INTERIOR,
     Quantity {
         name: "coordination_number",
         unit: "",
@@ -346,6 +340,16 @@ pub const PACKING_FRACTION: Quantity<PileValue> = Quantity {
     description: "Disk area over the box width times the pile height.",
     role: Role::COLUMN,
     value: |pile| pile.packing_fraction(),
+};
+
+/// The packing fraction away from walls, floor and surface; undefined (NaN) where the pile is too
+/// shallow or the box too narrow for its window ([`super::pile::predicted_interior_window`]).
+pub const PACKING_FRACTION_INTERIOR: Quantity<PileValue> = Quantity {
+    name: "packing_fraction_interior",
+    unit: "",
+    description: "Disk area fraction in a window 2 d_max from the walls, floor and surface.",
+    role: Role { keep: Some(0.01), charted: true, ..Role::COLUMN },
+    value: |pile| pile.interior_packing_fraction(),
 };
 
 impl PileMetrics {

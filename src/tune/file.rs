@@ -17,6 +17,7 @@ use crate::study::plan::{self, fingerprint, split_leaves};
 use crate::study::{AxisError, OutputOptions, ParamValue, lammps_file};
 
 use super::ladder;
+use super::measurable;
 use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
 use super::validity;
 
@@ -94,8 +95,16 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
             }
             Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason.to_string())),
         }
-    } else if let Err(e) = placement::generate(&spec.reference) {
-        sink.push(file.error(scene_span.clone(), format!("scene.{}", e.key), e.reason));
+    } else if let Some((replicate, e)) = reference_placement_failure(&spec) {
+        let on = if replicate == 0 {
+            String::new()
+        } else {
+            format!(
+                " (on the reference's replicate {replicate}, placement.seed = {})",
+                spec.reference_at(replicate).placement.seed
+            )
+        };
+        sink.push(file.error(scene_span.clone(), format!("scene.{}", e.key), format!("{}{on}", e.reason)));
     }
     for lever in &spec.levers {
         let span = doc
@@ -127,9 +136,17 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     if sink.is_empty() {
         let (warnings, tops) = validity::clip_levers(&mut spec);
         spec.warnings = warnings;
+        spec.warnings.extend(measurable::kept_metric_warnings(&spec));
         spec.standards = ladder::standard_settings(&spec.reference, &spec.levers, &tops);
     }
     sink.into_result(spec)
+}
+
+/// The first of the reference's replicates whose placement fails, with why: the tune could not
+/// start (a random placement near its jamming limit fits on some seeds and not on others).
+fn reference_placement_failure(spec: &TuneSpec) -> Option<(u64, placement::PlacementError)> {
+    (0..spec.search.reference_seeds() as u64)
+        .find_map(|replicate| placement::generate(&spec.reference_at(replicate)).err().map(|e| (replicate, e)))
 }
 
 /// The reference scene's predicted validity warnings, each at the key at fault as a study's are

@@ -11,6 +11,7 @@ pub mod design;
 mod file;
 pub mod judge;
 pub mod ladder;
+mod measurable;
 pub mod model;
 pub mod report;
 pub mod search;

@@ -238,6 +238,15 @@ pub enum TuneError {
         /// How.
         failure: RunFailure,
     },
+    /// A kept metric is undefined (NaN) on some of the reference's runs, so it gives no margin.
+    UndefinedMetric {
+        /// The kept metric's name.
+        metric: String,
+        /// The replicate numbers of the runs it is undefined on.
+        replicates: Vec<u64>,
+        /// The reference's runs in all.
+        runs: usize,
+    },
     /// A kept metric's reference mean is zero, so a relative tolerance gives no margin.
     NoMargin {
         /// The kept metric's name.
@@ -255,9 +264,20 @@ impl fmt::Display for TuneError {
                 write!(f, "{}: run {run} is missing from the results file", results.display())
             }
             TuneError::Interrupted => write!(f, "interrupted: finished runs are kept; continue with --resume"),
-            TuneError::ReferenceFailed { seed, failure } => write!(
+            TuneError::ReferenceFailed { seed, failure } => {
+                let what = match failure {
+                    RunFailure::Error(_) => "cannot run",
+                    _ => "does not settle",
+                };
+                write!(f, "the reference scene itself {what} on every seed (replicate {seed} {failure}): fix it first")
+            }
+            TuneError::UndefinedMetric { metric, replicates, runs } => write!(
                 f,
-                "the reference scene itself does not settle on every seed (replicate {seed} {failure}): fix it first"
+                "kept metric {metric} is undefined (NaN) on {} of the reference's {runs} runs (replicates {}): the \
+                 pile has no room for it (docs/deposition.md says where each pile metric is defined); keep another \
+                 metric",
+                replicates.len(),
+                replicates.iter().map(u64::to_string).collect::<Vec<_>>().join(", ")
             ),
             TuneError::NoMargin { metric, mean } => write!(
                 f,

@@ -41,11 +41,15 @@ impl<E: Evaluator> Context<'_, E> {
         let mut margins = Vec::new();
         for (k, &(tolerance, absolute)) in c.tolerances.iter().enumerate() {
             let values: Vec<f64> = outcomes.iter().map(|o| o.metrics[k]).collect();
+            let metric = || c.metrics.get(k).cloned().unwrap_or_else(|| format!("number {}", k + 1));
+            let replicates: Vec<u64> = (0..).zip(&values).filter(|(_, v)| v.is_nan()).map(|(r, _)| r).collect();
+            if !replicates.is_empty() {
+                return Err(TuneError::UndefinedMetric { metric: metric(), replicates, runs: values.len() });
+            }
             let mean = stats::describe(&values).mean;
             let margin = if absolute { tolerance } else { tolerance * mean.abs() };
             if !(margin > 0.0 && margin.is_finite()) {
-                let metric = c.metrics.get(k).cloned().unwrap_or_else(|| format!("number {}", k + 1));
-                return Err(TuneError::NoMargin { metric, mean });
+                return Err(TuneError::NoMargin { metric: metric(), mean });
             }
             margins.push(margin);
         }
