@@ -76,7 +76,7 @@ def _objects(file):
     """Every group and dataset by name, a run's commit group (`runs_NNNNN/`) left out of its name:
     runs are committed in the order they finish, which the thread schedule decides."""
     objects = {"/": file}
-    file.visititems(lambda name, obj: objects.__setitem__(re.sub(r"^runs_\d+/", "runs/", name), obj))
+    file.visititems(lambda name, obj: objects.__setitem__(re.sub(r"^runs_\d+(?=/|$)", "runs", name), obj))
     return objects
 
 
