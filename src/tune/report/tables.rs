@@ -12,7 +12,17 @@ use crate::study::ParamValue;
 /// its levers, n, cost (the objective's mean, and its ratio to the reference's), metric means,
 /// decisions and verification (the settings not run are in [`skipped_records`]).
 pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Table {
-    let reference = stats::describe(&result.reference_costs());
+    let reference = stats::describe(&result.reference_costs()).mean;
+    let mut rows = vec![reference_row(spec, result, reference)];
+    for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
+        rows.push(candidate_row(spec, result, cand, reference, result.recommended == Some(index)));
+    }
+    Table { columns: candidate_columns(spec), rows }
+}
+
+/// The candidates table's columns: candidate, origin, the levers, n, cost, each kept metric's mean,
+/// difference and decision, then the decision, its reason, verification and recommendation.
+fn candidate_columns(spec: &TuneSpec) -> Vec<String> {
     let mut columns: Vec<String> = vec!["candidate".into(), "origin".into()];
     columns.extend(spec.levers.iter().map(|l| l.key.clone()));
     columns.extend(["n".into(), format!("{}_mean", spec.search.objective.name()), "cost_ratio".into()]);
@@ -32,50 +42,68 @@ pub fn candidate_records(spec: &TuneSpec, result: &SearchResult) -> Table {
         "verify_decision".into(),
         "recommended".into(),
     ]);
-    let mean_of =
-        |runs: &[Outcome], k: usize| stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean;
-    let count = |n: usize| Cell::Whole(n as i64);
-    let reference_row: Vec<Cell> =
-        {
-            let mut row = vec![Cell::Whole(0), Cell::text("reference")];
-            let values = spec.reference_values();
-            row.extend(spec.levers.iter().map(|l| {
-                values.iter().find(|(k, _, _)| *k == l.key).map_or(Cell::Empty, |(_, v, _)| Cell::of_param(v))
-            }));
-            row.extend([count(result.reference.len()), Cell::number(reference.mean), Cell::Number(1.0)]);
-            for k in 0..spec.keep.len() {
-                row.extend([Cell::number(mean_of(&result.reference, k)), Cell::Number(0.0), Cell::Empty]);
-            }
-            row.extend([Cell::Number(0.0), Cell::text("reference")]);
-            row.extend(std::iter::repeat_n(Cell::Empty, 5));
-            row
-        };
-    let mut rows = vec![reference_row];
-    for (index, cand) in result.candidates.iter().enumerate().filter(|(_, c)| !c.runs.is_empty()) {
-        let a = result.assess(cand);
-        let mut row = vec![count(cand.id), Cell::text(cand.origin.name())];
-        row.extend(lever_values(spec, cand).iter().map(|v| v.as_ref().map_or(Cell::Empty, Cell::of_param)));
-        row.extend([count(a.n), Cell::number(a.cost), Cell::number(a.cost / reference.mean)]);
-        for k in 0..spec.keep.len() {
-            let mean = Cell::number(if cand.runs.is_empty() { f64::NAN } else { mean_of(&cand.runs, k) });
-            match a.tests.get(k) {
-                Some(t) => row.extend([mean, Cell::number(t.difference), Cell::text(decision_name(t.decision))]),
-                None => row.extend([mean, Cell::Empty, Cell::Empty]),
-            }
-        }
-        let reason = match &a.state {
-            State::Feasible => Cell::Empty,
-            _ => Cell::Text(failure_reason(spec, result, &a)),
-        };
-        row.extend([Cell::number(a.worst), Cell::text(a.state.name()), reason]);
-        match result.assess_verification(cand) {
-            Some(v) => row.extend([count(v.n), Cell::number(v.cost / reference.mean), Cell::text(v.state.name())]),
-            None => row.extend([Cell::Empty, Cell::Empty, Cell::Empty]),
-        }
-        row.push(Cell::Flag(result.recommended == Some(index)));
-        rows.push(row);
+    columns
+}
+
+/// The mean of kept metric `k` over `runs`.
+fn mean_of(runs: &[Outcome], k: usize) -> f64 {
+    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
+}
+
+/// A count as a cell.
+fn count(n: usize) -> Cell {
+    Cell::Whole(n as i64)
+}
+
+/// The reference's row (candidate 0): its lever values, runs, mean cost `reference` and metric means.
+fn reference_row(spec: &TuneSpec, result: &SearchResult, reference: f64) -> Vec<Cell> {
+    let mut row = vec![Cell::Whole(0), Cell::text("reference")];
+    let values = spec.reference_values();
+    row.extend(
+        spec.levers
+            .iter()
+            .map(|l| values.iter().find(|(k, _, _)| *k == l.key).map_or(Cell::Empty, |(_, v, _)| Cell::of_param(v))),
+    );
+    row.extend([count(result.reference.len()), Cell::number(reference), Cell::Number(1.0)]);
+    for k in 0..spec.keep.len() {
+        row.extend([Cell::number(mean_of(&result.reference, k)), Cell::Number(0.0), Cell::Empty]);
     }
-    Table { columns, rows }
+    row.extend([Cell::Number(0.0), Cell::text("reference")]);
+    row.extend(std::iter::repeat_n(Cell::Empty, 5));
+    row
+}
+
+/// The row of a candidate that ran, its cost as a ratio to the reference's mean cost `reference`;
+/// `recommended`: whether it is the recommendation.
+fn candidate_row(
+    spec: &TuneSpec,
+    result: &SearchResult,
+    cand: &Candidate,
+    reference: f64,
+    recommended: bool,
+) -> Vec<Cell> {
+    let a = result.assess(cand);
+    let mut row = vec![count(cand.id), Cell::text(cand.origin.name())];
+    row.extend(lever_values(spec, cand).iter().map(|v| v.as_ref().map_or(Cell::Empty, Cell::of_param)));
+    row.extend([count(a.n), Cell::number(a.cost), Cell::number(a.cost / reference)]);
+    for k in 0..spec.keep.len() {
+        let mean = Cell::number(if cand.runs.is_empty() { f64::NAN } else { mean_of(&cand.runs, k) });
+        match a.tests.get(k) {
+            Some(t) => row.extend([mean, Cell::number(t.difference), Cell::text(decision_name(t.decision))]),
+            None => row.extend([mean, Cell::Empty, Cell::Empty]),
+        }
+    }
+    let reason = match &a.state {
+        State::Feasible => Cell::Empty,
+        _ => Cell::Text(failure_reason(spec, result, &a)),
+    };
+    row.extend([Cell::number(a.worst), Cell::text(a.state.name()), reason]);
+    match result.assess_verification(cand) {
+        Some(v) => row.extend([count(v.n), Cell::number(v.cost / reference), Cell::text(v.state.name())]),
+        None => row.extend([Cell::Empty, Cell::Empty, Cell::Empty]),
+    }
+    row.push(Cell::Flag(recommended));
+    row
 }
 
 /// The settings that were not run (`<name>_skipped.csv`): candidate, origin, settings and why.
