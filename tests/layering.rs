@@ -2,8 +2,13 @@
 //! the code of `src/` goes down the layers, or sideways within a layer without a cycle.
 //!
 //! cli → workflow → tune / bench / report / plot → runner / stats / slurm → output → study → physics
+//!
+//! The names of the pile metrics are written once, in their table (`src/physics/quantity.rs`): the
+//! code of `src/` elsewhere reaches them through the table's entries, never as string literals.
 
 use std::collections::{BTreeMap, BTreeSet};
+
+use demsweep::physics::quantity::{PILE_METRICS, SETTLE_TIME};
 use std::path::{Path, PathBuf};
 
 /// Top-level modules by layer, lowest first. The command-line front end (`src/cli*`, `src/main.rs`)
@@ -375,4 +380,49 @@ fn the_file_scan_sees_use_trees_and_re_exports() {
     let graph: BTreeMap<String, BTreeSet<String>> =
         [("a", ["b"]), ("b", ["c"]), ("c", ["a"])].map(|(f, t)| (f.into(), t.map(String::from).into())).into();
     assert_eq!(cycles(&graph), [BTreeSet::from(["a".to_string(), "b".to_string(), "c".to_string()])]);
+}
+
+/// The table the pile metrics' names are written in.
+const METRIC_TABLE: &str = "physics/quantity.rs";
+
+/// The names of the pile metrics and of the settle time, as the table declares them.
+fn metric_names() -> Vec<&'static str> {
+    PILE_METRICS.iter().map(|m| m.name).chain([SETTLE_TIME.name]).collect()
+}
+
+/// The string literals of `code` that are one of `names` (`"pile_height"`), each with its line.
+fn metric_literals(code: &str, names: &[&str]) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (line, text) in code.lines().enumerate() {
+        for name in names {
+            if text.contains(&format!("\"{name}\"")) {
+                found.push((line + 1, name.to_string()));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn pile_metric_names_are_written_only_in_their_table() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let (mut files, names) = (Vec::new(), metric_names());
+    rust_files(&src, &mut files);
+    let mut problems = Vec::new();
+    for file in files.iter().filter(|f| !f.ends_with(METRIC_TABLE)) {
+        let code = code(&std::fs::read_to_string(file).unwrap());
+        for (line, name) in metric_literals(&code, &names) {
+            let file = file.strip_prefix(&src).unwrap().display();
+            problems.push(format!("src/{file}:{line}: \"{name}\" (use its entry of the pile metrics' table)"));
+        }
+    }
+    assert!(problems.is_empty(), "pile metric names outside {METRIC_TABLE}:\n  {}", problems.join("\n  "));
+}
+
+#[test]
+fn the_literal_scan_sees_a_metric_name_but_not_a_longer_one() {
+    let names = metric_names();
+    assert!(names.contains(&"pile_height") && names.contains(&"settle_time"), "{names:?}");
+    let code = code("let a = m[\"pile_height\"];\nlet b = \"pile_height_mean\"; // \"settle_time\"");
+    assert_eq!(metric_literals(&code, &names), [(1, "pile_height".to_string())]);
 }

@@ -145,107 +145,168 @@ impl fmt::Display for OutputReason {
             OpenElsewhere => {
                 write!(f, "is open for writing in another process: wait for it to finish or stop it, then try again")
             }
-            Locked { holder } => {
-                let who =
-                    if holder.is_empty() { "another process".into() } else { format!("another process ({holder})") };
-                write!(
-                    f,
-                    "is being written by {who}: wait for it to finish or stop it (Ctrl-C), then use --resume; \
-                     or write elsewhere with another --out"
-                )
-            }
+            Locked { holder } => locked(f, holder),
             LockContended => write!(f, "cannot lock: the lock file keeps being removed by other processes"),
-            Exists { resumable: true } => write!(
-                f,
-                "results already exist: use --resume to continue them (only missing runs are run) or --force to \
-                 overwrite them"
-            ),
-            Exists { resumable: false } => write!(f, "already exists: use --force to overwrite it"),
+            Exists { resumable } => exists(f, *resumable),
             Refused(refusal) => write!(f, "{refusal}"),
-            OtherStudy { name, fingerprint, expected } => write!(
-                f,
-                "holds results of a different study (`{name}`, fingerprint {fingerprint}; this study's fingerprint \
-                 is {expected}) written before runs had identities, so its runs cannot be matched to this study's: \
-                 use another --out directory, or --force to overwrite"
-            ),
+            OtherStudy { name, fingerprint, expected } => other_study(f, name, fingerprint, expected),
             OtherShard { file, this } => {
                 let show = |s: &Option<ShardSpec>| s.map_or("the whole study".to_string(), |s| format!("shard {s}"));
                 write!(f, "was written for {} but this run is for {}", show(file), show(this))
             }
-            CannotContinue(reason) => write!(
-                f,
-                "cannot be continued: {reason}: the file was cut short or is damaged; run it again from the start \
-                 with --force in place of --resume (this replaces the file: move it away first to keep it)"
-            ),
+            CannotContinue(reason) => cannot_continue(f, reason),
             NoSuchFile => write!(f, "no such results file"),
             NoResultsFile => write!(f, "no results file (*.h5) in this folder"),
             SeveralResultsFiles(names) => {
                 write!(f, "holds {} results files ({}): name one of them", names.len(), names.join(", "))
             }
-            NotHdf5 { extension, error } => write!(
-                f,
-                "not a results file ({error}): demsweep reads the HDF5 file (.h5) a run wrote; a .{extension} file \
-                 (such as the _summary.csv or _points.csv beside it) is one of its tables"
-            ),
+            NotHdf5 { extension, error } => not_hdf5(f, extension, error),
             NotResults(reason) => write!(f, "not a demsweep results file: {reason}"),
             NoRun(run) => write!(f, "no run `{run}` in this file (see `demsweep summary` for the run ids)"),
             NoGroup(run) => write!(f, "no group for run `{run}` in this file"),
             NoHistories(run) => {
                 write!(f, "run `{run}` has no histories (failed run, or the study's output.histories is off)")
             }
-            NoStressProfile(run) => write!(
-                f,
-                "run `{run}` has no stress profile (failed run, the study's output.histories is off, or a file \
-                 written before stress profiles)"
-            ),
+            NoStressProfile(run) => no_stress_profile(f, run),
             Damaged(damaged) => write!(f, "{}", damage_text(damaged)),
             BadData { run, dataset, reason } => write!(f, "run {run}: /{dataset} cannot be read: {reason}"),
             BadCopy { group, reason } => write!(f, "/{group}: {reason}"),
-            OtherVersions { run, version, count } => {
-                let more = match count {
-                    1 => String::new(),
-                    n => format!(" (and {} more of the runs this study reuses)", n - 1),
-                };
-                write!(
-                    f,
-                    "run {run}{more} was made by demsweep {version}, this is {} (both physics version {}): \
-                     `--resume --accept-version` reuses the stored runs (each keeps the version that made it, in \
-                     /summary/demsweep_version), `--force` runs every run again",
-                    super::row::DEMSWEEP_VERSION,
-                    crate::physics::PHYSICS_VERSION
-                )
-            }
+            OtherVersions { run, version, count } => other_versions(f, run, version, *count),
             NoShards { in_folder: true } => write!(f, "no shard files (*.shard-K-of-N.h5) in this directory"),
             NoShards { in_folder: false } => write!(f, "no shard files given"),
             BadName(error) => write!(f, "--name `{}`: {error}", error.name.escape_debug()),
-            DifferentStudies { why, first, other } => write!(
-                f,
-                "cannot merge shards of different studies or splits ({why}): run them again from the same study \
-                 file and inputs:\n  {first}\n  {other}"
-            ),
-            DifferentVersions { run, version, first_run, first_file, first_version } => write!(
-                f,
-                "run {run} was made by demsweep {version}, but run {first_run} of {} by {first_version}: \
-                 `merge --accept-version` merges them (each run keeps the version that made it, in \
-                 /summary/demsweep_version), or run one of them again with this demsweep",
-                first_file.display()
-            ),
-            NoIdentity { run } => write!(
-                f,
-                "run {run} has no run identity (a file written before them): it can only merge with shards of its \
-                 own study"
-            ),
-            DifferentPhysics { version, other, other_version } => write!(
-                f,
-                "holds runs of physics version {version} but {} of version {other_version}: rerun one of them with \
-                 this demsweep",
-                other.display()
-            ),
+            DifferentStudies { why, first, other } => different_studies(f, why, first, other),
+            DifferentVersions { run, version, first_run, first_file, first_version } => {
+                different_versions(f, run, version, first_run, first_file, first_version)
+            }
+            NoIdentity { run } => no_identity(f, run),
+            DifferentPhysics { version, other, other_version } => different_physics(f, *version, other, *other_version),
             Overlap { other, run, index } => {
                 write!(f, "overlaps {}: both hold run {run} (plan index {index})", other.display())
             }
         }
     }
+}
+
+/// [`OutputReason::Locked`]: who writes the results, and what to do.
+fn locked(f: &mut fmt::Formatter<'_>, holder: &str) -> fmt::Result {
+    let who = if holder.is_empty() { "another process".into() } else { format!("another process ({holder})") };
+    write!(
+        f,
+        "is being written by {who}: wait for it to finish or stop it (Ctrl-C), then use --resume; \
+         or write elsewhere with another --out"
+    )
+}
+
+/// [`OutputReason::Exists`]: the results exist, and how to continue or replace them.
+fn exists(f: &mut fmt::Formatter<'_>, resumable: bool) -> fmt::Result {
+    if !resumable {
+        return write!(f, "already exists: use --force to overwrite it");
+    }
+    write!(
+        f,
+        "results already exist: use --resume to continue them (only missing runs are run) or --force to \
+         overwrite them"
+    )
+}
+
+/// [`OutputReason::OtherStudy`]: results of another study, which cannot be matched.
+fn other_study(f: &mut fmt::Formatter<'_>, name: &str, fingerprint: &str, expected: &str) -> fmt::Result {
+    write!(
+        f,
+        "holds results of a different study (`{name}`, fingerprint {fingerprint}; this study's fingerprint \
+         is {expected}) written before runs had identities, so its runs cannot be matched to this study's: \
+         use another --out directory, or --force to overwrite"
+    )
+}
+
+/// [`OutputReason::CannotContinue`]: why, and how to start again.
+fn cannot_continue(f: &mut fmt::Formatter<'_>, reason: &OutputReason) -> fmt::Result {
+    write!(
+        f,
+        "cannot be continued: {reason}: the file was cut short or is damaged; run it again from the start \
+         with --force in place of --resume (this replaces the file: move it away first to keep it)"
+    )
+}
+
+/// [`OutputReason::NotHdf5`]: the file a command reads, and what the named file is.
+fn not_hdf5(f: &mut fmt::Formatter<'_>, extension: &str, error: &str) -> fmt::Result {
+    write!(
+        f,
+        "not a results file ({error}): demsweep reads the HDF5 file (.h5) a run wrote; a .{extension} file \
+         (such as the _summary.csv or _points.csv beside it) is one of its tables"
+    )
+}
+
+/// [`OutputReason::NoStressProfile`]: why a run may have none.
+fn no_stress_profile(f: &mut fmt::Formatter<'_>, run: &str) -> fmt::Result {
+    write!(
+        f,
+        "run `{run}` has no stress profile (failed run, the study's output.histories is off, or a file \
+         written before stress profiles)"
+    )
+}
+
+/// [`OutputReason::OtherVersions`]: the first run made by another version, and the choices.
+fn other_versions(f: &mut fmt::Formatter<'_>, run: &str, version: &str, count: usize) -> fmt::Result {
+    let more = match count {
+        1 => String::new(),
+        n => format!(" (and {} more of the runs this study reuses)", n - 1),
+    };
+    write!(
+        f,
+        "run {run}{more} was made by demsweep {version}, this is {} (both physics version {}): \
+         `--resume --accept-version` reuses the stored runs (each keeps the version that made it, in \
+         /summary/demsweep_version), `--force` runs every run again",
+        super::row::DEMSWEEP_VERSION,
+        crate::physics::PHYSICS_VERSION
+    )
+}
+
+/// [`OutputReason::DifferentStudies`]: what differs, and the two files.
+fn different_studies(f: &mut fmt::Formatter<'_>, why: &str, first: &str, other: &str) -> fmt::Result {
+    write!(
+        f,
+        "cannot merge shards of different studies or splits ({why}): run them again from the same study \
+         file and inputs:\n  {first}\n  {other}"
+    )
+}
+
+/// [`OutputReason::DifferentVersions`]: the two runs and their versions, and the choices.
+fn different_versions(
+    f: &mut fmt::Formatter<'_>,
+    run: &str,
+    version: &str,
+    first_run: &str,
+    first_file: &Path,
+    first_version: &str,
+) -> fmt::Result {
+    write!(
+        f,
+        "run {run} was made by demsweep {version}, but run {first_run} of {} by {first_version}: \
+         `merge --accept-version` merges them (each run keeps the version that made it, in \
+         /summary/demsweep_version), or run one of them again with this demsweep",
+        first_file.display()
+    )
+}
+
+/// [`OutputReason::NoIdentity`]: what a run without identity can merge with.
+fn no_identity(f: &mut fmt::Formatter<'_>, run: &str) -> fmt::Result {
+    write!(
+        f,
+        "run {run} has no run identity (a file written before them): it can only merge with shards of its \
+         own study"
+    )
+}
+
+/// [`OutputReason::DifferentPhysics`]: the two physics versions.
+fn different_physics(f: &mut fmt::Formatter<'_>, version: u32, other: &Path, other_version: u32) -> fmt::Result {
+    write!(
+        f,
+        "holds runs of physics version {version} but {} of version {other_version}: rerun one of them with \
+         this demsweep",
+        other.display()
+    )
 }
 
 impl std::error::Error for OutputError {}

@@ -119,11 +119,11 @@ pub fn stress_profile_columns(p: &StressProfile) -> [(&'static str, &'static str
     [
         ("bottom", "m", p.bottom.clone()),
         ("top", "m", p.top.clone()),
-        ("stress_xx", "Pa", stress(|s| s.xx)),
-        ("stress_yy", "Pa", stress(|s| s.yy)),
-        ("stress_xy", "Pa", stress(|s| s.xy)),
-        ("stress_pressure", "Pa", stress(Stress::pressure)),
-        ("stress_deviatoric", "Pa", stress(Stress::deviatoric)),
+        (quantity::STRESS_XX.name, "Pa", stress(|s| s.xx)),
+        (quantity::STRESS_YY.name, "Pa", stress(|s| s.yy)),
+        (quantity::STRESS_XY.name, "Pa", stress(|s| s.xy)),
+        (quantity::STRESS_PRESSURE.name, "Pa", stress(Stress::pressure)),
+        (quantity::STRESS_DEVIATORIC.name, "Pa", stress(Stress::deviatoric)),
         ("wall_normal_stress", "Pa", p.wall_normal.clone()),
         ("wall_shear_stress", "Pa", p.wall_shear.clone()),
     ]

@@ -15,7 +15,7 @@ use super::table::ColumnData;
 use super::{LayoutError, OutputError, OutputReason, compound, hdf5_error, reader};
 use crate::physics::SceneConfig;
 use crate::physics::contact_network::ContactNetwork;
-use crate::physics::quantity::HISTORY_SERIES;
+use crate::physics::quantity::{HISTORY_SERIES, STRESS_XX, STRESS_XY, STRESS_YY};
 use crate::physics::record::{DISK_FIELDS, History, Snapshot};
 use crate::physics::stress::{Stress, StressProfile};
 
@@ -299,14 +299,18 @@ fn history(table: &HashMap<String, ColumnData>) -> Result<History, LayoutError> 
 fn stress_profile(table: &HashMap<String, ColumnData>) -> Result<StressProfile, LayoutError> {
     let bottom = floats(table, "bottom")?;
     let [top, xx, yy, xy, wall_normal, wall_shear] =
-        ["top", "stress_xx", "stress_yy", "stress_xy", "wall_normal_stress", "wall_shear_stress"].map(|name| {
-            let column = floats(table, name)?;
-            match column.len() == bottom.len() {
-                true => Ok(column),
-                false => Err(LayoutError::inconsistent(format!("{} values for {} bands", column.len(), bottom.len()))
-                    .within(name)),
-            }
-        });
+        ["top", STRESS_XX.name, STRESS_YY.name, STRESS_XY.name, "wall_normal_stress", "wall_shear_stress"].map(
+            |name| {
+                let column = floats(table, name)?;
+                match column.len() == bottom.len() {
+                    true => Ok(column),
+                    false => {
+                        Err(LayoutError::inconsistent(format!("{} values for {} bands", column.len(), bottom.len()))
+                            .within(name))
+                    }
+                }
+            },
+        );
     let (xx, yy, xy) = (xx?, yy?, xy?);
     let stress = (0..bottom.len()).map(|k| Stress { xx: xx[k], yy: yy[k], xy: xy[k] }).collect();
     Ok(StressProfile { bottom, top: top?, stress, wall_normal: wall_normal?, wall_shear: wall_shear? })

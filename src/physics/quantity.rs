@@ -287,41 +287,11 @@ pub const PILE_METRICS: [Quantity<PileValue>; PILE_METRIC_COUNT] = [
         role: Role { charted: true, ..Role::COLUMN },
         value: |pile| pile.mean_overlap_ratio(),
     },
-    Quantity {
-        name: "stress_pressure",
-        unit: "Pa",
-        description: "Mean normal stress (σ_xx + σ_yy)/2 of the pile's Love–Weber stress, compression positive.",
-        role: Role::COLUMN,
-        value: |pile| pile_stress(pile).pressure(),
-    },
-    Quantity {
-        name: "stress_deviatoric",
-        unit: "Pa",
-        description: "Deviatoric stress √(((σ_xx − σ_yy)/2)² + σ_xy²) of the pile: the largest shear stress.",
-        role: Role::COLUMN,
-        value: |pile| pile_stress(pile).deviatoric(),
-    },
-    Quantity {
-        name: "stress_xx",
-        unit: "Pa",
-        description: "Horizontal normal stress of the pile (Love–Weber over the area below its surface height).",
-        role: Role::COLUMN,
-        value: |pile| pile_stress(pile).xx,
-    },
-    Quantity {
-        name: "stress_yy",
-        unit: "Pa",
-        description: "Vertical normal stress of the pile (Love–Weber over the area below its surface height).",
-        role: Role::COLUMN,
-        value: |pile| pile_stress(pile).yy,
-    },
-    Quantity {
-        name: "stress_xy",
-        unit: "Pa",
-        description: "Shear stress of the pile (Love–Weber, symmetrised).",
-        role: Role::COLUMN,
-        value: |pile| pile_stress(pile).xy,
-    },
+    STRESS_PRESSURE,
+    STRESS_DEVIATORIC,
+    STRESS_XX,
+    STRESS_YY,
+    STRESS_XY,
 ];
 
 /// The pile's height, kept with [`PACKING_FRACTION`] where a file predates the other metrics.
@@ -350,6 +320,56 @@ pub const PACKING_FRACTION_INTERIOR: Quantity<PileValue> = Quantity {
     description: "Disk area fraction in a window 2 d_max from the walls, floor and surface.",
     role: Role { keep: Some(0.01), charted: true, ..Role::COLUMN },
     value: |pile| pile.interior_packing_fraction(),
+};
+
+/// The pile's mean normal stress, also the name of the stress profile's
+/// column of it per height band.
+pub const STRESS_PRESSURE: Quantity<PileValue> = Quantity {
+    name: "stress_pressure",
+    unit: "Pa",
+    description: "Mean normal stress (σ_xx + σ_yy)/2 of the pile's Love–Weber stress, compression positive.",
+    role: Role::COLUMN,
+    value: |pile| pile_stress(pile).pressure(),
+};
+
+/// The pile's deviatoric stress, also the name of the stress profile's
+/// column of it per height band.
+pub const STRESS_DEVIATORIC: Quantity<PileValue> = Quantity {
+    name: "stress_deviatoric",
+    unit: "Pa",
+    description: "Deviatoric stress √(((σ_xx − σ_yy)/2)² + σ_xy²) of the pile: the largest shear stress.",
+    role: Role::COLUMN,
+    value: |pile| pile_stress(pile).deviatoric(),
+};
+
+/// The pile's horizontal normal stress, also the name of the stress profile's
+/// column of it per height band.
+pub const STRESS_XX: Quantity<PileValue> = Quantity {
+    name: "stress_xx",
+    unit: "Pa",
+    description: "Horizontal normal stress of the pile (Love–Weber over the area below its surface height).",
+    role: Role::COLUMN,
+    value: |pile| pile_stress(pile).xx,
+};
+
+/// The pile's vertical normal stress, also the name of the stress profile's
+/// column of it per height band.
+pub const STRESS_YY: Quantity<PileValue> = Quantity {
+    name: "stress_yy",
+    unit: "Pa",
+    description: "Vertical normal stress of the pile (Love–Weber over the area below its surface height).",
+    role: Role::COLUMN,
+    value: |pile| pile_stress(pile).yy,
+};
+
+/// The pile's shear stress, also the name of the stress profile's
+/// column of it per height band.
+pub const STRESS_XY: Quantity<PileValue> = Quantity {
+    name: "stress_xy",
+    unit: "Pa",
+    description: "Shear stress of the pile (Love–Weber, symmetrised).",
+    role: Role::COLUMN,
+    value: |pile| pile_stress(pile).xy,
 };
 
 impl PileMetrics {

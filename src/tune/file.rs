@@ -1,6 +1,7 @@
 //! The tune file: a reference `[scene]`, the `[levers]` tune may move, the pile metrics to `[keep]`
 //! and the `[search]` settings; checked like a study (every problem at once, file:line:column: key).
 
+use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -21,7 +22,6 @@ use super::measurable;
 use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
 use super::validity;
 
-/// Keys allowed at the top of a tune file.
 /// The tables of a tune file (besides the strings `name` and `description`).
 const TABLES: [&str; 5] = ["scene", "levers", "keep", "search", "output"];
 
@@ -39,38 +39,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     let file = StudyFile::read(path)?;
     let doc = Document::parse(&file).map_err(StudyErrors::sorted)?;
     let mut sink = ErrorSink::default();
-    sink.extend(check_top_level(&file, &doc));
-    let (base, scene_errors) = split_leaves::<SceneConfig>(&file, &doc, "scene");
-    sink.extend(scene_errors);
-    let (output, output_errors) = split_leaves::<OutputOptions>(&file, &doc, "output");
-    sink.extend(output_errors);
-    let (search, search_errors) = split_leaves::<SearchOptions>(&file, &doc, "search");
-    sink.extend(search_errors);
-    let search: SearchOptions = toml::Value::Table(search).try_into().unwrap_or_default();
-    sink.extend(check_search(&file, &doc, &search));
-    let (levers, lever_errors) = parse_levers(&file, &doc);
-    sink.extend(lever_errors);
-    let (keep, keep_errors) = parse_keep(&file, &doc);
-    sink.extend(keep_errors);
-    let mut output_tree = toml::Table::new();
-    output_tree.insert("histories".into(), toml::Value::Boolean(false));
-    output_tree.insert("frames".into(), toml::Value::Boolean(false));
-    output_tree.extend(output);
-    let mut spec = TuneSpec {
-        path: file.path.clone(),
-        text: file.text.clone(),
-        name: plan::study_name(&doc, path),
-        fingerprint: fingerprint(&file.text),
-        base,
-        reference: SceneConfig::default(),
-        initial: None,
-        levers,
-        keep,
-        search,
-        output: toml::Value::Table(output_tree).try_into().unwrap_or_default(),
-        warnings: Vec::new(),
-        standards: Vec::new(),
-    };
+    let mut spec = parse_spec(&file, &doc, &mut sink);
     // The levers are checked against the valid part of the scene even when other keys are wrong, so
     // that every problem is reported at once.
     let scene_span = doc.span(&["scene".to_string()]);
@@ -81,57 +50,9 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
             return Err(sink.into_errors());
         }
     }
-    if let (true, Some(name)) = (spec.reference.placement.kind.reads_file(), &spec.reference.placement.file) {
-        let folder = file.path.parent().unwrap_or(Path::new(""));
-        match lammps_file::read_placement(
-            spec.reference.placement.kind,
-            &folder.join(name),
-            MissingRadius::of(&spec.reference.particles),
-            folder,
-        ) {
-            Ok(disks) => {
-                spec.reference.particles.count = disks.len();
-                spec.initial = Some(Arc::new(disks));
-            }
-            Err(reason) => sink.push(file.error(scene_span.clone(), "scene.placement.file", reason.to_string())),
-        }
-    } else if let Some((replicate, e)) = reference_placement_failure(&spec) {
-        let on = if replicate == 0 {
-            String::new()
-        } else {
-            format!(
-                " (on the reference's replicate {replicate}, placement.seed = {})",
-                spec.reference_at(replicate).placement.seed
-            )
-        };
-        sink.push(file.error(scene_span.clone(), format!("scene.{}", e.key), format!("{}{on}", e.reason)));
-    }
+    check_reference_placement(&file, scene_span, &mut spec, &mut sink);
     for lever in &spec.levers {
-        let span = doc
-            .span(&["levers".to_string(), lever.key.clone()])
-            .or_else(|| doc.nearest_span(&lever_doc_path(&lever.path)));
-        let extremes = lever.extremes();
-        let failures: Vec<(ParamValue, String)> = extremes
-            .iter()
-            .filter_map(|value| {
-                let scene = spec.scene(&[(lever.key.clone(), value.clone())]).map_err(|e| e.to_string());
-                let problem = scene.and_then(|scene| {
-                    let placed = ["domain", "particles", "placement"].contains(&lever.path[0].as_str());
-                    if spec.initial.is_none() && placed {
-                        placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))
-                    } else {
-                        Ok(())
-                    }
-                });
-                problem.err().map(|reason| (value.clone(), reason))
-            })
-            .collect();
-        let error = |reason: &str| file.error(span.clone(), lever_label(&lever.key), reason);
-        if failures.len() == extremes.len() && failures.iter().all(|(_, r)| *r == failures[0].1) {
-            sink.push(error(&failures[0].1));
-        } else {
-            failures.iter().for_each(|(value, reason)| sink.push(error(reason).with_value(value.to_string())));
-        }
+        check_lever_extremes(&file, &doc, &spec, lever, &mut sink);
     }
     if sink.is_empty() {
         let (warnings, tops) = validity::clip_levers(&mut spec);
@@ -147,6 +68,103 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
 fn reference_placement_failure(spec: &TuneSpec) -> Option<(u64, placement::PlacementError)> {
     (0..spec.search.reference_seeds() as u64)
         .find_map(|replicate| placement::generate(&spec.reference_at(replicate)).err().map(|e| (replicate, e)))
+}
+
+/// The tune file's tables as a spec (its reference scene, initial disks, warnings and standard
+/// settings not yet made), their problems into `sink`.
+fn parse_spec(file: &StudyFile, doc: &Document, sink: &mut ErrorSink) -> TuneSpec {
+    sink.extend(check_top_level(file, doc));
+    let (base, scene_errors) = split_leaves::<SceneConfig>(file, doc, "scene");
+    sink.extend(scene_errors);
+    let (output, output_errors) = split_leaves::<OutputOptions>(file, doc, "output");
+    sink.extend(output_errors);
+    let (search, search_errors) = split_leaves::<SearchOptions>(file, doc, "search");
+    sink.extend(search_errors);
+    let search: SearchOptions = toml::Value::Table(search).try_into().unwrap_or_default();
+    sink.extend(check_search(file, doc, &search));
+    let (levers, lever_errors) = parse_levers(file, doc);
+    sink.extend(lever_errors);
+    let (keep, keep_errors) = parse_keep(file, doc);
+    sink.extend(keep_errors);
+    let mut output_tree = toml::Table::new();
+    output_tree.insert("histories".into(), toml::Value::Boolean(false));
+    output_tree.insert("frames".into(), toml::Value::Boolean(false));
+    output_tree.extend(output);
+    TuneSpec {
+        path: file.path.clone(),
+        text: file.text.clone(),
+        name: plan::study_name(doc, &file.path),
+        fingerprint: fingerprint(&file.text),
+        base,
+        reference: SceneConfig::default(),
+        initial: None,
+        levers,
+        keep,
+        search,
+        output: toml::Value::Table(output_tree).try_into().unwrap_or_default(),
+        warnings: Vec::new(),
+        standards: Vec::new(),
+    }
+}
+
+/// Places the reference scene's disks: reads its placement file into `spec.initial` (and the disk
+/// count), else generates the placement to check it; a failure into `sink` at `scene_span`.
+fn check_reference_placement(
+    file: &StudyFile,
+    scene_span: Option<Range<usize>>,
+    spec: &mut TuneSpec,
+    sink: &mut ErrorSink,
+) {
+    let reference = &spec.reference;
+    if let (true, Some(name)) = (reference.placement.kind.reads_file(), &reference.placement.file) {
+        let folder = file.path.parent().unwrap_or(Path::new(""));
+        let missing = MissingRadius::of(&reference.particles);
+        match lammps_file::read_placement(reference.placement.kind, &folder.join(name), missing, folder) {
+            Ok(disks) => {
+                spec.reference.particles.count = disks.len();
+                spec.initial = Some(Arc::new(disks));
+            }
+            Err(reason) => sink.push(file.error(scene_span, "scene.placement.file", reason.to_string())),
+        }
+    } else if let Some((replicate, e)) = reference_placement_failure(spec) {
+        let on = if replicate == 0 {
+            String::new()
+        } else {
+            let seed = spec.reference_at(replicate).placement.seed;
+            format!(" (on the reference's replicate {replicate}, placement.seed = {seed})")
+        };
+        sink.push(file.error(scene_span, format!("scene.{}", e.key), format!("{}{on}", e.reason)));
+    }
+}
+
+/// Checks the scene at each extreme of `lever` (and its placement, where the lever moves the box, the
+/// disks or the placement and they are generated): one error when every extreme fails the same
+/// way, else one per failing value.
+fn check_lever_extremes(file: &StudyFile, doc: &Document, spec: &TuneSpec, lever: &Lever, sink: &mut ErrorSink) {
+    let span =
+        doc.span(&["levers".to_string(), lever.key.clone()]).or_else(|| doc.nearest_span(&lever_doc_path(&lever.path)));
+    let extremes = lever.extremes();
+    let failures: Vec<(ParamValue, String)> = extremes
+        .iter()
+        .filter_map(|value| {
+            let scene = spec.scene(&[(lever.key.clone(), value.clone())]).map_err(|e| e.to_string());
+            let problem = scene.and_then(|scene| {
+                let placed = ["domain", "particles", "placement"].contains(&lever.path[0].as_str());
+                if spec.initial.is_none() && placed {
+                    placement::generate(&scene).map(|_| ()).map_err(|e| format!("{}: {}", e.key, e.reason))
+                } else {
+                    Ok(())
+                }
+            });
+            problem.err().map(|reason| (value.clone(), reason))
+        })
+        .collect();
+    let error = |reason: &str| file.error(span.clone(), lever_label(&lever.key), reason);
+    if failures.len() == extremes.len() && failures.iter().all(|(_, r)| *r == failures[0].1) {
+        sink.push(error(&failures[0].1));
+    } else {
+        failures.iter().for_each(|(value, reason)| sink.push(error(reason).with_value(value.to_string())));
+    }
 }
 
 /// The reference scene's predicted validity warnings, each at the key at fault as a study's are

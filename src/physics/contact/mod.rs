@@ -4,7 +4,7 @@
 //! and how much elastic energy it stores; `law`'s shared machinery turns that into forces. Each
 //! law is a [`Composed`] of a normal spring ([`normal`]), a damping ([`damping`]) and a tangential
 //! spring ([`tangential`]); rolling resistance ([`rolling`]) acts beside it. The table of [`table`]
-//! lists every model and the presets `contact.law` names (`registry` declares it).
+//! declares every model and the presets `contact.law` names (`registry` makes their implementations).
 
 mod composed;
 pub mod damping;

@@ -1,10 +1,12 @@
-//! How the table of contact models ([`super::table`]) is declared: `contact_models!` turns its rows
-//! into the choice keys (`contact.law`, `contact.normal`, `contact.damping`, `contact.tangential`,
-//! `contact.rolling`), the parameter tables (`[contact.<table>]`),
-//! [`ContactConfig`](super::table::ContactConfig) and its one dispatch from configuration to law.
-//! Every caller that needs the scene's law (the simulation, time-step and stability estimates,
-//! tune's screen, benchmarks) goes through that dispatch, so a model added to the table is used
-//! everywhere.
+//! How the table of contact models ([`super::table`]) is read: `contact_models!` turns its rows
+//! into the implementations the declarations of `table.rs` need: each kind's `ALL`, `NAMES`,
+//! `name()` and `table()`, each model's `KIND` and [`SubModel`](super::table::SubModel), the run-time
+//! choices' model traits, the presets' laws, [`ContactConfig`](super::table::ContactConfig)'s keys
+//! and its one dispatch from configuration to law. Every caller that needs the scene's law (the
+//! simulation, time-step and stability estimates, tune's screen, benchmarks) goes through that
+//! dispatch, so a model added to the table is used everywhere. The implementations match every
+//! variant of the declared enums: a row without its variant, or a variant without its row, does not
+//! compile.
 //!
 //! `contact.law` is a preset: it names a normal spring, a damping and a tangential spring; each of
 //! `contact.normal`, `contact.damping` and `contact.tangential` that is given replaces the preset's.
@@ -33,18 +35,11 @@ macro_rules! table_name {
     };
 }
 
-/// A choice key's enum (`$kind`) over the rows of one kind, the run-time choice among them
-/// (`$any`) and each row's [`SubModel`](super::table::SubModel) (`$choice`: the [`ContactConfig`](super::table::ContactConfig) method that says which
-/// the scene has, `$key` the choice key).
+/// The implementations for the rows of one kind: the kind's enum (`$kind`), the run-time choice
+/// among them (`$any`) and each row's [`SubModel`](super::table::SubModel) (`$choice`: the
+/// [`ContactConfig`](super::table::ContactConfig) method that says which the scene has).
 macro_rules! model_kind {
-    ($what:literal, $key:ident, $kind:ident, $any:ident, $choice:ident, $($(#[doc = $doc:literal])* $variant:ident($name:ident $(, $table:ident)?): $ty:ty,)+) => {
-        #[doc = concat!("Which ", $what, " (`contact.", stringify!($key), "`).")]
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-        #[serde(rename_all = "snake_case")]
-        pub enum $kind {
-            $($(#[doc = $doc])* $variant,)+
-        }
-
+    ($kind:ident, $any:ident, $choice:ident, $($variant:ident($name:ident $(, $table:ident)?): $ty:ty,)+) => {
         impl $kind {
             /// Every model of the kind, in table order.
             pub const ALL: &[Self] = &[$(Self::$variant,)+];
@@ -64,12 +59,6 @@ macro_rules! model_kind {
                     $(Self::$variant => $crate::physics::contact::registry::table_name!($($table)?),)+
                 }
             }
-        }
-
-        #[doc = concat!("Any ", $what, ", chosen when the law is built (for compositions no preset has).")]
-        #[derive(Clone, Copy, Debug, PartialEq)]
-        pub enum $any {
-            $($(#[doc = $doc])* $variant($ty),)+
         }
 
         $(
@@ -101,29 +90,30 @@ macro_rules! model_kind {
     };
 }
 
-/// The table: each kind's rows (`Variant(name[, table]): Type`, `table` the [`ContactConfig`](super::table::ContactConfig)
-/// field of its parameters when it has any), the rolling rows, then the presets
-/// (`Variant(name[, table]): Alias = Normal + Damping + Tangential`). Makes the kinds' enums and
-/// run-time choices (`model_kind!`), the run-time choices' sub-model traits, `ContactLawKind`,
-/// the preset laws' type aliases, [`ContactConfig`](super::table::ContactConfig) with its keys, and its dispatch.
+/// The table: each kind's rows (`Variant(name[, table]): Type`, `table` the
+/// [`ContactConfig`](super::table::ContactConfig) field of its parameters when it has any), the
+/// rolling rows, then the presets (`Variant(name[, table]): Alias = Normal + Damping + Tangential`).
+/// Makes the kinds' implementations (`model_kind!`), the run-time choices' sub-model traits,
+/// `ContactLawKind`'s, the preset laws' type aliases, and [`ContactConfig`](super::table::ContactConfig)'s
+/// keys and dispatch.
 macro_rules! contact_models {
     (
-        normal { $($(#[doc = $ndoc:literal])* $nv:ident($nname:ident $(, $ntable:ident)?): $nty:ty,)+ }
-        damping { $($(#[doc = $ddoc:literal])* $dv:ident($dname:ident $(, $dtable:ident)?): $dty:ty,)+ }
-        tangential { $($(#[doc = $tdoc:literal])* $tv:ident($tname:ident $(, $ttable:ident)?): $tty:ty,)+ }
-        rolling { $($(#[doc = $rdoc:literal])* $rv:ident($rname:ident $(, $rtable:ident)?): $rty:ty,)+ }
+        normal { $($nv:ident($nname:ident $(, $ntable:ident)?): $nty:ty,)+ }
+        damping { $($dv:ident($dname:ident $(, $dtable:ident)?): $dty:ty,)+ }
+        tangential { $($tv:ident($tname:ident $(, $ttable:ident)?): $tty:ty,)+ }
+        rolling { $($rv:ident($rname:ident $(, $rtable:ident)?): $rty:ty,)+ }
         presets {
             $($(#[doc = $pdoc:literal])* $pv:ident($pname:ident $(, $ptable:ident)?): $alias:ident = $pn:ident + $pd:ident + $pt:ident,)+
         }
     ) => {
-        $crate::physics::contact::registry::model_kind!("normal spring", normal, NormalKind, AnyNormal, normal_kind,
-            $($(#[doc = $ndoc])* $nv($nname $(, $ntable)?): $nty,)+);
-        $crate::physics::contact::registry::model_kind!("damping", damping, DampingKind, AnyDamping, damping_kind,
-            $($(#[doc = $ddoc])* $dv($dname $(, $dtable)?): $dty,)+);
-        $crate::physics::contact::registry::model_kind!("tangential spring", tangential, TangentialKind, AnyTangential,
-            tangential_kind, $($(#[doc = $tdoc])* $tv($tname $(, $ttable)?): $tty,)+);
-        $crate::physics::contact::registry::model_kind!("rolling resistance", rolling, RollingKind, AnyRolling, rolling_kind,
-            $($(#[doc = $rdoc])* $rv($rname $(, $rtable)?): $rty,)+);
+        $crate::physics::contact::registry::model_kind!(NormalKind, AnyNormal, normal_kind,
+            $($nv($nname $(, $ntable)?): $nty,)+);
+        $crate::physics::contact::registry::model_kind!(DampingKind, AnyDamping, damping_kind,
+            $($dv($dname $(, $dtable)?): $dty,)+);
+        $crate::physics::contact::registry::model_kind!(TangentialKind, AnyTangential, tangential_kind,
+            $($tv($tname $(, $ttable)?): $tty,)+);
+        $crate::physics::contact::registry::model_kind!(RollingKind, AnyRolling, rolling_kind,
+            $($rv($rname $(, $rtable)?): $rty,)+);
 
         impl NormalModel for AnyNormal {
             type State = AnyState;
@@ -199,13 +189,6 @@ macro_rules! contact_models {
 
         $($(#[doc = $pdoc])* pub type $alias = Composed<$pn, $pd, $pt>;)+
 
-        /// Which preset law (`contact.law`): a normal spring, a damping and a tangential spring.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-        #[serde(rename_all = "snake_case")]
-        pub enum ContactLawKind {
-            $($(#[doc = $pdoc])* $pv,)+
-        }
-
         impl ContactLawKind {
             /// Every preset, in table order.
             pub const ALL: &[Self] = &[$(Self::$pv,)+];
@@ -223,49 +206,6 @@ macro_rules! contact_models {
             pub fn composition(self) -> Composition {
                 match self {
                     $(Self::$pv => Composition { normal: <$pn>::KIND, damping: <$pd>::KIND, tangential: <$pt>::KIND },)+
-                }
-            }
-        }
-
-        /// `[contact]`: the law (a preset) and the sub-models that replace the preset's, the options
-        /// every law shares, and each model's parameters in a table of its own (`[contact.linear]`,
-        /// …), so that a sweep may switch models.
-        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-        #[serde(deny_unknown_fields, default)]
-        pub struct ContactConfig {
-            /// The force law: a preset of normal spring, damping and tangential spring.
-            pub law: ContactLawKind,
-            /// The normal spring, replacing the law's.
-            pub normal: Option<NormalKind>,
-            /// The damping of both springs, replacing the law's.
-            pub damping: Option<DampingKind>,
-            /// The tangential spring, replacing the law's.
-            pub tangential: Option<TangentialKind>,
-            /// The rolling resistance.
-            pub rolling: RollingKind,
-            /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
-            pub allow_tension: bool,
-            $($(#[doc = concat!("Parameters of `", stringify!($pname), "`.")] pub $ptable: NoParameters,)?)+
-            $($(#[doc = concat!("Parameters of `", stringify!($nname), "`.")] pub $ntable: $nty,)?)+
-            $($(#[doc = concat!("Parameters of `", stringify!($dname), "`.")] pub $dtable: $dty,)?)+
-            $($(#[doc = concat!("Parameters of `", stringify!($tname), "`.")] pub $ttable: $tty,)?)+
-            $($(#[doc = concat!("Parameters of `", stringify!($rname), "`.")] pub $rtable: $rty,)?)+
-        }
-
-        impl Default for ContactConfig {
-            fn default() -> Self {
-                Self {
-                    law: ContactLawKind::ALL[0],
-                    normal: None,
-                    damping: None,
-                    tangential: None,
-                    rolling: RollingKind::ALL[0],
-                    allow_tension: false,
-                    $($($ptable: NoParameters::default(),)?)+
-                    $($($ntable: <$nty>::default(),)?)+
-                    $($($dtable: <$dty>::default(),)?)+
-                    $($($ttable: <$tty>::default(),)?)+
-                    $($($rtable: <$rty>::default(),)?)+
                 }
             }
         }

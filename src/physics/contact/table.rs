@@ -1,7 +1,9 @@
-//! The table of contact models: one row per model, by kind, then the presets `contact.law` names.
-//! Adding a model is a file implementing its kind's trait ([`super::NormalModel`], …) plus one row here
-//! (with `, table` and a `[contact.<table>]` field name when it has parameters: its serde fields,
-//! defaults for all).
+//! The table of contact models: each kind's enum (the choice key's values) and `Any*` enum (the
+//! run-time choice), the presets `contact.law` names, `[contact]` itself, and one row per model from
+//! which `contact_models!` (`registry`) makes their implementations. Adding a model is a file
+//! implementing its kind's trait ([`super::NormalModel`], …), its variant in its kind's two enums,
+//! and its row (with `, table` and a `ContactConfig` field of that name when it has parameters: its
+//! serde fields, defaults for all).
 
 use serde::{Deserialize, Serialize};
 
@@ -74,33 +76,153 @@ impl ContactState for AnyState {
     }
 }
 
+/// Which normal spring (`contact.normal`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalKind {
+    /// Hertz spring `F = 4/3 E* √R* δ^{3/2}` (eqs 6, 8), from the materials' constants.
+    Hertz,
+    /// Linear spring `F = k_n δ`.
+    Linear,
+    /// Hysteretic linear spring (Walton-Braun): plastic loading, stiffer elastic unloading.
+    HystereticLinear,
+}
+
+/// Which damping (`contact.damping`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DampingKind {
+    /// The paper's `2√(5/6) β √(S m*)` (eqs 7, 12).
+    Paper,
+    /// Viscous at damping ratio β, `2 β √(S m*)`.
+    Viscous,
+    /// Viscoelastic (Kuwabara-Kono), `A S` with a dissipation time A.
+    Viscoelastic,
+}
+
+/// Which tangential spring (`contact.tangential`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TangentialKind {
+    /// Mindlin's `S_t = 8 G* √(R* δ)` (eq 11, fixed), with the Hertz spring.
+    Mindlin,
+    /// A fixed fraction of the normal stiffness (the normal spring's `tangential_stiffness_ratio`).
+    Linear,
+}
+
+/// Which rolling resistance (`contact.rolling`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RollingKind {
+    /// EDEM's constant directional torque `μ0 F_n R` (the default).
+    #[default]
+    ConstantTorque,
+    /// None, whatever the rolling friction.
+    None,
+}
+
+/// Which preset law (`contact.law`): a normal spring, a damping and a tangential spring.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactLawKind {
+    /// The paper's Hertz-Mindlin law with the spec's fixes (the default).
+    #[default]
+    HertzMindlin,
+    /// Linear spring-dashpot (Cundall-Strack) with Coulomb friction.
+    Linear,
+    /// Hysteretic linear spring (Walton-Braun) with the linear law's dashpot and tangential spring.
+    HystereticLinear,
+}
+
+/// Any normal spring, chosen when the law is built (for compositions no preset has).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnyNormal {
+    /// [`NormalKind::Hertz`].
+    Hertz(HertzNormal),
+    /// [`NormalKind::Linear`].
+    Linear(LinearNormal),
+    /// [`NormalKind::HystereticLinear`].
+    HystereticLinear(HystereticNormal),
+}
+
+/// Any damping, chosen when the law is built (for compositions no preset has).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnyDamping {
+    /// [`DampingKind::Paper`].
+    Paper(PaperDamping),
+    /// [`DampingKind::Viscous`].
+    Viscous(ViscousDamping),
+    /// [`DampingKind::Viscoelastic`].
+    Viscoelastic(ViscoelasticDamping),
+}
+
+/// Any tangential spring, chosen when the law is built (for compositions no preset has).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnyTangential {
+    /// [`TangentialKind::Mindlin`].
+    Mindlin(MindlinTangential),
+    /// [`TangentialKind::Linear`].
+    Linear(LinearTangential),
+}
+
+/// Any rolling resistance, chosen when the law is built (for compositions no preset has).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnyRolling {
+    /// [`RollingKind::ConstantTorque`].
+    ConstantTorque(ConstantTorque),
+    /// [`RollingKind::None`].
+    None(NoRolling),
+}
+
+/// `[contact]`: the law (a preset) and the sub-models that replace the preset's, the options every
+/// law shares, and each model's parameters in a table of its own (`[contact.linear]`, …), so that a
+/// sweep may switch models.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactConfig {
+    /// The force law: a preset of normal spring, damping and tangential spring.
+    pub law: ContactLawKind,
+    /// The normal spring, replacing the law's.
+    pub normal: Option<NormalKind>,
+    /// The damping of both springs, replacing the law's.
+    pub damping: Option<DampingKind>,
+    /// The tangential spring, replacing the law's.
+    pub tangential: Option<TangentialKind>,
+    /// The rolling resistance.
+    pub rolling: RollingKind,
+    /// Allow a tensile (attractive) normal force from damping instead of clamping `Fn ≥ 0`.
+    pub allow_tension: bool,
+    /// Parameters of `hertz_mindlin`.
+    pub hertz_mindlin: NoParameters,
+    /// Parameters of `hertz`.
+    pub hertz: HertzNormal,
+    /// Parameters of `linear`.
+    pub linear: LinearNormal,
+    /// Parameters of `hysteretic_linear`.
+    pub hysteretic_linear: HystereticNormal,
+    /// Parameters of `viscoelastic`.
+    pub viscoelastic: ViscoelasticDamping,
+}
+
+// The rows: `Variant(name[, table]): Type`, the variant of the kind's enum and of its `Any*` enum
+// above, the name its key takes, the `ContactConfig` field of its parameters when it has any.
 contact_models! {
     normal {
-        /// Hertz spring `F = 4/3 E* √R* δ^{3/2}` (eqs 6, 8), from the materials' constants.
         Hertz(hertz, hertz): HertzNormal,
-        /// Linear spring `F = k_n δ`.
         Linear(linear, linear): LinearNormal,
-        /// Hysteretic linear spring (Walton-Braun): plastic loading, stiffer elastic unloading.
         HystereticLinear(hysteretic_linear, hysteretic_linear): HystereticNormal,
     }
     damping {
-        /// The paper's `2√(5/6) β √(S m*)` (eqs 7, 12).
         Paper(paper): PaperDamping,
-        /// Viscous at damping ratio β, `2 β √(S m*)`.
         Viscous(viscous): ViscousDamping,
-        /// Viscoelastic (Kuwabara-Kono), `A S` with a dissipation time A.
         Viscoelastic(viscoelastic, viscoelastic): ViscoelasticDamping,
     }
     tangential {
-        /// Mindlin's `S_t = 8 G* √(R* δ)` (eq 11, fixed), with the Hertz spring.
         Mindlin(mindlin): MindlinTangential,
-        /// A fixed fraction of the normal stiffness (the normal spring's `tangential_stiffness_ratio`).
         Linear(linear): LinearTangential,
     }
     rolling {
-        /// EDEM's constant directional torque `μ0 F_n R` (the default).
         ConstantTorque(constant_torque): ConstantTorque,
-        /// None, whatever the rolling friction.
         None(none): NoRolling,
     }
     presets {

@@ -7,6 +7,7 @@ mod error;
 mod fill;
 mod lattice;
 mod lowered;
+mod overlaps;
 mod pour;
 mod random;
 
@@ -14,6 +15,7 @@ pub use dropped::dropped;
 pub use error::PlacementError;
 pub use fill::Fill;
 pub use lattice::lattice;
+pub use overlaps::Overlaps;
 pub use pour::reference as pour_reference;
 pub use random::random;
 

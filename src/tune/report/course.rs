@@ -1,0 +1,208 @@
+//! How the tune went, in the answer sheet's words: the rules of thumb the reference breaks, the
+//! time-step path, why the search ended, why it could not start, and the cheaper settings it left
+//! undecided.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::super::TuneSpec;
+use super::super::judge::broken_by_reference;
+use super::super::model::{Assessment, Candidate, PathEnd, SearchEnd, SearchResult, State};
+use super::super::search::PRICE_MARGIN;
+use super::phrases::{decision_name, failure_reason, resolved_time_step, settings, spend, worst_test};
+use crate::physics::number::short;
+
+/// Up front, loudly: the rules of thumb the reference itself breaks, and that candidates are held
+/// to no worse than it on them (empty when it breaks none).
+pub fn reference_breaks(result: &SearchResult) -> String {
+    let broken = broken_by_reference(&result.reference_checks);
+    if broken.is_empty() {
+        return String::new();
+    }
+    let each: Vec<String> = broken
+        .iter()
+        .map(|c| format!("{} {} against {} ({})", c.kind.name(), short(c.figure), short(c.limit), c.kind.limit_key()))
+        .collect();
+    format!(
+        "WARNING: the reference itself breaks {} rule(s) of thumb: {}. Every candidate is held to no worse than the \
+         reference on {}.\n",
+        broken.len(),
+        each.join("; "),
+        if broken.len() == 1 { "it" } else { "them" }
+    )
+}
+
+/// How the time-step path ended, in one sentence.
+pub(super) fn path_line(spec: &TuneSpec, result: &SearchResult) -> String {
+    let (rungs, end) = &result.path;
+    let fractions: Vec<String> = rungs.iter().map(|&k| resolved_time_step(spec, &result.candidates[k])).collect();
+    let tried = if fractions.is_empty() { String::new() } else { format!(" (tried: {})", fractions.join("; ")) };
+    match end {
+        PathEnd::NotRun => "The time-step path did not run.".into(),
+        PathEnd::Verified(k) => {
+            format!("The time-step path ended at candidate {}, verified{tried}.", result.candidates[*k].id)
+        }
+        PathEnd::NothingCheaper => {
+            format!(
+                "The time-step path found no time step cheaper than the reference's that is valid and equivalent{tried}."
+            )
+        }
+        PathEnd::OutOfBudget => format!("The spend limit or the run budget stopped the time-step path{tried}."),
+        PathEnd::Undecided(k) => {
+            let cand = &result.candidates[*k];
+            let why = result.assess_verification(cand).map(|a| failure_reason(spec, result, &a)).unwrap_or_default();
+            format!(
+                "The time-step path stopped at candidate {}: on {} fresh seeds {why}, more than the spend limit \
+                 leaves{tried}.",
+                cand.id,
+                cand.verification.len()
+            )
+        }
+    }
+}
+
+/// Why the search over the levers ended, as a sentence (empty when it did not start); `left`: the
+/// reference depositions of the spend limit that the whole tune left unspent.
+pub(super) fn end_line(end: SearchEnd, budget: usize, left: f64) -> String {
+    match end {
+        SearchEnd::NotSearched => String::new(),
+        SearchEnd::SpendLimit => format!(
+            "The search ended with the spend limit too near for another setting's first seeds or the seeds \
+             that would decide one, with a verification round in reserve: {} reference depositions were left. ",
+            (10.0 * left.max(0.0)).floor() / 10.0
+        ),
+        SearchEnd::RunBudget => {
+            format!("The search ended at the run budget ({budget} runs, less what verification keeps back). ")
+        }
+        SearchEnd::Exhausted => "The search ended when it proposed no new setting that could still win. ".into(),
+    }
+}
+
+/// Why the tune stopped before searching: a kept metric the reference's own spread cannot decide.
+pub(super) fn undecidable_text(spec: &TuneSpec, result: &SearchResult) -> String {
+    let mut text = format!(
+        "Cannot decide for {}: after the {} reference runs, stopped before searching (nothing else was run).",
+        spec.name,
+        result.reference.len()
+    );
+    for u in &result.undecidable {
+        let keep = &spec.keep[u.metric];
+        let relative = |m: f64| {
+            if u.mean != 0.0 { format!(" ({} % of the mean)", short(100.0 * m / u.mean.abs())) } else { String::new() }
+        };
+        let seeds = match u.seeds_needed {
+            Some(n) => format!("the asked tolerance would need about {n} seeds per candidate (search.max_seeds)"),
+            None => "no number of candidate seeds would decide the asked tolerance with this reference: it needs \
+                     more seeds too (search.reference_seeds)"
+                .into(),
+        };
+        let _ = write!(
+            text,
+            " {}: the reference spreads {} between seeds{} against a tolerance of ±{}{}; with search.max_seeds = {} \
+             the smallest decidable tolerance is ±{}{}; {seeds}.",
+            keep.metric,
+            short(u.spread),
+            relative(u.spread),
+            short(u.margin),
+            relative(u.margin),
+            spec.search.max_seeds,
+            short(u.decidable_margin),
+            relative(u.decidable_margin),
+        );
+    }
+    text
+}
+
+/// `metric difference (low to high, tolerance ±m) decision; ...`.
+pub(super) fn metric_lines(spec: &TuneSpec, result: &SearchResult, a: &Assessment) -> String {
+    if a.tests.is_empty() {
+        return "not compared (a run failed)".into();
+    }
+    spec.keep
+        .iter()
+        .zip(&a.tests)
+        .zip(&result.margins)
+        .map(|((keep, t), m)| {
+            format!(
+                "{} {} ({} to {}, tolerance ±{}) {}",
+                keep.metric,
+                short(t.difference),
+                short(t.low),
+                short(t.high),
+                short(*m),
+                decision_name(t.decision)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The cheapest candidates (up to [`UNDECIDED_LISTED`]) that cost less than `bound` in the search
+/// and were left undecided, unverified: each with its cost, the metric, the seeds a side that would
+/// decide it and the `max_spend` that pays for them and a verification on as many fresh seeds; then
+/// the command that continues from the stored runs (with `--out` where the tune was given one).
+/// Empty when there are none.
+pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64, out_dir: Option<&Path>) -> String {
+    // Undecided in the search and not verified, or on its fresh seeds.
+    let standing = |c: &Candidate| result.assess_verification(c).unwrap_or_else(|| result.assess(c));
+    let mut open: Vec<(&Candidate, Assessment)> = result
+        .candidates
+        .iter()
+        .map(|c| (c, standing(c)))
+        .filter(|(_, a)| a.state == State::Undecided && a.cost < bound && !a.tests.is_empty())
+        .collect();
+    open.sort_by(|x, y| x.1.cost.total_cmp(&y.1.cost).then(x.0.id.cmp(&y.0.id)));
+    let (spent, reference) = (spend(result), result.reference_cost());
+    let mut text = String::new();
+    let mut most: f64 = 0.0;
+    for (cand, a) in open.iter().take(UNDECIDED_LISTED) {
+        let Some((k, t)) = worst_test(result, a) else { continue };
+        let cost = a.cost / reference;
+        let verified = !cand.verification.is_empty();
+        let _ = write!(
+            text,
+            "Undecided, cheaper: candidate {} ({}) at {} of the reference on {} {}seeds, {} undecided (difference {}, \
+             90 % interval {} to {}, tolerance ±{})",
+            cand.id,
+            settings(spec, cand),
+            short(cost),
+            a.n,
+            if verified { "fresh verification " } else { "" },
+            spec.keep[k].metric,
+            short(t.difference),
+            short(t.low),
+            short(t.high),
+            short(result.margins[k])
+        );
+        match t.seeds_needed {
+            Some(n) => {
+                let more = n.saturating_sub(a.n) as f64 * cost + n.saturating_sub(result.reference.len()) as f64;
+                let verify = if verified { 0.0 } else { n.max(spec.search.verify_seeds()) as f64 * cost };
+                let needed = (10.0 * (spent + PRICE_MARGIN * (more + verify))).ceil() / 10.0;
+                most = most.max(needed);
+                let _ = writeln!(
+                    text,
+                    ": about {n} seeds a side, the reference's included, would decide it; {} needs max_spend = {}.",
+                    if verified { "that" } else { "with its verification on as many fresh seeds that" },
+                    short(needed)
+                );
+            }
+            None => {
+                let _ = writeln!(text, ": no number of seeds would decide it.");
+            }
+        }
+    }
+    if most > spec.search.max_spend {
+        let _ = writeln!(
+            text,
+            "`demsweep tune {}{} --resume --max-spend {}` continues from the stored runs, repeating none.",
+            spec.path.display(),
+            out_dir.map_or(String::new(), |d| format!(" --out {}", d.display())),
+            short(most)
+        );
+    }
+    text
+}
+
+/// Most undecided cheaper candidates the answer sheet lists.
+const UNDECIDED_LISTED: usize = 2;
