@@ -7,9 +7,9 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::output::OutputError;
 use crate::output::guard::{self, Existing, GuardError};
 use crate::output::reader::DamagedGroup;
+use crate::output::{DynSink, OutputError};
 use crate::plot::PlotError;
 use crate::report::{self, ReportContext};
 use crate::runner::{self, RunOptions, RunReport, RunnerError};
@@ -67,10 +67,13 @@ pub struct StudyRun {
     pub page: Page,
 }
 
-/// Runs a plan as `demsweep run` does: the runs into the results file and its CSV files, then the
-/// report page.
-pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerError> {
-    let mut report = runner::run_plan(plan, options)?;
+/// Runs a plan as `demsweep run` does: the runs into the results file and its CSV tables
+/// ([`runner::results_sinks`]) and then into `sinks`, the caller's (which see only the runs made
+/// now on `--resume`, and at the end the tables of every run); then the report page.
+pub fn run_study(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink<'_>>) -> Result<StudyRun, RunnerError> {
+    let (start, writer) = runner::open_results(plan, options)?;
+    let sinks = runner::results_sinks(writer).into_iter().chain(sinks).collect();
+    let mut report = runner::run_plan_into(plan, options, start, sinks)?;
     report.points = crate::output::SummaryTable::default();
     let page = report::write_report(
         &report.results,
