@@ -1,5 +1,6 @@
 //! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
-//! runs through a bounded channel to one writer thread, progress, resume, shards and Ctrl-C.
+//! runs through a bounded channel to one writer thread that hands them to the sinks the caller lists
+//! (the results file's: [`results_sinks`]), progress, resume, shards and Ctrl-C.
 //!
 //! Results do not depend on `jobs`: every simulation is deterministic on any number of threads (one
 //! per run, unless fewer runs are left than threads: see `run_all`), and the summary is sorted by
@@ -79,7 +80,7 @@ pub struct RunOptions {
 /// What a sweep did.
 #[derive(Clone, Debug)]
 pub struct RunReport {
-    /// The HDF5 results file.
+    /// The HDF5 results file (where it goes, for a sweep whose sinks do not write it).
     pub results: PathBuf,
     /// The CSV summary next to it.
     pub summary_csv: PathBuf,
