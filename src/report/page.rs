@@ -67,14 +67,19 @@ pub fn write_report(results: &Path, out: (Option<&Path>, Existing), context: &Re
 }
 
 /// [`write_report`] of a sweep's results file with the tables its runner computed (its summary and
-/// per-point statistics) in place of those of the file's runs.
+/// per-point statistics) in place of those of the file's runs. A file that holds runs the sweep left
+/// out of its tables (stored runs the study no longer plans) has the page of all its runs.
 pub fn write_report_of(
     results: &Path,
     tables: &Tables,
     out: (Option<&Path>, Existing),
     context: &ReportContext,
 ) -> Written {
-    write_page(&Source::read(results)?, tables, out, context)
+    let source = Source::read(results)?;
+    match source.rows.len() == tables.summary.len() {
+        true => write_page(&source, tables, out, context),
+        false => write_page(&source, &points::tables(&source.rows), out, context),
+    }
 }
 
 /// The page of `source` with the statistics of `tables`, written as [`write_report`] says.
