@@ -13,7 +13,7 @@ use crate::output::lock::ResultsLock;
 use crate::output::{
     self, CsvTables, DynSink, FileHeader, OutputError, OutputReason, ResultsWriter, ShardInfo, ShardSpec, dyn_sink,
 };
-use crate::study::{Plan, RunIdentity};
+use crate::study::Plan;
 
 /// Opens the results file of a sweep of `plan` with `options` (see [`RunOptions`]): the file,
 /// created or continued, and the sweep's [`Start`] (its lock, the stored runs it reuses, the runs to
@@ -23,7 +23,7 @@ pub fn open_results(plan: &Plan, options: &RunOptions) -> Result<(Start, Results
     let selected = start::selected(plan, options);
     let path = results_path(plan, options);
     let (lock, mut writer, header) = open_file(plan, options, &path, &selected)?;
-    let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
+    let identities = start::identities(plan);
     let stored = writer.take_existing();
     let reuse = Reuse::new(plan, &identities, (&selected, options.accept_version), stored, &mut writer)?;
     if let Some(header) = header {

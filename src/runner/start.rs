@@ -1,6 +1,6 @@
 //! What a sweep starts from: the runs it selects, those already stored and those to make.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -44,9 +44,9 @@ impl Start {
     pub fn fresh(plan: &Plan, options: &RunOptions) -> Self {
         let started = Instant::now();
         let selected = selected(plan, options);
-        let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
+        let identities = identities(plan);
         let (mut todo, mut aliases) = (Vec::new(), HashMap::<String, Vec<SummaryRow>>::new());
-        let mut making = std::collections::HashSet::new();
+        let mut making = HashSet::new();
         for &i in &selected {
             let identity = identities[i].as_str();
             match making.insert(identity) {
@@ -80,4 +80,9 @@ pub(super) fn selected(plan: &Plan, options: &RunOptions) -> Vec<usize> {
         Some(spec) => shard::select(plan, spec),
         None => (0..plan.runs.len()).collect(),
     }
+}
+
+/// The identity of every run of `plan`, as text, by plan index.
+pub(super) fn identities(plan: &Plan) -> Vec<String> {
+    RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect()
 }
