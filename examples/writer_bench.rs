@@ -76,9 +76,10 @@ fn main() {
         }
     }
     let t = Instant::now();
-    for (writer, rows) in writers.into_iter().zip(&rows) {
+    for ((writer, rows), (path, _)) in writers.iter_mut().zip(&rows).zip(&files) {
         let tables = points::tables(rows);
-        ResultSink::finish(Box::new(writer), &tables).expect("finish");
+        writer.finish(&tables).expect("finish");
+        demsweep::output::write_csv_files(path, &tables).expect("CSV tables");
     }
     let finish_s = t.elapsed().as_secs_f64();
     let total_s = started.elapsed().as_secs_f64();

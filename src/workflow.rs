@@ -7,11 +7,10 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::output::OutputError;
 use crate::output::guard::{self, Existing, GuardError};
-use crate::output::reader::DamagedGroup;
+use crate::output::{DynSink, OutputError, dyn_sink};
 use crate::plot::PlotError;
-use crate::report::{self, ReportContext};
+use crate::report::{self, ReportContext, ReportSink};
 use crate::runner::{self, RunOptions, RunReport, RunnerError};
 use crate::study::{self, Plan, StudyErrors};
 use crate::tune::report::{WriteError, Written};
@@ -53,30 +52,28 @@ pub fn load_study(path: &Path, out: Option<&Path>) -> Result<(Plan, Option<Strin
 
 /// The report page written after a sweep or tune: where it went, the run groups left out of it and
 /// the charts that could not be drawn, or why there is none.
-pub type Page = Result<(PathBuf, Vec<DamagedGroup>, Vec<PlotError>), OutputError>;
+pub type Page = report::Written;
 
 /// What `demsweep run` did: the sweep and its report page.
 #[derive(Clone, Debug)]
 pub struct StudyRun {
-    /// The sweep: results file, summary, counts, warnings. Its `points` table is left empty (the
-    /// results file's `/points` and `_points.csv` hold it): one row per grid point with seven
-    /// statistics per metric, it can be several times the summary's size, and is not held while the
-    /// report page computes its own.
+    /// The sweep: results file, summary, points, counts, warnings.
     pub report: RunReport,
     /// The report page next to the results.
     pub page: Page,
 }
 
-/// Runs a plan as `demsweep run` does: the runs into the results file and its CSV files, then the
-/// report page.
-pub fn run_study(plan: &Plan, options: &RunOptions) -> Result<StudyRun, RunnerError> {
-    let mut report = runner::run_plan(plan, options)?;
-    report.points = crate::output::SummaryTable::default();
-    let page = report::write_report(
-        &report.results,
-        (None, Existing::Ours { force: options.force }),
-        &ReportContext::default(),
-    );
+/// Runs a plan as `demsweep run` does: the runs into the results file and its CSV tables
+/// ([`runner::results_sinks`]), the report page ([`ReportSink`], from the tables the sweep computed)
+/// and then `sinks`, the caller's (which see only the runs made now on `--resume`, and at the end the
+/// tables of every run).
+pub fn run_study(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink<'_>>) -> Result<StudyRun, RunnerError> {
+    let (start, writer) = runner::open_results(plan, options)?;
+    let existing = Existing::Ours { force: options.force };
+    let mut page = ReportSink::new(start.results(), existing, ReportContext::default());
+    let listed = runner::results_sinks(writer).into_iter().chain([dyn_sink(&mut page)]).chain(sinks).collect();
+    let report = runner::run_plan_into(plan, options, start, listed)?;
+    let page = page.written().expect("a sweep that ends well has finished its sinks");
     Ok(StudyRun { report, page })
 }
 

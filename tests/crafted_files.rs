@@ -44,7 +44,9 @@ fn add_run(
     writer.stage(&run).unwrap();
     writer.commit().unwrap();
     rows.push(run.row.clone());
-    Box::new(writer).finish(&tables(&rows)).unwrap();
+    let tables = tables(&rows);
+    writer.finish(&tables).unwrap();
+    demsweep::output::write_csv_files(results, &tables).unwrap();
     keep_a_copy(results);
 }
 

@@ -287,15 +287,15 @@ fn run_batch<'py>(
 
 /// Runs every run of `plans` on `jobs` worker threads into memory: each plan's summary table.
 fn run_in_memory(py: Python<'_>, plans: &[study::Plan], jobs: usize) -> PyResult<Vec<SummaryTable>> {
-    let results: Vec<MemorySink> = plans.iter().map(|_| MemorySink::default()).collect();
-    let batches = (plans.iter().zip(&results))
-        .map(|(plan, memory)| runner::Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(memory.clone())] })
+    let mut results: Vec<MemorySink> = plans.iter().map(|_| MemorySink::default()).collect();
+    let batches = (plans.iter().zip(&mut results))
+        .map(|(plan, memory)| runner::Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(memory)] })
         .collect();
     let stop = Arc::new(AtomicBool::new(false));
     detached(py, &stop, || runner::run_batches(batches, jobs, &stop))?.map_err(results_error)?;
     let complete =
-        |(plan, memory): (&study::Plan, &MemorySink)| memory.summary().filter(|t| t.len() == plan.runs.len());
-    let tables: Option<Vec<_>> = plans.iter().zip(&results).map(complete).collect();
+        |(plan, memory): (&study::Plan, MemorySink)| memory.into_summary().filter(|t| t.len() == plan.runs.len());
+    let tables: Option<Vec<_>> = plans.iter().zip(results).map(complete).collect();
     tables.ok_or_else(|| PyKeyboardInterrupt::new_err("interrupted"))
 }
 
@@ -384,7 +384,7 @@ fn run_study<'py>(
         checkpoint_every,
         ..RunOptions::default()
     };
-    let run = detached(py, &stop, || workflow::run_study(&plan, &options))?.map_err(results_error)?;
+    let run = detached(py, &stop, || workflow::run_study(&plan, &options, Vec::new()))?.map_err(results_error)?;
     let report = &run.report;
     let counts = report.counts();
     let failed = (counts.failed() > 0 && !report.interrupted).then(|| counts.to_string());

@@ -288,7 +288,7 @@ pub fn run(args: &RunArgs, plan: &demsweep::study::Plan) -> ExitCode {
         notes: NotePolicy::All,
         checkpoint_every: args.checkpoint_every.0,
     };
-    match demsweep::workflow::run_study(plan, &options) {
+    match demsweep::workflow::run_study(plan, &options, Vec::new()) {
         Ok(run) => {
             print_report(&run.report);
             let paged = page_written(&run.report.results, run.page);

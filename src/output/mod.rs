@@ -1,8 +1,8 @@
 //! Result files: one HDF5 file per study (or shard) and a CSV summary next to it.
 //!
 //! Data flows one way: runner → [`ResultSink`]s; the results file ([`ResultsWriter`])
-//! is one: run groups committed in batches, then `/summary`, `/points` and [`write_csv_files`] from
-//! the tables the runner computes. This layer reads and writes; it computes no statistics. The
+//! is one: run groups committed in batches, then `/summary` and `/points` from the tables the runner
+//! computes; its CSV tables ([`CsvTables`], [`write_csv_files`]) another. This layer reads and writes; it computes no statistics. The
 //! layout is in [`layout`] and docs/results.md.
 
 pub mod checkpoint;
@@ -10,6 +10,7 @@ mod companions;
 pub(crate) mod compound;
 pub(crate) mod copy;
 pub(crate) mod csv;
+mod csv_tables;
 mod error;
 pub mod guard;
 pub mod header;
@@ -30,6 +31,7 @@ mod writer;
 
 pub use companions::{check_companions, csv_path, points_csv_path, report_path, write_csv_files};
 pub use compound::Field;
+pub use csv_tables::CsvTables;
 pub(crate) use error::hdf5_error;
 pub use error::{OutputError, OutputReason};
 pub use header::{FileHeader, ShardInfo, ShardSpec};

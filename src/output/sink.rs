@@ -1,9 +1,10 @@
 //! Where a sweep's results go. A [`ResultSink`] takes finished runs one at a time, makes them durable
 //! at each commit, and at the end receives the tables of its runs (the summary and the per-point
 //! statistics, computed above the sink by the runner). The caller of the runner chooses the sinks:
-//! the HDF5 + CSV results file ([`super::ResultsWriter`]) is the durable one; the Python module's
-//! in-memory results are another; a new output format (VTK, LAMMPS dumps …) is one more
-//! implementation, handed to the runner by its caller.
+//! the HDF5 results file ([`super::ResultsWriter`]) is the durable one, its CSV tables
+//! ([`super::CsvTables`]) another, written only after the file's last commit (they follow it in the
+//! list); the Python module's in-memory results ([`super::MemorySink`]) are another; a new output
+//! format (VTK, LAMMPS dumps …) is one more implementation, handed to the runner by its caller.
 //!
 //! Each sink says what can go wrong with it ([`ResultSink::Error`]); the runner drives a list of
 //! sinks of different kinds, so there each is a [`DynSink`], whose errors are [`SinkError`]s.
@@ -19,27 +20,52 @@ use crate::physics::SceneConfig;
 use crate::physics::record::RunRecord;
 
 /// A destination for the runs of a sweep, driven from one thread: [`Self::accept`] for each run,
-/// [`Self::commit`] now and then, [`Self::finish`] once.
+/// [`Self::commit`] now and then, [`Self::finish`] once, after which it is dropped. Each does nothing
+/// unless the sink says otherwise: a sink that keeps only the tables implements only `finish`.
 pub trait ResultSink: Send {
     /// What can go wrong: [`OutputError`] for a file, [`Infallible`] for memory.
     type Error: Into<SinkError>;
 
     /// Takes one finished run; it need not be durable before the next [`Self::commit`].
-    fn accept(&mut self, run: &RunResult) -> Result<(), Self::Error>;
+    fn accept(&mut self, _run: &RunResult) -> Result<(), Self::Error> {
+        Ok(())
+    }
 
     /// Makes every accepted run durable: a crash after it loses none of them.
-    fn commit(&mut self) -> Result<(), Self::Error>;
+    fn commit(&mut self) -> Result<(), Self::Error> {
+        Ok(())
+    }
 
-    /// Receives the tables of every run the sink holds (earlier sweeps' when resuming included),
-    /// keeps what it keeps of them, and closes the sink.
-    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), Self::Error>;
+    /// Receives the tables of every run of the sweep (when resuming, the stored runs' too, though
+    /// [`Self::accept`] sees only the runs made now), keeps what it keeps of them, and closes the sink.
+    fn finish(&mut self, _tables: &Tables) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
-/// A sink of any kind, as the runner drives it: a list of sinks needs one error type.
-pub type DynSink = Box<dyn ResultSink<Error = SinkError>>;
+/// A sink lent to the runner: the caller keeps it, and reads what it holds after the sweep.
+impl<S: ResultSink + ?Sized> ResultSink for &mut S {
+    type Error = S::Error;
+
+    fn accept(&mut self, run: &RunResult) -> Result<(), Self::Error> {
+        (**self).accept(run)
+    }
+
+    fn commit(&mut self) -> Result<(), Self::Error> {
+        (**self).commit()
+    }
+
+    fn finish(&mut self, tables: &Tables) -> Result<(), Self::Error> {
+        (**self).finish(tables)
+    }
+}
+
+/// A sink of any kind, as the runner drives it: a list of sinks needs one error type. It lives as
+/// long as `'a`: a sink lent by the caller (`&mut S`) is one.
+pub type DynSink<'a> = Box<dyn ResultSink<Error = SinkError> + 'a>;
 
 /// `sink` as a [`DynSink`]: its errors become [`SinkError`]s.
-pub fn dyn_sink<S: ResultSink + 'static>(sink: S) -> DynSink {
+pub fn dyn_sink<'a, S: ResultSink + 'a>(sink: S) -> DynSink<'a> {
     Box::new(Erased(sink))
 }
 
@@ -57,8 +83,8 @@ impl<S: ResultSink> ResultSink for Erased<S> {
         self.0.commit().map_err(Into::into)
     }
 
-    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), SinkError> {
-        Box::new(self.0).finish(tables).map_err(Into::into)
+    fn finish(&mut self, tables: &Tables) -> Result<(), SinkError> {
+        self.0.finish(tables).map_err(Into::into)
     }
 }
 

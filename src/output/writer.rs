@@ -16,7 +16,7 @@ use super::reader::{self, DamagedGroup};
 use super::row::{DEMSWEEP_VERSION, SummaryRow};
 use super::sink::{ResultSink, RunResult, Tables};
 use super::table::{Column, ColumnData, SummaryTable};
-use super::{LayoutError, OutputError, OutputReason, hdf5_error, run_attrs, write_csv_files};
+use super::{LayoutError, OutputError, OutputReason, hdf5_error, run_attrs};
 use crate::physics::SceneConfig;
 use crate::physics::record::{DISK_FIELDS, RunRecord, Snapshot};
 use crate::physics::stress::StressProfile;
@@ -301,8 +301,8 @@ impl ResultsWriter {
     }
 
     /// Commits what is staged, rewrites `/summary` and `/points` from `tables`, and closes the file
-    /// (as a sink's [`ResultSink::finish`] does, without the CSV files beside it).
-    pub fn close(mut self, tables: &Tables) -> Result<(), OutputError> {
+    /// (as a sink's [`ResultSink::finish`] does); nothing is written through it afterwards.
+    pub fn close(&mut self, tables: &Tables) -> Result<(), OutputError> {
         self.commit()?;
         let err = |e| hdf5_error(&self.path, e);
         let stored = AttrValue::I64(self.groups.len() as i64);
@@ -330,7 +330,7 @@ impl ResultsWriter {
             drop(index);
             write_columns(&self.file, POINTS, (&tables.points, &[]), &[]).map_err(err)?;
         }
-        self.file.close().map_err(err)
+        self.file.clone().close().map_err(err)
     }
 }
 
@@ -355,8 +355,8 @@ impl ResultsWriter {
     }
 }
 
-/// The results file as a sink: runs become run groups (committed in place), the tables `/summary`,
-/// `/points` and the CSV files next to the file.
+/// The results file as a sink: runs become run groups (committed in place), the tables `/summary`
+/// and `/points`.
 impl ResultSink for ResultsWriter {
     type Error = OutputError;
 
@@ -368,10 +368,8 @@ impl ResultSink for ResultsWriter {
         ResultsWriter::commit(self)
     }
 
-    fn finish(self: Box<Self>, tables: &Tables) -> Result<(), OutputError> {
-        let path = self.path.clone();
-        self.close(tables)?;
-        write_csv_files(&path, tables).map(drop)
+    fn finish(&mut self, tables: &Tables) -> Result<(), OutputError> {
+        self.close(tables)
     }
 }
 

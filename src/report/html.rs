@@ -2,7 +2,7 @@
 
 use serde_json::{Value, json};
 
-use crate::output::table::{ColumnData, significant};
+use crate::output::table::{Column, ColumnData, SummaryTable, significant};
 use crate::physics::RunStatus;
 use crate::physics::quantity::{self, Report};
 use crate::plot::results::spread;
@@ -111,9 +111,10 @@ pub struct PointsTable {
 }
 
 impl PointsTable {
-    /// The table of `points` (at most [`MAX_POINT_ROWS`] of them, spread over the grid); `charted`:
-    /// runs that have a section of their own.
-    pub fn new(points: &Points, charted: &[&str]) -> Self {
+    /// The table of `points` (at most [`MAX_POINT_ROWS`] of them, spread over the grid) with their
+    /// statistics `stats` (the points table of [`Points::table`], one row per point in order);
+    /// `charted`: runs that have a section of their own.
+    pub fn new(points: &Points, stats: &SummaryTable, charted: &[&str]) -> Self {
         let summary = points.summary();
         let status = summary.column("status").map(|c| &c.data);
         let ids = summary.column("run_id").map(|c| &c.data);
@@ -141,6 +142,9 @@ impl PointsTable {
             ("", "The point's run ids; a link to the run's section when it has one."),
             LAST_GROUP,
         ));
+        let statistics: Vec<[Option<&Column>; 3]> = (metrics.iter())
+            .map(|(m, ..)| ["n", "mean", "ci95"].map(|statistic| stats.column(&format!("{m}_{statistic}"))))
+            .collect();
         let rows = spread(points.len(), MAX_POINT_ROWS)
             .into_iter()
             .map(|p| {
@@ -159,9 +163,14 @@ impl PointsTable {
                 cells.extend(
                     RunStatus::RECORDED.iter().map(|s| json!(statuses.iter().filter(|t| *t == s.as_str()).count())),
                 );
-                for (metric, ..) in &metrics {
-                    let d = points.describe(p, metric);
-                    cells.push(if d.n == 0 { Value::Null } else { json!([short(d.mean), short(d.half_width_95)]) });
+                for [n, mean, half_width] in &statistics {
+                    let value = |c: &Option<&Column>| c.and_then(|c| c.data.number(p)).unwrap_or(f64::NAN);
+                    let described = value(n) > 0.0;
+                    cells.push(if described {
+                        json!([short(value(mean)), short(value(half_width))])
+                    } else {
+                        Value::Null
+                    });
                 }
                 let run_ids: Vec<String> = runs.iter().map(|&r| text(r, ids)).collect();
                 let linked = run_ids.iter().find(|id| charted.contains(&id.as_str()));
@@ -241,7 +250,7 @@ pub fn static_table(table: &Table) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::{SummaryRow, SummaryTable};
+    use crate::output::SummaryRow;
     use crate::study::ParamValue;
 
     #[test]
@@ -256,7 +265,7 @@ mod tests {
         let summary = SummaryTable::from_rows(&rows);
         let points = Points::new(&summary);
         assert_eq!(points.len(), total, "one point per run");
-        let table = PointsTable::new(&points, &[]);
+        let table = PointsTable::new(&points, &points.table(), &[]);
         assert_eq!(table.shown(), (MAX_POINT_ROWS, total));
         let first_cells: Vec<f64> = table
             .rows
@@ -267,7 +276,8 @@ mod tests {
         assert_eq!(first_cells.last(), Some(&((total - 1) as f64)));
         assert!(first_cells.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] <= 2.0), "evenly spread, in grid order");
         let small = SummaryTable::from_rows(&rows[..10]);
-        assert_eq!(PointsTable::new(&Points::new(&small), &[]).shown(), (10, 10), "a small grid whole");
+        let points = Points::new(&small);
+        assert_eq!(PointsTable::new(&points, &points.table(), &[]).shown(), (10, 10), "a small grid whole");
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub struct Batch<'a> {
     /// The runs.
     pub runs: Vec<&'a PlannedRun>,
     /// Where each of them goes; at the end each sink receives the tables of the batch's runs.
-    pub sinks: Vec<DynSink>,
+    pub sinks: Vec<DynSink<'a>>,
 }
 
 /// Runs the runs of every batch together on `requested` worker threads (0 = one per core), the
@@ -54,14 +54,14 @@ mod tests {
         };
         let (three, one) = (plan(vec![5, 1, 3]), plan(vec![1]));
         let summaries = |jobs: usize| {
-            let sinks = [MemorySink::default(), MemorySink::default()];
+            let mut sinks = [MemorySink::default(), MemorySink::default()];
             let batches = [&three, &one]
                 .iter()
-                .zip(&sinks)
-                .map(|(plan, sink)| Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(sink.clone())] })
+                .zip(&mut sinks)
+                .map(|(plan, sink)| Batch { runs: plan.runs.iter().collect(), sinks: vec![dyn_sink(sink)] })
                 .collect();
             run_batches(batches, jobs, &Arc::new(AtomicBool::new(false))).unwrap();
-            sinks.map(|sink| sink.summary().expect("finished").without_timing())
+            sinks.map(|sink| sink.into_summary().expect("finished").without_timing())
         };
         let [first, second] = summaries(1);
         let two = summaries(2);

@@ -6,6 +6,7 @@ use std::convert::Infallible;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use crate::output::table::ColumnData;
 use crate::output::terminal;
 use crate::output::{ResultSink, RunResult, Tables, checkpoint};
 use crate::physics::run_state::{Checkpoints, RunState};
@@ -85,9 +86,10 @@ pub fn remove_finished(results: &Path, ids: impl Iterator<Item = String>) {
     }
 }
 
-/// Removes the checkpoint of each run once it is stored: a sink handed the runs after the results
-/// file, so that its commit follows the file's (a commit of the file that fails ends the sweep
-/// before this one runs). Only checkpoint files go ([`checkpoint::remove`]).
+/// Removes the checkpoint of each run once it is stored, and at the end those of every run in the
+/// tables (left by an earlier invocation): a sink handed the runs after the results file, so that
+/// its commit follows the file's (a commit of the file that fails ends the sweep before this one
+/// runs). Only checkpoint files go ([`checkpoint::remove`]).
 pub struct RemoveStored {
     results: PathBuf,
     accepted: Vec<String>,
@@ -113,7 +115,10 @@ impl ResultSink for RemoveStored {
         Ok(())
     }
 
-    fn finish(self: Box<Self>, _: &Tables) -> Result<(), Infallible> {
+    fn finish(&mut self, tables: &Tables) -> Result<(), Infallible> {
+        if let Some(ColumnData::Text(ids)) = tables.summary.column("run_id").map(|c| &c.data) {
+            remove_finished(&self.results, ids.iter().cloned());
+        }
         Ok(())
     }
 }

@@ -1,5 +1,6 @@
 //! Running a plan: runs in parallel on a dedicated rayon pool (one simulation per task), finished
-//! runs through a bounded channel to one writer thread, progress, resume, shards and Ctrl-C.
+//! runs through a bounded channel to one writer thread that hands them to the sinks the caller lists
+//! (the results file's: [`results_sinks`]), progress, resume, shards and Ctrl-C.
 //!
 //! Results do not depend on `jobs`: every simulation is deterministic on any number of threads (one
 //! per run, unless fewer runs are left than threads: see `run_all`), and the summary is sorted by
@@ -7,43 +8,41 @@
 
 use std::collections::HashSet;
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
 mod batch;
 pub mod checkpoints;
+mod environment;
 mod execute;
 pub mod interrupt;
 pub mod merge;
 mod notes;
 mod outcome;
 mod progress;
+mod results_file;
 mod reuse;
 pub mod shard;
+mod start;
 mod warnings;
 mod writer_thread;
 
 pub use batch::{Batch, run_batches};
+pub use environment::{PARALLEL_MIN_DISKS_VARIABLE, VECTOR_WIDTH_VARIABLE, parallel_min_disks, use_vector_width};
 pub use merge::{MergeOptions, MergeReport, ShardProblem, merge};
 pub use notes::{NotePolicy, RunNote, WorkerCap};
 pub use outcome::{EXIT_PARTIAL, RunCounts, SweepOutcome};
 pub use progress::ProgressMode;
+pub use results_file::{open_results, results_path, results_sinks};
+pub use start::Start;
 pub use warnings::WarningDigest;
 pub use writer_thread::CommitPolicy;
 
-use crate::output::header::utc_now;
-use crate::output::lock::ResultsLock;
-use crate::output::table::ColumnData;
-use crate::output::{
-    self, DynSink, FileHeader, OutputError, OutputReason, ResultsWriter, RunResult, ShardInfo, ShardSpec, SinkError,
-    SummaryTable,
-};
+use crate::output::{self, DynSink, OutputError, RunResult, ShardSpec, SinkError, SummaryTable};
 use crate::physics::Threads;
-use crate::physics::parallel::PARALLEL_MIN_DISKS;
-use crate::physics::vector::{self, Width};
-use crate::study::{Plan, PlannedRun, RunIdentity};
+use crate::study::{Plan, PlannedRun};
 use checkpoints::{Checkpointing, RunCheckpoint};
 use progress::ProgressView;
 
@@ -81,7 +80,7 @@ pub struct RunOptions {
 /// What a sweep did.
 #[derive(Clone, Debug)]
 pub struct RunReport {
-    /// The HDF5 results file.
+    /// The HDF5 results file (where it goes, for a sweep whose sinks do not write it).
     pub results: PathBuf,
     /// The CSV summary next to it.
     pub summary_csv: PathBuf,
@@ -198,54 +197,47 @@ impl From<SinkError> for RunnerError {
 }
 
 /// Runs a plan (or one shard of it) into `OUT/<name>.h5` (or `OUT/<name>.shard-K-of-N.h5`) and its CSV
-/// summary and points; see [`RunOptions`].
+/// tables ([`results_sinks`]); see [`RunOptions`].
 pub fn run_plan(plan: &Plan, options: &RunOptions) -> Result<RunReport, RunnerError> {
-    run_plan_with(plan, options, Vec::new())
+    let (start, writer) = open_results(plan, options)?;
+    run_plan_into(plan, options, start, results_sinks(writer))
 }
 
-/// [`run_plan`], handing the runs also to `sinks`, after the results file: each gets the runs this
-/// invocation makes and, at the end, the tables of every run in the file.
-pub fn run_plan_with(plan: &Plan, options: &RunOptions, sinks: Vec<DynSink>) -> Result<RunReport, RunnerError> {
-    let started = std::time::Instant::now();
-    let selected = match options.shard {
-        Some(spec) => shard::select(plan, spec),
-        None => (0..plan.runs.len()).collect(),
-    };
-    let path = results_path(plan, options);
-    let (_lock, mut writer, header) = open_results(plan, options, &path, &selected)?;
-    let identities: Vec<String> = RunIdentity::all(&plan.runs).iter().map(ToString::to_string).collect();
-    let stored = writer.take_existing();
-    let reuse = reuse::Reuse::new(plan, &identities, (&selected, options.accept_version), stored, &mut writer)?;
-    if let Some(header) = header {
-        writer.set_header(&header)?;
-    }
-    if options.drop_unplanned {
-        writer.forget(&reuse.unplanned.iter().map(|r| r.group_name().to_string()).collect::<Vec<_>>())?;
-    }
-    let mut notes = reuse.notes(options.drop_unplanned);
-    let (existing, aliases) = (reuse.rows, reuse.aliases);
-    let done: HashSet<usize> = existing.iter().map(|r| r.index).collect();
-    let mut todo: Vec<Todo> = reuse.todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str(), 0)).collect();
+/// Makes the runs of `start` (from [`open_results`], or [`Start::fresh`]) and hands each to the
+/// `sinks` in their order; at the end each gets the tables of every selected run, the stored ones
+/// included (on `--resume` a sink sees only the runs made now, but the tables of them all).
+pub fn run_plan_into(
+    plan: &Plan,
+    options: &RunOptions,
+    start: Start,
+    sinks: Vec<DynSink<'_>>,
+) -> Result<RunReport, RunnerError> {
+    let Start {
+        results: path,
+        lock: _lock,
+        started,
+        selected,
+        identities,
+        stored,
+        todo,
+        aliases,
+        mut notes,
+        checkpointing,
+    } = start;
+    let done: HashSet<usize> = stored.iter().map(|r| r.index).collect();
+    let mut todo: Vec<Todo> = todo.iter().map(|&i| (&plan.runs[i], identities[i].as_str(), 0)).collect();
     todo.sort_by(|(a, ..), (b, ..)| b.estimated_cost.total_cmp(&a.estimated_cost).then(a.index.cmp(&b.index)));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (jobs, capped) = worker_count(options.jobs, todo.len(), cores);
     notes.extend(capped);
     RunNote::print_all(notes.iter().filter(|n| options.notes.prints(n)), &path, options.progress);
-    writer.note_sweep(jobs, started);
     let view = ProgressView::new(options.progress, selected.len(), done.len(), jobs);
-    let checkpointing =
-        options.checkpoint_every.map(|every| Checkpointing { results: path.clone(), every, resume: options.resume });
-    let remove_stored = checkpointing.as_ref().map(|_| output::dyn_sink(checkpoints::RemoveStored::new(&path)));
-    let sinks = std::iter::once(output::dyn_sink(writer)).chain(remove_stored).chain(sinks).collect();
-    let group = writer_thread::Sinks { committed: existing, aliases, ..writer_thread::Sinks::new(sinks) };
+    let group = writer_thread::Sinks { committed: stored, aliases, ..writer_thread::Sinks::new(sinks) };
     let threads = pool_threads(options.jobs, cores);
     let how = (options.commit, checkpointing.as_ref());
     let swept = sweep(&todo, vec![group], (jobs, threads), &view, how, &options.stop)?;
     let Swept { ran, warnings, mut tables, writer_time } = swept;
     let tables = tables.pop().expect("one group");
-    if let Some(ColumnData::Text(ids)) = tables.summary.column("run_id").map(|c| &c.data) {
-        checkpoints::remove_finished(&path, ids.iter().cloned());
-    }
     let (summary_csv, points_csv) = (output::csv_path(&path), output::points_csv_path(&path));
     Ok(RunReport {
         results: path,
@@ -282,157 +274,6 @@ fn pool_threads(requested: usize, cores: usize) -> usize {
     (if requested == 0 { cores } else { requested }).min(cores).max(1)
 }
 
-/// The environment variable that sets from how many disks a run uses the threads it is given
-/// (default [`PARALLEL_MIN_DISKS`]): for tests and measurements of small scenes.
-pub const PARALLEL_MIN_DISKS_VARIABLE: &str = "DEMSWEEP_PARALLEL_MIN_DISKS";
-
-/// The value of [`PARALLEL_MIN_DISKS_VARIABLE`], or the default.
-pub fn parallel_min_disks() -> Result<usize, RunnerError> {
-    std::env::var(PARALLEL_MIN_DISKS_VARIABLE).map_or(Ok(PARALLEL_MIN_DISKS), |text| min_disks_in(&text))
-}
-
-/// The disk count `text` (a value of [`PARALLEL_MIN_DISKS_VARIABLE`]) holds.
-fn min_disks_in(text: &str) -> Result<usize, RunnerError> {
-    text.trim().parse().map_err(|_| RunnerError::Environment {
-        variable: PARALLEL_MIN_DISKS_VARIABLE,
-        value: text.into(),
-        expected: "a whole number of disks".into(),
-    })
-}
-
-/// The environment variable that names the vector instructions the engine's hot loops run in
-/// (`baseline`, `avx2`, `avx512`; default: the widest this CPU runs well, see
-/// `physics::vector::width`): for measurements. Results are the same bits in every width.
-pub const VECTOR_WIDTH_VARIABLE: &str = "DEMSWEEP_VECTOR";
-
-/// Sets the width named by [`VECTOR_WIDTH_VARIABLE`], if it is set.
-pub fn use_vector_width() -> Result<(), RunnerError> {
-    if let Ok(text) = std::env::var(VECTOR_WIDTH_VARIABLE) {
-        vector::use_width(width_in(&text)?);
-    }
-    Ok(())
-}
-
-/// The width `text` (a value of [`VECTOR_WIDTH_VARIABLE`]) names.
-fn width_in(text: &str) -> Result<Width, RunnerError> {
-    Width::parse(text.trim()).ok_or_else(|| {
-        let names: Vec<_> = Width::ALL.iter().map(|w| w.name()).collect();
-        RunnerError::Environment {
-            variable: VECTOR_WIDTH_VARIABLE,
-            value: text.into(),
-            expected: format!("one of {}", names.join(", ")),
-        }
-    })
-}
-
-/// `OUT/<name>.h5`, or `OUT/<name>.shard-K-of-N.h5` for a shard, K zero-padded to the digits of N
-/// (`shard-03-of-12`) so that the shards list in order; a shard file written before the padding
-/// (`shard-3-of-12`) is continued under its own name.
-pub fn results_path(plan: &Plan, options: &RunOptions) -> PathBuf {
-    let dir = options.out_dir.clone().unwrap_or_else(|| Path::new("results").join(&plan.name));
-    let Some(s) = options.shard else { return dir.join(format!("{}.h5", plan.name)) };
-    let width = s.count.to_string().len();
-    let padded = dir.join(format!("{}.shard-{:0width$}-of-{}.h5", plan.name, s.index, s.count));
-    let unpadded = dir.join(format!("{}.shard-{}-of-{}.h5", plan.name, s.index, s.count));
-    if !padded.exists() && unpadded.exists() { unpadded } else { padded }
-}
-
-/// Takes the results file's lock, then creates the file, or opens it to resume after checking it
-/// holds this study (and shard); with the header a resumed file of an edited study takes once its
-/// stored runs are accepted. The lock is held until the returned guard is dropped.
-fn open_results(
-    plan: &Plan,
-    options: &RunOptions,
-    path: &Path,
-    selected: &[usize],
-) -> Result<(ResultsLock, ResultsWriter, Option<FileHeader>), RunnerError> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|e| OutputError::io_doing(dir, "cannot create the output directory", e))?;
-    check_writable(dir)?;
-    // The CSV files and report page are written last: checked before anything runs or is replaced.
-    output::check_companions(path, options.force, options.resume)?;
-    let lock = ResultsLock::acquire(path)?;
-    let exists = path.exists();
-    if exists && options.resume {
-        let (mut writer, header) =
-            ResultsWriter::open(path, plan.output.clone()).map_err(|e| cannot_resume(path, e))?;
-        check_same_study(path, &header, plan, options.shard, writer.has_identities())?;
-        // The header is the study's once its stored runs are accepted (see `run_plan`).
-        let header = (header.fingerprint != plan.fingerprint).then(|| FileHeader {
-            study_text: plan.study_text.clone(),
-            fingerprint: plan.fingerprint.clone(),
-            planned_runs: plan.runs.len(),
-            shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
-            ..header
-        });
-        // Damaged first: deleting a failed run rebuilds its batch, which needs every header in it.
-        let damaged = writer.forget_damaged()?;
-        writer.forget_failed()?;
-        // A warning about stored results, not progress: shown whatever the progress display.
-        if !damaged.is_empty() {
-            crate::output::terminal::err(format_args!(
-                "warning: {}: {}; they run now\n",
-                path.display(),
-                output::reader::damage_text(&damaged)
-            ));
-        }
-        return Ok((lock, writer, header));
-    }
-    if exists && !options.force {
-        return Err(OutputError::at(path, OutputReason::Exists { resumable: true }).into());
-    }
-    if exists {
-        output::guard::check_results_replaceable(path, &[&plan.study_path])
-            .map_err(|e| OutputError::refused(path, e))?;
-        std::fs::remove_file(path).map_err(|e| OutputError::io(path, e))?;
-    }
-    let header = FileHeader {
-        study_name: plan.name.clone(),
-        study_text: plan.study_text.clone(),
-        fingerprint: plan.fingerprint.clone(),
-        demsweep_version: env!("CARGO_PKG_VERSION").to_string(),
-        created: utc_now(),
-        planned_runs: plan.runs.len(),
-        shard: options.shard.map(|spec| ShardInfo { spec, runs: selected.to_vec() }),
-    };
-    Ok((lock, ResultsWriter::create(path, &header, plan.output.clone())?, None))
-}
-
-/// A results file that cannot be opened to resume: when it is one (cut short by a full disk or a
-/// copy that stopped, or damaged), the error says how to go on.
-fn cannot_resume(path: &Path, error: OutputError) -> OutputError {
-    match output::guard::is_hdf5(path) {
-        true => OutputError::at(path, OutputReason::CannotContinue(error.reason)),
-        false => error,
-    }
-}
-
-/// Fails early, naming the directory, when files cannot be created in it.
-fn check_writable(dir: &Path) -> Result<(), OutputError> {
-    let probe = dir.join(format!(".demsweep-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|e| OutputError::io_doing(dir, "the output directory is not writable", e))?;
-    std::fs::remove_file(&probe).map_err(|e| OutputError::io(&probe, e))
-}
-
-fn check_same_study(
-    path: &Path,
-    header: &FileHeader,
-    plan: &Plan,
-    shard: Option<ShardSpec>,
-    identities: bool,
-) -> Result<(), OutputError> {
-    if header.fingerprint != plan.fingerprint && !identities {
-        let (name, fingerprint) = (header.study_name.clone(), header.fingerprint.clone());
-        let other = OutputReason::OtherStudy { name, fingerprint, expected: plan.fingerprint.clone() };
-        return Err(OutputError::at(path, other));
-    }
-    let file_shard = header.shard.as_ref().map(|s| s.spec);
-    if file_shard != shard {
-        return Err(OutputError::at(path, OutputReason::OtherShard { file: file_shard, this: shard }));
-    }
-    Ok(())
-}
-
 /// A run to make: the run, its identity and the position of its group of sinks.
 type Todo<'a> = (&'a PlannedRun, &'a str, usize);
 
@@ -452,20 +293,22 @@ struct Swept {
 /// result through the writer thread to the sinks of its group in `groups`.
 fn sweep(
     todo: &[Todo],
-    groups: Vec<writer_thread::Sinks>,
+    groups: Vec<writer_thread::Sinks<'_>>,
     (jobs, threads): (usize, usize),
     view: &ProgressView,
     (commit, checkpointing): (CommitPolicy, Option<&Checkpointing>),
     stop: &Arc<AtomicBool>,
 ) -> Result<Swept, RunnerError> {
     let (sender, receiver) = mpsc::sync_channel(jobs * writer_thread::BACKLOG_PER_WORKER);
-    let writing = writer_thread::spawn(groups, receiver, commit, stop.clone());
-    let deliver = |position: usize, result| sender.send((todo[position].2, result)).is_ok();
-    let ran = run_all(todo, (jobs, threads), (stop, checkpointing), view, &deliver);
-    drop(sender); // the writer thread finishes once the channel closes
-    let warnings = view.finish();
-    let (tables, writer_time) = writing.join().map_err(|_| RunnerError::WriterPanicked)??;
-    Ok(Swept { ran: ran?, warnings, tables, writer_time })
+    std::thread::scope(|scope| {
+        let writing = writer_thread::spawn(scope, groups, receiver, commit, stop.clone());
+        let deliver = |position: usize, result| sender.send((todo[position].2, result)).is_ok();
+        let ran = run_all(todo, (jobs, threads), (stop, checkpointing), view, &deliver);
+        drop(sender); // the writer thread finishes once the channel closes
+        let warnings = view.finish();
+        let (tables, writer_time) = writing.join().map_err(|_| RunnerError::WriterPanicked)??;
+        Ok(Swept { ran: ran?, warnings, tables, writer_time })
+    })
 }
 
 /// Runs `todo` in this order on `jobs` workers in a pool of `threads` threads, handing each result
@@ -519,24 +362,6 @@ fn run_all(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn environment_values_are_read_or_refused_as_typed_errors() {
-        assert_eq!(min_disks_in(" 500 "), Ok(500));
-        assert_eq!(width_in("avx2"), Ok(Width::Avx2));
-        let refused = RunnerError::Environment {
-            variable: VECTOR_WIDTH_VARIABLE,
-            value: "avx1024".into(),
-            expected: "one of baseline, avx2, avx512".into(),
-        };
-        assert_eq!(width_in("avx1024"), Err(refused));
-        match min_disks_in("many") {
-            Err(RunnerError::Environment { variable, value, .. }) => {
-                assert_eq!((variable, value.as_str()), (PARALLEL_MIN_DISKS_VARIABLE, "many"))
-            }
-            other => panic!("{other:?}"),
-        }
-    }
 
     #[test]
     fn workers_are_capped_by_runs_to_do_and_cores() {

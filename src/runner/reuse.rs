@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use super::notes::RunNote;
 use crate::output::row::DEMSWEEP_VERSION;
 use crate::output::{OutputError, OutputReason, ResultsWriter, SummaryRow};
-use crate::study::{IdentityChange, Plan, RunIdentity};
+use crate::study::{IdentityChange, Plan, PlannedRun, RunIdentity};
 
 /// What a resumed (or new) results file gives a sweep.
 pub(super) struct Reuse {
@@ -65,13 +65,7 @@ impl Reuse {
         for &i in selected.iter().filter(|i| !legacy_done.contains(i)) {
             let (run, identity) = (&plan.runs[i], identities[i].as_str());
             let frames = !run.scene.run.frame_times.is_empty() || run.scene.run.frame_interval.is_some();
-            let as_planned = |row: &SummaryRow| SummaryRow {
-                index: run.index,
-                id: run.id.clone(),
-                parameters: run.parameters.clone(),
-                identity: identity.to_string(),
-                ..row.clone()
-            };
+            let as_planned = |row: &SummaryRow| as_planned(run, identity, row);
             if let Some(row) = by_identity.get(identity) {
                 if writer.holds(identity, &plan.output, frames) {
                     let made_by = writer.made_by(row);
@@ -84,8 +78,7 @@ impl Reuse {
                 lacking.push(by_identity.remove(identity).expect("present").group_name().to_string());
             }
             if !making.insert(identity) {
-                let alias = as_planned(&SummaryRow::failed(0, "", &[], ""));
-                reuse.aliases.entry(identity.to_string()).or_default().push(alias);
+                reuse.aliases.entry(identity.to_string()).or_default().push(alias(run, identity));
                 continue;
             }
             reuse.todo.push(i);
@@ -124,6 +117,23 @@ impl Reuse {
         }
         notes
     }
+}
+
+/// `row` as the row of the planned `run` (identity `identity`): its index, id and parameters.
+fn as_planned(run: &PlannedRun, identity: &str, row: &SummaryRow) -> SummaryRow {
+    SummaryRow {
+        index: run.index,
+        id: run.id.clone(),
+        parameters: run.parameters.clone(),
+        identity: identity.to_string(),
+        ..row.clone()
+    }
+}
+
+/// The alias of `run` (identity `identity`): a planned run that shares the identity of a run the
+/// sweep makes, and gets its row (see `writer_thread`).
+pub(super) fn alias(run: &PlannedRun, identity: &str) -> SummaryRow {
+    as_planned(run, identity, &SummaryRow::failed(0, "", &[], ""))
 }
 
 /// The refusal of reusing runs made by other demsweep versions (`(run id, version)`), naming the

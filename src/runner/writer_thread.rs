@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
-use std::thread::{self, JoinHandle};
+use std::thread::{Scope, ScopedJoinHandle};
 use std::time::{Duration, Instant};
 
 use crate::output::{DynSink, RunResult, SinkError, SummaryRow, Tables};
@@ -43,9 +43,9 @@ pub const BACKLOG_PER_WORKER: usize = 2;
 
 /// The sinks of one group of runs (a plan's, or one scene's of a batch) and the rows of the runs
 /// they already hold (when resuming).
-pub struct Sinks {
-    /// Where every run of the group goes (the results file first, when there is one).
-    pub sinks: Vec<DynSink>,
+pub struct Sinks<'a> {
+    /// Where every run of the group goes, in this order.
+    pub sinks: Vec<DynSink<'a>>,
     /// Rows of the runs committed before this sweep.
     pub committed: Vec<SummaryRow>,
     /// Planned runs that share the identity of a run this sweep makes, by identity: each gets that
@@ -53,9 +53,9 @@ pub struct Sinks {
     pub aliases: HashMap<String, Vec<SummaryRow>>,
 }
 
-impl Sinks {
+impl<'a> Sinks<'a> {
     /// Sinks of runs that none of them holds yet.
-    pub fn new(sinks: Vec<DynSink>) -> Self {
+    pub fn new(sinks: Vec<DynSink<'a>>) -> Self {
         Self { sinks, committed: Vec::new(), aliases: HashMap::new() }
     }
 
@@ -70,11 +70,12 @@ impl Sinks {
         Ok(())
     }
 
-    /// Computes the group's tables and hands them to every sink, closing it.
+    /// Computes the group's tables and hands them to every sink in order, closing it: a sink's
+    /// error leaves those after it unfinished.
     fn finish(self) -> Result<Tables, SinkError> {
         let tables = points::tables(&self.committed);
         drop(self.committed); // the tables hold what the sinks need: memory peaks while they are written
-        self.sinks.into_iter().try_for_each(|sink| sink.finish(&tables))?;
+        self.sinks.into_iter().try_for_each(|mut sink| sink.finish(&tables))?;
         Ok(tables)
     }
 }
@@ -82,17 +83,18 @@ impl Sinks {
 /// What the writer thread returns: each group's tables and the time it spent writing.
 pub type Written = Result<(Vec<Tables>, Duration), SinkError>;
 
-/// Starts the writer thread, which takes runs, each with the position of its group in `groups`; it
-/// ends when every sender is dropped, returning each group's tables and the time it spent writing
-/// (staging, committing, finishing). On an error it sets `stop` (so the sweep ends) and returns the
-/// error.
-pub fn spawn(
-    groups: Vec<Sinks>,
+/// Starts the writer thread in `scope`, which takes runs, each with the position of its group in
+/// `groups`; it ends when every sender is dropped, returning each group's tables and the time it
+/// spent writing (staging, committing, finishing). On an error it sets `stop` (so the sweep ends)
+/// and returns the error.
+pub fn spawn<'scope, 'env>(
+    scope: &'scope Scope<'scope, 'env>,
+    groups: Vec<Sinks<'env>>,
     runs: Receiver<(usize, RunResult)>,
     policy: CommitPolicy,
     stop: Arc<AtomicBool>,
-) -> JoinHandle<Written> {
-    thread::spawn(move || {
+) -> ScopedJoinHandle<'scope, Written> {
+    scope.spawn(move || {
         let outcome = write_all(groups, &runs, policy);
         if outcome.is_err() {
             stop.store(true, Ordering::SeqCst);
@@ -101,8 +103,8 @@ pub fn spawn(
     })
 }
 
-fn write_all(mut groups: Vec<Sinks>, runs: &Receiver<(usize, RunResult)>, policy: CommitPolicy) -> Written {
-    let commit = |groups: &mut Vec<Sinks>| {
+fn write_all(mut groups: Vec<Sinks<'_>>, runs: &Receiver<(usize, RunResult)>, policy: CommitPolicy) -> Written {
+    let commit = |groups: &mut Vec<Sinks<'_>>| {
         groups.iter_mut().flat_map(|group| &mut group.sinks).try_for_each(|sink| sink.commit())
     };
     let mut last_commit = Instant::now();
