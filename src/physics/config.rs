@@ -631,6 +631,83 @@ impl Checker {
     }
 }
 
+/// The keys the particle and the wall material share, as their checks see them: the section they
+/// are under and each value given (a wall's missing value follows the particle material's).
+struct SharedMaterialKeys {
+    section: &'static str,
+    youngs_modulus: Option<f64>,
+    poisson_ratio: Option<f64>,
+    shear_modulus: Option<f64>,
+    beta: Option<f64>,
+    restitution: Option<f64>,
+    friction: Option<f64>,
+    rolling_friction: Option<f64>,
+}
+
+impl SharedMaterialKeys {
+    /// Checks each value given; a shear modulus gives ν with this section's Young's modulus, else
+    /// with `youngs_modulus` (the particle material's).
+    fn check(&self, c: &mut Checker, youngs_modulus: f64) {
+        let key = |name: &str| format!("{}.{name}", self.section);
+        if let Some(e) = self.youngs_modulus {
+            c.positive(&key("youngs_modulus"), e);
+        }
+        let (poisson, shear) = (key("poisson_ratio"), key("shear_modulus"));
+        c.exclusive(&poisson, self.poisson_ratio.is_some(), &shear, self.shear_modulus.is_some());
+        if let Some(nu) = self.poisson_ratio {
+            c.poisson(&poisson, nu);
+        }
+        if let Some(g) = self.shear_modulus {
+            c.positive(&shear, g);
+            c.poisson(&shear, self.youngs_modulus.unwrap_or(youngs_modulus) / (2.0 * g) - 1.0);
+        }
+        let (beta, restitution) = (key("beta"), key("restitution"));
+        c.exclusive(&beta, self.beta.is_some(), &restitution, self.restitution.is_some());
+        if let Some(b) = self.beta {
+            c.non_negative(&beta, b);
+        }
+        if let Some(e) = self.restitution {
+            c.restitution(&restitution, e);
+        }
+        if let Some(f) = self.friction {
+            c.non_negative(&key("friction"), f);
+        }
+        if let Some(f) = self.rolling_friction {
+            c.non_negative(&key("rolling_friction"), f);
+        }
+    }
+}
+
+impl MaterialConfig {
+    fn shared_keys(&self) -> SharedMaterialKeys {
+        SharedMaterialKeys {
+            section: "material",
+            youngs_modulus: Some(self.youngs_modulus),
+            poisson_ratio: self.poisson_ratio,
+            shear_modulus: self.shear_modulus,
+            beta: self.beta,
+            restitution: self.restitution,
+            friction: Some(self.friction),
+            rolling_friction: Some(self.rolling_friction),
+        }
+    }
+}
+
+impl WallMaterialConfig {
+    fn shared_keys(&self) -> SharedMaterialKeys {
+        SharedMaterialKeys {
+            section: "wall_material",
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            shear_modulus: self.shear_modulus,
+            beta: self.beta,
+            restitution: self.restitution,
+            friction: self.friction,
+            rolling_friction: self.rolling_friction,
+        }
+    }
+}
+
 impl SceneConfig {
     /// Checks every value; returns all problems at once, each naming its key path.
     pub fn validate(&self) -> Result<(), Vec<ConfigIssue>> {
@@ -811,60 +888,8 @@ impl SceneConfig {
     fn check_material(&self, c: &mut Checker) {
         let m = &self.material;
         c.positive("material.density", m.density);
-        c.positive("material.youngs_modulus", m.youngs_modulus);
-        c.exclusive(
-            "material.poisson_ratio",
-            m.poisson_ratio.is_some(),
-            "material.shear_modulus",
-            m.shear_modulus.is_some(),
-        );
-        if let Some(nu) = m.poisson_ratio {
-            c.poisson("material.poisson_ratio", nu);
-        }
-        if let Some(g) = m.shear_modulus {
-            c.positive("material.shear_modulus", g);
-            c.poisson("material.shear_modulus", m.youngs_modulus / (2.0 * g) - 1.0);
-        }
-        c.exclusive("material.beta", m.beta.is_some(), "material.restitution", m.restitution.is_some());
-        if let Some(b) = m.beta {
-            c.non_negative("material.beta", b);
-        }
-        if let Some(e) = m.restitution {
-            c.restitution("material.restitution", e);
-        }
-        c.non_negative("material.friction", m.friction);
-        c.non_negative("material.rolling_friction", m.rolling_friction);
-        let w = &self.wall_material;
-        c.exclusive(
-            "wall_material.poisson_ratio",
-            w.poisson_ratio.is_some(),
-            "wall_material.shear_modulus",
-            w.shear_modulus.is_some(),
-        );
-        c.exclusive("wall_material.beta", w.beta.is_some(), "wall_material.restitution", w.restitution.is_some());
-        if let Some(e) = w.youngs_modulus {
-            c.positive("wall_material.youngs_modulus", e);
-        }
-        if let Some(nu) = w.poisson_ratio {
-            c.poisson("wall_material.poisson_ratio", nu);
-        }
-        if let Some(g) = w.shear_modulus {
-            c.positive("wall_material.shear_modulus", g);
-            let e = w.youngs_modulus.unwrap_or(m.youngs_modulus);
-            c.poisson("wall_material.shear_modulus", e / (2.0 * g) - 1.0);
-        }
-        if let Some(b) = w.beta {
-            c.non_negative("wall_material.beta", b);
-        }
-        if let Some(e) = w.restitution {
-            c.restitution("wall_material.restitution", e);
-        }
-        if let Some(f) = w.friction {
-            c.non_negative("wall_material.friction", f);
-        }
-        if let Some(f) = w.rolling_friction {
-            c.non_negative("wall_material.rolling_friction", f);
-        }
+        m.shared_keys().check(c, m.youngs_modulus);
+        self.wall_material.shared_keys().check(c, m.youngs_modulus);
         for (key, reason) in self.contact.problems() {
             c.fail(&key, reason);
         }
@@ -979,25 +1004,7 @@ impl SceneConfig {
     /// The scene as `stage` runs it: this scene with the stage's keys in place (and no stages).
     pub fn in_stage(&self, stage: &StageConfig) -> SceneConfig {
         let mut s = SceneConfig { stages: Vec::new(), ..self.clone() };
-        let d = &stage.damping;
-        s.damping.local = d.local.unwrap_or(s.damping.local);
-        s.damping.local_gravity = d.local_gravity.unwrap_or(s.damping.local_gravity);
-        s.damping.viscous = d.viscous.unwrap_or(s.damping.viscous);
-        if stage.material.damping_given() {
-            (s.material.beta, s.material.restitution) = (stage.material.beta, stage.material.restitution);
-        }
-        if stage.wall_material.damping_given() {
-            (s.wall_material.beta, s.wall_material.restitution) =
-                (stage.wall_material.beta, stage.wall_material.restitution);
-        }
-        s.material.friction = stage.material.friction.unwrap_or(s.material.friction);
-        s.wall_material.friction = stage.wall_material.friction.or(s.wall_material.friction);
-        let i = &stage.integrator;
-        s.integrator.scheme = i.scheme.unwrap_or(s.integrator.scheme);
-        if i.time_step.is_some() || i.contact_time_fraction.is_some() || i.rayleigh_fraction.is_some() {
-            (s.integrator.time_step, s.integrator.contact_time_fraction, s.integrator.rayleigh_fraction) =
-                (i.time_step, i.contact_time_fraction, i.rayleigh_fraction);
-        }
+        stage.merge_into(&mut s);
         s
     }
 }
@@ -1059,5 +1066,44 @@ impl SceneConfig {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The issues of a scene given as TOML, each as text with `wall_material.` read as `material.`.
+    fn issues(text: &str) -> Vec<String> {
+        let scene: SceneConfig = toml::from_str(text).expect("a scene");
+        let issues = scene.validate().err().unwrap_or_default();
+        issues.iter().map(|i| i.to_string().replace("wall_material.", "material.")).collect()
+    }
+
+    #[test]
+    fn the_particle_and_the_wall_material_refuse_the_same_values_alike() {
+        let cases = [
+            "youngs_modulus = -1",
+            "poisson_ratio = 0.7",
+            "shear_modulus = -5",
+            "shear_modulus = 1e3\npoisson_ratio = 0.2",
+            "beta = -1",
+            "restitution = 2",
+            "beta = 0.1\nrestitution = 0",
+            "friction = nan",
+            "rolling_friction = -1",
+        ];
+        for case in cases {
+            let particle = issues(&format!("[material]\n{case}\n"));
+            assert!(!particle.is_empty(), "{case}");
+            assert_eq!(issues(&format!("[wall_material]\n{case}\n")), particle, "{case}");
+        }
+        assert_eq!(
+            issues("[material]\nbeta = 0.1\nrestitution = 0\n"),
+            [
+                "material.restitution: give either material.beta or material.restitution, not both",
+                "material.restitution: restitution must lie in (0, 1], got 0"
+            ]
+        );
     }
 }
