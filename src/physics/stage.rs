@@ -14,14 +14,13 @@
 use serde::{Deserialize, Serialize};
 
 use super::config::SceneConfig;
-use super::key_spec::scene_section;
+use super::key_spec::SceneKeys;
 use super::number::exact;
 use super::scheme::IntegratorKind;
 
-scene_section! {
 /// One stage of a deposition protocol: its name, when it ends, and the keys it changes (those not
 /// given keep the scene's values).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageConfig {
     /// The stage's name, as sweeps (`"stages.NAME.damping.local"`), charts and results call it.
@@ -44,11 +43,9 @@ pub struct StageConfig {
     #[key(table: Some(StageIntegrator::KEYS))]
     pub integrator: StageIntegrator,
 }
-}
 
-scene_section! {
 /// The conditions that end a stage, checked at every sample (a `time` ends it on that very step).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageEnd {
     /// Time spent in the stage (s).
@@ -64,11 +61,9 @@ pub struct StageEnd {
     #[key(range: "true or false")]
     pub all_in_contact: bool,
 }
-}
 
-scene_section! {
 /// Numerical damping keys a stage may change (see the scene's `[damping]`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageDamping {
     /// Cundall local damping α in [0, 1).
@@ -81,12 +76,10 @@ pub struct StageDamping {
     #[key(unit: "1/s", range: ">= 0")]
     pub viscous: Option<f64>,
 }
-}
 
-scene_section! {
 /// Contact keys a stage may change: β or the restitution it comes from (one replaces the other),
 /// and the sliding friction.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageMaterial {
     /// The damping factor β (≥ 0).
@@ -99,12 +92,10 @@ pub struct StageMaterial {
     #[key(range: ">= 0")]
     pub friction: Option<f64>,
 }
-}
 
-scene_section! {
 /// Integrator keys a stage may change. A step given in any of the three forms replaces the scene's
 /// step; the stage's step is resolved before the run, from the same disks as the scene's.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageIntegrator {
     /// The scheme.
@@ -119,7 +110,6 @@ pub struct StageIntegrator {
     /// Δt as this fraction of the Rayleigh time of the smallest disk.
     #[key(range: "(0, 1]")]
     pub rayleigh_fraction: Option<f64>,
-}
 }
 
 /// A scene key a stage may change: its dotted path (as in `[scene]`), whether a stage gives it, and

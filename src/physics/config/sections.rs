@@ -5,11 +5,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::{ContactConfig, IntegratorKind, SizeDistribution, StageConfig};
-use crate::physics::key_spec::scene_section;
+use crate::physics::key_spec::SceneKeys;
 
-scene_section! {
 /// One simulation's complete input. Every field has a default (see [`Default`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct SceneConfig {
     /// The box the disks live in.
@@ -56,12 +55,10 @@ pub struct SceneConfig {
     #[key(table: Some(StageConfig::KEYS))]
     pub stages: Vec<StageConfig>,
 }
-}
 
-scene_section! {
 /// Axis-aligned box: floor `y = 0`, side walls `x = 0` and `x = width` (or a periodic boundary
 /// there), optional lid `y = height`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainConfig {
     /// Box width (m).
@@ -79,12 +76,10 @@ pub struct DomainConfig {
     #[key(range: "true or false")]
     pub periodic_x: bool,
 }
-}
 
-scene_section! {
 /// Disk count and radii. Radii: all `radius`; or uniform in `[radius, radius_max]`; or the list
 /// `radii`; or drawn from `size_distribution`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct ParticlesConfig {
     /// Number of disks (ignored when placement reads a file: the file's rows count).
@@ -106,7 +101,6 @@ pub struct ParticlesConfig {
     /// Disk thickness `h` (m): mass = density·π·R²·h (paper eq 4 with unit height).
     #[key(unit: "m", range: "> 0", plausible: Some((1e-7, 100.0)))]
     pub thickness: f64,
-}
 }
 
 /// How initial positions are made.
@@ -136,9 +130,8 @@ impl PlacementKind {
     }
 }
 
-scene_section! {
 /// Initial placement of the disks.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct PlacementConfig {
     /// Which generator.
@@ -173,14 +166,12 @@ pub struct PlacementConfig {
     #[key(table: Some(PourConfig::KEYS))]
     pub pour: PourConfig,
 }
-}
 
-scene_section! {
 /// Pouring at a rate (`placement.kind = "pour"`): the disks, radii drawn with the placement seed,
 /// enter one after another during the run at seeded random spots of the inlet rectangle that overlap
 /// no disk there; a disk that finds no free spot in `placement.max_attempts` tries is refused.
 /// Give `rate` or `mass_rate`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct PourConfig {
     /// Disks inserted per second: disk k is due at k / rate.
@@ -208,7 +199,6 @@ pub struct PourConfig {
     #[key(unit: "m/s", range: ">= 0")]
     pub velocity_spread: f64,
 }
-}
 
 impl PourConfig {
     /// The inlet rectangle `[x_min, x_max, y_min, y_max]` (m) in a `width` × `height` box for disks
@@ -219,9 +209,8 @@ impl PourConfig {
     }
 }
 
-scene_section! {
 /// Particle material. Give `poisson_ratio` or `shear_modulus` (not both), `beta` or `restitution` (not both).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct MaterialConfig {
     /// Density (kg/m³).
@@ -249,11 +238,9 @@ pub struct MaterialConfig {
     #[key(range: ">= 0")]
     pub rolling_friction: f64,
 }
-}
 
-scene_section! {
 /// Wall material; `None` fields take the particle material's value.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct WallMaterialConfig {
     /// Young's modulus of the walls (Pa).
@@ -278,16 +265,14 @@ pub struct WallMaterialConfig {
     #[key(range: ">= 0")]
     pub rolling_friction: Option<f64>,
 }
-}
 
 /// Time step used when none of `time_step`, `contact_time_fraction` and `rayleigh_fraction` is given (s).
 pub const DEFAULT_TIME_STEP: f64 = 1e-5;
 
-scene_section! {
 /// Integrator choice and time step. The step is given as at most one of `time_step` (absolute),
 /// `contact_time_fraction` or `rayleigh_fraction` (relative to a time scale of the scene, resolved
 /// before the run by [`crate::physics::time_step`]); [`DEFAULT_TIME_STEP`] when none is given.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorConfig {
     /// The scheme.
@@ -303,7 +288,6 @@ pub struct IntegratorConfig {
     #[key(range: "(0, 1]")]
     pub rayleigh_fraction: Option<f64>,
 }
-}
 
 impl IntegratorConfig {
     /// The absolute time step when the scene fixes one (given, or the default); `None` when it is
@@ -316,10 +300,9 @@ impl IntegratorConfig {
     }
 }
 
-scene_section! {
 /// Numerical damping, applied by the integrator to every disk's net force and torque (its forces:
 /// `crate::physics::integrator`); its work is dissipated energy. Both off by default.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct DampingConfig {
     /// Cundall local (non-viscous) damping α in [0, 1): every component of the net force and the
@@ -333,7 +316,6 @@ pub struct DampingConfig {
     #[key(unit: "1/s", range: ">= 0")]
     pub viscous: f64,
 }
-}
 
 impl DampingConfig {
     /// Whether any numerical damping acts.
@@ -342,9 +324,8 @@ impl DampingConfig {
     }
 }
 
-scene_section! {
 /// Run length, sampling and recorded frames.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct RunConfig {
     /// Simulated time (s): the run ends here unless it settles or diverges first.
@@ -363,12 +344,10 @@ pub struct RunConfig {
     #[key(unit: "s", range: "> 0")]
     pub frame_interval: Option<f64>,
 }
-}
 
-scene_section! {
 /// Settle criterion: UBF below `ubf_threshold` (and kinetic energy below its threshold, if given),
 /// held continuously for `hold_time`. The settle time is when that stretch began.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct SettleConfig {
     /// Unbalanced force ratio threshold.
@@ -381,11 +360,9 @@ pub struct SettleConfig {
     #[key(unit: "J", range: "> 0")]
     pub kinetic_energy_threshold: Option<f64>,
 }
-}
 
-scene_section! {
 /// Validity warnings and divergence limits.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct LimitsConfig {
     /// A run diverges when any overlap exceeds this fraction of the smaller radius.
@@ -408,7 +385,6 @@ pub struct LimitsConfig {
     #[key(range: "> 0")]
     pub damping_rate_fraction: f64,
 }
-}
 
 /// Broad phase selection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -420,9 +396,8 @@ pub enum BroadPhaseKind {
     AllPairs,
 }
 
-scene_section! {
 /// Neighbour list options.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct NeighborConfig {
     /// Broad phase used to build the neighbour list.
@@ -432,7 +407,6 @@ pub struct NeighborConfig {
     /// more than half the skin.
     #[key(range: "> 0")]
     pub skin_ratio: f64,
-}
 }
 
 impl SceneConfig {
