@@ -214,7 +214,7 @@ enum Command {
     #[command(
         long_about = "List every key of a scene (the [scene] table of a study or tune file) with its default, \
                       its SI unit, the values it allows and what it is, from the same declaration the \
-                      configuration is read with (src/physics/config.rs). A PREFIX shows only the keys that \
+                      configuration is read with (src/physics/config/). A PREFIX shows only the keys that \
                       start with it; --markdown prints the table the docs hold (docs/studies.md).",
         after_help = "Examples:\n  demsweep keys\n  demsweep keys material\n  demsweep keys --markdown"
     )]

@@ -1,7 +1,7 @@
 //! How the configuration declares its keys: each section of [`super::config`] (and each contact
-//! law's parameters) is written through `scene_section!`, which keeps every field's doc comment as
-//! its description and its `#[key(...)]` line as a [`KeySpec`] (unit, range, plausible SI values);
-//! [`super::keys`] turns them into the key listing and the unit warnings.
+//! law's parameters) is a plain struct deriving [`SceneKeys`], which keeps every field's doc comment
+//! as its description and its `#[key(...)]` line as a [`KeySpec`] (unit, range, plausible SI
+//! values); [`super::keys`] turns them into the key listing and the unit warnings.
 
 /// What a field's `#[key(...)]` line declares.
 #[derive(Clone, Copy, Debug)]
@@ -34,35 +34,40 @@ pub struct KeyDoc {
     pub spec: KeySpec,
 }
 
-/// Declares a section of the scene configuration: the struct as written, plus `KEYS`, its fields'
-/// [`KeyDoc`]s. Every field carries its doc comment and a `#[key(unit: .., range: .., ..)]` line
-/// with [`KeySpec`]'s fields (the rest default to none).
-macro_rules! scene_section {
-    (
-        $(#[$meta:meta])*
-        pub struct $name:ident {
-            $(
-                $(#[doc = $doc:literal])*
-                #[key($($spec:tt)*)]
-                pub $field:ident : $ty:ty,
-            )*
-        }
-    ) => {
-        $(#[$meta])*
-        pub struct $name {
-            $( $(#[doc = $doc])* pub $field: $ty, )*
-        }
+/// `#[derive(SceneKeys)]` on a section: its `KEYS`, each field's [`KeyDoc`] from the field's doc
+/// comment and its `#[key(unit: .., range: .., ..)]` line with [`KeySpec`]'s fields (the rest
+/// default to none); the derive is the `demsweep-derive` crate (`derive/`).
+pub(crate) use demsweep_derive::SceneKeys;
 
-        impl $name {
-            /// The section's keys (`physics::keys`).
-            pub const KEYS: &'static [$crate::physics::key_spec::KeyDoc] = &[
-                $($crate::physics::key_spec::KeyDoc {
-                    name: stringify!($field),
-                    doc: &[$($doc),*],
-                    spec: $crate::physics::key_spec::KeySpec { $($spec)*, ..$crate::physics::key_spec::KeySpec::NONE },
-                },)*
-            ];
-        }
-    };
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A section as the configuration declares one.
+    #[derive(SceneKeys)]
+    #[allow(dead_code)]
+    struct Section {
+        /// Its length (m),
+        /// in two lines.
+        #[key(unit: "m", range: "> 0", plausible: Some((1e-3, 1.0)))]
+        length: f64,
+        /// A word.
+        #[key(one_of: &["near", "far"])]
+        word: String,
+        #[key()]
+        bare: bool,
+    }
+
+    #[test]
+    fn the_derive_keeps_each_fields_name_doc_lines_and_key_line() {
+        let names: Vec<&str> = Section::KEYS.iter().map(|k| k.name).collect();
+        assert_eq!(names, ["length", "word", "bare"]);
+        let [length, word, bare] = Section::KEYS else { panic!("three keys") };
+        assert_eq!(length.doc, [" Its length (m),", " in two lines."]);
+        let spec = length.spec;
+        assert_eq!((spec.unit, spec.range, spec.plausible), ("m", "> 0", Some((1e-3, 1.0))));
+        assert!(spec.one_of.is_empty() && spec.table.is_none());
+        assert_eq!((word.doc, word.spec.one_of, word.spec.unit), (&[" A word."][..], &["near", "far"][..], ""));
+        assert!(bare.doc.is_empty() && bare.spec.range.is_empty() && bare.spec.plausible.is_none());
+    }
 }
-pub(crate) use scene_section;

@@ -13,14 +13,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::key_spec::scene_section;
+use super::config::SceneConfig;
+use super::key_spec::SceneKeys;
 use super::number::exact;
 use super::scheme::IntegratorKind;
 
-scene_section! {
 /// One stage of a deposition protocol: its name, when it ends, and the keys it changes (those not
 /// given keep the scene's values).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageConfig {
     /// The stage's name, as sweeps (`"stages.NAME.damping.local"`), charts and results call it.
@@ -43,11 +43,9 @@ pub struct StageConfig {
     #[key(table: Some(StageIntegrator::KEYS))]
     pub integrator: StageIntegrator,
 }
-}
 
-scene_section! {
 /// The conditions that end a stage, checked at every sample (a `time` ends it on that very step).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageEnd {
     /// Time spent in the stage (s).
@@ -63,11 +61,9 @@ pub struct StageEnd {
     #[key(range: "true or false")]
     pub all_in_contact: bool,
 }
-}
 
-scene_section! {
 /// Numerical damping keys a stage may change (see the scene's `[damping]`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageDamping {
     /// Cundall local damping α in [0, 1).
@@ -80,12 +76,10 @@ pub struct StageDamping {
     #[key(unit: "1/s", range: ">= 0")]
     pub viscous: Option<f64>,
 }
-}
 
-scene_section! {
 /// Contact keys a stage may change: β or the restitution it comes from (one replaces the other),
 /// and the sliding friction.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageMaterial {
     /// The damping factor β (≥ 0).
@@ -98,12 +92,10 @@ pub struct StageMaterial {
     #[key(range: ">= 0")]
     pub friction: Option<f64>,
 }
-}
 
-scene_section! {
 /// Integrator keys a stage may change. A step given in any of the three forms replaces the scene's
 /// step; the stage's step is resolved before the run, from the same disks as the scene's.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct StageIntegrator {
     /// The scheme.
@@ -119,36 +111,64 @@ pub struct StageIntegrator {
     #[key(range: "(0, 1]")]
     pub rayleigh_fraction: Option<f64>,
 }
+
+/// A scene key a stage may change: its dotted path (as in `[scene]`), whether a stage gives it, and
+/// how the stage's value goes into the scene. Each is one [`stage_key!`] entry of [`STAGE_KEYS`].
+pub(super) struct StageKey {
+    /// Dotted path, e.g. `damping.local`.
+    pub path: &'static str,
+    given: fn(&StageConfig) -> bool,
+    merge: fn(&StageConfig, &mut SceneConfig),
 }
+
+/// The entry of `section.key`: given when the stage's `section.key` is, it then replaces the scene's
+/// (a value or an optional value alike). Keys after `with` form a group with it (β and the
+/// restitution it comes from; the step's three forms): the stage's group replaces the scene's
+/// whole, so the one given clears the others.
+macro_rules! stage_key {
+    ($section:ident . $key:ident $(with $($other:ident),+)?) => {
+        StageKey {
+            path: concat!(stringify!($section), ".", stringify!($key)),
+            given: |stage| stage.$section.$key.is_some(),
+            merge: |stage, scene| {
+                if let Some(value) = stage.$section.$key {
+                    scene.$section.$key = value.into();
+                }
+                $($(scene.$section.$other = stage.$section.$other;)+)?
+            },
+        }
+    };
+}
+
+/// Every key a stage may change, in the order `keys` lists them; its value's range is the scene's
+/// key's, checked on the scene as the stage runs it ([`SceneConfig::in_stage`]).
+pub(super) const STAGE_KEYS: &[StageKey] = &[
+    stage_key!(damping.local),
+    stage_key!(damping.local_gravity),
+    stage_key!(damping.viscous),
+    stage_key!(material.beta with restitution),
+    stage_key!(material.restitution with beta),
+    stage_key!(material.friction),
+    stage_key!(wall_material.beta with restitution),
+    stage_key!(wall_material.restitution with beta),
+    stage_key!(wall_material.friction),
+    stage_key!(integrator.scheme),
+    stage_key!(integrator.time_step with contact_time_fraction, rayleigh_fraction),
+    stage_key!(integrator.contact_time_fraction with time_step, rayleigh_fraction),
+    stage_key!(integrator.rayleigh_fraction with time_step, contact_time_fraction),
+];
 
 impl StageConfig {
     /// The scene keys this stage sets (dotted, as in `[scene]`).
     pub(super) fn keys(&self) -> Vec<&'static str> {
-        let d = &self.damping;
-        let i = &self.integrator;
-        let given = [
-            ("damping.local", d.local.is_some()),
-            ("damping.local_gravity", d.local_gravity.is_some()),
-            ("damping.viscous", d.viscous.is_some()),
-            ("material.beta", self.material.beta.is_some()),
-            ("material.restitution", self.material.restitution.is_some()),
-            ("material.friction", self.material.friction.is_some()),
-            ("wall_material.beta", self.wall_material.beta.is_some()),
-            ("wall_material.restitution", self.wall_material.restitution.is_some()),
-            ("wall_material.friction", self.wall_material.friction.is_some()),
-            ("integrator.scheme", i.scheme.is_some()),
-            ("integrator.time_step", i.time_step.is_some()),
-            ("integrator.contact_time_fraction", i.contact_time_fraction.is_some()),
-            ("integrator.rayleigh_fraction", i.rayleigh_fraction.is_some()),
-        ];
-        given.into_iter().filter(|(_, set)| *set).map(|(key, _)| key).collect()
+        STAGE_KEYS.iter().filter(|k| (k.given)(self)).map(|k| k.path).collect()
     }
-}
 
-impl StageMaterial {
-    /// Whether the stage gives β or the restitution.
-    pub(super) fn damping_given(&self) -> bool {
-        self.beta.is_some() || self.restitution.is_some()
+    /// Puts the keys this stage sets into `scene`.
+    pub(super) fn merge_into(&self, scene: &mut SceneConfig) {
+        for key in STAGE_KEYS.iter().filter(|k| (k.given)(self)) {
+            (key.merge)(self, scene);
+        }
     }
 }
 
@@ -205,6 +225,64 @@ mod tests {
             ..staged
         };
         assert_eq!(unchanged, scene);
+    }
+
+    /// The keys of a stage's sections that change the scene (all but `name` and `until`), dotted.
+    fn declared_keys() -> Vec<String> {
+        let sections = StageConfig::KEYS.iter().filter(|f| f.name != "until");
+        let sections = sections.filter_map(|f| Some((f.name, f.spec.table?)));
+        sections.flat_map(|(section, table)| table.iter().map(move |k| format!("{section}.{}", k.name))).collect()
+    }
+
+    /// Every leaf of a JSON tree (arrays whole) with its dotted path.
+    fn leaves(value: &serde_json::Value, path: &str, out: &mut Vec<(String, serde_json::Value)>) {
+        match value {
+            serde_json::Value::Object(fields) => {
+                for (name, field) in fields {
+                    let inner = if path.is_empty() { name.clone() } else { format!("{path}.{name}") };
+                    leaves(field, &inner, out);
+                }
+            }
+            leaf => out.push((path.to_string(), leaf.clone())),
+        }
+    }
+
+    /// The dotted keys whose values differ between two scenes, with the value in `b`.
+    fn changed(a: &SceneConfig, b: &SceneConfig) -> Vec<(String, serde_json::Value)> {
+        let (mut old, mut new) = (Vec::new(), Vec::new());
+        leaves(&serde_json::to_value(a).unwrap(), "", &mut old);
+        leaves(&serde_json::to_value(b).unwrap(), "", &mut new);
+        old.into_iter().zip(new).filter(|(o, n)| o != n).map(|(_, n)| n).collect()
+    }
+
+    #[test]
+    fn every_key_a_stage_declares_is_merged_and_range_checked_as_the_scenes() {
+        let listed: Vec<&str> = STAGE_KEYS.iter().map(|k| k.path).collect();
+        assert_eq!(listed, declared_keys(), "each key of a stage's sections is one STAGE_KEYS entry");
+        let keys = crate::physics::keys::scene_keys();
+        let find = |path: &str| keys.iter().find(|k| k.path == path).unwrap_or_else(|| panic!("{path}"));
+        let scene = SceneConfig::default();
+        for key in STAGE_KEYS {
+            let (own, scenes) = (find(&format!("stages.{}", key.path)), find(key.path));
+            assert_eq!((own.unit, &own.range), (scenes.unit, &scenes.range), "{}: the scene key's range", key.path);
+            // A value inside every numeric range and unlike the scene's default; -1 lies outside them.
+            let (value, bad) = match own.range.strip_prefix("one of ") {
+                Some(words) => (format!("{:?}", words.rsplit(", ").next().unwrap()), None),
+                None if own.range == "true or false" => ("false".to_string(), None),
+                None => ("0.25".to_string(), Some("-1")),
+            };
+            let given = |value: &str| stage(&format!("name = \"s\"\nuntil.time = 0.1\n{} = {value}\n", key.path));
+            let staged = given(&value);
+            assert_eq!(staged.keys(), [key.path]);
+            let expected =
+                serde_json::to_value(toml::from_str::<toml::Value>(&format!("v = {value}")).unwrap()["v"].clone());
+            assert_eq!(changed(&scene, &scene.in_stage(&staged)), [(key.path.to_string(), expected.unwrap())]);
+            if let Some(bad) = bad {
+                let refused = SceneConfig { stages: vec![given(bad)], ..Default::default() };
+                let issues = refused.validate().unwrap_err();
+                assert!(issues.iter().any(|i| i.key == format!("stages.s.{}", key.path)), "{}: {issues:?}", key.path);
+            }
+        }
     }
 
     #[test]

@@ -15,7 +15,7 @@ use super::registry::contact_models;
 use super::rolling::{ConstantTorque, NoRolling};
 use super::sub_model::{DampingModel, NormalModel, Problems, RollingModel, Stiffness, TangentialModel};
 use super::tangential::{LinearTangential, MindlinTangential};
-use crate::physics::key_spec::{KeyDoc, KeySpec, scene_section};
+use crate::physics::key_spec::{KeyDoc, KeySpec, SceneKeys};
 use crate::physics::number::exact;
 
 /// Work done with the scene's law, whichever it is (a generic closure).
@@ -238,13 +238,11 @@ contact_models! {
 /// The law of a composition no preset has: every model chosen when the law is built.
 pub type AnyLaw = Composed<AnyNormal, AnyDamping, AnyTangential>;
 
-scene_section! {
 /// The table of a preset whose models take their parameters from their own tables: empty, kept so
 /// that files that list it stay valid.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields)]
 pub struct NoParameters {}
-}
 
 /// The models of a law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -2,22 +2,20 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::key_spec::scene_section;
+use crate::physics::key_spec::SceneKeys;
 
 use super::super::law::PairProperties;
 use super::super::sub_model::{NormalModel, Problems, Stiffness};
 use super::linear::ratio_problems;
 
-scene_section! {
 /// Hertz force `F_ne = 4/3 E* √R* δ^{3/2}` (eq 6) with stiffness `S_n = 2 E* √(R* δ)` (eq 8), from
 /// the materials' constants. Parameters: `[contact.hertz]`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct HertzNormal {
     /// Tangential stiffness as a fraction of `S_n`, for `contact.tangential = "linear"`.
     #[key(range: ">= 0")]
     pub tangential_stiffness_ratio: f64,
-}
 }
 
 impl Default for HertzNormal {

@@ -3,20 +3,19 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::key_spec::scene_section;
+use crate::physics::key_spec::SceneKeys;
 use crate::physics::number::exact;
 
 use super::super::law::{ContactState, PairProperties};
 use super::super::sub_model::{NormalModel, Problems, Stiffness};
 use super::linear::{ratio_problems, stiffness_or_hertz_secant, stiffness_problems};
 
-scene_section! {
 /// Loading along `F = k₁ δ`, unloading and reloading along `F = k₂ (δ − δ₀)` with
 /// `δ₀ = δ_max (1 − k₁/k₂)` and `δ_max` the largest overlap so far (the contact's own state):
 /// `F = max(0, min(k₁ δ, k₂ (δ − δ₀)))`. A head-on impact without dashpot rebounds with
 /// restitution `√(k₁/k₂)` after `π/2 (√(m*/k₁) + √(m*/k₂))`. Damping and tangential models scale
 /// with k₁. Parameters: `[contact.hysteretic_linear]`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct HystereticNormal {
     /// Loading stiffness k₁ (N/m); `None`: the Hertz secant stiffness at an overlap of 1 % of R*.
@@ -28,7 +27,6 @@ pub struct HystereticNormal {
     /// Tangential stiffness as a fraction of the loading stiffness.
     #[key(range: ">= 0")]
     pub tangential_stiffness_ratio: f64,
-}
 }
 
 impl Default for HystereticNormal {

@@ -2,15 +2,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::key_spec::scene_section;
+use crate::physics::key_spec::SceneKeys;
 use crate::physics::number::exact;
 
 use super::super::law::PairProperties;
 use super::super::sub_model::{NormalModel, Problems, Stiffness};
 
-scene_section! {
 /// `F_ne = k_n δ`. Parameters: `[contact.linear]`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, SceneKeys)]
 #[serde(deny_unknown_fields, default)]
 pub struct LinearNormal {
     /// Normal stiffness (N/m); `None`: the Hertz secant stiffness at an overlap of 1 % of R*.
@@ -19,7 +18,6 @@ pub struct LinearNormal {
     /// Tangential stiffness as a fraction of the normal stiffness.
     #[key(range: ">= 0")]
     pub tangential_stiffness_ratio: f64,
-}
 }
 
 impl Default for LinearNormal {
