@@ -21,7 +21,7 @@
 //!    two are within [`PATH_RESOLUTION`](path::PATH_RESOLUTION); the cheapest good rung is verified
 //!    on fresh seeds, and a failed verification leads to the rung that cures it and a new
 //!    verification. Only the run budget, the spend limit and a rung whose runs do not settle (a
-//!    limit cycle) stop it; a rung's runs are cut at the cheapest candidate still in the running.
+//!    limit cycle) stop it; a rung's runs are cut at the cheapest other candidate still in the running.
 //!    Nothing else runs before it ends.
 //! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
 //!    design (the cheap corner, each list lever such as `integrator.scheme` at the value whose own

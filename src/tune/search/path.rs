@@ -103,8 +103,8 @@ impl Path {
             if !self.fits_share(cx, more, more as f64 * cx.result.candidates[k].relative_cost.unwrap_or(1.0)) {
                 return Ok(false);
             }
-            // Cut where it could no longer win: at the cheapest candidate still in the running.
-            let cap = cx.config.cut_runs.then(|| cx.likely_cost());
+            // Cut where it could no longer win: at the cheapest other candidate still in the running.
+            let cap = cx.config.cut_runs.then(|| cx.likely_cost_besides(k));
             cx.run_batch(&[(k, more)], Some(cap))?;
         }
     }

@@ -63,6 +63,13 @@ impl<E: Evaluator> Context<'_, E> {
         self.running_costs().into_iter().fold(self.result.reference_cost(), f64::min)
     }
 
+    /// [`Self::likely_cost`] among the candidates other than `k`: the cost past which a further run
+    /// of `k` could no longer win (its own mean is no bar to its own further seeds).
+    pub(super) fn likely_cost_besides(&self, k: usize) -> f64 {
+        let others = self.result.candidates.iter().enumerate().filter(|&(j, c)| j != k && self.in_running(c));
+        others.map(|(_, c)| self.result.assess(c).cost).fold(self.result.reference_cost(), f64::min)
+    }
+
     /// The cheapest feasible candidate, standard settings included, and its cost (infinite when
     /// there is none).
     pub(super) fn incumbent(&self) -> (Option<usize>, f64) {
