@@ -3,7 +3,8 @@
 //! reference's runs naming the metric and the runs it is undefined on, where it used to say a
 //! relative tolerance gives no margin), and a random placement that jams on one of the reference's
 //! seeds (refused before anything runs, where the tune used to stop at that replicate saying the
-//! reference "does not settle").
+//! reference "does not settle"); and a reference that does not settle within its duration, named
+//! with what to change.
 
 mod runner_common;
 
@@ -129,4 +130,22 @@ reference_seeds = 9
     std::fs::write(&file, study.replace("reference_seeds = 9", "reference_seeds = 3")).unwrap();
     let check = demsweep(&["check", file.to_str().unwrap()]);
     assert_eq!(check.status.code(), Some(0), "{}", text(&check.stderr));
+}
+
+#[test]
+fn a_reference_that_does_not_settle_within_its_duration_stops_the_tune_saying_what_to_change() {
+    let dir = runner_common::scratch("tune_measurable_unsettled");
+    // 0.05 s: the disks are still falling when the run ends.
+    let file = tune_file(&dir, 0.05);
+    let study = std::fs::read_to_string(&file).unwrap().replace("run.duration = 2.0", "run.duration = 0.05");
+    std::fs::write(&file, study).unwrap();
+    let out = dir.join("out");
+    let run = demsweep(&["tune", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert_ne!(run.status.code(), Some(0), "{}", text(&run.stdout));
+    let err = text(&run.stderr);
+    assert!(
+        err.contains("the reference scene itself does not settle on every seed (replicate 0 did not settle)"),
+        "{err}"
+    );
+    assert!(err.contains("lengthen the scene's run.duration, or damp it more"), "{err}");
 }

@@ -265,11 +265,15 @@ impl fmt::Display for TuneError {
             }
             TuneError::Interrupted => write!(f, "interrupted: finished runs are kept; continue with --resume"),
             TuneError::ReferenceFailed { seed, failure } => {
-                let what = match failure {
-                    RunFailure::Error(_) => "cannot run",
-                    _ => "does not settle",
+                let (what, fix) = match failure {
+                    RunFailure::Error(_) => ("cannot run", "fix it first"),
+                    RunFailure::NotSettled => (
+                        "does not settle",
+                        "lengthen the scene's run.duration, or damp it more (or relax its settle.* criteria)",
+                    ),
+                    _ => ("does not settle", "fix it first"),
                 };
-                write!(f, "the reference scene itself {what} on every seed (replicate {seed} {failure}): fix it first")
+                write!(f, "the reference scene itself {what} on every seed (replicate {seed} {failure}): {fix}")
             }
             TuneError::UndefinedMetric { metric, replicates, runs } => write!(
                 f,
