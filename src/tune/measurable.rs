@@ -2,9 +2,9 @@
 //! kept metric undefined on the reference's runs gives no margin, and the tune stops after them.
 
 use super::spec::TuneSpec;
+use super::validity::disks_of;
 use crate::physics::number::short;
 use crate::physics::pile::{PREDICTED_PACKING, predicted_interior_window};
-use crate::physics::placement;
 use crate::physics::quantity::PACKING_FRACTION_INTERIOR;
 
 /// A warning (`keep.<metric>: …`) for each kept metric predicted undefined, or resting on a few
@@ -15,13 +15,7 @@ pub fn kept_metric_warnings(spec: &TuneSpec) -> Vec<String> {
     if !spec.keep.iter().any(|k| k.metric == metric) {
         return Vec::new();
     }
-    let disks = match spec.initial.as_deref() {
-        Some(disks) => disks.to_vec(),
-        None => match placement::generate(&spec.reference) {
-            Ok(disks) => disks,
-            Err(_) => return Vec::new(),
-        },
-    };
+    let Ok(disks) = disks_of(&spec.reference, spec.initial.as_deref().map(Vec::as_slice)) else { return Vec::new() };
     let diameter = 2.0 * disks.iter().map(|d| d.r).fold(0.0, f64::max);
     let (depth, window) = predicted_interior_window(disks.iter().map(|d| d.r), spec.reference.domain.width);
     if window >= diameter {

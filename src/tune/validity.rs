@@ -66,7 +66,7 @@ pub fn predicted_report(scene: &SceneConfig, initial: Option<&[InitialDisk]>) ->
 }
 
 /// The disks a scene starts from: `initial`, or its placement generated.
-fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<Vec<InitialDisk>, ScreenError> {
+pub(super) fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> Result<Vec<InitialDisk>, ScreenError> {
     match initial {
         Some(disks) => Ok(disks.to_vec()),
         None => placement::generate(scene).map_err(ScreenError::Placement),

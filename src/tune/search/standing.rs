@@ -52,8 +52,13 @@ impl<E: Evaluator> Context<'_, E> {
 
     /// The mean costs of the candidates still in the running ([`Self::in_running`]).
     pub(super) fn running_costs(&self) -> Vec<f64> {
-        let running = self.result.candidates.iter().filter(|c| self.in_running(c));
-        running.map(|c| self.result.assess(c).cost).collect()
+        self.running_costs_besides(None)
+    }
+
+    /// [`Self::running_costs`] of the candidates other than `skip`.
+    fn running_costs_besides(&self, skip: Option<usize>) -> Vec<f64> {
+        let running = self.result.candidates.iter().enumerate().filter(|&(j, c)| Some(j) != skip && self.in_running(c));
+        running.map(|(_, c)| self.result.assess(c).cost).collect()
     }
 
     /// The mean cost of the cheapest candidate still in the running (feasible, or undecided with
@@ -66,8 +71,7 @@ impl<E: Evaluator> Context<'_, E> {
     /// [`Self::likely_cost`] among the candidates other than `k`: the cost past which a further run
     /// of `k` could no longer win (its own mean is no bar to its own further seeds).
     pub(super) fn likely_cost_besides(&self, k: usize) -> f64 {
-        let others = self.result.candidates.iter().enumerate().filter(|&(j, c)| j != k && self.in_running(c));
-        others.map(|(_, c)| self.result.assess(c).cost).fold(self.result.reference_cost(), f64::min)
+        self.running_costs_besides(Some(k)).into_iter().fold(self.result.reference_cost(), f64::min)
     }
 
     /// The cheapest feasible candidate, standard settings included, and its cost (infinite when
