@@ -85,6 +85,15 @@ fn upper_tail(t: f64, df: f64) -> f64 {
     0.5 * incomplete_beta(df / (df + t * t), 0.5 * df, 0.5)
 }
 
+/// The distribution function of Student's t distribution (see [`super::student_t_cdf`]).
+pub(super) fn t_cdf(t: f64, df: f64) -> f64 {
+    if t.is_nan() || df.is_nan() || df <= 0.0 {
+        return f64::NAN;
+    }
+    let tail = upper_tail(t.abs(), df.min(MAX_DF));
+    if t >= 0.0 { 1.0 - tail } else { tail }
+}
+
 /// The quantile of Student's t distribution (see [`super::student_t_quantile`]).
 pub(super) fn t_quantile(p: f64, df: f64) -> f64 {
     if !(p > 0.0 && p < 1.0) || df.is_nan() || df <= 0.0 {
@@ -119,6 +128,16 @@ pub(super) fn t_quantile(p: f64, df: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_distribution_function_inverts_the_quantile_and_is_symmetric() {
+        for (p, df) in [(0.95, 3.0), (0.7, 12.5), (0.999, 1e8), (0.2, 2.0)] {
+            assert!((t_cdf(t_quantile(p, df), df) - p).abs() < 1e-12, "p {p} df {df}");
+        }
+        assert!((t_cdf(-1.3, 7.0) + t_cdf(1.3, 7.0) - 1.0).abs() < 1e-15);
+        assert!((t_cdf(1.959_963_984_540_054, 1e9) - 0.975).abs() < 1e-7, "the normal limit");
+        assert!(t_cdf(f64::INFINITY, 4.0) == 1.0 && t_cdf(0.0, 4.0) == 0.5);
+    }
 
     #[test]
     fn ln_gamma_matches_factorials_and_the_half() {

@@ -62,6 +62,12 @@ pub fn student_t_quantile(p: f64, df: f64) -> f64 {
     distribution::t_quantile(p, df)
 }
 
+/// Distribution function of Student's t distribution with `df` degrees of freedom, P(T ≤ t); NaN for
+/// df ≤ 0.
+pub fn student_t_cdf(t: f64, df: f64) -> f64 {
+    distribution::t_cdf(t, df)
+}
+
 /// Outcome of an equivalence test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Decision {
