@@ -503,3 +503,20 @@ fn the_sheet_names_the_keep_line_that_would_hold_an_unkept_metric_beyond_two_sig
     let kept = sheet.lines().find(|l| l.trim_start().starts_with("pile_height:")).expect("pile_height");
     assert!(!kept.contains("beyond 2σ"), "{kept}");
 }
+
+#[test]
+fn first_seeds_that_fit_only_cut_run_one_at_a_time_and_stop_at_the_first_cut() {
+    // As above without the standard setting, and every point of the lever space settles at 0.95 of
+    // the reference: past the cap (0.83) that leaves room to verify it. A point's first seed is cut
+    // there, and its other two never run.
+    let mut stand_in = StandIn { settle: |_| 0.95, ..StandIn::new() };
+    let config = SearchConfig { reference_seeds: 10, ..stand_in_config() };
+    let result = search(&config, &mut stand_in).unwrap();
+    let cut: Vec<_> = result.candidates.iter().filter(|c| c.runs.iter().any(Outcome::is_cut)).collect();
+    assert!(!cut.is_empty(), "a point's first seeds were cut to fit the spend\n{}", dump(&result));
+    for cand in cut {
+        assert_eq!(cand.runs.len(), 1, "one cut run, not {}\n{}", cand.runs.len(), dump(&result));
+    }
+    let spent = spent(&result);
+    assert!(spent <= config.max_spend * 100.0, "within the spend limit: {spent}");
+}

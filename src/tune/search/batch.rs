@@ -23,9 +23,10 @@ impl<E: Evaluator> Context<'_, E> {
     /// much, the point where the prediction is confirmed (a run that settles sooner than the
     /// reference's, e.g. with more damping, still ends below it and counts).
     ///
-    /// First seeds that fit the spend limit only cut ([`Self::first_round`]) are cut there too.
+    /// First seeds that fit the spend limit only cut ([`Self::first_round`]) are cut there too, all
+    /// `seeds` of them.
     pub(super) fn cap(&self, cand: &Candidate, more: usize) -> Option<f64> {
-        let spend = self.first_caps.get(&cand.id).copied().filter(|_| cand.runs.is_empty());
+        let spend = self.first_caps.get(&cand.id).copied().filter(|_| cand.runs.len() < self.config.seeds);
         let win = self.win_cap(cand, more);
         win.map_or(spend, |w| Some(spend.map_or(w, |s| s.min(w))))
     }
@@ -40,11 +41,14 @@ impl<E: Evaluator> Context<'_, E> {
     }
 
     /// Runs `more` further search seeds of each candidate, as one batch; a new candidate predicted
-    /// dearer than the cheapest one in the running ([`Self::predicted_dear`]) first runs one seed
-    /// alone, and the rest only when that run ended below its cap and valid.
+    /// dearer than the cheapest one in the running ([`Self::predicted_dear`]), or whose first seeds
+    /// fit the spend limit only cut, first runs one seed alone, and the rest only when that run
+    /// ended below its cap and valid: a cut run tells the others' fate at a third of the spend.
     pub(super) fn run_more(&mut self, chosen: &[(usize, usize)]) -> Result<(), TuneError> {
-        let probe =
-            |s: &Self, k: usize| s.result.candidates[k].runs.is_empty() && s.predicted_dear(&s.result.candidates[k]);
+        let probe = |s: &Self, k: usize| {
+            let cand = &s.result.candidates[k];
+            cand.runs.is_empty() && (s.predicted_dear(cand) || s.first_caps.contains_key(&cand.id))
+        };
         let probes: Vec<(usize, usize)> =
             chosen.iter().filter(|&&(k, more)| more > 1 && probe(self, k)).map(|&(k, _)| (k, 1)).collect();
         if probes.is_empty() {
