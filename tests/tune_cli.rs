@@ -376,9 +376,9 @@ fn tune_refuses_to_replace_a_users_best_toml_and_its_other_files() {
 #[test]
 fn check_and_plan_name_the_spend_a_tune_needs() {
     // 2 seeds a candidate and a verification round of 3: 5.5 reference depositions priced with the
-    // margin. The reference's 4 runs leave 16 of 20: five candidates. With 17 reference runs the 3
-    // left pay for none, even cut (at 0.55 of the reference's cost, below what a setting plausibly
-    // settles in): the line names the max_spend (17 + 5.5) or reference_seeds (20 - 5.5) that would.
+    // margin. The reference's 4 runs leave 16 of 20: five candidates. With 18 reference runs the 2
+    // left pay for none, even cut (at 0.36 of the reference's cost, below what a setting plausibly
+    // settles in): the line names the max_spend (18 + 5.5) or reference_seeds (20 - 5.5) that would.
     let dir = runner_common::scratch("tune_spend_plan");
     let file = write_tune(&dir, TUNE);
     for command in ["check", "plan"] {
@@ -389,12 +389,12 @@ fn check_and_plan_name_the_spend_a_tune_needs() {
         assert!(said.contains("the 16 left pay for 5 candidate(s)"), "{said}");
         assert!(!said.contains("needs max_spend"), "{said}");
     }
-    let file = write_tune(&dir, &TUNE.replace("reference_seeds = 4", "reference_seeds = 17"));
+    let file = write_tune(&dir, &TUNE.replace("reference_seeds = 4", "reference_seeds = 18"));
     for command in ["check", "plan"] {
         let out = demsweep(&[command, file.to_str().unwrap()]);
         assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
         let said = text(&out.stdout);
-        assert!(said.contains("the 3 left pay for 0 candidate(s)") && !said.contains("cut at"), "{said}");
-        assert!(said.contains("needs max_spend = 22.5 or reference_seeds = 14"), "{said}");
+        assert!(said.contains("the 2 left pay for 0 candidate(s)") && !said.contains("cut at"), "{said}");
+        assert!(said.contains("needs max_spend = 23.5 or reference_seeds = 14"), "{said}");
     }
 }

@@ -2,7 +2,7 @@
 //! candidate's first seeds fit with room to verify it, and what a pending verification may cost.
 
 use super::context::Context;
-use super::spend::{FAR_TOO_DEAR, PRICE_MARGIN};
+use super::spend::{LEAST_SETTLE, PRICE_MARGIN};
 use crate::tune::model::{Evaluator, State};
 
 /// How a candidate's first seeds fit the run budget and the spend limit with room to verify it.
@@ -32,7 +32,7 @@ impl<E: Evaluator> Context<'_, E> {
         // First seeds are information: a round cut where it leaves room to verify it
         // ([`Self::first_round`]) is one more candidate.
         match count(unit) {
-            0 if c.cut_runs => count(unit / FAR_TOO_DEAR).min(1),
+            0 if c.cut_runs => count(unit * LEAST_SETTLE).min(1),
             n => n,
         }
     }
@@ -47,8 +47,8 @@ impl<E: Evaluator> Context<'_, E> {
     /// chosen for the batch, fit the run budget and the spend limit with room to verify it: whole at
     /// its predicted cost `per_run` (reference runs); else cut, each run at the most it may cost for
     /// the round and its verification at that cost to fit, when that is at least its time step's cost
-    /// over [`FAR_TOO_DEAR`] (a setting that settles that much sooner than the reference is rare):
-    /// first seeds are information, and a candidate that settles soon enough is verified within the
+    /// times [`LEAST_SETTLE`] (a setting that settles sooner than that is rare): first seeds are
+    /// information, and a candidate that settles soon enough is verified within the
     /// spend; None when neither fits.
     pub(super) fn first_round(&self, k: usize, runs: usize, price: f64, per_run: f64) -> Option<FirstRound> {
         let c = self.config;
@@ -61,7 +61,7 @@ impl<E: Evaluator> Context<'_, E> {
         let left = (c.max_spend * reference - self.spent) / (PRICE_MARGIN * reference) - price;
         let pending = self.pending_reservation().unwrap_or(0.0);
         let cap = (left / (seeds + c.verify_seeds as f64)).min((left - pending) / seeds);
-        let floor = self.result.candidates[k].relative_cost.unwrap_or(1.0) / FAR_TOO_DEAR;
+        let floor = self.result.candidates[k].relative_cost.unwrap_or(1.0) * LEAST_SETTLE;
         let fits = c.cut_runs && cap >= floor && self.result.runs + runs <= c.budget;
         fits.then_some(FirstRound::Cut(cap * reference))
     }

@@ -12,6 +12,12 @@ pub const PRICE_MARGIN: f64 = 1.1;
 /// height) rarely take a third off the reference's settle time.
 pub(super) const FAR_TOO_DEAR: f64 = 1.5;
 
+/// The shortest settle time, as a share of the reference's, that a candidate's first seeds are cut
+/// at to fit the spend limit (see `Context::first_round`): damping levers on an undamped
+/// reference settle piles in about half its time. With such seeds run one at a time, a setting
+/// that settles no sooner costs one cut run.
+pub const LEAST_SETTLE: f64 = 0.5;
+
 impl<E: Evaluator> Context<'_, E> {
     /// Whether `runs` more runs predicted at `relative_cost` of a reference run each fit the run
     /// budget and the spend limit.
@@ -45,7 +51,7 @@ pub struct SpendPlan {
     pub candidates: usize,
     /// Without one: the cost per run, over the reference's, at which the first candidate's seeds are
     /// cut so that its verification still fits, when a candidate settling that soon is plausible
-    /// ([`FAR_TOO_DEAR`]).
+    /// ([`LEAST_SETTLE`]).
     pub cut_at: Option<f64>,
     /// The `max_spend` that pays for one candidate at the reference's cost.
     pub max_spend: f64,
@@ -69,7 +75,7 @@ pub fn spend_plan(config: &SearchConfig) -> SpendPlan {
         reference,
         left,
         candidates,
-        cut_at: (candidates == 0 && config.cut_runs && cap >= 1.0 / FAR_TOO_DEAR).then_some(cap),
+        cut_at: (candidates == 0 && config.cut_runs && cap >= LEAST_SETTLE).then_some(cap),
         max_spend: reference + first,
         reference_seeds: ((config.max_spend - first).floor() >= least).then_some((config.max_spend - first) as usize),
     }
