@@ -107,3 +107,28 @@ impl<E: Evaluator> Context<'_, E> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tune::search::testing::{Unused, config, runs};
+
+    /// The probe cap with the reference's runs costing `costs` and no candidate yet.
+    fn probe_cap(costs: &[f64]) -> f64 {
+        let config = config();
+        let mut evaluator = Unused;
+        let mut cx = Context::new(&config, &mut evaluator);
+        cx.result.reference = costs.iter().flat_map(|&c| runs(c, &[1.0])).collect();
+        cx.result.margins = vec![0.05];
+        cx.probe_cap()
+    }
+
+    #[test]
+    fn a_probe_is_cut_twice_a_runs_spread_past_the_cheapest_cost_and_at_most_half_again() {
+        // Mean 100, standard deviation 7.07: a run of a setting as cheap ends below 114.1.
+        let cap = probe_cap(&[90.0, 110.0, 95.0, 105.0, 100.0, 100.0]);
+        assert!((cap - (100.0 + 2.0 * 50f64.sqrt())).abs() < 1e-9, "{cap}");
+        assert_eq!(probe_cap(&[100.0; 6]), 100.0, "no spread: the cost itself");
+        assert_eq!(probe_cap(&[40.0, 160.0, 100.0]), 150.0, "a wide spread: at most 1.5 times");
+    }
+}

@@ -65,6 +65,8 @@ mod seeds;
 mod spend;
 mod standards;
 mod standing;
+#[cfg(test)]
+mod testing;
 mod verify;
 
 pub use run::search;

@@ -175,67 +175,7 @@ impl<E: Evaluator> Context<'_, E> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tune::model::{Origin, Outcome, Screen, SearchConfig};
-
-    /// An evaluator the choice of what to verify never calls.
-    struct Unused;
-
-    impl Evaluator for Unused {
-        fn screen(&mut self, _: &[f64], _: Option<usize>) -> Screen {
-            unreachable!()
-        }
-        fn reference_identity(&mut self) -> String {
-            unreachable!()
-        }
-        fn evaluate(&mut self, _: &[Job]) -> Result<Vec<Outcome>, TuneError> {
-            unreachable!()
-        }
-        fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
-            unreachable!()
-        }
-    }
-
-    fn config() -> SearchConfig {
-        SearchConfig {
-            dims: 1,
-            levels: vec![None],
-            tolerances: vec![(0.05, false)],
-            metrics: vec!["packing_fraction_interior".into()],
-            seeds: 3,
-            max_seeds: 8,
-            reference_seeds: 8,
-            verify_seeds: 8,
-            budget: 400,
-            seed: 1,
-            initial: None,
-            dissipation: vec![0.0],
-            home: vec![None],
-            standards: 0,
-            path: false,
-            max_spend: 20.0,
-            cut_runs: true,
-        }
-    }
-
-    fn runs(cost: f64, values: &[f64]) -> Vec<Outcome> {
-        values.iter().map(|&v| Outcome::settled(cost, vec![v])).collect()
-    }
-
-    fn candidate(id: usize, runs: Vec<Outcome>) -> Candidate {
-        Candidate {
-            id,
-            point: vec![0.1 * id as f64],
-            standard: None,
-            identity: id.to_string(),
-            origin: Origin::Initial,
-            predicted_invalid: None,
-            runs,
-            verification: Vec::new(),
-            verify_seeds: Vec::new(),
-            relative_cost: Some(1.0),
-            stepped_from: None,
-        }
-    }
+    use crate::tune::search::testing::{Unused, candidate, config, runs};
 
     /// The first choice among a reference of mean 1 (spread 0.01, margin 0.05) and `candidates`.
     fn first_choice(candidates: Vec<Candidate>) -> usize {

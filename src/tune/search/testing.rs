@@ -1,0 +1,67 @@
+//! What the search's unit tests share: an evaluator that is never called, a one-lever
+//! configuration, and runs and candidates made by hand.
+
+use crate::tune::model::{Candidate, Evaluator, Job, Origin, Outcome, Screen, SearchConfig, TuneError};
+
+/// An evaluator the code under test never calls.
+pub(super) struct Unused;
+
+impl Evaluator for Unused {
+    fn screen(&mut self, _: &[f64], _: Option<usize>) -> Screen {
+        unreachable!()
+    }
+    fn reference_identity(&mut self) -> String {
+        unreachable!()
+    }
+    fn evaluate(&mut self, _: &[Job]) -> Result<Vec<Outcome>, TuneError> {
+        unreachable!()
+    }
+    fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
+        unreachable!()
+    }
+}
+
+/// One lever, one relative tolerance of 5 %, the default seeds and spend limit.
+pub(super) fn config() -> SearchConfig {
+    SearchConfig {
+        dims: 1,
+        levels: vec![None],
+        tolerances: vec![(0.05, false)],
+        metrics: vec!["a kept metric".into()],
+        seeds: 3,
+        max_seeds: 8,
+        reference_seeds: 8,
+        verify_seeds: 8,
+        budget: 400,
+        seed: 1,
+        initial: None,
+        dissipation: vec![0.0],
+        home: vec![None],
+        standards: 0,
+        path: false,
+        max_spend: 20.0,
+        cut_runs: true,
+    }
+}
+
+/// Settled runs of one kept metric, each costing `cost`.
+pub(super) fn runs(cost: f64, values: &[f64]) -> Vec<Outcome> {
+    values.iter().map(|&v| Outcome::settled(cost, vec![v])).collect()
+}
+
+/// A point of the lever space with `runs`, its time step the reference's.
+pub(super) fn candidate(id: usize, runs: Vec<Outcome>) -> Candidate {
+    Candidate {
+        id,
+        point: vec![0.1 * id as f64],
+        standard: None,
+        identity: id.to_string(),
+        origin: Origin::Initial,
+        predicted_invalid: None,
+        runs,
+        verification: Vec::new(),
+        verify_seeds: Vec::new(),
+        relative_cost: Some(1.0),
+        stepped_from: None,
+    }
+}
