@@ -37,6 +37,13 @@ fn tune_against_the_ladder_writes_its_table() {
             assert_eq!(row.ladder_best, best.setting, "{row:?}");
             let cheaper = row.rungs.iter().skip(1).filter(equivalent).filter(|r| r.cost_ratio < best.cost_ratio);
             assert!(cheaper.clone().all(|r| r.reason.starts_with("not confirmed")), "{row:?}");
+            // Its cost on the confirmation seeds alone, which the reason names, and over both sets.
+            let there = format!("(cost there {:.3})", row.ladder_confirmation_ratio);
+            assert!(best.reason.contains(&there), "{there} in {row:?}");
+            let both = (best.cost_ratio + row.ladder_confirmation_ratio) / 2.0;
+            assert!((row.ladder_ratio - both).abs() < 1e-12, "{row:?}");
+            let like = row.answer_on_ladder_ratio / row.ladder_confirmation_ratio;
+            assert!(like.is_finite() && (row.like_with_like() - like).abs() < 1e-12, "{row:?}");
         }
         None => assert!(row.ladder_ratio.is_nan() && row.ladder_best == "none", "{row:?}"),
     }
@@ -57,7 +64,12 @@ fn tune_against_the_ladder_writes_its_table() {
         assert!(path.is_file(), "{} missing", path.display());
     }
     let md = std::fs::read_to_string(options.out_dir.join("tune.md")).unwrap();
-    assert!(md.contains("| tiny_bench |"), "{md}");
+    assert!(md.contains("| tiny_bench |") && md.contains("| like with like |"), "{md}");
+    let csv = std::fs::read_to_string(options.out_dir.join("tune.csv")).unwrap();
+    assert!(csv.lines().next().unwrap().contains("ladder_confirmation_cost_ratio"), "{csv}");
+    // A setting is quoted once, as RFC 4180 quotes a field with commas or quotes: a reader gets it back.
+    let answer = format!("\"{}\"", row.tune_answer.replace('"', "\"\""));
+    assert!(csv.contains(&format!("30,{answer},")), "{csv}");
 }
 
 #[test]

@@ -70,6 +70,8 @@ pub struct TuneBenchRow {
     pub ladder_ratio: f64,
     /// Its setting.
     pub ladder_best: String,
+    /// Its cost ratio on its confirmation seeds alone (NaN when none).
+    pub ladder_confirmation_ratio: f64,
     /// Runs of the ladder.
     pub ladder_runs: usize,
     /// Fresh seeds each rung of the ladder may run on.
@@ -81,6 +83,14 @@ pub struct TuneBenchRow {
     /// Tune answered within [`GOAL_RATIO`] of the ladder (or no cheaper rung exists and tune gave none),
     /// or stopped naming a metric, and spent at most its limit.
     pub goal_met: bool,
+}
+
+impl TuneBenchRow {
+    /// Tune's answer on the ladder's seeds over the ladder's best on its confirmation seeds: two
+    /// settings each measured on runs that did not choose it (NaN without both).
+    pub fn like_with_like(&self) -> f64 {
+        self.answer_on_ladder_ratio / self.ladder_confirmation_ratio
+    }
 }
 
 impl CsvRow for TuneBenchRow {
@@ -99,28 +109,31 @@ impl CsvRow for TuneBenchRow {
         ("ladder_seeds", ""),
         ("answer_on_ladder_cost_ratio", ""),
         ("answer_on_ladder_state", ""),
+        ("ladder_confirmation_cost_ratio", ""),
         ("tune_over_ladder", ""),
+        ("answer_on_ladder_over_confirmation", ""),
         ("goal_met", ""),
     ];
 
     fn values(&self) -> Vec<String> {
-        let q = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
         vec![
             self.scene.clone(),
             self.disks.to_string(),
-            q(&self.tune_answer),
+            self.tune_answer.clone(),
             format!("{:.4}", self.tune_ratio),
             format!("{:.4}", self.tune_ratio_low),
             format!("{:.4}", self.tune_ratio_high),
             format!("{:.2}", self.tune_spend),
             self.undecided_metric.clone(),
-            q(&self.ladder_best),
+            self.ladder_best.clone(),
             format!("{:.4}", self.ladder_ratio),
             self.ladder_runs.to_string(),
             self.ladder_seeds.to_string(),
             format!("{:.4}", self.answer_on_ladder_ratio),
             self.answer_on_ladder_state.clone(),
+            format!("{:.4}", self.ladder_confirmation_ratio),
             format!("{:.3}", self.tune_ratio / self.ladder_ratio),
+            format!("{:.3}", self.like_with_like()),
             self.goal_met.to_string(),
         ]
     }
@@ -181,7 +194,10 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         false => GridLadder::default(),
     };
     let answer_on_ladder = answer.map(|r| (r.cost_ratio, r.state)).unwrap_or((f64::NAN, String::new()));
-    let (ladder_ratio, ladder_best) = best.unwrap_or((f64::NAN, "none".to_string()));
+    let (ladder_ratio, ladder_best, ladder_confirmation_ratio) = match best {
+        Some(b) => (b.cost_ratio, b.setting, b.confirmation_cost_ratio),
+        None => (f64::NAN, "none".to_string(), f64::NAN),
+    };
     let answered = match (ratio.ratio.is_finite(), ladder_ratio.is_finite()) {
         (true, true) => ratio.ratio <= GOAL_RATIO * ladder_ratio,
         (true, false) => true,
@@ -200,6 +216,7 @@ fn compare(spec: &TuneSpec, result: &SearchResult, options: &TuneBenchOptions) -
         rungs,
         ladder_ratio,
         ladder_best,
+        ladder_confirmation_ratio,
         ladder_runs,
         ladder_seeds,
         answer_on_ladder_ratio: answer_on_ladder.0,
@@ -237,7 +254,9 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
          further fresh seeds (confirmed, as tune verifies). Cost ratio: mean particle-steps per run over the \
          reference's (tune: on its fresh verification seeds; the ladder's best: over both sets). Goal: tune \
          within {GOAL_RATIO}x of the ladder's best (no answer counts as 1), or it stops naming a metric it \
-         cannot decide, spending at most its limit.\n",
+         cannot decide, spending at most its limit. Like with like: tune's answer on the ladder's seeds \
+         over the ladder's best on its confirmation seeds alone, each measured on runs that did not choose \
+         it (the ladder's best over both sets is biased low by its choice among many rungs).\n",
         rows.first().map_or(LADDER_SEEDS, |r| r.ladder_seeds),
         LADDER_FACTORS.map(|f| f.to_string()).join(", ")
     );
@@ -251,6 +270,7 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
         "ladder: cost",
         "tune / ladder",
         "tune's answer on the ladder's seeds",
+        "like with like",
         "goal met",
     ];
     let table: Vec<Vec<String>> = rows
@@ -266,6 +286,7 @@ fn markdown(rows: &[TuneBenchRow]) -> String {
                 figure(r.ladder_ratio, 3),
                 figure(r.tune_ratio / r.ladder_ratio, 2),
                 on_ladder(r.answer_on_ladder_ratio, &r.answer_on_ladder_state),
+                figure(r.like_with_like(), 2),
                 r.goal_met.to_string(),
             ]
         })

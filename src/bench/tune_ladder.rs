@@ -80,6 +80,18 @@ struct Setting {
     standard: Option<usize>,
 }
 
+/// The ladder's best rung: its setting and cost ratios.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LadderBest {
+    /// Its setting.
+    pub setting: String,
+    /// Cost ratio over both sets of runs: the seeds that chose it and its confirmation's.
+    pub cost_ratio: f64,
+    /// Cost ratio on its confirmation seeds alone: runs that did not choose it, so not biased low by
+    /// the choice among many rungs, as tune's verified cost is not.
+    pub confirmation_cost_ratio: f64,
+}
+
 /// The ladder on one tune: every rung judged, the cheapest valid, equivalent one, and tune's answer on
 /// the same seeds.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -88,8 +100,8 @@ pub struct GridLadder {
     /// half-steps.
     pub rungs: Vec<Rung>,
     /// The cheapest valid, equivalent rung other than tune's answer that its confirmation runs also
-    /// show valid and equivalent: cost ratio (over both sets of runs) and setting.
-    pub best: Option<(f64, String)>,
+    /// show valid and equivalent.
+    pub best: Option<LadderBest>,
     /// Tune's answer on the ladder's seeds: its rung.
     pub answer: Option<Rung>,
     /// Runs made, the fresh reference's included.
@@ -171,7 +183,7 @@ struct Trial<'a> {
 /// The ladder's best: the equivalent rungs, cheapest first (at most [`CONFIRM_TRIES`]), each run on
 /// the confirmation seeds and judged on those runs alone; the first that is valid and equivalent there
 /// too, with its cost over both sets. Each tried rung's reason says how its confirmation went.
-fn confirm(trial: &mut Trial, settings: &[Setting], rungs: &mut [Rung]) -> Result<Option<(f64, String)>, BenchError> {
+fn confirm(trial: &mut Trial, settings: &[Setting], rungs: &mut [Rung]) -> Result<Option<LadderBest>, BenchError> {
     let mut order: Vec<usize> = (0..rungs.len()).filter(|&k| rungs[k].state == "equivalent").collect();
     order.sort_by(|&a, &b| rungs[a].cost_ratio.total_cmp(&rungs[b].cost_ratio));
     let reference = trial.judged.reference_cost();
@@ -182,9 +194,10 @@ fn confirm(trial: &mut Trial, settings: &[Setting], rungs: &mut [Rung]) -> Resul
         let a = trial.judged.assess_runs(&outcomes[0]);
         let n = trial.seeds.len();
         if a.state == State::Feasible {
-            let cost = (rungs[k].cost_ratio + a.cost / reference) / 2.0;
-            rungs[k].reason = format!("confirmed on {n} more fresh seeds (cost there {:.3})", a.cost / reference);
-            return Ok(Some((cost, rungs[k].setting.clone())));
+            let confirmation_cost_ratio = a.cost / reference;
+            rungs[k].reason = format!("confirmed on {n} more fresh seeds (cost there {confirmation_cost_ratio:.3})");
+            let cost_ratio = (rungs[k].cost_ratio + confirmation_cost_ratio) / 2.0;
+            return Ok(Some(LadderBest { setting: rungs[k].setting.clone(), cost_ratio, confirmation_cost_ratio }));
         }
         let why = match &a.state {
             State::Infeasible(why) => why.to_string(),
