@@ -4,9 +4,11 @@
 //! script the text names exists,
 //! and commands are written one way (`demsweep ...`, never `cargo run -- ...`).
 
+mod runner_common;
+
+use runner_common::demsweep;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
@@ -88,10 +90,6 @@ fn long_options<'a>(words: &[&'a str]) -> Vec<&'a str> {
         .filter_map(|w| w.trim_start_matches('[').split(['=', ']']).next())
         .filter(|w| w.starts_with("--") && w.len() > 2)
         .collect()
-}
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
 }
 
 /// `demsweep ARGS --help`, cached; `None` when there is no such command.

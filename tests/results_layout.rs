@@ -11,6 +11,7 @@ use std::process::Output;
 
 use demsweep::output::{reader, stored};
 use hdf5_pure::AttrValue;
+use runner_common::demsweep;
 
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -22,10 +23,6 @@ fn study(frictions: &str) -> String {
          run.duration = 0.01\nrun.sample_interval = 0.002\nplacement.seed = 7\nlimits.contact_time_fraction = 0.01\nintegrator.time_step = 1e-4\n\
          [sweep]\n\"material.friction\" = [{frictions}]\n"
     )
-}
-
-fn demsweep(args: &[&str]) -> Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
 }
 
 fn text(out: &Output) -> String {

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 
 use demsweep::output::summary;
+use runner_common::demsweep;
 
 const RUNS: usize = 80;
 
@@ -15,10 +16,6 @@ fn study(dir: &Path) -> PathBuf {
     let path = dir.join("cli_sweep.toml");
     std::fs::write(&path, runner_common::cli_study("cli_sweep")).unwrap();
     path
-}
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
 }
 
 fn stderr(out: &Output) -> String {

@@ -1,11 +1,9 @@
 //! The stress profile a run stores with its histories, read back by `demsweep history --stress-profile`.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod runner_common;
 
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
+use runner_common::demsweep;
+use std::path::Path;
 
 /// A narrow column of 60 disks with wall friction, settled; `histories` on or off.
 fn run_column(dir: &Path, histories: bool) -> std::path::PathBuf {

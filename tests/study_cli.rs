@@ -1,18 +1,10 @@
 //! `demsweep check` and `demsweep plan` as a user runs them.
 
+mod runner_common;
 mod study_support;
 
-use std::process::{Command, Output};
-
+use runner_common::{demsweep, text};
 use study_support::{SMALL_SCENE, StudyDir};
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 #[test]
 fn check_accepts_a_valid_study() {

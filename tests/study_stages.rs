@@ -1,8 +1,8 @@
 //! Deposition protocols in study and tune files: a stage's keys swept and tuned by name, bad
 //! protocols refused with the file, line and key.
 
+use runner_common::{demsweep, text};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 mod runner_common;
 mod tune_common;
@@ -31,14 +31,6 @@ damping.local = 0.5
 "stages.fill.damping.local" = [0.2, 0.6]
 "stages.fill.until.time" = [0.1, 0.25]
 "#;
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);

@@ -10,20 +10,13 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use demsweep::output::summary;
+use runner_common::{demsweep, text};
 use tune_common::TUNE;
 
 fn write_tune(dir: &Path, text: &str) -> PathBuf {
     let path = dir.join("tiny_tune.toml");
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// The recommendation paragraph (the line starting with "Recommendation" or "No acceptable").

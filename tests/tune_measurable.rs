@@ -8,8 +8,8 @@
 
 mod runner_common;
 
+use runner_common::{demsweep, text};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// A tune file of `count` disks of radii 3-4 mm in a box `width` wide, keeping the interior packing.
 fn tune_file(dir: &Path, width: f64) -> PathBuf {
@@ -41,14 +41,6 @@ reference_seeds = 4
     let path = dir.join(format!("shallow_{width}.toml"));
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 #[test]

@@ -3,8 +3,9 @@
 
 mod runner_common;
 
+use runner_common::demsweep;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// 20 disks poured at 200 disks per second into a small box; the rate moves over 100 to 1000.
 const TUNE: &str = r#"name = "tune_pour"
@@ -40,10 +41,6 @@ seed = 1
 histories = false
 frames = false
 "#;
-
-fn demsweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
-}
 
 fn text(output: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr))

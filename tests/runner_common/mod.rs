@@ -98,6 +98,16 @@ pub fn wait_for_first_commit(results: &std::path::Path, child: &mut std::process
     }
 }
 
+/// Runs the `demsweep` binary with `args` in the test's working folder; returns its output.
+pub fn demsweep(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_demsweep")).args(args).output().unwrap()
+}
+
+/// Bytes of a command's output as text (invalid UTF-8 replaced).
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
 /// Runs the `demsweep` binary in `cwd` with `args` and asserts it ended with an exit status other
 /// than a panic's (101), not by a signal; returns its output.
 pub fn demsweep_in(cwd: &std::path::Path, args: &[&str]) -> std::process::Output {
