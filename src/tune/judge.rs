@@ -18,6 +18,7 @@ use std::collections::BTreeMap;
 
 use super::model::{
     Assessment, Candidate, CheckFigure, NotRun, Outcome, Reading, Rejection, SearchResult, State, Undecidable,
+    describe_metric,
 };
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::stats::{self, Decision, Equivalence, fit};
@@ -244,7 +245,7 @@ pub fn decidability(reference: &[Outcome], margins: &[f64], max_seeds: usize) ->
         .iter()
         .enumerate()
         .filter_map(|(k, &margin)| {
-            let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+            let r = describe_metric(reference, k);
             let decidable_margin = half(r.std, max_seeds.max(2));
             (decidable_margin >= margin).then(|| Undecidable {
                 metric: k,
@@ -277,7 +278,7 @@ pub fn reference_stands_apart(reference: &[Outcome], means: &[Vec<f64>], metrics
         return false;
     }
     (0..metrics.len()).filter(|&k| metrics[k]).any(|k| {
-        let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+        let r = describe_metric(reference, k);
         let half = stats::student_t_quantile(0.975, (n_r - 1) as f64) * r.std / (n_r as f64).sqrt();
         let column: Vec<f64> = means.iter().map(|m| m[k] - r.mean).collect();
         let median = fit::quantile(&column, 0.5);
@@ -303,9 +304,8 @@ pub fn runs_to_decide_with(
     reference_runs: usize,
 ) -> Option<usize> {
     let n_r = reference_runs.max(reference.len());
-    let column = |set: &[Outcome], k: usize| stats::describe(&set.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
     margins.iter().enumerate().try_fold(runs.len(), |most, (k, &margin)| {
-        let (r, c) = (column(reference, k), column(runs, k));
+        let (r, c) = (describe_metric(reference, k), describe_metric(runs, k));
         let room = margin - (c.mean - r.mean).abs();
         let half = |n: usize| {
             let se = (c.std.powi(2) / n as f64 + r.std.powi(2) / n_r as f64).sqrt();

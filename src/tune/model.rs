@@ -10,7 +10,7 @@ use crate::physics::number::short;
 use crate::physics::placement::PlacementError;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::RunnerError;
-use crate::stats::Equivalence;
+use crate::stats::{self, Describe, Equivalence};
 
 /// The first seed of the verification runs (seed numbers count from the reference's placement seed):
 /// past the run budget, which neither the reference nor any candidate's search seeds can reach, so
@@ -158,6 +158,11 @@ pub struct Outcome {
     pub readings: Vec<Reading>,
     /// Every pile metric of the summary (the evaluator's list), kept or not, for the answer sheet.
     pub pile: Vec<f64>,
+}
+
+/// Kept metric `k` over `runs` described (its non-finite values skipped).
+pub fn describe_metric(runs: &[Outcome], k: usize) -> Describe {
+    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>())
 }
 
 impl Outcome {

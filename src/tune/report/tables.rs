@@ -2,7 +2,7 @@
 //! those that did not (`<name>_skipped.csv`).
 
 use super::super::TuneSpec;
-use super::super::model::{Candidate, Outcome, SearchResult, State};
+use super::super::model::{Candidate, Outcome, SearchResult, State, describe_metric};
 use super::phrases::{decision_name, failure_reason, settings};
 use crate::report::{Cell, Table};
 use crate::stats;
@@ -47,7 +47,7 @@ fn candidate_columns(spec: &TuneSpec) -> Vec<String> {
 
 /// The mean of kept metric `k` over `runs`.
 fn mean_of(runs: &[Outcome], k: usize) -> f64 {
-    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
+    describe_metric(runs, k).mean
 }
 
 /// A count as a cell.

@@ -5,7 +5,7 @@ use super::context::{Context, Flow};
 use super::standing::{CLEAR_MARGIN, SEQUENTIAL_SEEDS};
 use crate::stats::{self, Decision};
 use crate::tune::judge::{check_figures, decidability, reference_stands_apart, runs_to_decide_with};
-use crate::tune::model::{Candidate, Evaluator, Job, Outcome, State, TuneError};
+use crate::tune::model::{Candidate, Evaluator, Job, Outcome, State, TuneError, describe_metric};
 
 /// More reference runs and what they are priced with.
 pub(super) struct Growth {
@@ -150,5 +150,5 @@ impl<E: Evaluator> Context<'_, E> {
 
 /// The mean of kept metric `k` over `runs`.
 fn column_mean(runs: &[Outcome], k: usize) -> f64 {
-    stats::describe(&runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>()).mean
+    describe_metric(runs, k).mean
 }

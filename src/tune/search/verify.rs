@@ -4,7 +4,7 @@
 use super::context::{Context, Flow};
 use crate::stats;
 use crate::tune::judge::runs_to_decide;
-use crate::tune::model::{Candidate, Evaluator, Job, Role, State, TuneError};
+use crate::tune::model::{Candidate, Evaluator, Job, Role, State, TuneError, describe_metric};
 use std::collections::HashSet;
 
 /// Most verification rounds of one candidate.
@@ -35,8 +35,7 @@ impl<E: Evaluator> Context<'_, E> {
         let reference = &self.result.reference;
         (0..self.result.margins.len())
             .map(|k| {
-                let r = stats::describe(&reference.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
-                let c = stats::describe(&cand.runs.iter().map(|o| o.metrics[k]).collect::<Vec<_>>());
+                let (r, c) = (describe_metric(reference, k), describe_metric(&cand.runs, k));
                 let se = (c.std * c.std / n_v + r.std * r.std / r.n as f64).sqrt();
                 let half = if se > 0.0 { stats::student_t_quantile(0.95, n_v + r.n as f64 - 2.0) * se } else { 0.0 };
                 let room = 0.9 * self.result.margins[k] - half;
