@@ -16,7 +16,7 @@ pub(super) const FAR_TOO_DEAR: f64 = 1.5;
 /// at to fit the spend limit (see `Context::first_round`): damping levers on an undamped
 /// reference settle piles in about half its time. With such seeds run one at a time, a setting
 /// that settles no sooner costs one cut run.
-pub const LEAST_SETTLE: f64 = 0.5;
+pub(super) const LEAST_SETTLE: f64 = 0.5;
 
 impl<E: Evaluator> Context<'_, E> {
     /// Whether `runs` more runs predicted at `relative_cost` of a reference run each fit the run
