@@ -193,15 +193,57 @@ pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64
         }
     }
     if most > spec.search.max_spend {
-        let _ = writeln!(
-            text,
-            "`demsweep tune {}{} --resume --max-spend {}` continues from the stored runs, repeating none.",
-            spec.path.display(),
-            out_dir.map_or(String::new(), |d| format!(" --out {}", d.display())),
-            short(most)
-        );
+        text.push_str(&resume_line(spec, out_dir, most, "repeating none"));
     }
     text
+}
+
+/// The candidates (up to [`UNDECIDED_LISTED`]) whose runs were cut before they settled at a cost
+/// below `bound` (the answer's cost in the search, else the reference's): nothing shows they cost
+/// more than the answer. Each with its cap; then the `max_spend` that runs them whole at `bound` and
+/// verifies one, and the command that continues. Empty when there are none.
+pub(super) fn cut_lines(spec: &TuneSpec, result: &SearchResult, bound: f64, out_dir: Option<&Path>) -> String {
+    let mut open: Vec<(&Candidate, f64)> = result
+        .candidates
+        .iter()
+        .filter(|c| result.assess(c).state == State::Cut)
+        .filter_map(|c| Some((c, c.runs.iter().filter(|o| o.is_cut()).map(|o| o.cost).reduce(f64::max)?)))
+        .filter(|&(_, cap)| cap < bound)
+        .collect();
+    open.sort_by(|x, y| x.1.total_cmp(&y.1).then(x.0.id.cmp(&y.0.id)));
+    let reference = result.reference_cost();
+    let mut text = String::new();
+    for (cand, cap) in open.iter().take(UNDECIDED_LISTED) {
+        let _ = writeln!(
+            text,
+            "Cut before it settled, perhaps cheaper: candidate {} ({}) on {} seed{}, cut at {} of the reference, \
+             below the {} ({}).",
+            cand.id,
+            settings(spec, cand),
+            cand.runs.len(),
+            if cand.runs.len() == 1 { "" } else { "s" },
+            short(cap / reference),
+            if result.recommended.is_some() { "answer's cost in the search" } else { "reference's cost" },
+            short(bound / reference)
+        );
+    }
+    if !open.is_empty() {
+        let listed = open.len().min(UNDECIDED_LISTED);
+        let rounds = (listed * spec.search.seeds + spec.search.verify_seeds()) as f64;
+        let needed = (10.0 * (spend(result) + PRICE_MARGIN * rounds * bound / reference)).ceil() / 10.0;
+        text.push_str(&resume_line(spec, out_dir, needed, "with room to run them whole"));
+    }
+    text
+}
+
+/// The command that continues a tune from its stored runs with a larger spend limit.
+fn resume_line(spec: &TuneSpec, out_dir: Option<&Path>, max_spend: f64, what: &str) -> String {
+    format!(
+        "`demsweep tune {}{} --resume --max-spend {}` continues from the stored runs, {what}.\n",
+        spec.path.display(),
+        out_dir.map_or(String::new(), |d| format!(" --out {}", d.display())),
+        short(max_spend)
+    )
 }
 
 /// Most undecided cheaper candidates the answer sheet lists.

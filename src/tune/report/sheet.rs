@@ -5,7 +5,9 @@ use std::path::Path;
 
 use super::super::model::{Candidate, Outcome, RunFailure, SearchResult, State};
 use super::super::{TuneSpec, seed_text};
-use super::course::{end_line, metric_lines, path_line, reference_breaks, undecidable_text, undecided_lines};
+use super::course::{
+    cut_lines, end_line, metric_lines, path_line, reference_breaks, undecidable_text, undecided_lines,
+};
 use super::phrases::{failure_reason, resolved_time_step, settings, spend};
 use super::recommendation::{
     against_standard, bound_line, check_lines, payback, pile_lines, rate_upper_bound, validity_line, wall_rate_lines,
@@ -62,13 +64,15 @@ fn recommendation_head(spec: &TuneSpec, result: &SearchResult, cand: &Candidate,
         cand.id,
         resolved_time_step(spec, cand)
     );
-    let undecided = undecided_lines(spec, result, result.assess(cand).cost, out_dir);
+    let bound = result.assess(cand).cost;
+    let undecided = undecided_lines(spec, result, bound, out_dir) + &cut_lines(spec, result, bound, out_dir);
     if cand.standard.is_some() {
         let searched = result.candidates.iter().any(|c| c.standard.is_none() && !c.runs.is_empty());
         text.push_str(match (searched, undecided.is_empty()) {
             (true, true) => "The search found nothing cheaper than this standard setting: it is the answer.\n",
             (true, false) => {
-                "The search left cheaper settings undecided: this standard setting is the answer so far.\n"
+                "The search left settings that may be cheaper undecided: this standard setting is the answer so \
+                 far.\n"
             }
             (false, _) => "No search run was made: this standard setting is the answer.\n",
         });
@@ -138,7 +142,8 @@ fn no_recommendation(spec: &TuneSpec, result: &SearchResult, budget_line: &str, 
     text.push_str(&closest_line(spec, result, !failed_verification.is_empty()));
     text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spend(result)));
     text.push_str(budget_line);
-    let undecided = undecided_lines(spec, result, result.reference_cost(), out_dir);
+    let bound = result.reference_cost();
+    let undecided = undecided_lines(spec, result, bound, out_dir) + &cut_lines(spec, result, bound, out_dir);
     if !undecided.is_empty() {
         text.push('\n');
         text.push_str(&undecided);
@@ -188,8 +193,14 @@ fn closest_line(spec: &TuneSpec, result: &SearchResult, other: bool) -> String {
 }
 
 /// Runs by role, in words that add up: `211 runs: 10 reference, 9 standard settings (2 cut once they
-/// could no longer win), 180 search (12 cut …, 3 failed: did not settle), 12 verification`.
+/// could no longer win), 180 search (12 cut …, 3 failed: did not settle), 12 verification`. A run cut
+/// below the answer's cost in the search (the reference's without an answer) is not said to have
+/// been unable to win.
 pub fn run_counts(result: &SearchResult) -> String {
+    let bound = match result.recommended {
+        Some(k) => (result.assess(&result.candidates[k]).cost, "the answer's"),
+        None => (result.reference_cost(), "the reference's"),
+    };
     let runs = |standard: bool| -> Vec<&Outcome> {
         let of = result.candidates.iter().filter(|c| c.standard.is_some() == standard);
         of.flat_map(|c| &c.runs).collect()
@@ -198,21 +209,23 @@ pub fn run_counts(result: &SearchResult) -> String {
     let verify: usize = result.candidates.iter().map(|c| c.verification.len()).sum();
     let search_text = match search.len() {
         0 => "no search run was made".to_string(),
-        n => format!("{n} search{}", ended(&search)),
+        n => format!("{n} search{}", ended(&search, bound)),
     };
     format!(
         "{} runs: {} reference, {} standard settings{}, {search_text}, {verify} verification",
         result.reference.len() + standard.len() + search.len() + verify,
         result.reference.len(),
         standard.len(),
-        ended(&standard)
+        ended(&standard, bound)
     )
 }
 
-/// How many of `runs` were cut and how many failed, and why: ` (2 cut once they could no longer
-/// win; 3 failed: 2 did not settle, 1 diverged)`; empty when none.
-fn ended(runs: &[&Outcome]) -> String {
-    let cut = runs.iter().filter(|o| o.is_cut()).count();
+/// How many of `runs` were cut (at `bound`, whose cost it is, or above: once they could no longer
+/// win; below it: before they settled) and how many failed, and why: ` (2 cut once they could no longer win; 3 failed: 2
+/// did not settle, 1 diverged)`; empty when none.
+fn ended(runs: &[&Outcome], (bound, whose): (f64, &str)) -> String {
+    let cut = runs.iter().filter(|o| o.is_cut() && o.cost >= bound).count();
+    let cut_below = runs.iter().filter(|o| o.is_cut() && o.cost < bound).count();
     let mut why: Vec<(String, usize)> = Vec::new();
     for failure in runs.iter().filter_map(|o| o.failure.as_ref()).filter(|f| !matches!(f, RunFailure::Cut { .. })) {
         let name = match failure {
@@ -229,6 +242,9 @@ fn ended(runs: &[&Outcome]) -> String {
     let mut parts = Vec::new();
     if cut > 0 {
         parts.push(format!("{cut} cut once they could no longer win"));
+    }
+    if cut_below > 0 {
+        parts.push(format!("{cut_below} cut below {whose} cost before they settled"));
     }
     if failed > 0 {
         let each: Vec<String> = why.iter().map(|(n, c)| format!("{c} {n}")).collect();

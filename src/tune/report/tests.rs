@@ -105,3 +105,31 @@ fn run_counts_say_which_runs_failed_and_why_and_when_no_search_run_was_made() {
     let a = searched.assess(&searched.candidates[0]);
     assert!(matches!(a.state, State::Infeasible(Rejection::Failed(RunFailure::NotSettled))), "{:?}", a.state);
 }
+
+#[test]
+fn a_setting_cut_below_the_answers_cost_is_listed_as_perhaps_cheaper_not_as_unable_to_win() {
+    let path = std::env::temp_dir().join(format!("demsweep-cut-tune-{}.toml", std::process::id()));
+    std::fs::write(&path, STAGED).unwrap();
+    let spec = crate::tune::load(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let point = |cand: Candidate| Candidate { point: vec![0.0, 0.0], ..cand };
+    let cut = |cost: f64| Outcome { failure: Some(RunFailure::Cut { cap: cost }), ..Outcome::settled(cost, vec![1.0]) };
+    let mut answer = point(candidate(1, None, vec![Outcome::settled(0.6, vec![1.0]); 3]));
+    answer.verification = vec![Outcome::settled(0.6, vec![1.0]); 4];
+    let cheap_cut = point(candidate(2, None, vec![cut(0.3)]));
+    let dear_cut = point(candidate(3, None, vec![cut(0.9)]));
+    let mut result = result(vec![answer, cheap_cut, dear_cut]);
+    result.recommended = Some(0);
+    let sheet = super::paragraph(&spec, &result, None);
+    assert!(sheet.contains("Cut before it settled, perhaps cheaper: candidate 2 ("), "{sheet}");
+    assert!(sheet.contains("on 1 seed, cut at 0.3 of the reference, below the answer's cost in the search (0.6)"));
+    assert!(!sheet.contains("candidate 3 ("), "{sheet}");
+    assert!(sheet.contains("--resume --max-spend "), "{sheet}");
+    let counts = run_counts(&result);
+    assert!(
+        counts.contains(
+            "search (1 cut once they could no longer win; 1 cut below the answer's cost before they settled)"
+        ),
+        "{counts}"
+    );
+}
