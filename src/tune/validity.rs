@@ -24,8 +24,8 @@ const CLIP_STEPS: usize = 24;
 const CLIP_SEEDS: u64 = 16;
 
 /// A bisected end is confirmed on this many seeds from the reference's on and as many from the first
-/// verification seed on (every seed a tune of the default budget runs); a seed that breaks it joins
-/// the bisection's and the end is bisected again.
+/// verification seed on (every seed a tune of the default budget runs); the seeds that break it (and
+/// not the reference's value) join the bisection's and the end is bisected again.
 const CONFIRM_SEEDS: u64 = 128;
 
 /// What a scene resolves to: its JSON with the time step that actually runs in place of the fractions
@@ -178,11 +178,11 @@ fn time_step_tops(spec: &TuneSpec, placements: &mut Placements) -> Vec<StepTop> 
     tops.into_iter().map(|(combination, u)| (combination, lever.value(u))).collect()
 }
 
-/// The placements a clipped end is judged on: those it is bisected on (growing by each seed that
-/// breaks an end found) and those it is confirmed on, generated once for every lever.
+/// The placements a clipped end is judged on: those it is bisected on (growing by the seeds that
+/// break an end found) and those it is confirmed on, generated once for every lever.
 struct Placements {
     /// Those an end is bisected on: the first [`CLIP_SEEDS`] of the search's seeds and of the
-    /// verification's (the placement file's disks alone when there is one), and each seed that broke
+    /// verification's (the placement file's disks alone when there is one), and the seeds that broke
     /// an end found.
     bisected: Vec<Vec<InitialDisk>>,
     /// The further seeds an end is confirmed on.
@@ -209,22 +209,24 @@ impl Placements {
         Self { bisected, confirm_seeds, confirm: None, screened }
     }
 
-    /// The first confirmation placement (in seed order) on which `lever` at coordinate `u` breaks a
-    /// limit; the confirmation placements are generated, in parallel, on first use.
+    /// The confirmation placements (in seed order) on which `lever` at coordinate `u` breaks a limit
+    /// that it does not break at `good`: a seed on which the good end breaks the limit too cannot move
+    /// the end (bisecting towards `good` would find `good` again, forever). They are generated, in
+    /// parallel, on first use.
     fn breaking(
         &mut self,
         spec: &TuneSpec,
         lever: &Lever,
-        u: f64,
+        (u, good): (f64, f64),
         alternatives: &[Vec<(String, ParamValue)>],
-    ) -> Option<Vec<InitialDisk>> {
+    ) -> Vec<Vec<InitialDisk>> {
         let seeds = &self.confirm_seeds;
         let confirm =
             self.confirm.get_or_insert_with(|| seeds.par_iter().filter_map(|&s| placement_at(spec, s)).collect());
-        confirm
-            .par_iter()
-            .find_first(|disks| breach(spec, lever, u, std::slice::from_ref(disks), alternatives).is_some())
-            .cloned()
+        let breaks = |x: f64, disks: &Vec<InitialDisk>| {
+            breach(spec, lever, x, std::slice::from_ref(disks), alternatives).is_some()
+        };
+        confirm.par_iter().filter(|disks| breaks(u, disks) && !breaks(good, disks)).cloned().collect()
     }
 }
 
@@ -255,10 +257,15 @@ fn clipped_ends(
         let Some(reason) = bad else { continue };
         let good = clean.unwrap_or(1.0 - end);
         let mut found = bisect(|u| problem(u, &placements.bisected).is_some(), good, end);
-        // A seed past the bisection's that breaks the end found joins them, and the end is bisected
-        // again on all of them.
-        while let Some(disks) = confirmed.then(|| placements.breaking(spec, lever, found, alternatives)).flatten() {
-            placements.bisected.push(disks);
+        // The seeds past the bisection's that break the end found (and not the good end) join them,
+        // all at once, and the end is bisected again on all of them.
+        loop {
+            let breaking =
+                if confirmed { placements.breaking(spec, lever, (found, good), alternatives) } else { Vec::new() };
+            if breaking.is_empty() {
+                break;
+            }
+            placements.bisected.extend(breaking);
             found = bisect(|u| problem(u, &placements.bisected).is_some(), good, found);
         }
         if end == 0.0 {
