@@ -79,6 +79,7 @@ fn config() -> SearchConfig {
         dissipation: vec![0.0],
         standards: 1,
         path: true,
+        time_step: Some(0),
         ..stand_in_config()
     }
 }

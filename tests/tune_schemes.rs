@@ -101,6 +101,7 @@ fn config() -> SearchConfig {
         home: vec![Some((REFERENCE_FRACTION / 0.01).ln() / 20f64.ln()), Some(0.25)],
         standards: 1,
         path: true,
+        time_step: Some(0),
         ..stand_in_config()
     }
 }

@@ -166,6 +166,7 @@ fn config() -> SearchConfig {
         home: vec![None; 2],
         standards: 0,
         path: true,
+        time_step: None,
         max_spend: 1e9,
         cut_runs: false,
     }

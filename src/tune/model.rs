@@ -58,6 +58,8 @@ pub struct SearchConfig {
     /// Whether the first standard setting is the time step alone at its largest valid value: the top
     /// of the time-step path (a time-step key is a lever).
     pub path: bool,
+    /// The lever that sets the time step (raising it lengthens the step), when one does.
+    pub time_step: Option<usize>,
     /// Most the whole tune may spend, in mean reference runs' cost.
     pub max_spend: f64,
     /// Whether runs that can no longer win are cut at a cost cap (see [`Job::cap`]).

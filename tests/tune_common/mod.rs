@@ -44,6 +44,7 @@ pub fn stand_in_config() -> SearchConfig {
         home: vec![None; 2],
         standards: 0,
         path: false,
+        time_step: None,
         max_spend: 20.0,
         cut_runs: true,
     }

@@ -58,7 +58,9 @@ impl Halton {
         let mut tries = 0;
         while fresh.len() < count && tries < 50 * count + 200 {
             tries += 1;
-            let point = design::halton(self.index, &self.shift);
+            let halton = design::halton(self.index, &self.shift);
+            // Every second point at its own largest valid time step (see `top`).
+            let point = if self.index % 2 == 1 { cx.at_largest_step(&halton) } else { halton };
             self.index += 1;
             if cx.promising(&design::snap(&point, &cx.config.levels)) {
                 fresh.extend(cx.propose(&point, origin).filter(|&k| !cx.far_too_dear(k)));

@@ -25,7 +25,8 @@
 //!    Nothing else runs before it ends.
 //! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
 //!    design (the cheap corner, each list lever such as `integrator.scheme` at the value whose own
-//!    valid corner has the cheapest time step; a randomly shifted Halton sequence, quantized to a 1/64 grid; points predicted
+//!    valid corner has the cheapest time step; a randomly shifted Halton sequence, quantized to a 1/64
+//!    grid, every second point at its own largest valid time step ([`top`]); points predicted
 //!    invalid are recorded and never run); then a pattern search (compass search, Kolda, Lewis &
 //!    Torczon 2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer
 //!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and
@@ -47,8 +48,8 @@
 //! steps share, each file calling only those below it: `batch` runs a candidate's further seeds,
 //! `propose` records new candidates, `reserve` keeps a verification round in reserve, `predict`
 //! prices a setting before it runs, `standing` says which candidates are still in the running,
-//! `cure` by how much a smaller time step cures a broken check and `spend` whether runs fit the
-//! budget and the spend limit.
+//! `cure` by how much a smaller time step cures a broken check, `top` raises a point to its own
+//! largest valid time step and `spend` says whether runs fit the budget and the spend limit.
 
 mod batch;
 mod context;
@@ -67,6 +68,7 @@ mod standards;
 mod standing;
 #[cfg(test)]
 mod testing;
+mod top;
 mod verify;
 
 pub use run::search;

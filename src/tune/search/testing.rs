@@ -39,6 +39,7 @@ pub(super) fn config() -> SearchConfig {
         home: vec![None],
         standards: 0,
         path: false,
+        time_step: None,
         max_spend: 20.0,
         cut_runs: true,
     }
