@@ -63,12 +63,18 @@ damping.local = 0.3
 pile_height = 0.25
 "#;
 
-#[test]
-fn the_sheet_states_the_step_of_a_stage_whose_step_a_lever_sets() {
-    let path = std::env::temp_dir().join(format!("demsweep-staged-tune-{}.toml", std::process::id()));
+/// [`STAGED`] loaded from a file of its own (`name`).
+fn staged_spec(name: &str) -> crate::tune::TuneSpec {
+    let path = std::env::temp_dir().join(format!("demsweep-{name}-{}.toml", std::process::id()));
     std::fs::write(&path, STAGED).unwrap();
     let spec = crate::tune::load(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
+    spec
+}
+
+#[test]
+fn the_sheet_states_the_step_of_a_stage_whose_step_a_lever_sets() {
+    let spec = staged_spec("staged-tune");
     let cand = Candidate { point: vec![0.0, 0.0], ..candidate(1, None, Vec::new()) };
     let scene = crate::tune::candidate_scene(&spec, &cand).unwrap();
     let dt = |k: usize| crate::physics::scene_time_step(&scene.in_stage(&scene.stages[k]), None).dt;
@@ -108,10 +114,7 @@ fn run_counts_say_which_runs_failed_and_why_and_when_no_search_run_was_made() {
 
 #[test]
 fn a_setting_cut_below_the_answers_cost_is_listed_as_perhaps_cheaper_not_as_unable_to_win() {
-    let path = std::env::temp_dir().join(format!("demsweep-cut-tune-{}.toml", std::process::id()));
-    std::fs::write(&path, STAGED).unwrap();
-    let spec = crate::tune::load(&path).unwrap();
-    std::fs::remove_file(&path).unwrap();
+    let spec = staged_spec("cut-tune");
     let point = |cand: Candidate| Candidate { point: vec![0.0, 0.0], ..cand };
     let cut = |cost: f64| Outcome { failure: Some(RunFailure::Cut { cap: cost }), ..Outcome::settled(cost, vec![1.0]) };
     let mut answer = point(candidate(1, None, vec![Outcome::settled(0.6, vec![1.0]); 3]));
