@@ -34,7 +34,12 @@ pub fn dissipation(key: &str) -> f64 {
 
 /// The lever that sets the time step, when one does (the first written).
 pub fn time_step_lever(levers: &[Lever]) -> Option<&Lever> {
-    levers.iter().find(|l| TIME_STEP_KEYS.contains(&l.key.as_str()))
+    time_step_position(levers).map(|d| &levers[d])
+}
+
+/// The index of [`time_step_lever`] among `levers`.
+pub fn time_step_position(levers: &[Lever]) -> Option<usize> {
+    levers.iter().position(|l| TIME_STEP_KEYS.contains(&l.key.as_str()))
 }
 
 /// The ladder over `levers`: the time-step lever at its largest valid value (the top of the time-step

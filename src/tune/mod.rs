@@ -100,7 +100,7 @@ pub fn search_config(spec: &TuneSpec) -> SearchConfig {
         home: spec.reference_coordinates(),
         standards: spec.standards.len(),
         path: ladder::time_step_lever(&spec.levers).is_some() && !spec.standards.is_empty(),
-        time_step: spec.levers.iter().position(|l| ladder::TIME_STEP_KEYS.contains(&l.key.as_str())),
+        time_step: ladder::time_step_position(&spec.levers),
         max_spend: s.max_spend,
         cut_runs: s.objective == Objective::ParticleSteps,
     }

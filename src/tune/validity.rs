@@ -256,7 +256,7 @@ fn clipped_ends(
     for (end, bad) in [(0.0, bad_low), (1.0, bad_high)] {
         let Some(reason) = bad else { continue };
         let good = clean.unwrap_or(1.0 - end);
-        let mut found = bisect(|u| problem(u, &placements.bisected).is_some(), good, end);
+        let mut found = bisect(|u| problem(u, &placements.bisected).is_some(), good, end, CLIP_STEPS);
         // The seeds past the bisection's that break the end found (and not the good end) join them,
         // all at once, and the end is bisected again on all of them.
         loop {
@@ -266,7 +266,7 @@ fn clipped_ends(
                 break;
             }
             placements.bisected.extend(breaking);
-            found = bisect(|u| problem(u, &placements.bisected).is_some(), good, found);
+            found = bisect(|u| problem(u, &placements.bisected).is_some(), good, found, CLIP_STEPS);
         }
         if end == 0.0 {
             ends.0 = found
@@ -324,9 +324,9 @@ fn breach_at(
 }
 
 /// The last coordinate between `good` (not broken) and `wrong` that `broken` accepts as not broken,
-/// by [`CLIP_STEPS`] bisection steps.
-fn bisect(broken: impl Fn(f64) -> bool, mut good: f64, mut wrong: f64) -> f64 {
-    for _ in 0..CLIP_STEPS {
+/// by `steps` bisection steps (`wrong` itself is never tried).
+pub(crate) fn bisect(mut broken: impl FnMut(f64) -> bool, mut good: f64, mut wrong: f64, steps: usize) -> f64 {
+    for _ in 0..steps {
         let mid = 0.5 * (good + wrong);
         if broken(mid) { wrong = mid } else { good = mid }
     }

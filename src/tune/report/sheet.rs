@@ -64,8 +64,7 @@ fn recommendation_head(spec: &TuneSpec, result: &SearchResult, cand: &Candidate,
         cand.id,
         resolved_time_step(spec, cand)
     );
-    let bound = result.assess(cand).cost;
-    let undecided = undecided_lines(spec, result, bound, out_dir) + &cut_lines(spec, result, bound, out_dir);
+    let undecided = open_lines(spec, result, out_dir);
     if cand.standard.is_some() {
         let searched = result.candidates.iter().any(|c| c.standard.is_none() && !c.runs.is_empty());
         text.push_str(match (searched, undecided.is_empty()) {
@@ -142,8 +141,7 @@ fn no_recommendation(spec: &TuneSpec, result: &SearchResult, budget_line: &str, 
     text.push_str(&closest_line(spec, result, !failed_verification.is_empty()));
     text.push_str(&end_line(result.end, result.budget, spec.search.max_spend - spend(result)));
     text.push_str(budget_line);
-    let bound = result.reference_cost();
-    let undecided = undecided_lines(spec, result, bound, out_dir) + &cut_lines(spec, result, bound, out_dir);
+    let undecided = open_lines(spec, result, out_dir);
     if !undecided.is_empty() {
         text.push('\n');
         text.push_str(&undecided);
@@ -192,15 +190,28 @@ fn closest_line(spec: &TuneSpec, result: &SearchResult, other: bool) -> String {
     )
 }
 
+/// What a setting must cost less than to matter, and whose cost that is: the answer's in the search,
+/// else the reference's.
+fn answer_bound(result: &SearchResult) -> (f64, &'static str) {
+    match result.recommended {
+        Some(k) => (result.assess(&result.candidates[k]).cost, "the answer's"),
+        None => (result.reference_cost(), "the reference's"),
+    }
+}
+
+/// The settings cheaper than [`answer_bound`] left undecided, then those cut below it before they
+/// settled (see [`undecided_lines`] and [`cut_lines`]).
+fn open_lines(spec: &TuneSpec, result: &SearchResult, out_dir: Option<&Path>) -> String {
+    let (bound, _) = answer_bound(result);
+    undecided_lines(spec, result, bound, out_dir) + &cut_lines(spec, result, bound, out_dir)
+}
+
 /// Runs by role, in words that add up: `211 runs: 10 reference, 9 standard settings (2 cut once they
 /// could no longer win), 180 search (12 cut …, 3 failed: did not settle), 12 verification`. A run cut
 /// below the answer's cost in the search (the reference's without an answer) is not said to have
 /// been unable to win.
 pub fn run_counts(result: &SearchResult) -> String {
-    let bound = match result.recommended {
-        Some(k) => (result.assess(&result.candidates[k]).cost, "the answer's"),
-        None => (result.reference_cost(), "the reference's"),
-    };
+    let bound = answer_bound(result);
     let runs = |standard: bool| -> Vec<&Outcome> {
         let of = result.candidates.iter().filter(|c| c.standard.is_some() == standard);
         of.flat_map(|c| &c.runs).collect()

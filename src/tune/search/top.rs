@@ -6,6 +6,7 @@
 use super::context::Context;
 use crate::tune::design;
 use crate::tune::model::{Evaluator, State};
+use crate::tune::validity::bisect;
 
 /// Bisection steps of a point's largest valid time-step coordinate: finer than the grid that points
 /// snap to ([`design::QUANT`]).
@@ -25,21 +26,16 @@ impl<E: Evaluator> Context<'_, E> {
             let screen = self.evaluator.screen(&design::snap(&p, &self.config.levels), None);
             self.predicted_valid(&screen) && screen.relative_cost.is_some_and(|c| c >= cap)
         };
-        let (mut low, mut high) = (point[d], 1.0);
-        if at(high) {
-            low = high;
+        let (low, high) = (point[d], 1.0);
+        let largest = if at(high) {
+            high
         } else if at(low) {
-            for _ in 0..TOP_STEPS {
-                let mid = 0.5 * (low + high);
-                if at(mid) {
-                    low = mid;
-                } else {
-                    high = mid;
-                }
-            }
-        }
+            bisect(|u| !at(u), low, high, TOP_STEPS)
+        } else {
+            low
+        };
         let mut raised = point.to_vec();
-        raised[d] = low;
+        raised[d] = largest;
         design::snap(&raised, &self.config.levels)
     }
 
