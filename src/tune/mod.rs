@@ -312,6 +312,10 @@ impl Evaluator for RunEvaluator<'_> {
         Some(self.standards.len() - 1)
     }
 
+    fn standard_point(&mut self, standard: usize) -> Option<Vec<f64>> {
+        self.spec.lever_point(&self.standards[standard].values)
+    }
+
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError> {
         let first_index = self.plan.runs.len();
         for (k, job) in jobs.iter().enumerate() {

@@ -329,6 +329,12 @@ pub trait Evaluator {
     /// time step multiplied by at most `factor` (< 1; the evaluator rounds the new fraction down).
     /// Returns its index in the ladder, or None when the setting's time step is not set by a fraction.
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize>;
+    /// Standard setting `standard`'s normalized point of the lever space (each lever at the value
+    /// it sets, else at the reference's); None where a lever has no value there or it lies outside
+    /// the lever's range.
+    fn standard_point(&mut self, _standard: usize) -> Option<Vec<f64>> {
+        None
+    }
 }
 
 /// Where a candidate came from.
@@ -340,6 +346,8 @@ pub enum Origin {
     Refine,
     /// Exploration after the pattern search converged.
     Explore,
+    /// A point on the edge of equivalence, between the incumbent and a cheaper point that differs.
+    Edge,
     /// A standard setting of the ladder.
     Standard,
     /// A rung of the time-step path (the first standard setting with a smaller time step).
@@ -353,6 +361,7 @@ impl Origin {
             Origin::Initial => "initial",
             Origin::Refine => "refine",
             Origin::Explore => "explore",
+            Origin::Edge => "edge",
             Origin::Standard => "standard",
             Origin::Path => "time-step path",
         }

@@ -301,6 +301,24 @@ impl TuneSpec {
         }
     }
 
+    /// Each lever's value in the runs of a setting that sets `set`: the value it sets, else the
+    /// reference's (a standard setting sets only some levers); None where the reference has none.
+    pub fn lever_values(&self, set: &[(String, ParamValue)]) -> Vec<Option<ParamValue>> {
+        let reference = self.reference_values();
+        let value = |key: &str| {
+            let given = set.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+            given.or_else(|| reference.iter().find(|(k, _, _)| k == key).map(|(_, v, _)| v.clone()))
+        };
+        self.levers.iter().map(|l| value(&l.key)).collect()
+    }
+
+    /// The normalized point of a setting that sets `set` (see [`Self::lever_values`]); None where a
+    /// lever has no value or one outside its range.
+    pub fn lever_point(&self, set: &[(String, ParamValue)]) -> Option<Vec<f64>> {
+        let values = self.lever_values(set);
+        self.levers.iter().zip(values).map(|(lever, value)| lever.coordinate(&value?)).collect()
+    }
+
     fn edited_tree(&self, values: &[(String, ParamValue)]) -> Result<toml::Table, SetPathError> {
         let mut tree = self.base.clone();
         let paths: Vec<KeyPath> = values.iter().map(|(key, _)| key.split('.').map(String::from).collect()).collect();

@@ -119,14 +119,7 @@ pub fn skipped_records(spec: &TuneSpec, result: &SearchResult) -> Table {
     Table { columns, rows: rows.collect() }
 }
 
-/// Each lever's value in a candidate's runs: the value it sets, else the reference's (a standard
-/// setting sets only some levers); None where the reference has none.
+/// Each lever's value in a candidate's runs (see [`TuneSpec::lever_values`]).
 pub(super) fn lever_values(spec: &TuneSpec, cand: &Candidate) -> Vec<Option<ParamValue>> {
-    let set = spec.setting_values(&cand.point, cand.standard);
-    let reference = spec.reference_values();
-    let value = |key: &str| {
-        let given = set.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
-        given.or_else(|| reference.iter().find(|(k, _, _)| k == key).map(|(_, v, _)| v.clone()))
-    };
-    spec.levers.iter().map(|l| value(&l.key)).collect()
+    spec.lever_values(&spec.setting_values(&cand.point, cand.standard))
 }

@@ -1,5 +1,6 @@
-//! Exploration: an initial design (a Halton sequence and the cheap corner), then a pattern search
-//! around the incumbent, until the budget or the spend limit ends it.
+//! Exploration: an initial design (a Halton sequence and the cheap corner), then points on the edge
+//! of equivalence and a pattern search around the incumbent, until the budget or the spend limit
+//! ends it.
 
 use super::context::{Context, Flow};
 use super::reserve::FirstRound;
@@ -96,9 +97,13 @@ impl Halton {
                     continue;
                 }
             }
-            // One pattern-search round, around the best point of the lever space.
-            pattern.recentre(cx);
-            let mut fresh = pattern.moves(cx);
+            // The edge of equivalence first (see `edge`), else one pattern-search round around the
+            // best point of the lever space.
+            let mut fresh = cx.edge_points();
+            if fresh.is_empty() {
+                pattern.recentre(cx);
+                fresh = pattern.moves(cx);
+            }
             if fresh.is_empty() {
                 fresh = self.explore(cx, (c.dims + 1).max(2), Origin::Explore);
                 if fresh.is_empty() {

@@ -27,7 +27,8 @@
 //!    design (the cheap corner, each list lever such as `integrator.scheme` at the value whose own
 //!    valid corner has the cheapest time step; a randomly shifted Halton sequence, quantized to a 1/64
 //!    grid, every second point at its own largest valid time step ([`top`]); points predicted
-//!    invalid are recorded and never run); then a pattern search (compass search, Kolda, Lewis &
+//!    invalid are recorded and never run); then, each round, points on the edge of equivalence
+//!    ([`edge`]) or else a pattern search (compass search, Kolda, Lewis &
 //!    Torczon 2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer
 //!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and
 //!    is not likely different) gets more, up to `max_seeds`, then sequentially the seeds that
@@ -55,6 +56,7 @@ mod batch;
 mod context;
 mod corner;
 mod cure;
+mod edge;
 mod explore;
 mod path;
 mod predict;

@@ -1,5 +1,5 @@
-//! What the search's unit tests share: an evaluator that is never called, a one-lever
-//! configuration, and runs and candidates made by hand.
+//! What the search's unit tests share: an evaluator that is never called, one that only screens, a
+//! one-lever configuration, and runs and candidates made by hand.
 
 use crate::tune::model::{Candidate, Evaluator, Job, Origin, Outcome, Screen, SearchConfig, TuneError};
 
@@ -18,6 +18,30 @@ impl Evaluator for Unused {
     }
     fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
         unreachable!()
+    }
+}
+
+/// An evaluator that only screens, by `screen`; standard setting 0 sits at `standard_point`.
+pub(super) struct Screening<F> {
+    pub(super) screen: F,
+    pub(super) standard_point: Option<Vec<f64>>,
+}
+
+impl<F: FnMut(&[f64]) -> Screen> Evaluator for Screening<F> {
+    fn screen(&mut self, point: &[f64], _: Option<usize>) -> Screen {
+        (self.screen)(point)
+    }
+    fn reference_identity(&mut self) -> String {
+        "reference".into()
+    }
+    fn evaluate(&mut self, _: &[Job]) -> Result<Vec<Outcome>, TuneError> {
+        unreachable!()
+    }
+    fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
+        unreachable!()
+    }
+    fn standard_point(&mut self, standard: usize) -> Option<Vec<f64>> {
+        self.standard_point.clone().filter(|_| standard == 0)
     }
 }
 

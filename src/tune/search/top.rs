@@ -65,35 +65,22 @@ impl<E: Evaluator> Context<'_, E> {
 mod tests {
     use super::*;
     use crate::physics::warning::{ValidityWarning, WarningKind};
-    use crate::tune::model::{Job, Outcome, Screen, SearchConfig, TuneError};
-    use crate::tune::search::testing::{candidate, config, runs};
+    use crate::tune::model::{Screen, SearchConfig};
+    use crate::tune::search::testing::{Screening, candidate, config, runs};
 
     /// Two levers: the time step (lever 0, each unit of its coordinate halving the cost) and a
     /// damping (lever 1) that lowers the stable step: valid while `u0 + 0.6 u1 <= 1`.
-    struct Damped;
-
-    impl Evaluator for Damped {
-        fn screen(&mut self, point: &[f64], _: Option<usize>) -> Screen {
-            let over = point[0] + 0.6 * point[1] - 1.0;
-            let warnings = match over > 1e-12 {
-                true => vec![ValidityWarning::new(WarningKind::ContactTimeFraction, 1.0 + over, 1.0)],
-                false => Vec::new(),
-            };
-            Screen {
-                identity: format!("{point:?}"),
-                predicted: Ok(warnings),
-                resolved: Vec::new(),
-                relative_cost: Some(0.5f64.powf(point[0])),
-            }
-        }
-        fn reference_identity(&mut self) -> String {
-            "reference".into()
-        }
-        fn evaluate(&mut self, _: &[Job]) -> Result<Vec<Outcome>, TuneError> {
-            unreachable!()
-        }
-        fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
-            unreachable!()
+    fn damped(point: &[f64]) -> Screen {
+        let over = point[0] + 0.6 * point[1] - 1.0;
+        let warnings = match over > 1e-12 {
+            true => vec![ValidityWarning::new(WarningKind::ContactTimeFraction, 1.0 + over, 1.0)],
+            false => Vec::new(),
+        };
+        Screen {
+            identity: format!("{point:?}"),
+            predicted: Ok(warnings),
+            resolved: Vec::new(),
+            relative_cost: Some(0.5f64.powf(point[0])),
         }
     }
 
@@ -111,7 +98,7 @@ mod tests {
     #[test]
     fn a_point_rises_to_the_largest_step_its_own_damping_allows() {
         let config = two_levers(Some(0));
-        let mut evaluator = Damped;
+        let mut evaluator = Screening { screen: damped, standard_point: None };
         let mut cx = Context::new(&config, &mut evaluator);
         // No damping: the range's top; damping 0.5: 1 - 0.3, found within the bisection's resolution.
         assert_eq!(cx.at_largest_step(&[0.1, 0.0]), vec![1.0, 0.0]);
@@ -128,7 +115,7 @@ mod tests {
     #[test]
     fn a_step_the_path_found_different_is_not_tried_at_other_levers() {
         let config = SearchConfig { tolerances: vec![(0.01, false)], ..two_levers(Some(0)) };
-        let mut evaluator = Damped;
+        let mut evaluator = Screening { screen: damped, standard_point: None };
         let mut cx = Context::new(&config, &mut evaluator);
         cx.result.reference = runs(1.0, &[1.0, 1.001, 0.999, 1.0, 1.0005, 0.9995, 1.0, 1.0]);
         cx.result.margins = vec![0.01];
