@@ -1,6 +1,7 @@
 //! Output paths never destroy results: every command refuses, naming the path and the reason, an
 //! output that is, holds or replaces one of its inputs, a results file, a folder demsweep did not
-//! make, `/`, `.` or `..`, or a symbolic link; and the files there survive byte for byte.
+//! make, `/`, `.` or `..`, or a symbolic link, and a table over a file written beside the results file
+//! it reads without `--force`; and the files there survive byte for byte.
 
 mod runner_common;
 
@@ -108,6 +109,22 @@ fn an_existing_partial_folder_it_did_not_make_is_kept() {
 fn summary_csv_over_the_results_file_is_refused() {
     let (work, results) = results("paths_summary");
     refused(&results, &work, &["summary", "paths.h5", "--csv", "paths.h5"], "paths.h5", "is a results file");
+}
+
+#[test]
+fn a_table_over_a_file_written_beside_the_results_file_is_refused_without_force() {
+    let (work, results) = results("paths_companion");
+    let beside = "written beside the results file";
+    let by_point = ["summary", "paths.h5", "--by-point", "--csv", "paths_summary.csv"];
+    refused(&results, &work, &by_point, "paths_summary.csv", beside);
+    let args = ["compare", "paths.h5", "--reference", "r0000", "--csv", "paths_points.csv"];
+    refused(&results, &work, &args, "paths_points.csv", beside);
+    let args = ["history", "paths.h5", "r0000", "--csv", "paths_summary.csv-metadata.json"];
+    refused(&results, &work, &args, "paths_summary.csv-metadata.json", beside);
+    let forced = demsweep(&results, &[&by_point[..], &["--force"]].concat());
+    assert_eq!(forced.status.code(), Some(0), "{}", stderr(&forced));
+    let table = std::fs::read_to_string(results.join("paths_summary.csv")).unwrap();
+    assert!(table.lines().next().is_some_and(|names| names.contains("settle_time_mean")), "{table}");
 }
 
 #[test]

@@ -404,7 +404,8 @@ pub fn summary(args: &SummaryArgs) -> ExitCode {
     };
     let status = damage_status(&args.results, &damaged);
     if let Some(path) = &args.csv {
-        let written = output::summary::write_csv(path, &table, Existing::Ours { force: args.force });
+        let written = output::check_not_companion(&args.results, path, args.force)
+            .and_then(|()| output::summary::write_csv(path, &table, Existing::Ours { force: args.force }));
         return if written.is_ok() { status } else { report_error(written) };
     }
     let known = if args.by_point { points::table_metrics(&table) } else { run_metrics(&table) };
@@ -503,6 +504,7 @@ pub fn compare(args: &CompareArgs) -> ExitCode {
     let mut outcome = Ok(());
     if let Some(path) = &args.csv {
         outcome = outcome
+            .and_then(|()| output::check_not_companion(&args.results, path, args.force))
             .and_then(|()| {
                 output::summary::write_csv(path, &comparison.table(&points), Existing::Ours { force: args.force })
             })
@@ -534,7 +536,9 @@ pub fn history(args: &HistoryArgs) -> ExitCode {
     let table = if args.stress_profile { RunTable::StressProfile } else { RunTable::History };
     if let Some(path) = &args.csv {
         let existing = Existing::Ours { force: args.force };
-        return report_error(history::write_csv_file(&args.results, &args.run_id, table, (path, existing)));
+        let written = output::check_not_companion(&args.results, path, args.force)
+            .and_then(|()| history::write_csv_file(&args.results, &args.run_id, table, (path, existing)));
+        return report_error(written);
     }
     let mut csv = Vec::new();
     let outcome = match table {

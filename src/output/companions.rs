@@ -64,6 +64,25 @@ pub fn check_companions(results: &Path, force: bool, resume: bool) -> Result<(),
     })
 }
 
+/// The files written beside a results file: its CSV tables, their sidecars and its report page.
+fn companions(results: &Path) -> [PathBuf; 5] {
+    let (summary, points) = (csv_path(results), points_csv_path(results));
+    [csv::metadata_path(&summary), csv::metadata_path(&points), summary, points, report_path(results)]
+}
+
+/// Checks that `path`, a table another command writes from `results`, is none of the files written
+/// beside it ([`companions`]) unless `force`: written there, that table would stand in for the
+/// results file's own.
+pub fn check_not_companion(results: &Path, path: &Path, force: bool) -> Result<(), OutputError> {
+    match companions(results).iter().any(|own| guard::same_file(path, own)) && !force {
+        true => {
+            let error = guard::GuardError { path: path.to_path_buf(), refusal: Refusal::Companion(results.into()) };
+            Err(OutputError::refused(path, error))
+        }
+        false => Ok(()),
+    }
+}
+
 /// Whether the CSV table `csv` starts with the names line of the table `name` that `results` stores.
 fn names_stored(results: &Path, csv: &Path, name: &str) -> bool {
     let Some(names) = reader::stored_names(results, name) else { return false };

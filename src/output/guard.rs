@@ -69,6 +69,9 @@ pub enum Refusal {
     /// The file exists and demsweep did not write it, beside a results file being resumed (which
     /// `--force` would run again from the start).
     NotMadeByDemsweepResuming,
+    /// The file is one written beside the results file this command reads (given): its tables,
+    /// their sidecars or its report page, and `--force` was not given.
+    Companion(PathBuf),
     /// The folder exists but demsweep did not make it (it lacks the marker).
     NotOurs(&'static str),
     /// `--force` replaces a results file, and this is none (no HDF5 signature).
@@ -106,6 +109,12 @@ impl fmt::Display for Refusal {
                 f,
                 "refused: exists and was not written by demsweep (no table of this results file): move it \
                  elsewhere, then resume again (the stored runs are kept)"
+            ),
+            Self::Companion(results) => write!(
+                f,
+                "refused: is written beside the results file {} with it (its tables, their sidecars and its report \
+                 page belong to it): pass --force to replace it, or choose another path",
+                results.display()
             ),
             Self::NotOurs(kind) => write!(
                 f,
@@ -381,7 +390,7 @@ pub fn is_hdf5(path: &Path) -> bool {
 }
 
 /// Whether `a` and `b` name the same existing file (hard links included).
-fn same_file(a: &Path, b: &Path) -> bool {
+pub fn same_file(a: &Path, b: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
     match (std::fs::metadata(a), std::fs::metadata(b)) {
         (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),

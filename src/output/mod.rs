@@ -29,7 +29,7 @@ pub mod table;
 pub mod terminal;
 mod writer;
 
-pub use companions::{check_companions, csv_path, points_csv_path, report_path, write_csv_files};
+pub use companions::{check_companions, check_not_companion, csv_path, points_csv_path, report_path, write_csv_files};
 pub use compound::Field;
 pub use csv_tables::CsvTables;
 pub(crate) use error::hdf5_error;
