@@ -79,7 +79,7 @@ pub trait CsvRow {
     }
 }
 
-/// Writes rows as CSV (RFC 4180, the names line of [`csv`]) with its metadata sidecar (each column's
+/// Writes rows as CSV (RFC 4180, the names line of `csv`) with its metadata sidecar (each column's
 /// unit and datatype).
 pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> Result<(), BenchError> {
     let mut text = Vec::new();

@@ -9,7 +9,7 @@ use crate::output::row::SummaryRow;
 use crate::output::stored::StoredRun;
 use crate::physics::record::Snapshot;
 
-/// One export format: a row of [`FORMATS`].
+/// One export format: a row of `FORMATS`.
 pub struct Format {
     /// Its `--format` name.
     pub name: &'static str,

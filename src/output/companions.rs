@@ -71,7 +71,7 @@ fn companions(results: &Path) -> [PathBuf; 5] {
 }
 
 /// Checks that `path`, a table another command writes from `results`, is none of the files written
-/// beside it ([`companions`]) unless `force`: written there, that table would stand in for the
+/// beside it (`companions`) unless `force`: written there, that table would stand in for the
 /// results file's own.
 pub fn check_not_companion(results: &Path, path: &Path, force: bool) -> Result<(), OutputError> {
     match companions(results).iter().any(|own| guard::same_file(path, own)) && !force {

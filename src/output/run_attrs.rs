@@ -165,7 +165,7 @@ fn kind_name(kind: WarningKind) -> String {
 }
 
 /// Reads a summary row back from a run group (any results format); the error names what is missing
-/// or damaged. `limit` bounds what a table may declare (see [`compound::read_limit`]).
+/// or damaged. `limit` bounds what a table may declare (see `compound::read_limit`).
 pub fn row_from_group(group: &Group, limit: u64) -> Result<SummaryRow, LayoutError> {
     let attrs = group.attrs()?;
     let mut row = row_header(&attrs)?;

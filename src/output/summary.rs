@@ -16,7 +16,7 @@ pub fn read(path: &Path) -> Result<SummaryTable, OutputError> {
 
 /// Writes a table (the summary or the points) as a CSV file (the names line, RFC 4180 quoting,
 /// missing values empty), whole or not at all, and its metadata sidecar (units, datatypes:
-/// [`csv::write_file`]); existing files are replaced as `existing` allows.
+/// `csv::write_file`); existing files are replaced as `existing` allows.
 pub fn write_csv(path: &Path, table: &SummaryTable, existing: Existing) -> Result<(), OutputError> {
     csv::write_file(path, &csv::table_columns(table), existing, |mut out| csv::write_table(&mut out, table))
         .map_err(|e| OutputError::refused(&e.path.clone(), e))

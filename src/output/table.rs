@@ -122,7 +122,7 @@ impl ColumnData {
         }
     }
 
-    /// The value of row `i` as a swept parameter's value (see [`parameter_data`]); `None` where missing.
+    /// The value of row `i` as a swept parameter's value (see `parameter_data`); `None` where missing.
     pub fn param(&self, i: usize) -> Option<ParamValue> {
         match self {
             ColumnData::Float(v) if v[i].is_nan() => None,

@@ -70,7 +70,7 @@ const FEW_PARTS: usize = 2 * PARTS_PER_THREAD;
 /// other core (results/bench/performance.md has the figures).
 ///
 /// Helpers are tasks of the current rayon pool that stay between sections, spinning, until the
-/// simulation ends or no section has come for [`HELPER_PATIENCE`]; so a step's three or four
+/// simulation ends or no section has come for `HELPER_PATIENCE`; so a step's three or four
 /// sections cost no wake-up of a sleeping thread (tens of microseconds each, a large share of a
 /// step of a few hundred microseconds). A helper that no idle thread takes up leaves its region to the others: the
 /// simulation's own thread never waits for a thread busy elsewhere. Which thread does a part never
@@ -240,7 +240,7 @@ impl Team {
     }
 
     /// Runs `work` on `whole` cut into the team's parts (fewer if it has fewer units), each part
-    /// with its number (the parts in order: part 0 holds the first units; see [`part_end`]).
+    /// with its number (the parts in order: part 0 holds the first units; see `part_end`).
     pub fn for_each_part<V: Split>(&self, whole: V, work: &(impl Fn(V, usize) + Sync)) {
         let units = whole.units();
         let parts = self.parts.min(units).max(1);

@@ -319,7 +319,7 @@ const SURFACE_POINTS_PER_RADIUS: f64 = 16.0;
 const SURFACE_POINTS_MAX: f64 = 1.0e6;
 
 /// Mean height of the free surface over the box width (m): the width is cut into equal intervals,
-/// [`SURFACE_POINTS_PER_RADIUS`] per mean radius, and at each interval's midpoint `x` the surface is
+/// `SURFACE_POINTS_PER_RADIUS` per mean radius, and at each interval's midpoint `x` the surface is
 /// the top of the highest disk above it, `y_i + √(r_i² − (x − x_i)²)`, or 0 where no disk is
 /// above it; NaN without disks or width. Disks reaching past a side wall count where they are;
 /// across periodic sides, on both sides.

@@ -1,7 +1,7 @@
 //! Every per-run quantity, declared once: name, unit, description and how it is computed.
 //!
 //! The summary's columns (CSV and `/summary`), the run groups' attributes, their units (HDF5
-//! attributes, the CSV files' metadata sidecars and the labels people read: [`unit`], [`label`]), the
+//! attributes, the CSV files' metadata sidecars and the labels people read: [`unit()`], [`label`]), the
 //! history tables, `compare --keep`, tune's `[keep]`, `summary --metric` and the column table of
 //! docs/results.md all read these tables, and so do the metrics kept by default, the report's
 //! per-point columns and `plot`'s charts (each entry's [`Role`]); nothing else lists the names. Adding a
@@ -450,7 +450,7 @@ pub fn stage_end_column(stage: &str) -> String {
 const STATISTIC_SUFFIXES: [&str; 6] = ["_mean", "_std", "_ci95", "_min", "_max", "_difference"];
 
 /// The per-run quantity a column holds, directly or as a statistic of it (see
-/// [`STATISTIC_SUFFIXES`]); `None` for other columns.
+/// `STATISTIC_SUFFIXES`); `None` for other columns.
 pub fn column_quantity(column: &str) -> Option<Declaration> {
     let statistic = |suffix: &&str| column.strip_suffix(suffix);
     find(column).or_else(|| STATISTIC_SUFFIXES.iter().find_map(statistic).and_then(find))
@@ -480,7 +480,7 @@ pub fn labelled(name: &str, unit: &str) -> String {
     if unit.is_empty() { name.to_string() } else { format!("{name} ({unit})") }
 }
 
-/// A column's label: [`labelled`] with its [`unit`].
+/// A column's label: [`labelled`] with its [`unit()`].
 pub fn label(name: &str) -> String {
     labelled(name, unit(name).unwrap_or(""))
 }

@@ -3,7 +3,7 @@
 //!
 //! Every piece of state saves and loads itself through [`Persist`]; the pieces of a run are listed
 //! once, in `Simulation::pieces` (`simulation/resume.rs`), which both saving and loading go
-//! through. A struct's fields are listed once too, by [`persist_fields!`]. Numbers are stored
+//! through. A struct's fields are listed once too, by `persist_fields!`. Numbers are stored
 //! little-endian, floats by their bits (NaN and infinities included), lengths before vectors.
 
 use std::fmt;

@@ -239,7 +239,7 @@ impl SizeDistribution {
     }
 
     /// A discrete mixture's number of disks of each class for `count` disks: the fractions turned
-    /// into shares of the number ([`Self::number_weights`]), rounded by largest remainders so that
+    /// into shares of the number (`Self::number_weights`), rounded by largest remainders so that
     /// they sum to `count`. Empty for the other kinds.
     pub fn class_counts(&self, count: usize) -> Vec<usize> {
         let weights = self.number_weights();

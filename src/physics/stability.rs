@@ -126,7 +126,7 @@ const MEASURED_STABLE_FRACTIONS: [(f64, f64, f64); 7] = [
     (0.693, 0.04, 0.07),
 ];
 
-/// The share of the measured stable step ([`MEASURED_STABLE_FRACTIONS`]) a scene may use without a
+/// The share of the measured stable step (`MEASURED_STABLE_FRACTIONS`) a scene may use without a
 /// warning: the margin for scenes and seeds the measurement did not see.
 pub const STABLE_STEP_MARGIN: f64 = 0.8;
 

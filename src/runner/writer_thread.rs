@@ -15,7 +15,7 @@ use crate::stats::points;
 /// runs are staged, whichever comes first. The interval bounds what `kill -9` can lose (a finished
 /// run waits at most the interval plus one commit); `max_runs` bounds the memory staged runs take
 /// (the HDF5 library holds a staged run in memory until its commit). The runs waiting for the
-/// writer are bounded too ([`BACKLOG_PER_WORKER`]): workers wait while the writer catches up.
+/// writer are bounded too (`BACKLOG_PER_WORKER`): workers wait while the writer catches up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CommitPolicy {
     /// Commit once this many runs are staged.

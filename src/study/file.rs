@@ -80,7 +80,7 @@ impl fmt::Display for ReadTextError {
 
 impl std::error::Error for ReadTextError {}
 
-/// Why a key path cannot be set in a table ([`set_path`]).
+/// Why a key path cannot be set in a table (`set_path`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SetPathError {
     /// No key at all.

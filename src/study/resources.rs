@@ -43,7 +43,7 @@ const DATATYPE_LIMIT: usize = 65_535;
 /// Why the results file cannot store the end times of `scene`'s stages, if it cannot: they are one
 /// row of float fields named by the stages (`stage_end_times`), whose description (8 bytes, then a
 /// field's name, a NUL, its offset in the fewest bytes that hold the row's size and an 8-byte
-/// float's 20-byte description per stage) must fit [`DATATYPE_LIMIT`]. The key is `stages`.
+/// float's 20-byte description per stage) must fit `DATATYPE_LIMIT`. The key is `stages`.
 pub fn stage_table_problem(scene: &SceneConfig) -> Option<(&'static str, String)> {
     let count = scene.stages.len();
     let offset = (1..8).find(|bytes| (count * 8) >> (8 * bytes) == 0).unwrap_or(8);

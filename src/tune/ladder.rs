@@ -44,7 +44,7 @@ pub fn time_step_position(levers: &[Lever]) -> Option<usize> {
 
 /// The ladder over `levers`: the time-step lever at its largest valid value (the top of the time-step
 /// path, first when there is one; with list levers such as `integrator.scheme`, one top for each of
-/// their values in `tops`, largest step first: see [`crate::tune::validity::time_step_tops`]), local
+/// their values in `tops`, largest step first: see `crate::tune::validity::time_step_tops`), local
 /// damping [`STANDARD_LOCAL_DAMPING`] (with the first top's time step), and
 /// [`STANDARD_RAYLEIGH_FRACTION`] of the Rayleigh time; each standard value taken to the nearest
 /// value of its lever's range, and a rung only where its levers are given.

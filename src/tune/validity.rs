@@ -78,9 +78,9 @@ pub(super) fn disks_of(scene: &SceneConfig, initial: Option<&[InitialDisk]>) -> 
 /// `integrator.scheme` lever: a time step past one scheme's stable step stays in the range while
 /// another scheme is stable there), on any placement seed the tune's runs use (the end predicted
 /// invalid while the reference's value is valid): the new end is the last valid value found by
-/// bisection on twice [`CLIP_SEEDS`] placements, confirmed on twice [`CONFIRM_SEEDS`]. Returns a
+/// bisection on twice `CLIP_SEEDS` placements, confirmed on twice `CONFIRM_SEEDS`. Returns a
 /// warning per clipped lever naming the limit, and the time-step tops of the clipped ranges
-/// ([`time_step_tops`], judged on the same placements). A lever with no valid value found is left as
+/// (`time_step_tops`, judged on the same placements). A lever with no valid value found is left as
 /// it is (the screen rejects its points, each at its own list-lever values).
 pub fn clip_levers(spec: &mut TuneSpec) -> (Vec<String>, Vec<StepTop>) {
     let mut placements = Placements::new(spec);
@@ -124,7 +124,7 @@ pub fn clip_levers(spec: &mut TuneSpec) -> (Vec<String>, Vec<StepTop>) {
 }
 
 /// The time-step lever's largest valid value with the list-lever values it holds for (see
-/// [`time_step_tops`]).
+/// `time_step_tops`).
 pub type StepTop = (Vec<(String, ParamValue)>, ParamValue);
 
 /// The values of the list levers (other than `lever`) that leave the disks where they are, each

@@ -47,7 +47,7 @@ pub fn draws_from_seed(scene: &SceneConfig) -> bool {
 }
 
 /// Generated initial disks of a scene whose placement is `random`, `lattice` or `dropped`
-/// (`random` and `lattice` lowered by `placement.lowered_by`: [`lowered::lowered`]); of a `pour`,
+/// (`random` and `lattice` lowered by `placement.lowered_by`: `lowered::lowered`); of a `pour`,
 /// the disks its estimates see ([`pour::reference`]: the simulation pours them).
 /// `file` placement is the caller's: it reads the states and passes them to the simulation.
 pub fn generate(scene: &SceneConfig) -> Result<Vec<InitialDisk>, PlacementError> {

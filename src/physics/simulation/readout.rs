@@ -133,7 +133,7 @@ impl<L: ContactLaw> Simulation<L> {
     }
 
     /// The contacts at the current state with their forces, in the scene's numbering: those the
-    /// next step's force stage would compute from the current springs (see [`contact_list`]).
+    /// next step's force stage would compute from the current springs (see `contact_list`).
     pub fn contacts(&self) -> Vec<PileContact> {
         let kinds = [&self.disk_contacts, &self.wall_contacts];
         let springs = self.touching.springs_of(&self.neighbors.pairs);

@@ -50,7 +50,7 @@ pub enum Control {
 
 /// One simulation of a scene with contact law `L`: the scene's own law when built by
 /// [`Simulation::new`], any law with [`Simulation::with_law`]. (To run a scene whichever its law,
-/// go through [`crate::physics::run_scene`] or [`super::contact::ContactConfig::dispatch`].)
+/// go through [`crate::physics::run_scene`] or `super::contact::ContactConfig::dispatch`.)
 pub struct Simulation<L: ContactLaw> {
     pub(super) law: L,
     /// The scene, with its time step resolved.
@@ -95,7 +95,7 @@ impl<L: ContactLaw> Simulation<L> {
         self.memory_order = policy;
     }
 
-    /// Lets the simulation use `threads` (results do not depend on it: see [`super::parallel`]).
+    /// Lets the simulation use `threads` (results do not depend on it: see `super::parallel`).
     pub fn set_threads(&mut self, threads: Threads) {
         self.team = Team::new(threads.used_for(self.particles.len()));
         // The one-thread table keeps springs from step to step, which steps on several threads

@@ -12,13 +12,13 @@
 //!    diverges or does not settle stops the tune; so does a kept metric its spread cannot decide
 //!    ([`decidability`](crate::tune::judge::decidability)). A setting that resolves to the
 //!    reference's own runs is never a candidate.
-//! 2. **The time-step path** ([`path`](path::step)), when a time-step key is a lever, before
+//! 2. **The time-step path** (`path`), when a time-step key is a lever, before
 //!    anything else: the first standard setting (the time-step lever alone at its largest valid
 //!    value) and, below it, the same setting with a smaller time step, down to the
 //!    reference's (valid and equivalent by definition). A rung whose runs break a measured check
 //!    steps down by the fitted error model ([`cure_factor`](crate::tune::judge::cure_factor)); one
 //!    that differs bisects (geometric mean) towards the last good rung or the reference, until the
-//!    two are within [`PATH_RESOLUTION`](path::PATH_RESOLUTION); the cheapest good rung is verified
+//!    two are within `PATH_RESOLUTION`; the cheapest good rung is verified
 //!    on fresh seeds, and a failed verification leads to the rung that cures it and a new
 //!    verification. Only the run budget, the spend limit and a rung whose runs do not settle (a
 //!    limit cycle) stop it; a rung's runs are cut at the cheapest other candidate still in the running.
@@ -26,16 +26,16 @@
 //! 3. Exploration, with what is left of the spend limit: the other standard settings; an initial
 //!    design (the cheap corner, each list lever such as `integrator.scheme` at the value whose own
 //!    valid corner has the cheapest time step; a randomly shifted Halton sequence, quantized to a 1/64
-//!    grid, every second point at its own largest valid time step ([`top`]); points predicted
+//!    grid, every second point at its own largest valid time step (`top`); points predicted
 //!    invalid are recorded and never run); then, each round, points on the edge of equivalence
-//!    ([`edge`]) or else a pattern search (compass search, Kolda, Lewis &
+//!    (`edge`) or else a pattern search (compass search, Kolda, Lewis &
 //!    Torczon 2003) around the incumbent, leaving out moves a log-linear cost fit predicts dearer
 //!    than it. Every candidate starts with `seeds` runs; an undecided one that could still win (and
 //!    is not likely different) gets more, up to `max_seeds`, then sequentially the seeds that
 //!    decide it; where the reference's own spread is what keeps it undecided, the reference grows
-//!    ([`grow_reference`](context::Context::grow_reference)). A new candidate predicted dearer
+//!    (`grow_reference`). A new candidate predicted dearer
 //!    than the cheapest one still in the running runs one seed first, cut at that cost; points
-//!    predicted [`FAR_TOO_DEAR`](spend::FAR_TOO_DEAR) are not run. The search records why it
+//!    predicted `FAR_TOO_DEAR` are not run. The search records why it
 //!    ended ([`SearchEnd`](crate::tune::model::SearchEnd)).
 //! 4. Verification of candidates cheaper than the answer so far, on fresh seeds never used in the
 //!    search (they start past the run budget), judged on those runs alone: while there is no
@@ -43,7 +43,7 @@
 //!    is the cheapest verified candidate that costs less than the reference on its fresh seeds.
 //!
 //! The files: `run` lists the steps in their order of work, each a function of one shared
-//! [`Context`](context::Context) (the configuration, the evaluator, the candidate table, the spend
+//! `Context` (the configuration, the evaluator, the candidate table, the spend
 //! and the fresh seeds) in a file of its own: `reference` (1), `path` (2), `standards`, `corner`,
 //! `seeds` (more seeds where they decide) and `explore` (3), `verify` (4). Beneath them, what the
 //! steps share, each file calling only those below it: `batch` runs a candidate's further seeds,

@@ -51,7 +51,7 @@ pub struct SpendPlan {
     pub candidates: usize,
     /// Without one: the cost per run, over the reference's, at which the first candidate's seeds are
     /// cut so that its verification still fits, when a candidate settling that soon is plausible
-    /// ([`LEAST_SETTLE`]).
+    /// (`LEAST_SETTLE`).
     pub cut_at: Option<f64>,
     /// The `max_spend` that pays for one candidate at the reference's cost.
     pub max_spend: f64,
