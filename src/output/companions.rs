@@ -74,13 +74,11 @@ fn companions(results: &Path) -> [PathBuf; 5] {
 /// beside it (`companions`) unless `force`: written there, that table would stand in for the
 /// results file's own.
 pub fn check_not_companion(results: &Path, path: &Path, force: bool) -> Result<(), OutputError> {
-    match companions(results).iter().any(|own| guard::same_file(path, own)) && !force {
-        true => {
-            let error = guard::GuardError { path: path.to_path_buf(), refusal: Refusal::Companion(results.into()) };
-            Err(OutputError::refused(path, error))
-        }
-        false => Ok(()),
+    if force || !companions(results).iter().any(|own| guard::same_file(path, own)) {
+        return Ok(());
     }
+    let error = guard::GuardError { path: path.to_path_buf(), refusal: Refusal::Companion(results.into()) };
+    Err(OutputError::refused(path, error))
 }
 
 /// Whether the CSV table `csv` starts with the names line of the table `name` that `results` stores.

@@ -32,7 +32,7 @@ impl<E: Evaluator> Context<'_, E> {
             .result
             .candidates
             .iter()
-            .filter(|c| c.standard.is_none() && c.point.len() == from.len())
+            .filter(|c| c.standard.is_none() && c.point.len() == from.len() && !self.discrete_apart(&from, &c.point))
             .map(|c| (c, self.result.assess(c)))
             .filter(|(_, a)| matches!(a.state, State::Infeasible(Rejection::Differs(_))) && a.cost < incumbent_cost)
             .map(|(c, a)| (a.cost, c.point.clone(), a.tests.iter().map(|t| t.difference).collect()))
@@ -43,16 +43,19 @@ impl<E: Evaluator> Context<'_, E> {
             if fresh.len() == EDGE_MOVES {
                 break;
             }
-            let discrete_apart = (0..from.len()).any(|d| self.config.levels[d].is_some() && from[d] != to[d]);
             let Some(t) = edge_fraction(&near_differences, &far_differences, &self.result.margins) else { continue };
-            let cost = incumbent_cost.powf(1.0 - t) * far_cost.powf(t);
-            if discrete_apart || cost >= CLEAR_MARGIN * incumbent_cost {
+            if incumbent_cost.powf(1.0 - t) * far_cost.powf(t) >= CLEAR_MARGIN * incumbent_cost {
                 continue;
             }
             let point: Vec<f64> = from.iter().zip(&to).map(|(a, b)| a + t * (b - a)).collect();
             fresh.extend(self.propose(&point, Origin::Edge).filter(|&k| !self.far_too_dear(k)));
         }
         fresh
+    }
+
+    /// Whether two points of the lever space lie on different values of a discrete lever.
+    fn discrete_apart(&self, a: &[f64], b: &[f64]) -> bool {
+        (0..a.len()).any(|d| self.config.levels[d].is_some() && a[d] != b[d])
     }
 
     /// A candidate's point of the lever space; a standard setting's from the evaluator.
