@@ -102,14 +102,19 @@ impl<E: Evaluator> Context<'_, E> {
         }
     }
 
-    /// Runs `growth`'s reference runs when its price fits the spend limit; whether it did.
+    /// Runs `growth`'s reference runs when its price, with a further verification round of the
+    /// answer so far, fits the spend limit; then judges that answer again against the whole
+    /// reference ([`Self::recheck_answer`]); whether it ran them. More reference runs move the
+    /// margins and the mean the answer was verified against.
     pub(super) fn grow(&mut self, growth: Growth) -> Result<bool, TuneError> {
-        if !self.fits_price(growth.priced_runs, growth.price) {
+        let (runs, price) = self.answer_round();
+        if !self.fits_price(growth.priced_runs + runs, growth.price + price) {
             return Ok(false);
         }
         let first = self.result.reference.len() as u64;
         let jobs: Vec<Job> = (first..first + growth.runs as u64).map(Job::reference).collect();
         self.add_reference(&jobs)?;
+        self.recheck_answer()?;
         Ok(true)
     }
 
@@ -151,4 +156,60 @@ impl<E: Evaluator> Context<'_, E> {
 /// The mean of kept metric `k` over `runs`.
 fn column_mean(runs: &[Outcome], k: usize) -> f64 {
     describe_metric(runs, k).mean
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tune::model::Role;
+    use crate::tune::search::testing::{Running, candidate, config, runs};
+
+    /// Kept metric values: the reference's first eight (mean 1, margin 0.05) and an answer's eight
+    /// fresh runs at 0.965, equivalent to them.
+    const REFERENCE: [f64; 8] = [0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005];
+    const ANSWER: [f64; 8] = [0.96, 0.97, 0.965, 0.962, 0.968, 0.964, 0.966, 0.965];
+
+    /// Grows the reference by three runs at 1.04 (which leaves the answer at 0.965 undecided)
+    /// around an answer (candidate 0, cost 40) and a dearer verified candidate 1 (cost 60, fresh
+    /// runs on the reference's mean), with `spent` already spent; further fresh runs of the
+    /// answer measure `again`. Whether it grew, the answer after, and the answer's fresh runs.
+    fn grow_around_an_answer(spent: f64, again: f64) -> (bool, Option<usize>, usize) {
+        let config = config();
+        let mut evaluator = Running(|job: &Job| match job.role {
+            Role::Reference => Outcome::settled(100.0, vec![1.04]),
+            _ => Outcome::settled(40.0, vec![again]),
+        });
+        let mut cx = Context::new(&config, &mut evaluator);
+        cx.result.reference = runs(100.0, &REFERENCE);
+        cx.result.margins = vec![0.05];
+        let mut answer = candidate(1, runs(40.0, &ANSWER[..3]));
+        answer.verification = runs(40.0, &ANSWER);
+        let mut dearer = candidate(2, runs(60.0, &REFERENCE[..3]));
+        dearer.verification = runs(60.0, &REFERENCE);
+        cx.result.candidates = vec![answer, dearer];
+        assert_eq!(cx.result.assess_runs(&cx.result.candidates[0].verification).state, State::Feasible);
+        cx.result.recommended = Some(0);
+        cx.spent = spent;
+        let grew = cx.grow(Growth { runs: 3, priced_runs: 3, price: 3.0 }).unwrap();
+        (grew, cx.result.recommended, cx.result.candidates[0].verification.len())
+    }
+
+    #[test]
+    fn an_answer_the_grown_reference_leaves_undecided_is_verified_again_and_kept_when_it_passes() {
+        // Eight more fresh runs on the grown reference's mean decide it equivalent.
+        assert_eq!(grow_around_an_answer(0.0, 1.01), (true, Some(0), 16));
+    }
+
+    #[test]
+    fn an_answer_that_fails_against_the_grown_reference_gives_way_to_the_next_verified_candidate() {
+        assert_eq!(grow_around_an_answer(0.0, 0.9), (true, Some(1), 16));
+    }
+
+    #[test]
+    fn the_reference_grows_only_with_room_to_verify_the_answer_again() {
+        // 600 left of 2000: three reference runs (330 with the price margin) fit, but not with a
+        // further round of the answer (8 at 40: 682 in all).
+        assert_eq!(grow_around_an_answer(1400.0, 1.01), (false, Some(0), 8));
+        assert_eq!(grow_around_an_answer(1000.0, 1.01), (true, Some(0), 16));
+    }
 }

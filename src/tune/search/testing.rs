@@ -1,5 +1,5 @@
-//! What the search's unit tests share: an evaluator that is never called, one that only screens, a
-//! one-lever configuration, and runs and candidates made by hand.
+//! What the search's unit tests share: an evaluator that is never called, one that only screens,
+//! one that makes runs by a rule, a one-lever configuration, and runs and candidates made by hand.
 
 use crate::tune::model::{Candidate, Evaluator, Job, Origin, Outcome, Screen, SearchConfig, TuneError};
 
@@ -42,6 +42,24 @@ impl<F: FnMut(&[f64]) -> Screen> Evaluator for Screening<F> {
     }
     fn standard_point(&mut self, standard: usize) -> Option<Vec<f64>> {
         self.standard_point.clone().filter(|_| standard == 0)
+    }
+}
+
+/// An evaluator whose runs `run` makes, job by job; it screens nothing.
+pub(super) struct Running<F>(pub(super) F);
+
+impl<F: FnMut(&Job) -> Outcome> Evaluator for Running<F> {
+    fn screen(&mut self, _: &[f64], _: Option<usize>) -> Screen {
+        unreachable!()
+    }
+    fn reference_identity(&mut self) -> String {
+        "reference".into()
+    }
+    fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError> {
+        Ok(jobs.iter().map(&mut self.0).collect())
+    }
+    fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
+        unreachable!()
     }
 }
 

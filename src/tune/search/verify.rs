@@ -81,6 +81,46 @@ impl<E: Evaluator> Context<'_, E> {
         Ok(())
     }
 
+    /// The answer so far judged again on its fresh runs, after the reference has grown: its
+    /// margins and mean moved, and an answer is one its fresh runs show equivalent to the whole
+    /// reference. Where they now leave it undecided, it gets further rounds on fresh seeds as
+    /// [`Self::verify_candidate`] gives them; one that fails, or that the spend leaves undecided,
+    /// is withdrawn (the sheet then names it as failed on fresh seeds, with what would decide it),
+    /// and the answer is the cheapest other verified candidate whose fresh runs still pass.
+    pub(super) fn recheck_answer(&mut self) -> Result<(), TuneError> {
+        let Some(k) = self.result.recommended else { return Ok(()) };
+        let state = self.result.assess_runs(&self.result.candidates[k].verification).state;
+        if state == State::Feasible {
+            return Ok(());
+        }
+        self.result.recommended = None;
+        if state == State::Undecided && self.verify_candidate(k)? == Some(true) && self.accept(k) {
+            return Ok(());
+        }
+        self.result.recommended = self.cheapest_passing(k);
+        Ok(())
+    }
+
+    /// A verification round of the answer so far, should it need one more: its runs and price in
+    /// reference runs (none without an answer).
+    pub(super) fn answer_round(&self) -> (usize, f64) {
+        let Some(k) = self.result.recommended else { return (0, 0.0) };
+        let size = self.config.verify_seeds.max(self.result.candidates[k].runs.len());
+        (size, size as f64 * self.answer_cost() / self.result.reference_cost())
+    }
+
+    /// The cheapest candidate but `skip` whose fresh runs pass against the whole reference and
+    /// cost less than it.
+    fn cheapest_passing(&self, skip: usize) -> Option<usize> {
+        let result = &self.result;
+        let verified = |(j, c): (usize, &Candidate)| {
+            let a = result.assess_runs(&c.verification);
+            let passes = j != skip && !c.verification.is_empty() && a.state == State::Feasible;
+            (passes && a.cost < result.reference_cost()).then_some((j, a.cost))
+        };
+        result.candidates.iter().enumerate().filter_map(verified).min_by(|a, b| a.1.total_cmp(&b.1)).map(|(j, _)| j)
+    }
+
     /// The verified cost of the answer so far (infinite without one).
     pub(super) fn answer_cost(&self) -> f64 {
         let verified = |k: usize| self.result.assess_runs(&self.result.candidates[k].verification).cost;
