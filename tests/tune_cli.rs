@@ -393,3 +393,49 @@ fn check_and_plan_name_the_spend_a_tune_needs() {
         assert!(said.contains("needs max_spend = 23.5 or reference_seeds = 14"), "{said}");
     }
 }
+
+/// Whether 30 disks of 1 cm fit the tiny tune's box, narrowed to 5.2 cm, on placement seed `seed`.
+fn tight_box_placeable(seed: u64) -> bool {
+    let mut scene = demsweep::physics::config::SceneConfig::default();
+    (scene.particles.count, scene.particles.radius) = (30, 0.005);
+    (scene.domain.width, scene.domain.height) = (0.1, 0.052);
+    scene.placement.seed = seed;
+    demsweep::physics::placement::generate(&scene).is_ok()
+}
+
+#[test]
+fn a_seed_the_references_disks_cannot_be_placed_on_is_stepped_over() {
+    // Near its jamming limit, random placement fits 30 disks in the narrowed box on most seeds, not
+    // on all: such a seed is no deposition of the reference, and no run is made on it (before, the
+    // verification runs on it failed and took their candidates with them).
+    let dir = runner_common::scratch("tune_unplaceable");
+    let narrowed = TUNE
+        .replace("domain.height = 0.15", "domain.height = 0.052\nplacement.seed = 20")
+        .replace("verify_seeds = 3", "verify_seeds = 6");
+    let file = write_tune(&dir, &narrowed);
+    let out = dir.join("out");
+    let said = text(&tuned(&file, &out, &["--jobs", "2"]).stdout);
+    let table = summary::read(&out.join("tiny_tune.h5")).unwrap();
+    let column = |name: &str| &table.column(name).unwrap().data;
+    let seeds: Vec<u64> = (0..table.len()).map(|row| column("placement.seed").number(row).unwrap() as u64).collect();
+    assert!(seeds.iter().all(|&seed| tight_box_placeable(seed)), "runs only where the disks fit: {seeds:?}");
+    assert!((0..table.len()).all(|row| column("status").text(row) != "error"), "{said}");
+    let line = said.split("No run was made on seed").nth(1).expect("the sheet names the seeds stepped over");
+    let named: Vec<u64> = line
+        .trim_start_matches('s')
+        .split(':')
+        .next()
+        .unwrap()
+        .split(", ")
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    let last = *seeds.iter().max().unwrap();
+    let unplaceable: Vec<u64> =
+        (20..last).filter(|&seed| !tight_box_placeable(seed) && !seeds.contains(&seed)).collect();
+    assert!(!named.is_empty() && named.iter().all(|&seed| !tight_box_placeable(seed)), "{named:?}\n{said}");
+    assert!(named.iter().all(|seed| unplaceable.contains(seed)), "{named:?} among {unplaceable:?}");
+    assert!(
+        said.starts_with("Recommendation for tiny_tune") || said.contains("\nRecommendation for tiny_tune"),
+        "{said}"
+    );
+}

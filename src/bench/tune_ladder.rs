@@ -1,5 +1,6 @@
 //! The brute-force yardstick of `bench tune`: every setting a DEM engineer would try over the tune's
-//! own levers, on fresh seeds no tune run used, judged exactly as tune judges.
+//! own levers, on fresh seeds no tune run used (where the reference's disks can be placed, as tune's
+//! runs), judged exactly as tune judges.
 //!
 //! The rungs: tune's answer (so that it is judged on the same seeds as the rest), the standard
 //! settings of its levers and the time-step rungs below the first ([`LADDER_FACTORS`]), and a full
@@ -20,6 +21,7 @@ use super::BenchError;
 use crate::tune::judge::{check_figures, predicted_breach};
 use crate::tune::model::{Job, Outcome, Rejection, Role, SearchResult, State};
 use crate::tune::report::settings;
+use crate::tune::search::placeable_seeds;
 use crate::tune::spec::{Lever, LeverRange, Objective};
 use crate::tune::{Evaluator, RunEvaluator, TuneError, TuneOptions, TuneSpec};
 
@@ -119,8 +121,8 @@ pub fn grid_ladder(
     seeds: usize,
 ) -> Result<GridLadder, BenchError> {
     let mut evaluator = RunEvaluator::new(spec, &options);
-    let count = result.reference.len().max(seeds) as u64;
-    let seeds: Vec<u64> = (0..count).map(|s| FRESH_SEEDS + s).collect();
+    let count = result.reference.len().max(seeds);
+    let seeds = placeable_seeds(&mut evaluator, FRESH_SEEDS, count);
     let reference_jobs: Vec<Job> = seeds.iter().copied().map(Job::reference).collect();
     let reference = evaluator.evaluate(&reference_jobs).map_err(BenchError::Tune)?;
     if let Some((seed, failure)) = seeds.iter().zip(&reference).find_map(|(&s, o)| Some((s, o.failure.clone()?))) {
@@ -162,7 +164,7 @@ pub fn grid_ladder(
         judged_rungs.extend(run_settings(&mut evaluator, &judged, &near, &seeds, cap, &mut ladder.runs)?);
         first.extend(near);
     }
-    let confirm_seeds: Vec<u64> = (0..count).map(|s| CONFIRM_SEEDS + s).collect();
+    let confirm_seeds = placeable_seeds(&mut evaluator, CONFIRM_SEEDS, count);
     let mut trial =
         Trial { evaluator: &mut evaluator, judged: &judged, seeds: &confirm_seeds, cap, runs: &mut ladder.runs };
     ladder.best = confirm(&mut trial, &first, &mut judged_rungs)?;

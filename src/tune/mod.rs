@@ -31,6 +31,7 @@ pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
+use crate::physics::placement;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::{self, NotePolicy, ProgressMode, RunNote, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
@@ -304,6 +305,10 @@ impl Evaluator for RunEvaluator<'_> {
 
     fn reference_identity(&mut self) -> String {
         validity::identity(&self.spec.reference, self.spec.initial.as_deref().map(Vec::as_slice))
+    }
+
+    fn placeable(&mut self, seed: u64) -> bool {
+        self.spec.reference.placement.kind.reads_file() || placement::generate(&self.spec.reference_at(seed)).is_ok()
     }
 
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {

@@ -335,6 +335,11 @@ pub trait Evaluator {
     fn standard_point(&mut self, _standard: usize) -> Option<Vec<f64>> {
         None
     }
+    /// Whether the reference's disks can be placed on seed number `seed`: a seed where they cannot
+    /// is no deposition of the reference, and no run is made on it.
+    fn placeable(&mut self, _seed: u64) -> bool {
+        true
+    }
 }
 
 /// Where a candidate came from.
@@ -597,4 +602,9 @@ pub struct SearchResult {
     pub end: SearchEnd,
     /// With wall time as the objective: the rate each configuration's runs were priced at.
     pub wall_rates: Vec<super::wall_rate::WallRate>,
+    /// The seeds of the reference's and the search's runs, by run number: every seed from 0 on
+    /// where the reference's disks can be placed.
+    pub replicates: Vec<u64>,
+    /// The seeds stepped over because the reference's disks cannot be placed on them.
+    pub unplaceable: Vec<u64>,
 }

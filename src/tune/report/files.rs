@@ -123,6 +123,20 @@ fn write_records(table: &Table, path: &Path, existing: Existing) -> Result<(), g
     })
 }
 
+/// The sweep over verification seeds `seeds`: replicates from the first where they follow on, else
+/// their list (a seed the reference's disks cannot be placed on was stepped over).
+fn seed_sweep(spec: &TuneSpec, seeds: &[u64]) -> toml::Table {
+    let mut sweep = toml::Table::new();
+    if seeds.windows(2).all(|w| w[1] == w[0] + 1) {
+        sweep.insert("replicates".into(), toml::Value::Integer(seeds.len().max(1) as i64));
+    } else {
+        let base = spec.reference.placement.seed;
+        let list = seeds.iter().map(|s| toml::Value::Integer(base.wrapping_add(*s) as i64)).collect();
+        sweep.insert("placement.seed".into(), toml::Value::Array(list));
+    }
+    sweep
+}
+
 /// A runnable study of the recommended scene: the reference scene with the lever values set, run on
 /// the verification seeds.
 pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
@@ -145,9 +159,7 @@ pub fn best_study(spec: &TuneSpec, result: &SearchResult, k: usize) -> String {
         )),
     );
     doc.insert("scene".into(), toml::Value::Table(scene));
-    let mut sweep = toml::Table::new();
-    sweep.insert("replicates".into(), toml::Value::Integer(cand.verification.len().max(1) as i64));
-    doc.insert("sweep".into(), toml::Value::Table(sweep));
+    doc.insert("sweep".into(), toml::Value::Table(seed_sweep(spec, &cand.verify_seeds)));
     let header = format!(
         "# Written by `demsweep tune {}`: the reference scene with the recommended levers\n# ({}), \
          on its verification seeds. Run it with: demsweep run {}_best.toml\n",

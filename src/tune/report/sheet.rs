@@ -36,11 +36,13 @@ pub fn paragraph(spec: &TuneSpec, result: &SearchResult, out_dir: Option<&Path>)
 }
 
 /// What the tune did: the time-step path, the settings evaluated and skipped, the runs by role, the
-/// spend and the reference's seeds.
+/// spend, the reference's seeds and those stepped over.
 fn budget_line(spec: &TuneSpec, result: &SearchResult) -> String {
     let evaluated = result.candidates.iter().filter(|c| !c.runs.is_empty()).count();
     let skipped = result.candidates.iter().filter(|c| c.predicted_invalid.is_some()).count();
-    format!(
+    let reference_seeds: Vec<u64> =
+        (0..result.reference.len()).map(|p| result.replicates.get(p).copied().unwrap_or(p as u64)).collect();
+    let mut text = format!(
         "{} The tune evaluated {evaluated} settings ({skipped} more were predicted to break a validity limit and \
          not run) in {} of a budget of {} runs, and spent {} reference depositions ({}; limit {}); the \
          reference ran on seeds {}.",
@@ -50,8 +52,17 @@ fn budget_line(spec: &TuneSpec, result: &SearchResult) -> String {
         short(spend(result)),
         spec.search.objective.name(),
         short(spec.search.max_spend),
-        seed_text(spec, &(0..result.reference.len() as u64).collect::<Vec<_>>())
-    )
+        seed_text(spec, &reference_seeds)
+    );
+    if !result.unplaceable.is_empty() {
+        let seeds = if result.unplaceable.len() == 1 { "seed" } else { "seeds" };
+        text.push_str(&format!(
+            " No run was made on {seeds} {}: the reference's disks cannot be placed there (random placement near \
+             its jamming limit), so they are no deposition of it.",
+            seed_text(spec, &result.unplaceable)
+        ));
+    }
+    text
 }
 
 /// The recommendation as resolved, whether a standard setting is the answer, and the cheaper

@@ -24,6 +24,8 @@ fn candidate(id: usize, standard: Option<usize>, runs: Vec<Outcome>) -> Candidat
 
 fn result(candidates: Vec<Candidate>) -> SearchResult {
     SearchResult {
+        replicates: Vec::new(),
+        unplaceable: Vec::new(),
         reference: vec![Outcome::settled(1.0, vec![1.0]); 4],
         margins: vec![0.1],
         reference_checks: Vec::new(),

@@ -85,10 +85,11 @@ impl<E: Evaluator> Context<'_, E> {
     pub(super) fn run_batch(&mut self, chosen: &[(usize, usize)], cap: Option<Option<f64>>) -> Result<(), TuneError> {
         let mut jobs = Vec::new();
         for &(k, more) in chosen {
+            let first = self.result.candidates[k].runs.len();
+            let seeds: Vec<u64> = (first..first + more).map(|p| self.replicate(p)).collect();
             let cand = &self.result.candidates[k];
             let cap = cap.unwrap_or_else(|| self.cap(cand, more));
-            let first = cand.runs.len() as u64;
-            jobs.extend((first..first + more as u64).map(|seed| Job {
+            jobs.extend(seeds.into_iter().map(|seed| Job {
                 candidate: cand.id,
                 point: cand.point.clone(),
                 role: Role::Search,

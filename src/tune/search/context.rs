@@ -51,6 +51,8 @@ impl<'a, E: Evaluator> Context<'a, E> {
             path: (Vec::new(), PathEnd::NotRun),
             end: SearchEnd::NotSearched,
             wall_rates: Vec::new(),
+            replicates: Vec::new(),
+            unplaceable: Vec::new(),
         };
         Self {
             config,

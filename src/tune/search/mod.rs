@@ -49,7 +49,8 @@
 //! steps share, each file calling only those below it: `batch` runs a candidate's further seeds,
 //! `propose` records new candidates, `reserve` keeps a verification round in reserve, `predict`
 //! prices a setting before it runs, `standing` says which candidates are still in the running,
-//! `cure` by how much a smaller time step cures a broken check, `top` raises a point to its own
+//! `cure` by how much a smaller time step cures a broken check, `replicates` which placement seeds
+//! runs are made on, `top` raises a point to its own
 //! largest valid time step and `spend` says whether runs fit the budget and the spend limit.
 
 mod batch;
@@ -62,6 +63,7 @@ mod path;
 mod predict;
 mod propose;
 mod reference;
+mod replicates;
 mod reserve;
 mod run;
 mod seeds;
@@ -73,5 +75,6 @@ mod testing;
 mod top;
 mod verify;
 
+pub use replicates::placeable_seeds;
 pub use run::search;
 pub use spend::{PRICE_MARGIN, SpendPlan, spend_plan};

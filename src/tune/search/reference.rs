@@ -21,7 +21,7 @@ pub(super) struct Growth {
 /// ([`decidability`]) stops the search.
 pub(super) fn step<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
     let c = cx.config;
-    let jobs: Vec<Job> = (0..c.reference_seeds as u64).map(Job::reference).collect();
+    let jobs: Vec<Job> = (0..c.reference_seeds).map(|p| Job::reference(cx.replicate(p))).collect();
     cx.seen.insert(cx.evaluator.reference_identity());
     cx.add_reference(&jobs)?;
     cx.result.undecidable = decidability(&cx.result.reference, &cx.result.margins, c.max_seeds);
@@ -111,8 +111,8 @@ impl<E: Evaluator> Context<'_, E> {
         if !self.fits_price(growth.priced_runs + runs, growth.price + price) {
             return Ok(false);
         }
-        let first = self.result.reference.len() as u64;
-        let jobs: Vec<Job> = (first..first + growth.runs as u64).map(Job::reference).collect();
+        let first = self.result.reference.len();
+        let jobs: Vec<Job> = (first..first + growth.runs).map(|p| Job::reference(self.replicate(p))).collect();
         self.add_reference(&jobs)?;
         self.recheck_answer()?;
         Ok(true)

@@ -179,9 +179,8 @@ impl<E: Evaluator> Context<'_, E> {
             if !self.fits_price(size + more, size as f64 * cost + fallback) {
                 return Ok(None);
             }
+            let seeds: Vec<u64> = (0..size).map(|_| self.fresh_seed()).collect();
             let cand = &self.result.candidates[k];
-            let seeds: Vec<u64> = (self.next_seed..self.next_seed + size as u64).collect();
-            self.next_seed += size as u64;
             let jobs: Vec<Job> = seeds
                 .iter()
                 .map(|&seed| Job {
