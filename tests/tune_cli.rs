@@ -438,4 +438,15 @@ fn a_seed_the_references_disks_cannot_be_placed_on_is_stepped_over() {
         said.starts_with("Recommendation for tiny_tune") || said.contains("\nRecommendation for tiny_tune"),
         "{said}"
     );
+    // The answer's study runs on its verification seeds: none stepped over.
+    let best: toml::Table = std::fs::read_to_string(out.join("tiny_tune_best.toml")).unwrap().parse().unwrap();
+    let sweep = best["sweep"].as_table().unwrap();
+    let study_seeds: Vec<u64> = match sweep.get("placement.seed") {
+        Some(list) => list.as_array().unwrap().iter().map(|s| s.as_integer().unwrap() as u64).collect(),
+        None => {
+            let first = best["scene"]["placement"]["seed"].as_integer().unwrap() as u64;
+            (first..first + sweep["replicates"].as_integer().unwrap() as u64).collect()
+        }
+    };
+    assert!(study_seeds.iter().all(|&seed| tight_box_placeable(seed)), "{study_seeds:?}");
 }
