@@ -67,7 +67,7 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
 /// start (a random placement near its jamming limit fits on some seeds and not on others).
 fn reference_placement_failure(spec: &TuneSpec) -> Option<(u64, placement::PlacementError)> {
     (0..spec.search.reference_seeds() as u64)
-        .find_map(|replicate| placement::generate(&spec.reference_at(replicate)).err().map(|e| (replicate, e)))
+        .find_map(|replicate| spec.placement_failure(replicate).map(|e| (replicate, e)))
 }
 
 /// The tune file's tables as a spec (its reference scene, initial disks, warnings and standard

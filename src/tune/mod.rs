@@ -31,7 +31,6 @@ pub use spec::{Keep, Lever, LeverRange, Objective, SceneError, TuneSpec};
 
 use crate::output::table::{ColumnData, SummaryTable};
 use crate::physics::RunStatus;
-use crate::physics::placement;
 use crate::physics::warning::{ValidityWarning, WarningKind};
 use crate::runner::{self, NotePolicy, ProgressMode, RunNote, RunOptions, RunnerError};
 use crate::study::{ParamValue, Plan, PlannedRun};
@@ -308,7 +307,7 @@ impl Evaluator for RunEvaluator<'_> {
     }
 
     fn placeable(&mut self, seed: u64) -> bool {
-        self.spec.reference.placement.kind.reads_file() || placement::generate(&self.spec.reference_at(seed)).is_ok()
+        self.spec.placement_failure(seed).is_none()
     }
 
     fn step_down(&mut self, standard: usize, factor: f64) -> Option<usize> {

@@ -11,6 +11,7 @@ use serde::Deserialize;
 use crate::physics::SceneConfig;
 use crate::physics::config::ConfigIssue;
 use crate::physics::particles::InitialDisk;
+use crate::physics::placement::{self, PlacementError};
 use crate::study::file::{KeyPath, SetPathError, set_paths};
 use crate::study::{OutputOptions, ParamValue};
 
@@ -280,6 +281,13 @@ impl TuneSpec {
         let mut scene = self.reference.clone();
         scene.placement.seed = self.reference.placement.seed.wrapping_add(offset);
         scene
+    }
+
+    /// Why the reference's disks cannot be placed on seed number `seed` (a random placement near its
+    /// jamming limit fits on some seeds and not on others); None where they can or come from a file.
+    pub fn placement_failure(&self, seed: u64) -> Option<PlacementError> {
+        let scene = self.reference_at(seed);
+        if scene.placement.kind.reads_file() { None } else { placement::generate(&scene).err() }
     }
 
     /// The scene of a standard setting.

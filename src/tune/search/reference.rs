@@ -175,10 +175,11 @@ mod tests {
     /// answer measure `again`. Whether it grew, the answer after, and the answer's fresh runs.
     fn grow_around_an_answer(spent: f64, again: f64) -> (bool, Option<usize>, usize) {
         let config = config();
-        let mut evaluator = Running(|job: &Job| match job.role {
+        let run = |job: &Job| match job.role {
             Role::Reference => Outcome::settled(100.0, vec![1.04]),
             _ => Outcome::settled(40.0, vec![again]),
-        });
+        };
+        let mut evaluator = Running { run, unplaceable: Vec::new() };
         let mut cx = Context::new(&config, &mut evaluator);
         cx.result.reference = runs(100.0, &REFERENCE);
         cx.result.margins = vec![0.05];

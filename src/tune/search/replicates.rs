@@ -59,35 +59,19 @@ pub fn placeable_seeds<E: Evaluator>(evaluator: &mut E, from: u64, count: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tune::model::{Job, Outcome, Screen, TuneError, first_verification_seed};
-    use crate::tune::search::testing::config;
+    use crate::tune::model::{Job, Outcome, first_verification_seed};
+    use crate::tune::search::testing::{Running, config};
 
-    /// An evaluator whose reference's disks cannot be placed on the seeds it holds.
-    struct Holes(Vec<u64>);
-
-    impl Evaluator for Holes {
-        fn screen(&mut self, _: &[f64], _: Option<usize>) -> Screen {
-            unreachable!()
-        }
-        fn reference_identity(&mut self) -> String {
-            unreachable!()
-        }
-        fn evaluate(&mut self, _: &[Job]) -> Result<Vec<Outcome>, TuneError> {
-            unreachable!()
-        }
-        fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
-            unreachable!()
-        }
-        fn placeable(&mut self, seed: u64) -> bool {
-            !self.0.contains(&seed)
-        }
+    /// An evaluator that makes no run, whose reference's disks cannot be placed on `unplaceable`.
+    fn holes(unplaceable: Vec<u64>) -> Running<impl FnMut(&Job) -> Outcome> {
+        Running { run: |_: &Job| -> Outcome { unreachable!() }, unplaceable }
     }
 
     #[test]
     fn runs_step_over_the_seeds_the_references_disks_cannot_be_placed_on() {
         let config = config();
         let first_fresh = first_verification_seed(config.budget, config.reference_seeds);
-        let mut holes = Holes(vec![2, 3, 7, first_fresh + 1]);
+        let mut holes = holes(vec![2, 3, 7, first_fresh + 1]);
         let mut cx = Context::new(&config, &mut holes);
         // Run numbers 0-5 of the reference and of every candidate's search: the same seeds.
         let search: Vec<u64> = (0..6).map(|p| cx.replicate(p)).collect();
@@ -101,7 +85,7 @@ mod tests {
     #[test]
     fn a_scene_that_can_hardly_be_placed_is_not_searched_for_seeds_forever() {
         let config = config();
-        let mut holes = Holes((0..1000).collect());
+        let mut holes = holes((0..1000).collect());
         let mut cx = Context::new(&config, &mut holes);
         assert_eq!(cx.replicate(0), MOST_UNPLACEABLE);
         assert_eq!(cx.result.unplaceable.len(), MOST_UNPLACEABLE as usize);

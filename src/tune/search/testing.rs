@@ -45,8 +45,12 @@ impl<F: FnMut(&[f64]) -> Screen> Evaluator for Screening<F> {
     }
 }
 
-/// An evaluator whose runs `run` makes, job by job; it screens nothing.
-pub(super) struct Running<F>(pub(super) F);
+/// An evaluator whose runs `run` makes, job by job; it screens nothing, and the reference's disks
+/// cannot be placed on the seeds `unplaceable` holds.
+pub(super) struct Running<F> {
+    pub(super) run: F,
+    pub(super) unplaceable: Vec<u64>,
+}
 
 impl<F: FnMut(&Job) -> Outcome> Evaluator for Running<F> {
     fn screen(&mut self, _: &[f64], _: Option<usize>) -> Screen {
@@ -56,10 +60,13 @@ impl<F: FnMut(&Job) -> Outcome> Evaluator for Running<F> {
         "reference".into()
     }
     fn evaluate(&mut self, jobs: &[Job]) -> Result<Vec<Outcome>, TuneError> {
-        Ok(jobs.iter().map(&mut self.0).collect())
+        Ok(jobs.iter().map(&mut self.run).collect())
     }
     fn step_down(&mut self, _: usize, _: f64) -> Option<usize> {
         unreachable!()
+    }
+    fn placeable(&mut self, seed: u64) -> bool {
+        !self.unplaceable.contains(&seed)
     }
 }
 

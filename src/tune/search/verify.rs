@@ -97,7 +97,7 @@ impl<E: Evaluator> Context<'_, E> {
         if state == State::Undecided && self.verify_candidate(k)? == Some(true) && self.accept(k) {
             return Ok(());
         }
-        self.result.recommended = self.cheapest_passing(k);
+        self.result.recommended = self.cheapest_passing();
         Ok(())
     }
 
@@ -109,14 +109,13 @@ impl<E: Evaluator> Context<'_, E> {
         (size, size as f64 * self.answer_cost() / self.result.reference_cost())
     }
 
-    /// The cheapest candidate but `skip` whose fresh runs pass against the whole reference and
-    /// cost less than it.
-    fn cheapest_passing(&self, skip: usize) -> Option<usize> {
+    /// The cheapest candidate whose fresh runs pass against the whole reference and cost less than
+    /// it.
+    fn cheapest_passing(&self) -> Option<usize> {
         let result = &self.result;
         let verified = |(j, c): (usize, &Candidate)| {
-            let a = result.assess_runs(&c.verification);
-            let passes = j != skip && !c.verification.is_empty() && a.state == State::Feasible;
-            (passes && a.cost < result.reference_cost()).then_some((j, a.cost))
+            let a = result.assess_verification(c)?;
+            (a.state == State::Feasible && a.cost < result.reference_cost()).then_some((j, a.cost))
         };
         result.candidates.iter().enumerate().filter_map(verified).min_by(|a, b| a.1.total_cmp(&b.1)).map(|(j, _)| j)
     }
