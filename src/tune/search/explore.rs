@@ -4,6 +4,7 @@
 
 use super::context::{Context, Flow};
 use super::reserve::FirstRound;
+use super::verify::Until;
 use crate::physics::rng::Rng;
 use crate::stats::fit;
 use crate::tune::design::{self, QUANT};
@@ -92,7 +93,7 @@ impl Halton {
             // verification may take several rounds).
             if cx.result.recommended.is_none() && cx.incumbent().0.is_some() {
                 let before = cx.result.runs;
-                cx.verify(|_| true)?;
+                cx.verify(|_| true, Until::Answer)?;
                 if cx.result.runs > before {
                     continue;
                 }

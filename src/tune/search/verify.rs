@@ -10,16 +10,26 @@ use std::collections::HashSet;
 /// Most verification rounds of one candidate.
 const VERIFY_ROUNDS: usize = 4;
 
+/// How far a verification step goes.
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Until {
+    /// Until one candidate passes and becomes the answer.
+    Answer,
+    /// Until the spend ends or no candidate cheaper than the answer is left: the answer is the
+    /// cheapest verified candidate, and the spend a search leaves over pays for the cheaper ones.
+    Spent,
+}
+
 /// The step after the standard settings: the cheapest of them verified, when cheaper than the
 /// answer so far.
 pub(super) fn standards<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
-    cx.verify(|c| c.standard.is_some())?;
+    cx.verify(|c| c.standard.is_some(), Until::Answer)?;
     Ok(Flow::Next)
 }
 
-/// The last step: any candidate cheaper than the answer so far verified.
+/// The last step: the candidates cheaper than the answer so far verified, while the spend lasts.
 pub(super) fn all<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
-    cx.verify(|_| true)?;
+    cx.verify(|_| true, Until::Spent)?;
     Ok(Flow::Next)
 }
 
@@ -53,32 +63,35 @@ impl<E: Evaluator> Context<'_, E> {
     }
 
     /// Verifies feasible candidates among those `keep` accepts (and cheaper than the
-    /// recommendation so far), in the order of [`Self::next_to_verify`], on fresh seeds until one passes (it becomes the recommendation) or
-    /// the budget ends. After a failure, only candidates that stood further inside the tolerances
-    /// during the search (largest |difference|/tolerance below 0.9 of the failed one's) are tried:
-    /// the failure says the edge of the acceptable region is nearer than the search runs showed.
-    pub(super) fn verify(&mut self, keep: impl Fn(&Candidate) -> bool) -> Result<(), TuneError> {
+    /// recommendation so far), in the order of [`Self::next_to_verify`], on fresh seeds until one
+    /// passes (it becomes the recommendation) or the budget ends; with [`Until::Spent`], the
+    /// verification goes on among those cheaper than it, past a round the budget leaves no room
+    /// for. After a failure, only candidates that stood further inside the tolerances during the
+    /// search (largest |difference|/tolerance below 0.9 of the failed one's) are tried: the
+    /// failure says the edge of the acceptable region is nearer than the search runs showed.
+    pub(super) fn verify(&mut self, keep: impl Fn(&Candidate) -> bool, until: Until) -> Result<(), TuneError> {
         let mut tried = HashSet::new();
         let mut limit = f64::INFINITY;
-        let bound = self.answer_cost();
-        while let Some(k) = self.next_to_verify(&tried, limit, |c| keep(c) && self.result.assess(c).cost < bound) {
+        loop {
+            let bound = self.answer_cost();
+            let cheaper = |c: &Candidate| keep(c) && self.result.assess(c).cost < bound;
+            let Some(k) = self.next_to_verify(&tried, limit, cheaper) else { return Ok(()) };
             tried.insert(k);
-            match self.verify_candidate(k)? {
-                Some(true) => {
-                    if self.accept(k) {
-                        return Ok(());
-                    }
-                }
+            let passed = self.verify_candidate(k)?;
+            let answered = passed == Some(true) && self.accept(k);
+            match passed {
+                Some(true) if answered && until == Until::Answer => return Ok(()),
                 Some(false) => {
                     let cand = &self.result.candidates[k];
                     if self.result.assess_verification(cand).is_some_and(|a| a.state != State::Undecided) {
                         limit = 0.9 * self.result.assess(cand).worst;
                     }
                 }
-                None => return Ok(()),
+                // With [`Until::Spent`], a cheaper round may still fit.
+                None if until == Until::Answer => return Ok(()),
+                _ => {}
             }
         }
-        Ok(())
     }
 
     /// The answer so far judged again on its fresh runs, after the reference has grown: its
@@ -212,14 +225,18 @@ impl<E: Evaluator> Context<'_, E> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tune::search::testing::{Unused, candidate, config, runs};
+    use crate::tune::model::Outcome;
+    use crate::tune::search::testing::{Running, Unused, candidate, config, runs};
+
+    /// The reference's kept metric values: mean 1, spread 0.01 (margin 0.05).
+    const REFERENCE: [f64; 8] = [0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005];
 
     /// The first choice among a reference of mean 1 (spread 0.01, margin 0.05) and `candidates`.
     fn first_choice(candidates: Vec<Candidate>) -> usize {
         let config = config();
         let mut evaluator = Unused;
         let mut cx = Context::new(&config, &mut evaluator);
-        cx.result.reference = runs(100.0, &[0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005]);
+        cx.result.reference = runs(100.0, &REFERENCE);
         cx.result.margins = vec![0.05];
         cx.result.candidates = candidates;
         assert!(cx.result.candidates.iter().all(|c| cx.result.assess(c).state == State::Feasible));
@@ -238,5 +255,30 @@ mod tests {
         assert_eq!(first_choice(vec![sound.clone(), cheap_sound]), 1, "the cheaper of two sound ones");
         let much_cheaper = candidate(4, runs(10.0, &[1.0, 1.02, 1.03]));
         assert_eq!(first_choice(vec![sound, much_cheaper]), 1, "a quarter of the cost, some doubt");
+    }
+
+    /// The answer after a verification step `until` over a sound candidate at 42 % of the
+    /// reference (verified first) and a doubtful one at 40 %, whose fresh runs all land on the
+    /// reference's mean; and how many candidates were verified.
+    fn answer_after(until: Until) -> (Option<usize>, usize) {
+        let config = config();
+        let run = |job: &Job| Outcome::settled(if job.candidate == 1 { 40.0 } else { 42.0 }, vec![1.0]);
+        let mut evaluator = Running { run, unplaceable: Vec::new() };
+        let mut cx = Context::new(&config, &mut evaluator);
+        cx.result.reference = runs(100.0, &REFERENCE);
+        cx.result.margins = vec![0.05];
+        let doubtful = candidate(1, runs(40.0, &[1.02, 1.03, 1.04]));
+        let sound = candidate(2, runs(42.0, &[0.995, 1.005, 1.0, 0.99, 1.01, 1.0]));
+        cx.result.candidates = vec![doubtful, sound];
+        cx.verify(|_| true, until).unwrap();
+        let verified = cx.result.candidates.iter().filter(|c| !c.verification.is_empty()).count();
+        (cx.result.recommended, verified)
+    }
+
+    #[test]
+    fn the_last_step_spends_what_is_left_on_candidates_cheaper_than_the_answer() {
+        // The sound one passes first; stopping there leaves the cheaper one unverified.
+        assert_eq!(answer_after(Until::Answer), (Some(1), 1));
+        assert_eq!(answer_after(Until::Spent), (Some(0), 2));
     }
 }
