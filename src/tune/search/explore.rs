@@ -87,13 +87,14 @@ impl Halton {
             if cx.extra_seeds(search_end)? {
                 continue;
             }
-            // Without an answer, the cheapest feasible candidate is verified before the search spends
-            // on, as the time-step path's and the standard settings' are: an answer in hand is worth
-            // more than a slightly cheaper one the spend may not reach (on a noisy metric a
-            // verification may take several rounds).
-            if cx.result.recommended.is_none() && cx.incumbent().0.is_some() {
+            // A feasible candidate cheaper than the answer by a clear margin (any, without an
+            // answer) is verified before the search spends on, as the time-step path's and the
+            // standard settings' are: an answer in hand is worth more than a slightly cheaper one
+            // the spend may not reach (on a noisy metric a verification may take several rounds),
+            // and its round, held in reserve, is not left to search runs that cost more than priced.
+            if cx.incumbent().0.is_some() {
                 let before = cx.result.runs;
-                cx.verify(|_| true, Until::Answer)?;
+                cx.verify(|_| true, Until::ClearlyCheaper)?;
                 if cx.result.runs > before {
                     continue;
                 }

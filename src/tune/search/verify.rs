@@ -2,6 +2,7 @@
 //! candidate that saves something.
 
 use super::context::{Context, Flow};
+use super::standing::CLEAR_MARGIN;
 use crate::stats;
 use crate::tune::judge::runs_to_decide;
 use crate::tune::model::{Candidate, Evaluator, Job, Role, State, TuneError, describe_metric};
@@ -15,6 +16,9 @@ const VERIFY_ROUNDS: usize = 4;
 pub(super) enum Until {
     /// Until one candidate passes and becomes the answer.
     Answer,
+    /// As [`Until::Answer`], among the candidates cheaper than the answer so far by a clear margin
+    /// ([`CLEAR_MARGIN`]).
+    ClearlyCheaper,
     /// Until the spend ends or no candidate cheaper than the answer is left: the answer is the
     /// cheapest verified candidate, and the spend a search leaves over pays for the cheaper ones.
     Spent,
@@ -73,14 +77,14 @@ impl<E: Evaluator> Context<'_, E> {
         let mut tried = HashSet::new();
         let mut limit = f64::INFINITY;
         loop {
-            let bound = self.answer_cost();
+            let bound = if until == Until::ClearlyCheaper { CLEAR_MARGIN } else { 1.0 } * self.answer_cost();
             let cheaper = |c: &Candidate| keep(c) && self.result.assess(c).cost < bound;
             let Some(k) = self.next_to_verify(&tried, limit, cheaper) else { return Ok(()) };
             tried.insert(k);
             let passed = self.verify_candidate(k)?;
             let answered = passed == Some(true) && self.accept(k);
             match passed {
-                Some(true) if answered && until == Until::Answer => return Ok(()),
+                Some(true) if answered && until != Until::Spent => return Ok(()),
                 Some(false) => {
                     let cand = &self.result.candidates[k];
                     if self.result.assess_verification(cand).is_some_and(|a| a.state != State::Undecided) {
@@ -88,7 +92,7 @@ impl<E: Evaluator> Context<'_, E> {
                     }
                 }
                 // With [`Until::Spent`], a cheaper round may still fit.
-                None if until == Until::Answer => return Ok(()),
+                None if until != Until::Spent => return Ok(()),
                 _ => {}
             }
         }
@@ -280,5 +284,31 @@ mod tests {
         // The sound one passes first; stopping there leaves the cheaper one unverified.
         assert_eq!(answer_after(Until::Answer), (Some(1), 1));
         assert_eq!(answer_after(Until::Spent), (Some(0), 2));
+    }
+
+    /// The answer and the candidates verified after a step [`Until::ClearlyCheaper`], with an
+    /// answer verified at 50 % of the reference and one more candidate at `cost` in the search,
+    /// feasible on six seeds, whose fresh runs land on the reference's mean.
+    fn clearly_cheaper(cost: f64) -> (Option<usize>, usize) {
+        let config = config();
+        let run = |_: &Job| Outcome::settled(cost, vec![1.0]);
+        let mut evaluator = Running { run, unplaceable: Vec::new() };
+        let mut cx = Context::new(&config, &mut evaluator);
+        cx.result.reference = runs(100.0, &REFERENCE);
+        cx.result.margins = vec![0.05];
+        let mut answer = candidate(1, runs(45.0, &REFERENCE[..3]));
+        answer.verification = runs(50.0, &REFERENCE);
+        let other = candidate(2, runs(cost, &[0.995, 1.005, 1.0, 0.99, 1.01, 1.0]));
+        cx.result.candidates = vec![answer, other];
+        cx.result.recommended = Some(0);
+        cx.verify(|_| true, Until::ClearlyCheaper).unwrap();
+        let verified = cx.result.candidates.iter().filter(|c| !c.verification.is_empty()).count();
+        (cx.result.recommended, verified)
+    }
+
+    #[test]
+    fn a_candidate_clearly_cheaper_than_the_answer_is_verified_at_once_and_a_slightly_cheaper_one_waits() {
+        assert_eq!(clearly_cheaper(40.0), (Some(1), 2), "80 % of the answer's verified cost");
+        assert_eq!(clearly_cheaper(47.0), (Some(0), 1), "94 %: left to the last step");
     }
 }
