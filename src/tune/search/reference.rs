@@ -162,11 +162,9 @@ fn column_mean(runs: &[Outcome], k: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::tune::model::Role;
-    use crate::tune::search::testing::{Running, candidate, config, runs};
+    use crate::tune::search::testing::{REFERENCE, Running, candidate, config, runs, seat_reference};
 
-    /// Kept metric values: the reference's first eight (mean 1, margin 0.05) and an answer's eight
-    /// fresh runs at 0.965, equivalent to them.
-    const REFERENCE: [f64; 8] = [0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005];
+    /// An answer's eight fresh runs at 0.965, equivalent to the reference's (mean 1, margin 0.05).
     const ANSWER: [f64; 8] = [0.96, 0.97, 0.965, 0.962, 0.968, 0.964, 0.966, 0.965];
 
     /// Grows the reference by three runs at 1.04 (which leaves the answer at 0.965 undecided)
@@ -181,8 +179,7 @@ mod tests {
         };
         let mut evaluator = Running { run, unplaceable: Vec::new() };
         let mut cx = Context::new(&config, &mut evaluator);
-        cx.result.reference = runs(100.0, &REFERENCE);
-        cx.result.margins = vec![0.05];
+        seat_reference(&mut cx.result);
         let mut answer = candidate(1, runs(40.0, &ANSWER[..3]));
         answer.verification = runs(40.0, &ANSWER);
         let mut dearer = candidate(2, runs(60.0, &REFERENCE[..3]));

@@ -1,7 +1,8 @@
 //! What the search's unit tests share: an evaluator that is never called, one that only screens,
-//! one that makes runs by a rule, a one-lever configuration, and runs and candidates made by hand.
+//! one that makes runs by a rule, a one-lever configuration, a reference, and runs and candidates
+//! made by hand.
 
-use crate::tune::model::{Candidate, Evaluator, Job, Origin, Outcome, Screen, SearchConfig, TuneError};
+use crate::tune::model::{Candidate, Evaluator, Job, Origin, Outcome, Screen, SearchConfig, SearchResult, TuneError};
 
 /// An evaluator the code under test never calls.
 pub(super) struct Unused;
@@ -92,6 +93,15 @@ pub(super) fn config() -> SearchConfig {
         max_spend: 20.0,
         cut_runs: true,
     }
+}
+
+/// A reference's kept metric values: mean 1, spread 0.01.
+pub(super) const REFERENCE: [f64; 8] = [0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005];
+
+/// Seats the reference of [`REFERENCE`]'s values, each run costing 100, and a margin of 0.05.
+pub(super) fn seat_reference(result: &mut SearchResult) {
+    result.reference = runs(100.0, &REFERENCE);
+    result.margins = vec![0.05];
 }
 
 /// Settled runs of one kept metric, each costing `cost`.

@@ -230,18 +230,14 @@ impl<E: Evaluator> Context<'_, E> {
 mod tests {
     use super::*;
     use crate::tune::model::Outcome;
-    use crate::tune::search::testing::{Running, Unused, candidate, config, runs};
-
-    /// The reference's kept metric values: mean 1, spread 0.01 (margin 0.05).
-    const REFERENCE: [f64; 8] = [0.99, 1.01, 0.985, 1.015, 1.0, 1.0, 0.995, 1.005];
+    use crate::tune::search::testing::{REFERENCE, Running, Unused, candidate, config, runs, seat_reference};
 
     /// The first choice among a reference of mean 1 (spread 0.01, margin 0.05) and `candidates`.
     fn first_choice(candidates: Vec<Candidate>) -> usize {
         let config = config();
         let mut evaluator = Unused;
         let mut cx = Context::new(&config, &mut evaluator);
-        cx.result.reference = runs(100.0, &REFERENCE);
-        cx.result.margins = vec![0.05];
+        seat_reference(&mut cx.result);
         cx.result.candidates = candidates;
         assert!(cx.result.candidates.iter().all(|c| cx.result.assess(c).state == State::Feasible));
         cx.next_to_verify(&HashSet::new(), f64::INFINITY, |_| true).unwrap()
@@ -269,8 +265,7 @@ mod tests {
         let run = |job: &Job| Outcome::settled(if job.candidate == 1 { 40.0 } else { 42.0 }, vec![1.0]);
         let mut evaluator = Running { run, unplaceable: Vec::new() };
         let mut cx = Context::new(&config, &mut evaluator);
-        cx.result.reference = runs(100.0, &REFERENCE);
-        cx.result.margins = vec![0.05];
+        seat_reference(&mut cx.result);
         let doubtful = candidate(1, runs(40.0, &[1.02, 1.03, 1.04]));
         let sound = candidate(2, runs(42.0, &[0.995, 1.005, 1.0, 0.99, 1.01, 1.0]));
         cx.result.candidates = vec![doubtful, sound];
@@ -294,8 +289,7 @@ mod tests {
         let run = |_: &Job| Outcome::settled(cost, vec![1.0]);
         let mut evaluator = Running { run, unplaceable: Vec::new() };
         let mut cx = Context::new(&config, &mut evaluator);
-        cx.result.reference = runs(100.0, &REFERENCE);
-        cx.result.margins = vec![0.05];
+        seat_reference(&mut cx.result);
         let mut answer = candidate(1, runs(45.0, &REFERENCE[..3]));
         answer.verification = runs(50.0, &REFERENCE);
         let other = candidate(2, runs(cost, &[0.995, 1.005, 1.0, 0.99, 1.01, 1.0]));
