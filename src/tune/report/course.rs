@@ -154,7 +154,7 @@ pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64
     open.sort_by(|x, y| x.1.cost.total_cmp(&y.1.cost).then(x.0.id.cmp(&y.0.id)));
     let (spent, reference) = (spend(result), result.reference_cost());
     let mut text = String::new();
-    let mut most: f64 = 0.0;
+    let (mut most, mut most_runs): (f64, usize) = (0.0, 0);
     for (cand, a) in open.iter().take(UNDECIDED_LISTED) {
         let Some((k, t)) = worst_test(result, a) else { continue };
         let cost = a.cost / reference;
@@ -176,13 +176,21 @@ pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64
         );
         match t.seeds_needed {
             Some(n) => {
-                let more = n.saturating_sub(a.n) as f64 * cost + n.saturating_sub(result.reference.len()) as f64;
-                let verify = if verified { 0.0 } else { n.max(spec.search.verify_seeds()) as f64 * cost };
-                let needed = (10.0 * (spent + PRICE_MARGIN * (more + verify))).ceil() / 10.0;
+                let (own, reference_runs) = (n.saturating_sub(a.n), n.saturating_sub(result.reference.len()));
+                let more = own as f64 * cost + reference_runs as f64;
+                let verify_runs = if verified { 0 } else { n.max(spec.search.verify_seeds()) };
+                let needed = (10.0 * (spent + PRICE_MARGIN * (more + verify_runs as f64 * cost))).ceil() / 10.0;
+                let runs = budget_to_decide(spec, result, own + reference_runs, verify_runs, verified);
                 most = most.max(needed);
+                let budget = if runs > result.budget {
+                    most_runs = most_runs.max(runs);
+                    format!(" and budget = {runs} (more runs than the run budget of {} leaves)", result.budget)
+                } else {
+                    String::new()
+                };
                 let _ = writeln!(
                     text,
-                    ": about {n} seeds a side, the reference's included, would decide it; {} needs max_spend = {}.",
+                    ": about {n} seeds a side, the reference's included, would decide it; {} needs max_spend = {}{budget}.",
                     if verified { "that" } else { "with its verification on as many fresh seeds that" },
                     short(needed)
                 );
@@ -192,10 +200,31 @@ pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64
             }
         }
     }
-    if most > spec.search.max_spend {
+    if most_runs > result.budget {
+        let what = format!(
+            "once `[search] budget = {most_runs}` is set in the file (the fresh verification seeds start past the \
+             budget: a new budget draws new ones, so verifications run again on them)"
+        );
+        text.push_str(&resume_line(spec, out_dir, most.max(spec.search.max_spend), &what));
+    } else if most > spec.search.max_spend {
         text.push_str(&resume_line(spec, out_dir, most, "repeating none"));
     }
     text
+}
+
+/// The run budget that pays for `searched` more search and reference runs and `verify_runs`
+/// verification runs after the runs made so far: search runs stop three verification rounds short
+/// of the budget, and a candidate verified already is decided on further fresh seeds
+/// (`verified`, its further runs counted in `searched`).
+fn budget_to_decide(
+    spec: &TuneSpec,
+    result: &SearchResult,
+    searched: usize,
+    verify_runs: usize,
+    verified: bool,
+) -> usize {
+    let kept_back = if verified { 0 } else { 3 * spec.search.verify_seeds() };
+    result.runs + searched + verify_runs.max(kept_back)
 }
 
 /// The candidates (up to [`UNDECIDED_LISTED`]) whose runs were cut before they settled at a cost

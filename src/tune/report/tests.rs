@@ -138,3 +138,22 @@ fn a_setting_cut_below_the_answers_cost_is_listed_as_perhaps_cheaper_not_as_unab
         "{counts}"
     );
 }
+
+#[test]
+fn an_undecided_candidate_that_needs_more_runs_than_the_budget_leaves_names_the_budget_that_decides_it() {
+    let spec = staged_spec("budget-tune");
+    let runs = |cost: f64, values: &[f64]| values.iter().map(|&v| Outcome::settled(cost, vec![v])).collect::<Vec<_>>();
+    let undecided = Candidate { point: vec![0.0, 0.0], ..candidate(1, None, runs(0.5, &[1.02, 1.14, 0.9, 0.98])) };
+    let mut result = result(vec![undecided]);
+    result.reference = runs(1.0, &[1.0, 1.1, 0.9, 1.05]);
+    let a = result.assess(&result.candidates[0]);
+    assert_eq!(a.state, State::Undecided, "{a:?}");
+    let needed = a.tests[0].seeds_needed.expect("seeds that decide it");
+    let within = super::paragraph(&spec, &result, None);
+    assert!(within.contains(&format!("about {needed} seeds a side")), "{within}");
+    assert!(!within.contains("budget ="), "room within the budget of 100 runs: {within}");
+    result.runs = 100 - needed;
+    let beyond = super::paragraph(&spec, &result, None);
+    assert!(beyond.contains("and budget = ") && beyond.contains("(more runs than the run budget of 100 leaves)"));
+    assert!(beyond.contains("once `[search] budget = "), "{beyond}");
+}
