@@ -67,6 +67,21 @@ fn submitting_without_sbatch_or_with_too_many_shards_is_refused() {
     assert!(stderr.contains("--shards 9: the study has only 8 runs"), "{stderr}");
 }
 
+/// Runs `command`, whose program may be a binary copied a moment ago: while another test thread
+/// forks, its child holds the copy's write handle open until it execs, and running the copy fails with
+/// "text file busy" (ETXTBSY) for that moment; the run is tried again.
+fn run_copied(command: &mut Command) -> std::process::Output {
+    for _ in 0..100 {
+        match command.output() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(50))
+            }
+            result => return result.unwrap(),
+        }
+    }
+    command.output().unwrap()
+}
+
 #[test]
 fn the_jobs_run_the_demsweep_that_wrote_them_and_a_build_folder_binary_is_warned_about() {
     let dir = slurm_common::scratch("which_binary");
@@ -74,7 +89,7 @@ fn the_jobs_run_the_demsweep_that_wrote_them_and_a_build_folder_binary_is_warned
     let (study, out) = (study.to_str().unwrap(), dir.join("out"));
     let written = |demsweep: &Path| {
         let args = ["slurm", study, "--shards", "2", "--out", out.to_str().unwrap()];
-        let out = Command::new(demsweep).args(args).output().unwrap();
+        let out = run_copied(Command::new(demsweep).args(args));
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         let script = std::fs::read_to_string(dir.join("out/slurm/array.sbatch")).unwrap();
         (script, String::from_utf8_lossy(&out.stderr).into_owned())
