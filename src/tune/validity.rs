@@ -106,7 +106,7 @@ pub fn clip_levers(spec: &mut TuneSpec) -> (Vec<String>, Vec<StepTop>) {
         };
         let over = match spec.initial {
             Some(_) => "the placement file's disks".to_string(),
-            None => format!("{} placement seeds, the search's and the verification's", placements.screened),
+            None => format!("{} placement seeds, the search's and the verification's", placements.screened()),
         };
         let others = match alternatives.len() {
             1 => "the other keys at the reference's values",
@@ -189,8 +189,8 @@ struct Placements {
     confirm_seeds: Vec<u64>,
     /// Their placements, once generated.
     confirm: Option<Vec<Vec<InitialDisk>>>,
-    /// Distinct seeds screened (the ranges overlap where the run budget is below CONFIRM_SEEDS).
-    screened: usize,
+    /// How many of the bisection's seeds the disks could be placed on.
+    placed: usize,
 }
 
 impl Placements {
@@ -205,8 +205,14 @@ impl Placements {
             Some(disks) => vec![disks.clone()],
             None => bisected_seeds.iter().filter_map(|&s| placement_at(spec, s)).collect(),
         };
-        let screened = bisected_seeds.len() + confirm_seeds.len();
-        Self { bisected, confirm_seeds, confirm: None, screened }
+        let placed = bisected.len();
+        Self { bisected, confirm_seeds, confirm: None, placed }
+    }
+
+    /// Distinct placements screened (the seed ranges overlap where the run budget is below
+    /// CONFIRM_SEEDS): a seed the disks cannot be placed on is no deposition, and not counted.
+    fn screened(&self) -> usize {
+        self.placed + self.confirm.as_ref().map_or(0, Vec::len)
     }
 
     /// The confirmation placements (in seed order) on which `lever` at coordinate `u` breaks a limit
@@ -355,6 +361,28 @@ fn round_inward(x: f64, up: bool) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_the_seeds_the_disks_can_be_placed_on_count_as_screened() {
+        // Near its jamming limit, random placement fits 30 disks in this box on most seeds, not all.
+        let text = include_str!("../../tests/data/tiny_tune.toml")
+            .replace("domain.height = 0.15", "domain.height = 0.052\nplacement.seed = 20");
+        let path = std::env::temp_dir().join(format!("demsweep-screened-{}.toml", std::process::id()));
+        std::fs::write(&path, text).unwrap();
+        let spec = crate::tune::load(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let first = first_verification_seed(spec.search.budget, spec.search.reference_seeds());
+        let placeable = |seeds: &[u64]| seeds.iter().filter(|&&s| placement_at(&spec, s).is_some()).count();
+        let bisected: Vec<u64> = (0..CLIP_SEEDS).chain(first..first + CLIP_SEEDS).collect();
+        let mut placements = Placements::new(&spec);
+        assert!(placeable(&bisected) < bisected.len(), "some seeds of the box cannot be placed on");
+        assert_eq!(placements.screened(), placeable(&bisected));
+        let lever = spec.levers[0].clone();
+        placements.breaking(&spec, &lever, (0.5, 0.5), &alternatives(&spec, &lever));
+        let confirmed: Vec<u64> = placements.confirm_seeds.clone();
+        assert!(!confirmed.iter().any(|s| bisected.contains(s)));
+        assert_eq!(placements.screened(), placeable(&bisected) + placeable(&confirmed));
+    }
 
     #[test]
     fn a_clipped_end_rounds_inwards() {
