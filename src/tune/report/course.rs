@@ -8,7 +8,7 @@ use std::path::Path;
 use super::super::TuneSpec;
 use super::super::judge::broken_by_reference;
 use super::super::model::{Assessment, Candidate, PathEnd, SearchEnd, SearchResult, State};
-use super::super::search::PRICE_MARGIN;
+use super::super::search::{KEPT_ROUNDS, PRICE_MARGIN};
 use super::phrases::{decision_name, failure_reason, resolved_time_step, settings, spend, worst_test};
 use crate::physics::number::short;
 
@@ -213,8 +213,8 @@ pub(super) fn undecided_lines(spec: &TuneSpec, result: &SearchResult, bound: f64
 }
 
 /// The run budget that pays for `searched` more search and reference runs and `verify_runs`
-/// verification runs after the runs made so far: search runs stop three verification rounds short
-/// of the budget, and a candidate verified already is decided on further fresh seeds
+/// verification runs after the runs made so far: search runs stop [`KEPT_ROUNDS`] verification
+/// rounds short of the budget, and a candidate verified already is decided on further fresh seeds
 /// (`verified`, its further runs counted in `searched`).
 fn budget_to_decide(
     spec: &TuneSpec,
@@ -223,7 +223,7 @@ fn budget_to_decide(
     verify_runs: usize,
     verified: bool,
 ) -> usize {
-    let kept_back = if verified { 0 } else { 3 * spec.search.verify_seeds() };
+    let kept_back = if verified { 0 } else { KEPT_ROUNDS * spec.search.verify_seeds() };
     result.runs + searched + verify_runs.max(kept_back)
 }
 

@@ -77,4 +77,4 @@ mod verify;
 
 pub use replicates::placeable_seeds;
 pub use run::search;
-pub use spend::{PRICE_MARGIN, SpendPlan, spend_plan};
+pub use spend::{KEPT_ROUNDS, PRICE_MARGIN, SpendPlan, spend_plan};

@@ -7,6 +7,10 @@ use crate::tune::model::{Evaluator, SearchConfig};
 /// spread.
 pub const PRICE_MARGIN: f64 = 1.1;
 
+/// Verification rounds the run budget keeps back from the search's candidates (see
+/// `Context::search_end`).
+pub const KEPT_ROUNDS: usize = 3;
+
 /// A point of the lever space predicted (from its time step) to cost more than this times the
 /// cheapest candidate still in the running is not run: levers that shorten settling (damping, fill
 /// height) rarely take a third off the reference's settle time.
@@ -33,9 +37,10 @@ impl<E: Evaluator> Context<'_, E> {
         self.result.runs + runs <= self.config.budget && self.spent + price <= self.config.max_spend * reference
     }
 
-    /// The run count the search's candidates stop at: the budget less three verification rounds.
+    /// The run count the search's candidates stop at: the budget less [`KEPT_ROUNDS`] verification
+    /// rounds.
     pub(super) fn search_end(&self) -> usize {
-        self.config.budget.saturating_sub(3 * self.config.verify_seeds)
+        self.config.budget.saturating_sub(KEPT_ROUNDS * self.config.verify_seeds)
     }
 }
 
