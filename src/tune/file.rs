@@ -63,6 +63,16 @@ pub fn load(path: &Path) -> Result<TuneSpec, StudyErrors> {
     sink.into_result(spec)
 }
 
+/// A tune file's `text` loaded from a file of its own (`name`, in the temporary folder), for tests.
+#[cfg(test)]
+pub(crate) fn load_text(name: &str, text: &str) -> TuneSpec {
+    let path = std::env::temp_dir().join(format!("demsweep-{name}-{}.toml", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let spec = load(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    spec
+}
+
 /// The first of the reference's replicates whose placement fails, with why: the tune could not
 /// start (a random placement near its jamming limit fits on some seeds and not on others).
 fn reference_placement_failure(spec: &TuneSpec) -> Option<(u64, placement::PlacementError)> {

@@ -367,10 +367,7 @@ mod tests {
         // Near its jamming limit, random placement fits 30 disks in this box on most seeds, not all.
         let text = include_str!("../../tests/data/tiny_tune.toml")
             .replace("domain.height = 0.15", "domain.height = 0.052\nplacement.seed = 20");
-        let path = std::env::temp_dir().join(format!("demsweep-screened-{}.toml", std::process::id()));
-        std::fs::write(&path, text).unwrap();
-        let spec = crate::tune::load(&path).unwrap();
-        std::fs::remove_file(&path).unwrap();
+        let spec = crate::tune::file::load_text("screened", &text);
         let first = first_verification_seed(spec.search.budget, spec.search.reference_seeds());
         let placeable = |seeds: &[u64]| seeds.iter().filter(|&&s| placement_at(&spec, s).is_some()).count();
         let bisected: Vec<u64> = (0..CLIP_SEEDS).chain(first..first + CLIP_SEEDS).collect();

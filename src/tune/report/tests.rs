@@ -67,11 +67,7 @@ pile_height = 0.25
 
 /// [`STAGED`] loaded from a file of its own (`name`).
 fn staged_spec(name: &str) -> crate::tune::TuneSpec {
-    let path = std::env::temp_dir().join(format!("demsweep-{name}-{}.toml", std::process::id()));
-    std::fs::write(&path, STAGED).unwrap();
-    let spec = crate::tune::load(&path).unwrap();
-    std::fs::remove_file(&path).unwrap();
-    spec
+    crate::tune::file::load_text(name, STAGED)
 }
 
 #[test]
