@@ -15,7 +15,7 @@ const VERIFY_ROUNDS: usize = 4;
 /// answer's verified cost: search costs, the cheapest of many on a few seeds, come out dearer on
 /// fresh seeds, and a round measures a cost to several percent, so a candidate nearer than this
 /// saves nothing a round can show and spends the round (results/bench/tune.md).
-const LEAST_SAVING: f64 = 0.95;
+pub(super) const LEAST_SAVING: f64 = 0.95;
 
 /// How far a verification step goes.
 #[derive(Clone, Copy, PartialEq)]
