@@ -30,12 +30,15 @@ pub(super) enum Until {
     Spent,
 }
 
-/// The step before the exploration: among what has run (the standard settings and the cheap
-/// corner), the candidate whose verification most likely saves most verified, when cheaper than the
-/// answer so far. A feasible corner cheaper than the standard settings is the likelier answer, and
-/// verifying a dearer standard setting first may leave no spend to verify it.
+/// The step before the exploration, where a standard setting is feasible: among what has run (the
+/// standard settings and the cheap corner), the candidate whose verification most likely saves most
+/// verified, when cheaper than the answer so far. A feasible corner cheaper than the standard
+/// settings is the likelier answer, and verifying a dearer standard setting first may leave no
+/// spend to verify it. Without a feasible standard setting, the design's first seeds run first.
 pub(super) fn before_search<E: Evaluator>(cx: &mut Context<'_, E>) -> Result<Flow, TuneError> {
-    cx.verify(|_| true, Until::Answer)?;
+    if cx.result.best_standard().is_some() {
+        cx.verify(|_| true, Until::Answer)?;
+    }
     Ok(Flow::Next)
 }
 
@@ -329,6 +332,12 @@ mod tests {
         before_search(&mut cx).unwrap();
         assert_eq!(cx.result.recommended, Some(1), "the corner is the answer");
         assert!(cx.result.candidates[0].verification.is_empty(), "the dearer standard setting waits");
+        // Without a feasible standard setting, the corner waits for the design's first seeds.
+        cx.result.recommended = None;
+        cx.result.candidates.remove(0);
+        cx.result.candidates[0].verification.clear();
+        before_search(&mut cx).unwrap();
+        assert!(cx.result.candidates[0].verification.is_empty(), "nothing verified before the design");
     }
 
     #[test]
