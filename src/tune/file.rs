@@ -19,6 +19,7 @@ use crate::study::{AxisError, OutputOptions, ParamValue, lammps_file};
 
 use super::ladder;
 use super::measurable;
+use super::search::KEPT_ROUNDS;
 use super::spec::{Keep, Lever, LeverRange, SearchOptions, TuneSpec};
 use super::validity;
 
@@ -239,12 +240,12 @@ fn check_search(file: &StudyFile, doc: &Document, s: &SearchOptions) -> Vec<Stud
     check(s.reference_seeds() >= 2, "reference_seeds", format!("must be at least 2, got {}", s.reference_seeds()));
     check(s.verify_seeds() >= 2, "verify_seeds", format!("must be at least 2, got {}", s.verify_seeds()));
     check(s.initial != Some(0), "initial", "must be at least 1".into());
-    let least = s.reference_seeds() + 2 * s.seeds + 3 * s.verify_seeds();
+    let least = s.reference_seeds() + 2 * s.seeds + KEPT_ROUNDS * s.verify_seeds();
     check(
         s.budget >= least,
         "budget",
         format!(
-            "{} runs cannot hold the reference ({}), two candidates ({} each) and three verification rounds ({} each): \
+            "{} runs cannot hold the reference ({}), two candidates ({} each) and {KEPT_ROUNDS} verification rounds ({} each): \
              give at least {least}",
             s.budget,
             s.reference_seeds(),
