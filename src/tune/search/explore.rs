@@ -4,7 +4,7 @@
 
 use super::context::{Context, Flow};
 use super::reserve::FirstRound;
-use super::verify::{LEAST_SAVING, Until};
+use super::verify::Until;
 use crate::physics::rng::Rng;
 use crate::stats::fit;
 use crate::tune::design::{self, QUANT};
@@ -164,10 +164,11 @@ impl Pattern {
 
 impl<E: Evaluator> Context<'_, E> {
     /// Why the search ended with no new point to try: with a candidate in the running, unverified
-    /// and cheaper than the answer so far by what a verification can show ([`LEAST_SAVING`]), the
-    /// spend left it there ([`Self::stopped`]); else the lever space is exhausted.
+    /// and cheaper than the answer so far by what the last verification step requires
+    /// ([`Until::Spent`]), the spend left it there ([`Self::stopped`]); else the lever space is
+    /// exhausted.
     fn exhausted(&self, search_end: usize) -> SearchEnd {
-        let answer = LEAST_SAVING * self.answer_cost();
+        let answer = Until::Spent.share() * self.answer_cost();
         let waiting = self
             .result
             .candidates

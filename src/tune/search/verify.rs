@@ -16,7 +16,7 @@ const VERIFY_ROUNDS: usize = 4;
 /// fresh seeds, and a round measures a cost to several percent, so a candidate nearer than this
 /// saves nothing a round can show, spends the round and, the last round being the one that fits
 /// least, may take the spend past its limit (results/bench/tune.md).
-pub(super) const LEAST_SAVING: f64 = 0.95;
+const LEAST_SAVING: f64 = 0.95;
 
 /// How far a verification step goes.
 #[derive(Clone, Copy, PartialEq)]
@@ -30,6 +30,18 @@ pub(super) enum Until {
     /// answer is the cheapest verified candidate, and the spend a search leaves over pays for the
     /// cheaper ones.
     Spent,
+}
+
+impl Until {
+    /// The share of the answer's verified cost below which a candidate's search cost must lie to be
+    /// verified in this step.
+    pub(super) fn share(self) -> f64 {
+        match self {
+            Until::Answer => 1.0,
+            Until::ClearlyCheaper => CLEAR_MARGIN,
+            Until::Spent => LEAST_SAVING,
+        }
+    }
 }
 
 /// The step before the exploration, where a standard setting is feasible: among what has run (the
@@ -90,12 +102,7 @@ impl<E: Evaluator> Context<'_, E> {
         let mut tried = HashSet::new();
         let mut limit = f64::INFINITY;
         loop {
-            let share = match until {
-                Until::Answer => 1.0,
-                Until::ClearlyCheaper => CLEAR_MARGIN,
-                Until::Spent => LEAST_SAVING,
-            };
-            let bound = share * self.answer_cost();
+            let bound = until.share() * self.answer_cost();
             let cheaper = |c: &Candidate| keep(c) && self.result.assess(c).cost < bound;
             let Some(k) = self.next_to_verify(&tried, limit, cheaper) else { return Ok(()) };
             tried.insert(k);
